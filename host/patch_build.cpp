@@ -1,0 +1,124 @@
+// Patch construction on the CPU (serial and oneTBB).
+#include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+
+#include <memory>
+
+#include "gp_traits.h"
+#include "patch_cache.h"
+#include "topology.h"
+
+namespace sf {
+
+size_t PatchCache::bytes() const {
+  return positions.size() * sizeof(double) + faceOffsets.size() * sizeof(int32_t) +
+         faceVertices.size() * sizeof(int32_t) + cornerNormals.size() * sizeof(double) +
+         slotTwin.size() * sizeof(int32_t) + faceStatus.size() * sizeof(uint32_t) +
+         faceBulge.size() * sizeof(float) + edgeDataD.size() * sizeof(double) +
+         edgeDataF.size() * sizeof(float);
+}
+
+PatchCache preparePatchCache(const PolygonMesh& mesh, const std::vector<Eigen::Vector3d>& cornerNormals,
+                             const PatchOptions& options, uint64_t meshHash) {
+  if (static_cast<int>(cornerNormals.size()) != mesh.numCorners())
+    throw std::invalid_argument("preparePatchCache: need one normal per corner");
+  PatchCache c;
+  c.options = options;
+  c.meshHash = meshHash;
+  c.positions.reserve(mesh.positions.size() * 3);
+  for (const auto& p : mesh.positions) c.positions.insert(c.positions.end(), {p.x(), p.y(), p.z()});
+  c.faceOffsets = mesh.faceOffsets;
+  c.faceVertices = mesh.faceVertices;
+  c.cornerNormals.reserve(cornerNormals.size() * 3);
+  for (const auto& n : cornerNormals) c.cornerNormals.insert(c.cornerNormals.end(), {n.x(), n.y(), n.z()});
+  c.slotTwin = computeSlotTwins(mesh);
+  c.faceStatus.assign(mesh.numFaces(), 0u);
+  c.faceBulge.assign(mesh.numFaces(), 0.f);
+  const size_t recs = static_cast<size_t>(GP_E_NFIELDS) * mesh.numCorners();
+  if (options.precision == Precision::Double)
+    c.edgeDataD.assign(recs, 0.0);
+  else
+    c.edgeDataF.assign(recs, 0.f);
+  return c;
+}
+
+namespace {
+
+template <class Real>
+std::vector<Real>& edgeData(PatchCache& c);
+template <>
+std::vector<double>& edgeData<double>(PatchCache& c) { return c.edgeDataD; }
+template <>
+std::vector<float>& edgeData<float>(PatchCache& c) { return c.edgeDataF; }
+
+/// Builds face f: gathers its corners, runs the shared construction and quality, scatters
+/// the records field-major.
+template <class Real>
+void buildFace(PatchCache& c, int f) {
+  using G = Gp<Real>;
+  const int n = c.faceSize(f), first = c.faceOffsets[f];
+  if (n < 3 || n > GP_MAX_N) {
+    c.faceStatus[f] = GP_ST_TOO_MANY_SIDES;
+    return;
+  }
+  typename G::vec3 V[GP_MAX_N], N[GP_MAX_N];
+  int vid[GP_MAX_N];
+  Real recs[GP_MAX_N * GP_E_NFIELDS];
+  for (int k = 0; k < n; ++k) {
+    const int v = c.faceVertices[first + k];
+    vid[k] = v;
+    V[k] = G::v3(c.positions[3 * v], c.positions[3 * v + 1], c.positions[3 * v + 2]);
+    const double* nn = &c.cornerNormals[3 * (first + k)];
+    N[k] = G::v3(nn[0], nn[1], nn[2]);
+  }
+  const int mode = static_cast<int>(c.options.crossTangent);
+  gp_uint st = G::build(n, V, N, vid, mode, recs);
+  Real bulge = 0;
+  if (!(st & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE))) st |= G::quality(n, recs, mode, &bulge);
+  c.faceStatus[f] = st;
+  c.faceBulge[f] = static_cast<float>(bulge);
+  std::vector<Real>& data = edgeData<Real>(c);
+  const size_t ns = c.numSlots();
+  for (int k = 0; k < n; ++k)
+    for (int i = 0; i < GP_E_NFIELDS; ++i) data[i * ns + first + k] = recs[k * GP_E_NFIELDS + i];
+}
+
+template <class Real>
+void buildAll(PatchCache& c, Backend backend, int threads) {
+  const int nf = c.numFaces();
+  if (backend == Backend::Serial) {
+    for (int f = 0; f < nf; ++f) buildFace<Real>(c, f);
+    return;
+  }
+  std::unique_ptr<tbb::global_control> limit;
+  if (threads > 0)
+    limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
+  tbb::parallel_for(tbb::blocked_range<int>(0, nf, 64), [&](const tbb::blocked_range<int>& r) {
+    for (int f = r.begin(); f != r.end(); ++f) buildFace<Real>(c, f);
+  });
+}
+
+template <class Real>
+void gather(const PatchCache& c, const std::vector<Real>& data, int f, Real* recs) {
+  const int n = c.faceSize(f), first = c.faceOffsets[f];
+  const size_t ns = c.numSlots();
+  for (int k = 0; k < n; ++k)
+    for (int i = 0; i < GP_E_NFIELDS; ++i) recs[k * GP_E_NFIELDS + i] = data[i * ns + first + k];
+}
+
+}  // namespace
+
+void constructPatches(PatchCache& cache, Backend backend, int threads) {
+  if (backend == Backend::OpenCL)
+    throw std::invalid_argument("constructPatches: use the OpenCL backend's constructPatchesOpenCL");
+  if (cache.options.precision == Precision::Double)
+    buildAll<double>(cache, backend, threads);
+  else
+    buildAll<float>(cache, backend, threads);
+}
+
+void gatherRecords(const PatchCache& cache, int f, double* recs) { gather(cache, cache.edgeDataD, f, recs); }
+void gatherRecords(const PatchCache& cache, int f, float* recs) { gather(cache, cache.edgeDataF, f, recs); }
+
+}  // namespace sf

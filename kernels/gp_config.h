@@ -1,0 +1,83 @@
+/* Target mapping for the single-source patch math (gp_patch.h).
+ *
+ * gp_patch.h is restricted C: it compiles as OpenCL C 1.2 (kernels) and as C++ (host),
+ * in float and in double. The includer defines, before including gp_patch.h:
+ *   GP_REAL       float or double
+ *   GP_IS_DOUBLE  0 or 1
+ * This file holds what does not depend on the precision: storage class, math functions,
+ * status bits, record layout. Model: OpenSubdiv osd/patchBasisTypes.h.
+ *
+ * Floating-point contraction is OFF on both sides (FP_CONTRACT here for OpenCL,
+ * -ffp-contract=off for the C++ build), so every backend rounds the same expressions
+ * the same way; what remains between backends are the math library's sqrt/cos/sin and
+ * division, bounded by a tolerance stated in the tests.
+ */
+#ifndef GP_CONFIG_H
+#define GP_CONFIG_H
+
+#if defined(__OPENCL_VERSION__) || defined(__OPENCL_C_VERSION__)
+#define GP_OPENCL 1
+#pragma OPENCL FP_CONTRACT OFF
+#define GP_FN static inline
+#define GP_SQRT(x) sqrt(x)
+#define GP_COS(x) cos(x)
+#define GP_SIN(x) sin(x)
+#define GP_FABS(x) fabs(x)
+typedef uint gp_uint;
+#else
+#define GP_FN static inline
+#define GP_SQRT(x) std::sqrt(x)
+#define GP_COS(x) std::cos(x)
+#define GP_SIN(x) std::sin(x)
+#define GP_FABS(x) std::fabs(x)
+typedef unsigned int gp_uint;
+#endif
+
+/* Largest polygon the fixed-size private arrays hold. */
+#define GP_MAX_N 64
+
+/* Cross-tangent construction (design page, "Robustness"). */
+#define GP_CT_CORRECTED 0 /* default: guard + corner-compatibility correction */
+#define GP_CT_PAPER 1     /* Eq. 11-14 as printed */
+#define GP_CT_BLEND 2     /* q(t) = (1-t) d0 + t d1, projected */
+
+/* Status bits: per patch (construction) and per evaluation. */
+#define GP_ST_GUARD 0x1u          /* a backward end tangent was replaced (guard 1) */
+#define GP_ST_ZERO_EDGE 0x2u      /* an edge of (near) zero length */
+#define GP_ST_EDGE_NORMAL 0x4u    /* n_c or an end tangent undefined; fallback used */
+#define GP_ST_CROSS_TANGENT 0x8u  /* cross tangent undefined; fallback used */
+#define GP_ST_FOLD 0x10u          /* patch normal opposite to n_c near an edge */
+#define GP_ST_BULGE 0x20u         /* surface leaves the face box by > 0.5 face diameters */
+#define GP_ST_OUTSIDE 0x40u       /* evaluation point outside the domain */
+#define GP_ST_SINGULAR 0x80u      /* dG/dxi x dG/deta vanishes; normal is a fallback */
+#define GP_ST_TOO_MANY_SIDES 0x100u /* n > GP_MAX_N or n < 3: not built */
+#define GP_ST_NONFINITE 0x200u    /* non-finite input */
+#define GP_ST_DEGENERATE_MASK (GP_ST_ZERO_EDGE | GP_ST_EDGE_NORMAL | GP_ST_CROSS_TANGENT | \
+                               GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE)
+
+
+/* Per-edge record: everything evaluation needs about edge k of a face (edge V_k -> V_{k+1}).
+ * Offsets of 3-vectors unless noted. Stored field-major in the cache (struct of arrays). */
+#define GP_E_V0 0   /* V_k */
+#define GP_E_V1 3   /* V_{k+1} */
+#define GP_E_M0 6   /* L t_s: Hermite start tangent (Eq. 6-9, guarded) */
+#define GP_E_M1 9   /* L t_e: Hermite end tangent */
+#define GP_E_N0 12  /* N_k */
+#define GP_E_N1 15  /* N_{k+1} */
+#define GP_E_VP 18  /* V_{k-1} */
+#define GP_E_VN 21  /* V_{k+2} */
+#define GP_E_NP 24  /* N_{k-1} */
+#define GP_E_NN 27  /* N_{k+2} */
+#define GP_E_D0 30  /* d0: unit tangent of edge k-1 arriving at V_k, reversed */
+#define GP_E_D1 33  /* d1: unit tangent of edge k+1 leaving V_{k+1} */
+#define GP_E_P0 36  /* p(0): printed cross-tangent direction at t = 0 */
+#define GP_E_P1 39  /* p(1) */
+#define GP_E_T0 42  /* T_k(0) */
+#define GP_E_T1 45  /* T_k(1) */
+#define GP_E_DT0 48 /* dT_k/dt at 0 (twist source, exact) */
+#define GP_E_DT1 51 /* dT_k/dt at 1 */
+#define GP_E_LP 54  /* scalar: L_prev = |V_k - V_{k-1}| */
+#define GP_E_LN 55  /* scalar: L_next = |V_{k+2} - V_{k+1}| */
+#define GP_E_NFIELDS 56
+
+#endif /* GP_CONFIG_H */

@@ -1,0 +1,195 @@
+/* Edge curves, edge normals and cross tangents of the n-sided Gregory patch, and the
+ * construction of a face's per-edge records.
+ * Source: Wu et al., "Smooth Force Rendering on Coarse Polygonal Meshes", Eq. 6-14, with
+ * the conventions of shared/design/gregory-patch.md (unit n_c, guard, correction).
+ * Part of gp_patch.h; no include guard on purpose. */
+
+/* Cubic Hermite edge curve C_k(t) (Eq. 6) with its first and second t-derivatives.
+ * Returned as two duals: c = (C, C'), cp = (C', C''). */
+GP_FN void gp_edge_curve(const GP_REAL* rec, GP_REAL t, gp_dvec3* c, gp_dvec3* cp) {
+  const GP_REAL t2 = t * t, t3 = t2 * t;
+  const GP_REAL h00 = GP_R(2.0) * t3 - GP_R(3.0) * t2 + GP_R(1.0);
+  const GP_REAL h10 = t3 - GP_R(2.0) * t2 + t;
+  const GP_REAL h01 = GP_R(3.0) * t2 - GP_R(2.0) * t3;
+  const GP_REAL h11 = t3 - t2;
+  const GP_REAL g00 = GP_R(6.0) * t2 - GP_R(6.0) * t; /* first derivatives */
+  const GP_REAL g10 = GP_R(3.0) * t2 - GP_R(4.0) * t + GP_R(1.0);
+  const GP_REAL g01 = GP_R(6.0) * t - GP_R(6.0) * t2;
+  const GP_REAL g11 = GP_R(3.0) * t2 - GP_R(2.0) * t;
+  const GP_REAL s00 = GP_R(12.0) * t - GP_R(6.0); /* second derivatives */
+  const GP_REAL s10 = GP_R(6.0) * t - GP_R(4.0);
+  const GP_REAL s01 = GP_R(6.0) - GP_R(12.0) * t;
+  const GP_REAL s11 = GP_R(6.0) * t - GP_R(2.0);
+  const gp_vec3 p0 = gp_get3(rec, GP_E_V0), p1 = gp_get3(rec, GP_E_V1);
+  const gp_vec3 m0 = gp_get3(rec, GP_E_M0), m1 = gp_get3(rec, GP_E_M1);
+  gp_vec3 C = gp_scale(p0, h00), D = gp_scale(p0, g00), S = gp_scale(p0, s00);
+  C = gp_madd(gp_madd(gp_madd(C, p1, h01), m0, h10), m1, h11);
+  D = gp_madd(gp_madd(gp_madd(D, p1, g01), m0, g10), m1, g11);
+  S = gp_madd(gp_madd(gp_madd(S, p1, s01), m0, s10), m1, s11);
+  *c = gp_dv(C, D);
+  *cp = gp_dv(D, S);
+}
+
+/* Largest of the three lengths an edge record refers to: the scale for "tiny". */
+GP_FN GP_REAL gp_edge_scale(const GP_REAL* rec) {
+  const GP_REAL L = gp_len(gp_sub(gp_get3(rec, GP_E_V1), gp_get3(rec, GP_E_V0)));
+  return gp_max(L, gp_max(rec[GP_E_LP], rec[GP_E_LN]));
+}
+
+/* Unit surface normal along the edge, n_c(t) (Eq. 10, normalised), oriented so that
+ * n_c . ((1-t) N_k + t N_{k+1}) >= 0, with its t-derivative. cp = (C', C''). */
+GP_FN gp_dvec3 gp_edge_normal(const GP_REAL* rec, GP_REAL t, gp_dvec3 cp, gp_uint* st) {
+  const gp_vec3 e = gp_sub(gp_get3(rec, GP_E_V1), gp_get3(rec, GP_E_V0));
+  const GP_REAL L = gp_len(e);
+  const gp_dvec3 nt = gp_dlerp(gp_get3(rec, GP_E_N0), gp_get3(rec, GP_E_N1), t);
+  const gp_dvec3 ce = gp_dv(e, gp_zero3());
+  const gp_dvec3 raw = gp_dcross(cp, gp_dcross(nt, ce));
+  gp_dvec3 n;
+  if (gp_len(raw.v) > GP_TINY * L * L) {
+    n = gp_dunit_or(raw, raw, GP_R(0.0), st, GP_ST_EDGE_NORMAL);
+  } else { /* normal along the edge or opposite normals: interpolated normal, else N_k */
+    *st |= GP_ST_EDGE_NORMAL;
+    n = gp_dunit_or(nt, gp_dv(gp_get3(rec, GP_E_N0), gp_zero3()), GP_TINY, st, GP_ST_EDGE_NORMAL);
+  }
+  if (gp_dot(n.v, nt.v) < GP_R(0.0)) n = gp_dneg(n);
+  return n;
+}
+
+/* Cross tangent T_k(t) with its t-derivative (Eq. 11-14 and the design page's variants).
+ * c = (C, C'), cp = (C', C''), nc = n_c (dual). mode: GP_CT_*. */
+GP_FN gp_dvec3 gp_cross_tangent(const GP_REAL* rec, GP_REAL t, int mode, gp_dvec3 c, gp_dvec3 cp,
+                                gp_dvec3 nc, gp_uint* st) {
+  const GP_REAL scale = gp_edge_scale(rec);
+  const gp_dreal len = gp_dr((GP_R(1.0) - t) * rec[GP_E_LP] + t * rec[GP_E_LN],
+                             rec[GP_E_LN] - rec[GP_E_LP]);
+  const gp_vec3 d0 = gp_get3(rec, GP_E_D0), d1 = gp_get3(rec, GP_E_D1);
+  /* Inward direction used when a construction step is undefined: n_c x C' (zero when
+   * that too is undefined, e.g. on a zero-length edge). */
+  gp_uint ist = 0u;
+  const gp_dvec3 inward = gp_dunit_or(gp_dcross(nc, cp), gp_dv(gp_zero3(), gp_zero3()),
+                                      GP_TINY * scale, &ist, GP_ST_CROSS_TANGENT);
+  gp_dvec3 q;
+  if (mode == GP_CT_BLEND) {
+    q = gp_dlerp(d0, d1, t);
+  } else {
+    /* Eq. 11-13: v_int, n_int, t_c = n_c x (v_int x n_int) */
+    const gp_dvec3 vint = gp_dsub(gp_dlerp(gp_get3(rec, GP_E_VP), gp_get3(rec, GP_E_VN), t), c);
+    const gp_dvec3 nint =
+        gp_dscale(gp_dadd(gp_dlerp(gp_get3(rec, GP_E_NP), gp_get3(rec, GP_E_NN), t), nc), GP_R(0.5));
+    const gp_dvec3 tc = gp_dcross(nc, gp_dcross(vint, nint));
+    const gp_dvec3 p = gp_dunit_or(tc, inward, GP_TINY * scale, st, GP_ST_CROSS_TANGENT | ist);
+    if (mode == GP_CT_PAPER) return gp_dmul(len, p); /* Eq. 14 as printed */
+    /* correction: q(t) = p(t) + (1-t)(d0 - p(0)) + t(d1 - p(1)) */
+    const gp_vec3 c0 = gp_sub(d0, gp_get3(rec, GP_E_P0)), c1 = gp_sub(d1, gp_get3(rec, GP_E_P1));
+    q = gp_dadd(p, gp_dlerp(c0, c1, t));
+  }
+  /* project onto the tangent plane of n_c: q - (q.n_c) n_c */
+  const gp_dvec3 proj = gp_dsub(q, gp_dmul(gp_ddot(q, nc), nc));
+  return gp_dmul(len, gp_dunit_or(proj, inward, GP_TINY, st, GP_ST_CROSS_TANGENT | ist));
+}
+
+/* Unit end tangents (t_s, t_e) of the edge Va -> Vb (Eq. 8-9) with the design page's
+ * degenerate fallback and backward-tangent guard. The same curve results from either
+ * direction; the caller evaluates each edge in one canonical direction. */
+GP_FN void gp_edge_tangents(gp_vec3 va, gp_vec3 vb, gp_vec3 na, gp_vec3 nb, gp_vec3* ts, gp_vec3* te,
+                            gp_uint* st) {
+  const gp_vec3 e = gp_sub(vb, va);
+  const GP_REAL L = gp_len(e);
+  const GP_REAL span = gp_max(gp_len(va), gp_len(vb));
+  if (!(L > GP_TINY * span) || !(L > GP_R(0.0))) {
+    *st |= GP_ST_ZERO_EDGE;
+    *ts = gp_zero3();
+    *te = gp_zero3();
+    return;
+  }
+  const gp_vec3 eu = gp_scale(e, GP_R(1.0) / L);
+  const gp_vec3 navg = gp_scale(gp_add(na, nb), GP_R(0.5));
+  const gp_vec3 w = gp_cross(eu, navg);
+  /* projections of the edge on the vertices' tangent planes: fallback and guard */
+  const gp_vec3 pa = gp_unit_or(gp_madd(eu, na, -gp_dot(eu, na)), eu, GP_TINY, st, GP_ST_EDGE_NORMAL);
+  const gp_vec3 pb = gp_unit_or(gp_madd(eu, nb, -gp_dot(eu, nb)), eu, GP_TINY, st, GP_ST_EDGE_NORMAL);
+  gp_uint ignore = 0u;
+  gp_vec3 a = gp_unit_or(gp_cross(na, w), pa, GP_TINY, &ignore, 1u);
+  gp_vec3 b = gp_unit_or(gp_cross(nb, w), pb, GP_TINY, &ignore, 1u);
+  if (gp_dot(a, e) <= GP_R(0.0)) {
+    a = pa;
+    *st |= GP_ST_GUARD;
+  }
+  if (gp_dot(b, e) <= GP_R(0.0)) {
+    b = pb;
+    *st |= GP_ST_GUARD;
+  }
+  *ts = a;
+  *te = b;
+}
+
+/* Fills the cross-tangent data (D0, D1, P0, P1, T0, T1, DT0, DT1) of one edge record whose
+ * geometry fields are set. d0, d1 as on the design page. */
+GP_FN void gp_finish_edge_record(GP_REAL* rec, gp_vec3 d0, gp_vec3 d1, int mode, gp_uint* st) {
+  gp_put3(rec, GP_E_D0, d0);
+  gp_put3(rec, GP_E_D1, d1);
+  for (int end = 0; end < 2; ++end) { /* p(0), p(1): the printed direction */
+    const GP_REAL t = end ? GP_R(1.0) : GP_R(0.0);
+    gp_dvec3 c, cp;
+    gp_edge_curve(rec, t, &c, &cp);
+    const gp_dvec3 nc = gp_edge_normal(rec, t, cp, st);
+    const gp_dvec3 T = gp_cross_tangent(rec, t, GP_CT_PAPER, c, cp, nc, st);
+    const GP_REAL l = end ? rec[GP_E_LN] : rec[GP_E_LP];
+    gp_put3(rec, end ? GP_E_P1 : GP_E_P0, l > GP_R(0.0) ? gp_scale(T.v, GP_R(1.0) / l) : gp_zero3());
+  }
+  for (int end = 0; end < 2; ++end) { /* T(0), T(1) and exact dT/dt there (twists) */
+    const GP_REAL t = end ? GP_R(1.0) : GP_R(0.0);
+    gp_dvec3 c, cp;
+    gp_edge_curve(rec, t, &c, &cp);
+    const gp_dvec3 nc = gp_edge_normal(rec, t, cp, st);
+    const gp_dvec3 T = gp_cross_tangent(rec, t, mode, c, cp, nc, st);
+    gp_put3(rec, end ? GP_E_T1 : GP_E_T0, T.v);
+    gp_put3(rec, end ? GP_E_DT1 : GP_E_DT0, T.d);
+  }
+}
+
+/* Builds the n edge records of one polygon into recs (n * GP_E_NFIELDS, record-major).
+ * V, N: n positions and unit normals, CCW from outside. vid: the global vertex ids, used
+ * to evaluate each edge's end tangents in one canonical direction (lower id first) so that
+ * both faces of an edge build the same curve. Returns the patch status bits. */
+GP_FN gp_uint gp_build_patch(int n, const gp_vec3* V, const gp_vec3* N, const int* vid, int mode,
+                             GP_REAL* recs) {
+  gp_uint st = 0u;
+  if (n < 3 || n > GP_MAX_N) return GP_ST_TOO_MANY_SIDES;
+  for (int k = 0; k < n; ++k)
+    if (!gp_finite3(V[k]) || !gp_finite3(N[k])) return GP_ST_NONFINITE;
+  gp_vec3 ts[GP_MAX_N], te[GP_MAX_N];
+  for (int k = 0; k < n; ++k) {
+    const int k1 = (k + 1) % n;
+    if (vid[k] <= vid[k1]) {
+      gp_edge_tangents(V[k], V[k1], N[k], N[k1], &ts[k], &te[k], &st);
+    } else {
+      gp_vec3 a, b;
+      gp_edge_tangents(V[k1], V[k], N[k1], N[k], &a, &b, &st);
+      ts[k] = gp_neg(b);
+      te[k] = gp_neg(a);
+    }
+  }
+  for (int k = 0; k < n; ++k) {
+    const int km = (k + n - 1) % n, k1 = (k + 1) % n, k2 = (k + 2) % n;
+    GP_REAL* rec = recs + k * GP_E_NFIELDS;
+    const GP_REAL L = gp_len(gp_sub(V[k1], V[k]));
+    gp_put3(rec, GP_E_V0, V[k]);
+    gp_put3(rec, GP_E_V1, V[k1]);
+    gp_put3(rec, GP_E_M0, gp_scale(ts[k], L));
+    gp_put3(rec, GP_E_M1, gp_scale(te[k], L));
+    gp_put3(rec, GP_E_N0, N[k]);
+    gp_put3(rec, GP_E_N1, N[k1]);
+    gp_put3(rec, GP_E_VP, V[km]);
+    gp_put3(rec, GP_E_VN, V[k2]);
+    gp_put3(rec, GP_E_NP, N[km]);
+    gp_put3(rec, GP_E_NN, N[k2]);
+    rec[GP_E_LP] = gp_len(gp_sub(V[k], V[km]));
+    rec[GP_E_LN] = gp_len(gp_sub(V[k2], V[k1]));
+  }
+  for (int k = 0; k < n; ++k) {
+    const int km = (k + n - 1) % n, k1 = (k + 1) % n;
+    gp_finish_edge_record(recs + k * GP_E_NFIELDS, gp_neg(te[km]), ts[k1], mode, &st);
+  }
+  return st;
+}
