@@ -139,7 +139,9 @@ GP_FN gp_eval_result gp_patch_eval(int n, const GP_REAL* recs, int mode, GP_REAL
     nfb = gp_madd(nfb, gp_get3(rk, GP_E_N0), w);
   }
   const gp_vec3 nn = gp_cross(out.dxi, out.deta);
-  const GP_REAL scale = gp_len(out.dxi) * gp_len(out.deta);
+  /* rank-deficient Jacobian (e.g. at a 180-degree corner): the normal is noise, flag it */
+  const GP_REAL jmax = gp_max(gp_len(out.dxi), gp_len(out.deta));
+  const GP_REAL scale = jmax * jmax;
   gp_uint sst = 0u;
   out.normal = gp_unit_or(nn, gp_unit_or(nfb, gp_get3(recs, GP_E_N0), GP_TINY, &sst, 0u), GP_TINY * scale,
                           &sst, GP_ST_SINGULAR);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <memory>
 #include <vector>
 
 namespace sf::ref {
@@ -33,5 +34,27 @@ Eigen::Vector3d refCrossTangentDerivative(const RefPatch& p, int k, double t);
 Eigen::Vector2d refDomainCorner(int n, int k);
 /// G(X) and its exact first derivatives (Eq. 2-5). X must lie in the closed domain.
 RefEval refEvaluate(const RefPatch& p, double xi, double eta);
+
+// ---- Additions beyond the fixed API (tests only) ----
+
+struct RefPatchData;
+
+/// Reusable evaluator: builds the edge curves, cross tangents and the twists once, then
+/// evaluates G(X) many times. refEvaluate(p, xi, eta) == RefPatchEvaluator(p).evaluate(xi, eta).
+class RefPatchEvaluator {
+ public:
+  explicit RefPatchEvaluator(const RefPatch& p);  ///< throws std::invalid_argument if n < 3
+  RefEval evaluate(double xi, double eta) const;
+  Eigen::Vector3d position(double xi, double eta) const;  ///< G(X) only (cheaper)
+  int size() const;
+
+ private:
+  std::shared_ptr<const RefPatchData> d_;
+};
+
+/// Which end tangents of edge k the backward-tangent guard replaced: bit 0 = t_s, bit 1 = t_e.
+int refEdgeGuardMask(const RefPatch& p, int k);
+/// Outward unit normal m_k of domain edge C_k C_{k+1} (Eq. 3-5 of the design page).
+Eigen::Vector2d refDomainEdgeNormal(int n, int k);
 
 }  // namespace sf::ref

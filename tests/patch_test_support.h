@@ -1,0 +1,90 @@
+// Helpers for the patch tests: caches from in-code shapes or files, G1 measurement.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "mesh_pipeline.h"
+#include "patch_eval.h"
+#include "ref_shapes.h"
+#include "topology.h"
+
+namespace sf::test {
+
+inline PolygonMesh toPolygonMesh(const ref::RefMesh& m) {
+  PolygonMesh pm;
+  pm.positions = m.positions;
+  for (const auto& f : m.faces) pm.addFace(std::vector<int32_t>(f.begin(), f.end()));
+  return pm;
+}
+
+/// A cache built on the CPU from an in-code shape, using the shape's vertex normals.
+inline PatchCache cacheFromShape(const ref::RefMesh& m, CrossTangentMode mode = CrossTangentMode::Corrected,
+                                 Precision precision = Precision::Double, Backend backend = Backend::Serial) {
+  const PolygonMesh pm = toPolygonMesh(m);
+  std::vector<Eigen::Vector3d> cn;
+  for (int v : pm.faceVertices) cn.push_back(m.normals[v]);
+  PatchOptions o;
+  o.crossTangent = mode;
+  o.precision = precision;
+  PatchCache c = preparePatchCache(pm, cn, o, 0);
+  constructPatches(c, backend);
+  return c;
+}
+
+/// A cache built from a mesh file with default options (angle-weighted or file normals).
+inline PatchCache cacheFromFile(const std::string& path, CrossTangentMode mode = CrossTangentMode::Corrected,
+                                Precision precision = Precision::Double) {
+  PatchOptions o;
+  o.crossTangent = mode;
+  o.precision = precision;
+  return buildPatchCache(loadMesh(path, o), o, Backend::Tbb);
+}
+
+inline std::string sharedMesh(const std::string& rel) { return std::string(SF_SHARED_MESHES) + "/" + rel; }
+
+/// Domain point at parameter s along domain edge k, moved `delta` inward.
+inline Eigen::Vector2d edgePoint(int n, int k, double s, double delta) {
+  const Eigen::Vector2d a = domainCorner(n, k), b = domainCorner(n, (k + 1) % n);
+  const Eigen::Vector2d p = a + s * (b - a);
+  const double ang = (2 * k + 1) * M_PI / n;
+  return p - delta * Eigen::Vector2d(std::cos(ang), std::sin(ang));
+}
+
+/// Largest tangent-plane angle arccos|n0.n1| (radians) and position gap between the two
+/// patches of every manifold shared edge, at points `delta` inside both domains, at
+/// edge parameters 0.1 .. 0.9.
+struct G1Stats {
+  double maxAngle = 0, maxGap = 0;
+  int edges = 0;
+  int worstFace = -1;
+};
+inline G1Stats measureG1(const PatchCache& c, double delta, int samples = 9) {
+  G1Stats st;
+  for (int s = 0; s < c.numSlots(); ++s) {
+    const int t = c.slotTwin[s];
+    if (t < s) continue;  // boundary, non-manifold, or seen from the other side
+    const int f = slotFace(c.faceOffsets, s), g = slotFace(c.faceOffsets, t);
+    const int k = s - c.faceOffsets[f], i = t - c.faceOffsets[g];
+    ++st.edges;
+    for (int j = 1; j <= samples; ++j) {
+      const double u = double(j) / (samples + 1);
+      const Eigen::Vector2d xf = edgePoint(c.faceSize(f), k, u, delta);
+      const Eigen::Vector2d xg = edgePoint(c.faceSize(g), i, 1 - u, delta);
+      const PatchPoint pf = evaluatePatch(c, f, xf.x(), xf.y());
+      const PatchPoint pg = evaluatePatch(c, g, xg.x(), xg.y());
+      const double ang = std::acos(std::min(1.0, std::abs(pf.normal.dot(pg.normal))));
+      if (ang > st.maxAngle) {
+        st.maxAngle = ang;
+        st.worstFace = f;
+      }
+      st.maxGap = std::max(st.maxGap, (pf.pos - pg.pos).norm());
+    }
+  }
+  return st;
+}
+
+}  // namespace sf::test

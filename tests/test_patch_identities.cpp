@@ -1,0 +1,116 @@
+// Unit/property tests of the production patch math (kernels/gp_patch.h through the cache):
+// corner interpolation, boundary = edge curve, cross-tangent end identities, derivatives.
+#include <gtest/gtest.h>
+
+#include "gp_math.h"
+#include "patch_test_support.h"
+
+namespace sf {
+namespace {
+
+using test::cacheFromShape;
+
+std::vector<ref::RefMesh> shapes() {
+  return {ref::refUnitSphereCube(), ref::refIcosahedron(), ref::refDodecahedron(),
+          ref::refJitteredPolytope(7, 0, 0.12, 12.0), ref::refJitteredPolytope(11, 1, 0.08, 10.0)};
+}
+
+TEST(PatchIdentities, CornersInterpolateVertices) {
+  for (const auto& shape : shapes()) {
+    const PatchCache c = cacheFromShape(shape);
+    for (int f = 0; f < c.numFaces(); ++f)
+      for (int k = 0; k < c.faceSize(f); ++k) {
+        const Eigen::Vector2d x = domainCorner(c.faceSize(f), k);
+        const PatchPoint p = evaluatePatch(c, f, x.x(), x.y());
+        const Eigen::Vector3d v = shape.positions[shape.faces[f][k]];
+        EXPECT_LT((p.pos - v).norm(), 1e-14) << "face " << f << " corner " << k;
+        EXPECT_EQ(p.status & GP_ST_DEGENERATE_MASK, 0u);
+      }
+  }
+}
+
+TEST(PatchIdentities, BoundaryIsTheEdgeCurve) {
+  for (const auto& shape : shapes()) {
+    const PatchCache c = cacheFromShape(shape);
+    for (int f = 0; f < c.numFaces(); ++f) {
+      const int n = c.faceSize(f);
+      double recs[GP_MAX_N * GP_E_NFIELDS];
+      gatherRecords(c, f, recs);
+      for (int k = 0; k < n; ++k)
+        for (double s : {0.1, 0.37, 0.5, 0.81}) {
+          const Eigen::Vector2d x = test::edgePoint(n, k, s, 0.0);
+          const PatchPoint p = evaluatePatch(c, f, x.x(), x.y());
+          gpd::gp_dvec3 cv, cp;
+          gpd::gp_edge_curve(recs + k * GP_E_NFIELDS, s, &cv, &cp);
+          EXPECT_LT((p.pos - Eigen::Vector3d(cv.v.x, cv.v.y, cv.v.z)).norm(), 1e-13) << "face " << f << " edge " << k;
+        }
+    }
+  }
+}
+
+// T_k(0) = -C_{k-1}'(1) (pointing away from V_k) and T_k(1) = C_{k+1}'(0): Eq. 1's
+// compatibility, which the corrected construction guarantees.
+TEST(PatchIdentities, CrossTangentEndsMatchNeighbouringCurves) {
+  for (auto mode : {CrossTangentMode::Corrected, CrossTangentMode::Blend}) {
+    for (const auto& shape : shapes()) {
+      const PatchCache c = cacheFromShape(shape, mode);
+      for (int f = 0; f < c.numFaces(); ++f) {
+        const int n = c.faceSize(f);
+        double recs[GP_MAX_N * GP_E_NFIELDS];
+        gatherRecords(c, f, recs);
+        for (int k = 0; k < n; ++k) {
+          const double* rk = recs + k * GP_E_NFIELDS;
+          const double* rm = recs + ((k + n - 1) % n) * GP_E_NFIELDS;
+          const double* rp = recs + ((k + 1) % n) * GP_E_NFIELDS;
+          gpd::gp_dvec3 cv, cp;
+          gpd::gp_edge_curve(rm, 1.0, &cv, &cp);
+          const gpd::gp_vec3 t0 = gpd::gp_get3(rk, GP_E_T0), t1 = gpd::gp_get3(rk, GP_E_T1);
+          EXPECT_LT(gpd::gp_len(gpd::gp_add(t0, cv.d)), 1e-13) << "T_k(0), face " << f << " edge " << k;
+          gpd::gp_edge_curve(rp, 0.0, &cv, &cp);
+          EXPECT_LT(gpd::gp_len(gpd::gp_sub(t1, cv.d)), 1e-13) << "T_k(1), face " << f << " edge " << k;
+        }
+      }
+    }
+  }
+}
+
+// dG/dxi, dG/deta are exact: they agree with central differences to O(h^2).
+TEST(PatchIdentities, DerivativesMatchFiniteDifferences) {
+  const PatchCache c = cacheFromShape(ref::refJitteredPolytope(3, 0, 0.12, 15.0));
+  const double h = 1e-6;
+  for (int f = 0; f < c.numFaces(); ++f)
+    for (const auto& x : {Eigen::Vector2d(0.1, -0.2), Eigen::Vector2d(-0.3, 0.25), Eigen::Vector2d(0.5, 0.1)}) {
+      const PatchPoint p = evaluatePatch(c, f, x.x(), x.y());
+      const Eigen::Vector3d fx = (evaluatePatch(c, f, x.x() + h, x.y()).pos - evaluatePatch(c, f, x.x() - h, x.y()).pos) / (2 * h);
+      const Eigen::Vector3d fy = (evaluatePatch(c, f, x.x(), x.y() + h).pos - evaluatePatch(c, f, x.x(), x.y() - h).pos) / (2 * h);
+      EXPECT_LT((p.dxi - fx).norm(), 1e-7 * (1 + fx.norm())) << "face " << f;
+      EXPECT_LT((p.deta - fy).norm(), 1e-7 * (1 + fy.norm())) << "face " << f;
+      EXPECT_NEAR(p.normal.norm(), 1.0, 1e-14);
+    }
+}
+
+// The design page's independently checked numbers: max |r - 1| of the patches vs the flat faces.
+TEST(PatchIdentities, PlatonicSolidsOnTheUnitSphere) {
+  struct Case {
+    ref::RefMesh m;
+    double expect;
+  };
+  for (const Case& cs : {Case{ref::refUnitSphereCube(), 0.104}, Case{ref::refIcosahedron(), 0.038},
+                         Case{ref::refDodecahedron(), 0.064}}) {
+    const PatchCache c = cacheFromShape(cs.m);
+    double worst = 0;
+    for (int f = 0; f < c.numFaces(); ++f) {
+      const int n = c.faceSize(f);
+      for (int r = 0; r <= 24; ++r)
+        for (int k = 0; k < n; ++k)
+          for (int j = 0; j <= 8; ++j) {
+            const Eigen::Vector2d x = (r / 24.0) * test::edgePoint(n, k, j / 8.0, 0.0);
+            worst = std::max(worst, std::abs(evaluatePatch(c, f, x.x(), x.y()).pos.norm() - 1.0));
+          }
+    }
+    EXPECT_NEAR(worst, cs.expect, 0.0015);
+  }
+}
+
+}  // namespace
+}  // namespace sf
