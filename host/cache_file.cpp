@@ -63,6 +63,13 @@ std::string optionsText(const PatchOptions& o) {
 
 }  // namespace
 
+bool isPatchCacheFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char m[8] = {};
+  in.read(m, 8);
+  return in.gcount() == 8 && std::memcmp(m, kMagic, 8) == 0;
+}
+
 uint64_t hashPatchOptions(const PatchOptions& options) {
   const std::string s = optionsText(options);
   return hashBytes(s.data(), s.size());

@@ -22,6 +22,9 @@ uint64_t hashPatchOptions(const PatchOptions& options);
 /// PatchCache order. Throws InputError when the file cannot be written.
 void writePatchCache(const PatchCache& cache, const std::string& path);
 
+/// True when the file at `path` starts with the cache magic (false when unreadable).
+bool isPatchCacheFile(const std::string& path);
+
 /// What a loaded cache must match; unset fields are not checked.
 struct CacheExpectation {
   std::optional<uint64_t> meshHash;

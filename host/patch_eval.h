@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 
 #include "patch_cache.h"
 
@@ -31,5 +32,9 @@ PatchPoint evaluatePatch(const PatchCache& cache, int f, double xi, double eta);
 /// opencl_backend.h. Bad face indices give status GP_ST_OUTSIDE.
 void evaluatePatches(const PatchCache& cache, const int32_t* faces, const double* xi, const double* eta,
                      size_t count, PatchPoint* out, Backend backend, int threads = 0);
+
+/// A batch evaluator: (faces, xi, eta, count, out) as in evaluatePatches, whatever backend.
+using BatchEvaluator =
+    std::function<void(const int32_t* faces, const double* xi, const double* eta, size_t count, PatchPoint* out)>;
 
 }  // namespace sf

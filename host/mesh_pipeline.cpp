@@ -1,0 +1,58 @@
+#include "mesh_pipeline.h"
+
+#include "hash.h"
+#include "mesh_io.h"
+
+namespace sf {
+
+LoadedMesh loadMesh(const std::string& path, const PatchOptions& options) {
+  LoadedMesh out;
+  out.mesh = readMesh(path);
+  out.fileHash = hashFile(path);
+  out.report = checkMesh(out.mesh);
+  out.flipped = applyOrientation(out.mesh, out.report,
+                                 options.keepOrientation ? OrientPolicy::Keep : OrientPolicy::Outward);
+  out.cornerNormals = cornerNormals(out.mesh, options.normals, &out.normalFallbacks);
+  // creases: corners of one vertex carrying different normals (per-corner file normals)
+  std::vector<int> firstCorner(out.mesh.numVertices(), -1);
+  for (int c = 0; c < out.mesh.numCorners(); ++c) {
+    int& first = firstCorner[out.mesh.faceVertices[c]];
+    if (first < 0)
+      first = c;
+    else if ((out.cornerNormals[c] - out.cornerNormals[first]).norm() > 1e-12)
+      ++out.creaseCorners;
+  }
+  return out;
+}
+
+PatchCache buildPatchCache(const LoadedMesh& loaded, const PatchOptions& options, Backend backend,
+                           int threads) {
+  PatchCache cache = preparePatchCache(loaded.mesh, loaded.cornerNormals, options, loaded.fileHash);
+  constructPatches(cache, backend, threads);
+  return cache;
+}
+
+PatchStatusSummary summarizePatchStatus(const PatchCache& cache) {
+  PatchStatusSummary s;
+  for (int f = 0; f < cache.numFaces(); ++f) {
+    const uint32_t st = cache.faceStatus[f];
+    s.guard += (st & GP_ST_GUARD) != 0;
+    s.zeroEdge += (st & GP_ST_ZERO_EDGE) != 0;
+    s.edgeNormal += (st & GP_ST_EDGE_NORMAL) != 0;
+    s.crossTangent += (st & GP_ST_CROSS_TANGENT) != 0;
+    s.notBuilt += (st & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE)) != 0;
+    if (st & GP_ST_FOLD) {
+      ++s.fold;
+      s.foldFaces.push_back(f);
+    }
+    if (st & GP_ST_BULGE) {
+      ++s.bulge;
+      s.bulgeFaces.push_back(f);
+    }
+    if (st & GP_ST_DEGENERATE_MASK) s.degenerateFaces.push_back(f);
+    s.maxBulge = std::max(s.maxBulge, cache.faceBulge[f]);
+  }
+  return s;
+}
+
+}  // namespace sf

@@ -1,0 +1,91 @@
+#include "cli_common.h"
+
+#include <chrono>
+
+#include "cache_file.h"
+#include "opencl_backend.h"
+
+namespace sf::cli {
+
+PatchOptions PatchArgs::options() const {
+  PatchOptions o;
+  o.precision = parsePrecision(precision);
+  o.normals = parseNormalMode(normals);
+  o.crossTangent = parseCrossTangent(crossTangent);
+  if (orient != "outward" && orient != "keep")
+    throw InputError("--orient: expected outward|keep, got '" + orient + "'");
+  o.keepOrientation = orient == "keep";
+  return o;
+}
+
+void addPatchArgs(CLI::App& cmd, PatchArgs& a) {
+  cmd.add_option("--precision", a.precision, "float|double: precision of the patch records")
+      ->check(CLI::IsMember({"float", "double"}))->capture_default_str();
+  cmd.add_option("--normals", a.normals,
+                 "auto|file|angle|area: vertex normals (auto = the file's when it has one per vertex, "
+                 "else angle-weighted)")
+      ->check(CLI::IsMember({"auto", "file", "angle", "area"}))->capture_default_str();
+  cmd.add_option("--cross-tangent", a.crossTangent,
+                 "corrected|paper|blend: cross-tangent construction (design page, Robustness)")
+      ->check(CLI::IsMember({"corrected", "paper", "blend"}))->capture_default_str();
+  cmd.add_option("--orient", a.orient, "outward|keep: flip closed meshes whose faces point inward")
+      ->check(CLI::IsMember({"outward", "keep"}))->capture_default_str();
+  cmd.add_option("--backend", a.backend, "serial|tbb|opencl")
+      ->check(CLI::IsMember({"serial", "tbb", "opencl"}))->capture_default_str();
+  cmd.add_option("--device", a.device, "OpenCL device: index or name substring (default: first GPU, else CPU)");
+  cmd.add_option("--threads", a.threads, "worker threads for tbb (0 = all cores)")
+      ->check(CLI::Range(0, 4096))->capture_default_str();
+}
+
+double construct(PatchCache& cache, const PatchArgs& args) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (args.backendKind() == Backend::OpenCL) {
+    OpenCLOptions o;
+    o.device = args.device;
+    constructPatchesOpenCL(cache, o);
+  } else {
+    constructPatches(cache, args.backendKind(), args.threads);
+  }
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+Source openSource(const std::string& path, const PatchArgs& args) {
+  Source s;
+  if (isPatchCacheFile(path)) {
+    s.cache = readPatchCache(path);
+    return s;
+  }
+  const PatchOptions opt = args.options();
+  s.loaded = std::make_unique<LoadedMesh>(loadMesh(path, opt));
+  s.cache = preparePatchCache(s.loaded->mesh, s.loaded->cornerNormals, opt, s.loaded->fileHash);
+  s.buildSeconds = construct(s.cache, args);
+  return s;
+}
+
+BatchEvaluator makeEvaluator(const PatchCache& cache, const PatchArgs& args) {
+  const Backend b = args.backendKind();
+  if (b == Backend::OpenCL) {
+    OpenCLOptions o;
+    o.device = args.device;
+    auto ev = std::make_shared<OpenCLEvaluator>(cache, o);
+    return [ev](const int32_t* f, const double* x, const double* y, size_t n, PatchPoint* out) {
+      ev->evaluate(f, x, y, n, out);
+    };
+  }
+  const int threads = args.threads;
+  return [&cache, b, threads](const int32_t* f, const double* x, const double* y, size_t n, PatchPoint* out) {
+    evaluatePatches(cache, f, x, y, n, out, b, threads);
+  };
+}
+
+std::string faceSizeText(const std::vector<int>& h) {
+  std::string s;
+  for (size_t n = 0; n < h.size(); ++n) {
+    if (!h[n]) continue;
+    if (!s.empty()) s += ", ";
+    s += std::to_string(h[n]) + " " + (n == 3 ? "tri" : n == 4 ? "quad" : std::to_string(n) + "-gon");
+  }
+  return s.empty() ? "none" : s;
+}
+
+}  // namespace sf::cli

@@ -1,0 +1,50 @@
+// Shared pieces of the `smoothforce` subcommands: patch options, loading MESH|CACHE, backends.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <memory>
+#include <string>
+
+#include "mesh_pipeline.h"
+#include "patch_eval.h"
+
+namespace sf::cli {
+
+/// Options every command that builds patches takes.
+struct PatchArgs {
+  std::string precision = "double", normals = "auto", crossTangent = "corrected", orient = "outward";
+  std::string backend = "tbb", device;
+  int threads = 0;
+  PatchOptions options() const;
+  Backend backendKind() const { return parseBackend(backend); }
+};
+
+/// Registers --precision, --normals, --cross-tangent, --orient, --backend, --device, --threads.
+void addPatchArgs(CLI::App& cmd, PatchArgs& args);
+
+/// A patch cache obtained from a mesh (built now) or a cache file (loaded), with the
+/// mesh-side information when there was a mesh.
+struct Source {
+  PatchCache cache;
+  std::unique_ptr<LoadedMesh> loaded;  ///< null when read from a cache file
+  double buildSeconds = 0;
+};
+
+/// Loads a cache file (detected by its magic) or reads the mesh and builds its patches
+/// with the chosen backend.
+Source openSource(const std::string& path, const PatchArgs& args);
+
+/// Builds patches for an already loaded mesh with the chosen backend; returns seconds.
+double construct(PatchCache& cache, const PatchArgs& args);
+
+/// A batch evaluator for the chosen backend (CPU or OpenCL).
+BatchEvaluator makeEvaluator(const PatchCache& cache, const PatchArgs& args);
+
+/// "4 tri, 160 quad, 16 5-gon"
+std::string faceSizeText(const std::vector<int>& histogram);
+
+void addCacheCommands(CLI::App& app);
+void addEvalCommand(CLI::App& app);
+void addExportCommand(CLI::App& app);
+
+}  // namespace sf::cli

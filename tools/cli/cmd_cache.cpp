@@ -1,0 +1,108 @@
+// `smoothforce cache build|info`
+#include <cstdio>
+#include <filesystem>
+
+#include "cache_file.h"
+#include "cli_common.h"
+#include "hash.h"
+
+namespace sf::cli {
+namespace {
+
+void printPatchSummary(const PatchCache& c) {
+  const PatchStatusSummary s = summarizePatchStatus(c);
+  std::printf("patches: %d built (precision %s, cross tangent %s)\n", c.numFaces() - s.notBuilt,
+              toString(c.options.precision), toString(c.options.crossTangent));
+  std::printf("patch status: guard used %d, folds %d, bulges > 0.5 %d (max bulge %.3f), "
+              "degenerate %d, not built %d\n",
+              s.guard, s.fold, s.bulge, s.maxBulge, static_cast<int>(s.degenerateFaces.size()), s.notBuilt);
+  auto list = [](const char* what, const std::vector<int>& ids) {
+    if (ids.empty()) return;
+    std::printf("  %s faces:", what);
+    for (size_t i = 0; i < ids.size() && i < 10; ++i) std::printf(" %d", ids[i]);
+    std::printf(ids.size() > 10 ? " ...\n" : "\n");
+  };
+  list("fold", s.foldFaces);
+  list("bulge", s.bulgeFaces);
+  list("degenerate", s.degenerateFaces);
+}
+
+std::vector<int> histogram(const PatchCache& c) {
+  std::vector<int> h;
+  for (int f = 0; f < c.numFaces(); ++f) {
+    const int n = c.faceSize(f);
+    if (static_cast<int>(h.size()) <= n) h.resize(n + 1, 0);
+    ++h[n];
+  }
+  return h;
+}
+
+void build(const std::string& mesh, std::string out, const PatchArgs& args) {
+  if (isPatchCacheFile(mesh)) throw InputError(mesh + ": is already a patch cache; give a mesh file");
+  const PatchOptions opt = args.options();
+  LoadedMesh lm = loadMesh(mesh, opt);
+  const MeshReport& r = lm.report;
+  std::printf("mesh: %s (%d vertices, %d faces: %s)\n", mesh.c_str(), r.numVertices, r.numFaces,
+              faceSizeText(r.faceSizeHistogram).c_str());
+  for (const std::string& line : r.describe()) std::printf("  %s\n", line.c_str());
+  if (lm.flipped)
+    std::printf("orientation: closed mesh faced inward (signed volume %.6g): flipped to outward "
+                "(--orient keep to keep)\n", r.signedVolume);
+  std::printf("normals: %s%s\n", toString(opt.normals),
+              lm.mesh.fileNormals.empty() && lm.mesh.fileCornerNormals.empty() ? " (file has none)" : "");
+  if (lm.creaseCorners)
+    std::printf("  %d corners carry a crease normal (per-corner file normals): the edges there are "
+                "not shared curves, so the surface is open along them\n", lm.creaseCorners);
+  if (!lm.normalFallbacks.empty())
+    std::printf("  %zu vertices had no well-defined normal; used an incident face's normal (first: %d)\n",
+                lm.normalFallbacks.size(), lm.normalFallbacks.front());
+  PatchCache cache = preparePatchCache(lm.mesh, lm.cornerNormals, opt, lm.fileHash);
+  const double secs = construct(cache, args);
+  printPatchSummary(cache);
+  std::printf("build: %.3f ms on %s: %.0f patches/s\n", secs * 1e3, args.backend.c_str(),
+              cache.numFaces() / std::max(secs, 1e-9));
+  if (out.empty()) out = std::filesystem::path(mesh).filename().replace_extension(".sfcache").string();
+  writePatchCache(cache, out);
+  std::printf("cache: %s, %llu bytes (mesh hash %s)\n", out.c_str(),
+              static_cast<unsigned long long>(std::filesystem::file_size(out)), hexHash(cache.meshHash).c_str());
+}
+
+void info(const std::string& path) {
+  const PatchCache c = readPatchCache(path);
+  std::printf("cache: %s, format %u, %llu bytes\n", path.c_str(), kCacheFormatVersion,
+              static_cast<unsigned long long>(std::filesystem::file_size(path)));
+  std::printf("mesh hash: %s, options hash: %s\n", hexHash(c.meshHash).c_str(),
+              hexHash(hashPatchOptions(c.options)).c_str());
+  std::printf("mesh: %d vertices, %d faces (%s), %d edges slots\n", c.numVertices(), c.numFaces(),
+              faceSizeText(histogram(c)).c_str(), c.numSlots());
+  int boundary = 0, nonManifold = 0;
+  for (int32_t t : c.slotTwin) boundary += t == -1, nonManifold += t == -2;
+  std::printf("edges: %d boundary slots, %d non-manifold slots\n", boundary, nonManifold);
+  std::printf("options: precision %s, cross tangent %s, normals %s, orient %s\n", toString(c.options.precision),
+              toString(c.options.crossTangent), toString(c.options.normals),
+              c.options.keepOrientation ? "keep" : "outward");
+  printPatchSummary(c);
+}
+
+}  // namespace
+
+void addCacheCommands(CLI::App& app) {
+  CLI::App* cache = app.add_subcommand("cache", "Build or inspect a whole-mesh patch cache");
+  cache->require_subcommand(1);
+
+  auto* b = cache->add_subcommand("build", "Build every patch of MESH and write the cache file");
+  auto mesh = std::make_shared<std::string>();
+  auto out = std::make_shared<std::string>();
+  auto args = std::make_shared<PatchArgs>();
+  b->add_option("MESH", *mesh, "mesh file (.obj, .off, .ply)")->required();
+  b->add_option("-o,--output", *out, "cache file to write (default: MESH's name with .sfcache)");
+  addPatchArgs(*b, *args);
+  b->callback([=] { build(*mesh, *out, *args); });
+
+  auto* i = cache->add_subcommand("info", "Validate a cache file and describe it");
+  auto path = std::make_shared<std::string>();
+  i->add_option("CACHE", *path, "cache file")->required();
+  i->callback([=] { info(*path); });
+}
+
+}  // namespace sf::cli
