@@ -1,0 +1,166 @@
+// Strict Wavefront OBJ reader: v, vn, f (v, v/vt, v//vn, v/vt/vn; 1-based or negative
+// indices). Other statements (vt, o, g, s, usemtl, mtllib, l, p, unknown) are ignored.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "mesh_io_detail.h"
+
+namespace sf::detail {
+namespace {
+
+/// One kind of OBJ element (v, vt, vn): how many so far, and the largest positive index
+/// seen with the line it was first seen on (positive indices may point forward; they are
+/// checked against the final count at the end).
+struct IndexSpace {
+  const char* name;
+  int64_t count = 0;
+  int64_t maxPositive = 0;
+  size_t maxLine = 0;
+
+  /// Resolves a 1-based or negative (relative) index to 0-based.
+  int32_t resolve(const LineCtx& c, std::string_view tok) {
+    const int64_t i = c.integer(tok, name);
+    if (i == 0) c.fail(std::string(name) + " 0 (OBJ indices start at 1)");
+    if (i < 0) {
+      if (-i > count) {
+        c.fail("relative " + std::string(name) + " " + std::to_string(i) + " but only " +
+               std::to_string(count) + " defined so far");
+      }
+      return static_cast<int32_t>(count + i);
+    }
+    if (i > kMaxCount) c.fail(std::string(name) + " " + std::to_string(i) + " out of range");
+    if (i > maxPositive) {
+      maxPositive = i;
+      maxLine = c.line;
+    }
+    return static_cast<int32_t>(i - 1);
+  }
+  void checkFinal(const std::string& path) const {
+    if (maxPositive > count) {
+      failAt(path, maxLine,
+             std::string(name) + " " + std::to_string(maxPositive) + " out of range (file has " +
+                 std::to_string(count) + ")");
+    }
+  }
+};
+
+struct ObjState {
+  IndexSpace v{"vertex index"}, vt{"texture index"}, vn{"normal index"};
+  std::vector<Eigen::Vector3d> normals;
+  std::vector<int32_t> cornerVn;  ///< per corner, while faces carry normal indices
+  int faceNormals = -1;           ///< -1 unknown, 0 faces have no vn, 1 faces have vn
+  size_t firstFaceLine = 0;
+};
+
+void readVertex(const LineCtx& c, Tokens& t, PolygonMesh& m) {
+  Eigen::Vector3d p;
+  static const char* axes[3] = {"x coordinate", "y coordinate", "z coordinate"};
+  for (int a = 0; a < 3; ++a) p[a] = c.finite(c.need(t, axes[a]), axes[a]);
+  std::string_view tok;
+  int extra = 0;
+  while (t.next(tok)) {  // w, or r g b [a]
+    c.number(tok, "optional vertex value (w or colour)");
+    if (++extra > 4) c.fail("too many values on vertex line (expected x y z [w | r g b [a]])");
+  }
+  if (m.positions.size() >= static_cast<size_t>(kMaxCount)) c.fail("too many vertices");
+  m.positions.push_back(p);
+}
+
+void readNormal(const LineCtx& c, Tokens& t, ObjState& s) {
+  Eigen::Vector3d n;
+  static const char* axes[3] = {"normal x", "normal y", "normal z"};
+  for (int a = 0; a < 3; ++a) n[a] = c.finite(c.need(t, axes[a]), axes[a]);
+  std::string_view tok;
+  if (t.next(tok)) c.fail("unexpected " + quoted(tok) + " after normal x y z");
+  s.normals.push_back(n);
+}
+
+void readFace(const LineCtx& c, Tokens& t, ObjState& s, PolygonMesh& m, std::vector<int32_t>& verts,
+              std::vector<int32_t>& vns) {
+  verts.clear();
+  vns.clear();
+  int withVn = 0;
+  std::string_view tok;
+  while (t.next(tok)) {
+    const size_t s1 = tok.find('/');
+    const size_t s2 = s1 == std::string_view::npos ? s1 : tok.find('/', s1 + 1);
+    if (s2 != std::string_view::npos && tok.find('/', s2 + 1) != std::string_view::npos)
+      c.fail("bad face corner " + quoted(tok) + " (expected v, v/vt, v//vn or v/vt/vn)");
+    const std::string_view vPart = tok.substr(0, s1);
+    if (vPart.empty()) c.fail("face corner " + quoted(tok) + " has no vertex index");
+    verts.push_back(s.v.resolve(c, vPart));
+    if (s1 == std::string_view::npos) continue;
+    const std::string_view vtPart =
+        s2 == std::string_view::npos ? tok.substr(s1 + 1) : tok.substr(s1 + 1, s2 - s1 - 1);
+    if (!vtPart.empty()) s.vt.resolve(c, vtPart);
+    if (s2 == std::string_view::npos) {
+      if (vtPart.empty()) c.fail("face corner " + quoted(tok) + " has an empty texture index");
+      continue;
+    }
+    const std::string_view vnPart = tok.substr(s2 + 1);
+    if (vnPart.empty()) c.fail("face corner " + quoted(tok) + " has an empty normal index");
+    vns.push_back(s.vn.resolve(c, vnPart));
+    ++withVn;
+  }
+  const int n = static_cast<int>(verts.size());
+  if (n < 3)
+    c.fail("face with " + std::to_string(n) + " corner" + (n == 1 ? "" : "s") +
+           " (at least 3 needed)");
+  if (withVn != 0 && withVn != n)
+    c.fail("some corners of this face have normal indices and some do not");
+  const int has = withVn ? 1 : 0;
+  if (s.faceNormals < 0) {
+    s.faceNormals = has;
+    s.firstFaceLine = c.line;
+  } else if (s.faceNormals != has) {
+    c.fail(std::string("face ") + (has ? "has" : "lacks") +
+           " normal indices but the face on line " + std::to_string(s.firstFaceLine) +
+           (has ? " lacks them" : " has them"));
+  }
+  if (m.faceVertices.size() + verts.size() > static_cast<size_t>(kMaxCount))
+    c.fail("too many face corners");
+  m.addFace(verts);
+  s.cornerVn.insert(s.cornerVn.end(), vns.begin(), vns.end());
+}
+
+}  // namespace
+
+PolygonMesh readObj(const std::string& path, std::string_view data) {
+  PolygonMesh m;
+  ObjState s;
+  std::vector<int32_t> verts, vns;
+  LineReader lines(data);
+  std::string_view line;
+  while (lines.next(line)) {
+    const LineCtx c{path, lines.lineNo()};
+    Tokens t(stripComment(line));
+    std::string_view kw;
+    if (!t.next(kw)) continue;
+    if (kw == "v") {
+      readVertex(c, t, m);
+      s.v.count = m.numVertices();
+    } else if (kw == "vn") {
+      readNormal(c, t, s);
+      s.vn.count = static_cast<int64_t>(s.normals.size());
+    } else if (kw == "vt") {
+      ++s.vt.count;  // contents are not used
+    } else if (kw == "f" || kw == "fo") {
+      readFace(c, t, s, m, verts, vns);
+    }
+    // Everything else (o, g, s, usemtl, mtllib, l, p, vp, unknown extensions) is ignored.
+  }
+  if (m.numFaces() == 0) failAt(path, lines.lineNo(), "no faces in file");
+  s.v.checkFinal(path);
+  s.vt.checkFinal(path);
+  s.vn.checkFinal(path);
+  if (s.faceNormals == 1) {
+    m.fileCornerNormals.reserve(s.cornerVn.size());
+    for (int32_t i : s.cornerVn) m.fileCornerNormals.push_back(s.normals[i]);
+  } else if (!s.normals.empty() && s.normals.size() == m.positions.size()) {
+    m.fileNormals = std::move(s.normals);
+  }
+  return m;
+}
+
+}  // namespace sf::detail

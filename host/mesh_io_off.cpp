@@ -1,0 +1,136 @@
+// Strict ASCII OFF reader: [ST][C][N]OFF header (counts on the same line or the next),
+// one vertex per line, one face per line (`n i0 .. i(n-1)` then optional colour values),
+// `#` comments, blank lines. The edge count is ignored.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "mesh_io_detail.h"
+
+namespace sf::detail {
+namespace {
+
+struct OffHeader {
+  bool normals = false;  // N: nx ny nz after x y z
+  bool colours = false;  // C: r g b [a] (not used)
+  bool texture = false;  // ST: s t (not used)
+};
+
+/// Next line that is not blank or only a comment, as tokens; false at end of file.
+bool nextContent(LineReader& lines, std::string_view& content) {
+  std::string_view line;
+  while (lines.next(line)) {
+    content = stripComment(line);
+    Tokens t(content);
+    if (!t.done()) return true;
+  }
+  return false;
+}
+
+OffHeader parseKeyword(const LineCtx& c, std::string_view kw) {
+  OffHeader h;
+  std::string_view k = kw;
+  if (k.substr(0, 2) == "ST") h.texture = true, k.remove_prefix(2);
+  if (k.substr(0, 1) == "C") h.colours = true, k.remove_prefix(1);
+  if (k.substr(0, 1) == "N") h.normals = true, k.remove_prefix(1);
+  if (k.substr(0, 1) == "4" || k.substr(0, 1) == "n")
+    c.fail("unsupported OFF variant " + quoted(kw) + " (only 3D OFF is read)");
+  if (k != "OFF") c.fail("not an OFF file: header is " + quoted(kw) + ", expected OFF");
+  return h;
+}
+
+}  // namespace
+
+PolygonMesh readOff(const std::string& path, std::string_view data) {
+  LineReader lines(data);
+  std::string_view content;
+  if (!nextContent(lines, content)) failAt(path, lines.lineNo(), "file is empty");
+  LineCtx c{path, lines.lineNo()};
+  Tokens header(content);
+  const OffHeader h = parseKeyword(c, c.need(header, "OFF keyword"));
+
+  // Counts: on the header line or on the next content line.
+  std::string_view tok;
+  Tokens counts = header;
+  if (counts.done()) {
+    if (!nextContent(lines, content))
+      failAt(path, lines.lineNo(), "missing vertex and face counts");
+    c.line = lines.lineNo();
+    counts = Tokens(content);
+  }
+  tok = c.need(counts, "vertex count");
+  if (tok == "BINARY") c.fail("binary OFF is not supported");
+  const int64_t nv = c.count(tok, "vertex count");
+  const int64_t nf = c.count(c.need(counts, "face count"), "face count");
+  if (counts.next(tok)) c.integer(tok, "edge count");  // value ignored
+  if (counts.next(tok)) c.fail("unexpected " + quoted(tok) + " after the counts");
+  if (nf == 0) c.fail("no faces (face count is 0)");
+  // Every vertex and face needs a line of at least one character and a line break (a
+  // looser bound than a valid line needs, so that short bad lines get their own message).
+  const uint64_t need = 2 * static_cast<uint64_t>(nv) + 2 * static_cast<uint64_t>(nf);
+  if (need > lines.remaining() + 1) {
+    c.fail("counts say " + std::to_string(nv) + " vertices and " + std::to_string(nf) +
+           " faces, more than the remaining " + std::to_string(lines.remaining()) +
+           " bytes can hold");
+  }
+
+  PolygonMesh m;
+  m.positions.reserve(static_cast<size_t>(nv));
+  if (h.normals) m.fileNormals.reserve(static_cast<size_t>(nv));
+  static const char* axes[3] = {"x coordinate", "y coordinate", "z coordinate"};
+  static const char* naxes[3] = {"normal x", "normal y", "normal z"};
+  for (int64_t i = 0; i < nv; ++i) {
+    if (!nextContent(lines, content)) {
+      failAt(path, lines.lineNo(),
+             "file ends after " + std::to_string(i) + " of " + std::to_string(nv) + " vertices");
+    }
+    c.line = lines.lineNo();
+    Tokens t(content);
+    Eigen::Vector3d p, n;
+    for (int a = 0; a < 3; ++a) p[a] = c.finite(c.need(t, axes[a]), axes[a]);
+    if (h.normals) {
+      for (int a = 0; a < 3; ++a) n[a] = c.finite(c.need(t, naxes[a]), naxes[a]);
+      m.fileNormals.push_back(n);
+    }
+    while (t.next(tok)) c.number(tok, "extra vertex value (colour or texture)");
+    m.positions.push_back(p);
+  }
+
+  m.faceOffsets.reserve(static_cast<size_t>(nf) + 1);
+  std::vector<int32_t> verts;
+  for (int64_t f = 0; f < nf; ++f) {
+    if (!nextContent(lines, content)) {
+      failAt(path, lines.lineNo(),
+             "file ends after " + std::to_string(f) + " of " + std::to_string(nf) + " faces");
+    }
+    c.line = lines.lineNo();
+    Tokens t(content);
+    const int64_t n = c.integer(c.need(t, "face corner count"), "face corner count");
+    if (n < 3) c.fail("face with " + std::to_string(n) + " corners (at least 3 needed)");
+    verts.clear();
+    for (int64_t k = 0; k < n; ++k) {
+      if (!t.next(tok)) {
+        c.fail("face has " + std::to_string(n) + " corners but only " + std::to_string(k) +
+               " vertex indices");
+      }
+      const int64_t v = c.integer(tok, "vertex index");
+      if (v < 0 || v >= nv) {
+        c.fail("vertex index " + std::to_string(v) + " out of range (file has " +
+               std::to_string(nv) + " vertices)");
+      }
+      verts.push_back(static_cast<int32_t>(v));
+    }
+    while (t.next(tok)) c.number(tok, "face colour value");
+    if (m.faceVertices.size() + verts.size() > static_cast<size_t>(kMaxCount))
+      c.fail("too many face corners");
+    m.addFace(verts);
+  }
+  if (nextContent(lines, content)) {
+    failAt(path, lines.lineNo(),
+           "unexpected data after the last face (the header says " + std::to_string(nv) +
+               " vertices and " + std::to_string(nf) + " faces)");
+  }
+  return m;
+}
+
+}  // namespace sf::detail

@@ -1,0 +1,365 @@
+// Mesh readers: expected-failure table over tests/data/malformed, and unit tests of what
+// the OBJ, OFF and PLY (ASCII, binary LE/BE) readers accept.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <set>
+
+#include "mesh_io.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kMalformed = std::string(SF_TEST_DATA) + "/malformed/";
+
+/// A temporary folder for this process, removed at exit.
+struct TempDir {
+  fs::path path = fs::temp_directory_path() / ("sf_test_mesh_io_" + std::to_string(::getpid()));
+  TempDir() { fs::create_directories(path); }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+};
+
+/// Writes `bytes` to a file in the temporary folder; returns its path.
+std::string writeTemp(const std::string& name, const std::string& bytes) {
+  static const TempDir dir;
+  const std::string path = (dir.path / name).string();
+  std::ofstream(path, std::ios::binary) << bytes;
+  return path;
+}
+
+/// The InputError message readMesh(path) throws, or "" (a test failure) when it does not.
+std::string errorOf(const std::string& path) {
+  try {
+    sf::readMesh(path);
+  } catch (const sf::InputError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << path << " was read without error";
+  return "";
+}
+
+struct Malformed {
+  const char* file;
+  int line;  ///< expected line in `path:line: ...`
+  const char* reason;
+};
+
+const Malformed kCases[] = {
+    {"obj_bad_float.obj", 3, "bad number 'abc'"},
+    {"obj_nan.obj", 2, "non-finite"},
+    {"obj_inf.obj", 3, "non-finite"},
+    {"obj_overflow_float.obj", 2, "bad number '1e999'"},
+    {"obj_missing_coordinate.obj", 3, "missing z"},
+    {"obj_too_many_vertex_values.obj", 1, "too many values"},
+    {"obj_index_out_of_range.obj", 6, "vertex index 5 out of range"},
+    {"obj_forward_index_out_of_range.obj", 3, "vertex index 4 out of range"},
+    {"obj_zero_index.obj", 4, "start at 1"},
+    {"obj_relative_out_of_range.obj", 5, "relative vertex index -4"},
+    {"obj_huge_index.obj", 4, "bad integer"},
+    {"obj_two_corner_face.obj", 6, "face with 2 corners"},
+    {"obj_one_corner_face.obj", 4, "face with 1 corner"},
+    {"obj_garbage_in_face.obj", 4, "bad integer 'x'"},
+    {"obj_bad_corner_syntax.obj", 5, "bad face corner"},
+    {"obj_empty_texture_index.obj", 4, "empty texture index"},
+    {"obj_mixed_normals.obj", 7, "the face on line 6 has them"},
+    {"obj_mixed_normals_in_face.obj", 5, "some corners"},
+    {"obj_normal_index_out_of_range.obj", 5, "normal index 2 out of range"},
+    {"obj_bad_normal.obj", 4, "unexpected 'x'"},
+    {"obj_crlf_bad_float.obj", 3, "bad number '0x'"},
+    {"obj_no_faces.obj", 4, "no faces"},
+    {"obj_empty.obj", 1, "empty"},
+    {"off_bad_header.off", 1, "not an OFF file"},
+    {"off_binary.off", 1, "binary OFF"},
+    {"off_missing_counts.off", 2, "missing vertex and face counts"},
+    {"off_bad_counts.off", 2, "bad integer 'one'"},
+    {"off_negative_count.off", 2, "vertex count -3 out of range"},
+    {"off_huge_count.off", 2, "more than the remaining"},
+    {"off_truncated.off", 7, "file ends after 1 of 2 faces"},
+    {"off_truncated_vertices.off", 5, "file ends after 3 of 5 vertices"},
+    {"off_bad_vertex.off", 4, "bad number 'zz'"},
+    {"off_nan.off", 5, "non-finite"},
+    {"off_index_out_of_range.off", 6, "vertex index 3 out of range"},
+    {"off_negative_index.off", 6, "vertex index -1 out of range"},
+    {"off_two_corner_face.off", 7, "face with 2 corners"},
+    {"off_missing_index.off", 7, "only 3 vertex indices"},
+    {"off_garbage_after_face.off", 6, "bad number 'red'"},
+    {"off_extra_data.off", 7, "unexpected data after the last face"},
+    {"off_noff_missing_normal.off", 5, "missing normal x"},
+    {"off_empty.off", 1, "empty"},
+    {"ply_bad_magic.ply", 1, "not a PLY file"},
+    {"ply_bad_header.ply", 9, "unknown header line 'bogus'"},
+    {"ply_bad_version.ply", 2, "unsupported PLY version"},
+    {"ply_no_end_header.ply", 4, "no end_header"},
+    {"ply_unknown_type.ply", 4, "unknown property type 'float128'"},
+    {"ply_huge_count.ply", 3, "more than the rest of the file"},
+    {"ply_missing_z.ply", 3, "lacks x, y or z"},
+    {"ply_no_face_list.ply", 7, "lacks a 'vertex_indices'"},
+    {"ply_bad_float.ply", 11, "bad number '0.5.5'"},
+    {"ply_nan.ply", 12, "non-finite y"},
+    {"ply_index_out_of_range.ply", 14, "vertex index 3 out of range"},
+    {"ply_two_corner_face.ply", 14, "2 corners"},
+    {"ply_uchar_out_of_range.ply", 13, "'300' out of range"},
+    {"ply_extra_value.ply", 11, "unexpected '7'"},
+    {"ply_truncated_ascii.ply", 13, "file ends before face 1"},
+    {"ply_extra_data.ply", 14, "unexpected data after the last element"},
+};
+
+}  // namespace
+
+TEST(MeshReaderMalformed, EachFileThrowsWithFileAndLine) {
+  for (const Malformed& c : kCases) {
+    const std::string path = kMalformed + c.file;
+    ASSERT_TRUE(fs::exists(path)) << path;
+    const std::string msg = errorOf(path);
+    const std::string prefix = path + ":" + std::to_string(c.line) + ": ";
+    EXPECT_EQ(msg.rfind(prefix, 0), 0u) << "expected prefix " << prefix << "\n got: " << msg;
+    EXPECT_NE(msg.find(c.reason), std::string::npos) << "expected '" << c.reason << "' in: " << msg;
+  }
+}
+
+TEST(MeshReaderMalformed, TableCoversEveryFileInTheFolder) {
+  std::set<std::string> listed;
+  for (const Malformed& c : kCases) listed.insert(c.file);
+  EXPECT_EQ(listed.size(), std::size(kCases)) << "duplicate table entry";
+  EXPECT_GE(listed.size(), 20u);
+  for (const auto& e : fs::directory_iterator(kMalformed))
+    EXPECT_TRUE(listed.count(e.path().filename().string())) << e.path() << " has no table entry";
+}
+
+TEST(MeshReaderDispatch, ExtensionAndFileErrors) {
+  EXPECT_NE(errorOf("/nonexistent/mesh.stl")
+                .find("/nonexistent/mesh.stl: unknown mesh file extension '.stl'"),
+            std::string::npos);
+  EXPECT_NE(errorOf("/nonexistent/mesh").find("unknown mesh file extension"), std::string::npos);
+  EXPECT_NE(errorOf("/nonexistent/mesh.obj").find("/nonexistent/mesh.obj: cannot open"),
+            std::string::npos);
+  const std::string upper = writeTemp("TRI.OBJ", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  const sf::PolygonMesh m = sf::readMesh(upper);
+  EXPECT_EQ(m.numFaces(), 1);
+  EXPECT_EQ(m.sourcePath, upper);
+  const std::string dir = writeTemp("x", "");
+  fs::create_directories(dir + ".dir.obj");
+  EXPECT_NE(errorOf(dir + ".dir.obj").find("is a directory"), std::string::npos);
+}
+
+TEST(ObjReader, AcceptsCommonSyntax) {
+  const std::string body =
+      "# comment\nmtllib missing.mtl\no thing\n"
+      "v 0 0 0 1.0\nv 1 0 0 0.5 0.5 0.5\nv\t+1 1 0\t \nv 0 1 0   \n"
+      "vt 0 0\nvt 1 0\nvn 0 0 1\ng grp\nusemtl m\ns 1\n\n"
+      "f 1/1 2/2 3/1   # a comment after a face\n"
+      "f -4 -2 -1\nl 1 2\np 1\ncurv2 1 2\nvp 0.5\n";
+  for (const bool crlf : {false, true}) {
+    std::string text = body;
+    if (crlf) {
+      text.clear();
+      for (char c : body) text += c == '\n' ? std::string("\r\n") : std::string(1, c);
+    }
+    const sf::PolygonMesh m = sf::readMesh(writeTemp(crlf ? "crlf.obj" : "lf.obj", text));
+    ASSERT_EQ(m.numVertices(), 4);
+    EXPECT_EQ(m.positions[2], Eigen::Vector3d(1, 1, 0));
+    EXPECT_EQ(m.faceOffsets, (std::vector<int32_t>{0, 3, 6}));
+    EXPECT_EQ(m.faceVertices, (std::vector<int32_t>{0, 1, 2, 0, 2, 3}));
+    EXPECT_TRUE(m.fileNormals.empty());  // one vn for four vertices, unreferenced
+    EXPECT_TRUE(m.fileCornerNormals.empty());
+  }
+}
+
+TEST(ObjReader, NormalsPerCornerAndPerVertex) {
+  const sf::PolygonMesh c =
+      sf::readMesh(writeTemp("corner.obj",
+                             "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvn 0 0 1\nvn 0 0 2\n"
+                             "f 1//1 2//2 3//1\nf 2/1/2 4/1/1 3/1/-1\n"));
+  ASSERT_EQ(c.fileCornerNormals.size(), 6u);
+  EXPECT_EQ(c.fileCornerNormals[1], Eigen::Vector3d(0, 0, 2));
+  EXPECT_EQ(c.fileCornerNormals[3], Eigen::Vector3d(0, 0, 2));
+  EXPECT_EQ(c.fileCornerNormals[5], Eigen::Vector3d(0, 0, 2));
+  EXPECT_TRUE(c.fileNormals.empty());
+  const sf::PolygonMesh v = sf::readMesh(writeTemp(
+      "vertex.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvn 0 0 1\nvn 0 1 1\nf 1 2 3\n"));
+  ASSERT_EQ(v.fileNormals.size(), 3u);
+  EXPECT_EQ(v.fileNormals[2], Eigen::Vector3d(0, 1, 1));
+  EXPECT_TRUE(v.fileCornerNormals.empty());
+}
+
+TEST(ObjReader, ForwardReferencesAndLargeNgons) {
+  std::string text = "f 1 2 3 4 5 6 7 8 9 10 11 12\n";
+  for (int i = 0; i < 12; ++i)
+    text += "v " + std::to_string(i) + " " + std::to_string(i * i) + " 0\n";
+  const sf::PolygonMesh m = sf::readMesh(writeTemp("ngon.obj", text));
+  EXPECT_EQ(m.numFaces(), 1);
+  EXPECT_EQ(m.faceSize(0), 12);
+  EXPECT_EQ(m.positions[11], Eigen::Vector3d(11, 121, 0));
+}
+
+TEST(OffReader, HeaderVariantsCommentsAndColours) {
+  const sf::PolygonMesh a = sf::readMesh(
+      writeTemp("inline.off",
+                "# leading comment\nOFF 4 2 99\n\t0 0 0\n1 0 0 # x axis\n\n1 1 0  \n0 1 0\n"
+                "3 0 1 2 255 0 0\n3\t0 2 3 0.1 0.2 0.3 1\n# trailing comment\n"));
+  EXPECT_EQ(a.numVertices(), 4);
+  EXPECT_EQ(a.faceVertices, (std::vector<int32_t>{0, 1, 2, 0, 2, 3}));
+  EXPECT_TRUE(a.fileNormals.empty());
+
+  const sf::PolygonMesh n = sf::readMesh(
+      writeTemp("n.off", "NOFF\n3 1 0\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0.5 0.5\n3 0 1 2\n"));
+  ASSERT_EQ(n.fileNormals.size(), 3u);
+  EXPECT_EQ(n.fileNormals[2], Eigen::Vector3d(0, 0.5, 0.5));
+
+  const sf::PolygonMesh c = sf::readMesh(
+      writeTemp("c.off", "COFF\n3 1 0\n0 0 0 1 0 0 1\n1 0 0 0 1 0 1\n0 1 0 0 0 1 1\n3 0 1 2\n"));
+  EXPECT_TRUE(c.fileNormals.empty());
+  EXPECT_EQ(c.positions[1], Eigen::Vector3d(1, 0, 0));
+
+  const sf::PolygonMesh cn = sf::readMesh(writeTemp(
+      "cn.off",
+      "CNOFF\n3 1 0\n0 0 0 0 0 1 1 0 0 1\n1 0 0 0 0 1 0 1 0 1\n0 1 0 0 0 1 0 0 1 1\n4 0 1 2 0\n"));
+  EXPECT_EQ(cn.fileNormals.size(), 3u);
+  EXPECT_EQ(cn.faceSize(0), 4);
+}
+
+namespace {
+
+/// A square pyramid written as PLY: an extra element first, mixed scalar types, normals,
+/// a list property inside the vertex element, and extra face properties.
+std::string pyramidHeader(const char* format) {
+  return std::string("ply\nformat ") + format +
+         " 1.0\ncomment written by test_mesh_io\nelement material 1\nproperty uchar id\n"
+         "property list uchar float values\nelement vertex 5\nproperty double x\nproperty float y\n"
+         "property int16 z\nproperty float nx\nproperty float ny\nproperty float nz\n"
+         "property uchar red\nproperty list int uchar extra\nelement face 5\nproperty uchar flags\n"
+         "property list uint8 uint32 vertex_indices\nproperty float quality\nend_header\n";
+}
+const double kPyramid[5][3] = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}, {0, 0, 2}};
+const std::vector<std::vector<uint32_t>> kPyramidFaces = {
+    {3, 2, 1, 0}, {0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}};
+
+/// Binary body of the pyramid; `offsets` (if given) receives where each face's indices start.
+std::string pyramidBinary(bool big, std::vector<size_t>* offsets = nullptr) {
+  std::string s;
+  const auto put = [&](auto v) {
+    char b[sizeof v];
+    std::memcpy(b, &v, sizeof v);
+    if (big) std::reverse(b, b + sizeof v);
+    s.append(b, sizeof v);
+  };
+  put(uint8_t{7}), put(uint8_t{2}), put(0.5f), put(0.25f);
+  for (const auto& p : kPyramid) {
+    put(p[0]), put(static_cast<float>(p[1])), put(static_cast<int16_t>(p[2]));
+    put(0.f), put(0.f), put(1.f), put(uint8_t{200}), put(int32_t{3});
+    put(uint8_t{1}), put(uint8_t{2}), put(uint8_t{3});
+  }
+  for (const auto& f : kPyramidFaces) {
+    put(uint8_t{0}), put(static_cast<uint8_t>(f.size()));
+    if (offsets) offsets->push_back(s.size());
+    for (uint32_t v : f) put(v);
+    put(1.5f);
+  }
+  return s;
+}
+
+void expectPyramid(const sf::PolygonMesh& m) {
+  ASSERT_EQ(m.numVertices(), 5);
+  for (int i = 0; i < 5; ++i)
+    EXPECT_EQ(m.positions[i], Eigen::Vector3d(kPyramid[i][0], kPyramid[i][1], kPyramid[i][2]));
+  ASSERT_EQ(m.numFaces(), 5);
+  for (int f = 0; f < 5; ++f) {
+    ASSERT_EQ(m.faceSize(f), static_cast<int>(kPyramidFaces[f].size()));
+    for (int k = 0; k < m.faceSize(f); ++k)
+      EXPECT_EQ(m.faceVertex(f, k), static_cast<int>(kPyramidFaces[f][k]));
+  }
+  ASSERT_EQ(m.fileNormals.size(), 5u);
+  EXPECT_EQ(m.fileNormals[4], Eigen::Vector3d(0, 0, 1));
+}
+
+}  // namespace
+
+TEST(PlyReader, AsciiAnyElementOrder) {
+  std::string text = pyramidHeader("ascii") + "7 2 0.5 0.25\n";
+  for (const auto& p : kPyramid)
+    text += std::to_string(p[0]) + " " + std::to_string(p[1]) + " " + std::to_string(int(p[2])) +
+            " 0 0 1 200 3 1 2 3 \r\n";
+  for (const auto& f : kPyramidFaces) {
+    text += "0 ";
+    text += std::to_string(f.size());
+    for (uint32_t v : f) (text += ' ') += std::to_string(v);
+    text += " 1.5\n";
+  }
+  expectPyramid(sf::readMesh(writeTemp("pyramid_ascii.ply", text)));
+
+  // Faces before vertices, `vertex_index`, no normals.
+  const sf::PolygonMesh m = sf::readMesh(
+      writeTemp("faces_first.ply",
+                "ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_index\n"
+                "element vertex 3\nproperty float z\nproperty float y\nproperty float x\n"
+                "end_header\n3 2 1 0\n0 0 1\n0 1 0\n1 0 0\n"));
+  EXPECT_EQ(m.faceVertices, (std::vector<int32_t>{2, 1, 0}));
+  EXPECT_EQ(m.positions[0], Eigen::Vector3d(1, 0, 0));
+  EXPECT_TRUE(m.fileNormals.empty());
+}
+
+TEST(PlyReader, BinaryLittleAndBigEndian) {
+  expectPyramid(sf::readMesh(
+      writeTemp("le.ply", pyramidHeader("binary_little_endian") + pyramidBinary(false))));
+  expectPyramid(
+      sf::readMesh(writeTemp("be.ply", pyramidHeader("binary_big_endian") + pyramidBinary(true))));
+  // A header with CRLF line ends: the data starts right after "end_header\r\n".
+  std::string crlf;
+  for (char c : pyramidHeader("binary_little_endian"))
+    crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+  expectPyramid(sf::readMesh(writeTemp("le_crlf.ply", crlf + pyramidBinary(false))));
+}
+
+TEST(PlyReader, BinaryErrorsNameTheByte) {
+  const std::string header = pyramidHeader("binary_little_endian");
+  std::vector<size_t> at;
+  const std::string body = pyramidBinary(false, &at);
+
+  // Every truncation fails cleanly; inside the face data it names the byte.
+  for (size_t cut = 0; cut < body.size(); ++cut) {
+    const std::string path = writeTemp("ply_truncated_binary.ply", header + body.substr(0, cut));
+    const std::string msg = errorOf(path);
+    EXPECT_EQ(msg.rfind(path + ":", 0), 0u) << msg;
+    if (cut > at[1]) {
+      EXPECT_NE(msg.find(": byte "), std::string::npos) << msg;
+    }
+  }
+  std::string bad = body;
+  bad[at[2] + 4] = 9;  // face 2, corner 1 -> vertex 9
+  std::string path = writeTemp("ply_binary_index.ply", header + bad);
+  EXPECT_NE(errorOf(path).find(path + ": byte " + std::to_string(header.size() + at[2] + 4) +
+                               ": face 2: vertex index 9 out of range"),
+            std::string::npos);
+  bad = body;
+  bad[at[0] - 1] = static_cast<char>(255);  // face 0 claims 255 corners: more than the rest holds
+  path = writeTemp("ply_binary_list_count.ply", header + bad);
+  EXPECT_NE(
+      errorOf(path).find(path + ": byte " + std::to_string(header.size() + at[0] - 1) +
+                         ": vertex_indices count 255 is more than the rest of the file holds"),
+      std::string::npos);
+  path = writeTemp("ply_binary_trailing.ply", header + body + "\n");
+  EXPECT_NE(errorOf(path).find("1 bytes of unexpected data after the last element"),
+            std::string::npos);
+  bad = body;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::memcpy(&bad[10 + 8], &nan, 4);  // y of vertex 0, after the 10-byte material row and x
+  path = writeTemp("ply_binary_nan.ply", header + bad);
+  EXPECT_NE(errorOf(path).find("non-finite y in vertex 0"), std::string::npos);
+  const std::string hugeList =
+      std::string(
+          "ply\nformat binary_little_endian 1.0\nelement vertex 0\nproperty float x\n"
+          "property float y\nproperty float z\nelement face 1\n"
+          "property list uint int vertex_indices\nend_header\n") +
+      std::string("\xff\xff\xff\x7f", 4) + std::string(12, '\0');
+  path = writeTemp("ply_binary_huge_list.ply", hugeList);
+  EXPECT_NE(errorOf(path).find("more than the rest of the file holds"), std::string::npos);
+}
