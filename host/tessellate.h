@@ -22,8 +22,9 @@ struct TriangleMesh {
 /// Samples every built patch on `level` rings (each polygon edge split `level` times):
 /// 1 + n L (L+1) / 2 vertices and n L^2 triangles per n-gon, counter-clockwise seen from
 /// outside. Faces that were not built (status GP_ST_TOO_MANY_SIDES/NONFINITE) are skipped.
+/// `evaluate` does the batch evaluation (CPU: evaluatePatches; or an OpenCL evaluator).
 /// Throws InputError when level is outside [1, 256].
-TriangleMesh tessellatePatches(const PatchCache& cache, int level, Backend backend, int threads = 0);
+TriangleMesh tessellatePatches(const PatchCache& cache, int level, const BatchEvaluator& evaluate);
 
 /// Writes OBJ (v, vn, f v//vn) or ASCII PLY (x y z nx ny nz, vertex_indices) by extension.
 /// Throws InputError for an unknown extension or a write failure.

@@ -13,14 +13,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Run {
+struct CliRun {
   int status = -1;  ///< exit status; -1 when killed by a signal
   std::string out;  ///< stdout and stderr together
 };
 
-Run run(const std::string& args) {
+CliRun run(const std::string& args) {
   const std::string cmd = std::string(SF_CLI_PATH) + " " + args + " 2>&1";
-  Run r;
+  CliRun r;
   FILE* p = popen(cmd.c_str(), "r");
   std::array<char, 4096> buf;
   size_t n;
@@ -48,7 +48,7 @@ class Cli : public ::testing::Test {
 
 TEST_F(Cli, HelpOnEverySubcommand) {
   for (const char* sub : {"", "cache", "cache build", "cache info", "eval", "export"}) {
-    const Run r = run(std::string(sub) + " --help");
+    const CliRun r = run(std::string(sub) + " --help");
     EXPECT_EQ(r.status, 0) << sub << "\n" << r.out;
     EXPECT_NE(r.out.find("Usage"), std::string::npos) << sub;
   }
@@ -56,7 +56,7 @@ TEST_F(Cli, HelpOnEverySubcommand) {
 
 TEST_F(Cli, CacheBuildInfoEvalExport) {
   const std::string cache = file("spot.sfcache");
-  Run r = run("cache build " + mesh + " -o " + cache);
+  CliRun r = run("cache build " + mesh + " -o " + cache);
   ASSERT_EQ(r.status, 0) << r.out;
   EXPECT_NE(r.out.find("180 faces: 4 tri, 160 quad, 16 5-gon"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("patches/s"), std::string::npos);
@@ -118,7 +118,7 @@ TEST_F(Cli, ErrorsAreOneLineWithNonZeroExit) {
            {"export " + cache + " --level 0 -o " + file("x.obj"), "level"},
            {"export " + cache + " --level 2 -o " + file("x.stl"), ".obj or .ply"},
        }) {
-    const Run r = run(c.args);
+    const CliRun r = run(c.args);
     EXPECT_GT(r.status, 0) << c.args << "\n" << r.out;
     EXPECT_NE(r.out.find(c.expect), std::string::npos) << c.args << "\n" << r.out;
     EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << "one line: " << r.out;
