@@ -157,7 +157,10 @@ GP_FN gp_uint gp_build_patch(int n, const gp_vec3* V, const gp_vec3* N, const in
   gp_uint st = 0u;
   if (n < 3 || n > GP_MAX_N) return GP_ST_TOO_MANY_SIDES;
   for (int k = 0; k < n; ++k)
-    if (!gp_finite3(V[k]) || !gp_finite3(N[k])) return GP_ST_NONFINITE;
+    if (!gp_finite3(V[k]) || !gp_finite3(N[k])) {
+      for (int i = 0; i < n * GP_E_NFIELDS; ++i) recs[i] = GP_R(0.0); /* defined output */
+      return GP_ST_NONFINITE;
+    }
   gp_vec3 ts[GP_MAX_N], te[GP_MAX_N];
   for (int k = 0; k < n; ++k) {
     const int k1 = (k + 1) % n;

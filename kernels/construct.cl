@@ -1,0 +1,57 @@
+/* Patch construction: one work-item per face (gp_build_patch + gp_patch_quality).
+ *
+ * The host compiles: defines (GP_REAL, GP_IS_DOUBLE, GP_EMBEDDED) + gp_config.h, gp_vec.h,
+ * gp_edge.h, gp_eval.h + this file (host/opencl_backend.cpp). Standalone (clang syntax
+ * check, -I kernels) the include below pulls in the same headers.
+ * Fills exactly what host/patch_build.cpp fills: records field-major
+ * edgeData[i * numSlots + slot], faceStatus[f], faceBulge[f]. */
+#if GP_IS_DOUBLE
+#pragma OPENCL EXTENSION cl_khr_fp64 : enable
+#endif
+#ifndef GP_EMBEDDED
+#include "gp_patch.h"
+#endif
+
+/* numFaces: #F. numSlots: #C. mode: GP_CT_*.
+ * positions: #V*3, cornerNormals: #C*3 (unit), faceOffsets: #F+1, faceVertices: #C.
+ * edgeData: GP_E_NFIELDS*#C (out), faceStatus, faceBulge: #F (out). */
+__kernel void gp_construct(const int numFaces, const int numSlots, const int mode,
+                           __global const GP_REAL* positions, __global const GP_REAL* cornerNormals,
+                           __global const int* faceOffsets, __global const int* faceVertices,
+                           __global GP_REAL* edgeData, __global uint* faceStatus,
+                           __global float* faceBulge) {
+  const int f = (int)get_global_id(0);
+  if (f >= numFaces) return;
+  const int first = faceOffsets[f], n = faceOffsets[f + 1] - first;
+  if (n < 3 || n > GP_MAX_N) {
+    /* not built: records stay zero, as in a freshly prepared cache */
+    for (int k = 0; k < n; ++k)
+      for (int i = 0; i < GP_E_NFIELDS; ++i) edgeData[(size_t)i * numSlots + first + k] = GP_R(0.0);
+    faceStatus[f] = GP_ST_TOO_MANY_SIDES;
+    faceBulge[f] = 0.0f;
+    return;
+  }
+  gp_vec3 V[GP_MAX_N], N[GP_MAX_N];
+  int vid[GP_MAX_N];
+  GP_REAL recs[GP_MAX_N * GP_E_NFIELDS];
+  for (int k = 0; k < n; ++k) {
+    const int v = faceVertices[first + k];
+    const int c = first + k;
+    vid[k] = v;
+    V[k] = gp_v3(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]);
+    N[k] = gp_v3(cornerNormals[3 * c], cornerNormals[3 * c + 1], cornerNormals[3 * c + 2]);
+  }
+  gp_uint st = gp_build_patch(n, V, N, vid, mode, recs);
+  GP_REAL bulge = GP_R(0.0);
+  if (st & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE)) {
+    /* gp_build_patch wrote nothing: store zeros rather than stale private memory */
+    for (int j = 0; j < n * GP_E_NFIELDS; ++j) recs[j] = GP_R(0.0);
+  } else {
+    st |= gp_patch_quality(n, recs, mode, &bulge);
+  }
+  faceStatus[f] = st;
+  faceBulge[f] = (float)bulge;
+  for (int k = 0; k < n; ++k)
+    for (int i = 0; i < GP_E_NFIELDS; ++i)
+      edgeData[(size_t)i * numSlots + first + k] = recs[k * GP_E_NFIELDS + i];
+}
