@@ -1,0 +1,107 @@
+#include "safety.h"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "mesh.h"
+
+namespace sf::rt {
+
+void validate(const SafetyOptions& o) {
+  auto num = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return std::string(buf);
+  };
+  if (!(o.maxForce > 0) || !std::isfinite(o.maxForce))
+    throw InputError("--max-force: expected a finite force > 0 N, got " + num(o.maxForce));
+  if (!(o.maxForceStep > 0))
+    throw InputError("--max-force-step: expected a force step > 0 N, got " + num(o.maxForceStep));
+  if (!(o.rampTime >= 0) || !std::isfinite(o.rampTime))
+    throw InputError("--ramp: expected a finite time >= 0 s, got " + num(o.rampTime));
+  if (o.maxConsecutiveMisses < 1)
+    throw InputError("--max-missed: expected at least 1, got " + std::to_string(o.maxConsecutiveMisses));
+}
+
+const char* toString(Fault f) {
+  switch (f) {
+    case Fault::None:
+      return "none";
+    case Fault::NonFiniteHip:
+      return "non-finite HIP position";
+    case Fault::NonFiniteForce:
+      return "non-finite force";
+    case Fault::MissedDeadlines:
+      return "consecutive missed deadlines";
+  }
+  return "?";
+}
+
+SafetyFilter::SafetyFilter(const SafetyOptions& options) : options_(options) { validate(options_); }
+
+void SafetyFilter::latch(Fault f, double t) noexcept {
+  if (counters_.fault == Fault::None) {
+    counters_.fault = f;
+    counters_.faultTime = t;
+  }
+  last_.setZero();
+}
+
+Eigen::Vector3d SafetyFilter::filter(double t, const Eigen::Vector3d& hip, const Eigen::Vector3d& force,
+                                     uint32_t* flags) noexcept {
+  uint32_t fl = 0;
+  Eigen::Vector3d out = Eigen::Vector3d::Zero();
+  if (faulted()) {
+    fl |= kSafetyFaulted;
+  } else if (!hip.allFinite() || !force.allFinite()) {
+    ++counters_.nonFinite;
+    latch(hip.allFinite() ? Fault::NonFiniteForce : Fault::NonFiniteHip, t);
+    fl |= kSafetyFaulted;
+  } else {
+    out = force;
+    const double mag = out.norm();
+    if (mag > options_.maxForce) {
+      out *= options_.maxForce / mag;
+      ++counters_.clamps;
+      fl |= kSafetyClamped;
+    }
+    if (options_.rampTime > 0 && t < options_.rampTime) {
+      out *= t > 0 ? t / options_.rampTime : 0.0;
+      fl |= kSafetyRamping;
+    }
+    const Eigen::Vector3d delta = out - last_;
+    const double step = delta.norm();
+    if (step > options_.maxForceStep) {
+      out = last_ + delta * (options_.maxForceStep / step);
+      ++counters_.rateLimits;
+      fl |= kSafetyRateLimited;
+    }
+    last_ = out;
+  }
+  if (flags) *flags = fl;
+  return out;
+}
+
+bool SafetyFilter::noteDeadline(bool missed, double t) noexcept {
+  if (!missed) {
+    consecutiveMisses_ = 0;
+    return false;
+  }
+  ++counters_.missedDeadlines;
+  ++consecutiveMisses_;
+  if (consecutiveMisses_ > counters_.maxConsecutiveMisses) counters_.maxConsecutiveMisses = consecutiveMisses_;
+  if (consecutiveMisses_ >= options_.maxConsecutiveMisses && !faulted()) {
+    latch(Fault::MissedDeadlines, t);
+    return true;
+  }
+  return false;
+}
+
+void SafetyFilter::reset() noexcept {
+  counters_ = SafetyCounters{};
+  last_.setZero();
+  consecutiveMisses_ = 0;
+}
+
+}  // namespace sf::rt

@@ -1,0 +1,253 @@
+#include "scene.h"
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "cache_file.h"
+#include "mesh_pipeline.h"
+
+namespace sf::rt {
+
+std::optional<ForceMethod> forceMethodFromName(std::string_view name) {
+  if (name == "patch") return ForceMethod::Patch;
+  if (name == "direct") return ForceMethod::Direct;
+  if (name == "shading") return ForceMethod::Shading;
+  return std::nullopt;
+}
+
+const char* forceMethodName(ForceMethod m) {
+  switch (m) {
+    case ForceMethod::Patch:
+      return "patch";
+    case ForceMethod::Direct:
+      return "direct";
+    case ForceMethod::Shading:
+      return "shading";
+  }
+  return "?";
+}
+
+void Scene::add(SceneObject object) {
+  const Pose& p = object.pose;
+  if (!object.renderer) throw InputError("scene object '" + object.name + "': no renderer");
+  if (!(p.scale > 0) || !std::isfinite(p.scale) || !p.translation.allFinite() || !p.rotation.coeffs().allFinite())
+    throw InputError("scene object '" + object.name + "': pose must be finite with scale > 0");
+  Frame f;
+  f.r = p.rotation.normalized().toRotationMatrix();
+  f.rt = f.r.transpose();
+  f.t = p.translation;
+  f.s = p.scale;
+  objects_.push_back(std::move(object));
+  frames_.push_back(f);
+}
+
+ForceSample Scene::step(const Eigen::Vector3d& hip) noexcept {
+  ForceSample out;
+  for (size_t i = 0; i < objects_.size(); ++i) {
+    const Frame& f = frames_[i];
+    const Eigen::Vector3d local = f.rt * (hip - f.t) / f.s;
+    const ForceSample s = objects_[i].renderer->step(local);
+    out.force += f.s * (f.r * s.force);
+    if (s.contact && !out.contact) {
+      out.contact = true;
+      out.scp = f.t + f.s * (f.r * s.scp);
+      out.normal = f.r * s.normal;
+      out.face = s.face;
+      out.xi = s.xi;
+      out.eta = s.eta;
+      out.iterations = s.iterations;
+      out.transitions = s.transitions;
+      out.status = s.status;
+    }
+  }
+  return out;
+}
+
+void Scene::reset() noexcept {
+  for (SceneObject& o : objects_) o.renderer->reset();
+}
+
+int Scene::patchesBuilt() const noexcept {
+  int n = 0;
+  for (const SceneObject& o : objects_) n += o.renderer->patchesBuilt();
+  return n;
+}
+
+int Scene::totalFaces() const {
+  int n = 0;
+  for (const SceneObject& o : objects_) n += o.cache->numFaces();
+  return n;
+}
+
+Eigen::Vector3d Scene::worldVertex(size_t i, int v) const {
+  const Frame& f = frames_[i];
+  const double* p = objects_[i].cache->positions.data() + 3 * size_t(v);
+  return f.t + f.s * (f.r * Eigen::Vector3d(p[0], p[1], p[2]));
+}
+
+namespace {
+
+using nlohmann::json;
+
+/// Error helper: "FILE: /json/path: message".
+struct Ctx {
+  std::string file;
+  [[noreturn]] void fail(const std::string& where, const std::string& what) const {
+    throw InputError(file + ": " + (where.empty() ? "/" : where) + ": " + what);
+  }
+  double number(const json& j, const std::string& where, const char* expect) const {
+    if (!j.is_number()) fail(where, std::string("expected ") + expect + ", got " + j.dump());
+    const double v = j.get<double>();
+    if (!std::isfinite(v)) fail(where, std::string("expected ") + expect + ", got " + j.dump());
+    return v;
+  }
+  Eigen::Vector3d vec3(const json& j, const std::string& where) const {
+    if (!j.is_array() || j.size() != 3) fail(where, "expected an array of 3 numbers, got " + j.dump());
+    Eigen::Vector3d v;
+    for (int k = 0; k < 3; ++k) v[k] = number(j[k], where + "/" + std::to_string(k), "a finite number");
+    return v;
+  }
+  void onlyKeys(const json& j, const std::string& where, std::initializer_list<const char*> keys) const {
+    for (auto it = j.begin(); it != j.end(); ++it) {
+      bool ok = false;
+      for (const char* k : keys) ok = ok || it.key() == k;
+      if (!ok) {
+        std::string list;
+        for (const char* k : keys) list += (list.empty() ? "" : ", ") + std::string(k);
+        fail(where + "/" + it.key(), "unknown key (expected one of: " + list + ")");
+      }
+    }
+  }
+};
+
+Eigen::Quaterniond parseRotation(const Ctx& c, const json& j, const std::string& where) {
+  if (!j.is_object())
+    c.fail(where, "expected {\"axis\": [x, y, z], \"angle\": radians} or {\"quaternion\": [w, x, y, z]}");
+  c.onlyKeys(j, where, {"axis", "angle", "quaternion"});
+  if (j.contains("quaternion")) {
+    if (j.contains("axis") || j.contains("angle")) c.fail(where, "give either axis/angle or quaternion, not both");
+    const std::string w = where + "/quaternion";
+    const json& q = j["quaternion"];
+    if (!q.is_array() || q.size() != 4) c.fail(w, "expected [w, x, y, z], got " + q.dump());
+    double v[4];
+    for (int k = 0; k < 4; ++k) v[k] = c.number(q[k], w + "/" + std::to_string(k), "a finite number");
+    Eigen::Quaterniond r(v[0], v[1], v[2], v[3]);
+    if (!(r.norm() > 1e-12)) c.fail(w, "the quaternion is zero");
+    return r.normalized();
+  }
+  if (!j.contains("axis") || !j.contains("angle"))
+    c.fail(where, "axis-angle needs both \"axis\" and \"angle\" (radians)");
+  const Eigen::Vector3d axis = c.vec3(j["axis"], where + "/axis");
+  if (!(axis.norm() > 1e-12)) c.fail(where + "/axis", "the axis is zero");
+  const double angle = c.number(j["angle"], where + "/angle", "an angle in radians");
+  return Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis.normalized()));
+}
+
+Pose parsePose(const Ctx& c, const json& j, const std::string& where) {
+  if (!j.is_object()) c.fail(where, "expected an object with translation, rotation, scale");
+  c.onlyKeys(j, where, {"translation", "rotation", "scale"});
+  Pose p;
+  if (j.contains("translation")) p.translation = c.vec3(j["translation"], where + "/translation");
+  if (j.contains("rotation")) p.rotation = parseRotation(c, j["rotation"], where + "/rotation");
+  if (j.contains("scale")) {
+    p.scale = c.number(j["scale"], where + "/scale", "a scale > 0");
+    if (!(p.scale > 0)) c.fail(where + "/scale", "expected a scale > 0, got " + j["scale"].dump());
+  }
+  return p;
+}
+
+std::string stringField(const Ctx& c, const json& j, const std::string& where) {
+  if (!j.is_string() || j.get<std::string>().empty()) c.fail(where, "expected a non-empty string, got " + j.dump());
+  return j.get<std::string>();
+}
+
+}  // namespace
+
+Scene loadScene(const std::string& path, const SceneDefaults& defaults, const RendererFactory& factory) {
+  namespace fs = std::filesystem;
+  const Ctx c{path};
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open scene file");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  json root;
+  try {
+    root = json::parse(ss.str());
+  } catch (const json::parse_error& e) {
+    throw InputError(path + ": invalid JSON: " + e.what());
+  }
+  if (!root.is_object()) c.fail("", "expected an object with \"objects\"");
+  c.onlyKeys(root, "", {"objects", "comment"});
+  if (!root.contains("objects")) c.fail("/objects", "missing (expected an array of objects)");
+  const json& objs = root["objects"];
+  if (!objs.is_array() || objs.empty()) c.fail("/objects", "expected a non-empty array of objects");
+  const fs::path base = fs::path(path).parent_path();
+  Scene scene;
+  for (size_t i = 0; i < objs.size(); ++i) {
+    const std::string w = "/objects/" + std::to_string(i);
+    const json& o = objs[i];
+    if (!o.is_object()) c.fail(w, "expected an object with \"mesh\" or \"cache\"");
+    c.onlyKeys(o, w, {"name", "mesh", "cache", "pose", "stiffness", "method", "comment"});
+    const bool hasMesh = o.contains("mesh"), hasCache = o.contains("cache");
+    if (hasMesh == hasCache)
+      c.fail(w, hasMesh ? "give either \"mesh\" or \"cache\", not both" : "missing \"mesh\" or \"cache\"");
+    const std::string key = hasMesh ? "mesh" : "cache";
+    const std::string rel = stringField(c, o[key], w + "/" + key);
+    const fs::path file = fs::path(rel).is_absolute() ? fs::path(rel) : base / rel;
+    SceneObject obj;
+    obj.source = file.string();
+    obj.name = o.contains("name") ? stringField(c, o["name"], w + "/name") : fs::path(rel).stem().string();
+    if (o.contains("pose")) obj.pose = parsePose(c, o["pose"], w + "/pose");
+    obj.method = defaults.method;
+    if (o.contains("method")) {
+      const json& m = o["method"];
+      const auto fm = m.is_string() ? forceMethodFromName(m.get<std::string>()) : std::nullopt;
+      if (!fm) c.fail(w + "/method", "expected \"patch\", \"direct\" or \"shading\", got " + m.dump());
+      obj.method = *fm;
+    }
+    obj.force = defaults.force;
+    if (o.contains("stiffness")) {
+      obj.force.stiffness = c.number(o["stiffness"], w + "/stiffness", "a stiffness > 0 N/m");
+      if (!(obj.force.stiffness > 0))
+        c.fail(w + "/stiffness", "expected a stiffness > 0 N/m, got " + o["stiffness"].dump());
+    }
+    try {
+      if (hasMesh) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const LoadedMesh loaded = loadMesh(obj.source, defaults.patchOptions);
+        obj.cache = std::make_shared<const PatchCache>(buildPatchCache(loaded, defaults.patchOptions, Backend::Tbb));
+        obj.buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        obj.fromMesh = true;
+      } else {
+        obj.cache = std::make_shared<const PatchCache>(readPatchCache(obj.source));
+      }
+      obj.renderer = factory(obj.cache, obj.method, obj.force);
+    } catch (const InputError& e) {
+      c.fail(w + "/" + key, e.what());
+    }
+    if (!obj.renderer) c.fail(w, "no renderer for this object");
+    scene.add(std::move(obj));
+  }
+  return scene;
+}
+
+Scene singleObjectScene(std::shared_ptr<const PatchCache> cache, std::string source, ForceMethod method,
+                        const ForceOptions& force, const RendererFactory& factory) {
+  SceneObject obj;
+  obj.name = std::filesystem::path(source).stem().string();
+  obj.source = std::move(source);
+  obj.method = method;
+  obj.force = force;
+  obj.cache = std::move(cache);
+  obj.renderer = factory(obj.cache, method, force);
+  if (!obj.renderer) throw InputError(obj.source + ": no renderer");
+  Scene s;
+  s.add(std::move(obj));
+  return s;
+}
+
+}  // namespace sf::rt

@@ -1,0 +1,115 @@
+// End-to-end tests of `smoothforce loop` (real clock, real force renderer): report lines,
+// record file, one-line option errors. Skipped while the command is not registered.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliResult {
+  int status = -1;
+  std::string out;  ///< stdout and stderr
+};
+
+CliResult smoothforce(const std::string& args) {
+  const std::string cmd = std::string(SF_CLI_PATH) + " " + args + " 2>&1";
+  CliResult r;
+  FILE* p = popen(cmd.c_str(), "r");
+  std::array<char, 4096> buf;
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
+  const int st = pclose(p);
+  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
+
+class RuntimeCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const CliResult help = smoothforce("loop --help");
+    if (help.status != 0 || help.out.find("--duration") == std::string::npos)
+      GTEST_SKIP() << "`smoothforce loop` is not registered in this build";
+    dir = fs::temp_directory_path() / ("sf_rt_cli_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    std::ofstream(dir / "cube.obj") << "v -0.5 -0.5 -0.5\nv 0.5 -0.5 -0.5\nv -0.5 0.5 -0.5\nv 0.5 0.5 -0.5\n"
+                                       "v -0.5 -0.5 0.5\nv 0.5 -0.5 0.5\nv -0.5 0.5 0.5\nv 0.5 0.5 0.5\n"
+                                       "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+  }
+  void TearDown() override {
+    if (!dir.empty()) fs::remove_all(dir);
+  }
+  std::string path(const std::string& name) const { return (dir / name).string(); }
+  /// One-line error, exit status 1 or 2.
+  void expectError(const std::string& args, const std::string& want) {
+    const CliResult r = smoothforce("loop --mesh " + path("cube.obj") + " --duration 0.05 " + args);
+    EXPECT_NE(r.status, 0) << args;
+    EXPECT_NE(r.out.find(want), std::string::npos) << args << "\n" << r.out;
+    EXPECT_EQ(r.out.find('\n'), r.out.size() - 1) << "not one line: " << r.out;
+  }
+  fs::path dir;
+};
+
+TEST_F(RuntimeCli, ReportsTimingContactsAndRecords) {
+  for (const char* method : {"patch", "direct", "shading"}) {
+    const std::string rec = path(std::string("rec_") + method + ".csv");
+    const CliResult r = smoothforce("loop --mesh " + path("cube.obj") + " --method " + method +
+                                    " --device scripted --speed 0.5 --duration 0.3 --record " + rec);
+    ASSERT_EQ(r.status, 0) << r.out;
+    const std::regex timing(
+        R"((^|\n)step compute: p50 [0-9.]+ us, p99 [0-9.]+ us, p99\.9 [0-9.]+ us, max [0-9.]+ us\n)");
+    EXPECT_TRUE(std::regex_search(r.out, timing)) << r.out;
+    EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(\nwake-up lateness: p50 [0-9.]+ us, p99 )"))) << r.out;
+    EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(\nmissed deadlines: [0-9]+ )"))) << r.out;
+    EXPECT_NE(r.out.find("patches built: 6 of 6 faces"), std::string::npos) << r.out;
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(r.out, m, std::regex(R"(contacts: ([0-9]+) steps in contact, ([0-9]+) onsets)")));
+    EXPECT_GT(std::stoi(m[1]), 100) << method << ": the slide runs 1.7 cm below the top face\n" << r.out;
+    EXPECT_GE(std::stoi(m[2]), 1);
+    std::ifstream in(rec);
+    std::string header;
+    ASSERT_TRUE(std::getline(in, header)) << rec;
+    EXPECT_EQ(header.rfind("tick,t,x,y,z,fx,fy,fz", 0), 0u);
+    int rows = 0;
+    for (std::string line; std::getline(in, line);) ++rows;
+    EXPECT_GT(rows, 200);
+  }
+}
+
+TEST_F(RuntimeCli, OptionErrorsAreOneLine) {
+  expectError("--rate 0", "--rate: expected a rate in [1, 10000] Hz, got 0");
+  expectError("--rate 20000", "--rate:");
+  expectError("--duration -1", "--duration:");
+  expectError("--stiffness 0", "--stiffness:");
+  expectError("--speed -2", "--speed:");
+  expectError("--depth 0", "--depth:");
+  expectError("--max-force 0", "--max-force:");
+  expectError("--device warp", "--device: expected null, scripted");
+  expectError("--device replay:" + path("none.csv"), "none.csv: cannot open");
+  expectError("--method magic", "--method");
+  expectError("--cache x.sfcache", "excludes");
+  std::ofstream(path("bad.json")) << R"({"objects": [{"mesh": "cube.obj", "pose": {"scale": 0}}]})";
+  const CliResult r = smoothforce("loop --scene " + path("bad.json") + " --duration 0.05");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.out.find("bad.json: /objects/0/pose/scale: expected a scale > 0"), std::string::npos) << r.out;
+  const CliResult none = smoothforce("loop --duration 0.05");
+  EXPECT_NE(none.out.find("give exactly one of --scene, --cache, --mesh"), std::string::npos) << none.out;
+}
+
+TEST_F(RuntimeCli, SceneWithTwoObjects) {
+  std::ofstream(path("scene.json")) << R"({"objects": [
+      {"mesh": "cube.obj"},
+      {"mesh": "cube.obj", "method": "direct", "pose": {"translation": [1.5, 0, 0], "scale": 0.5}}]})";
+  const CliResult r = smoothforce("loop --scene " + path("scene.json") + " --device scripted --duration 0.2");
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("patches built: 12 of 12 faces"), std::string::npos) << r.out;
+}
+
+}  // namespace
