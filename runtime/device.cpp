@@ -1,11 +1,11 @@
 #include "device.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 
+#include "csv_reader.h"
 #include "mesh.h"
 
 namespace sf::rt {
@@ -15,19 +15,6 @@ std::string fmtPoint(const Eigen::Vector3d& p) {
   char buf[96];
   std::snprintf(buf, sizeof buf, "(%.4g, %.4g, %.4g)", p.x(), p.y(), p.z());
   return buf;
-}
-
-std::string trim(const std::string& s) {
-  const auto a = s.find_first_not_of(" \t\r");
-  const auto b = s.find_last_not_of(" \t\r");
-  return a == std::string::npos ? "" : s.substr(a, b - a + 1);
-}
-
-bool parseDouble(const std::string& field, double& out) {
-  const std::string f = trim(field);
-  if (f.empty()) return false;
-  const auto r = std::from_chars(f.data(), f.data() + f.size(), out);
-  return r.ec == std::errc() && r.ptr == f.data() + f.size();
 }
 
 }  // namespace
@@ -79,43 +66,14 @@ std::string PathDevice::describe() const {
 }
 
 Trajectory readTrajectoryCsv(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open");
+  const NumericCsv csv = readNumericCsv(path, {"t", "x", "y", "z"}, /*headerRequired=*/false);
   Trajectory tr;
-  std::string line;
-  int lineNo = 0;
-  auto fail = [&](const std::string& what) { return InputError(path + ":" + std::to_string(lineNo) + ": " + what); };
-  bool first = true;
-  while (std::getline(in, line)) {
-    ++lineNo;
-    const std::string tl = trim(line);
-    if (tl.empty() || tl[0] == '#') continue;
-    std::vector<std::string> cols;
-    size_t start = 0;
-    for (size_t i = 0; i <= line.size(); ++i)
-      if (i == line.size() || line[i] == ',') {
-        cols.push_back(line.substr(start, i - start));
-        start = i + 1;
-      }
-    if (first) {
-      first = false;
-      std::string h;
-      for (char ch : tl)
-        if (ch != ' ' && ch != '\t') h += ch;
-      if (h == "t,x,y,z") continue;
-    }
-    if (cols.size() != 4) throw fail("expected 4 columns t,x,y,z, got " + std::to_string(cols.size()));
-    double v[4];
-    static const char* names[4] = {"t", "x", "y", "z"};
-    for (int k = 0; k < 4; ++k)
-      if (!parseDouble(cols[k], v[k]) || !std::isfinite(v[k]))
-        throw fail(std::string(names[k]) + " is not a finite number: '" + trim(cols[k]) + "'");
-    if (!tr.t.empty() && !(v[0] > tr.t.back()))
-      throw fail("time " + trim(cols[0]) + " s is not greater than the previous row's");
-    tr.t.push_back(v[0]);
-    tr.p.emplace_back(v[1], v[2], v[3]);
+  for (size_t r = 0; r < csv.rows(); ++r) {
+    if (!tr.t.empty() && !(csv.at(r, 0) > tr.t.back()))
+      throwCsvError(path, csv.line[r], "time " + std::to_string(csv.at(r, 0)) + " s is not greater than the previous row's");
+    tr.t.push_back(csv.at(r, 0));
+    tr.p.emplace_back(csv.at(r, 1), csv.at(r, 2), csv.at(r, 3));
   }
-  if (tr.t.empty()) throw InputError(path + ": no samples (expected rows t,x,y,z)");
   return tr;
 }
 

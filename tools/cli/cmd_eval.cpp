@@ -1,69 +1,38 @@
 // `smoothforce eval MESH|CACHE --points IN.csv -o OUT.csv`
-#include <charconv>
+#include <cmath>
 #include <cstdio>
-#include <fstream>
 
 #include "cli_common.h"
+#include "csv_reader.h"
 
 namespace sf::cli {
 namespace {
-
-std::string trim(const std::string& s) {
-  const auto a = s.find_first_not_of(" \t\r");
-  const auto b = s.find_last_not_of(" \t\r");
-  return a == std::string::npos ? "" : s.substr(a, b - a + 1);
-}
-
-template <class T>
-bool parseField(const std::string& field, T& out) {
-  const std::string f = trim(field);
-  if (f.empty()) return false;
-  const auto r = std::from_chars(f.data(), f.data() + f.size(), out);
-  return r.ec == std::errc() && r.ptr == f.data() + f.size();
-}
 
 struct Queries {
   std::vector<int32_t> face;
   std::vector<double> xi, eta;
 };
 
+std::string num(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.10g", v);
+  return b;
+}
+
 /// Reads `face,xi,eta` rows; every problem names the file and line.
 Queries readQueries(const std::string& path, const PatchCache& cache) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open");
+  const NumericCsv t = readNumericCsv(path, {"face", "xi", "eta"});
   Queries q;
-  std::string line;
-  int lineNo = 0;
-  auto fail = [&](const std::string& what) { return InputError(path + ":" + std::to_string(lineNo) + ": " + what); };
-  if (!std::getline(in, line)) throw InputError(path + ": empty file (expected header face,xi,eta)");
-  ++lineNo;
-  {
-    std::string h;
-    for (char ch : line)
-      if (ch != ' ' && ch != '\t' && ch != '\r') h += ch;
-    if (h != "face,xi,eta") throw fail("expected header 'face,xi,eta', got '" + trim(line) + "'");
-  }
-  while (std::getline(in, line)) {
-    ++lineNo;
-    if (trim(line).empty()) continue;
-    std::vector<std::string> cols;
-    size_t start = 0;
-    for (size_t i = 0; i <= line.size(); ++i)
-      if (i == line.size() || line[i] == ',') {
-        cols.push_back(line.substr(start, i - start));
-        start = i + 1;
-      }
-    if (cols.size() != 3) throw fail("expected 3 columns face,xi,eta, got " + std::to_string(cols.size()));
-    int32_t f;
-    double x, y;
-    if (!parseField(cols[0], f)) throw fail("face is not an integer: '" + trim(cols[0]) + "'");
-    if (!parseField(cols[1], x) || !std::isfinite(x)) throw fail("xi is not a finite number: '" + trim(cols[1]) + "'");
-    if (!parseField(cols[2], y) || !std::isfinite(y)) throw fail("eta is not a finite number: '" + trim(cols[2]) + "'");
-    if (f < 0 || f >= cache.numFaces())
-      throw fail("face " + std::to_string(f) + " out of range [0, " + std::to_string(cache.numFaces()) + ")");
+  for (size_t r = 0; r < t.rows(); ++r) {
+    const double fv = t.at(r, 0), x = t.at(r, 1), y = t.at(r, 2);
+    if (fv != std::floor(fv)) throwCsvError(path, t.line[r], "face is not an integer: '" + num(fv) + "'");
+    if (fv < 0 || fv >= cache.numFaces())
+      throwCsvError(path, t.line[r], "face " + num(fv) + " out of range [0, " + std::to_string(cache.numFaces()) + ")");
+    const int32_t f = static_cast<int32_t>(fv);
     if (!insideDomain(cache.faceSize(f), x, y, 1e-12))
-      throw fail("(xi, eta) = (" + trim(cols[1]) + ", " + trim(cols[2]) + ") is outside the domain of face " +
-                 std::to_string(f) + " (a regular " + std::to_string(cache.faceSize(f)) + "-gon of circumradius 1)");
+      throwCsvError(path, t.line[r], "(xi, eta) = (" + num(x) + ", " + num(y) + ") is outside the domain of face " +
+                                         std::to_string(f) + " (a regular " + std::to_string(cache.faceSize(f)) +
+                                         "-gon of circumradius 1)");
     q.face.push_back(f);
     q.xi.push_back(x);
     q.eta.push_back(y);
