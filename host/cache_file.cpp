@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <bit>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -196,11 +197,20 @@ PatchCache readPatchCache(const std::string& path, const CacheExpectation& expec
   else
     take(p, c.edgeDataF, uint64_t(GP_E_NFIELDS) * h.numSlots);
 
-  // Structure: a valid checksum does not prove the writer was sane.
+  // Values and structure: a valid checksum does not prove the writer was sane.
+  auto allFinite = [](const auto& v) {
+    for (auto x : v)
+      if (!std::isfinite(x)) return false;
+    return true;
+  };
+  if (!allFinite(c.positions)) throw fail("non-finite vertex position");
+  if (!allFinite(c.cornerNormals)) throw fail("non-finite corner normal");
+  if (!allFinite(c.faceBulge) || !allFinite(c.edgeDataD) || !allFinite(c.edgeDataF))
+    throw fail("non-finite patch record");
   if (c.faceOffsets.front() != 0 || c.faceOffsets.back() != static_cast<int32_t>(h.numSlots))
     throw fail("inconsistent face offsets");
   for (uint64_t f = 0; f < h.numFaces; ++f)
-    if (c.faceOffsets[f + 1] - c.faceOffsets[f] < 3)
+    if (int64_t(c.faceOffsets[f + 1]) - int64_t(c.faceOffsets[f]) < 3)
       throw fail("face " + std::to_string(f) + " has fewer than 3 corners");
   for (uint64_t s = 0; s < h.numSlots; ++s) {
     if (c.faceVertices[s] < 0 || static_cast<uint64_t>(c.faceVertices[s]) >= h.numVertices)

@@ -23,7 +23,7 @@ struct IndexSpace {
     const int64_t i = c.integer(tok, name);
     if (i == 0) c.fail(std::string(name) + " 0 (OBJ indices start at 1)");
     if (i < 0) {
-      if (-i > count) {
+      if (i < -count) {  // not -i > count: -INT64_MIN overflows
         c.fail("relative " + std::string(name) + " " + std::to_string(i) + " but only " +
                std::to_string(count) + " defined so far");
       }

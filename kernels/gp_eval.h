@@ -49,7 +49,9 @@ GP_FN gp_eval_result gp_patch_eval(int n, const GP_REAL* recs, int mode, GP_REAL
     return out;
   }
   GP_REAL d[GP_MAX_N], mx[GP_MAX_N], my[GP_MAX_N];
-  if (gp_domain_distances(n, xi, eta, d, mx, my) < -GP_DOMAIN_TOL) {
+  /* the domain lies in the unit disc; this also rejects NaN and Inf */
+  if (!(GP_FABS(xi) <= GP_R(1.5) && GP_FABS(eta) <= GP_R(1.5)) ||
+      gp_domain_distances(n, xi, eta, d, mx, my) < -GP_DOMAIN_TOL) {
     out.status = GP_ST_OUTSIDE;
     return out;
   }

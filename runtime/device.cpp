@@ -70,7 +70,11 @@ Trajectory readTrajectoryCsv(const std::string& path) {
   Trajectory tr;
   for (size_t r = 0; r < csv.rows(); ++r) {
     if (!tr.t.empty() && !(csv.at(r, 0) > tr.t.back()))
-      throwCsvError(path, csv.line[r], "time " + std::to_string(csv.at(r, 0)) + " s is not greater than the previous row's");
+    {
+      char t[32];
+      std::snprintf(t, sizeof t, "%.10g", csv.at(r, 0));
+      throwCsvError(path, csv.line[r], std::string("time ") + t + " s is not greater than the previous row's");
+    }
     tr.t.push_back(csv.at(r, 0));
     tr.p.emplace_back(csv.at(r, 1), csv.at(r, 2), csv.at(r, 3));
   }

@@ -87,9 +87,9 @@ TEST_F(RuntimeReplay, ErrorsNameFileAndLine) {
   e = error("0,0,0,nan\n");
   EXPECT_NE(e.find(".csv:1: z is not a finite number"), std::string::npos) << e;
   e = error("t,x,y,z\n");
-  EXPECT_NE(e.find(".csv: no samples"), std::string::npos) << e;
+  EXPECT_NE(e.find(".csv: no rows"), std::string::npos) << e;
   e = error("");
-  EXPECT_NE(e.find(".csv: no samples"), std::string::npos) << e;
+  EXPECT_NE(e.find(".csv: no rows"), std::string::npos) << e;
   try {
     readTrajectoryCsv((dir / "missing.csv").string());
     FAIL();
