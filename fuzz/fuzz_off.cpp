@@ -1,0 +1,6 @@
+// libFuzzer harness for the OFF reader (readMesh on a .off file). See fuzz_common.h.
+#include "fuzz_mesh.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  return sf::fuzz::fuzzMesh(data, size, ".off");
+}
