@@ -62,9 +62,12 @@ inline R fc_fabs(R a) { return R(std::fabs(a.v)); }
 #define GP_FABS(x) fc_fabs(x)
 #define GP_REAL R
 #define GP_IS_DOUBLE 1
+// order matters, each part uses the ones before it
+// clang-format off
 #include "gp_vec.h"
 #include "gp_edge.h"
 #include "gp_eval.h"
+// clang-format on
 #undef GP_REAL
 #undef GP_IS_DOUBLE
 #undef GP_SQRT

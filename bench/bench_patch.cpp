@@ -18,8 +18,10 @@ void BM_ConstructByFaceSize(benchmark::State& state) {
     constructPatches(c, threads == 1 ? Backend::Serial : Backend::Tbb, threads);
     benchmark::DoNotOptimize(c.faceStatus.data());
   }
-  state.counters["patches/s"] = benchmark::Counter(double(c.numFaces()) * state.iterations(), benchmark::Counter::kIsRate);
-  state.SetLabel(std::string(toString(p)) + ", " + std::to_string(n) + "-gons, " + std::to_string(threads) + " thread(s)");
+  state.counters["patches/s"] =
+      benchmark::Counter(double(c.numFaces()) * state.iterations(), benchmark::Counter::kIsRate);
+  state.SetLabel(std::string(toString(p)) + ", " + std::to_string(n) + "-gons, " + std::to_string(threads) +
+                 " thread(s)");
 }
 BENCHMARK(BM_ConstructByFaceSize)
     ->ArgsProduct({{3, 4, 5, 6, 8, 12}, {1, 2}, {1}})
@@ -33,7 +35,8 @@ void BM_ConstructSpotCage(benchmark::State& state) {
   const LoadedMesh lm = loadMesh(std::string(SF_DATA_DIR) + "/spot_control_mesh.obj", o);
   PatchCache c = preparePatchCache(lm.mesh, lm.cornerNormals, o, 0);
   for (auto _ : state) constructPatches(c, threads == 1 ? Backend::Serial : Backend::Tbb, threads);
-  state.counters["patches/s"] = benchmark::Counter(double(c.numFaces()) * state.iterations(), benchmark::Counter::kIsRate);
+  state.counters["patches/s"] =
+      benchmark::Counter(double(c.numFaces()) * state.iterations(), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_ConstructSpotCage)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond)->UseRealTime();
 
@@ -49,7 +52,8 @@ void BM_EvaluateSpotCage(benchmark::State& state) {
                     threads == 1 ? Backend::Serial : Backend::Tbb, threads);
     benchmark::DoNotOptimize(out.data());
   }
-  state.counters["points/s"] = benchmark::Counter(double(q.face.size()) * state.iterations(), benchmark::Counter::kIsRate);
+  state.counters["points/s"] =
+      benchmark::Counter(double(q.face.size()) * state.iterations(), benchmark::Counter::kIsRate);
   state.SetLabel(std::string(toString(p)) + ", " + std::to_string(threads) + " thread(s)");
 }
 BENCHMARK(BM_EvaluateSpotCage)->ArgsProduct({{0, 1}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();

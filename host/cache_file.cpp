@@ -38,8 +38,8 @@ bool payloadSize(uint64_t nv, uint64_t nf, uint64_t ns, Precision p, uint64_t* o
   const uint64_t lim = uint64_t(1) << 40;  // no count of a real mesh comes near this
   if (nv > lim || nf > lim || ns > lim) return false;
   const uint64_t real = p == Precision::Double ? 8 : 4;
-  *out = nv * 3 * 8 + (nf + 1) * 4 + ns * 4 + ns * 3 * 8 + ns * 4 + nf * 4 + nf * 4 +
-         uint64_t(GP_E_NFIELDS) * ns * real;
+  *out =
+      nv * 3 * 8 + (nf + 1) * 4 + ns * 4 + ns * 3 * 8 + ns * 4 + nf * 4 + nf * 4 + uint64_t(GP_E_NFIELDS) * ns * real;
   return true;
 }
 
@@ -161,8 +161,7 @@ PatchCache readPatchCache(const std::string& path, const CacheExpectation& expec
   opt.keepOrientation = h.keepOrientation != 0;
   if (h.optionsHash != hashPatchOptions(opt)) throw fail("corrupted cache header (options hash)");
   uint64_t expected = 0;
-  if (!payloadSize(h.numVertices, h.numFaces, h.numSlots, opt.precision, &expected) ||
-      expected != h.payloadBytes)
+  if (!payloadSize(h.numVertices, h.numFaces, h.numSlots, opt.precision, &expected) || expected != h.payloadBytes)
     throw fail("corrupted cache header (counts do not match the payload size)");
   if (fileSize - sizeof(Header) < h.payloadBytes)
     throw fail("truncated cache file: payload has " + std::to_string(fileSize - sizeof(Header)) + " of " +

@@ -62,8 +62,9 @@ NumericCsv readNumericCsv(const std::string& path, const std::vector<std::string
       if (headerRequired) throwCsvError(path, lineNo, "expected header '" + header + "', got '" + tl + "'");
     }
     if (cols.size() != columns.size())
-      throwCsvError(path, lineNo, "expected " + std::to_string(columns.size()) + " columns " + header + ", got " +
-                                      std::to_string(cols.size()));
+      throwCsvError(
+          path, lineNo,
+          "expected " + std::to_string(columns.size()) + " columns " + header + ", got " + std::to_string(cols.size()));
     for (size_t k = 0; k < cols.size(); ++k) {
       double v = 0;
       const std::string& f = cols[k];

@@ -21,8 +21,7 @@ struct NumericCsv {
 /// Blank lines and lines starting with `#` are skipped. Throws InputError `path:line: what`
 /// for a missing or wrong header, a wrong column count, a field that is not a finite number,
 /// and `path: no rows` for a file without data.
-NumericCsv readNumericCsv(const std::string& path, const std::vector<std::string>& columns,
-                          bool headerRequired = true);
+NumericCsv readNumericCsv(const std::string& path, const std::vector<std::string>& columns, bool headerRequired = true);
 
 /// Throws InputError `path:line: what`, for callers that check values themselves.
 [[noreturn]] void throwCsvError(const std::string& path, int line, const std::string& what);

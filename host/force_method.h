@@ -27,10 +27,10 @@ const char* toString(RefineMethod m);
 
 /// Force rendering options. Units: metres, newtons, N/m, radians.
 struct ForceOptions {
-  double stiffness = 500.0;           ///< k in F = k (SCP - HIP), N/m; > 0
+  double stiffness = 500.0;  ///< k in F = k (SCP - HIP), N/m; > 0
   RefineMethod refine = RefineMethod::Newton;
-  double angleTolerance = 1e-5;       ///< stop when angle(G - HIP, normal) below this, rad
-  int maxIterations = 50;             ///< per refinement
+  double angleTolerance = 1e-5;  ///< stop when angle(G - HIP, normal) below this, rad
+  int maxIterations = 50;        ///< per refinement
 };
 
 /// One servo step's result. For direct/shading, scp is the god-object (proxy) and face,
@@ -43,7 +43,7 @@ struct ForceSample {
   int face = -1;
   double xi = 0, eta = 0;
   int iterations = 0, transitions = 0;
-  uint32_t status = 0;              ///< GP_ST_* and SF_TRACK_* bits (force_tracking.h)
+  uint32_t status = 0;  ///< GP_ST_* and SF_TRACK_* bits (force_tracking.h)
 };
 
 /// A stateful contact tracker for one object (Algorithm 1): out of contact a global query

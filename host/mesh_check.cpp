@@ -34,9 +34,8 @@ void validateIndices(const PolygonMesh& m) {
   for (int f = 0; f < m.numFaces(); ++f) {
     for (int c = m.faceOffsets[f]; c < m.faceOffsets[f + 1]; ++c) {
       if (m.faceVertices[c] < 0 || m.faceVertices[c] >= m.numVertices()) {
-        throw InputError((m.sourcePath.empty() ? std::string("mesh") : m.sourcePath) + ": face " +
-                         std::to_string(f) + ": vertex index " + std::to_string(m.faceVertices[c]) +
-                         " out of range");
+        throw InputError((m.sourcePath.empty() ? std::string("mesh") : m.sourcePath) + ": face " + std::to_string(f) +
+                         ": vertex index " + std::to_string(m.faceVertices[c]) + " out of range");
       }
     }
   }
@@ -59,8 +58,7 @@ bool degenerate(const PolygonMesh& m, int f) {
 
 std::string idList(const std::vector<int>& ids, int maxIds) {
   std::string s;
-  for (size_t i = 0; i < ids.size() && static_cast<int>(i) < maxIds; ++i)
-    s += (i ? ", " : "") + std::to_string(ids[i]);
+  for (size_t i = 0; i < ids.size() && static_cast<int>(i) < maxIds; ++i) s += (i ? ", " : "") + std::to_string(ids[i]);
   return ids.size() > static_cast<size_t>(maxIds) ? s + ", ..." : s;
 }
 
@@ -119,14 +117,14 @@ std::vector<std::vector<int>> chainLoops(const std::vector<std::array<int, 2>>& 
 }  // namespace
 
 bool MeshReport::clean() const {
-  return nonManifoldEdges.empty() && nonManifoldVertices.empty() && duplicateFaces.empty() &&
-         degenerateFaces.empty() && unreferencedVertices.empty() && inconsistentEdges.empty();
+  return nonManifoldEdges.empty() && nonManifoldVertices.empty() && duplicateFaces.empty() && degenerateFaces.empty() &&
+         unreferencedVertices.empty() && inconsistentEdges.empty();
 }
 
 std::vector<std::string> MeshReport::describe(int maxIds) const {
   std::vector<std::string> out;
-  out.push_back("vertices: " + std::to_string(numVertices) +
-                ", faces: " + std::to_string(numFaces) + ", edges: " + std::to_string(numEdges));
+  out.push_back("vertices: " + std::to_string(numVertices) + ", faces: " + std::to_string(numFaces) +
+                ", edges: " + std::to_string(numEdges));
   std::string sizes;
   for (size_t n = 0; n < faceSizeHistogram.size(); ++n) {
     if (faceSizeHistogram[n] == 0) continue;
@@ -135,10 +133,8 @@ std::vector<std::string> MeshReport::describe(int maxIds) const {
   }
   out.push_back("face sizes: " + (sizes.empty() ? std::string("none") : sizes));
   const int chi = numVertices - static_cast<int>(unreferencedVertices.size()) - numEdges + numFaces;
-  std::string topo = std::string(closed() ? "closed" : "open") + ", " +
-                     std::to_string(numComponents) + " component" +
-                     (numComponents == 1 ? "" : "s") + ", Euler characteristic " +
-                     std::to_string(chi);
+  std::string topo = std::string(closed() ? "closed" : "open") + ", " + std::to_string(numComponents) + " component" +
+                     (numComponents == 1 ? "" : "s") + ", Euler characteristic " + std::to_string(chi);
   if (closed() && numComponents == 1 && nonManifoldEdges.empty() && nonManifoldVertices.empty())
     topo += ", genus " + std::to_string((2 - chi) / 2);
   char volume[32];
@@ -159,8 +155,7 @@ std::vector<std::string> MeshReport::describe(int maxIds) const {
   add("duplicate faces", duplicateFaces.size(), idList(duplicateFaces, maxIds));
   add("degenerate faces", degenerateFaces.size(), idList(degenerateFaces, maxIds));
   add("unreferenced vertices", unreferencedVertices.size(), idList(unreferencedVertices, maxIds));
-  add("inconsistently oriented edges", inconsistentEdges.size(),
-      pairList(inconsistentEdges, maxIds));
+  add("inconsistently oriented edges", inconsistentEdges.size(), pairList(inconsistentEdges, maxIds));
   return out;
 }
 
@@ -186,8 +181,7 @@ MeshReport checkMesh(const PolygonMesh& m) {
       referenced[a] = 1;
       set.push_back(a);
       if (a != b) {
-        const auto lo = static_cast<uint64_t>(std::min(a, b)),
-                   hi = static_cast<uint64_t>(std::max(a, b));
+        const auto lo = static_cast<uint64_t>(std::min(a, b)), hi = static_cast<uint64_t>(std::max(a, b));
         he.push_back({lo << 32 | hi, f, c0 + k, c0 + (k + 1) % n});
       }
     }
@@ -197,23 +191,20 @@ MeshReport checkMesh(const PolygonMesh& m) {
     if (static_cast<int>(set.size()) < n || degenerate(m, f)) r.degenerateFaces.push_back(f);
     for (int k = 1; k + 1 < n; ++k) {
       const Eigen::Vector3d& p0 = m.positions[m.faceVertex(f, 0)];
-      r.signedVolume +=
-          p0.dot(m.positions[m.faceVertex(f, k)].cross(m.positions[m.faceVertex(f, k + 1)])) / 6;
+      r.signedVolume += p0.dot(m.positions[m.faceVertex(f, k)].cross(m.positions[m.faceVertex(f, k + 1)])) / 6;
     }
   }
   for (int v = 0; v < r.numVertices; ++v) {
     if (!referenced[v]) r.unreferencedVertices.push_back(v);
   }
 
-  std::stable_sort(he.begin(), he.end(),
-                   [](const HalfEdge& a, const HalfEdge& b) { return a.key < b.key; });
+  std::stable_sort(he.begin(), he.end(), [](const HalfEdge& a, const HalfEdge& b) { return a.key < b.key; });
   UnionFind faces(r.numFaces), corners(nc);
   std::vector<std::array<int, 2>> boundary;  // directed as in the face
   for (size_t i = 0; i < he.size();) {
     size_t j = i;
     while (j < he.size() && he[j].key == he[i].key) ++j;
-    const std::array<int, 2> pair{static_cast<int>(he[i].key >> 32),
-                                  static_cast<int>(he[i].key & 0xffffffffu)};
+    const std::array<int, 2> pair{static_cast<int>(he[i].key >> 32), static_cast<int>(he[i].key & 0xffffffffu)};
     ++r.numEdges;
     for (size_t k = i + 1; k < j; ++k) faces.unite(he[i].face, he[k].face);
     if (j - i == 1) {
@@ -258,14 +249,12 @@ void flipFaces(PolygonMesh& m) {
     const int b = m.faceOffsets[f] + 1, e = m.faceOffsets[f + 1];
     if (e <= b) continue;
     std::reverse(m.faceVertices.begin() + b, m.faceVertices.begin() + e);
-    if (cornerNormals)
-      std::reverse(m.fileCornerNormals.begin() + b, m.fileCornerNormals.begin() + e);
+    if (cornerNormals) std::reverse(m.fileCornerNormals.begin() + b, m.fileCornerNormals.begin() + e);
   }
 }
 
 bool applyOrientation(PolygonMesh& m, const MeshReport& r, OrientPolicy policy) {
-  if (policy != OrientPolicy::Outward || !r.closed() || !r.inconsistentEdges.empty() ||
-      !(r.signedVolume < 0))
+  if (policy != OrientPolicy::Outward || !r.closed() || !r.inconsistentEdges.empty() || !(r.signedVolume < 0))
     return false;
   flipFaces(m);
   return true;

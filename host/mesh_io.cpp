@@ -34,8 +34,7 @@ PolygonMesh readMesh(const std::string& path) {
   const std::string ext = lowerExtension(path);
   if (ext != ".obj" && ext != ".off" && ext != ".ply") {
     throw InputError(path + ": unknown mesh file extension " +
-                     (ext.empty() ? std::string("(none)") : detail::quoted(ext)) +
-                     " (expected .obj, .off or .ply)");
+                     (ext.empty() ? std::string("(none)") : detail::quoted(ext)) + " (expected .obj, .off or .ply)");
   }
   const std::string bytes = readBytes(path);
   std::string_view data = bytes;

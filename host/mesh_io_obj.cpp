@@ -24,8 +24,8 @@ struct IndexSpace {
     if (i == 0) c.fail(std::string(name) + " 0 (OBJ indices start at 1)");
     if (i < 0) {
       if (i < -count) {  // not -i > count: -INT64_MIN overflows
-        c.fail("relative " + std::string(name) + " " + std::to_string(i) + " but only " +
-               std::to_string(count) + " defined so far");
+        c.fail("relative " + std::string(name) + " " + std::to_string(i) + " but only " + std::to_string(count) +
+               " defined so far");
       }
       return static_cast<int32_t>(count + i);
     }
@@ -91,8 +91,7 @@ void readFace(const LineCtx& c, Tokens& t, ObjState& s, PolygonMesh& m, std::vec
     if (vPart.empty()) c.fail("face corner " + quoted(tok) + " has no vertex index");
     verts.push_back(s.v.resolve(c, vPart));
     if (s1 == std::string_view::npos) continue;
-    const std::string_view vtPart =
-        s2 == std::string_view::npos ? tok.substr(s1 + 1) : tok.substr(s1 + 1, s2 - s1 - 1);
+    const std::string_view vtPart = s2 == std::string_view::npos ? tok.substr(s1 + 1) : tok.substr(s1 + 1, s2 - s1 - 1);
     if (!vtPart.empty()) s.vt.resolve(c, vtPart);
     if (s2 == std::string_view::npos) {
       if (vtPart.empty()) c.fail("face corner " + quoted(tok) + " has an empty texture index");
@@ -104,22 +103,17 @@ void readFace(const LineCtx& c, Tokens& t, ObjState& s, PolygonMesh& m, std::vec
     ++withVn;
   }
   const int n = static_cast<int>(verts.size());
-  if (n < 3)
-    c.fail("face with " + std::to_string(n) + " corner" + (n == 1 ? "" : "s") +
-           " (at least 3 needed)");
-  if (withVn != 0 && withVn != n)
-    c.fail("some corners of this face have normal indices and some do not");
+  if (n < 3) c.fail("face with " + std::to_string(n) + " corner" + (n == 1 ? "" : "s") + " (at least 3 needed)");
+  if (withVn != 0 && withVn != n) c.fail("some corners of this face have normal indices and some do not");
   const int has = withVn ? 1 : 0;
   if (s.faceNormals < 0) {
     s.faceNormals = has;
     s.firstFaceLine = c.line;
   } else if (s.faceNormals != has) {
-    c.fail(std::string("face ") + (has ? "has" : "lacks") +
-           " normal indices but the face on line " + std::to_string(s.firstFaceLine) +
-           (has ? " lacks them" : " has them"));
+    c.fail(std::string("face ") + (has ? "has" : "lacks") + " normal indices but the face on line " +
+           std::to_string(s.firstFaceLine) + (has ? " lacks them" : " has them"));
   }
-  if (m.faceVertices.size() + verts.size() > static_cast<size_t>(kMaxCount))
-    c.fail("too many face corners");
+  if (m.faceVertices.size() + verts.size() > static_cast<size_t>(kMaxCount)) c.fail("too many face corners");
   m.addFace(verts);
   s.cornerVn.insert(s.cornerVn.end(), vns.begin(), vns.end());
 }

@@ -53,8 +53,7 @@ PolygonMesh readOff(const std::string& path, std::string_view data) {
   std::string_view tok;
   Tokens counts = header;
   if (counts.done()) {
-    if (!nextContent(lines, content))
-      failAt(path, lines.lineNo(), "missing vertex and face counts");
+    if (!nextContent(lines, content)) failAt(path, lines.lineNo(), "missing vertex and face counts");
     c.line = lines.lineNo();
     counts = Tokens(content);
   }
@@ -70,8 +69,7 @@ PolygonMesh readOff(const std::string& path, std::string_view data) {
   const uint64_t need = 2 * static_cast<uint64_t>(nv) + 2 * static_cast<uint64_t>(nf);
   if (need > lines.remaining() + 1) {
     c.fail("counts say " + std::to_string(nv) + " vertices and " + std::to_string(nf) +
-           " faces, more than the remaining " + std::to_string(lines.remaining()) +
-           " bytes can hold");
+           " faces, more than the remaining " + std::to_string(lines.remaining()) + " bytes can hold");
   }
 
   PolygonMesh m;
@@ -81,8 +79,7 @@ PolygonMesh readOff(const std::string& path, std::string_view data) {
   static const char* naxes[3] = {"normal x", "normal y", "normal z"};
   for (int64_t i = 0; i < nv; ++i) {
     if (!nextContent(lines, content)) {
-      failAt(path, lines.lineNo(),
-             "file ends after " + std::to_string(i) + " of " + std::to_string(nv) + " vertices");
+      failAt(path, lines.lineNo(), "file ends after " + std::to_string(i) + " of " + std::to_string(nv) + " vertices");
     }
     c.line = lines.lineNo();
     Tokens t(content);
@@ -100,8 +97,7 @@ PolygonMesh readOff(const std::string& path, std::string_view data) {
   std::vector<int32_t> verts;
   for (int64_t f = 0; f < nf; ++f) {
     if (!nextContent(lines, content)) {
-      failAt(path, lines.lineNo(),
-             "file ends after " + std::to_string(f) + " of " + std::to_string(nf) + " faces");
+      failAt(path, lines.lineNo(), "file ends after " + std::to_string(f) + " of " + std::to_string(nf) + " faces");
     }
     c.line = lines.lineNo();
     Tokens t(content);
@@ -110,25 +106,22 @@ PolygonMesh readOff(const std::string& path, std::string_view data) {
     verts.clear();
     for (int64_t k = 0; k < n; ++k) {
       if (!t.next(tok)) {
-        c.fail("face has " + std::to_string(n) + " corners but only " + std::to_string(k) +
-               " vertex indices");
+        c.fail("face has " + std::to_string(n) + " corners but only " + std::to_string(k) + " vertex indices");
       }
       const int64_t v = c.integer(tok, "vertex index");
       if (v < 0 || v >= nv) {
-        c.fail("vertex index " + std::to_string(v) + " out of range (file has " +
-               std::to_string(nv) + " vertices)");
+        c.fail("vertex index " + std::to_string(v) + " out of range (file has " + std::to_string(nv) + " vertices)");
       }
       verts.push_back(static_cast<int32_t>(v));
     }
     while (t.next(tok)) c.number(tok, "face colour value");
-    if (m.faceVertices.size() + verts.size() > static_cast<size_t>(kMaxCount))
-      c.fail("too many face corners");
+    if (m.faceVertices.size() + verts.size() > static_cast<size_t>(kMaxCount)) c.fail("too many face corners");
     m.addFace(verts);
   }
   if (nextContent(lines, content)) {
     failAt(path, lines.lineNo(),
-           "unexpected data after the last face (the header says " + std::to_string(nv) +
-               " vertices and " + std::to_string(nf) + " faces)");
+           "unexpected data after the last face (the header says " + std::to_string(nv) + " vertices and " +
+               std::to_string(nf) + " faces)");
   }
   return m;
 }

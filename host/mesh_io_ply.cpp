@@ -17,9 +17,9 @@ namespace {
 enum class Scalar { I8, U8, I16, U16, I32, U32, F32, F64 };
 
 /// PLY type names, two spellings each, in Scalar order; and their sizes in bytes.
-constexpr std::string_view kScalarNames[8][2] = {
-    {"char", "int8"}, {"uchar", "uint8"}, {"short", "int16"},   {"ushort", "uint16"},
-    {"int", "int32"}, {"uint", "uint32"}, {"float", "float32"}, {"double", "float64"}};
+constexpr std::string_view kScalarNames[8][2] = {{"char", "int8"},     {"uchar", "uint8"},   {"short", "int16"},
+                                                 {"ushort", "uint16"}, {"int", "int32"},     {"uint", "uint32"},
+                                                 {"float", "float32"}, {"double", "float64"}};
 constexpr size_t kScalarSize[8] = {1, 1, 2, 2, 4, 4, 4, 8};
 
 bool scalarFromName(std::string_view s, Scalar& t) {
@@ -48,14 +48,8 @@ struct Element {
 /// The data section, read one scalar at a time, in ASCII (one element per line) or binary.
 class Source {
  public:
-  Source(const std::string& path, std::string_view data, size_t start, size_t headerLines,
-         int format)
-      : path_(path),
-        data_(data),
-        lines_(data, start),
-        pos_(start),
-        format_(format),
-        headerLines_(headerLines) {}
+  Source(const std::string& path, std::string_view data, size_t start, size_t headerLines, int format)
+      : path_(path), data_(data), lines_(data, start), pos_(start), format_(format), headerLines_(headerLines) {}
 
   void beginRow(const Element& e, int64_t i) {
     elem_ = &e;
@@ -70,8 +64,7 @@ class Source {
   void endRow() {
     std::string_view tok;
     if (format_ == 0 && tokens_.next(tok))
-      fail("unexpected " + quoted(tok) + " at the end of " + elem_->name + " " +
-           std::to_string(index_));
+      fail("unexpected " + quoted(tok) + " at the end of " + elem_->name + " " + std::to_string(index_));
   }
   double scalar(Scalar t, const std::string& what) {
     return format_ == 0 ? asciiScalar(t, what) : binaryScalar(t, what);
@@ -89,8 +82,7 @@ class Source {
       }
     } else if (pos_ != data_.size()) {
       valuePos_ = pos_;
-      fail(std::to_string(data_.size() - pos_) +
-           " bytes of unexpected data after the last element");
+      fail(std::to_string(data_.size() - pos_) + " bytes of unexpected data after the last element");
     }
   }
   [[noreturn]] void fail(const std::string& what) const {
@@ -102,8 +94,7 @@ class Source {
  private:
   double asciiScalar(Scalar t, const std::string& what) {
     std::string_view tok;
-    if (!tokens_.next(tok))
-      fail("missing " + what + " in " + elem_->name + " " + std::to_string(index_));
+    if (!tokens_.next(tok)) fail("missing " + what + " in " + elem_->name + " " + std::to_string(index_));
     double v;
     if (isInteger(t)) {
       int64_t i;
@@ -203,8 +194,7 @@ Header parseHeader(const std::string& path, std::string_view data) {
       if (type == "list") {
         p.list = true;
         const std::string_view ct = c.need(t, "list count type");
-        if (!scalarFromName(ct, p.countType) || !isInteger(p.countType))
-          c.fail("bad list count type " + quoted(ct));
+        if (!scalarFromName(ct, p.countType) || !isInteger(p.countType)) c.fail("bad list count type " + quoted(ct));
         type = c.need(t, "list value type");
       }
       if (!scalarFromName(type, p.type)) c.fail("unknown property type " + quoted(type));
@@ -217,8 +207,7 @@ Header parseHeader(const std::string& path, std::string_view data) {
     } else {
       c.fail("unknown header line " + quoted(kw));
     }
-    if (kw != "property" && kw != "element" && t.next(tok))
-      c.fail("unexpected " + quoted(tok) + " in header line");
+    if (kw != "property" && kw != "element" && t.next(tok)) c.fail("unexpected " + quoted(tok) + " in header line");
   }
   if (h.format < 0) failAt(path, lines.lineNo(), "header has no format line");
   h.dataStart = lines.pos();
@@ -253,8 +242,7 @@ PolygonMesh readPly(const std::string& path, std::string_view data) {
     // Binary: the fixed part of a row. ASCII: one character and a line break (looser than a
     // valid row needs, so that short bad rows get their own message).
     uint64_t row = h.format == 0 ? 2 : 0;
-    for (const Prop& p : e.props)
-      row += h.format == 0 ? 0 : scalarSize(p.list ? p.countType : p.type);
+    for (const Prop& p : e.props) row += h.format == 0 ? 0 : scalarSize(p.list ? p.countType : p.type);
     const uint64_t rest = data.size() - h.dataStart + (h.format == 0 ? 1 : 0);
     if (static_cast<uint64_t>(e.count) > (rest - std::min(rest, minBytes)) / row) {
       failAt(path, e.line,
@@ -270,22 +258,19 @@ PolygonMesh readPly(const std::string& path, std::string_view data) {
 
   // What each property is for: -1 nothing, 0-2 x y z, 3-5 nx ny nz, 6 face vertex indices.
   std::vector<std::vector<int>> role(h.elements.size());
-  for (size_t ei = 0; ei < h.elements.size(); ++ei)
-    role[ei].assign(h.elements[ei].props.size(), -1);
+  for (size_t ei = 0; ei < h.elements.size(); ++ei) role[ei].assign(h.elements[ei].props.size(), -1);
   const Element &ve = h.elements[vi], &fe = h.elements[fi];
   static const char* names[6] = {"x", "y", "z", "nx", "ny", "nz"};
   int found[2] = {0, 0};  // positions, normals
   for (int a = 0; a < 6; ++a) {
     const int pi = findProp(ve, names[a]);
     if (pi < 0) continue;
-    if (ve.props[pi].list)
-      failAt(path, ve.line, std::string("vertex property ") + names[a] + " is a list");
+    if (ve.props[pi].list) failAt(path, ve.line, std::string("vertex property ") + names[a] + " is a list");
     role[vi][pi] = a;
     ++found[a / 3];
   }
   if (found[0] != 3) failAt(path, ve.line, "vertex element lacks x, y or z");
-  if (found[1] != 0 && found[1] != 3)
-    failAt(path, ve.line, "vertex element has some but not all of nx, ny, nz");
+  if (found[1] != 0 && found[1] != 3) failAt(path, ve.line, "vertex element has some but not all of nx, ny, nz");
   int pi = findProp(fe, "vertex_indices");
   if (pi < 0) pi = findProp(fe, "vertex_index");
   if (pi < 0 || !fe.props[pi].list)
@@ -308,8 +293,7 @@ PolygonMesh readPly(const std::string& path, std::string_view data) {
         const int r = role[ei][p];
         if (!prop.list) {
           const double v = src.scalar(prop.type, prop.name);
-          if (r >= 0 && !std::isfinite(v))
-            src.fail("non-finite " + prop.name + " in vertex " + std::to_string(i));
+          if (r >= 0 && !std::isfinite(v)) src.fail("non-finite " + prop.name + " in vertex " + std::to_string(i));
           if (r >= 0) (r < 3 ? m.positions[i][r] : m.fileNormals[i][r - 3]) = v;
           continue;
         }
@@ -318,21 +302,19 @@ PolygonMesh readPly(const std::string& path, std::string_view data) {
         const auto n = static_cast<int64_t>(count);
         src.checkAvailable(n, prop.type, prop.name + " count");
         if (r == 6 && n < 3)
-          src.fail("face " + std::to_string(i) + " has " + std::to_string(n) +
-                   " corners (at least 3 needed)");
+          src.fail("face " + std::to_string(i) + " has " + std::to_string(n) + " corners (at least 3 needed)");
         verts.clear();
         for (int64_t k = 0; k < n; ++k) {
           const double v = src.scalar(prop.type, prop.name);
           if (r != 6) continue;
           if (!(v >= 0 && v < static_cast<double>(nv)) || v != std::floor(v)) {
-            src.fail("face " + std::to_string(i) + ": vertex index " + formatNumber(v) +
-                     " out of range (file has " + std::to_string(nv) + " vertices)");
+            src.fail("face " + std::to_string(i) + ": vertex index " + formatNumber(v) + " out of range (file has " +
+                     std::to_string(nv) + " vertices)");
           }
           verts.push_back(static_cast<int32_t>(v));
         }
         if (r != 6) continue;
-        if (m.faceVertices.size() + verts.size() > static_cast<size_t>(kMaxCount))
-          src.fail("too many face corners");
+        if (m.faceVertices.size() + verts.size() > static_cast<size_t>(kMaxCount)) src.fail("too many face corners");
         m.addFace(verts);
       }
       src.endRow();

@@ -10,8 +10,8 @@ LoadedMesh loadMesh(const std::string& path, const PatchOptions& options) {
   out.mesh = readMesh(path);
   out.fileHash = hashFile(path);
   out.report = checkMesh(out.mesh);
-  out.flipped = applyOrientation(out.mesh, out.report,
-                                 options.keepOrientation ? OrientPolicy::Keep : OrientPolicy::Outward);
+  out.flipped =
+      applyOrientation(out.mesh, out.report, options.keepOrientation ? OrientPolicy::Keep : OrientPolicy::Outward);
   out.cornerNormals = cornerNormals(out.mesh, options.normals, &out.normalFallbacks);
   // creases: corners of one vertex carrying different normals (per-corner file normals)
   std::vector<int> firstCorner(out.mesh.numVertices(), -1);
@@ -25,8 +25,7 @@ LoadedMesh loadMesh(const std::string& path, const PatchOptions& options) {
   return out;
 }
 
-PatchCache buildPatchCache(const LoadedMesh& loaded, const PatchOptions& options, Backend backend,
-                           int threads) {
+PatchCache buildPatchCache(const LoadedMesh& loaded, const PatchOptions& options, Backend backend, int threads) {
   PatchCache cache = preparePatchCache(loaded.mesh, loaded.cornerNormals, options, loaded.fileHash);
   constructPatches(cache, backend, threads);
   return cache;

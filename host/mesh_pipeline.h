@@ -13,12 +13,12 @@ namespace sf {
 /// A mesh read and checked, ready for construction.
 struct LoadedMesh {
   PolygonMesh mesh;
-  MeshReport report;              ///< topology report (before any flip)
-  bool flipped = false;           ///< faces were reversed to point outward
-  uint64_t fileHash = 0;          ///< XXH64 of the file's bytes
+  MeshReport report;                           ///< topology report (before any flip)
+  bool flipped = false;                        ///< faces were reversed to point outward
+  uint64_t fileHash = 0;                       ///< XXH64 of the file's bytes
   std::vector<Eigen::Vector3d> cornerNormals;  ///< #C unit normals per the chosen mode
   std::vector<int> normalFallbacks;            ///< vertices whose normal needed a fallback
-  int creaseCorners = 0;  ///< corners whose normal differs from another corner of the same vertex
+  int creaseCorners = 0;                       ///< corners whose normal differs from another corner of the same vertex
 };
 
 /// Reads `path`, checks it, flips an inward-facing closed mesh unless options.keepOrientation,
@@ -27,8 +27,7 @@ LoadedMesh loadMesh(const std::string& path, const PatchOptions& options);
 
 /// Builds the whole-mesh patch cache from a loaded mesh on the CPU backends
 /// (Backend::Serial / Backend::Tbb; threads <= 0: oneTBB default).
-PatchCache buildPatchCache(const LoadedMesh& loaded, const PatchOptions& options, Backend backend,
-                           int threads = 0);
+PatchCache buildPatchCache(const LoadedMesh& loaded, const PatchOptions& options, Backend backend, int threads = 0);
 
 /// Counts of construction status bits over all faces, for reports.
 struct PatchStatusSummary {

@@ -30,20 +30,18 @@ std::vector<Eigen::Vector3d> fileNormals(const PolygonMesh& m, bool perVertexOnl
   std::vector<Eigen::Vector3d> out(m.numCorners());
   if (!perVertexOnly && !m.fileCornerNormals.empty()) {
     if (m.fileCornerNormals.size() != out.size()) {
-      throw InputError(where(m) + ": " + std::to_string(m.fileCornerNormals.size()) +
-                       " corner normals for " + std::to_string(out.size()) + " corners");
+      throw InputError(where(m) + ": " + std::to_string(m.fileCornerNormals.size()) + " corner normals for " +
+                       std::to_string(out.size()) + " corners");
     }
     for (int f = 0; f < m.numFaces(); ++f) {
       for (int c = m.faceOffsets[f]; c < m.faceOffsets[f + 1]; ++c) {
-        out[c] = unitFileNormal(m.fileCornerNormals[c], where(m) + ": face " + std::to_string(f) +
-                                                            " corner " +
+        out[c] = unitFileNormal(m.fileCornerNormals[c], where(m) + ": face " + std::to_string(f) + " corner " +
                                                             std::to_string(c - m.faceOffsets[f]));
       }
     }
     return out;
   }
-  if (m.fileNormals.empty())
-    throw InputError(where(m) + ": normal mode 'file' but the file has no normals");
+  if (m.fileNormals.empty()) throw InputError(where(m) + ": normal mode 'file' but the file has no normals");
   if (m.fileNormals.size() != m.positions.size()) {
     throw InputError(where(m) + ": " + std::to_string(m.fileNormals.size()) + " file normals for " +
                      std::to_string(m.positions.size()) + " vertices");
@@ -85,8 +83,7 @@ Eigen::Vector3d newellNormal(const PolygonMesh& mesh, int f) {
   if (mesh.faceSize(f) < 3) return n;
   const Eigen::Vector3d& p0 = mesh.positions[mesh.faceVertex(f, 0)];
   for (int k = 1; k + 1 < mesh.faceSize(f); ++k)
-    n += (mesh.positions[mesh.faceVertex(f, k)] - p0)
-             .cross(mesh.positions[mesh.faceVertex(f, k + 1)] - p0);
+    n += (mesh.positions[mesh.faceVertex(f, k)] - p0).cross(mesh.positions[mesh.faceVertex(f, k + 1)] - p0);
   return n;
 }
 
@@ -102,8 +99,7 @@ std::vector<Eigen::Vector3d> cornerNormals(const PolygonMesh& mesh, NormalMode m
     }
   }
   if (mode == NormalMode::Auto) {
-    const bool perVertex =
-        !mesh.fileNormals.empty() && mesh.fileNormals.size() == mesh.positions.size();
+    const bool perVertex = !mesh.fileNormals.empty() && mesh.fileNormals.size() == mesh.positions.size();
     if (perVertex) return fileNormals(mesh, true);
     mode = NormalMode::Angle;
   }

@@ -38,8 +38,10 @@ std::string withLine(const char* name, const char* text) {
 /// Program source = fp64 pragma + gp_config.h, gp_vec.h, gp_edge.h, gp_eval.h + kernel.
 std::vector<std::string> programSources(const char* kernelName, const char* kernelText) {
   return {"#if GP_IS_DOUBLE\n#pragma OPENCL EXTENSION cl_khr_fp64 : enable\n#endif\n",
-          withLine("gp_config.h", kernels::gp_config_h), withLine("gp_vec.h", kernels::gp_vec_h),
-          withLine("gp_edge.h", kernels::gp_edge_h),     withLine("gp_eval.h", kernels::gp_eval_h),
+          withLine("gp_config.h", kernels::gp_config_h),
+          withLine("gp_vec.h", kernels::gp_vec_h),
+          withLine("gp_edge.h", kernels::gp_edge_h),
+          withLine("gp_eval.h", kernels::gp_eval_h),
           withLine(kernelName, kernelText)};
 }
 
@@ -165,8 +167,7 @@ struct OpenCLConstructor::Impl {
     cl::Event kev;
     const size_t g = dev.groupSize();
     ctx.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(roundUp(nf, g)), cl::NDRange(g), nullptr, &kev);
-    ctx.queue().enqueueReadBuffer(rec, CL_FALSE, 0, edgeData.size() * sizeof(Real), edgeData.data(), nullptr,
-                                  &down[0]);
+    ctx.queue().enqueueReadBuffer(rec, CL_FALSE, 0, edgeData.size() * sizeof(Real), edgeData.data(), nullptr, &down[0]);
     ctx.queue().enqueueReadBuffer(st, CL_FALSE, 0, nf * sizeof(uint32_t), c.faceStatus.data(), nullptr, &down[1]);
     ctx.queue().enqueueReadBuffer(bulge, CL_TRUE, 0, nf * sizeof(float), c.faceBulge.data(), nullptr, &down[2]);
     ctx.queue().finish();
@@ -207,12 +208,12 @@ struct OpenCLEvaluator::Impl {
   Device dev;
   Precision precision = Precision::Double;
   int numFaces = 0, numSlots = 0, mode = 0;
-  cl::Buffer offs, rec, fst;           // the cache
-  cl::Buffer qf, qx, qy, out, ost;     // the queries, `cap` points
+  cl::Buffer offs, rec, fst;        // the cache
+  cl::Buffer qf, qx, qy, out, ost;  // the queries, `cap` points
   size_t cap = 0, allocs = 0;
-  std::vector<float> xf, yf;           // staging: coordinates in the other precision
+  std::vector<float> xf, yf;  // staging: coordinates in the other precision
   std::vector<double> xd, yd;
-  std::vector<float> outF;             // 12 * cap results
+  std::vector<float> outF;  // 12 * cap results
   std::vector<double> outD;
   std::vector<uint32_t> outSt;
   double uploadSec = 0, kernel = 0, transfer = 0, host = 0;
@@ -232,7 +233,8 @@ struct OpenCLEvaluator::Impl {
     mode = static_cast<int>(c.options.crossTangent);
     std::vector<cl::Event> ev;
     offs = ::sf::upload(dev.ctx, c.faceOffsets, ev);
-    rec = precision == Precision::Double ? ::sf::upload(dev.ctx, c.edgeDataD, ev) : ::sf::upload(dev.ctx, c.edgeDataF, ev);
+    rec = precision == Precision::Double ? ::sf::upload(dev.ctx, c.edgeDataD, ev)
+                                         : ::sf::upload(dev.ctx, c.edgeDataF, ev);
     fst = ::sf::upload(dev.ctx, c.faceStatus, ev);
     dev.ctx.queue().finish();
     uploadSec = sumSeconds(ev);
@@ -337,8 +339,7 @@ void OpenCLEvaluator::setCache(const PatchCache& cache) {
   }
 }
 
-void OpenCLEvaluator::evaluate(const int32_t* faces, const double* xi, const double* eta, size_t n,
-                               PatchPoint* out) {
+void OpenCLEvaluator::evaluate(const int32_t* faces, const double* xi, const double* eta, size_t n, PatchPoint* out) {
   try {
     impl_->evaluate(faces, xi, eta, n, out);
   } catch (const cl::Error& e) {
@@ -346,8 +347,7 @@ void OpenCLEvaluator::evaluate(const int32_t* faces, const double* xi, const dou
   }
 }
 
-void OpenCLEvaluator::evaluate(const int32_t* faces, const float* xi, const float* eta, size_t n,
-                               PatchPoint* out) {
+void OpenCLEvaluator::evaluate(const int32_t* faces, const float* xi, const float* eta, size_t n, PatchPoint* out) {
   try {
     impl_->evaluate(faces, xi, eta, n, out);
   } catch (const cl::Error& e) {
@@ -367,8 +367,8 @@ double OpenCLEvaluator::lastTransferSeconds() const { return impl_->transfer; }
 double OpenCLEvaluator::lastHostSeconds() const { return impl_->host; }
 size_t OpenCLEvaluator::workGroupSize() const { return impl_->dev.groupSize(); }
 
-void evaluatePatchesOpenCL(const PatchCache& cache, const int32_t* faces, const double* xi, const double* eta,
-                           size_t n, PatchPoint* out, const OpenCLOptions& opt) {
+void evaluatePatchesOpenCL(const PatchCache& cache, const int32_t* faces, const double* xi, const double* eta, size_t n,
+                           PatchPoint* out, const OpenCLOptions& opt) {
   OpenCLEvaluator(cache, opt).evaluate(faces, xi, eta, n, out);
 }
 

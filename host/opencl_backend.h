@@ -143,7 +143,7 @@ class OpenCLEvaluator {
 };
 
 /// One-shot convenience wrapper around OpenCLEvaluator.
-void evaluatePatchesOpenCL(const PatchCache& cache, const int32_t* faces, const double* xi, const double* eta,
-                           size_t n, PatchPoint* out, const OpenCLOptions& opt = {});
+void evaluatePatchesOpenCL(const PatchCache& cache, const int32_t* faces, const double* xi, const double* eta, size_t n,
+                           PatchPoint* out, const OpenCLOptions& opt = {});
 
 }  // namespace sf

@@ -238,8 +238,8 @@ std::string OpenCLContext::programKey(const std::vector<std::string>& sources, c
 namespace {
 
 /// Tries the cached binary; returns an empty program (and a note) when it cannot be used.
-cl::Program loadCached(cl::Context& ctx, const cl::Device& dev, const std::string& file,
-                       const std::string& options, std::string& note) {
+cl::Program loadCached(cl::Context& ctx, const cl::Device& dev, const std::string& file, const std::string& options,
+                       std::string& note) {
   std::ifstream in(file, std::ios::binary);
   if (!in) return {};  // not cached yet: no note
   std::vector<unsigned char> bin((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

@@ -14,9 +14,8 @@ namespace sf {
 size_t PatchCache::bytes() const {
   return positions.size() * sizeof(double) + faceOffsets.size() * sizeof(int32_t) +
          faceVertices.size() * sizeof(int32_t) + cornerNormals.size() * sizeof(double) +
-         slotTwin.size() * sizeof(int32_t) + faceStatus.size() * sizeof(uint32_t) +
-         faceBulge.size() * sizeof(float) + edgeDataD.size() * sizeof(double) +
-         edgeDataF.size() * sizeof(float);
+         slotTwin.size() * sizeof(int32_t) + faceStatus.size() * sizeof(uint32_t) + faceBulge.size() * sizeof(float) +
+         edgeDataD.size() * sizeof(double) + edgeDataF.size() * sizeof(float);
 }
 
 PatchCache preparePatchCache(const PolygonMesh& mesh, const std::vector<Eigen::Vector3d>& cornerNormals,
@@ -48,9 +47,13 @@ namespace {
 template <class Real>
 std::vector<Real>& edgeData(PatchCache& c);
 template <>
-std::vector<double>& edgeData<double>(PatchCache& c) { return c.edgeDataD; }
+std::vector<double>& edgeData<double>(PatchCache& c) {
+  return c.edgeDataD;
+}
 template <>
-std::vector<float>& edgeData<float>(PatchCache& c) { return c.edgeDataF; }
+std::vector<float>& edgeData<float>(PatchCache& c) {
+  return c.edgeDataF;
+}
 
 /// Builds face f: gathers its corners, runs the shared construction and quality, scatters
 /// the records field-major.
@@ -92,8 +95,7 @@ void buildAll(PatchCache& c, Backend backend, int threads) {
     return;
   }
   std::unique_ptr<tbb::global_control> limit;
-  if (threads > 0)
-    limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
+  if (threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
   tbb::parallel_for(tbb::blocked_range<int>(0, nf, 64), [&](const tbb::blocked_range<int>& r) {
     for (int f = r.begin(); f != r.end(); ++f) buildFace<Real>(c, f);
   });

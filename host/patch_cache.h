@@ -24,7 +24,7 @@ struct PatchOptions {
 /// The base mesh is kept too, so that force methods and the device loop need only the cache.
 struct PatchCache {
   PatchOptions options;
-  uint64_t meshHash = 0;     ///< xxh64 of the source mesh file's bytes
+  uint64_t meshHash = 0;                ///< xxh64 of the source mesh file's bytes
   std::vector<double> positions;        ///< #V*3, metres (file units)
   std::vector<int32_t> faceOffsets{0};  ///< #F+1
   std::vector<int32_t> faceVertices;    ///< #C

@@ -59,13 +59,13 @@ PatchPoint evalChecked(const PatchCache& c, int f, double xi, double eta) {
 
 PatchPoint evaluatePatch(const PatchCache& cache, int f, double xi, double eta) {
   if (f < 0 || f >= cache.numFaces())
-    throw std::out_of_range("face " + std::to_string(f) + " out of range [0, " +
-                            std::to_string(cache.numFaces()) + ")");
+    throw std::out_of_range("face " + std::to_string(f) + " out of range [0, " + std::to_string(cache.numFaces()) +
+                            ")");
   return evalChecked(cache, f, xi, eta);
 }
 
-void evaluatePatches(const PatchCache& cache, const int32_t* faces, const double* xi, const double* eta,
-                     size_t count, PatchPoint* out, Backend backend, int threads) {
+void evaluatePatches(const PatchCache& cache, const int32_t* faces, const double* xi, const double* eta, size_t count,
+                     PatchPoint* out, Backend backend, int threads) {
   if (backend == Backend::OpenCL)
     throw std::invalid_argument("evaluatePatches: use the OpenCL backend's batch evaluator");
   auto one = [&](size_t i) {
@@ -81,8 +81,7 @@ void evaluatePatches(const PatchCache& cache, const int32_t* faces, const double
     return;
   }
   std::unique_ptr<tbb::global_control> limit;
-  if (threads > 0)
-    limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
+  if (threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 256), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) one(i);
   });

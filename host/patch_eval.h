@@ -30,8 +30,8 @@ PatchPoint evaluatePatch(const PatchCache& cache, int f, double xi, double eta);
 /// Evaluates N points: faces, xi, eta are N long; out gets N results, in order.
 /// Backend::Serial or Backend::Tbb (threads <= 0: oneTBB default); OpenCL: see
 /// opencl_backend.h. Bad face indices give status GP_ST_OUTSIDE.
-void evaluatePatches(const PatchCache& cache, const int32_t* faces, const double* xi, const double* eta,
-                     size_t count, PatchPoint* out, Backend backend, int threads = 0);
+void evaluatePatches(const PatchCache& cache, const int32_t* faces, const double* xi, const double* eta, size_t count,
+                     PatchPoint* out, Backend backend, int threads = 0);
 
 /// A batch evaluator: (faces, xi, eta, count, out) as in evaluatePatches, whatever backend.
 using BatchEvaluator =

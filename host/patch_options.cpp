@@ -24,16 +24,22 @@ Backend parseBackend(const std::string& s) {
 const char* toString(Precision p) { return p == Precision::Float ? "float" : "double"; }
 const char* toString(CrossTangentMode m) {
   switch (m) {
-    case CrossTangentMode::Paper: return "paper";
-    case CrossTangentMode::Blend: return "blend";
-    default: return "corrected";
+    case CrossTangentMode::Paper:
+      return "paper";
+    case CrossTangentMode::Blend:
+      return "blend";
+    default:
+      return "corrected";
   }
 }
 const char* toString(Backend b) {
   switch (b) {
-    case Backend::Serial: return "serial";
-    case Backend::OpenCL: return "opencl";
-    default: return "tbb";
+    case Backend::Serial:
+      return "serial";
+    case Backend::OpenCL:
+      return "opencl";
+    default:
+      return "tbb";
   }
 }
 

@@ -8,8 +8,7 @@
 namespace sf {
 
 TriangleMesh tessellatePatches(const PatchCache& cache, int level, const BatchEvaluator& evaluate) {
-  if (level < 1 || level > 256)
-    throw InputError("--level: expected 1..256, got " + std::to_string(level));
+  if (level < 1 || level > 256) throw InputError("--level: expected 1..256, got " + std::to_string(level));
   const int L = level;
   TriangleMesh out;
   std::vector<int32_t> qf;

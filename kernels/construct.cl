@@ -15,10 +15,9 @@
 /* numFaces: #F. numSlots: #C. mode: GP_CT_*.
  * positions: #V*3, cornerNormals: #C*3 (unit), faceOffsets: #F+1, faceVertices: #C.
  * edgeData: GP_E_NFIELDS*#C (out), faceStatus, faceBulge: #F (out). */
-__kernel void gp_construct(const int numFaces, const int numSlots, const int mode,
-                           __global const GP_REAL* positions, __global const GP_REAL* cornerNormals,
-                           __global const int* faceOffsets, __global const int* faceVertices,
-                           __global GP_REAL* edgeData, __global uint* faceStatus,
+__kernel void gp_construct(const int numFaces, const int numSlots, const int mode, __global const GP_REAL* positions,
+                           __global const GP_REAL* cornerNormals, __global const int* faceOffsets,
+                           __global const int* faceVertices, __global GP_REAL* edgeData, __global uint* faceStatus,
                            __global float* faceBulge) {
   const int f = (int)get_global_id(0);
   if (f >= numFaces) return;
@@ -52,6 +51,5 @@ __kernel void gp_construct(const int numFaces, const int numSlots, const int mod
   faceStatus[f] = st;
   faceBulge[f] = (float)bulge;
   for (int k = 0; k < n; ++k)
-    for (int i = 0; i < GP_E_NFIELDS; ++i)
-      edgeData[(size_t)i * numSlots + first + k] = recs[k * GP_E_NFIELDS + i];
+    for (int i = 0; i < GP_E_NFIELDS; ++i) edgeData[(size_t)i * numSlots + first + k] = recs[k * GP_E_NFIELDS + i];
 }

@@ -16,9 +16,8 @@
  * 3..5 dG/dxi, 6..8 dG/deta, 9..11 unit normal. outStatus: N. */
 __kernel void gp_evaluate(const int numFaces, const int numSlots, const int mode, const int count,
                           __global const int* faceOffsets, __global const GP_REAL* edgeData,
-                          __global const uint* faceStatus, __global const int* qFace,
-                          __global const GP_REAL* qXi, __global const GP_REAL* qEta,
-                          __global GP_REAL* out, __global uint* outStatus) {
+                          __global const uint* faceStatus, __global const int* qFace, __global const GP_REAL* qXi,
+                          __global const GP_REAL* qEta, __global GP_REAL* out, __global uint* outStatus) {
   const int q = (int)get_global_id(0);
   if (q >= count) return;
   const int f = qFace[q];
@@ -33,8 +32,7 @@ __kernel void gp_evaluate(const int numFaces, const int numSlots, const int mode
     } else {
       GP_REAL recs[GP_MAX_N * GP_E_NFIELDS];
       for (int k = 0; k < n; ++k)
-        for (int i = 0; i < GP_E_NFIELDS; ++i)
-          recs[k * GP_E_NFIELDS + i] = edgeData[(size_t)i * numSlots + first + k];
+        for (int i = 0; i < GP_E_NFIELDS; ++i) recs[k * GP_E_NFIELDS + i] = edgeData[(size_t)i * numSlots + first + k];
       r = gp_patch_eval(n, recs, mode, qXi[q], qEta[q]);
       r.status |= faceStatus[f];
     }

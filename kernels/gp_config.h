@@ -42,19 +42,18 @@ typedef unsigned int gp_uint;
 #define GP_CT_BLEND 2     /* q(t) = (1-t) d0 + t d1, projected */
 
 /* Status bits: per patch (construction) and per evaluation. */
-#define GP_ST_GUARD 0x1u          /* a backward end tangent was replaced (guard 1) */
-#define GP_ST_ZERO_EDGE 0x2u      /* an edge of (near) zero length */
-#define GP_ST_EDGE_NORMAL 0x4u    /* n_c or an end tangent undefined; fallback used */
-#define GP_ST_CROSS_TANGENT 0x8u  /* cross tangent undefined; fallback used */
-#define GP_ST_FOLD 0x10u          /* patch normal opposite to n_c near an edge */
-#define GP_ST_BULGE 0x20u         /* surface leaves the face box by > 0.5 face diameters */
-#define GP_ST_OUTSIDE 0x40u       /* evaluation point outside the domain */
-#define GP_ST_SINGULAR 0x80u      /* dG/dxi x dG/deta vanishes; normal is a fallback */
+#define GP_ST_GUARD 0x1u            /* a backward end tangent was replaced (guard 1) */
+#define GP_ST_ZERO_EDGE 0x2u        /* an edge of (near) zero length */
+#define GP_ST_EDGE_NORMAL 0x4u      /* n_c or an end tangent undefined; fallback used */
+#define GP_ST_CROSS_TANGENT 0x8u    /* cross tangent undefined; fallback used */
+#define GP_ST_FOLD 0x10u            /* patch normal opposite to n_c near an edge */
+#define GP_ST_BULGE 0x20u           /* surface leaves the face box by > 0.5 face diameters */
+#define GP_ST_OUTSIDE 0x40u         /* evaluation point outside the domain */
+#define GP_ST_SINGULAR 0x80u        /* dG/dxi x dG/deta vanishes; normal is a fallback */
 #define GP_ST_TOO_MANY_SIDES 0x100u /* n > GP_MAX_N or n < 3: not built */
-#define GP_ST_NONFINITE 0x200u    /* non-finite input */
-#define GP_ST_DEGENERATE_MASK (GP_ST_ZERO_EDGE | GP_ST_EDGE_NORMAL | GP_ST_CROSS_TANGENT | \
-                               GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE)
-
+#define GP_ST_NONFINITE 0x200u      /* non-finite input */
+#define GP_ST_DEGENERATE_MASK \
+  (GP_ST_ZERO_EDGE | GP_ST_EDGE_NORMAL | GP_ST_CROSS_TANGENT | GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE)
 
 /* Per-edge record: everything evaluation needs about edge k of a face (edge V_k -> V_{k+1}).
  * Offsets of 3-vectors unless noted. Stored field-major in the cache (struct of arrays). */

@@ -57,25 +57,23 @@ GP_FN gp_dvec3 gp_edge_normal(const GP_REAL* rec, GP_REAL t, gp_dvec3 cp, gp_uin
 
 /* Cross tangent T_k(t) with its t-derivative (Eq. 11-14 and the design page's variants).
  * c = (C, C'), cp = (C', C''), nc = n_c (dual). mode: GP_CT_*. */
-GP_FN gp_dvec3 gp_cross_tangent(const GP_REAL* rec, GP_REAL t, int mode, gp_dvec3 c, gp_dvec3 cp,
-                                gp_dvec3 nc, gp_uint* st) {
+GP_FN gp_dvec3 gp_cross_tangent(const GP_REAL* rec, GP_REAL t, int mode, gp_dvec3 c, gp_dvec3 cp, gp_dvec3 nc,
+                                gp_uint* st) {
   const GP_REAL scale = gp_edge_scale(rec);
-  const gp_dreal len = gp_dr((GP_R(1.0) - t) * rec[GP_E_LP] + t * rec[GP_E_LN],
-                             rec[GP_E_LN] - rec[GP_E_LP]);
+  const gp_dreal len = gp_dr((GP_R(1.0) - t) * rec[GP_E_LP] + t * rec[GP_E_LN], rec[GP_E_LN] - rec[GP_E_LP]);
   const gp_vec3 d0 = gp_get3(rec, GP_E_D0), d1 = gp_get3(rec, GP_E_D1);
   /* Inward direction used when a construction step is undefined: n_c x C' (zero when
    * that too is undefined, e.g. on a zero-length edge). */
   gp_uint ist = 0u;
-  const gp_dvec3 inward = gp_dunit_or(gp_dcross(nc, cp), gp_dv(gp_zero3(), gp_zero3()),
-                                      GP_TINY * scale, &ist, GP_ST_CROSS_TANGENT);
+  const gp_dvec3 inward =
+      gp_dunit_or(gp_dcross(nc, cp), gp_dv(gp_zero3(), gp_zero3()), GP_TINY * scale, &ist, GP_ST_CROSS_TANGENT);
   gp_dvec3 q;
   if (mode == GP_CT_BLEND) {
     q = gp_dlerp(d0, d1, t);
   } else {
     /* Eq. 11-13: v_int, n_int, t_c = n_c x (v_int x n_int) */
     const gp_dvec3 vint = gp_dsub(gp_dlerp(gp_get3(rec, GP_E_VP), gp_get3(rec, GP_E_VN), t), c);
-    const gp_dvec3 nint =
-        gp_dscale(gp_dadd(gp_dlerp(gp_get3(rec, GP_E_NP), gp_get3(rec, GP_E_NN), t), nc), GP_R(0.5));
+    const gp_dvec3 nint = gp_dscale(gp_dadd(gp_dlerp(gp_get3(rec, GP_E_NP), gp_get3(rec, GP_E_NN), t), nc), GP_R(0.5));
     const gp_dvec3 tc = gp_dcross(nc, gp_dcross(vint, nint));
     const gp_dvec3 p = gp_dunit_or(tc, inward, GP_TINY * scale, st, GP_ST_CROSS_TANGENT | ist);
     if (mode == GP_CT_PAPER) return gp_dmul(len, p); /* Eq. 14 as printed */
@@ -91,8 +89,7 @@ GP_FN gp_dvec3 gp_cross_tangent(const GP_REAL* rec, GP_REAL t, int mode, gp_dvec
 /* Unit end tangents (t_s, t_e) of the edge Va -> Vb (Eq. 8-9) with the design page's
  * degenerate fallback and backward-tangent guard. The same curve results from either
  * direction; the caller evaluates each edge in one canonical direction. */
-GP_FN void gp_edge_tangents(gp_vec3 va, gp_vec3 vb, gp_vec3 na, gp_vec3 nb, gp_vec3* ts, gp_vec3* te,
-                            gp_uint* st) {
+GP_FN void gp_edge_tangents(gp_vec3 va, gp_vec3 vb, gp_vec3 na, gp_vec3 nb, gp_vec3* ts, gp_vec3* te, gp_uint* st) {
   const gp_vec3 e = gp_sub(vb, va);
   const GP_REAL L = gp_len(e);
   const GP_REAL span = gp_max(gp_len(va), gp_len(vb));
@@ -152,8 +149,7 @@ GP_FN void gp_finish_edge_record(GP_REAL* rec, gp_vec3 d0, gp_vec3 d1, int mode,
  * V, N: n positions and unit normals, CCW from outside. vid: the global vertex ids, used
  * to evaluate each edge's end tangents in one canonical direction (lower id first) so that
  * both faces of an edge build the same curve. Returns the patch status bits. */
-GP_FN gp_uint gp_build_patch(int n, const gp_vec3* V, const gp_vec3* N, const int* vid, int mode,
-                             GP_REAL* recs) {
+GP_FN gp_uint gp_build_patch(int n, const gp_vec3* V, const gp_vec3* N, const int* vid, int mode, GP_REAL* recs) {
   gp_uint st = 0u;
   if (n < 3 || n > GP_MAX_N) return GP_ST_TOO_MANY_SIDES;
   for (int k = 0; k < n; ++k)

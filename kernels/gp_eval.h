@@ -119,13 +119,13 @@ GP_FN gp_eval_result gp_patch_eval(int n, const GP_REAL* recs, int mode, GP_REAL
     const GP_REAL u = t[k], v = GP_R(1.0) - t[km];
     const GP_REAL ux = tx[k], uy = ty[k], vx = -tx[km], vy = -ty[km];
     const gp_vec3 tp0 = gp_get3(rk, GP_E_T0), tq0 = gp_get3(rm, GP_E_T1);
-    const gp_vec3 a = gp_get3(rk, GP_E_DT0);          /* T_P'(0) = dT_k/dt(0) */
-    const gp_vec3 b = gp_neg(gp_get3(rm, GP_E_DT1));  /* T_Q'(0) = -dT_{k-1}/dt(1) */
+    const gp_vec3 a = gp_get3(rk, GP_E_DT0);         /* T_P'(0) = dT_k/dt(0) */
+    const gp_vec3 b = gp_neg(gp_get3(rm, GP_E_DT1)); /* T_Q'(0) = -dT_{k-1}/dt(1) */
     const gp_vec3 dTP = gp_sub(T[k], tp0), dTQ = gp_sub(T[km], tq0);
     gp_vec3 r = gp_sub(gp_add(C[k], C[km]), gp_get3(rk, GP_E_V0));
     r = gp_madd(gp_madd(r, dTP, v), dTQ, u);
-    gp_vec3 ru = gp_madd(gp_add(Cd[k], dTQ), Td[k], v);       /* P' + v T_P' + (T_Q - T_Q(0)) */
-    gp_vec3 rv = gp_madd(gp_sub(dTP, Cd[km]), Td[km], -u);    /* Q' + (T_P - T_P(0)) + u T_Q' */
+    gp_vec3 ru = gp_madd(gp_add(Cd[k], dTQ), Td[k], v);    /* P' + v T_P' + (T_Q - T_Q(0)) */
+    gp_vec3 rv = gp_madd(gp_sub(dTP, Cd[km]), Td[km], -u); /* Q' + (T_P - T_P(0)) + u T_Q' */
     const GP_REAL s = u + v;
     if (s > GP_R(0.0)) { /* - u v (v a + u b) / (u + v), and its partials */
       const GP_REAL is = GP_R(1.0) / s, is2 = is * is;
@@ -145,8 +145,8 @@ GP_FN gp_eval_result gp_patch_eval(int n, const GP_REAL* recs, int mode, GP_REAL
   const GP_REAL jmax = gp_max(gp_len(out.dxi), gp_len(out.deta));
   const GP_REAL scale = jmax * jmax;
   gp_uint sst = 0u;
-  out.normal = gp_unit_or(nn, gp_unit_or(nfb, gp_get3(recs, GP_E_N0), GP_TINY, &sst, 0u), GP_TINY * scale,
-                          &sst, GP_ST_SINGULAR);
+  out.normal =
+      gp_unit_or(nn, gp_unit_or(nfb, gp_get3(recs, GP_E_N0), GP_TINY, &sst, 0u), GP_TINY * scale, &sst, GP_ST_SINGULAR);
   out.status |= sst;
   return out;
 }
@@ -163,8 +163,7 @@ GP_FN gp_uint gp_patch_quality(int n, const GP_REAL* recs, int mode, GP_REAL* bu
     const gp_vec3 p = gp_get3(recs + k * GP_E_NFIELDS, GP_E_V0);
     lo = gp_v3(p.x < lo.x ? p.x : lo.x, p.y < lo.y ? p.y : lo.y, p.z < lo.z ? p.z : lo.z);
     hi = gp_v3(p.x > hi.x ? p.x : hi.x, p.y > hi.y ? p.y : hi.y, p.z > hi.z ? p.z : hi.z);
-    for (int j = 0; j < k; ++j)
-      diam = gp_max(diam, gp_len(gp_sub(p, gp_get3(recs + j * GP_E_NFIELDS, GP_E_V0))));
+    for (int j = 0; j < k; ++j) diam = gp_max(diam, gp_len(gp_sub(p, gp_get3(recs + j * GP_E_NFIELDS, GP_E_V0))));
   }
   GP_REAL worst = GP_R(0.0);
   const GP_REAL inset = GP_R(1.0e-3);

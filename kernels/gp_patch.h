@@ -9,7 +9,10 @@
  * Shared functions work on private memory only; kernels (kernels/NAME.cl) and host code do
  * the loads and stores of the cache arrays.
  */
+/* order matters: each part uses the ones before it */
+// clang-format off
 #include "gp_config.h"
 #include "gp_vec.h"
 #include "gp_edge.h"
 #include "gp_eval.h"
+// clang-format on

@@ -22,10 +22,16 @@
 #undef GP_TINY
 #define GP_TINY (GP_R(64.0) * GP_EPS)
 
-typedef struct { GP_REAL x, y, z; } gp_vec3;
+typedef struct {
+  GP_REAL x, y, z;
+} gp_vec3;
 /* A vector-valued function of one parameter at a point: value v and derivative d. */
-typedef struct { gp_vec3 v, d; } gp_dvec3;
-typedef struct { GP_REAL v, d; } gp_dreal;
+typedef struct {
+  gp_vec3 v, d;
+} gp_dvec3;
+typedef struct {
+  GP_REAL v, d;
+} gp_dreal;
 
 GP_FN gp_vec3 gp_v3(GP_REAL x, GP_REAL y, GP_REAL z) {
   gp_vec3 r;
@@ -45,9 +51,7 @@ GP_FN gp_vec3 gp_cross(gp_vec3 a, gp_vec3 b) {
 }
 GP_FN GP_REAL gp_len(gp_vec3 a) { return GP_SQRT(gp_dot(a, a)); }
 /* a + s b */
-GP_FN gp_vec3 gp_madd(gp_vec3 a, gp_vec3 b, GP_REAL s) {
-  return gp_v3(a.x + b.x * s, a.y + b.y * s, a.z + b.z * s);
-}
+GP_FN gp_vec3 gp_madd(gp_vec3 a, gp_vec3 b, GP_REAL s) { return gp_v3(a.x + b.x * s, a.y + b.y * s, a.z + b.z * s); }
 /* (1-t) a + t b */
 GP_FN gp_vec3 gp_lerp(gp_vec3 a, gp_vec3 b, GP_REAL t) {
   const GP_REAL s = GP_R(1.0) - t;
@@ -98,9 +102,7 @@ GP_FN gp_dvec3 gp_dscale(gp_dvec3 a, GP_REAL s) { return gp_dv(gp_scale(a.v, s),
 GP_FN gp_dvec3 gp_dmul(gp_dreal s, gp_dvec3 a) {
   return gp_dv(gp_scale(a.v, s.v), gp_add(gp_scale(a.v, s.d), gp_scale(a.d, s.v)));
 }
-GP_FN gp_dreal gp_ddot(gp_dvec3 a, gp_dvec3 b) {
-  return gp_dr(gp_dot(a.v, b.v), gp_dot(a.d, b.v) + gp_dot(a.v, b.d));
-}
+GP_FN gp_dreal gp_ddot(gp_dvec3 a, gp_dvec3 b) { return gp_dr(gp_dot(a.v, b.v), gp_dot(a.d, b.v) + gp_dot(a.v, b.d)); }
 GP_FN gp_dvec3 gp_dcross(gp_dvec3 a, gp_dvec3 b) {
   return gp_dv(gp_cross(a.v, b.v), gp_add(gp_cross(a.d, b.v), gp_cross(a.v, b.d)));
 }

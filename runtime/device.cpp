@@ -69,8 +69,7 @@ Trajectory readTrajectoryCsv(const std::string& path) {
   const NumericCsv csv = readNumericCsv(path, {"t", "x", "y", "z"}, /*headerRequired=*/false);
   Trajectory tr;
   for (size_t r = 0; r < csv.rows(); ++r) {
-    if (!tr.t.empty() && !(csv.at(r, 0) > tr.t.back()))
-    {
+    if (!tr.t.empty() && !(csv.at(r, 0) > tr.t.back())) {
       char t[32];
       std::snprintf(t, sizeof t, "%.10g", csv.at(r, 0));
       throwCsvError(path, csv.line[r], std::string("time ") + t + " s is not greater than the previous row's");

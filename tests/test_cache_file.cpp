@@ -42,7 +42,8 @@ class CacheFile : public ::testing::Test {
     for (auto p : {Precision::Double, Precision::Float}) {
       PatchOptions o;
       o.precision = p;
-      caches.push_back(buildPatchCache(loadMesh(std::string(SF_DATA_DIR) + "/spot_control_mesh.obj", o), o, Backend::Tbb));
+      caches.push_back(
+          buildPatchCache(loadMesh(std::string(SF_DATA_DIR) + "/spot_control_mesh.obj", o), o, Backend::Tbb));
     }
     path = tmpPath("cache.sfcache");
     writePatchCache(caches[0], path);

@@ -107,7 +107,8 @@ TEST_F(Cli, ErrorsAreOneLineWithNonZeroExit) {
   const std::string garbage = file("garbage.sfcache", std::string(300, 'z'));
   const std::string out = file("o.csv");
   for (const Case& c : std::vector<Case>{
-           {"eval " + cache + " --points " + outside + " -o " + out, "outside.csv:3: (xi, eta) = (0.99, 0.5) is outside"},
+           {"eval " + cache + " --points " + outside + " -o " + out,
+            "outside.csv:3: (xi, eta) = (0.99, 0.5) is outside"},
            {"eval " + cache + " --points " + badface + " -o " + out, "badface.csv:2: face 180 out of range"},
            {"eval " + cache + " --points " + badnum + " -o " + out, "badnum.csv:2: eta is not a finite number"},
            {"eval " + cache + " --points " + badhdr + " -o " + out, "badhdr.csv:1: expected header"},

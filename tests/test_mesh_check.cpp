@@ -38,12 +38,7 @@ const Entry kCatalogue[] = {
     {"odedstein/torus.obj", 2304, 4608, {{3, 4608}}, 0, 1},
     {"odedstein/sphere.obj", 642, 1280, {{3, 1280}}, 0, 0},
     {"polygon_laplacian/hexaSphere.off", 1760, 882, {{5, 128}, {6, 638}, {7, 116}}, 0, 0},
-    {"polygon_laplacian/tetris.obj",
-     52,
-     16,
-     {{4, 1}, {5, 1}, {6, 3}, {7, 2}, {8, 5}, {9, 3}, {10, 1}},
-     1,
-     -1},
+    {"polygon_laplacian/tetris.obj", 52, 16, {{4, 1}, {5, 1}, {6, 3}, {7, 2}, {8, 5}, {9, 3}, {10, 1}}, 1, -1},
     {"polygon_laplacian/L-plane.obj", 45, 16, {{6, 8}, {7, 8}}, 1, -1},
     {"polygon_laplacian/quad-sphere.off", 482, 512, {{3, 64}, {4, 448}}, 0, 0},
     {"polygon_laplacian/sphere2.off", 3842, 3840, {{4, 3840}}, 0, 0, 0, 0, 0, true},
@@ -62,8 +57,7 @@ const Entry kCatalogue[] = {
 
 std::string meshPath(const std::string& rel) { return std::string(SF_SHARED_MESHES) + "/" + rel; }
 
-sf::PolygonMesh make(std::vector<Eigen::Vector3d> p,
-                     const std::vector<std::vector<int32_t>>& faces) {
+sf::PolygonMesh make(std::vector<Eigen::Vector3d> p, const std::vector<std::vector<int32_t>>& faces) {
   sf::PolygonMesh m;
   m.positions = std::move(p);
   for (const auto& f : faces) m.addFace(f);
@@ -74,8 +68,7 @@ sf::PolygonMesh make(std::vector<Eigen::Vector3d> p,
 sf::PolygonMesh cube() {
   std::vector<Eigen::Vector3d> p;
   for (int i = 0; i < 8; ++i) p.emplace_back(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1);
-  return make(p,
-              {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}});
+  return make(p, {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}});
 }
 
 }  // namespace
@@ -112,8 +105,7 @@ TEST(MeshCatalogue, EveryFileLoadsAndMatchesTheTable) {
       EXPECT_FALSE(r.clean());
     }
     if (e.genus >= 0) {
-      const int chi =
-          r.numVertices - static_cast<int>(r.unreferencedVertices.size()) - r.numEdges + r.numFaces;
+      const int chi = r.numVertices - static_cast<int>(r.unreferencedVertices.size()) - r.numEdges + r.numFaces;
       EXPECT_EQ(chi, 2 - 2 * e.genus);
       EXPECT_EQ(r.signedVolume < 0, e.negativeVolume);
     }
@@ -157,8 +149,7 @@ TEST(MeshOrientation, Sphere2IsFlippedOutward) {
 }
 
 TEST(MeshOrientation, FlipKeepsFirstCornerAndReordersCornerNormals) {
-  sf::PolygonMesh m =
-      make({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {2, 0, 0}}, {{0, 1, 2, 3}, {1, 4, 2}});
+  sf::PolygonMesh m = make({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {2, 0, 0}}, {{0, 1, 2, 3}, {1, 4, 2}});
   for (int c = 0; c < m.numCorners(); ++c) m.fileCornerNormals.emplace_back(c, 0, 0);
   const sf::PolygonMesh original = m;
   sf::flipFaces(m);
@@ -216,8 +207,7 @@ TEST(MeshCheck, NonManifoldEdgesAndVertices) {
 }
 
 TEST(MeshCheck, DuplicateAndDegenerateFaces) {
-  const std::vector<Eigen::Vector3d> p = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0},
-                                          {1, 0, 0}, {2, 0, 0}, {1, 1, 0}};
+  const std::vector<Eigen::Vector3d> p = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 0, 0}, {2, 0, 0}, {1, 1, 0}};
   const sf::MeshReport r = sf::checkMesh(make(p, {{0, 1, 2},     // fine
                                                   {2, 0, 1},     // duplicate (rotated)
                                                   {0, 2, 1},     // duplicate (reversed)
@@ -233,8 +223,7 @@ TEST(MeshCheck, BoundaryLoopFollowsFaceDirection) {
   std::vector<Eigen::Vector3d> p;
   for (int j = 0; j < 3; ++j)
     for (int i = 0; i < 3; ++i) p.emplace_back(i, j, 0);
-  const sf::MeshReport r =
-      sf::checkMesh(make(p, {{0, 1, 4, 3}, {1, 2, 5, 4}, {3, 4, 7, 6}, {4, 5, 8, 7}}));
+  const sf::MeshReport r = sf::checkMesh(make(p, {{0, 1, 4, 3}, {1, 2, 5, 4}, {3, 4, 7, 6}, {4, 5, 8, 7}}));
   ASSERT_EQ(r.boundaryLoops.size(), 1u);
   std::vector<int> loop = r.boundaryLoops[0];
   std::rotate(loop.begin(), std::find(loop.begin(), loop.end(), 0), loop.end());

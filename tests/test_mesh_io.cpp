@@ -136,12 +136,10 @@ TEST(MeshReaderMalformed, TableCoversEveryFileInTheFolder) {
 }
 
 TEST(MeshReaderDispatch, ExtensionAndFileErrors) {
-  EXPECT_NE(errorOf("/nonexistent/mesh.stl")
-                .find("/nonexistent/mesh.stl: unknown mesh file extension '.stl'"),
+  EXPECT_NE(errorOf("/nonexistent/mesh.stl").find("/nonexistent/mesh.stl: unknown mesh file extension '.stl'"),
             std::string::npos);
   EXPECT_NE(errorOf("/nonexistent/mesh").find("unknown mesh file extension"), std::string::npos);
-  EXPECT_NE(errorOf("/nonexistent/mesh.obj").find("/nonexistent/mesh.obj: cannot open"),
-            std::string::npos);
+  EXPECT_NE(errorOf("/nonexistent/mesh.obj").find("/nonexistent/mesh.obj: cannot open"), std::string::npos);
   const std::string upper = writeTemp("TRI.OBJ", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
   const sf::PolygonMesh m = sf::readMesh(upper);
   EXPECT_EQ(m.numFaces(), 1);
@@ -175,17 +173,16 @@ TEST(ObjReader, AcceptsCommonSyntax) {
 }
 
 TEST(ObjReader, NormalsPerCornerAndPerVertex) {
-  const sf::PolygonMesh c =
-      sf::readMesh(writeTemp("corner.obj",
-                             "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvn 0 0 1\nvn 0 0 2\n"
-                             "f 1//1 2//2 3//1\nf 2/1/2 4/1/1 3/1/-1\n"));
+  const sf::PolygonMesh c = sf::readMesh(writeTemp("corner.obj",
+                                                   "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvn 0 0 1\nvn 0 0 2\n"
+                                                   "f 1//1 2//2 3//1\nf 2/1/2 4/1/1 3/1/-1\n"));
   ASSERT_EQ(c.fileCornerNormals.size(), 6u);
   EXPECT_EQ(c.fileCornerNormals[1], Eigen::Vector3d(0, 0, 2));
   EXPECT_EQ(c.fileCornerNormals[3], Eigen::Vector3d(0, 0, 2));
   EXPECT_EQ(c.fileCornerNormals[5], Eigen::Vector3d(0, 0, 2));
   EXPECT_TRUE(c.fileNormals.empty());
-  const sf::PolygonMesh v = sf::readMesh(writeTemp(
-      "vertex.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvn 0 0 1\nvn 0 1 1\nf 1 2 3\n"));
+  const sf::PolygonMesh v =
+      sf::readMesh(writeTemp("vertex.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvn 0 0 1\nvn 0 1 1\nf 1 2 3\n"));
   ASSERT_EQ(v.fileNormals.size(), 3u);
   EXPECT_EQ(v.fileNormals[2], Eigen::Vector3d(0, 1, 1));
   EXPECT_TRUE(v.fileCornerNormals.empty());
@@ -193,8 +190,7 @@ TEST(ObjReader, NormalsPerCornerAndPerVertex) {
 
 TEST(ObjReader, ForwardReferencesAndLargeNgons) {
   std::string text = "f 1 2 3 4 5 6 7 8 9 10 11 12\n";
-  for (int i = 0; i < 12; ++i)
-    text += "v " + std::to_string(i) + " " + std::to_string(i * i) + " 0\n";
+  for (int i = 0; i < 12; ++i) text += "v " + std::to_string(i) + " " + std::to_string(i * i) + " 0\n";
   const sf::PolygonMesh m = sf::readMesh(writeTemp("ngon.obj", text));
   EXPECT_EQ(m.numFaces(), 1);
   EXPECT_EQ(m.faceSize(0), 12);
@@ -202,27 +198,26 @@ TEST(ObjReader, ForwardReferencesAndLargeNgons) {
 }
 
 TEST(OffReader, HeaderVariantsCommentsAndColours) {
-  const sf::PolygonMesh a = sf::readMesh(
-      writeTemp("inline.off",
-                "# leading comment\nOFF 4 2 99\n\t0 0 0\n1 0 0 # x axis\n\n1 1 0  \n0 1 0\n"
-                "3 0 1 2 255 0 0\n3\t0 2 3 0.1 0.2 0.3 1\n# trailing comment\n"));
+  const sf::PolygonMesh a =
+      sf::readMesh(writeTemp("inline.off",
+                             "# leading comment\nOFF 4 2 99\n\t0 0 0\n1 0 0 # x axis\n\n1 1 0  \n0 1 0\n"
+                             "3 0 1 2 255 0 0\n3\t0 2 3 0.1 0.2 0.3 1\n# trailing comment\n"));
   EXPECT_EQ(a.numVertices(), 4);
   EXPECT_EQ(a.faceVertices, (std::vector<int32_t>{0, 1, 2, 0, 2, 3}));
   EXPECT_TRUE(a.fileNormals.empty());
 
-  const sf::PolygonMesh n = sf::readMesh(
-      writeTemp("n.off", "NOFF\n3 1 0\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0.5 0.5\n3 0 1 2\n"));
+  const sf::PolygonMesh n =
+      sf::readMesh(writeTemp("n.off", "NOFF\n3 1 0\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0.5 0.5\n3 0 1 2\n"));
   ASSERT_EQ(n.fileNormals.size(), 3u);
   EXPECT_EQ(n.fileNormals[2], Eigen::Vector3d(0, 0.5, 0.5));
 
-  const sf::PolygonMesh c = sf::readMesh(
-      writeTemp("c.off", "COFF\n3 1 0\n0 0 0 1 0 0 1\n1 0 0 0 1 0 1\n0 1 0 0 0 1 1\n3 0 1 2\n"));
+  const sf::PolygonMesh c =
+      sf::readMesh(writeTemp("c.off", "COFF\n3 1 0\n0 0 0 1 0 0 1\n1 0 0 0 1 0 1\n0 1 0 0 0 1 1\n3 0 1 2\n"));
   EXPECT_TRUE(c.fileNormals.empty());
   EXPECT_EQ(c.positions[1], Eigen::Vector3d(1, 0, 0));
 
-  const sf::PolygonMesh cn = sf::readMesh(writeTemp(
-      "cn.off",
-      "CNOFF\n3 1 0\n0 0 0 0 0 1 1 0 0 1\n1 0 0 0 0 1 0 1 0 1\n0 1 0 0 0 1 0 0 1 1\n4 0 1 2 0\n"));
+  const sf::PolygonMesh cn = sf::readMesh(
+      writeTemp("cn.off", "CNOFF\n3 1 0\n0 0 0 0 0 1 1 0 0 1\n1 0 0 0 0 1 0 1 0 1\n0 1 0 0 0 1 0 0 1 1\n4 0 1 2 0\n"));
   EXPECT_EQ(cn.fileNormals.size(), 3u);
   EXPECT_EQ(cn.faceSize(0), 4);
 }
@@ -240,8 +235,7 @@ std::string pyramidHeader(const char* format) {
          "property list uint8 uint32 vertex_indices\nproperty float quality\nend_header\n";
 }
 const double kPyramid[5][3] = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}, {0, 0, 2}};
-const std::vector<std::vector<uint32_t>> kPyramidFaces = {
-    {3, 2, 1, 0}, {0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}};
+const std::vector<std::vector<uint32_t>> kPyramidFaces = {{3, 2, 1, 0}, {0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}};
 
 /// Binary body of the pyramid; `offsets` (if given) receives where each face's indices start.
 std::string pyramidBinary(bool big, std::vector<size_t>* offsets = nullptr) {
@@ -274,8 +268,7 @@ void expectPyramid(const sf::PolygonMesh& m) {
   ASSERT_EQ(m.numFaces(), 5);
   for (int f = 0; f < 5; ++f) {
     ASSERT_EQ(m.faceSize(f), static_cast<int>(kPyramidFaces[f].size()));
-    for (int k = 0; k < m.faceSize(f); ++k)
-      EXPECT_EQ(m.faceVertex(f, k), static_cast<int>(kPyramidFaces[f][k]));
+    for (int k = 0; k < m.faceSize(f); ++k) EXPECT_EQ(m.faceVertex(f, k), static_cast<int>(kPyramidFaces[f][k]));
   }
   ASSERT_EQ(m.fileNormals.size(), 5u);
   EXPECT_EQ(m.fileNormals[4], Eigen::Vector3d(0, 0, 1));
@@ -286,8 +279,8 @@ void expectPyramid(const sf::PolygonMesh& m) {
 TEST(PlyReader, AsciiAnyElementOrder) {
   std::string text = pyramidHeader("ascii") + "7 2 0.5 0.25\n";
   for (const auto& p : kPyramid)
-    text += std::to_string(p[0]) + " " + std::to_string(p[1]) + " " + std::to_string(int(p[2])) +
-            " 0 0 1 200 3 1 2 3 \r\n";
+    text +=
+        std::to_string(p[0]) + " " + std::to_string(p[1]) + " " + std::to_string(int(p[2])) + " 0 0 1 200 3 1 2 3 \r\n";
   for (const auto& f : kPyramidFaces) {
     text += "0 ";
     text += std::to_string(f.size());
@@ -297,25 +290,22 @@ TEST(PlyReader, AsciiAnyElementOrder) {
   expectPyramid(sf::readMesh(writeTemp("pyramid_ascii.ply", text)));
 
   // Faces before vertices, `vertex_index`, no normals.
-  const sf::PolygonMesh m = sf::readMesh(
-      writeTemp("faces_first.ply",
-                "ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_index\n"
-                "element vertex 3\nproperty float z\nproperty float y\nproperty float x\n"
-                "end_header\n3 2 1 0\n0 0 1\n0 1 0\n1 0 0\n"));
+  const sf::PolygonMesh m =
+      sf::readMesh(writeTemp("faces_first.ply",
+                             "ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_index\n"
+                             "element vertex 3\nproperty float z\nproperty float y\nproperty float x\n"
+                             "end_header\n3 2 1 0\n0 0 1\n0 1 0\n1 0 0\n"));
   EXPECT_EQ(m.faceVertices, (std::vector<int32_t>{2, 1, 0}));
   EXPECT_EQ(m.positions[0], Eigen::Vector3d(1, 0, 0));
   EXPECT_TRUE(m.fileNormals.empty());
 }
 
 TEST(PlyReader, BinaryLittleAndBigEndian) {
-  expectPyramid(sf::readMesh(
-      writeTemp("le.ply", pyramidHeader("binary_little_endian") + pyramidBinary(false))));
-  expectPyramid(
-      sf::readMesh(writeTemp("be.ply", pyramidHeader("binary_big_endian") + pyramidBinary(true))));
+  expectPyramid(sf::readMesh(writeTemp("le.ply", pyramidHeader("binary_little_endian") + pyramidBinary(false))));
+  expectPyramid(sf::readMesh(writeTemp("be.ply", pyramidHeader("binary_big_endian") + pyramidBinary(true))));
   // A header with CRLF line ends: the data starts right after "end_header\r\n".
   std::string crlf;
-  for (char c : pyramidHeader("binary_little_endian"))
-    crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+  for (char c : pyramidHeader("binary_little_endian")) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
   expectPyramid(sf::readMesh(writeTemp("le_crlf.ply", crlf + pyramidBinary(false))));
 }
 
@@ -342,24 +332,21 @@ TEST(PlyReader, BinaryErrorsNameTheByte) {
   bad = body;
   bad[at[0] - 1] = static_cast<char>(255);  // face 0 claims 255 corners: more than the rest holds
   path = writeTemp("ply_binary_list_count.ply", header + bad);
-  EXPECT_NE(
-      errorOf(path).find(path + ": byte " + std::to_string(header.size() + at[0] - 1) +
-                         ": vertex_indices count 255 is more than the rest of the file holds"),
-      std::string::npos);
-  path = writeTemp("ply_binary_trailing.ply", header + body + "\n");
-  EXPECT_NE(errorOf(path).find("1 bytes of unexpected data after the last element"),
+  EXPECT_NE(errorOf(path).find(path + ": byte " + std::to_string(header.size() + at[0] - 1) +
+                               ": vertex_indices count 255 is more than the rest of the file holds"),
             std::string::npos);
+  path = writeTemp("ply_binary_trailing.ply", header + body + "\n");
+  EXPECT_NE(errorOf(path).find("1 bytes of unexpected data after the last element"), std::string::npos);
   bad = body;
   const float nan = std::numeric_limits<float>::quiet_NaN();
   std::memcpy(&bad[10 + 8], &nan, 4);  // y of vertex 0, after the 10-byte material row and x
   path = writeTemp("ply_binary_nan.ply", header + bad);
   EXPECT_NE(errorOf(path).find("non-finite y in vertex 0"), std::string::npos);
-  const std::string hugeList =
-      std::string(
-          "ply\nformat binary_little_endian 1.0\nelement vertex 0\nproperty float x\n"
-          "property float y\nproperty float z\nelement face 1\n"
-          "property list uint int vertex_indices\nend_header\n") +
-      std::string("\xff\xff\xff\x7f", 4) + std::string(12, '\0');
+  const std::string hugeList = std::string(
+                                   "ply\nformat binary_little_endian 1.0\nelement vertex 0\nproperty float x\n"
+                                   "property float y\nproperty float z\nelement face 1\n"
+                                   "property list uint int vertex_indices\nend_header\n") +
+                               std::string("\xff\xff\xff\x7f", 4) + std::string(12, '\0');
   path = writeTemp("ply_binary_huge_list.ply", hugeList);
   EXPECT_NE(errorOf(path).find("more than the rest of the file holds"), std::string::npos);
 }

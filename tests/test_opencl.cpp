@@ -72,8 +72,8 @@ const std::vector<NamedMesh>& testMeshes() {
   static const std::vector<NamedMesh> meshes = [] {
     std::vector<NamedMesh> v;
     for (unsigned s : {1u, 2u, 7u}) v.push_back({"polytope" + std::to_string(s), randomPolytope(s)});
-    for (const char* rel : {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/hexaSphere.off",
-                            "geomview/dodecahedron.off"}) {
+    for (const char* rel :
+         {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/hexaSphere.off", "geomview/dodecahedron.off"}) {
       const std::string path = std::string(SF_SHARED_MESHES) + "/" + rel;
       if (std::filesystem::exists(path)) v.push_back({rel, readMesh(path)});
     }

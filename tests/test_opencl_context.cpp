@@ -3,12 +3,12 @@
 // Skipped with the reason when no OpenCL device exists.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <unistd.h>
 
 #include "opencl_backend.h"
 #include "opencl_context.h"
@@ -23,7 +23,7 @@ class OpenCLContextTest : public ::testing::Test {
     std::string why;
     if (!openclAvailable(&why)) GTEST_SKIP() << "no OpenCL device: " << why;
     dir_ = std::filesystem::temp_directory_path() / ("sf_clcache_" + std::to_string(::getpid()) + "_" +
-                                                    ::testing::UnitTest::GetInstance()->current_test_info()->name());
+                                                     ::testing::UnitTest::GetInstance()->current_test_info()->name());
     std::filesystem::remove_all(dir_);
   }
   void TearDown() override {
@@ -35,8 +35,8 @@ class OpenCLContextTest : public ::testing::Test {
 
 // A unique kernel per test run, so that no earlier cache entry can answer for it.
 std::string tinyKernel() {
-  return "__kernel void sf_twice(__global float* a) { a[get_global_id(0)] *= 2.0f; } /* " +
-         std::to_string(::getpid()) + " */\n";
+  return "__kernel void sf_twice(__global float* a) { a[get_global_id(0)] *= 2.0f; } /* " + std::to_string(::getpid()) +
+         " */\n";
 }
 
 TEST_F(OpenCLContextTest, SelectsDevicesByIndexAndName) {
@@ -65,8 +65,8 @@ TEST_F(OpenCLContextTest, SelectsDevicesByIndexAndName) {
 TEST_F(OpenCLContextTest, BuildFailureNamesCallCodeAndLog) {
   OpenCLContext ctx;
   try {
-    ctx.buildProgram({"__kernel void broken(__global float* a) { a[0] = sf_undeclared_thing; }\n"},
-                     "-cl-std=CL1.2", {false, ""});
+    ctx.buildProgram({"__kernel void broken(__global float* a) { a[0] = sf_undeclared_thing; }\n"}, "-cl-std=CL1.2",
+                     {false, ""});
     ADD_FAILURE() << "expected OpenCLError";
   } catch (const OpenCLError& e) {
     const std::string m = e.what();

@@ -35,7 +35,7 @@ void expectG1(const PatchCache& c, const std::string& what) {
     EXPECT_LT(d.maxAngle, 0.2 * b.maxAngle) << what << " (worst face " << d.worstFace << ")";
   }
   EXPECT_LT(d.maxAngle, 1.0 * M_PI / 180) << what;  // spot, blend: 0.69 degrees at 1e-6
-  EXPECT_LT(d.maxGap, 1e-3) << what;  // G0: gaps shrink with the distance too
+  EXPECT_LT(d.maxGap, 1e-3) << what;                // G0: gaps shrink with the distance too
 }
 
 TEST(PatchG1, RandomIrregularPolytopeWithPerturbedNormals) {
@@ -48,9 +48,9 @@ TEST(PatchG1, RandomIrregularPolytopeWithPerturbedNormals) {
 }
 
 TEST(PatchG1, RealMeshes) {
-  for (const char* rel : {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/quad-sphere.off",
-                          "geomview/dodecahedron.off", "geomview/snub_dodecahedron.off", "pmp/chamfer-cube.off",
-                          "lagrange/cube.obj", "pmp/hole_capsule.off"})
+  for (const char* rel :
+       {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/quad-sphere.off", "geomview/dodecahedron.off",
+        "geomview/snub_dodecahedron.off", "pmp/chamfer-cube.off", "lagrange/cube.obj", "pmp/hole_capsule.off"})
     for (auto mode : {CrossTangentMode::Corrected, CrossTangentMode::Blend})
       expectG1(test::cacheFromFile(test::sharedMesh(rel), mode), std::string(rel) + " " + toString(mode));
 }
@@ -66,8 +66,8 @@ ref::RefMesh backwardTangentGrid() {
   for (int y = 0; y < 3; ++y)
     for (int x = 0; x < 3; ++x) m.faces.push_back({y * 4 + x, y * 4 + x + 1, (y + 1) * 4 + x + 1, (y + 1) * 4 + x});
   m.normals.assign(16, Eigen::Vector3d(0, 0, 1));
-  m.normals[5] = Eigen::Vector3d(0.96, 0.25, 0.1).normalized();   // leans along edge 5 -> 6
-  m.normals[6] = Eigen::Vector3d(0.3, -0.8, 0.5).normalized();    // leans across it
+  m.normals[5] = Eigen::Vector3d(0.96, 0.25, 0.1).normalized();  // leans along edge 5 -> 6
+  m.normals[6] = Eigen::Vector3d(0.3, -0.8, 0.5).normalized();   // leans across it
   return m;
 }
 

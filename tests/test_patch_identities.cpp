@@ -81,8 +81,10 @@ TEST(PatchIdentities, DerivativesMatchFiniteDifferences) {
   for (int f = 0; f < c.numFaces(); ++f)
     for (const auto& x : {Eigen::Vector2d(0.1, -0.2), Eigen::Vector2d(-0.3, 0.25), Eigen::Vector2d(0.5, 0.1)}) {
       const PatchPoint p = evaluatePatch(c, f, x.x(), x.y());
-      const Eigen::Vector3d fx = (evaluatePatch(c, f, x.x() + h, x.y()).pos - evaluatePatch(c, f, x.x() - h, x.y()).pos) / (2 * h);
-      const Eigen::Vector3d fy = (evaluatePatch(c, f, x.x(), x.y() + h).pos - evaluatePatch(c, f, x.x(), x.y() - h).pos) / (2 * h);
+      const Eigen::Vector3d fx =
+          (evaluatePatch(c, f, x.x() + h, x.y()).pos - evaluatePatch(c, f, x.x() - h, x.y()).pos) / (2 * h);
+      const Eigen::Vector3d fy =
+          (evaluatePatch(c, f, x.x(), x.y() + h).pos - evaluatePatch(c, f, x.x(), x.y() - h).pos) / (2 * h);
       EXPECT_LT((p.dxi - fx).norm(), 1e-7 * (1 + fx.norm())) << "face " << f;
       EXPECT_LT((p.deta - fy).norm(), 1e-7 * (1 + fy.norm())) << "face " << f;
       EXPECT_NEAR(p.normal.norm(), 1.0, 1e-14);

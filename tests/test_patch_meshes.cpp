@@ -32,9 +32,9 @@ TEST(PatchMeshes, PlanarMeshesStayInTheirPlane) {
     int axis;
     double value;
   };
-  for (const Plane& p : {Plane{"polygon_laplacian/tetris.obj", 1, -0.002002},
-                         Plane{"polygon_laplacian/L-plane.obj", 1, 0.546466}, Plane{"keenan_crane/semi2.obj", 2, 0.0},
-                         Plane{"keenan_crane/semi6.obj", 2, 0.0}, Plane{"pmp/L.off", 2, 0.0}}) {
+  for (const Plane& p :
+       {Plane{"polygon_laplacian/tetris.obj", 1, -0.002002}, Plane{"polygon_laplacian/L-plane.obj", 1, 0.546466},
+        Plane{"keenan_crane/semi2.obj", 2, 0.0}, Plane{"keenan_crane/semi6.obj", 2, 0.0}, Plane{"pmp/L.off", 2, 0.0}}) {
     const PatchCache c = test::cacheFromFile(test::sharedMesh(p.rel));
     double worst = 0;
     forSamples(c, [&](int f, const Eigen::Vector2d& x) {
@@ -108,7 +108,8 @@ TEST(PatchMeshes, QuadSphereIsCloserToTheSphereThanItsFlatFaces) {
       const Eigen::Vector3d a = Eigen::Vector3d::Map(&c.positions[3 * c.faceVertices[c.faceOffsets[f] + k]]);
       const Eigen::Vector3d b = Eigen::Vector3d::Map(&c.positions[3 * c.faceVertices[c.faceOffsets[f] + (k + 1) % n]]);
       for (int r = 0; r <= 4; ++r)
-        for (int j = 0; j <= 3; ++j) flat = std::max(flat, std::abs((ctr + (r / 4.0) * (a + (j / 3.0) * (b - a) - ctr)).norm() - 1.0));
+        for (int j = 0; j <= 3; ++j)
+          flat = std::max(flat, std::abs((ctr + (r / 4.0) * (a + (j / 3.0) * (b - a) - ctr)).norm() - 1.0));
     }
   }
   std::printf("quad-sphere max |r-1|: patches %.6f, flat faces %.6f\n", patch, flat);

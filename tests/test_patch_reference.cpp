@@ -13,8 +13,9 @@ namespace sf {
 namespace {
 
 ref::CrossTangent refMode(CrossTangentMode m) {
-  return m == CrossTangentMode::Paper ? ref::CrossTangent::Paper
-                                      : m == CrossTangentMode::Blend ? ref::CrossTangent::Blend : ref::CrossTangent::Corrected;
+  return m == CrossTangentMode::Paper   ? ref::CrossTangent::Paper
+         : m == CrossTangentMode::Blend ? ref::CrossTangent::Blend
+                                        : ref::CrossTangent::Corrected;
 }
 
 /// Random points uniform in the n-gon domain plus its corners, edge points and centre.
@@ -71,7 +72,8 @@ Diff compare(const PatchCache& c, CrossTangentMode mode, int samples) {
       d.deriv = std::max(d.deriv, std::max((p.dxi - r.dxi).norm(), (p.deta - r.deta).norm()) / size);
       // the normal is as well conditioned as the tangent frame: skip nearly parallel dG/dxi, dG/deta
       // and faces that fold (non-convex or strongly bent cages), where the normal turns over
-      if (!(p.status & GP_ST_FOLD) && angle(p.dxi, p.deta) > 1e-3 && angle(p.dxi, p.deta) < M_PI - 1e-3) d.normal = std::max(d.normal, angle(p.normal, r.normal));
+      if (!(p.status & GP_ST_FOLD) && angle(p.dxi, p.deta) > 1e-3 && angle(p.dxi, p.deta) < M_PI - 1e-3)
+        d.normal = std::max(d.normal, angle(p.normal, r.normal));
     }
   }
   return d;
@@ -81,8 +83,9 @@ const CrossTangentMode kModes[] = {CrossTangentMode::Corrected, CrossTangentMode
 
 TEST(PatchVsReference, ShapesDouble) {
   for (auto mode : kModes)
-    for (const auto& shape : {ref::refUnitSphereCube(), ref::refDodecahedron(), ref::refJitteredPolytope(4, 0, 0.12, 12),
-                              ref::refJitteredPolytope(8, 1, 0.1, 10), ref::refTwistedStrip()}) {
+    for (const auto& shape :
+         {ref::refUnitSphereCube(), ref::refDodecahedron(), ref::refJitteredPolytope(4, 0, 0.12, 12),
+          ref::refJitteredPolytope(8, 1, 0.1, 10), ref::refTwistedStrip()}) {
       const Diff d = compare(test::cacheFromShape(shape, mode), mode, 40);
       EXPECT_EQ(d.flagged, 0) << toString(mode);
       EXPECT_LT(d.pos, 1e-13) << toString(mode);
@@ -114,8 +117,9 @@ TEST(PatchVsReference, FloatWithinStatedBound) {
   const PatchCache c = test::cacheFromFile(test::sharedMesh("keenan_crane/spot_control_mesh.obj"),
                                            CrossTangentMode::Corrected, Precision::Float);
   const Diff d = compare(c, CrossTangentMode::Corrected, 12);
-  std::printf("float vs reference on the spot cage: position %.3g, derivatives %.3g (of the face size), normal %.3g rad\n",
-              d.pos, d.deriv, d.normal);
+  std::printf(
+      "float vs reference on the spot cage: position %.3g, derivatives %.3g (of the face size), normal %.3g rad\n",
+      d.pos, d.deriv, d.normal);
   // Stated float bound: positions within 2e-5 and derivatives within 1e-4 of the face size.
   EXPECT_LT(d.pos, 2e-5);
   EXPECT_LT(d.deriv, 1e-4);

@@ -19,8 +19,7 @@ using namespace sf::ref;
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
-constexpr CrossTangent kModes[] = {CrossTangent::Corrected, CrossTangent::Paper,
-                                   CrossTangent::Blend};
+constexpr CrossTangent kModes[] = {CrossTangent::Corrected, CrossTangent::Paper, CrossTangent::Blend};
 
 const char* modeName(CrossTangent m) {
   return m == CrossTangent::Corrected ? "corrected" : m == CrossTangent::Paper ? "paper" : "blend";
@@ -32,9 +31,7 @@ struct NamedMesh {
 };
 
 std::vector<NamedMesh> regularShapes() {
-  return {{"cube", refUnitSphereCube()},
-          {"icosahedron", refIcosahedron()},
-          {"dodecahedron", refDodecahedron()}};
+  return {{"cube", refUnitSphereCube()}, {"icosahedron", refIcosahedron()}, {"dodecahedron", refDodecahedron()}};
 }
 
 /// Jittered polytopes: vertices moved up to 0.1-0.15, normals tilted 10 degrees.
@@ -113,16 +110,14 @@ TEST(ReferenceEdge, CurveEndsReversalAndDerivative) {
         EXPECT_NEAR(refEdgeCurveDerivative(p, k, 1).dot(p.N[(k + 1) % n]), 0, 1e-14 * L);
         for (double s : {0.0, 0.2, 0.5, 0.9, 1.0}) {
           const double h = 1e-6, t = std::clamp(s, h, 1 - h);
-          const Eigen::Vector3d fd =
-              (refEdgeCurve(p, k, t + h) - refEdgeCurve(p, k, t - h)) / (2 * h);
+          const Eigen::Vector3d fd = (refEdgeCurve(p, k, t + h) - refEdgeCurve(p, k, t - h)) / (2 * h);
           EXPECT_LT((refEdgeCurveDerivative(p, k, t) - fd).norm(), 1e-8 * L);
           const Eigen::Vector3d nc = refEdgeNormal(p, k, s);
           EXPECT_NEAR(nc.norm(), 1.0, 1e-14);
           EXPECT_NEAR(nc.dot(refEdgeCurveDerivative(p, k, s)), 0.0, 1e-13 * L);
           if (nb[f][k].face < 0) continue;  // same curve and n_c from the other face
           const RefPatch q = refFacePatch(m, nb[f][k].face);
-          EXPECT_LT((refEdgeCurve(q, nb[f][k].edge, 1 - s) - refEdgeCurve(p, k, s)).norm(),
-                    1e-14 * L);
+          EXPECT_LT((refEdgeCurve(q, nb[f][k].edge, 1 - s) - refEdgeCurve(p, k, s)).norm(), 1e-14 * L);
           EXPECT_LT((refEdgeNormal(q, nb[f][k].edge, 1 - s) - nc).norm(), 1e-13);
         }
         EXPECT_LT((refEdgeNormal(p, k, 0) - p.N[k]).norm(), 1e-13);  // n_c(0) = +N_k
@@ -158,11 +153,8 @@ TEST(ReferenceCrossTangent, EndsMatchNeighbouringEdgeCurves) {
         for (int k = 0; k < n; ++k) {
           const double tol = 1e-13 * diameter(p);
           // T_k(0) = -C_{k-1}'(1), T_k(1) = C_{k+1}'(0)
-          EXPECT_LT(
-              (refCrossTangent(p, k, 0) + refEdgeCurveDerivative(p, (k + n - 1) % n, 1)).norm(),
-              tol);
-          EXPECT_LT((refCrossTangent(p, k, 1) - refEdgeCurveDerivative(p, (k + 1) % n, 0)).norm(),
-                    tol);
+          EXPECT_LT((refCrossTangent(p, k, 0) + refEdgeCurveDerivative(p, (k + n - 1) % n, 1)).norm(), tol);
+          EXPECT_LT((refCrossTangent(p, k, 1) - refEdgeCurveDerivative(p, (k + 1) % n, 0)).norm(), tol);
           for (double t : {0.0, 0.3, 0.7, 1.0})  // T_k lies in the plane normal to n_c
             EXPECT_NEAR(refCrossTangent(p, k, t).dot(refEdgeNormal(p, k, t)), 0.0, tol);
         }
@@ -179,8 +171,7 @@ TEST(ReferenceCrossTangent, PaperEqualsCorrectedWhereCompatible) {
       const RefPatch p = refFacePatch(m, f, CrossTangent::Paper);
       for (int k = 0; k < sides(c); ++k)
         for (double t : {0.0, 0.25, 0.5, 1.0})
-          EXPECT_LT((refCrossTangent(c, k, t) - refCrossTangent(p, k, t)).norm(),
-                    1e-13 * diameter(c));
+          EXPECT_LT((refCrossTangent(c, k, t) - refCrossTangent(p, k, t)).norm(), 1e-13 * diameter(c));
     }
   }
 }
@@ -207,8 +198,7 @@ TEST(ReferenceCrossTangent, DerivativeMatchesFiniteDifference) {
       for (int k = 0; k < sides(p); ++k)
         for (double t : {0.0, 0.4, 1.0}) {
           const double h = 1e-6, tc = std::clamp(t, h, 1 - h);
-          const Eigen::Vector3d fd =
-              (refCrossTangent(p, k, tc + h) - refCrossTangent(p, k, tc - h)) / (2 * h);
+          const Eigen::Vector3d fd = (refCrossTangent(p, k, tc + h) - refCrossTangent(p, k, tc - h)) / (2 * h);
           const Eigen::Vector3d d = refCrossTangentDerivative(p, k, tc);
           EXPECT_LT((d - fd).norm(), 1e-7 * (1 + d.norm()) * diameter(p));
         }
@@ -240,8 +230,7 @@ TEST(ReferencePatch, BoundaryIsTheEdgeCurve) {
         for (int k = 0; k < sides(p); ++k)
           for (double s : {0.0, 0.01, 0.25, 0.5, 0.8, 0.999, 1.0}) {
             const Eigen::Vector2d X = refDomainEdgePoint(sides(p), k, s, 0.0);
-            EXPECT_LT((ev.position(X.x(), X.y()) - refEdgeCurve(p, k, s)).norm(),
-                      1e-13 * diameter(p))
+            EXPECT_LT((ev.position(X.x(), X.y()) - refEdgeCurve(p, k, s)).norm(), 1e-13 * diameter(p))
                 << name << " " << modeName(mode) << " face " << f << " edge " << k << " s " << s;
           }
       }
@@ -288,14 +277,11 @@ TEST(ReferencePatch, DerivativesMatchCentralDifferences) {
           double a = u01(), b = u01();
           if (a + b > 1) a = 1 - a, b = 1 - b;
           const int k = static_cast<int>(u01() * n);
-          const Eigen::Vector2d X =
-              0.98 * (a * refDomainCorner(n, k) + b * refDomainCorner(n, k + 1));
+          const Eigen::Vector2d X = 0.98 * (a * refDomainCorner(n, k) + b * refDomainCorner(n, k + 1));
           const double h = 1e-6;
           const RefEval e = ev.evaluate(X.x(), X.y());
-          const Eigen::Vector3d fx =
-              (ev.position(X.x() + h, X.y()) - ev.position(X.x() - h, X.y())) / (2 * h);
-          const Eigen::Vector3d fy =
-              (ev.position(X.x(), X.y() + h) - ev.position(X.x(), X.y() - h)) / (2 * h);
+          const Eigen::Vector3d fx = (ev.position(X.x() + h, X.y()) - ev.position(X.x() - h, X.y())) / (2 * h);
+          const Eigen::Vector3d fy = (ev.position(X.x(), X.y() + h) - ev.position(X.x(), X.y() - h)) / (2 * h);
           const double scale = std::max(e.dxi.norm(), e.deta.norm());
           const double err = std::max((e.dxi - fx).norm(), (e.deta - fy).norm()) / scale;
           worst = std::max(worst, err);
@@ -321,7 +307,7 @@ TEST(ReferencePatch, BoundaryDerivativesMatchOneSidedDifferences) {
             const Eigen::Vector2d X = refDomainEdgePoint(n, k, s, 0.0);
             std::vector<Eigen::Vector2d> dirs{-X.normalized()};     // towards the centre
             if (s > 0) dirs.push_back(-refDomainEdgeNormal(n, k));  // across edge k
-            if (s == 0)  // at corner k, along edges k and k-1
+            if (s == 0)                                             // at corner k, along edges k and k-1
               for (int o : {1, n - 1}) dirs.push_back((refDomainCorner(n, k + o) - X).normalized());
             for (const Eigen::Vector2d& w : dirs) {
               const double h = 1e-6;
@@ -331,8 +317,7 @@ TEST(ReferencePatch, BoundaryDerivativesMatchOneSidedDifferences) {
               const Eigen::Vector3d fd = (-3 * G(0) + 4 * G(h) - G(2 * h)) / (2 * h);
               const double err = (d - fd).norm() / std::max(e.dxi.norm(), e.deta.norm());
               worst = std::max(worst, err);
-              EXPECT_LT(err, 1e-7)
-                  << name << " " << modeName(mode) << " face " << f << " edge " << k << " s " << s;
+              EXPECT_LT(err, 1e-7) << name << " " << modeName(mode) << " face " << f << " edge " << k << " s " << s;
             }
           }
       }
@@ -367,8 +352,8 @@ namespace {
 void expectSphere(const RefMesh& m, const char* name, double patch, double flat) {
   for (CrossTangent mode : kModes) {
     const RefSphereDeviation d = refSphereDeviation(m, mode, 60);
-    std::printf("[sphere] %-12s %-9s max|r-1| patch %.6f (face centre %.6f), flat %.6f\n", name,
-                modeName(mode), d.patch, d.centre, d.flat);
+    std::printf("[sphere] %-12s %-9s max|r-1| patch %.6f (face centre %.6f), flat %.6f\n", name, modeName(mode),
+                d.patch, d.centre, d.flat);
     EXPECT_NEAR(d.flat, flat, 0.001);
     if (mode == CrossTangent::Blend) continue;  // the page's numbers are for the default
     EXPECT_NEAR(d.patch, patch, 0.001) << modeName(mode);
@@ -379,12 +364,8 @@ void expectSphere(const RefMesh& m, const char* name, double patch, double flat)
 }  // namespace
 
 TEST(ReferenceSphere, CubeDeviation) { expectSphere(refUnitSphereCube(), "cube", 0.104, 0.423); }
-TEST(ReferenceSphere, IcosahedronDeviation) {
-  expectSphere(refIcosahedron(), "icosahedron", 0.038, 0.205);
-}
-TEST(ReferenceSphere, DodecahedronDeviation) {
-  expectSphere(refDodecahedron(), "dodecahedron", 0.064, 0.205);
-}
+TEST(ReferenceSphere, IcosahedronDeviation) { expectSphere(refIcosahedron(), "icosahedron", 0.038, 0.205); }
+TEST(ReferenceSphere, DodecahedronDeviation) { expectSphere(refDodecahedron(), "dodecahedron", 0.064, 0.205); }
 
 // ------------------------------------------------------------------ G1 (check 6)
 
@@ -398,8 +379,8 @@ std::array<double, 3> jumps(const RefMesh& m, CrossTangent mode) {
 
 void expectConverges(const std::string& name, const RefMesh& m, CrossTangent mode) {
   const auto j = jumps(m, mode);
-  std::printf("[G1] %-22s %-9s %.3e %.3e %.3e deg\n", name.c_str(), modeName(mode), j[0] / kDeg,
-              j[1] / kDeg, j[2] / kDeg);
+  std::printf("[G1] %-22s %-9s %.3e %.3e %.3e deg\n", name.c_str(), modeName(mode), j[0] / kDeg, j[1] / kDeg,
+              j[2] / kDeg);
   if (j[1] > 1e-9) {
     EXPECT_LT(j[1] / j[0], 0.2) << name << " " << modeName(mode);
   }
@@ -426,8 +407,7 @@ TEST(ReferenceG1, PaperKeepsAJumpWhereTheGuardFires) {
   expectConverges("twisted strip", s, CrossTangent::Corrected);
   expectConverges("twisted strip", s, CrossTangent::Blend);
   const auto j = jumps(s, CrossTangent::Paper);
-  std::printf("[G1] %-22s %-9s %.3e %.3e %.3e deg\n", "twisted strip", "paper", j[0] / kDeg,
-              j[1] / kDeg, j[2] / kDeg);
+  std::printf("[G1] %-22s %-9s %.3e %.3e %.3e deg\n", "twisted strip", "paper", j[0] / kDeg, j[1] / kDeg, j[2] / kDeg);
   EXPECT_GT(j[2], 5 * kDeg);    // a jump of degrees ...
   EXPECT_GT(j[2] / j[0], 0.5);  // ... that does not shrink towards the edge
   EXPECT_GT(j[2] / j[1], 0.5);

@@ -76,8 +76,7 @@ V3<T> curve(const EdgeData& E, const T& t) {
   const T h01 = T(-2) * t3 + T(3) * t2;
   const T h10 = t3 - T(2) * t2 + t;
   const T h11 = t3 - t2;
-  return h00 * lift<T>(E.A) + h01 * lift<T>(E.B) + (T(E.L) * h10) * lift<T>(E.ts) +
-         (T(E.L) * h11) * lift<T>(E.te);
+  return h00 * lift<T>(E.A) + h01 * lift<T>(E.B) + (T(E.L) * h10) * lift<T>(E.ts) + (T(E.L) * h11) * lift<T>(E.te);
 }
 
 /// C_k'(t): derivative of the Hermite basis (exact; used inside Eq. 10).
@@ -87,8 +86,7 @@ V3<T> curveDt(const EdgeData& E, const T& t) {
   const T d00 = T(6) * t2 - T(6) * t;
   const T d10 = T(3) * t2 - T(4) * t + T(1);
   const T d11 = T(3) * t2 - T(2) * t;
-  return d00 * lift<T>(E.A) - d00 * lift<T>(E.B) + (T(E.L) * d10) * lift<T>(E.ts) +
-         (T(E.L) * d11) * lift<T>(E.te);
+  return d00 * lift<T>(E.A) - d00 * lift<T>(E.B) + (T(E.L) * d10) * lift<T>(E.ts) + (T(E.L) * d11) * lift<T>(E.te);
 }
 
 /// n_c(t) = unit(C'(t) x (((1-t) N_k + t N_{k+1}) x e)) (Eq. 10, normalised), oriented so
@@ -262,17 +260,13 @@ V3<T> evaluateG(const RefPatchData& P, const T& xi, const T& eta) {
 
 // ---------------------------------------------------------------- public API
 
-Eigen::Vector3d refEdgeCurve(const RefPatch& p, int k, double t) {
-  return realPart(curve(makeEdge(p, k), t));
-}
+Eigen::Vector3d refEdgeCurve(const RefPatch& p, int k, double t) { return realPart(curve(makeEdge(p, k), t)); }
 
 Eigen::Vector3d refEdgeCurveDerivative(const RefPatch& p, int k, double t) {
   return stepDerivative(curve(makeEdge(p, k), Cplx(t, kComplexStep)));
 }
 
-Eigen::Vector3d refEdgeNormal(const RefPatch& p, int k, double t) {
-  return realPart(edgeNormal(makeEdge(p, k), t));
-}
+Eigen::Vector3d refEdgeNormal(const RefPatch& p, int k, double t) { return realPart(edgeNormal(makeEdge(p, k), t)); }
 
 Eigen::Vector3d refCrossTangent(const RefPatch& p, int k, double t) {
   const RefPatchData P = buildPatch(p);
@@ -294,18 +288,13 @@ Eigen::Vector2d refDomainEdgeNormal(int n, int k) {
   return {std::cos(a), std::sin(a)};
 }
 
-int refEdgeGuardMask(const RefPatch& p, int k) {
-  return makeEdge(p, wrap(k, static_cast<int>(p.V.size()))).guardMask;
-}
+int refEdgeGuardMask(const RefPatch& p, int k) { return makeEdge(p, wrap(k, static_cast<int>(p.V.size()))).guardMask; }
 
-RefPatchEvaluator::RefPatchEvaluator(const RefPatch& p)
-    : d_(std::make_shared<const RefPatchData>(buildPatch(p))) {}
+RefPatchEvaluator::RefPatchEvaluator(const RefPatch& p) : d_(std::make_shared<const RefPatchData>(buildPatch(p))) {}
 
 int RefPatchEvaluator::size() const { return d_->n; }
 
-Eigen::Vector3d RefPatchEvaluator::position(double xi, double eta) const {
-  return realPart(evaluateG(*d_, xi, eta));
-}
+Eigen::Vector3d RefPatchEvaluator::position(double xi, double eta) const { return realPart(evaluateG(*d_, xi, eta)); }
 
 RefEval RefPatchEvaluator::evaluate(double xi, double eta) const {
   RefEval r;
@@ -318,8 +307,6 @@ RefEval RefPatchEvaluator::evaluate(double xi, double eta) const {
   return r;
 }
 
-RefEval refEvaluate(const RefPatch& p, double xi, double eta) {
-  return RefPatchEvaluator(p).evaluate(xi, eta);
-}
+RefEval refEvaluate(const RefPatch& p, double xi, double eta) { return RefPatchEvaluator(p).evaluate(xi, eta); }
 
 }  // namespace sf::ref

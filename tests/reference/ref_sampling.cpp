@@ -47,10 +47,8 @@ RefSphereDeviation refSphereDeviation(const RefMesh& m, CrossTangent mode, int g
   return d;
 }
 
-RefEdgeJumpMeter::RefEdgeJumpMeter(const RefMesh& m, CrossTangent mode)
-    : nb_(refEdgeNeighbours(m)) {
-  for (int f = 0; f < static_cast<int>(m.faces.size()); ++f)
-    eval_.emplace_back(refFacePatch(m, f, mode));
+RefEdgeJumpMeter::RefEdgeJumpMeter(const RefMesh& m, CrossTangent mode) : nb_(refEdgeNeighbours(m)) {
+  for (int f = 0; f < static_cast<int>(m.faces.size()); ++f) eval_.emplace_back(refFacePatch(m, f, mode));
 }
 
 double RefEdgeJumpMeter::edgeJump(int f, int k, double inset, int samples) const {
@@ -72,8 +70,7 @@ double RefEdgeJumpMeter::edgeJump(int f, int k, double inset, int samples) const
 double RefEdgeJumpMeter::maxJump(double inset, int samples) const {
   double worst = 0.0;
   for (int f = 0; f < static_cast<int>(nb_.size()); ++f)
-    for (int k = 0; k < static_cast<int>(nb_[f].size()); ++k)
-      worst = std::max(worst, edgeJump(f, k, inset, samples));
+    for (int k = 0; k < static_cast<int>(nb_[f].size()); ++k) worst = std::max(worst, edgeJump(f, k, inset, samples));
   return worst;
 }
 

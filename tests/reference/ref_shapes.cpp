@@ -45,8 +45,7 @@ Eigen::Vector3d randomInBall(std::mt19937& g) {
 RefMesh refUnitSphereCube() {
   RefMesh m;
   for (int i = 0; i < 8; ++i)
-    m.positions.emplace_back(Eigen::Vector3d((i & 1) ? 1 : -1, (i & 2) ? 1 : -1, (i & 4) ? 1 : -1) /
-                             std::sqrt(3.0));
+    m.positions.emplace_back(Eigen::Vector3d((i & 1) ? 1 : -1, (i & 2) ? 1 : -1, (i & 4) ? 1 : -1) / std::sqrt(3.0));
   for (int axis = 0; axis < 3; ++axis)
     for (int sign : {-1, 1}) {
       std::vector<int> f;
@@ -72,16 +71,12 @@ RefMesh refIcosahedron() {
   // Faces: the triples whose three sides all have the (minimal) edge length.
   double edge = 1e9;  // the shortest distance between two vertices
   for (int a = 0; a < nv; ++a)
-    for (int b = a + 1; b < nv; ++b)
-      edge = std::min(edge, (m.positions[a] - m.positions[b]).norm());
-  auto isEdge = [&](int a, int b) {
-    return std::abs((m.positions[a] - m.positions[b]).norm() - edge) < 1e-9;
-  };
+    for (int b = a + 1; b < nv; ++b) edge = std::min(edge, (m.positions[a] - m.positions[b]).norm());
+  auto isEdge = [&](int a, int b) { return std::abs((m.positions[a] - m.positions[b]).norm() - edge) < 1e-9; };
   for (int a = 0; a < nv; ++a)
     for (int b = a + 1; b < nv; ++b)
       for (int c = b + 1; c < nv; ++c)
-        if (isEdge(a, b) && isEdge(b, c) && isEdge(a, c))
-          m.faces.push_back(orderCcw(m.positions, {a, b, c}));
+        if (isEdge(a, b) && isEdge(b, c) && isEdge(a, c)) m.faces.push_back(orderCcw(m.positions, {a, b, c}));
   radialNormals(m);
   return m;
 }
@@ -92,13 +87,11 @@ RefMesh refDodecahedron() {
   const RefMesh ico = refIcosahedron();
   RefMesh m;
   for (const auto& f : ico.faces)
-    m.positions.push_back(
-        (ico.positions[f[0]] + ico.positions[f[1]] + ico.positions[f[2]]).normalized());
+    m.positions.push_back((ico.positions[f[0]] + ico.positions[f[1]] + ico.positions[f[2]]).normalized());
   for (int v = 0; v < static_cast<int>(ico.positions.size()); ++v) {
     std::vector<int> ring;
     for (int f = 0; f < static_cast<int>(ico.faces.size()); ++f)
-      if (std::find(ico.faces[f].begin(), ico.faces[f].end(), v) != ico.faces[f].end())
-        ring.push_back(f);
+      if (std::find(ico.faces[f].begin(), ico.faces[f].end(), v) != ico.faces[f].end()) ring.push_back(f);
     m.faces.push_back(orderCcw(m.positions, ring));
   }
   radialNormals(m);
@@ -134,8 +127,7 @@ RefMesh refTwistedStrip() {
       m.normals.emplace_back(0, 0, 1);
     }
   for (int j = 0; j < 2; ++j)
-    for (int i = 0; i < 2; ++i)
-      m.faces.push_back({j * 3 + i, j * 3 + i + 1, (j + 1) * 3 + i + 1, (j + 1) * 3 + i});
+    for (int i = 0; i < 2; ++i) m.faces.push_back({j * 3 + i, j * 3 + i + 1, (j + 1) * 3 + i + 1, (j + 1) * 3 + i});
   const double a = 75 * std::numbers::pi / 180, b = 60 * std::numbers::pi / 180;
   m.normals[4] = {std::sin(a), std::cos(a) * std::sin(b), std::cos(a) * std::cos(b)};
   m.normals[5] = {0, -std::sin(b), std::cos(b)};

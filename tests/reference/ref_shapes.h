@@ -25,8 +25,7 @@ RefMesh refDodecahedron();
 /// jitter) or the icosahedron (base = 1, triangles), each vertex moved by a random vector
 /// of length <= `jitter`, each radial normal tilted by `normalTiltDeg` degrees in a
 /// random direction. Deterministic for a given seed (std::mt19937 raw output only).
-RefMesh refJitteredPolytope(unsigned seed, int base = 0, double jitter = 0.1,
-                            double normalTiltDeg = 10.0);
+RefMesh refJitteredPolytope(unsigned seed, int base = 0, double jitter = 0.1, double normalTiltDeg = 10.0);
 
 /// A backward printed end tangent: a 2x2 grid of unit quads in z = 0 (vertex j*3+i at
 /// (i, j, 0), faces CCW from +z) with +z normals except N4 (at (1,1,0)), tilted 75 degrees

@@ -20,21 +20,27 @@ PatchOptions PatchArgs::options() const {
 
 void addPatchArgs(CLI::App& cmd, PatchArgs& a) {
   cmd.add_option("--precision", a.precision, "float|double: precision of the patch records")
-      ->check(CLI::IsMember({"float", "double"}))->capture_default_str();
+      ->check(CLI::IsMember({"float", "double"}))
+      ->capture_default_str();
   cmd.add_option("--normals", a.normals,
                  "auto|file|angle|area: vertex normals (auto = the file's when it has one per vertex, "
                  "else angle-weighted)")
-      ->check(CLI::IsMember({"auto", "file", "angle", "area"}))->capture_default_str();
+      ->check(CLI::IsMember({"auto", "file", "angle", "area"}))
+      ->capture_default_str();
   cmd.add_option("--cross-tangent", a.crossTangent,
                  "corrected|paper|blend: cross-tangent construction (design page, Robustness)")
-      ->check(CLI::IsMember({"corrected", "paper", "blend"}))->capture_default_str();
+      ->check(CLI::IsMember({"corrected", "paper", "blend"}))
+      ->capture_default_str();
   cmd.add_option("--orient", a.orient, "outward|keep: flip closed meshes whose faces point inward")
-      ->check(CLI::IsMember({"outward", "keep"}))->capture_default_str();
+      ->check(CLI::IsMember({"outward", "keep"}))
+      ->capture_default_str();
   cmd.add_option("--backend", a.backend, "serial|tbb|opencl")
-      ->check(CLI::IsMember({"serial", "tbb", "opencl"}))->capture_default_str();
+      ->check(CLI::IsMember({"serial", "tbb", "opencl"}))
+      ->capture_default_str();
   cmd.add_option("--device", a.device, "OpenCL device: index or name substring (default: first GPU, else CPU)");
   cmd.add_option("--threads", a.threads, "worker threads for tbb (0 = all cores)")
-      ->check(CLI::Range(0, 4096))->capture_default_str();
+      ->check(CLI::Range(0, 4096))
+      ->capture_default_str();
 }
 
 double construct(PatchCache& cache, const PatchArgs& args) {

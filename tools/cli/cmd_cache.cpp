@@ -13,9 +13,10 @@ void printPatchSummary(const PatchCache& c) {
   const PatchStatusSummary s = summarizePatchStatus(c);
   std::printf("patches: %d built (precision %s, cross tangent %s)\n", c.numFaces() - s.notBuilt,
               toString(c.options.precision), toString(c.options.crossTangent));
-  std::printf("patch status: guard used %d, folds %d, bulges > 0.5 %d (max bulge %.3f), "
-              "degenerate %d, not built %d\n",
-              s.guard, s.fold, s.bulge, s.maxBulge, static_cast<int>(s.degenerateFaces.size()), s.notBuilt);
+  std::printf(
+      "patch status: guard used %d, folds %d, bulges > 0.5 %d (max bulge %.3f), "
+      "degenerate %d, not built %d\n",
+      s.guard, s.fold, s.bulge, s.maxBulge, static_cast<int>(s.degenerateFaces.size()), s.notBuilt);
   auto list = [](const char* what, const std::vector<int>& ids) {
     if (ids.empty()) return;
     std::printf("  %s faces:", what);
@@ -46,13 +47,17 @@ void build(const std::string& mesh, std::string out, const PatchArgs& args) {
               faceSizeText(r.faceSizeHistogram).c_str());
   for (const std::string& line : r.describe()) std::printf("  %s\n", line.c_str());
   if (lm.flipped)
-    std::printf("orientation: closed mesh faced inward (signed volume %.6g): flipped to outward "
-                "(--orient keep to keep)\n", r.signedVolume);
+    std::printf(
+        "orientation: closed mesh faced inward (signed volume %.6g): flipped to outward "
+        "(--orient keep to keep)\n",
+        r.signedVolume);
   std::printf("normals: %s%s\n", toString(opt.normals),
               lm.mesh.fileNormals.empty() && lm.mesh.fileCornerNormals.empty() ? " (file has none)" : "");
   if (lm.creaseCorners)
-    std::printf("  %d corners carry a crease normal (per-corner file normals): the edges there are "
-                "not shared curves, so the surface is open along them\n", lm.creaseCorners);
+    std::printf(
+        "  %d corners carry a crease normal (per-corner file normals): the edges there are "
+        "not shared curves, so the surface is open along them\n",
+        lm.creaseCorners);
   if (!lm.normalFallbacks.empty())
     std::printf("  %zu vertices had no well-defined normal; used an incident face's normal (first: %d)\n",
                 lm.normalFallbacks.size(), lm.normalFallbacks.front());

@@ -30,9 +30,9 @@ Queries readQueries(const std::string& path, const PatchCache& cache) {
       throwCsvError(path, t.line[r], "face " + num(fv) + " out of range [0, " + std::to_string(cache.numFaces()) + ")");
     const int32_t f = static_cast<int32_t>(fv);
     if (!insideDomain(cache.faceSize(f), x, y, 1e-12))
-      throwCsvError(path, t.line[r], "(xi, eta) = (" + num(x) + ", " + num(y) + ") is outside the domain of face " +
-                                         std::to_string(f) + " (a regular " + std::to_string(cache.faceSize(f)) +
-                                         "-gon of circumradius 1)");
+      throwCsvError(path, t.line[r],
+                    "(xi, eta) = (" + num(x) + ", " + num(y) + ") is outside the domain of face " + std::to_string(f) +
+                        " (a regular " + std::to_string(cache.faceSize(f)) + "-gon of circumradius 1)");
     q.face.push_back(f);
     q.xi.push_back(x);
     q.eta.push_back(y);
