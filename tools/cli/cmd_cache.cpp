@@ -78,7 +78,7 @@ void info(const std::string& path) {
               static_cast<unsigned long long>(std::filesystem::file_size(path)));
   std::printf("mesh hash: %s, options hash: %s\n", hexHash(c.meshHash).c_str(),
               hexHash(hashPatchOptions(c.options)).c_str());
-  std::printf("mesh: %d vertices, %d faces (%s), %d edges slots\n", c.numVertices(), c.numFaces(),
+  std::printf("mesh: %d vertices, %d faces (%s), %d edge slots\n", c.numVertices(), c.numFaces(),
               faceSizeText(histogram(c)).c_str(), c.numSlots());
   int boundary = 0, nonManifold = 0;
   for (int32_t t : c.slotTwin) boundary += t == -1, nonManifold += t == -2;
