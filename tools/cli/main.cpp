@@ -4,6 +4,8 @@
 #include <new>
 
 #include "cli_common.h"
+#include "cmd_loop.h"
+#include "cmd_trace.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"SmoothForce: smooth haptic force on coarse polygon meshes (n-sided Gregory patches)"};
@@ -12,6 +14,8 @@ int main(int argc, char** argv) {
   sf::cli::addCacheCommands(app);
   sf::cli::addEvalCommand(app);
   sf::cli::addExportCommand(app);
+  sf::cli::addTraceCommand(app);
+  sf::cli::addLoopCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

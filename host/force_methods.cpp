@@ -1,0 +1,53 @@
+// Parsing and naming of the force methods, and the renderer factory.
+#include <string>
+
+#include "embree_scene.h"
+#include "force_method.h"
+#include "force_tracking.h"
+#include "god_object.h"
+
+namespace sf {
+
+ForceMethod parseForceMethod(const std::string& s) {
+  if (s == "patch") return ForceMethod::Patch;
+  if (s == "direct") return ForceMethod::Direct;
+  if (s == "shading") return ForceMethod::Shading;
+  throw InputError("force method: expected patch|direct|shading, got '" + s + "'");
+}
+
+RefineMethod parseRefineMethod(const std::string& s) {
+  if (s == "newton") return RefineMethod::Newton;
+  if (s == "paper") return RefineMethod::PaperDescent;
+  throw InputError("refinement: expected newton|paper, got '" + s + "'");
+}
+
+const char* toString(ForceMethod m) {
+  switch (m) {
+    case ForceMethod::Patch: return "patch";
+    case ForceMethod::Direct: return "direct";
+    case ForceMethod::Shading: return "shading";
+  }
+  return "?";
+}
+
+const char* toString(RefineMethod m) { return m == RefineMethod::Newton ? "newton" : "paper"; }
+
+std::unique_ptr<ForceRenderer> makeForceRenderer(std::shared_ptr<const PatchCache> cache,
+                                                 std::shared_ptr<const PolygonScene> scene, ForceMethod method,
+                                                 const ForceOptions& options) {
+  validateForceOptions(options);
+  if (!cache || !scene || &scene->cache() != cache.get())
+    throw InputError("makeForceRenderer: the scene must be built from the same cache");
+  if (method == ForceMethod::Patch) return makePatchForceRenderer(std::move(cache), std::move(scene), options);
+  return std::make_unique<GodObjectRenderer>(std::move(cache), std::move(scene), method, options);
+}
+
+std::unique_ptr<ForceRenderer> makeForceRenderer(std::shared_ptr<const PatchCache> cache, ForceMethod method,
+                                                 const ForceOptions& options) {
+  validateForceOptions(options);
+  if (!cache) throw InputError("makeForceRenderer: no cache");
+  auto scene = std::make_shared<const PolygonScene>(*cache);
+  return makeForceRenderer(std::move(cache), std::move(scene), method, options);
+}
+
+}  // namespace sf

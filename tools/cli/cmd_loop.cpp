@@ -1,0 +1,192 @@
+// `smoothforce loop (--scene S | --cache C | --mesh M) --method M --device D ...`
+#include "cmd_loop.h"
+
+#include <pthread.h>
+#include <sched.h>
+#include <sys/mman.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <memory>
+
+#include "cache_file.h"
+#include "loop_report.h"
+#include "mesh_pipeline.h"
+#include "record_writer.h"
+#include "scene.h"
+#include "scripted.h"
+#include "servo_loop.h"
+
+namespace sf::cli {
+namespace {
+
+std::atomic<bool> gStop{false};
+static_assert(std::atomic<bool>::is_always_lock_free);
+void onInterrupt(int) { gStop.store(true, std::memory_order_relaxed); }
+
+struct LoopArgs {
+  std::string scene, cache, mesh, method = "patch", device = "scripted", record;
+  double rate = 1000, duration = 10, stiffness = 500, speed = 0.1, depth = 0, spinUs = 200;
+  rt::SafetyOptions safety;
+  int rtPriority = 0;
+  bool depthGiven = false;
+};
+
+void requireFinitePositive(double v, const char* option, const char* what) {
+  if (!(v > 0) || !std::isfinite(v)) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    throw InputError(std::string(option) + ": expected " + what + ", got " + buf);
+  }
+}
+
+/// Optional: SCHED_FIFO at `priority` and locked memory, so page faults and other threads do
+/// not delay the loop. Returns a line for the report.
+std::string raisePriority(int priority) {
+  if (priority <= 0) return "normal scheduling (use --rt-priority N for SCHED_FIFO)";
+  sched_param p{};
+  p.sched_priority = priority;
+  std::string s;
+  const int e = pthread_setschedparam(pthread_self(), SCHED_FIFO, &p);
+  s = e == 0 ? "SCHED_FIFO priority " + std::to_string(priority)
+             : "SCHED_FIFO refused (" + std::to_string(e) + "), normal scheduling";
+  s += mlockall(MCL_CURRENT | MCL_FUTURE) == 0 ? ", memory locked" : ", memory not locked";
+  return s;
+}
+
+void run(const LoopArgs& a) {
+  const int sources = !a.scene.empty() + !a.cache.empty() + !a.mesh.empty();
+  if (sources != 1) throw InputError("loop: give exactly one of --scene, --cache, --mesh");
+  const auto method = rt::forceMethodFromName(a.method);
+  if (!method) throw InputError("--method: expected patch, direct or shading, got '" + a.method + "'");
+  rt::LoopOptions lo;
+  lo.rate = a.rate;
+  lo.duration = a.duration;
+  lo.stop = &gStop;
+  rt::validate(lo);
+  rt::validate(a.safety);
+  requireFinitePositive(a.stiffness, "--stiffness", "a finite stiffness > 0 N/m");
+  requireFinitePositive(a.speed, "--speed", "a finite speed > 0 m/s");
+  if (a.depthGiven) requireFinitePositive(a.depth, "--depth", "a finite depth > 0 m");
+  rt::checkDeviceSpec(a.device);
+  if (!(a.spinUs >= 0 && a.spinUs <= 1e6 / a.rate)) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "--spin-us: expected 0 .. one period (%g us), got %g", 1e6 / a.rate, a.spinUs);
+    throw InputError(buf);
+  }
+
+  rt::SceneDefaults defaults;
+  defaults.method = *method;
+  defaults.force.stiffness = a.stiffness;
+  const rt::RendererFactory factory = [](std::shared_ptr<const PatchCache> c, ForceMethod m, const ForceOptions& o) {
+    return makeForceRenderer(std::move(c), m, o);
+  };
+  std::string info;  // printed once everything is set up, so that an error is the only output
+  rt::Scene scene;
+  if (!a.scene.empty()) {
+    scene = rt::loadScene(a.scene, defaults, factory);
+  } else if (!a.cache.empty()) {
+    auto cache = std::make_shared<const PatchCache>(readPatchCache(a.cache));
+    scene = rt::singleObjectScene(cache, a.cache, *method, defaults.force, factory);
+  } else {
+    // TODO(lazy construction): build patches near the contact point on demand, in a bounded
+    // cache, once the force renderer supports it; until then the whole mesh is built here.
+    const auto t0 = std::chrono::steady_clock::now();
+    const LoadedMesh loaded = loadMesh(a.mesh, defaults.patchOptions);
+    auto cache = std::make_shared<const PatchCache>(buildPatchCache(loaded, defaults.patchOptions, Backend::Tbb));
+    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    char buf[160];
+    std::snprintf(buf, sizeof buf,
+                  "mesh: built all %d patches in %.3f s before the loop (lazy construction not available yet)\n",
+                  cache->numFaces(), secs);
+    info += buf;
+    scene = rt::singleObjectScene(cache, a.mesh, *method, defaults.force, factory);
+  }
+  for (const rt::SceneObject& o : scene.objects()) {
+    char buf[512];
+    std::snprintf(buf, sizeof buf, "object %s: %s, %d faces, method %s, stiffness %g N/m%s\n", o.name.c_str(),
+                  o.source.c_str(), o.cache->numFaces(), rt::forceMethodName(o.method), o.force.stiffness,
+                  o.fromMesh ? " (patches built from the mesh)" : "");
+    info += buf;
+  }
+
+  rt::ScriptOptions so;
+  so.speed = a.speed;
+  so.depth = a.depthGiven ? a.depth : 0;
+  const std::unique_ptr<rt::HapticDevice> device = rt::makeDevice(a.device, scene, so);
+  rt::SafetyFilter safety(a.safety);
+  std::unique_ptr<rt::SpscRing<rt::StepRecord>> ring;
+  std::unique_ptr<rt::RecordWriter> writer;
+  if (!a.record.empty()) {
+    ring = std::make_unique<rt::SpscRing<rt::StepRecord>>(size_t(1) << 15);
+    writer = std::make_unique<rt::RecordWriter>(a.record, *ring);
+  }
+  rt::SteadyClock clock(a.spinUs * 1e-6);
+  rt::ServoLoop loop(*device, scene, safety, clock, lo, ring.get());
+  std::fputs(info.c_str(), stdout);
+  std::printf("device: %s\n", device->describe().c_str());
+  std::printf("loop: %g Hz for %g s, spin %g us, %s; Ctrl-C stops\n", a.rate, a.duration, a.spinUs,
+              raisePriority(a.rtPriority).c_str());
+  std::fflush(stdout);
+
+  gStop.store(false);
+  auto previous = std::signal(SIGINT, onInterrupt);
+  loop.run();
+  std::signal(SIGINT, previous);
+  if (a.rtPriority > 0) {
+    sched_param p{};
+    pthread_setschedparam(pthread_self(), SCHED_OTHER, &p);
+  }
+  long long written = -1;
+  if (writer) {
+    writer->finish();
+    written = writer->written();
+  }
+  std::fputs(rt::loopReport(loop.stats(), a.rate, safety.counters(), scene.patchesBuilt(), scene.totalFaces(), written)
+                 .c_str(),
+             stdout);
+  if (writer) std::printf("record: %s\n", a.record.c_str());
+}
+
+}  // namespace
+
+void addLoopCommand(CLI::App& app) {
+  auto* c = app.add_subcommand("loop", "Run the real-time haptic servo loop on a scene, cache or mesh");
+  auto a = std::make_shared<LoopArgs>();
+  auto* scene = c->add_option("--scene", a->scene, "scene file (JSON; see runtime/scene.h)");
+  auto* cache = c->add_option("--cache", a->cache, "patch cache file");
+  auto* mesh = c->add_option("--mesh", a->mesh, "mesh file (patches built before the loop)");
+  scene->excludes(cache)->excludes(mesh);
+  cache->excludes(mesh);
+  c->add_option("--method", a->method, "patch|direct|shading (default for scene objects)")
+      ->check(CLI::IsMember({"patch", "direct", "shading"}))
+      ->capture_default_str();
+  c->add_option("--device", a->device, "null|scripted|scripted:slide|scripted:circle|replay:FILE (CSV t,x,y,z)")
+      ->capture_default_str();
+  c->add_option("--rate", a->rate, "servo rate, Hz, 1..10000")->capture_default_str();
+  c->add_option("--duration", a->duration, "seconds (> 0)")->capture_default_str();
+  c->add_option("--stiffness", a->stiffness, "N/m (> 0; default for scene objects)")->capture_default_str();
+  c->add_option("--speed", a->speed, "scripted device speed, m/s (> 0)")->capture_default_str();
+  auto* depth = c->add_option("--depth", a->depth,
+                              "scripted depth below the surface, m (default: 1% of the bounding-box diagonal)");
+  c->add_option("--record", a->record, "write per-step records to this CSV (a writer thread; the loop never blocks)");
+  c->add_option("--max-force", a->safety.maxForce, "force limit, N")->capture_default_str();
+  c->add_option("--max-force-step", a->safety.maxForceStep, "force change limit per step, N")->capture_default_str();
+  c->add_option("--ramp", a->safety.rampTime, "force ramp-in at start, s (0: none)")->capture_default_str();
+  c->add_option("--max-missed", a->safety.maxConsecutiveMisses,
+                "consecutive missed deadlines that latch a zero-force fault")
+      ->capture_default_str();
+  c->add_option("--spin-us", a->spinUs, "busy-wait before each deadline, us")->capture_default_str();
+  c->add_option("--rt-priority", a->rtPriority, "SCHED_FIFO priority 1..99 and mlockall (0: off)")
+      ->check(CLI::Range(0, 99))
+      ->capture_default_str();
+  c->callback([a, depth] {
+    a->depthGiven = depth->count() > 0;
+    run(*a);
+  });
+}
+
+}  // namespace sf::cli
