@@ -10,26 +10,14 @@
 #include <fstream>
 #include <regex>
 
+#include "cli_test_support.h"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct CliResult {
-  int status = -1;
-  std::string out;  ///< stdout and stderr
-};
-
-CliResult smoothforce(const std::string& args) {
-  const std::string cmd = std::string(SF_CLI_PATH) + " " + args + " 2>&1";
-  CliResult r;
-  FILE* p = popen(cmd.c_str(), "r");
-  std::array<char, 4096> buf;
-  size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
-  const int st = pclose(p);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
-}
+using sf::test::CliResult;
+using sf::test::smoothforce;
 
 class RuntimeCli : public ::testing::Test {
  protected:
