@@ -4,7 +4,9 @@
 #include <new>
 
 #include "cli_common.h"
+#include "cmd_generate.h"
 #include "cmd_loop.h"
+#include "cmd_sweep.h"
 #include "cmd_trace.h"
 
 int main(int argc, char** argv) {
@@ -16,6 +18,8 @@ int main(int argc, char** argv) {
   sf::cli::addExportCommand(app);
   sf::cli::addTraceCommand(app);
   sf::cli::addLoopCommand(app);
+  sf::cli::addSweepCommands(app);
+  sf::cli::addGenerateCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

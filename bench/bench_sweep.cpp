@@ -1,0 +1,75 @@
+// Sweep throughput: HIP queries per second per force method (reset, approach, pressed-in step)
+// on the spot cage, 1e5 and 1e6 HIPs, all threads. HIP sampling and renderer construction are
+// outside the timed region (the renderers of a run are made on first use per thread; one
+// warm-up run precedes the timing).
+// Run: build/bench/bench_sweep [--benchmark_format=json] [--benchmark_filter=/100000/]
+#include <benchmark/benchmark.h>
+
+#include <map>
+#include <memory>
+
+#include "mesh_pipeline.h"
+#include "sweep.h"
+
+namespace {
+
+using namespace sf;
+
+struct Spot {
+  std::shared_ptr<const PatchCache> cache;
+  std::map<int64_t, HipSet> sets;
+  static Spot& get() {
+    static Spot s;
+    if (!s.cache) {
+      PatchOptions o;
+      s.cache = std::make_shared<const PatchCache>(
+          buildPatchCache(loadMesh(std::string(SF_DATA_DIR) + "/spot_control_mesh.obj", o), o, Backend::Tbb));
+    }
+    return s;
+  }
+  const HipSet& hips(int64_t n) {
+    auto it = sets.find(n);
+    if (it != sets.end()) return it->second;
+    const PatchSurfaceSampler sampler(*cache);
+    const double diag = boundingDiagonal(*cache);
+    return sets
+        .emplace(n,
+                 makeDepthHips(sampler.sample(static_cast<size_t>(n), 1), parseDepthList("2%"), diag, sampler.area()))
+        .first->second;
+  }
+};
+
+// args: method (0 patch, 1 direct, 2 shading), HIPs
+void BM_Sweep(benchmark::State& state) {
+  const ForceMethod method = static_cast<ForceMethod>(state.range(0));
+  Spot& spot = Spot::get();
+  const HipSet& set = spot.hips(state.range(1));
+  const RendererFactory make = [&] { return makeForceRenderer(spot.cache, method, ForceOptions{}); };
+  std::vector<HipResult> out(set.size());
+  runProbes(set, 0, std::min<size_t>(set.size(), 2000), make, nullptr, out.data(), {});  // warm-up
+  for (auto _ : state) {
+    runProbes(set, 0, set.size(), make, nullptr, out.data(), {});
+    benchmark::DoNotOptimize(out.data());
+  }
+  size_t contact = 0;
+  for (const auto& r : out) contact += r.contact;
+  state.counters["HIPs/s"] = benchmark::Counter(double(set.size()) * state.iterations(), benchmark::Counter::kIsRate);
+  state.counters["contact"] = double(contact) / double(set.size());
+  state.SetLabel(toString(method));
+}
+BENCHMARK(BM_Sweep)
+    ->ArgsProduct({{0, 1, 2}, {100000}})
+    ->Iterations(1)
+    ->Repetitions(5)
+    ->ReportAggregatesOnly(true)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_Sweep)  // one timed run each: 1e6 HIPs take minutes on one core
+    ->ArgsProduct({{0, 1, 2}, {1000000}})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,40 @@
+// Sweep metrics: force-direction discontinuity over nearest HIP neighbours, consecutive force
+// differences along trajectories, percentiles.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <vector>
+
+namespace sf {
+
+/// Nearest-rank percentiles of the finite values (count = how many); NaN when none.
+struct Percentiles {
+  size_t count = 0;
+  double p50, p99, p999, max;
+};
+Percentiles percentiles(std::vector<double> values);
+
+/// Force-direction discontinuity (paper Fig. 12). For every HIP i with a defined direction
+/// (valid[i]), over its k nearest valid neighbours j (distance d_ij > 0):
+///   local[i] = max_j angle(dir_i, dir_j) / d_ij   (rad/m; NaN where undefined).
+/// flaggedPairs counts unordered neighbour pairs {i, j} with angle > thresholdRad and
+/// d_ij < spacing. positions #P by 3 (m), directions #P by 3 (need not be unit).
+struct Discontinuity {
+  std::vector<double> local;
+  Percentiles stats;
+  size_t flaggedPairs = 0;
+  double maxAngle = 0;  ///< rad, the largest neighbour angle seen
+};
+Discontinuity forceDiscontinuity(const std::vector<Eigen::Vector3d>& positions,
+                                 const std::vector<Eigen::Vector3d>& directions, const std::vector<char>& valid, int k,
+                                 double thresholdRad, double spacing, int threads = 0);
+
+/// |F_{i+1} - F_i| for consecutive points (forces 3 * #points, N); pairs where either point
+/// is out of contact count as differences too (contact lost is a jump).
+std::vector<double> consecutiveDifferences(const std::vector<float>& forces);
+
+/// Angle between two vectors, rad, in [0, pi] (atan2 form, accurate for small angles).
+double angleBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b);
+
+}  // namespace sf

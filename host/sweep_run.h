@@ -1,0 +1,42 @@
+// A whole sweep (or one shard of it): HIPs, probes per method, trajectories -> SweepData.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sweep.h"
+#include "sweep_io.h"
+
+namespace sf {
+
+/// What to sweep. config carries the knobs (methods, samples, seed, level, stiffness, refine,
+/// knn, thresholdDeg, trajectories, trajectoryStep (0: diagonal / 400), reference, analytic,
+/// sampleOn, source, backend); runSweep fills the derived fields (diagonal, area, hip hash,
+/// depth groups, faces, mesh hash).
+struct SweepInputs {
+  std::shared_ptr<const PatchCache> cache;
+  SweepConfig config;
+  std::vector<DepthSpec> depths;  ///< unless hipsFile
+  std::string hipsFile;           ///< CSV x,y,z: explicit HIPs (config.sampleOn = "file")
+  int shardIndex = 0, shardCount = 1;
+  /// Makes a renderer for a method name; default: makeForceRenderer(cache, method, options).
+  std::function<std::unique_ptr<ForceRenderer>(const std::string& method)> makeRenderer;
+};
+
+struct SweepTiming {
+  double setupSeconds = 0;            ///< sampling, projection, reference
+  std::vector<double> methodSeconds;  ///< probes, per method
+  double trajectorySeconds = 0;
+  uint64_t hipsRun = 0;              ///< HIPs of the shard, per method
+  std::vector<uint64_t> methodDone;  ///< HIPs done per method (fewer when stopped)
+};
+
+/// Progress covers the probes (methods x HIPs of the shard). Throws InputError for bad input.
+SweepData runSweep(SweepInputs inputs, const SweepControl& control, SweepTiming* timing = nullptr);
+
+/// The HIP list alone (deterministic), with the derived config fields filled.
+HipSet buildHipSet(SweepInputs& inputs, std::unique_ptr<ReferenceSurface>* reference = nullptr);
+
+}  // namespace sf

@@ -1,0 +1,110 @@
+// End-to-end: `smoothforce generate`, `sweep` (sharded and whole) and `sweep-merge`.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliResult {
+  int status = -1;
+  std::string out;
+};
+
+CliResult run(const std::string& args) {
+  const std::string cmd = std::string(SF_CLI_PATH) + " " + args + " 2>&1";
+  CliResult r;
+  FILE* p = popen(cmd.c_str(), "r");
+  std::array<char, 4096> buf;
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
+  const int st = pclose(p);
+  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class SweepCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const CliResult sweep = run("sweep --help"), gen = run("generate --help");
+    if (sweep.status != 0 || sweep.out.find("--depth") == std::string::npos || gen.status != 0 ||
+        gen.out.find("torus-knot") == std::string::npos)
+      GTEST_SKIP() << "sweep/generate are not registered in tools/cli/main.cpp yet";
+    dir = fs::temp_directory_path() / ("sf_sweep_cli_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+  }
+  void TearDown() override {
+    if (!dir.empty()) fs::remove_all(dir);
+  }
+  std::string p(const std::string& name) const { return (dir / name).string(); }
+  fs::path dir;
+};
+
+TEST_F(SweepCli, GenerateKnotSphereTorus) {
+  CliResult r = run("generate torus-knot --size 0.1 --trajectory-out " + p("helix.csv") + " -o " + p("knot.obj"));
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("1440 quads"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("--analytic torus-knot:2,3,1,0.4,0.15,"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(p("helix.csv")));
+  r = run("generate sphere --radius 0.05 --segments 2 -o " + p("s.obj"));
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("24 quads, 26 vertices"), std::string::npos) << r.out;
+  r = run("generate torus --R 1 --r 0.3 --segments 8 --sides 6 -o " + p("t.obj"));
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("48 quads"), std::string::npos) << r.out;
+  r = run("generate torus --R 1 --r 2 -o " + p("bad.obj"));
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.out.find("0 < r < R"), std::string::npos) << r.out;
+}
+
+TEST_F(SweepCli, ShardsMergeByteIdentical) {
+  ASSERT_EQ(run("generate sphere --radius 0.05 --segments 3 -o " + p("s.obj")).status, 0);
+  const std::string common = "sweep --mesh " + p("s.obj") +
+                             " --normals file --depth 2%,4% --samples 1500 --methods patch,direct "
+                             "--analytic sphere:0.05 --no-plots";
+  CliResult r = run(common + " -o " + p("whole"));
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("patch    2%"), std::string::npos) << r.out;
+  const std::string shards[3] = {p("s0"), p("s1"), p("s2")};
+  for (int i = 0; i < 3; ++i) {
+    r = run(common + " --shard " + std::to_string(i) + "/3 -o " + shards[i]);
+    ASSERT_EQ(r.status, 0) << r.out;
+  }
+  const std::string dirs = shards[2] + " " + shards[0] + " " + shards[1];  // any order
+  r = run("sweep-merge " + dirs + " --no-plots -o " + p("merged"));
+  ASSERT_EQ(r.status, 0) << r.out;
+  for (const char* f : {"summary.json", "results_patch.bin", "results_direct.bin", "hips.bin", "trajectories.json"})
+    EXPECT_EQ(slurp(dir / "whole" / f), slurp(dir / "merged" / f)) << f;
+  EXPECT_TRUE(fs::exists(dir / "merged" / "index.html"));
+  EXPECT_TRUE(fs::exists(dir / "merged" / "patch_2pct.ply"));
+  r = run("sweep-merge " + p("s0") + " " + p("s2") + " -o " + p("gap"));
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.out.find("missing"), std::string::npos) << r.out;
+}
+
+TEST_F(SweepCli, BadInputIsOneLine) {
+  ASSERT_EQ(run("generate sphere --segments 2 -o " + p("s.obj")).status, 0);
+  for (const std::string& args :
+       {std::string("--depth 2% --shard 3/3"), std::string("--depth 2%x"),
+        std::string("--depth 2% --methods patch,nope"), std::string("--depth 2% --analytic cube:1"), std::string("")}) {
+    const CliResult r = run("sweep --mesh " + p("s.obj") + " --samples 10 " + args + " -o " + p("o"));
+    EXPECT_NE(r.status, 0) << args;
+    EXPECT_NE(r.out.find("smoothforce: "), std::string::npos) << args << "\n" << r.out;
+  }
+}
+
+}  // namespace

@@ -1,0 +1,10 @@
+// `smoothforce generate torus-knot|sphere|torus`: test objects with exact normals.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace sf::cli {
+
+void addGenerateCommand(CLI::App& app);
+
+}  // namespace sf::cli

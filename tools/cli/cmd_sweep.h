@@ -1,0 +1,10 @@
+// `smoothforce sweep` and `smoothforce sweep-merge`: offset-surface force sweeps (issue 5).
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace sf::cli {
+
+void addSweepCommands(CLI::App& app);
+
+}  // namespace sf::cli
