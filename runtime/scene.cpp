@@ -12,25 +12,6 @@
 
 namespace sf::rt {
 
-std::optional<ForceMethod> forceMethodFromName(std::string_view name) {
-  if (name == "patch") return ForceMethod::Patch;
-  if (name == "direct") return ForceMethod::Direct;
-  if (name == "shading") return ForceMethod::Shading;
-  return std::nullopt;
-}
-
-const char* forceMethodName(ForceMethod m) {
-  switch (m) {
-    case ForceMethod::Patch:
-      return "patch";
-    case ForceMethod::Direct:
-      return "direct";
-    case ForceMethod::Shading:
-      return "shading";
-  }
-  return "?";
-}
-
 void Scene::add(SceneObject object) {
   const Pose& p = object.pose;
   if (!object.renderer) throw InputError("scene object '" + object.name + "': no renderer");
@@ -205,9 +186,15 @@ Scene loadScene(const std::string& path, const SceneDefaults& defaults, const Re
     obj.method = defaults.method;
     if (o.contains("method")) {
       const json& m = o["method"];
-      const auto fm = m.is_string() ? forceMethodFromName(m.get<std::string>()) : std::nullopt;
-      if (!fm) c.fail(w + "/method", "expected \"patch\", \"direct\" or \"shading\", got " + m.dump());
-      obj.method = *fm;
+      bool ok = m.is_string();
+      if (ok) {
+        try {
+          obj.method = parseForceMethod(m.get<std::string>());
+        } catch (const InputError&) {
+          ok = false;
+        }
+      }
+      if (!ok) c.fail(w + "/method", "expected \"patch\", \"direct\" or \"shading\", got " + m.dump());
     }
     obj.force = defaults.force;
     if (o.contains("stiffness")) {

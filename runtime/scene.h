@@ -15,10 +15,6 @@
 
 namespace sf::rt {
 
-/// "patch" | "direct" | "shading" -> ForceMethod; nullopt otherwise.
-std::optional<ForceMethod> forceMethodFromName(std::string_view name);
-const char* forceMethodName(ForceMethod m);
-
 /// Object-to-world similarity: world = translation + rotation * (scale * object).
 struct Pose {
   Eigen::Vector3d translation{0, 0, 0};                          ///< m

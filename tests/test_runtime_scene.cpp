@@ -172,11 +172,11 @@ TEST_F(RuntimeScene, ErrorsNameFileAndJsonPath) {
 }
 
 TEST(RuntimeSceneMethods, Names) {
-  EXPECT_EQ(forceMethodFromName("patch"), sf::ForceMethod::Patch);
-  EXPECT_EQ(forceMethodFromName("direct"), sf::ForceMethod::Direct);
-  EXPECT_EQ(forceMethodFromName("shading"), sf::ForceMethod::Shading);
-  EXPECT_FALSE(forceMethodFromName("Patch"));
-  EXPECT_STREQ(forceMethodName(sf::ForceMethod::Direct), "direct");
+  EXPECT_EQ(sf::parseForceMethod("patch"), sf::ForceMethod::Patch);
+  EXPECT_EQ(sf::parseForceMethod("direct"), sf::ForceMethod::Direct);
+  EXPECT_EQ(sf::parseForceMethod("shading"), sf::ForceMethod::Shading);
+  EXPECT_THROW(sf::parseForceMethod("Patch"), sf::InputError);
+  EXPECT_STREQ(sf::toString(sf::ForceMethod::Direct), "direct");
 }
 
 }  // namespace

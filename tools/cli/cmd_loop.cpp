@@ -60,8 +60,12 @@ std::string raisePriority(int priority) {
 void run(const LoopArgs& a) {
   const int sources = !a.scene.empty() + !a.cache.empty() + !a.mesh.empty();
   if (sources != 1) throw InputError("loop: give exactly one of --scene, --cache, --mesh");
-  const auto method = rt::forceMethodFromName(a.method);
-  if (!method) throw InputError("--method: expected patch, direct or shading, got '" + a.method + "'");
+  ForceMethod method;
+  try {
+    method = parseForceMethod(a.method);
+  } catch (const InputError&) {
+    throw InputError("--method: expected patch, direct or shading, got '" + a.method + "'");
+  }
   rt::LoopOptions lo;
   lo.rate = a.rate;
   lo.duration = a.duration;
@@ -79,7 +83,7 @@ void run(const LoopArgs& a) {
   }
 
   rt::SceneDefaults defaults;
-  defaults.method = *method;
+  defaults.method = method;
   defaults.force.stiffness = a.stiffness;
   const rt::RendererFactory factory = [](std::shared_ptr<const PatchCache> c, ForceMethod m, const ForceOptions& o) {
     return makeForceRenderer(std::move(c), m, o);
@@ -90,7 +94,7 @@ void run(const LoopArgs& a) {
     scene = rt::loadScene(a.scene, defaults, factory);
   } else if (!a.cache.empty()) {
     auto cache = std::make_shared<const PatchCache>(readPatchCache(a.cache));
-    scene = rt::singleObjectScene(cache, a.cache, *method, defaults.force, factory);
+    scene = rt::singleObjectScene(cache, a.cache, method, defaults.force, factory);
   } else {
     // TODO(lazy construction): build patches near the contact point on demand, in a bounded
     // cache, once the force renderer supports it; until then the whole mesh is built here.
@@ -103,12 +107,12 @@ void run(const LoopArgs& a) {
                   "mesh: built all %d patches in %.3f s before the loop (lazy construction not available yet)\n",
                   cache->numFaces(), secs);
     info += buf;
-    scene = rt::singleObjectScene(cache, a.mesh, *method, defaults.force, factory);
+    scene = rt::singleObjectScene(cache, a.mesh, method, defaults.force, factory);
   }
   for (const rt::SceneObject& o : scene.objects()) {
     char buf[512];
     std::snprintf(buf, sizeof buf, "object %s: %s, %d faces, method %s, stiffness %g N/m%s\n", o.name.c_str(),
-                  o.source.c_str(), o.cache->numFaces(), rt::forceMethodName(o.method), o.force.stiffness,
+                  o.source.c_str(), o.cache->numFaces(), toString(o.method), o.force.stiffness,
                   o.fromMesh ? " (patches built from the mesh)" : "");
     info += buf;
   }
