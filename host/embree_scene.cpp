@@ -63,8 +63,7 @@ struct PointState {
 
 bool pointQueryFn(RTCPointQueryFunctionArguments* args) {
   auto* st = static_cast<PointState*>(args->userPtr);
-  if (!nearestOnFace(*st->pf, static_cast<int>(args->primID), st->p, st->best, st->bestDist2, st->facet))
-    return false;
+  if (!nearestOnFace(*st->pf, static_cast<int>(args->primID), st->p, st->best, st->bestDist2, st->facet)) return false;
   const float r = float(std::sqrt(st->bestDist2)) * (1.0f + 1e-6f) + st->pad;
   if (r >= args->query->radius) return false;
   args->query->radius = r;
@@ -111,7 +110,8 @@ void occludedFn(const RTCOccludedFunctionNArguments*) {}  // not used; rtcOcclud
 PolygonScene::PolygonScene(const PatchCache& cache, double planarTolerance)
     : cache_(cache), facets_(buildPolygonFacets(cache, planarTolerance)), impl_(std::make_unique<Impl>()) {
   impl_->facets = &facets_;
-  const double scale = facets_.extent() + std::max(facets_.boxMax.cwiseAbs().maxCoeff(), facets_.boxMin.cwiseAbs().maxCoeff());
+  const double scale =
+      facets_.extent() + std::max(facets_.boxMax.cwiseAbs().maxCoeff(), facets_.boxMin.cwiseAbs().maxCoeff());
   impl_->pad = float(1e-5 * scale) + 1e-30f;
   impl_->device = rtcNewDevice(nullptr);
   if (!impl_->device)

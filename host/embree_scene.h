@@ -15,16 +15,16 @@ namespace sf {
 /// Result of PolygonScene::nearest. face -1 when the scene has no polygon.
 struct NearestPolygonPoint {
   int face = -1;
-  int facet = -1;                   ///< PolygonFacets facet holding the point
-  Eigen::Vector3d point{0, 0, 0};   ///< m, on the polygon
+  int facet = -1;                                             ///< PolygonFacets facet holding the point
+  Eigen::Vector3d point{0, 0, 0};                             ///< m, on the polygon
   double distance = std::numeric_limits<double>::infinity();  ///< m
 };
 
 /// Result of PolygonScene::firstEntry. face -1 when nothing is crossed.
 struct PolygonCrossing {
   int face = -1, facet = -1;
-  double t = 1;                     ///< segment parameter in [0, 1]
-  Eigen::Vector3d point{0, 0, 0};   ///< a + t (b - a)
+  double t = 1;                    ///< segment parameter in [0, 1]
+  Eigen::Vector3d point{0, 0, 0};  ///< a + t (b - a)
 };
 
 /// The BVH over the cache's polygons, built eagerly in the constructor (and warmed up with one

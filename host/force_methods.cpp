@@ -23,9 +23,12 @@ RefineMethod parseRefineMethod(const std::string& s) {
 
 const char* toString(ForceMethod m) {
   switch (m) {
-    case ForceMethod::Patch: return "patch";
-    case ForceMethod::Direct: return "direct";
-    case ForceMethod::Shading: return "shading";
+    case ForceMethod::Patch:
+      return "patch";
+    case ForceMethod::Direct:
+      return "direct";
+    case ForceMethod::Shading:
+      return "shading";
   }
   return "?";
 }

@@ -42,13 +42,14 @@ PatchRefiner::PatchRefiner(const PatchCache& cache)
   }
   scale_ = cache.numVertices() > 0 ? std::max((hi - lo).norm(), 1e-300) : 1.0;
   eps_ = cache.options.precision == Precision::Double ? 1e-6 : 1e-3;
+  posNoise_ = (cache.options.precision == Precision::Double ? 1e-14 : 1e-6) * scale_;
 }
 
 bool PatchRefiner::evaluable(int f) const noexcept {
   if (f < 0 || f >= cache_.numFaces()) return false;
   const int n = cache_.faceSize(f);
-  const bool haveData = cache_.options.precision == Precision::Double ? !cache_.edgeDataD.empty()
-                                                                       : !cache_.edgeDataF.empty();
+  const bool haveData =
+      cache_.options.precision == Precision::Double ? !cache_.edgeDataD.empty() : !cache_.edgeDataF.empty();
   return n >= 3 && n <= GP_MAX_N && haveData && !(cache_.faceStatus[f] & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE));
 }
 
@@ -120,7 +121,7 @@ Eigen::Vector2d PatchRefiner::interior(int n, const Eigen::Vector2d& X, double e
   int k;
   const double dmin = std::cos(std::numbers::pi / n) - domainEdgeMax(n, X, k);
   if (dmin > 2 * eps) return X;
-  const double r = X.norm();  // >= cos(pi/n) - 2 eps > 0.4 near the boundary
+  const double r = X.norm();     // >= cos(pi/n) - 2 eps > 0.4 near the boundary
   return X * (1 - 3 * eps / r);  // an eps-disc around it fits in the domain for n >= 3
 }
 
@@ -134,6 +135,23 @@ bool PatchRefiner::converged(const Iterate& it, const Eigen::Vector3d& hip, doub
     return std::abs(r.dot(Ge)) < std::sin(tol) * r.norm() * Ge.norm();
   }
   return std::atan2(r.cross(it.p.normal).norm(), std::abs(r.dot(it.p.normal))) < tol;
+}
+
+bool PatchRefiner::better(const Iterate& trial, const Iterate& cur, const Eigen::Vector3d& hip) const noexcept {
+  if (trial.f < cur.f) return true;
+  const double noise = std::sqrt(2 * cur.f) * posNoise_ + posNoise_ * posNoise_ + 1e-13 * cur.f;
+  // a step that crossed onto the neighbour lands on the shared edge, often at the same 3D point
+  // (the rest of the step is dropped by Eq. 15): take it, so that the next step is computed in
+  // the neighbour's domain instead of stalling against the edge
+  if (trial.face != cur.face && trial.f <= cur.f + noise) return true;
+  // within the evaluation noise of f (float caches: ~1e-7 of the coordinates), accept a step
+  // that turns G - HIP closer to the normal, else the noise would stall the descent early
+  if (!(trial.f <= cur.f + noise) || trial.edge >= 0 || cur.edge >= 0) return false;
+  auto sine = [&](const Iterate& it) {
+    const Eigen::Vector3d r = it.p.pos - hip;
+    return r.cross(it.p.normal).norm() / r.norm();
+  };
+  return sine(trial) < sine(cur);
 }
 
 void PatchRefiner::newtonStep(Iterate& cur, const Eigen::Vector3d& hip, double& radius, int& transitions,
@@ -176,7 +194,7 @@ void PatchRefiner::newtonStep(Iterate& cur, const Eigen::Vector3d& hip, double& 
   if (outsideDomain(n, X)) transfer(face, X, edge, tr2, st);
   Iterate trial = at(face, X, hip);
   trial.edge = edge;
-  if (trial.f < cur.f) {
+  if (better(trial, cur, hip)) {
     cur = trial;
     transitions += tr2;
     status = (status & ~SF_TRACK_BOUNDARY) | st;
@@ -216,7 +234,7 @@ void PatchRefiner::descentStep(Iterate& cur, const Eigen::Vector3d& hip, int& tr
     if (outsideDomain(n, X)) transfer(face, X, edge, tr, st);
     Iterate trial = at(face, X, hip);
     trial.edge = edge;
-    if (trial.f < cur.f) {
+    if (better(trial, cur, hip)) {
       cur = trial;
       transitions += tr;
       status = (status & ~SF_TRACK_BOUNDARY) | st;

@@ -19,7 +19,7 @@ struct RefineResult {
   Eigen::Vector3d normal{0, 0, 0};  ///< unit outward patch normal there
   int face = -1;
   double xi = 0, eta = 0;
-  double distance = 0;              ///< |SCP - HIP|, m
+  double distance = 0;                  ///< |SCP - HIP|, m
   int iterations = 0, transitions = 0;  ///< iterations run; Eq. 15 face changes
   uint32_t status = 0;
 };
@@ -31,7 +31,7 @@ struct RefineResult {
 /// Hessian J^T J + sum r_i d2G_i, the second-order part from forward differences of the exact
 /// derivatives (2 extra evaluations); Gauss-Newton (J^T J) when that Hessian is not positive
 /// definite; a trust region in the domain (radius doubled after a full accepted step,
-/// quartered after a rejected one, a step is accepted when f decreases).
+/// quartered after a rejected one; acceptance: see better()).
 /// RefineMethod::PaperDescent: the descent direction -grad f from central differences of
 /// |G - HIP|^2 (positions only, 4 evaluations); step length: the paper's Fig. 8 is not
 /// reproduced exactly - we take the step that moves G, along the numerical tangent G_d of the
@@ -43,7 +43,11 @@ struct RefineResult {
 /// continues at I1 = C_i + s (C_{i+1} - C_i) on the neighbour (slotTwin); on a boundary or
 /// non-manifold edge it stays on the edge: at the edge's nearest point to X in the domain (a
 /// projected step, so that it can slide along the edge; converged when G - HIP is orthogonal
-/// to the edge's tangent).
+/// to the edge's tangent). Acceptance of a step (both variants): f decreases; or the step moved
+/// onto the neighbour with f unchanged up to its evaluation noise (Eq. 15 drops the rest of the
+/// step, so the new point is often the same 3D point, and refusing it would stall the iterate
+/// against the edge); or f is unchanged up to its noise and the angle shrinks (float caches).
+/// The Fig. 8 reconstruction and these rules are ours; the paper's Fig. 8 is not available to us.
 class PatchRefiner {
  public:
   explicit PatchRefiner(const PatchCache& cache);
@@ -69,8 +73,11 @@ class PatchRefiner {
   void transfer(int& f, Eigen::Vector2d& X, int& edge, int& transitions, uint32_t& status) const noexcept;
   Eigen::Vector2d interior(int n, const Eigen::Vector2d& X, double eps) const noexcept;
   bool converged(const Iterate& it, const Eigen::Vector3d& hip, double tol) const noexcept;
-  void newtonStep(Iterate& cur, const Eigen::Vector3d& hip, double& radius, int& transitions,
-                  uint32_t& status, bool& stalled) noexcept;
+  /// Step acceptance: f decreases, or stays within its evaluation noise while the angle
+  /// between G - HIP and the normal shrinks.
+  bool better(const Iterate& trial, const Iterate& cur, const Eigen::Vector3d& hip) const noexcept;
+  void newtonStep(Iterate& cur, const Eigen::Vector3d& hip, double& radius, int& transitions, uint32_t& status,
+                  bool& stalled) noexcept;
   void descentStep(Iterate& cur, const Eigen::Vector3d& hip, int& transitions, uint32_t& status,
                    bool& stalled) noexcept;
 
@@ -79,9 +86,10 @@ class PatchRefiner {
   std::vector<double> recsD_;
   std::vector<float> recsF_;
   int loaded_ = -1;
-  double scale_ = 1;  ///< bounding-box diagonal, m
-  double eps_ = 1e-6; ///< finite-difference step in the domain (1e-3 for float caches)
-  int lastFace_ = -1;          ///< the last accepted iterate, reused when the next call starts there
+  double scale_ = 1;     ///< bounding-box diagonal, m
+  double eps_ = 1e-6;    ///< finite-difference step in the domain (1e-3 for float caches)
+  double posNoise_ = 0;  ///< m: evaluation noise of positions (1e-14 / 1e-6 of the mesh size)
+  int lastFace_ = -1;    ///< the last accepted iterate, reused when the next call starts there
   Eigen::Vector2d lastX_{0, 0};
   PatchPoint lastP_;
   int lastEdge_ = -1;

@@ -133,8 +133,8 @@ Eigen::Vector3d nearestOnSegment(const Eigen::Vector3d& a, const Eigen::Vector3d
   return a + t * e;
 }
 
-bool nearestOnFace(const PolygonFacets& pf, int f, const Eigen::Vector3d& p, Eigen::Vector3d& best,
-                   double& bestDist2, int& bestFacet) noexcept {
+bool nearestOnFace(const PolygonFacets& pf, int f, const Eigen::Vector3d& p, Eigen::Vector3d& best, double& bestDist2,
+                   int& bestFacet) noexcept {
   bool improved = false;
   for (int i = pf.faceFacetOffsets[f]; i < pf.faceFacetOffsets[f + 1]; ++i) {
     const int v0 = pf.facetVertOffsets[i], n = pf.facetVertOffsets[i + 1] - v0;

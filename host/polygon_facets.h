@@ -23,18 +23,18 @@ inline constexpr double kPlanarTolerance = 1e-3;
 /// for a one-facet face these are the face's real vertices and their projections.
 struct PolygonFacets {
   std::vector<Eigen::Vector3d> faceCentroid, faceNormal, faceU, faceV;  ///< #F
-  std::vector<double> facePlanarity;   ///< #F: max |distance to best-fit plane| / diameter
-  std::vector<double> faceDiameter;    ///< #F, m
+  std::vector<double> facePlanarity;         ///< #F: max |distance to best-fit plane| / diameter
+  std::vector<double> faceDiameter;          ///< #F, m
   std::vector<int32_t> faceFacetOffsets{0};  ///< #F+1
   std::vector<Eigen::Vector2d> corner2d;     ///< #C
   std::vector<Eigen::Vector3d> facetOrigin, facetNormal, facetU, facetV;  ///< #P
-  std::vector<int32_t> facetFace;            ///< #P
+  std::vector<int32_t> facetFace;                                         ///< #P
   std::vector<double> facetTolerance;        ///< #P: inflation (m) of the closed in-facet test for crossings
   std::vector<int32_t> facetVertOffsets{0};  ///< #P+1
   std::vector<Eigen::Vector3d> facetVert3d;
   std::vector<Eigen::Vector2d> facetVert2d;
   Eigen::Vector3d boxMin{0, 0, 0}, boxMax{0, 0, 0};  ///< of all vertices
-  double planeTolerance = 0;  ///< m: |signed distance| below this counts as on a plane
+  double planeTolerance = 0;                         ///< m: |signed distance| below this counts as on a plane
 
   int numFaces() const { return static_cast<int>(faceFacetOffsets.size()) - 1; }
   int numFacets() const { return static_cast<int>(facetFace.size()); }
@@ -51,8 +51,8 @@ PolygonFacets buildPolygonFacets(const PatchCache& cache, double planarTolerance
 /// faces work), else the nearest point on the real 3D boundary edges; for a fan face the
 /// nearest point over its triangles. Updates best/bestDist2/bestFacet when closer than bestDist2.
 /// Returns true when it improved.
-bool nearestOnFace(const PolygonFacets& pf, int f, const Eigen::Vector3d& p, Eigen::Vector3d& best,
-                   double& bestDist2, int& bestFacet) noexcept;
+bool nearestOnFace(const PolygonFacets& pf, int f, const Eigen::Vector3d& p, Eigen::Vector3d& best, double& bestDist2,
+                   int& bestFacet) noexcept;
 
 /// The segment a -> b entering facet i from its front side: a on or in front of the plane
 /// (signed distance >= -planeTolerance), b behind it (< -planeTolerance), the crossing point

@@ -173,9 +173,9 @@ TEST(EmbreeScene, FirstEntryFindsFrontSideCrossingsOnly) {
   EXPECT_NEAR(e.t, (2 - h) / 2, 1e-15);
   EXPECT_NEAR((e.point - Eigen::Vector3d(0.1, 0.2, h)).norm(), 0, 1e-15);
   EXPECT_GT(scene.facets().faceNormal[e.face].z(), 0.99);
-  EXPECT_LT(scene.firstEntry(in, out).face, 0);                   // leaving is not entering
+  EXPECT_LT(scene.firstEntry(in, out).face, 0);                            // leaving is not entering
   EXPECT_LT(scene.firstEntry(out, Eigen::Vector3d(0.1, 0.2, 1)).face, 0);  // stops short
-  EXPECT_LT(scene.firstEntry(out, in, &e.facet, 1).face, 0);       // excluded
+  EXPECT_LT(scene.firstEntry(out, in, &e.facet, 1).face, 0);               // excluded
   // through the whole cube: the first entry is the near face
   const PolygonCrossing t = scene.firstEntry(Eigen::Vector3d(3, 0.1, 0.2), Eigen::Vector3d(-3, 0.1, 0.2));
   ASSERT_GE(t.face, 0);

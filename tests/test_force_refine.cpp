@@ -111,15 +111,18 @@ TEST_P(RefineMeshes, AgreesWithDenseSamplingAndVariantsAgree) {
   EXPECT_EQ(convergedN, n);
   EXPECT_GE(convergedP, n * 9 / 10);
   EXPECT_GE(globalFound, n * 9 / 10);
-  std::printf("  %s: converged newton %d/%d, paper %d/%d; variants apart %.3g m; from the polygon start "
-              "the nearest patch point %d/%d\n",
-              GetParam().rel, convergedN, n, convergedP, n, worstVariant, globalFound, n);
+  std::printf(
+      "  %s: converged newton %d/%d, paper %d/%d; variants apart %.3g m; from the polygon start "
+      "the nearest patch point %d/%d\n",
+      GetParam().rel, convergedN, n, convergedP, n, worstVariant, globalFound, n);
 }
 
 INSTANTIATE_TEST_SUITE_P(Refine, RefineMeshes,
                          ::testing::Values(Case{"keenan_crane/spot_control_mesh.obj", 0.03},
                                            Case{"polygon_laplacian/quad-sphere.off", 0.1}),
-                         [](const auto& info) { return info.index == 0 ? std::string("Spot") : std::string("QuadSphere"); });
+                         [](const auto& info) {
+                           return info.index == 0 ? std::string("Spot") : std::string("QuadSphere");
+                         });
 
 TEST(Refine, CrossesPatchBoundariesByEq15) {
   const PatchCache c = test::cacheFromFile(test::sharedMesh("polygon_laplacian/quad-sphere.off"));

@@ -2,13 +2,13 @@
 #include "cmd_trace.h"
 
 #include <charconv>
-#include <cstring>
-#include <string_view>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <sstream>
+#include <string_view>
 
 #include "cache_file.h"
 #include "cli_common.h"
