@@ -31,6 +31,9 @@ struct ForceOptions {
   RefineMethod refine = RefineMethod::Newton;
   double angleTolerance = 1e-5;  ///< stop when angle(G - HIP, normal) below this, rad
   int maxIterations = 50;        ///< per refinement
+  /// Lazy construction (the cache is a skeleton, preparePatchSkeleton): faces whose patches
+  /// are held at once (LRU); <= 0: every face that is touched stays built.
+  int patchCapacity = 256;
 };
 
 /// One servo step's result. For direct/shading, scp is the god-object (proxy) and face,
@@ -56,11 +59,14 @@ class ForceRenderer {
   virtual ForceSample step(const Eigen::Vector3d& hip) noexcept = 0;
   /// Forget the contact state (next step starts out of contact).
   virtual void reset() noexcept = 0;
-  /// Patches constructed so far (lazy construction); the cache's face count when prebuilt.
+  /// Patch constructions so far with lazy construction (a face evicted and needed again counts
+  /// again); the cache's face count when prebuilt; 0 for methods that need no patch.
   virtual int patchesBuilt() const noexcept = 0;
 };
 
-/// A tracker over a prebuilt cache (shared, read-only). Throws InputError for bad options.
+/// A tracker over a prebuilt cache (shared, read-only), or over a skeleton (hasPatchData false)
+/// whose patches the patch method then builds lazily near the contact point (lazy_patches.h,
+/// at most options.patchCapacity held). Throws InputError for bad options.
 std::unique_ptr<ForceRenderer> makeForceRenderer(std::shared_ptr<const PatchCache> cache, ForceMethod method,
                                                  const ForceOptions& options);
 

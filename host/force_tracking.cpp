@@ -5,6 +5,7 @@
 #include <string>
 
 #include "embree_scene.h"
+#include "lazy_patches.h"
 #include "mean_value.h"
 #include "patch_refine.h"
 
@@ -24,7 +25,11 @@ class PatchTracker final : public ForceRenderer {
  public:
   PatchTracker(std::shared_ptr<const PatchCache> cache, std::shared_ptr<const PolygonScene> scene,
                const ForceOptions& options)
-      : cache_(std::move(cache)), scene_(std::move(scene)), options_(options), refiner_(*cache_) {
+      : cache_(std::move(cache)),
+        scene_(std::move(scene)),
+        options_(options),
+        lazy_(hasPatchData(*cache_) ? nullptr : std::make_unique<LazyPatches>(cache_, options.patchCapacity)),
+        refiner_(*cache_, lazy_.get()) {
     int maxN = 3;
     for (int f = 0; f < cache_->numFaces(); ++f) maxN = std::max(maxN, cache_->faceSize(f));
     lambda_.resize(maxN);
@@ -83,12 +88,13 @@ class PatchTracker final : public ForceRenderer {
   }
 
   void reset() noexcept override { inContact_ = false; }
-  int patchesBuilt() const noexcept override { return cache_->numFaces(); }
+  int patchesBuilt() const noexcept override { return lazy_ ? lazy_->constructions() : cache_->numFaces(); }
 
  private:
   std::shared_ptr<const PatchCache> cache_;
   std::shared_ptr<const PolygonScene> scene_;
   ForceOptions options_;
+  std::unique_ptr<LazyPatches> lazy_;  ///< patches built on demand when the cache is a skeleton
   PatchRefiner refiner_;
   std::vector<double> lambda_;
   bool inContact_ = false;

@@ -37,7 +37,8 @@ class GodObjectRenderer final : public ForceRenderer {
                     ForceMethod method, const ForceOptions& options);
   ForceSample step(const Eigen::Vector3d& hip) noexcept override;
   void reset() noexcept override;
-  int patchesBuilt() const noexcept override { return cache_->numFaces(); }
+  /// The polygons need no patch: 0 on a skeleton, the cache's face count when prebuilt.
+  int patchesBuilt() const noexcept override { return hasPatchData(*cache_) ? cache_->numFaces() : 0; }
 
  private:
   /// Point nearest `hip` on the intersection of the active planes; false when dependent.

@@ -31,6 +31,10 @@ PatchCache buildPatchCache(const LoadedMesh& loaded, const PatchOptions& options
   return cache;
 }
 
+PatchCache preparePatchSkeleton(const LoadedMesh& loaded, const PatchOptions& options) {
+  return preparePatchCache(loaded.mesh, loaded.cornerNormals, options, loaded.fileHash, false);
+}
+
 PatchStatusSummary summarizePatchStatus(const PatchCache& cache) {
   PatchStatusSummary s;
   for (int f = 0; f < cache.numFaces(); ++f) {

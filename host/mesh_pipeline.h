@@ -29,6 +29,10 @@ LoadedMesh loadMesh(const std::string& path, const PatchOptions& options);
 /// (Backend::Serial / Backend::Tbb; threads <= 0: oneTBB default).
 PatchCache buildPatchCache(const LoadedMesh& loaded, const PatchOptions& options, Backend backend, int threads = 0);
 
+/// The base mesh, corner normals and adjacency without any patch (hasPatchData false): for
+/// lazy construction near the contact point (lazy_patches.h). Cheap: no patch is built.
+PatchCache preparePatchSkeleton(const LoadedMesh& loaded, const PatchOptions& options);
+
 /// Counts of construction status bits over all faces, for reports.
 struct PatchStatusSummary {
   int guard = 0, zeroEdge = 0, edgeNormal = 0, crossTangent = 0, fold = 0, bulge = 0, notBuilt = 0;

@@ -19,7 +19,7 @@ size_t PatchCache::bytes() const {
 }
 
 PatchCache preparePatchCache(const PolygonMesh& mesh, const std::vector<Eigen::Vector3d>& cornerNormals,
-                             const PatchOptions& options, uint64_t meshHash) {
+                             const PatchOptions& options, uint64_t meshHash, bool allocatePatches) {
   if (static_cast<int>(cornerNormals.size()) != mesh.numCorners())
     throw std::invalid_argument("preparePatchCache: need one normal per corner");
   PatchCache c;
@@ -35,6 +35,7 @@ PatchCache preparePatchCache(const PolygonMesh& mesh, const std::vector<Eigen::V
   c.faceStatus.assign(mesh.numFaces(), 0u);
   c.faceBulge.assign(mesh.numFaces(), 0.f);
   const size_t recs = static_cast<size_t>(GP_E_NFIELDS) * mesh.numCorners();
+  if (!allocatePatches) return c;
   if (options.precision == Precision::Double)
     c.edgeDataD.assign(recs, 0.0);
   else
@@ -55,19 +56,14 @@ std::vector<float>& edgeData<float>(PatchCache& c) {
   return c.edgeDataF;
 }
 
-/// Builds face f: gathers its corners, runs the shared construction and quality, scatters
-/// the records field-major.
 template <class Real>
-void buildFace(PatchCache& c, int f) {
+uint32_t buildRecords(const PatchCache& c, int f, Real* recs, float* bulgeOut) {
   using G = Gp<Real>;
   const int n = c.faceSize(f), first = c.faceOffsets[f];
-  if (n < 3 || n > GP_MAX_N) {
-    c.faceStatus[f] = GP_ST_TOO_MANY_SIDES;
-    return;
-  }
+  if (bulgeOut) *bulgeOut = 0.f;
+  if (n < 3 || n > GP_MAX_N) return GP_ST_TOO_MANY_SIDES;
   typename G::vec3 V[GP_MAX_N], N[GP_MAX_N];
   int vid[GP_MAX_N];
-  Real recs[GP_MAX_N * GP_E_NFIELDS];
   for (int k = 0; k < n; ++k) {
     const int v = c.faceVertices[first + k];
     vid[k] = v;
@@ -79,8 +75,17 @@ void buildFace(PatchCache& c, int f) {
   gp_uint st = G::build(n, V, N, vid, mode, recs);
   Real bulge = 0;
   if (!(st & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE))) st |= G::quality(n, recs, mode, &bulge);
-  c.faceStatus[f] = st;
-  c.faceBulge[f] = static_cast<float>(bulge);
+  if (bulgeOut) *bulgeOut = static_cast<float>(bulge);
+  return st;
+}
+
+/// Builds face f with buildRecords and scatters the records field-major into the cache.
+template <class Real>
+void buildFace(PatchCache& c, int f) {
+  Real recs[GP_MAX_N * GP_E_NFIELDS];
+  c.faceStatus[f] = buildRecords(c, f, recs, &c.faceBulge[f]);
+  if (c.faceStatus[f] & GP_ST_TOO_MANY_SIDES) return;
+  const int n = c.faceSize(f), first = c.faceOffsets[f];
   std::vector<Real>& data = edgeData<Real>(c);
   const size_t ns = c.numSlots();
   for (int k = 0; k < n; ++k)
@@ -118,6 +123,13 @@ void constructPatches(PatchCache& cache, Backend backend, int threads) {
     buildAll<double>(cache, backend, threads);
   else
     buildAll<float>(cache, backend, threads);
+}
+
+uint32_t buildPatchRecords(const PatchCache& skeleton, int f, double* recs, float* bulge) noexcept {
+  return buildRecords(skeleton, f, recs, bulge);
+}
+uint32_t buildPatchRecords(const PatchCache& skeleton, int f, float* recs, float* bulge) noexcept {
+  return buildRecords(skeleton, f, recs, bulge);
 }
 
 void gatherRecords(const PatchCache& cache, int f, double* recs) { gather(cache, cache.edgeDataD, f, recs); }

@@ -46,15 +46,31 @@ struct PatchCache {
 };
 
 /// Copies the base mesh, its corner normals (#C, unit) and adjacency into a new cache and
-/// sizes the patch arrays; constructPatches then fills them.
+/// sizes the patch arrays; constructPatches then fills them. allocatePatches false leaves the
+/// patch arrays empty (a skeleton: patches built on demand, lazy_patches.h; faceStatus and
+/// faceBulge then stay 0 until a face is built there).
 PatchCache preparePatchCache(const PolygonMesh& mesh, const std::vector<Eigen::Vector3d>& cornerNormals,
-                             const PatchOptions& options, uint64_t meshHash);
+                             const PatchOptions& options, uint64_t meshHash, bool allocatePatches = true);
 
 /// Builds every patch (Eq. 6-14 with the design page's conventions) and its quality, on the
 /// CPU: Backend::Serial or Backend::Tbb (threads <= 0: oneTBB's default). The OpenCL backend
 /// fills the same arrays (opencl_backend.h). Never throws on degenerate faces: their status
 /// says what happened.
 void constructPatches(PatchCache& cache, Backend backend, int threads = 0);
+
+/// Builds face f's patch alone (Eq. 6-14 and its quality, as constructPatches does) from the
+/// base mesh, corner normals and options of `skeleton` (its patch arrays may be empty) into
+/// recs (n * GP_E_NFIELDS, record-major, n <= GP_MAX_N). Returns the GP_ST_* status
+/// (GP_ST_TOO_MANY_SIDES, recs untouched, when n is outside 3..GP_MAX_N); *bulge, when given,
+/// receives the bulge / face diameter. Allocation-free; used for lazy construction.
+uint32_t buildPatchRecords(const PatchCache& skeleton, int f, double* recs, float* bulge = nullptr) noexcept;
+uint32_t buildPatchRecords(const PatchCache& skeleton, int f, float* recs, float* bulge = nullptr) noexcept;
+
+/// True when the cache holds constructed patches (its edge data are filled), false for a
+/// skeleton (preparePatchSkeleton) whose patches are built on demand (lazy_patches.h).
+inline bool hasPatchData(const PatchCache& c) {
+  return c.options.precision == Precision::Double ? !c.edgeDataD.empty() : !c.edgeDataF.empty();
+}
 
 /// Copies face f's edge records from the cache into recs (n * GP_E_NFIELDS, record-major).
 void gatherRecords(const PatchCache& cache, int f, double* recs);

@@ -1,12 +1,14 @@
 #include "patch_refine.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
 
 #include "force_tracking.h"
 #include "gp_traits.h"
+#include "lazy_patches.h"
 #include "mean_value.h"
 
 namespace sf {
@@ -27,8 +29,9 @@ constexpr double kMaxRadius = 2.0;
 
 }  // namespace
 
-PatchRefiner::PatchRefiner(const PatchCache& cache)
+PatchRefiner::PatchRefiner(const PatchCache& cache, LazyPatches* lazy)
     : cache_(cache),
+      lazy_(lazy),
       slotFace_(cache.numSlots()),
       recsD_(cache.options.precision == Precision::Double ? GP_MAX_N * GP_E_NFIELDS : 0),
       recsF_(cache.options.precision == Precision::Float ? GP_MAX_N * GP_E_NFIELDS : 0) {
@@ -45,17 +48,26 @@ PatchRefiner::PatchRefiner(const PatchCache& cache)
   posNoise_ = (cache.options.precision == Precision::Double ? 1e-14 : 1e-6) * scale_;
 }
 
+uint32_t PatchRefiner::faceStatus(int f) const noexcept {
+  return lazy_ ? lazy_->status(f) : cache_.faceStatus[f];
+}
+
 bool PatchRefiner::evaluable(int f) const noexcept {
   if (f < 0 || f >= cache_.numFaces()) return false;
   const int n = cache_.faceSize(f);
-  const bool haveData =
-      cache_.options.precision == Precision::Double ? !cache_.edgeDataD.empty() : !cache_.edgeDataF.empty();
-  return n >= 3 && n <= GP_MAX_N && haveData && !(cache_.faceStatus[f] & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE));
+  if (n < 3 || n > GP_MAX_N || !(lazy_ || hasPatchData(cache_))) return false;
+  return !(faceStatus(f) & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE));
 }
 
 void PatchRefiner::load(int f) noexcept {
   if (loaded_ == f) return;
-  if (cache_.options.precision == Precision::Double)
+  const size_t count = static_cast<size_t>(cache_.faceSize(f)) * GP_E_NFIELDS;
+  uint32_t st = 0;
+  if (lazy_ && cache_.options.precision == Precision::Double)
+    std::copy_n(lazy_->recordsD(f, st), count, recsD_.data());  // evaluable(f) held: not null
+  else if (lazy_)
+    std::copy_n(lazy_->recordsF(f, st), count, recsF_.data());
+  else if (cache_.options.precision == Precision::Double)
     gatherRecords(cache_, f, recsD_.data());
   else
     gatherRecords(cache_, f, recsF_.data());
@@ -75,7 +87,7 @@ PatchPoint PatchRefiner::eval(int f, const Eigen::Vector2d& X) noexcept {
     p.dxi = {r.dxi.x, r.dxi.y, r.dxi.z};
     p.deta = {r.deta.x, r.deta.y, r.deta.z};
     p.normal = {r.normal.x, r.normal.y, r.normal.z};
-    p.status = r.status | cache_.faceStatus[f];
+    p.status = r.status | faceStatus(f);
   };
   if (cache_.options.precision == Precision::Double)
     copy(Gp<double>::eval(n, recsD_.data(), mode, X.x(), X.y()));

@@ -11,6 +11,8 @@
 
 namespace sf {
 
+class LazyPatches;
+
 /// The refined surface contact point. status: the final point's GP_ST_* bits (evaluation |
 /// face construction) and SF_TRACK_* bits (force_tracking.h): CONVERGED, MAX_ITER, STALLED,
 /// BOUNDARY, DEGENERATE.
@@ -50,7 +52,9 @@ struct RefineResult {
 /// The Fig. 8 reconstruction and these rules are ours; the paper's Fig. 8 is not available to us.
 class PatchRefiner {
  public:
-  explicit PatchRefiner(const PatchCache& cache);
+  /// cache: a prebuilt cache, or a skeleton (hasPatchData false) with `lazy` building its
+  /// patches on demand (lazy must then be given and outlive the refiner; not owned).
+  explicit PatchRefiner(const PatchCache& cache, LazyPatches* lazy = nullptr);
   /// Refines from (face, xi, eta) (clamped into the domain) towards the point nearest `hip`.
   RefineResult refine(const Eigen::Vector3d& hip, int face, double xi, double eta,
                       const ForceOptions& options) noexcept;
@@ -68,6 +72,8 @@ class PatchRefiner {
     double f;  // |G - HIP|^2 / 2
   };
   void load(int f) noexcept;
+  /// GP_ST_* construction bits of face f (from the lazy store when there is one).
+  uint32_t faceStatus(int f) const noexcept;
   Iterate at(int f, const Eigen::Vector2d& X, const Eigen::Vector3d& hip) noexcept;
   /// Eq. 15: maps an X outside face f's domain onto the neighbour (or onto the edge).
   void transfer(int& f, Eigen::Vector2d& X, int& edge, int& transitions, uint32_t& status) const noexcept;
@@ -82,6 +88,7 @@ class PatchRefiner {
                    bool& stalled) noexcept;
 
   const PatchCache& cache_;
+  LazyPatches* lazy_ = nullptr;
   std::vector<int32_t> slotFace_;  ///< #C: face owning each slot
   std::vector<double> recsD_;
   std::vector<float> recsF_;

@@ -206,7 +206,7 @@ Scene loadScene(const std::string& path, const SceneDefaults& defaults, const Re
       if (hasMesh) {
         const auto t0 = std::chrono::steady_clock::now();
         const LoadedMesh loaded = loadMesh(obj.source, defaults.patchOptions);
-        obj.cache = std::make_shared<const PatchCache>(buildPatchCache(loaded, defaults.patchOptions, Backend::Tbb));
+        obj.cache = std::make_shared<const PatchCache>(preparePatchSkeleton(loaded, defaults.patchOptions));
         obj.buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         obj.fromMesh = true;
       } else {

@@ -30,8 +30,8 @@ using RendererFactory =
 struct SceneObject {
   std::string name;
   std::string source;       ///< the mesh or cache file it came from
-  bool fromMesh = false;    ///< patches were built from a mesh at load time
-  double buildSeconds = 0;  ///< time spent building them, s
+  bool fromMesh = false;    ///< a mesh: a skeleton cache, patches built lazily by the renderer
+  double buildSeconds = 0;  ///< time spent reading the mesh and its normals, s
   Pose pose;
   ForceMethod method = ForceMethod::Patch;
   ForceOptions force;  ///< force.stiffness: N per metre of world-frame penetration
@@ -89,7 +89,7 @@ struct SceneDefaults {
 ///       ]
 ///     }
 ///
-/// Each object has exactly one of `mesh` (read and built on the CPU now, whole mesh) or
+/// Each object has exactly one of `mesh` (read now; patches built lazily near the contact) or
 /// `cache` (a patch cache file). Optional: `name` (default: the file's stem), `pose`
 /// (translation in m; rotation as axis-angle with a non-zero axis (normalised) and an angle
 /// in radians, or as a quaternion [w, x, y, z] (normalised; non-zero); uniform scale > 0),

@@ -44,6 +44,13 @@ inline PatchCache cacheFromFile(const std::string& path, CrossTangentMode mode =
   return buildPatchCache(loadMesh(path, o), o, Backend::Tbb);
 }
 
+/// The same mesh as a skeleton (no patch built; lazy construction, lazy_patches.h).
+inline PatchCache skeletonFromFile(const std::string& path, Precision precision = Precision::Double) {
+  PatchOptions o;
+  o.precision = precision;
+  return preparePatchSkeleton(loadMesh(path, o), o);
+}
+
 inline std::string sharedMesh(const std::string& rel) { return std::string(SF_SHARED_MESHES) + "/" + rel; }
 
 /// Domain point at parameter s along domain edge k, moved `delta` inward.

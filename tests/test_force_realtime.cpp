@@ -75,23 +75,31 @@ TEST(ForceRealtime, StepDoesNotAllocate) {
   auto cache =
       std::make_shared<const PatchCache>(test::cacheFromFile(test::sharedMesh("keenan_crane/spot_control_mesh.obj")));
   auto scene = std::make_shared<const PolygonScene>(*cache);
+  // and over a skeleton: patches built lazily inside step(), 16 held, so that faces are evicted
+  // and rebuilt during the path
+  auto skeleton = std::make_shared<const PatchCache>(
+      test::skeletonFromFile(test::sharedMesh("keenan_crane/spot_control_mesh.obj")));
+  auto skeletonScene = std::make_shared<const PolygonScene>(*skeleton);
   std::vector<Eigen::Vector3d> hips;  // in and out of the cage, across many faces
   for (int i = 0; i < 2000; ++i) {
     const double a = 2 * M_PI * i / 500.0;
     hips.emplace_back(0.3 * std::cos(a), 0.1 + 0.6 * std::sin(0.7 * a), 0.35 * std::sin(a) + 0.1 * std::cos(3 * a));
   }
   for (ForceMethod m : {ForceMethod::Patch, ForceMethod::Direct, ForceMethod::Shading})
-    for (RefineMethod rm : {RefineMethod::Newton, RefineMethod::PaperDescent}) {
+    for (RefineMethod rm : {RefineMethod::Newton, RefineMethod::PaperDescent})
+      for (bool lazy : {false, true}) {
       ForceOptions o;
       o.refine = rm;
-      auto r = makeForceRenderer(cache, scene, m, o);
+      o.patchCapacity = 16;
+      auto r = lazy ? makeForceRenderer(skeleton, skeletonScene, m, o) : makeForceRenderer(cache, scene, m, o);
       int contacts = 0;
       gAllocations = 0;
       gArmed = true;
       for (const Eigen::Vector3d& h : hips) contacts += r->step(h).contact;
       r->reset();
       gArmed = false;
-      EXPECT_EQ(gAllocations, 0) << toString(m) << " " << toString(rm);
+      EXPECT_EQ(gAllocations, 0) << toString(m) << " " << toString(rm) << (lazy ? " lazy" : "");
+      if (lazy && m == ForceMethod::Patch) EXPECT_GT(r->patchesBuilt(), 16) << "the path should evict and rebuild";
       EXPECT_GT(contacts, 50) << toString(m);
       EXPECT_LT(contacts, 1990) << toString(m);
     }

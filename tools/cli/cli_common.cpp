@@ -55,7 +55,7 @@ double construct(PatchCache& cache, const PatchArgs& args) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-Source openSource(const std::string& path, const PatchArgs& args) {
+Source openSource(const std::string& path, const PatchArgs& args, bool lazy) {
   Source s;
   if (isPatchCacheFile(path)) {
     s.cache = readPatchCache(path);
@@ -63,8 +63,8 @@ Source openSource(const std::string& path, const PatchArgs& args) {
   }
   const PatchOptions opt = args.options();
   s.loaded = std::make_unique<LoadedMesh>(loadMesh(path, opt));
-  s.cache = preparePatchCache(s.loaded->mesh, s.loaded->cornerNormals, opt, s.loaded->fileHash);
-  s.buildSeconds = construct(s.cache, args);
+  s.cache = preparePatchCache(s.loaded->mesh, s.loaded->cornerNormals, opt, s.loaded->fileHash, !lazy);
+  if (!lazy) s.buildSeconds = construct(s.cache, args);
   return s;
 }
 

@@ -31,8 +31,9 @@ struct Source {
 };
 
 /// Loads a cache file (detected by its magic) or reads the mesh and builds its patches
-/// with the chosen backend.
-Source openSource(const std::string& path, const PatchArgs& args);
+/// with the chosen backend; lazy: a mesh gives a skeleton (no patch built; the force
+/// renderer builds them on demand, lazy_patches.h).
+Source openSource(const std::string& path, const PatchArgs& args, bool lazy = false);
 
 /// Builds patches for an already loaded mesh with the chosen backend; returns seconds.
 double construct(PatchCache& cache, const PatchArgs& args);

@@ -30,6 +30,7 @@ void onInterrupt(int) { gStop.store(true, std::memory_order_relaxed); }
 struct LoopArgs {
   std::string scene, cache, mesh, method = "patch", device = "scripted", record;
   double rate = 1000, duration = 10, stiffness = 500, speed = 0.1, depth = 0, spinUs = 200;
+  int patchCapacity = 256;
   rt::SafetyOptions safety;
   int rtPriority = 0;
   bool depthGiven = false;
@@ -85,6 +86,7 @@ void run(const LoopArgs& a) {
   rt::SceneDefaults defaults;
   defaults.method = method;
   defaults.force.stiffness = a.stiffness;
+  defaults.force.patchCapacity = a.patchCapacity;
   const rt::RendererFactory factory = [](std::shared_ptr<const PatchCache> c, ForceMethod m, const ForceOptions& o) {
     return makeForceRenderer(std::move(c), m, o);
   };
@@ -96,24 +98,15 @@ void run(const LoopArgs& a) {
     auto cache = std::make_shared<const PatchCache>(readPatchCache(a.cache));
     scene = rt::singleObjectScene(cache, a.cache, method, defaults.force, factory);
   } else {
-    // TODO(lazy construction): build patches near the contact point on demand, in a bounded
-    // cache, once the force renderer supports it; until then the whole mesh is built here.
-    const auto t0 = std::chrono::steady_clock::now();
     const LoadedMesh loaded = loadMesh(a.mesh, defaults.patchOptions);
-    auto cache = std::make_shared<const PatchCache>(buildPatchCache(loaded, defaults.patchOptions, Backend::Tbb));
-    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    char buf[160];
-    std::snprintf(buf, sizeof buf,
-                  "mesh: built all %d patches in %.3f s before the loop (lazy construction not available yet)\n",
-                  cache->numFaces(), secs);
-    info += buf;
+    auto cache = std::make_shared<const PatchCache>(preparePatchSkeleton(loaded, defaults.patchOptions));
     scene = rt::singleObjectScene(cache, a.mesh, method, defaults.force, factory);
   }
   for (const rt::SceneObject& o : scene.objects()) {
     char buf[512];
     std::snprintf(buf, sizeof buf, "object %s: %s, %d faces, method %s, stiffness %g N/m%s\n", o.name.c_str(),
                   o.source.c_str(), o.cache->numFaces(), toString(o.method), o.force.stiffness,
-                  o.fromMesh ? " (patches built from the mesh)" : "");
+                  o.fromMesh ? " (patches built lazily near the contact point)" : "");
     info += buf;
   }
 
@@ -162,7 +155,10 @@ void addLoopCommand(CLI::App& app) {
   auto a = std::make_shared<LoopArgs>();
   auto* scene = c->add_option("--scene", a->scene, "scene file (JSON; see runtime/scene.h)");
   auto* cache = c->add_option("--cache", a->cache, "patch cache file");
-  auto* mesh = c->add_option("--mesh", a->mesh, "mesh file (patches built before the loop)");
+  auto* mesh = c->add_option("--mesh", a->mesh, "mesh file (patches built lazily near the contact point)");
+  c->add_option("--patch-capacity", a->patchCapacity,
+                "with a mesh: patches held at once, least recently used evicted (<= 0: no bound)")
+      ->capture_default_str();
   scene->excludes(cache)->excludes(mesh);
   cache->excludes(mesh);
   c->add_option("--method", a->method, "patch|direct|shading (default for scene objects)")

@@ -95,8 +95,8 @@ void runSweepCommand(const SweepArgs& a) {
   Source src = openSource(c.source, a.patch);
   if (src.loaded)
     std::printf(
-        "sweep: built all %d patches of %s in %.2f s (%s backend; lazy construction of only the touched "
-        "patches is future work)\n",
+        "sweep: built all %d patches of %s in %.2f s (%s backend; the HIPs are placed on or projected onto "
+        "the patch surface, which needs every patch)\n",
         src.cache.numFaces(), a.mesh.c_str(), src.buildSeconds, a.patch.backend.c_str());
   if (a.patch.backendKind() == Backend::OpenCL)
     std::printf(

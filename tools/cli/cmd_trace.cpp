@@ -21,6 +21,7 @@ namespace {
 
 struct TraceArgs {
   std::string cache, mesh, method = "patch", hips, output, refine = "newton";
+  int patchCapacity = 256;
   double stiffness = ForceOptions{}.stiffness, angleTol = ForceOptions{}.angleTolerance;
   int maxIter = ForceOptions{}.maxIterations;
   PatchArgs patch;
@@ -83,13 +84,14 @@ void run(const TraceArgs& a) {
   opt.angleTolerance = a.angleTol;
   opt.maxIterations = a.maxIter;
   opt.refine = parseRefineMethod(a.refine);
+  opt.patchCapacity = a.patchCapacity;
   const ForceMethod method = parseForceMethod(a.method);
   validateForceOptions(opt);
   const std::string& input = a.cache.empty() ? a.mesh : a.cache;
   if (!a.cache.empty() && !isPatchCacheFile(a.cache)) throw InputError(a.cache + ": not a patch cache file");
   if (!a.mesh.empty() && isPatchCacheFile(a.mesh)) throw InputError(a.mesh + ": is a patch cache; use --cache");
   const std::vector<Eigen::Vector3d> hips = readHips(a.hips);
-  Source src = openSource(input, a.patch);
+  Source src = openSource(input, a.patch, /*lazy=*/true);  // a mesh: patches built where the HIPs go
   auto cache = std::make_shared<const PatchCache>(std::move(src.cache));
   auto scene = std::make_shared<const PolygonScene>(*cache);
   auto renderer = makeForceRenderer(cache, scene, method, opt);
@@ -139,6 +141,9 @@ void run(const TraceArgs& a) {
                hips.size(), toString(method), method == ForceMethod::Patch ? ", refine " : "",
                method == ForceMethod::Patch ? toString(opt.refine) : "", inContact, starts, maxDiff, maxAt,
                hips.empty() ? 0.0 : 1e6 * total / hips.size(), 1e6 * worst, a.output.c_str());
+  if (!a.mesh.empty())
+    std::fprintf(stderr, "trace: patches built lazily: %d of %d faces (at most %s held)\n", renderer->patchesBuilt(),
+                 cache->numFaces(), a.patchCapacity > 0 ? std::to_string(a.patchCapacity).c_str() : "all");
 }
 
 }  // namespace
@@ -147,7 +152,10 @@ void addTraceCommand(CLI::App& app) {
   auto* t = app.add_subcommand("trace", "Render forces along a HIP sequence with contact tracking (one row per step)");
   auto a = std::make_shared<TraceArgs>();
   auto* cache = t->add_option("--cache", a->cache, "patch cache file");
-  auto* mesh = t->add_option("--mesh", a->mesh, "mesh file (patches built now, see the patch options)");
+  auto* mesh = t->add_option("--mesh", a->mesh, "mesh file (patches built lazily where the HIPs go)");
+  t->add_option("--patch-capacity", a->patchCapacity,
+                "with --mesh: patches held at once, least recently used evicted (<= 0: no bound)")
+      ->capture_default_str();
   cache->excludes(mesh);
   mesh->excludes(cache);
   t->add_option("--method", a->method, "patch|direct|shading")
