@@ -1,5 +1,8 @@
-// Sweep throughput: HIP queries per second per force method (reset, approach, pressed-in step)
-// on the spot cage, 1e5 and 1e6 HIPs, all threads. HIP sampling and renderer construction are
+// Sweep throughput: HIP queries per second per force method and backend (reset, approach,
+// pressed-in step) on the spot cage, 1e5 and 1e6 HIPs, all threads. Backends: tbb (all
+// methods), opencl (patch: refinements on the OpenCL device, runPatchProbesOpenCL; skipped
+// with a message when no device exists; program build and cache upload happen in the
+// warm-up). HIP sampling and renderer construction are
 // outside the timed region (the renderers of a run are made on first use per thread; one
 // warm-up run precedes the timing).
 // Run: build/bench/bench_sweep [--benchmark_format=json] [--benchmark_filter=/100000/]
@@ -9,7 +12,9 @@
 #include <memory>
 
 #include "mesh_pipeline.h"
+#include "opencl_backend.h"
 #include "sweep.h"
+#include "sweep_opencl.h"
 
 namespace {
 
@@ -55,7 +60,7 @@ void BM_Sweep(benchmark::State& state) {
   for (const auto& r : out) contact += r.contact;
   state.counters["HIPs/s"] = benchmark::Counter(double(set.size()) * state.iterations(), benchmark::Counter::kIsRate);
   state.counters["contact"] = double(contact) / double(set.size());
-  state.SetLabel(toString(method));
+  state.SetLabel(std::string(toString(method)) + "/tbb");
 }
 BENCHMARK(BM_Sweep)
     ->ArgsProduct({{0, 1, 2}, {100000}})
@@ -69,6 +74,37 @@ BENCHMARK(BM_Sweep)  // one timed run each: 1e6 HIPs take minutes on one core
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+
+// args: HIPs. The patch method with its refinements on the OpenCL device.
+void BM_SweepOpenCL(benchmark::State& state) {
+  std::string why;
+  if (!openclAvailable(&why)) {
+    state.SkipWithError(("no OpenCL device: " + why).c_str());
+    return;
+  }
+  Spot& spot = Spot::get();
+  const HipSet& set = spot.hips(state.range(0));
+  std::vector<HipResult> out(set.size());
+  // warm-up: builds (or loads) the program; each timed run includes its scene build and cache upload
+  runPatchProbesOpenCL(set, 0, std::min<size_t>(set.size(), 2000), spot.cache, ForceOptions{}, nullptr, out.data(), {});
+  for (auto _ : state) {
+    runPatchProbesOpenCL(set, 0, set.size(), spot.cache, ForceOptions{}, nullptr, out.data(), {});
+    benchmark::DoNotOptimize(out.data());
+  }
+  size_t contact = 0;
+  for (const auto& r : out) contact += r.contact;
+  state.counters["HIPs/s"] = benchmark::Counter(double(set.size()) * state.iterations(), benchmark::Counter::kIsRate);
+  state.counters["contact"] = double(contact) / double(set.size());
+  state.SetLabel("patch/opencl");
+}
+BENCHMARK(BM_SweepOpenCL)
+    ->Arg(100000)
+    ->Iterations(1)
+    ->Repetitions(5)
+    ->ReportAggregatesOnly(true)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_SweepOpenCL)->Arg(1000000)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 

@@ -37,57 +37,14 @@ class PatchTracker final : public ForceRenderer {
 
   ForceSample step(const Eigen::Vector3d& hip) noexcept override {
     ForceSample s;
-    s.scp = hip;
-    if (!hip.allFinite()) {
-      inContact_ = false;
-      s.status = SF_TRACK_BAD_HIP;
-      return s;
-    }
-    const bool was = inContact_;
-    RefineResult r;
-    if (!was) {
-      s.status |= SF_TRACK_GLOBAL;
-      const NearestPolygonPoint np = scene_->nearest(hip);
-      if (np.face < 0) {
-        s.status |= SF_TRACK_NO_POLYGON;
-        return s;
-      }
-      const Eigen::Vector2d X = polygonToDomain(scene_->facets(), *cache_, np.face, np.point, lambda_.data());
-      r = refiner_.refine(hip, np.face, X.x(), X.y(), options_);
-      if (r.status & SF_TRACK_DEGENERATE) {  // no patch here: the polygon itself is the surface
-        r.scp = np.point;
-        r.normal = scene_->facets().facetNormal[np.facet];
-        r.face = np.face;
-        r.xi = X.x();
-        r.eta = X.y();
-      }
-    } else {
-      r = refiner_.refine(hip, face_, X_.x(), X_.y(), options_);
-    }
-    s.iterations = r.iterations;
-    s.transitions = r.transitions;
-    s.status |= r.status;
-    const bool usable = r.scp.allFinite() && r.normal.allFinite() && r.normal.squaredNorm() > 0.5;
-    if (usable && (hip - r.scp).dot(r.normal) < 0) {
-      inContact_ = true;
-      face_ = r.face;
-      X_ = {r.xi, r.eta};
-      s.contact = true;
-      s.scp = r.scp;
-      s.normal = r.normal;
-      s.face = r.face;
-      s.xi = r.xi;
-      s.eta = r.eta;
-      s.force = options_.stiffness * (r.scp - hip);
-      if (!was) s.status |= SF_TRACK_ENTER;
-    } else {
-      inContact_ = false;
-      if (was) s.status |= SF_TRACK_LEAVE;
-    }
+    PatchStepStart start;
+    if (!beginPatchStep(*scene_, *cache_, hip, state_, lambda_.data(), start, s)) return s;
+    const RefineResult r = refiner_.refine(hip, start.face, start.X.x(), start.X.y(), options_);
+    finishPatchStep(*scene_, hip, start, r, options_.stiffness, state_, s);
     return s;
   }
 
-  void reset() noexcept override { inContact_ = false; }
+  void reset() noexcept override { state_.inContact = false; }
   int patchesBuilt() const noexcept override { return lazy_ ? lazy_->constructions() : cache_->numFaces(); }
 
  private:
@@ -97,12 +54,71 @@ class PatchTracker final : public ForceRenderer {
   std::unique_ptr<LazyPatches> lazy_;  ///< patches built on demand when the cache is a skeleton
   PatchRefiner refiner_;
   std::vector<double> lambda_;
-  bool inContact_ = false;
-  int face_ = -1;
-  Eigen::Vector2d X_{0, 0};
+  PatchContactState state_;
 };
 
 }  // namespace
+
+bool beginPatchStep(const PolygonScene& scene, const PatchCache& cache, const Eigen::Vector3d& hip,
+                    PatchContactState& state, double* lambda, PatchStepStart& start, ForceSample& s) noexcept {
+  s = ForceSample{};
+  s.scp = hip;
+  start = PatchStepStart{};
+  if (!hip.allFinite()) {
+    state.inContact = false;
+    s.status = SF_TRACK_BAD_HIP;
+    return false;
+  }
+  if (state.inContact) {
+    start.face = state.face;
+    start.X = state.X;
+    start.edge = state.edge;
+    return true;
+  }
+  s.status |= SF_TRACK_GLOBAL;
+  const NearestPolygonPoint np = scene.nearest(hip);
+  if (np.face < 0) {
+    s.status |= SF_TRACK_NO_POLYGON;
+    return false;
+  }
+  start.global = true;
+  start.face = np.face;
+  start.facet = np.facet;
+  start.polygonPoint = np.point;
+  start.X = polygonToDomain(scene.facets(), cache, np.face, np.point, lambda);
+  return true;
+}
+
+void finishPatchStep(const PolygonScene& scene, const Eigen::Vector3d& hip, const PatchStepStart& start, RefineResult r,
+                     double stiffness, PatchContactState& state, ForceSample& s) noexcept {
+  const bool was = state.inContact;
+  if (start.global && (r.status & SF_TRACK_DEGENERATE)) {  // no patch here: the polygon itself is the surface
+    r.scp = start.polygonPoint;
+    r.normal = scene.facets().facetNormal[start.facet];
+    r.face = start.face;
+    r.edge = -1;
+    r.xi = start.X.x();
+    r.eta = start.X.y();
+  }
+  s.iterations = r.iterations;
+  s.transitions = r.transitions;
+  s.status |= r.status;
+  const bool usable = r.scp.allFinite() && r.normal.allFinite() && r.normal.squaredNorm() > 0.5;
+  if (usable && (hip - r.scp).dot(r.normal) < 0) {
+    state = PatchContactState{true, r.face, {r.xi, r.eta}, r.edge};
+    s.contact = true;
+    s.scp = r.scp;
+    s.normal = r.normal;
+    s.face = r.face;
+    s.xi = r.xi;
+    s.eta = r.eta;
+    s.force = stiffness * (r.scp - hip);
+    if (!was) s.status |= SF_TRACK_ENTER;
+  } else {
+    state.inContact = false;
+    if (was) s.status |= SF_TRACK_LEAVE;
+  }
+}
 
 std::unique_ptr<ForceRenderer> makePatchForceRenderer(std::shared_ptr<const PatchCache> cache,
                                                       std::shared_ptr<const PolygonScene> scene,

@@ -2,10 +2,12 @@
 // that every force method adds to ForceSample::status.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <memory>
 
 #include "force_method.h"
+#include "patch_refine.h"
 
 namespace sf {
 
@@ -38,6 +40,37 @@ void validateForceOptions(const ForceOptions& options);
 std::unique_ptr<ForceRenderer> makePatchForceRenderer(std::shared_ptr<const PatchCache> cache,
                                                       std::shared_ptr<const PolygonScene> scene,
                                                       const ForceOptions& options);
+
+/// Contact state of the patch method between steps (Algorithm 1).
+struct PatchContactState {
+  bool inContact = false;
+  int face = -1;             ///< face of the last SCP in contact
+  Eigen::Vector2d X{0, 0};   ///< its domain point
+  int edge = -1;             ///< its held boundary edge (RefineResult::edge)
+};
+
+/// Where one patch step's refinement starts: out of contact the global query (Embree nearest
+/// polygon point, mapped into the face's domain by mean value coordinates, Section 4.1); in
+/// contact the previous SCP.
+struct PatchStepStart {
+  bool global = false;  ///< the global query ran
+  int face = -1, facet = -1, edge = -1;
+  Eigen::Vector2d X{0, 0};
+  Eigen::Vector3d polygonPoint{0, 0, 0};  ///< m, nearest polygon point (global only)
+};
+
+/// First half of a patch-method step at `hip` (m). Returns false when the step ends without a
+/// refinement (non-finite HIP, mesh without polygons): s is then the step's sample and state is
+/// updated. Otherwise fills start, and s with the status bits so far. lambda: scratch for the
+/// largest face's size. Never throws or allocates; the scene must belong to the cache.
+bool beginPatchStep(const PolygonScene& scene, const PatchCache& cache, const Eigen::Vector3d& hip,
+                    PatchContactState& state, double* lambda, PatchStepStart& start, ForceSample& s) noexcept;
+
+/// Second half: r = the refinement from `start` (PatchRefiner::refine or OpenCLRefiner). A
+/// degenerate global start falls back to the polygon point; contact when (HIP - SCP) . n < 0;
+/// F = stiffness (SCP - HIP) (N/m, m). Updates state and s. Never throws or allocates.
+void finishPatchStep(const PolygonScene& scene, const Eigen::Vector3d& hip, const PatchStepStart& start,
+                     RefineResult r, double stiffness, PatchContactState& state, ForceSample& s) noexcept;
 
 /// makeForceRenderer with a scene built once and shared by several renderers (the scene must
 /// belong to `cache`).

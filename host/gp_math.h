@@ -1,4 +1,4 @@
-// C++ instantiations of the single-source patch math (kernels/gp_patch.h):
+// C++ instantiations of the single-source patch math (kernels/gp_patch.h, gp_refine.h):
 // sf::gpf (float) and sf::gpd (double). Both share the layout macros of gp_config.h.
 #pragma once
 
@@ -10,6 +10,7 @@ namespace sf::gpf {
 #define GP_REAL float
 #define GP_IS_DOUBLE 0
 #include "gp_patch.h"
+#include "gp_refine.h"
 #undef GP_REAL
 #undef GP_IS_DOUBLE
 }  // namespace sf::gpf
@@ -18,6 +19,7 @@ namespace sf::gpd {
 #define GP_REAL double
 #define GP_IS_DOUBLE 1
 #include "gp_patch.h"
+#include "gp_refine.h"
 #undef GP_REAL
 #undef GP_IS_DOUBLE
 }  // namespace sf::gpd

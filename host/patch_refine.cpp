@@ -297,6 +297,7 @@ RefineResult PatchRefiner::refine(const Eigen::Vector3d& hip, int face, double x
   out.scp = cur.p.pos;
   out.normal = cur.p.normal;
   out.face = cur.face;
+  out.edge = cur.edge;
   out.xi = cur.X.x();
   out.eta = cur.X.y();
   out.distance = (cur.p.pos - hip).norm();

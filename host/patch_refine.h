@@ -20,6 +20,7 @@ struct RefineResult {
   Eigen::Vector3d scp{0, 0, 0};     ///< m, G(xi, eta) on `face`
   Eigen::Vector3d normal{0, 0, 0};  ///< unit outward patch normal there
   int face = -1;
+  int edge = -1;  ///< domain edge of `face` the SCP is held on (boundary, non-manifold), else -1
   double xi = 0, eta = 0;
   double distance = 0;                  ///< |SCP - HIP|, m
   int iterations = 0, transitions = 0;  ///< iterations run; Eq. 15 face changes

@@ -62,8 +62,7 @@ HipSet makeFileHips(const std::vector<Eigen::Vector3d>& hips, const PatchProject
   return s;
 }
 
-namespace {
-void fill(HipResult& r, const ForceSample& s, const ReferenceSurface* ref) {
+void fillHipResult(HipResult& r, const ForceSample& s, const ReferenceSurface* ref) {
   for (int a = 0; a < 3; ++a) {
     r.force[a] = static_cast<float>(s.force[a]);
     r.scp[a] = static_cast<float>(s.scp[a]);
@@ -77,6 +76,7 @@ void fill(HipResult& r, const ForceSample& s, const ReferenceSurface* ref) {
   r.done = 1;
 }
 
+namespace {
 template <class F>
 void inArena(int threads, F&& f) {
   if (threads > 0) {
@@ -101,7 +101,7 @@ size_t runProbes(const HipSet& set, size_t begin, size_t end, const RendererFact
       for (size_t g = r.begin(); g < r.end(); ++g) {
         R.reset();
         R.step(set.approach(g));
-        fill(out[g - begin], R.step(set.hip(g)), ref);
+        fillHipResult(out[g - begin], R.step(set.hip(g)), ref);
       }
       done.fetch_add(r.size(), std::memory_order_relaxed);
       if (control.progress) control.progress(r.size());

@@ -75,6 +75,10 @@ struct SweepControl {
   std::function<void(size_t)> progress;     ///< HIPs just finished; any thread, must be thread-safe
 };
 
+/// Packs a probe's pressed-in step into its record (float32), with |SCP - ref| when ref is
+/// given and the sample is in contact (NaN otherwise); done = 1.
+void fillHipResult(HipResult& r, const ForceSample& s, const ReferenceSurface* ref);
+
 /// Probes HIPs [begin, end): per HIP, reset(), step(approach), step(hip); out[g - begin] gets
 /// the second step's sample (and |SCP - ref| when ref is given). Chunks run in parallel with
 /// one renderer per worker. Returns the number of HIPs done (end - begin unless stopped).

@@ -23,7 +23,7 @@ struct SweepConfig {
   double stiffness = 500;  ///< N/m
   double approach = 1e-3;  ///< probes first step at p + approach * depth * n
   std::string refine = "newton";
-  std::string backend = "tbb";      ///< tbb | serial | opencl (patch construction only)
+  std::string backend = "tbb";      ///< tbb | serial | opencl (construction, patch refinement)
   std::string reference, analytic;  ///< reference mesh path, analytic spec ("" when none)
   int knn = 8;
   double thresholdDeg = 10;

@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "hash.h"
+#include "sweep_opencl.h"
 
 namespace sf {
 
@@ -65,10 +66,10 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
   const auto t0 = std::chrono::steady_clock::now();
   if (!in.cache) throw InputError("sweep: no patch cache");
   if (in.config.methods.empty()) throw InputError("--methods: empty list");
+  ForceOptions opt;
+  opt.stiffness = in.config.stiffness;
+  opt.refine = parseRefineMethod(in.config.refine);
   if (!in.makeRenderer) {
-    ForceOptions opt;
-    opt.stiffness = in.config.stiffness;
-    opt.refine = parseRefineMethod(in.config.refine);
     auto cache = in.cache;
     in.makeRenderer = [cache, opt](const std::string& m) { return makeForceRenderer(cache, parseForceMethod(m), opt); };
   }
@@ -89,7 +90,11 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
     const auto t1 = std::chrono::steady_clock::now();
     std::vector<HipResult> out(d.end - d.begin);
     const RendererFactory make = [&in, m] { return in.makeRenderer(m); };
-    const size_t done = runProbes(set, d.begin, d.end, make, ref.get(), out.data(), control);
+    // --backend opencl: the patch method's refinements run on the device (sweep_opencl.h)
+    const size_t done =
+        m == "patch" && in.config.backend == "opencl"
+            ? runPatchProbesOpenCL(set, d.begin, d.end, in.cache, opt, ref.get(), out.data(), control, in.opencl)
+            : runProbes(set, d.begin, d.end, make, ref.get(), out.data(), control);
     stopped = stopped || done < d.end - d.begin;
     tm.methodDone.push_back(done);
     d.results.push_back(std::move(out));

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "opencl_backend.h"
 #include "sweep.h"
 #include "sweep_io.h"
 
@@ -21,6 +22,9 @@ struct SweepInputs {
   std::vector<DepthSpec> depths;  ///< unless hipsFile
   std::string hipsFile;           ///< CSV x,y,z: explicit HIPs (config.sampleOn = "file")
   int shardIndex = 0, shardCount = 1;
+  /// Device for config.backend == "opencl", where the patch method's refinements run
+  /// (runPatchProbesOpenCL; trajectories and the other methods stay on the CPU).
+  OpenCLOptions opencl;
   /// Makes a renderer for a method name; default: makeForceRenderer(cache, method, options).
   std::function<std::unique_ptr<ForceRenderer>(const std::string& method)> makeRenderer;
 };

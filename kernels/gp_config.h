@@ -23,6 +23,9 @@
 #define GP_COS(x) cos(x)
 #define GP_SIN(x) sin(x)
 #define GP_FABS(x) fabs(x)
+#define GP_ATAN2(y, x) atan2(y, x)
+/* address space of the cache arrays that gp_refine.h reads while it iterates */
+#define GP_GLOBAL __global
 typedef uint gp_uint;
 #else
 #define GP_FN static inline
@@ -30,6 +33,8 @@ typedef uint gp_uint;
 #define GP_COS(x) std::cos(x)
 #define GP_SIN(x) std::sin(x)
 #define GP_FABS(x) std::fabs(x)
+#define GP_ATAN2(y, x) std::atan2(y, x)
+#define GP_GLOBAL
 typedef unsigned int gp_uint;
 #endif
 
@@ -54,6 +59,14 @@ typedef unsigned int gp_uint;
 #define GP_ST_NONFINITE 0x200u      /* non-finite input */
 #define GP_ST_DEGENERATE_MASK \
   (GP_ST_ZERO_EDGE | GP_ST_EDGE_NORMAL | GP_ST_CROSS_TANGENT | GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE)
+
+/* Refinement status bits (gp_refine.h); equal to the host's SF_TRACK_* (force_tracking.h),
+ * above the GP_ST_* bits, which a refinement result carries too. */
+#define GP_TRACK_CONVERGED 0x10000u  /* the angle tolerance was met */
+#define GP_TRACK_MAX_ITER 0x20000u   /* the iteration limit was hit */
+#define GP_TRACK_STALLED 0x40000u    /* the step shrank to nothing before the tolerance */
+#define GP_TRACK_BOUNDARY 0x80000u   /* iterate held on a boundary / non-manifold edge */
+#define GP_TRACK_DEGENERATE 0x100000u /* start patch not evaluable (or non-finite input) */
 
 /* Per-edge record: everything evaluation needs about edge k of a face (edge V_k -> V_{k+1}).
  * Offsets of 3-vectors unless noted. Stored field-major in the cache (struct of arrays). */

@@ -53,6 +53,26 @@ inline PatchCache skeletonFromFile(const std::string& path, Precision precision 
 
 inline std::string sharedMesh(const std::string& rel) { return std::string(SF_SHARED_MESHES) + "/" + rel; }
 
+/// One flat unit quad in z = 0 with normals +z: an open mesh, every edge a boundary edge.
+inline PatchCache flatQuadCache() {
+  ref::RefMesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  m.faces = {{0, 1, 2, 3}};
+  m.normals.assign(4, Eigen::Vector3d::UnitZ());
+  return cacheFromShape(m);
+}
+
+/// On a quad mesh: the face two patches away from face 0, across its edge 0 and then across
+/// the opposite edge of that neighbour (refinement from face 0 crosses two edges by Eq. 15);
+/// -1 where an edge on the way is a boundary.
+inline int faceTwoAcross(const PatchCache& c) {
+  const int s0 = c.slotTwin[c.faceOffsets[0] + 0];
+  if (s0 < 0) return -1;
+  const int f1 = slotFace(c.faceOffsets, s0), k1 = (s0 - c.faceOffsets[f1] + 2) % 4;
+  const int s1 = c.slotTwin[c.faceOffsets[f1] + k1];
+  return s1 < 0 ? -1 : slotFace(c.faceOffsets, s1);
+}
+
 /// Domain point at parameter s along domain edge k, moved `delta` inward.
 inline Eigen::Vector2d edgePoint(int n, int k, double s, double delta) {
   const Eigen::Vector2d a = domainCorner(n, k), b = domainCorner(n, (k + 1) % n);

@@ -128,12 +128,8 @@ TEST(Refine, CrossesPatchBoundariesByEq15) {
   const PatchCache c = test::cacheFromFile(test::sharedMesh("polygon_laplacian/quad-sphere.off"));
   PatchRefiner refiner(c);
   // HIP just inside the centre of the patch two faces away from face 0, across edges 0
-  const int s0 = c.slotTwin[c.faceOffsets[0] + 0];
-  ASSERT_GE(s0, 0);
-  const int f1 = slotFace(c.faceOffsets, s0), k1 = (s0 - c.faceOffsets[f1] + 2) % 4;
-  const int s1 = c.slotTwin[c.faceOffsets[f1] + k1];
-  ASSERT_GE(s1, 0);
-  const int f2 = slotFace(c.faceOffsets, s1);
+  const int f2 = test::faceTwoAcross(c);
+  ASSERT_GE(f2, 0);
   const PatchPoint target = evaluatePatch(c, f2, 0.1, -0.05);
   const Eigen::Vector3d hip = target.pos - 0.02 * target.normal;
   for (RefineMethod m : {RefineMethod::Newton, RefineMethod::PaperDescent}) {
@@ -150,11 +146,7 @@ TEST(Refine, CrossesPatchBoundariesByEq15) {
 
 TEST(Refine, StaysOnBoundaryEdge) {
   // one flat quad (open mesh): a HIP beyond edge 0 refines onto that edge
-  ref::RefMesh m;
-  m.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
-  m.faces = {{0, 1, 2, 3}};
-  m.normals.assign(4, Eigen::Vector3d::UnitZ());
-  const PatchCache c = test::cacheFromShape(m);
+  const PatchCache c = test::flatQuadCache();
   ASSERT_EQ(c.slotTwin[0], kBoundarySlot);
   PatchRefiner refiner(c);
   for (RefineMethod meth : {RefineMethod::Newton, RefineMethod::PaperDescent}) {

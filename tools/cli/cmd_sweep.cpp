@@ -100,8 +100,9 @@ void runSweepCommand(const SweepArgs& a) {
         src.cache.numFaces(), a.mesh.c_str(), src.buildSeconds, a.patch.backend.c_str());
   if (a.patch.backendKind() == Backend::OpenCL)
     std::printf(
-        "sweep: --backend opencl: patch construction (with --mesh) on the OpenCL device; patch refinement "
-        "and god-objects still run on the CPU (oneTBB)\n");
+        "sweep: --backend opencl: patch construction (with --mesh) and the patch method's refinements on the "
+        "OpenCL device; global queries, contact decisions, god-objects and trajectories on the CPU (oneTBB)\n");
+  in.opencl.device = a.patch.device;
   in.cache = std::make_shared<const PatchCache>(std::move(src.cache));
   if (!a.trajectoryStep.empty()) {
     const auto s = parseDepthList(a.trajectoryStep);
@@ -206,8 +207,9 @@ void addSweepCommands(CLI::App& app) {
   s->add_option("-o,--output", a->output, "output directory")->required();
   addPatchArgs(*s, a->patch);
   s->footer(
-      "--backend tbb|serial|opencl: opencl builds the patches on the OpenCL device; the probes (patch refinement, "
-      "god-objects) always run on the CPU with oneTBB.\nCtrl-C stops cleanly: the HIPs done are written and "
+      "--backend tbb|serial|opencl: opencl builds the patches and runs the patch method's refinements (--refine "
+      "newton) on the OpenCL device, a chunk of HIPs per kernel run; the global queries, god-objects and "
+      "trajectories run on the CPU with oneTBB.\nCtrl-C stops cleanly: the HIPs done are written and "
       "summary.json says \"complete\": false. See docs/sweeps.md.");
   s->callback([a] { runSweepCommand(*a); });
 

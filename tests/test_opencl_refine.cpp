@@ -1,0 +1,295 @@
+// Cross-check of the OpenCL refinement (kernels/refine.cl, host/opencl_refine.h) against the
+// CPU PatchRefiner (Newton) on real meshes, double and float: starts from the paper's global
+// query, Eq. 15 crossings, a boundary edge; and a sweep with --backend tbb vs opencl.
+// Skipped with the reason when no OpenCL device exists.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <random>
+
+#include "embree_scene.h"
+#include "force_tracking.h"
+#include "gp_math.h"
+#include "mean_value.h"
+#include "opencl_refine.h"
+#include "patch_test_support.h"
+#include "sweep_io.h"
+#include "sweep_run.h"
+
+namespace sf {
+namespace {
+
+// Tolerances relative to the bounding-box diagonal. Double: the two sides differ only in the
+// device's cos/sin and the order of a few sums (measured: see the printed numbers).
+// Float: the kernel computes in float, PatchRefiner in double around float evaluations; both
+// stop at the angle tolerance within float noise.
+constexpr double kTolD = 1e-9, kTolF = 1e-4;
+
+class OpenCLRefine : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::string why;
+    if (!openclAvailable(&why)) GTEST_SKIP() << "no OpenCL device: " << why;
+  }
+};
+
+/// HIPs within `depth` of random patch points (both sides), with the paper's start: the
+/// nearest polygon point mapped into its face's domain by mean value coordinates.
+std::vector<RefineQuery> globalQueries(const PatchCache& c, int count, double depth, unsigned seed) {
+  const PolygonScene scene(c);
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<int> pf(0, c.numFaces() - 1);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<double> lambda(GP_MAX_N);
+  std::vector<RefineQuery> q;
+  while (static_cast<int>(q.size()) < count) {
+    const int f = pf(rng);
+    const double x = u(rng), y = u(rng);
+    if (!insideDomain(c.faceSize(f), x, y)) continue;
+    const PatchPoint p = evaluatePatch(c, f, x, y);
+    RefineQuery r;
+    r.hip = p.pos + depth * u(rng) * p.normal;
+    const NearestPolygonPoint np = scene.nearest(r.hip);
+    const Eigen::Vector2d X = polygonToDomain(scene.facets(), c, np.face, np.point, lambda.data());
+    r.face = np.face;
+    r.xi = X.x();
+    r.eta = X.y();
+    q.push_back(r);
+  }
+  return q;
+}
+
+struct Agreement {
+  double maxScp = 0;  // m
+  int otherFace = 0, ties = 0, transitions = 0, statusDiff = 0;
+};
+
+/// Runs the queries on the device and on PatchRefiner; checks SCPs within tol x diagonal,
+/// the same face unless the point lies on a shared edge (a tie: the same 3D point).
+Agreement compareWithCpu(const PatchCache& c, const std::vector<RefineQuery>& q, double tol,
+                         const ForceOptions& o = {}) {
+  OpenCLRefiner dev(c);
+  std::vector<RefineResult> g(q.size());
+  dev.refine(q.data(), q.size(), o, g.data());
+  PatchRefiner cpu(c);
+  const double diag = boundingDiagonal(c);
+  Agreement a;
+  for (size_t i = 0; i < q.size(); ++i) {
+    const RefineResult r = cpu.refine(q[i].hip, q[i].face, q[i].xi, q[i].eta, o);
+    const double d = (r.scp - g[i].scp).norm();
+    a.maxScp = std::max(a.maxScp, d);
+    EXPECT_LE(d, tol * diag) << "HIP " << i << " face " << r.face << " / " << g[i].face;
+    EXPECT_NEAR(r.distance, g[i].distance, tol * diag) << i;
+    EXPECT_GT(g[i].normal.dot(r.normal), 1 - 1e3 * tol) << i;
+    if (r.face != g[i].face) {
+      ++a.otherFace;
+      a.ties += d <= tol * diag;  // the same point, on an edge shared by both faces
+    }
+    a.transitions += g[i].transitions > 0;
+    const uint32_t mask = SF_TRACK_CONVERGED | SF_TRACK_BOUNDARY | SF_TRACK_DEGENERATE;
+    a.statusDiff += (r.status & mask) != (g[i].status & mask);
+  }
+  return a;
+}
+
+TEST_F(OpenCLRefine, AgreesWithPatchRefinerDoubleAndFloat) {
+  for (const char* rel : {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/quad-sphere.off"}) {
+    for (Precision p : {Precision::Double, Precision::Float}) {
+      const PatchCache c = test::cacheFromFile(test::sharedMesh(rel), CrossTangentMode::Corrected, p);
+      const double diag = boundingDiagonal(c);
+      const std::vector<RefineQuery> q = globalQueries(c, 400, 0.05 * diag, 11);
+      const bool dbl = p == Precision::Double;
+      const Agreement a = compareWithCpu(c, q, dbl ? kTolD : kTolF);
+      std::printf(
+          "  %s %s: max |SCP_cl - SCP_cpu| = %.3g x diagonal; other face %d (ties %d); %d HIPs cross "
+          "patch edges; converged/boundary status differs on %d\n",
+          rel, dbl ? "double" : "float", a.maxScp / diag, a.otherFace, a.ties, a.transitions, a.statusDiff);
+      EXPECT_GT(a.transitions, 0) << rel;  // some refinements cross patch edges (Eq. 15)
+      EXPECT_EQ(a.otherFace, a.ties) << rel;
+      if (dbl) {
+        EXPECT_EQ(a.statusDiff, 0) << rel;
+      }
+    }
+  }
+}
+
+TEST_F(OpenCLRefine, CrossesPatchBoundariesByEq15) {
+  // as Refine.CrossesPatchBoundariesByEq15 (test_force_refine.cpp): two faces away from face 0
+  const PatchCache c = test::cacheFromFile(test::sharedMesh("polygon_laplacian/quad-sphere.off"));
+  const int f2 = test::faceTwoAcross(c);
+  ASSERT_GE(f2, 0);
+  const PatchPoint target = evaluatePatch(c, f2, 0.1, -0.05);
+  RefineQuery q;
+  q.hip = target.pos - 0.02 * target.normal;
+  q.face = 0;
+  ForceOptions o;
+  o.maxIterations = 200;
+  RefineResult r;
+  refineNearestPointsOpenCL(c, &q, 1, o, &r);
+  EXPECT_EQ(r.face, f2);
+  EXPECT_GE(r.transitions, 2);
+  EXPECT_TRUE(r.status & SF_TRACK_CONVERGED);
+  EXPECT_NEAR((r.scp - target.pos).norm(), 0, 1e-6);
+  const RefineResult cpu = refineNearestPoint(c, q.hip, 0, 0, 0, o);
+  EXPECT_EQ(r.transitions, cpu.transitions);
+  EXPECT_EQ(r.iterations, cpu.iterations);
+}
+
+TEST_F(OpenCLRefine, StaysOnBoundaryEdgeOfOpenMesh) {
+  // one flat quad (open mesh): HIPs beyond edge 0 and one inside
+  const PatchCache c = test::flatQuadCache();
+  ASSERT_EQ(c.slotTwin[0], kBoundarySlot);
+  std::vector<RefineQuery> q(3);
+  q[0].hip = {0.4, -0.5, -0.1};
+  q[1].hip = {0.7, -0.2, 0.3};
+  q[2].hip = {0.5, 0.5, -0.2};  // inside: no boundary
+  for (auto& x : q) x.face = 0;
+  std::vector<RefineResult> r(q.size());
+  refineNearestPointsOpenCL(c, q.data(), q.size(), {}, r.data());
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_TRUE(r[i].status & SF_TRACK_BOUNDARY) << i;
+    EXPECT_TRUE(r[i].status & SF_TRACK_CONVERGED) << i;
+    EXPECT_EQ(r[i].edge, 0) << i;
+    EXPECT_NEAR(r[i].scp.y(), 0, 1e-12) << i;
+    EXPECT_NEAR(r[i].scp.x(), q[i].hip.x(), 2e-5) << i;
+    EXPECT_NEAR(r[i].scp.z(), 0, 1e-12) << i;
+  }
+  EXPECT_FALSE(r[2].status & SF_TRACK_BOUNDARY);
+  EXPECT_EQ(r[2].edge, -1);
+  EXPECT_NEAR((r[2].scp - Eigen::Vector3d(0.5, 0.5, 0)).norm(), 0, 1e-9);
+  compareWithCpu(c, q, kTolD);
+  // restarting on the edge (in contact) keeps it held there, as PatchRefiner's reuse does
+  RefineQuery again = q[0];
+  again.face = r[0].face;
+  again.xi = r[0].xi;
+  again.eta = r[0].eta;
+  again.edge = r[0].edge;
+  RefineResult r2;
+  refineNearestPointsOpenCL(c, &again, 1, {}, &r2);
+  EXPECT_EQ(r2.iterations, 0);
+  EXPECT_TRUE(r2.status & SF_TRACK_BOUNDARY);
+}
+
+TEST_F(OpenCLRefine, RefusesUnusableStartsAndPaperVariant) {
+  const PatchCache c = test::cacheFromShape(ref::refUnitSphereCube());
+  std::vector<RefineQuery> q(3);
+  q[0].hip = {NAN, 0, 0};
+  q[0].face = 0;
+  q[1].face = 99;
+  q[2].hip = {0, 0, 0.2};
+  q[2].face = 0;
+  q[2].xi = q[2].eta = 5;  // clamped into the domain
+  std::vector<RefineResult> r(3);
+  OpenCLRefiner dev(c);
+  dev.refine(q.data(), q.size(), {}, r.data());
+  EXPECT_TRUE(r[0].status & SF_TRACK_DEGENERATE);
+  EXPECT_TRUE(r[1].status & SF_TRACK_DEGENERATE);
+  EXPECT_FALSE(r[2].status & SF_TRACK_DEGENERATE);
+  EXPECT_TRUE(std::isfinite(r[2].distance));
+  ForceOptions paper;
+  paper.refine = RefineMethod::PaperDescent;
+  EXPECT_THROW(dev.refine(q.data(), 1, paper, r.data()), std::invalid_argument);
+  dev.refine(q.data(), 0, {}, r.data());  // an empty batch is fine
+}
+
+TEST_F(OpenCLRefine, SharedCodeMatchesOnHostAndDevice) {
+  // gp_refine.h compiled as C++ (sf::gpd) against the kernel: the same code, so only the
+  // device's cos/sin and libm differ
+  const PatchCache c = test::cacheFromFile(test::sharedMesh("keenan_crane/spot_control_mesh.obj"));
+  const std::vector<RefineQuery> q = globalQueries(c, 100, 0.05 * boundingDiagonal(c), 3);
+  std::vector<RefineResult> g(q.size());
+  refineNearestPointsOpenCL(c, q.data(), q.size(), {}, g.data());
+  gpd::gp_refine_mesh mesh{c.faceOffsets.data(),
+                           c.edgeDataD.data(),
+                           c.faceStatus.data(),
+                           c.slotTwin.data(),
+                           c.numFaces(),
+                           c.numSlots(),
+                           static_cast<int>(c.options.crossTangent),
+                           boundingDiagonal(c)};
+  auto work = std::make_unique<gpd::gp_refine_work>();
+  const double diag = boundingDiagonal(c);
+  for (size_t i = 0; i < q.size(); ++i) {
+    work->loaded = -1;
+    const gpd::gp_refine_result h =
+        gpd::gp_refine_newton(&mesh, work.get(), gpd::gp_v3(q[i].hip.x(), q[i].hip.y(), q[i].hip.z()), q[i].face,
+                              q[i].xi, q[i].eta, -1, ForceOptions{}.maxIterations, ForceOptions{}.angleTolerance);
+    EXPECT_LE((Eigen::Vector3d(h.scp.x, h.scp.y, h.scp.z) - g[i].scp).norm(), kTolD * diag) << i;
+    EXPECT_EQ(h.face, g[i].face) << i;
+    EXPECT_EQ(h.status, g[i].status) << i;
+  }
+}
+
+/// Every number in a and b (same structure) equal within rel x max(|a|, |b|, 1e-3).
+void expectJsonNear(const nlohmann::json& a, const nlohmann::json& b, double rel, const std::string& path,
+                    int* compared) {
+  if (a.is_number() && b.is_number()) {
+    const double x = a.get<double>(), y = b.get<double>();
+    EXPECT_NEAR(x, y, rel * std::max({std::abs(x), std::abs(y), 1e-3})) << path;
+    ++*compared;
+  } else if (a.is_object() && b.is_object()) {
+    for (auto it = a.begin(); it != a.end(); ++it) {
+      if (it.key() == "backend") continue;
+      ASSERT_TRUE(b.contains(it.key())) << path << "/" << it.key();
+      expectJsonNear(it.value(), b.at(it.key()), rel, path + "/" + it.key(), compared);
+    }
+  } else if (a.is_array() && b.is_array()) {
+    ASSERT_EQ(a.size(), b.size()) << path;
+    for (size_t i = 0; i < a.size(); ++i)
+      expectJsonNear(a[i], b[i], rel, path + "[" + std::to_string(i) + "]", compared);
+  }
+}
+
+TEST_F(OpenCLRefine, SweepTbbAndOpenCLAgree) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("sf_sweep_opencl_" + std::to_string(::getpid()));
+  auto cache =
+      std::make_shared<const PatchCache>(test::cacheFromFile(test::sharedMesh("keenan_crane/spot_control_mesh.obj")));
+  SweepData d[2];
+  for (int b = 0; b < 2; ++b) {
+    SweepInputs in;
+    in.cache = cache;
+    in.config.source = "spot";
+    in.config.methods = {"patch"};
+    in.config.samples = 3000;
+    in.config.seed = 5;
+    in.config.backend = b ? "opencl" : "tbb";
+    in.depths = parseDepthList("1%,3%");
+    d[b] = runSweep(in, {});
+    d[b].trajectories.clear();  // CPU renderers on both backends
+  }
+  const double diag = boundingDiagonal(*cache);
+  size_t contactDiff = 0, faceDiff = 0, n = 0;
+  double maxScp = 0;
+  const auto& r0 = d[0].results[0];
+  const auto& r1 = d[1].results[0];
+  ASSERT_EQ(r0.size(), r1.size());
+  for (size_t i = 0; i < r0.size(); ++i) {
+    ASSERT_TRUE(r0[i].done && r1[i].done) << i << " " << int(r0[i].done) << int(r1[i].done) << " of " << r0.size();
+    contactDiff += r0[i].contact != r1[i].contact;
+    if (!(r0[i].contact && r1[i].contact)) continue;
+    ++n;
+    faceDiff += r0[i].face != r1[i].face;
+    maxScp = std::max(maxScp, (Eigen::Vector3f(r0[i].scp) - Eigen::Vector3f(r1[i].scp)).norm() / diag);
+  }
+  std::printf("  sweep tbb vs opencl: %zu HIPs, contact differs on %zu, face on %zu of %zu, max SCP diff %.3g x diag\n",
+              r0.size(), contactDiff, faceDiff, n, maxScp);
+  EXPECT_EQ(contactDiff, 0u);
+  EXPECT_LE(faceDiff, r0.size() / 500);  // ties on shared edges
+  EXPECT_LT(maxScp, 1e-6);               // stored as float32
+  int compared = 0;
+  for (int b = 0; b < 2; ++b) writeSweepSummary(d[b], (dir / ("sum" + std::to_string(b))).string());
+  const auto j0 = nlohmann::json::parse(std::ifstream(dir / "sum0" / "summary.json"));
+  const auto j1 = nlohmann::json::parse(std::ifstream(dir / "sum1" / "summary.json"));
+  expectJsonNear(j0, j1, 1e-3, "", &compared);
+  EXPECT_GT(compared, 10);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace sf
