@@ -7,6 +7,7 @@
 #include "embree_scene.h"
 #include "mean_value.h"
 #include "patch_refine.h"
+#include "patch_seeds.h"
 
 namespace sf {
 
@@ -16,6 +17,8 @@ void validateForceOptions(const ForceOptions& o) {
   if (!(o.angleTolerance > 0) || !std::isfinite(o.angleTolerance))
     throw InputError("angleTolerance must be a finite value > 0 rad, got " + std::to_string(o.angleTolerance));
   if (o.maxIterations < 1) throw InputError("maxIterations must be >= 1, got " + std::to_string(o.maxIterations));
+  if (o.tessellationLevel < 1 || o.tessellationLevel > 64)
+    throw InputError("tessellationLevel must be in 1..64, got " + std::to_string(o.tessellationLevel));
 }
 
 namespace {
@@ -28,6 +31,8 @@ class PatchTracker final : public ForceRenderer {
     int maxN = 3;
     for (int f = 0; f < cache_->numFaces(); ++f) maxN = std::max(maxN, cache_->faceSize(f));
     lambda_.resize(maxN);
+    if (options_.initialGuess == InitialGuess::Tessellation)
+      seeds_ = std::make_unique<PatchSeeds>(*cache_, options_.tessellationLevel);
   }
 
   ForceSample step(const Eigen::Vector3d& hip) noexcept override {
@@ -40,7 +45,15 @@ class PatchTracker final : public ForceRenderer {
     }
     const bool was = inContact_;
     RefineResult r;
-    if (!was) {
+    if (!was && seeds_) {  // global query on the tessellation: the vertex carries its (face, xi, eta)
+      s.status |= SF_TRACK_GLOBAL;
+      const PatchSeed seed = seeds_->nearest(hip);
+      if (seed.face < 0) {
+        s.status |= SF_TRACK_NO_POLYGON;
+        return s;
+      }
+      r = refiner_.refine(hip, seed.face, seed.X.x(), seed.X.y(), options_);
+    } else if (!was) {
       s.status |= SF_TRACK_GLOBAL;
       const NearestPolygonPoint np = scene_->nearest(hip);
       if (np.face < 0) {
@@ -90,6 +103,7 @@ class PatchTracker final : public ForceRenderer {
   std::shared_ptr<const PolygonScene> scene_;
   ForceOptions options_;
   PatchRefiner refiner_;
+  std::unique_ptr<PatchSeeds> seeds_;  ///< InitialGuess::Tessellation only
   std::vector<double> lambda_;
   bool inContact_ = false;
   int face_ = -1;
