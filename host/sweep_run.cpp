@@ -69,6 +69,10 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
     ForceOptions opt;
     opt.stiffness = in.config.stiffness;
     opt.refine = parseRefineMethod(in.config.refine);
+    opt.angleTolerance = in.config.angleTolerance;
+    opt.maxIterations = in.config.maxIterations;
+    opt.initialGuess = parseInitialGuess(in.config.initialGuess);
+    opt.tessellationLevel = in.config.guessLevel;
     auto cache = in.cache;
     in.makeRenderer = [cache, opt](const std::string& m) { return makeForceRenderer(cache, parseForceMethod(m), opt); };
   }

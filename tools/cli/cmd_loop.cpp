@@ -13,6 +13,8 @@
 #include <memory>
 
 #include "cache_file.h"
+#include "cli_common.h"
+#include "force_tracking.h"
 #include "loop_report.h"
 #include "mesh_pipeline.h"
 #include "record_writer.h"
@@ -31,6 +33,7 @@ struct LoopArgs {
   std::string scene, cache, mesh, method = "patch", device = "scripted", record;
   double rate = 1000, duration = 10, stiffness = 500, speed = 0.1, depth = 0, spinUs = 200;
   rt::SafetyOptions safety;
+  RefineArgs refine;
   int rtPriority = 0;
   bool depthGiven = false;
 };
@@ -85,6 +88,9 @@ void run(const LoopArgs& a) {
   rt::SceneDefaults defaults;
   defaults.method = method;
   defaults.force.stiffness = a.stiffness;
+  a.refine.apply(defaults.force);
+  validateForceOptions(defaults.force);
+  defaults.patchOptions.precision = a.refine.precision(defaults.patchOptions.precision);
   const rt::RendererFactory factory = [](std::shared_ptr<const PatchCache> c, ForceMethod m, const ForceOptions& o) {
     return makeForceRenderer(std::move(c), m, o);
   };
@@ -111,9 +117,12 @@ void run(const LoopArgs& a) {
   }
   for (const rt::SceneObject& o : scene.objects()) {
     char buf[512];
-    std::snprintf(buf, sizeof buf, "object %s: %s, %d faces, method %s, stiffness %g N/m%s\n", o.name.c_str(),
-                  o.source.c_str(), o.cache->numFaces(), toString(o.method), o.force.stiffness,
-                  o.fromMesh ? " (patches built from the mesh)" : "");
+    std::snprintf(buf, sizeof buf,
+                  "object %s: %s, %d faces, method %s, stiffness %g N/m, refine %s (angle tol %g rad, max %d "
+                  "iterations, %s start)%s\n",
+                  o.name.c_str(), o.source.c_str(), o.cache->numFaces(), toString(o.method), o.force.stiffness,
+                  toString(o.force.refine), o.force.angleTolerance, o.force.maxIterations,
+                  toString(o.force.initialGuess), o.fromMesh ? " (patches built from the mesh)" : "");
     info += buf;
   }
 
@@ -184,6 +193,7 @@ void addLoopCommand(CLI::App& app) {
                 "consecutive missed deadlines that latch a zero-force fault")
       ->capture_default_str();
   c->add_option("--spin-us", a->spinUs, "busy-wait before each deadline, us")->capture_default_str();
+  addRefineArgs(*c, a->refine);
   c->add_option("--rt-priority", a->rtPriority, "SCHED_FIFO priority 1..99 and mlockall (0: off)")
       ->check(CLI::Range(0, 99))
       ->capture_default_str();
