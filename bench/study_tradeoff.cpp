@@ -183,7 +183,7 @@ void computeReference(MeshCase& m, const std::shared_ptr<const PolygonScene>& sc
       f.face = rr.face;
       ++denseWins;
     }
-    if (i < 40) {
+    if (i < 40 && m.ref.back().contact) {
       const double dd = (s.point - m.hips[i]).norm(), dr = (m.ref.back().scp - m.hips[i]).norm();
       const double rel = (dd - dr) / m.diagonal;
       worst = std::max(worst, rel);
