@@ -18,12 +18,19 @@ enum class ForceMethod { Patch, Direct, Shading };
 /// Refinement of the SCP on a patch (paper 4.2): the paper's descent with numerical
 /// differences and the Fig. 8 adaptive step, or Newton / Gauss-Newton on exact derivatives.
 enum class RefineMethod { PaperDescent, Newton };
+/// Where the patch method's global query starts refinement (out of contact): polygon = the
+/// nearest point of the base polygons (Embree) mapped to the domain by mean value coordinates
+/// (paper 4.1); tessellation = the nearest vertex of a level-L tessellation of the patches
+/// (k-d tree), which carries its (face, xi, eta). Used by ForceMethod::Patch only.
+enum class InitialGuess { Polygon, Tessellation };
 
 /// Parsers throw InputError naming the value.
 ForceMethod parseForceMethod(const std::string& s);
 RefineMethod parseRefineMethod(const std::string& s);
+InitialGuess parseInitialGuess(const std::string& s);
 const char* toString(ForceMethod m);
 const char* toString(RefineMethod m);
+const char* toString(InitialGuess g);
 
 /// Force rendering options. Units: metres, newtons, N/m, radians.
 struct ForceOptions {
@@ -31,6 +38,8 @@ struct ForceOptions {
   RefineMethod refine = RefineMethod::Newton;
   double angleTolerance = 1e-5;  ///< stop when angle(G - HIP, normal) below this, rad
   int maxIterations = 50;        ///< per refinement
+  InitialGuess initialGuess = InitialGuess::Polygon;
+  int tessellationLevel = 2;  ///< for InitialGuess::Tessellation: each polygon edge split in L, 1..64
   /// Lazy construction (the cache is a skeleton, preparePatchSkeleton): faces whose patches
   /// are held at once (LRU); <= 0: every face that is touched stays built.
   int patchCapacity = 256;

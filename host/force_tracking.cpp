@@ -8,6 +8,7 @@
 #include "lazy_patches.h"
 #include "mean_value.h"
 #include "patch_refine.h"
+#include "patch_seeds.h"
 
 namespace sf {
 
@@ -17,6 +18,8 @@ void validateForceOptions(const ForceOptions& o) {
   if (!(o.angleTolerance > 0) || !std::isfinite(o.angleTolerance))
     throw InputError("angleTolerance must be a finite value > 0 rad, got " + std::to_string(o.angleTolerance));
   if (o.maxIterations < 1) throw InputError("maxIterations must be >= 1, got " + std::to_string(o.maxIterations));
+  if (o.tessellationLevel < 1 || o.tessellationLevel > 64)
+    throw InputError("tessellationLevel must be in 1..64, got " + std::to_string(o.tessellationLevel));
 }
 
 namespace {
@@ -33,12 +36,17 @@ class PatchTracker final : public ForceRenderer {
     int maxN = 3;
     for (int f = 0; f < cache_->numFaces(); ++f) maxN = std::max(maxN, cache_->faceSize(f));
     lambda_.resize(maxN);
+    if (options_.initialGuess == InitialGuess::Tessellation) {
+      if (lazy_)  // the tessellation would build every patch, which lazy construction avoids
+        throw InputError("initial guess 'tessellation' needs prebuilt patches (a cache, not a mesh built lazily)");
+      seeds_ = std::make_unique<PatchSeeds>(*cache_, options_.tessellationLevel);
+    }
   }
 
   ForceSample step(const Eigen::Vector3d& hip) noexcept override {
     ForceSample s;
     PatchStepStart start;
-    if (!beginPatchStep(*scene_, *cache_, hip, state_, lambda_.data(), start, s)) return s;
+    if (!beginPatchStep(*scene_, *cache_, hip, state_, lambda_.data(), start, s, seeds_.get())) return s;
     const RefineResult r = refiner_.refine(hip, start.face, start.X.x(), start.X.y(), options_);
     finishPatchStep(*scene_, hip, start, r, options_.stiffness, state_, s);
     return s;
@@ -53,6 +61,7 @@ class PatchTracker final : public ForceRenderer {
   ForceOptions options_;
   std::unique_ptr<LazyPatches> lazy_;  ///< patches built on demand when the cache is a skeleton
   PatchRefiner refiner_;
+  std::unique_ptr<PatchSeeds> seeds_;  ///< InitialGuess::Tessellation only
   std::vector<double> lambda_;
   PatchContactState state_;
 };
@@ -60,7 +69,8 @@ class PatchTracker final : public ForceRenderer {
 }  // namespace
 
 bool beginPatchStep(const PolygonScene& scene, const PatchCache& cache, const Eigen::Vector3d& hip,
-                    PatchContactState& state, double* lambda, PatchStepStart& start, ForceSample& s) noexcept {
+                    PatchContactState& state, double* lambda, PatchStepStart& start, ForceSample& s,
+                    const PatchSeeds* seeds) noexcept {
   s = ForceSample{};
   s.scp = hip;
   start = PatchStepStart{};
@@ -76,6 +86,17 @@ bool beginPatchStep(const PolygonScene& scene, const PatchCache& cache, const Ei
     return true;
   }
   s.status |= SF_TRACK_GLOBAL;
+  if (seeds) {  // global query on the tessellation: the vertex carries its (face, xi, eta)
+    const PatchSeed seed = seeds->nearest(hip);
+    if (seed.face < 0) {
+      s.status |= SF_TRACK_NO_POLYGON;
+      return false;
+    }
+    start.global = true;
+    start.face = seed.face;
+    start.X = seed.X;
+    return true;  // facet -1: no polygon point to fall back on
+  }
   const NearestPolygonPoint np = scene.nearest(hip);
   if (np.face < 0) {
     s.status |= SF_TRACK_NO_POLYGON;
@@ -92,7 +113,7 @@ bool beginPatchStep(const PolygonScene& scene, const PatchCache& cache, const Ei
 void finishPatchStep(const PolygonScene& scene, const Eigen::Vector3d& hip, const PatchStepStart& start, RefineResult r,
                      double stiffness, PatchContactState& state, ForceSample& s) noexcept {
   const bool was = state.inContact;
-  if (start.global && (r.status & SF_TRACK_DEGENERATE)) {  // no patch here: the polygon itself is the surface
+  if (start.global && start.facet >= 0 && (r.status & SF_TRACK_DEGENERATE)) {  // no patch here: the polygon itself is the surface
     r.scp = start.polygonPoint;
     r.normal = scene.facets().facetNormal[start.facet];
     r.face = start.face;

@@ -12,6 +12,7 @@
 namespace sf {
 
 class PolygonScene;
+class PatchSeeds;
 
 /// SF_TRACK_* bits: 0x10000 .. 0x4000000, above the GP_ST_* bits (0x1 .. 0x200, gp_config.h),
 /// which ForceSample::status also carries (the patch's construction and evaluation bits).
@@ -20,7 +21,7 @@ inline constexpr uint32_t SF_TRACK_MAX_ITER = 0x20000u;       ///< refinement hi
 inline constexpr uint32_t SF_TRACK_STALLED = 0x40000u;        ///< step shrank to nothing before the tolerance
 inline constexpr uint32_t SF_TRACK_BOUNDARY = 0x80000u;       ///< iterate held on a boundary / non-manifold edge
 inline constexpr uint32_t SF_TRACK_DEGENERATE = 0x100000u;    ///< patch not evaluable: polygon used instead
-inline constexpr uint32_t SF_TRACK_GLOBAL = 0x200000u;        ///< a global Embree query ran this step
+inline constexpr uint32_t SF_TRACK_GLOBAL = 0x200000u;        ///< a global query ran this step (Embree, or the seeds)
 inline constexpr uint32_t SF_TRACK_ENTER = 0x400000u;         ///< contact began this step
 inline constexpr uint32_t SF_TRACK_LEAVE = 0x800000u;         ///< contact ended this step
 inline constexpr uint32_t SF_TRACK_NO_POLYGON = 0x1000000u;   ///< the mesh has no polygon
@@ -28,15 +29,18 @@ inline constexpr uint32_t SF_TRACK_BAD_HIP = 0x2000000u;      ///< non-finite HI
 inline constexpr uint32_t SF_TRACK_PROXY_LIMIT = 0x4000000u;  ///< god-object: > 3 constraints or pass limit
 inline constexpr uint32_t SF_TRACK_MASK = 0x7FF0000u;
 
-/// Checks options (stiffness > 0, angleTolerance > 0, maxIterations >= 1, all finite);
+/// Checks options (stiffness > 0, angleTolerance > 0, maxIterations >= 1, all finite,
+/// tessellationLevel in 1..64);
 /// throws InputError naming the bad value.
 void validateForceOptions(const ForceOptions& options);
 
 /// The patch method (Algorithm 1) over a shared scene of the same cache. Out of contact each
 /// step runs the global nearest-polygon query, maps the point to its domain by mean value
 /// coordinates and refines it on the patches; contact starts when (HIP - SCP) . n < 0 (n the
-/// outward patch normal). In contact only the local refinement from the previous SCP runs, and
-/// contact ends when (HIP - SCP) . n >= 0. F = stiffness (SCP - HIP).
+/// outward patch normal). With InitialGuess::Tessellation the global query is instead the
+/// nearest vertex of a level-L tessellation of the patches (PatchSeeds, built in the
+/// constructor), refined from that vertex's (face, xi, eta). In contact only the local refinement from the previous SCP
+/// runs, and contact ends when (HIP - SCP) . n >= 0. F = stiffness (SCP - HIP).
 std::unique_ptr<ForceRenderer> makePatchForceRenderer(std::shared_ptr<const PatchCache> cache,
                                                       std::shared_ptr<const PolygonScene> scene,
                                                       const ForceOptions& options);
@@ -62,9 +66,12 @@ struct PatchStepStart {
 /// First half of a patch-method step at `hip` (m). Returns false when the step ends without a
 /// refinement (non-finite HIP, mesh without polygons): s is then the step's sample and state is
 /// updated. Otherwise fills start, and s with the status bits so far. lambda: scratch for the
-/// largest face's size. Never throws or allocates; the scene must belong to the cache.
+/// largest face's size. seeds: when given (InitialGuess::Tessellation), the global query is the
+/// nearest tessellation vertex instead of the nearest polygon point (start.facet stays -1).
+/// Never throws or allocates; the scene must belong to the cache.
 bool beginPatchStep(const PolygonScene& scene, const PatchCache& cache, const Eigen::Vector3d& hip,
-                    PatchContactState& state, double* lambda, PatchStepStart& start, ForceSample& s) noexcept;
+                    PatchContactState& state, double* lambda, PatchStepStart& start, ForceSample& s,
+                    const PatchSeeds* seeds = nullptr) noexcept;
 
 /// Second half: r = the refinement from `start` (PatchRefiner::refine or OpenCLRefiner). A
 /// degenerate global start falls back to the polygon point; contact when (HIP - SCP) . n < 0;

@@ -7,6 +7,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "force_method.h"
+
 namespace sf {
 
 namespace fs = std::filesystem;
@@ -29,6 +31,11 @@ ojson configJson(const SweepConfig& c) {
                {"stiffness", c.stiffness},
                {"approach", c.approach},
                {"refine", c.refine},
+               {"angle_tolerance", c.angleTolerance},
+               {"max_iterations", c.maxIterations},
+               {"initial_guess", c.initialGuess},
+               {"guess_level", c.guessLevel},
+               {"preset", c.preset},
                {"backend", c.backend},
                {"reference", c.reference},
                {"analytic", c.analytic},
@@ -56,6 +63,12 @@ SweepConfig configFrom(const ojson& j) {
   c.stiffness = j.at("stiffness");
   c.approach = j.at("approach");
   c.refine = j.at("refine");
+  // absent in sweeps written before the presets: the defaults of that time
+  c.angleTolerance = j.value("angle_tolerance", ForceOptions{}.angleTolerance);
+  c.maxIterations = j.value("max_iterations", ForceOptions{}.maxIterations);
+  c.initialGuess = j.value("initial_guess", std::string("polygon"));
+  c.guessLevel = j.value("guess_level", ForceOptions{}.tessellationLevel);
+  c.preset = j.value("preset", std::string());
   c.backend = j.at("backend");
   c.reference = j.at("reference");
   c.analytic = j.at("analytic");

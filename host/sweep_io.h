@@ -23,8 +23,13 @@ struct SweepConfig {
   double stiffness = 500;  ///< N/m
   double approach = 1e-3;  ///< probes first step at p + approach * depth * n
   std::string refine = "newton";
-  std::string backend = "tbb";      ///< tbb | serial | opencl (construction, patch refinement)
-  std::string reference, analytic;  ///< reference mesh path, analytic spec ("" when none)
+  double angleTolerance = 1e-5;          ///< rad, patch refinement (ForceOptions)
+  int maxIterations = 50;                ///< patch refinement cap (ForceOptions)
+  std::string initialGuess = "polygon";  ///< polygon | tessellation (ForceOptions)
+  int guessLevel = 2;                    ///< tessellation level of the initial guess
+  std::string preset;                    ///< --preset as given ("" when none)
+  std::string backend = "tbb";           ///< tbb | serial | opencl (construction, patch refinement)
+  std::string reference, analytic;       ///< reference mesh path, analytic spec ("" when none)
   int knn = 8;
   double thresholdDeg = 10;
   std::vector<std::string> trajectories;  ///< files; empty: the default section loop

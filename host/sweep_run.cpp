@@ -69,6 +69,13 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
   ForceOptions opt;
   opt.stiffness = in.config.stiffness;
   opt.refine = parseRefineMethod(in.config.refine);
+  opt.angleTolerance = in.config.angleTolerance;
+  opt.maxIterations = in.config.maxIterations;
+  opt.initialGuess = parseInitialGuess(in.config.initialGuess);
+  opt.tessellationLevel = in.config.guessLevel;
+  if (in.config.backend == "opencl" && opt.initialGuess == InitialGuess::Tessellation)
+    throw InputError("--initial-guess tessellation: the OpenCL refinement starts from the polygon point; use "
+                     "--backend tbb or --initial-guess polygon");
   if (!in.makeRenderer) {
     auto cache = in.cache;
     in.makeRenderer = [cache, opt](const std::string& m) { return makeForceRenderer(cache, parseForceMethod(m), opt); };

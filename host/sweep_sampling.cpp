@@ -10,7 +10,7 @@
 
 #include "gp_config.h"
 #include "patch_eval.h"
-#include "sweep_knn.h"
+#include "patch_seeds.h"
 #include "tessellate.h"
 
 namespace sf {
@@ -208,10 +208,8 @@ std::vector<SurfaceSample> sampleTriangleSoup(const TriangleSoup& soup, size_t n
 
 struct PatchProjector::Impl {
   const PatchCache& cache;
-  std::vector<int32_t> face;
-  std::vector<Eigen::Vector2d> dom;
-  std::unique_ptr<PointIndex> index;
-  explicit Impl(const PatchCache& c) : cache(c) {}
+  PatchSeeds seeds;
+  Impl(const PatchCache& c, int level) : cache(c), seeds(c, level) {}
 
   SurfaceSample refine(const Eigen::Vector3d& q, int f, Eigen::Vector2d X) const {
     const int n = cache.faceSize(f);
@@ -242,47 +240,23 @@ struct PatchProjector::Impl {
   }
 };
 
-PatchProjector::PatchProjector(const PatchCache& cache, int level) : impl_(std::make_unique<Impl>(cache)) {
-  std::vector<int32_t> qf;
-  std::vector<double> qx, qy;
-  std::vector<Eigen::Vector2d> tri;
-  for (int f = 0; f < cache.numFaces(); ++f) {
-    if (!evaluable(cache, f)) continue;
-    tri.clear();
-    domainTriangles(cache.faceSize(f), level, tri);
-    for (const auto& X : tri) {  // corners repeat; harmless for a nearest-vertex seed
-      qf.push_back(f);
-      qx.push_back(X.x());
-      qy.push_back(X.y());
-    }
-  }
-  std::vector<PatchPoint> pts(qf.size());
-  evaluatePatches(cache, qf.data(), qx.data(), qy.data(), qf.size(), pts.data(), Backend::Tbb);
-  std::vector<Eigen::Vector3d> pos;
-  for (size_t i = 0; i < pts.size(); ++i) {
-    if (pts[i].status & kBadPoint) continue;
-    pos.push_back(pts[i].pos);
-    impl_->face.push_back(qf[i]);
-    impl_->dom.emplace_back(qx[i], qy[i]);
-  }
-  if (pos.empty()) throw InputError("projection: no patch can be evaluated");
-  impl_->index = std::make_unique<PointIndex>(std::move(pos));
+PatchProjector::PatchProjector(const PatchCache& cache, int level) : impl_(std::make_unique<Impl>(cache, level)) {
+  if (impl_->seeds.size() == 0) throw InputError("projection: no patch can be evaluated");
 }
 
 PatchProjector::~PatchProjector() = default;
 
 SurfaceSample PatchProjector::project(const Eigen::Vector3d& q) const {
-  uint32_t idx[8];
-  double d2[8];
-  const size_t k = impl_->index->knn(q, 8, idx, d2);
+  PatchSeed seeds[8];
+  const size_t k = impl_->seeds.knn(q, 8, seeds);
   SurfaceSample best;
   double bestD = 1e300;
   int tried[8], nTried = 0;
   for (size_t i = 0; i < k; ++i) {
-    const int f = impl_->face[idx[i]];
+    const int f = seeds[i].face;
     if (std::find(tried, tried + nTried, f) != tried + nTried) continue;
     tried[nTried++] = f;
-    const SurfaceSample s = impl_->refine(q, f, impl_->dom[idx[i]]);
+    const SurfaceSample s = impl_->refine(q, f, seeds[i].X);
     const double d = (s.point - q).squaredNorm();
     if (d < bestD) {
       bestD = d;

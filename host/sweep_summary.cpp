@@ -248,6 +248,7 @@ std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
             {"stiffness", c.stiffness},
             {"approach", c.approach},
             {"refine", c.refine},
+            {"preset", c.preset},
             {"backend", c.backend},
             {"reference", c.reference},
             {"analytic", c.analytic},

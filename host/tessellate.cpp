@@ -7,12 +7,22 @@
 
 namespace sf {
 
+void domainRingPoints(int n, int L, std::vector<Eigen::Vector2d>& out) {
+  out.emplace_back(0, 0);
+  for (int r = 1; r <= L; ++r)
+    for (int k = 0; k < n; ++k) {
+      const Eigen::Vector2d a = domainCorner(n, k), b = domainCorner(n, (k + 1) % n);
+      for (int j = 0; j < r; ++j) out.push_back((double(r) / L) * (a + (double(j) / r) * (b - a)));
+    }
+}
+
 TriangleMesh tessellatePatches(const PatchCache& cache, int level, const BatchEvaluator& evaluate) {
   if (level < 1 || level > 256) throw InputError("--level: expected 1..256, got " + std::to_string(level));
   const int L = level;
   TriangleMesh out;
   std::vector<int32_t> qf;
   std::vector<double> qx, qy;
+  std::vector<Eigen::Vector2d> dom;
   for (int f = 0; f < cache.numFaces(); ++f) {
     if (cache.faceStatus[f] & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE)) continue;
     const int n = cache.faceSize(f);
@@ -24,19 +34,13 @@ TriangleMesh tessellatePatches(const PatchCache& cache, int level, const BatchEv
       if (r == 0) return base;
       return base + ringStart(r) + ((k * r + j) % (n * r));
     };
-    qf.push_back(f);
-    qx.push_back(0);
-    qy.push_back(0);
-    for (int r = 1; r <= L; ++r)
-      for (int k = 0; k < n; ++k) {
-        const Eigen::Vector2d a = domainCorner(n, k), b = domainCorner(n, (k + 1) % n);
-        for (int j = 0; j < r; ++j) {
-          const Eigen::Vector2d p = (double(r) / L) * (a + (double(j) / r) * (b - a));
-          qf.push_back(f);
-          qx.push_back(p.x());
-          qy.push_back(p.y());
-        }
-      }
+    dom.clear();
+    domainRingPoints(n, L, dom);
+    for (const Eigen::Vector2d& p : dom) {
+      qf.push_back(f);
+      qx.push_back(p.x());
+      qy.push_back(p.y());
+    }
     for (int r = 1; r <= L; ++r)
       for (int k = 0; k < n; ++k) {
         for (int j = 0; j < r; ++j) {

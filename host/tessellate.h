@@ -19,6 +19,11 @@ struct TriangleMesh {
   std::vector<int32_t> face;
 };
 
+/// Appends the domain points of one n-gon's level-L tessellation, in tessellatePatches' vertex
+/// order: the centre, then ring r = 1..L (the domain polygon scaled by r/L, each side split in
+/// r): 1 + n L (L+1) / 2 points (xi, eta).
+void domainRingPoints(int n, int level, std::vector<Eigen::Vector2d>& out);
+
 /// Samples every built patch on `level` rings (each polygon edge split `level` times):
 /// 1 + n L (L+1) / 2 vertices and n L^2 triangles per n-gon, counter-clockwise seen from
 /// outside. Faces that were not built (status GP_ST_TOO_MANY_SIDES/NONFINITE) are skipped.

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "cache_file.h"
+#include "force_presets.h"
 #include "mesh_pipeline.h"
 
 namespace sf::rt {
@@ -172,7 +173,7 @@ Scene loadScene(const std::string& path, const SceneDefaults& defaults, const Re
     const std::string w = "/objects/" + std::to_string(i);
     const json& o = objs[i];
     if (!o.is_object()) c.fail(w, "expected an object with \"mesh\" or \"cache\"");
-    c.onlyKeys(o, w, {"name", "mesh", "cache", "pose", "stiffness", "method", "comment"});
+    c.onlyKeys(o, w, {"name", "mesh", "cache", "pose", "stiffness", "method", "preset", "comment"});
     const bool hasMesh = o.contains("mesh"), hasCache = o.contains("cache");
     if (hasMesh == hasCache)
       c.fail(w, hasMesh ? "give either \"mesh\" or \"cache\", not both" : "missing \"mesh\" or \"cache\"");
@@ -197,6 +198,18 @@ Scene loadScene(const std::string& path, const SceneDefaults& defaults, const Re
       if (!ok) c.fail(w + "/method", "expected \"patch\", \"direct\" or \"shading\", got " + m.dump());
     }
     obj.force = defaults.force;
+    PatchOptions patchOptions = defaults.patchOptions;
+    if (o.contains("preset")) {  // before "stiffness"; a preset leaves the stiffness alone
+      const std::string name = stringField(c, o["preset"], w + "/preset");
+      const ForcePreset* preset = nullptr;
+      try {
+        preset = &findForcePreset(name);
+      } catch (const InputError& e) {
+        c.fail(w + "/preset", e.what());
+      }
+      applyForcePreset(*preset, obj.force);
+      patchOptions.precision = preset->precision;
+    }
     if (o.contains("stiffness")) {
       obj.force.stiffness = c.number(o["stiffness"], w + "/stiffness", "a stiffness > 0 N/m");
       if (!(obj.force.stiffness > 0))
@@ -205,8 +218,8 @@ Scene loadScene(const std::string& path, const SceneDefaults& defaults, const Re
     try {
       if (hasMesh) {
         const auto t0 = std::chrono::steady_clock::now();
-        const LoadedMesh loaded = loadMesh(obj.source, defaults.patchOptions);
-        obj.cache = std::make_shared<const PatchCache>(preparePatchSkeleton(loaded, defaults.patchOptions));
+        const LoadedMesh loaded = loadMesh(obj.source, patchOptions);
+        obj.cache = std::make_shared<const PatchCache>(preparePatchSkeleton(loaded, patchOptions));
         obj.buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         obj.fromMesh = true;
       } else {

@@ -93,7 +93,9 @@ struct SceneDefaults {
 /// `cache` (a patch cache file). Optional: `name` (default: the file's stem), `pose`
 /// (translation in m; rotation as axis-angle with a non-zero axis (normalised) and an angle
 /// in radians, or as a quaternion [w, x, y, z] (normalised; non-zero); uniform scale > 0),
-/// `stiffness` (N/m, > 0), `method` (patch|direct|shading), `comment`. Unknown keys are
+/// `stiffness` (N/m, > 0), `method` (patch|direct|shading), `preset` (fast|balanced|accurate,
+/// force_presets.h: the refinement options, and the precision of a `mesh` object's patches;
+/// `stiffness` still applies), `comment`. Unknown keys are
 /// errors. Throws InputError `FILE: /json/path: message` for bad JSON, missing or unknown
 /// fields and bad values; errors inside a mesh or cache file name that file.
 Scene loadScene(const std::string& path, const SceneDefaults& defaults, const RendererFactory& factory);

@@ -7,6 +7,7 @@
 
 #include "analytic_renderers.h"
 #include "cache_file.h"
+#include "force_presets.h"
 #include "mesh_pipeline.h"
 #include "scene.h"
 
@@ -26,6 +27,8 @@ struct Made {
   sf::ForceMethod method;
   double stiffness;
   int faces;
+  double angleTolerance = 0;
+  int maxIterations = 0;
 };
 
 class RuntimeScene : public ::testing::Test {
@@ -40,7 +43,7 @@ class RuntimeScene : public ::testing::Test {
   /// Each object's renderer: the half-space z <= 0.5 of its own frame (the cube's top plane).
   RendererFactory factory() {
     return [this](std::shared_ptr<const sf::PatchCache> c, sf::ForceMethod m, const sf::ForceOptions& o) {
-      made.push_back({m, o.stiffness, c->numFaces()});
+      made.push_back({m, o.stiffness, c->numFaces(), o.angleTolerance, o.maxIterations});
       return std::make_unique<PlaneRenderer>(Vector3d::UnitZ(), 0.5, o.stiffness);
     };
   }
@@ -84,6 +87,27 @@ TEST_F(RuntimeScene, ParsesObjectsWithDefaults) {
   EXPECT_EQ(made[1].faces, 6);
   EXPECT_EQ(s.totalFaces(), 12);
   EXPECT_TRUE(s.worldVertex(1, 7).isApprox(Vector3d(1.25, 2.25, 3.25)));
+}
+
+TEST_F(RuntimeScene, PresetSetsRefinementAndMeshPrecisionButNotStiffness) {
+  defaults.force.stiffness = 321;
+  const sf::ForcePreset& fast = sf::findForcePreset("fast");
+  const Scene s = load(R"({"objects": [
+      {"mesh": "../cube.obj", "preset": "fast", "stiffness": 700},
+      {"mesh": "../cube.obj", "preset": "fast"},
+      {"mesh": "../cube.obj"}]})");
+  ASSERT_EQ(made.size(), 3u);
+  EXPECT_EQ(made[0].stiffness, 700);
+  EXPECT_EQ(made[1].stiffness, 321);
+  EXPECT_EQ(made[0].angleTolerance, fast.angleTolerance);
+  EXPECT_EQ(made[0].maxIterations, fast.maxIterations);
+  EXPECT_EQ(s.objects()[0].cache->options.precision, fast.precision);
+  EXPECT_EQ(made[2].angleTolerance, sf::ForceOptions{}.angleTolerance);
+  EXPECT_EQ(s.objects()[2].cache->options.precision, defaults.patchOptions.precision);
+  const std::string e = error(R"({"objects": [{"mesh": "../cube.obj", "preset": "turbo"}]})");
+  EXPECT_NE(e.find("scene.json: /objects/0/preset: --preset: expected fast|balanced|accurate, got 'turbo'"),
+            std::string::npos)
+      << e;
 }
 
 TEST_F(RuntimeScene, LoadsCacheFiles) {

@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "cache_file.h"
+#include "force_presets.h"
 #include "opencl_backend.h"
 
 namespace sf::cli {
@@ -16,6 +17,42 @@ PatchOptions PatchArgs::options() const {
     throw InputError("--orient: expected outward|keep, got '" + orient + "'");
   o.keepOrientation = orient == "keep";
   return o;
+}
+
+void RefineArgs::apply(ForceOptions& o) const {
+  if (!preset.empty()) applyForcePreset(findForcePreset(preset), o);
+  auto given = [](const CLI::Option* opt) { return opt && opt->count() > 0; };
+  if (given(refineOpt)) o.refine = parseRefineMethod(refine);
+  if (given(tolOpt)) o.angleTolerance = angleTol;
+  if (given(iterOpt)) o.maxIterations = maxIter;
+  if (given(guessOpt)) o.initialGuess = parseInitialGuess(guess);
+  if (given(levelOpt)) o.tessellationLevel = guessLevel;
+}
+
+Precision RefineArgs::precision(Precision given) const {
+  if (preset.empty() || (precisionOpt && precisionOpt->count() > 0)) return given;
+  return findForcePreset(preset).precision;
+}
+
+void addRefineArgs(CLI::App& cmd, RefineArgs& a) {
+  cmd.add_option("--preset", a.preset,
+                 "fast|balanced|accurate: refinement options (and the precision of patches built now) from the "
+                 "trade-off study, README 'Speed against accuracy'; explicit options override it");
+  a.refineOpt = cmd.add_option("--refine", a.refine, "newton|paper: SCP refinement on the patches")
+                    ->check(CLI::IsMember({"newton", "paper"}))
+                    ->capture_default_str();
+  a.tolOpt =
+      cmd.add_option("--angle-tol", a.angleTol, "refinement stops below this angle (rad)")->capture_default_str();
+  a.iterOpt = cmd.add_option("--max-iter", a.maxIter, "refinement iteration cap")->capture_default_str();
+  a.guessOpt = cmd.add_option("--initial-guess", a.guess,
+                              "polygon|tessellation: start of refinement out of contact (nearest base-polygon point, "
+                              "or nearest vertex of a coarse patch tessellation)")
+                   ->check(CLI::IsMember({"polygon", "tessellation"}))
+                   ->capture_default_str();
+  a.levelOpt = cmd.add_option("--guess-level", a.guessLevel, "tessellation level of --initial-guess tessellation")
+                   ->check(CLI::Range(1, 64))
+                   ->capture_default_str();
+  a.precisionOpt = cmd.get_option_no_throw("--precision");
 }
 
 void addPatchArgs(CLI::App& cmd, PatchArgs& a) {

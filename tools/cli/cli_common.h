@@ -5,6 +5,7 @@
 #include <memory>
 #include <string>
 
+#include "force_method.h"
 #include "mesh_pipeline.h"
 #include "patch_eval.h"
 
@@ -21,6 +22,26 @@ struct PatchArgs {
 
 /// Registers --precision, --normals, --cross-tangent, --orient, --backend, --device, --threads.
 void addPatchArgs(CLI::App& cmd, PatchArgs& args);
+
+/// The patch method's refinement options of every command that computes forces (trace, loop,
+/// sweep): --preset, --refine, --angle-tol, --max-iter, --initial-guess, --guess-level.
+/// Order: defaults, then the preset (force_presets.h), then the options given explicitly.
+struct RefineArgs {
+  std::string preset, refine = "newton", guess = "polygon";
+  double angleTol = ForceOptions{}.angleTolerance;
+  int maxIter = ForceOptions{}.maxIterations, guessLevel = ForceOptions{}.tessellationLevel;
+  CLI::Option *refineOpt = nullptr, *tolOpt = nullptr, *iterOpt = nullptr, *guessOpt = nullptr, *levelOpt = nullptr;
+  CLI::Option* precisionOpt = nullptr;  ///< --precision of addPatchArgs, when the command has it
+  /// Fills o's refinement fields (stiffness untouched). Throws InputError for an unknown
+  /// preset, refinement or initial guess.
+  void apply(ForceOptions& o) const;
+  /// The preset's precision advice for patches built now, unless --precision was given;
+  /// `given` is the precision otherwise used.
+  Precision precision(Precision given) const;
+};
+
+/// Registers the RefineArgs options; call after addPatchArgs (to see --precision).
+void addRefineArgs(CLI::App& cmd, RefineArgs& args);
 
 /// A patch cache obtained from a mesh (built now) or a cache file (loaded), with the
 /// mesh-side information when there was a mesh.

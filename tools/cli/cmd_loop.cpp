@@ -13,6 +13,8 @@
 #include <memory>
 
 #include "cache_file.h"
+#include "cli_common.h"
+#include "force_tracking.h"
 #include "loop_report.h"
 #include "mesh_pipeline.h"
 #include "record_writer.h"
@@ -32,6 +34,7 @@ struct LoopArgs {
   double rate = 1000, duration = 10, stiffness = 500, speed = 0.1, depth = 0, spinUs = 200;
   int patchCapacity = 256;
   rt::SafetyOptions safety;
+  RefineArgs refine;
   int rtPriority = 0;
   bool depthGiven = false;
 };
@@ -86,6 +89,9 @@ void run(const LoopArgs& a) {
   rt::SceneDefaults defaults;
   defaults.method = method;
   defaults.force.stiffness = a.stiffness;
+  a.refine.apply(defaults.force);
+  validateForceOptions(defaults.force);
+  defaults.patchOptions.precision = a.refine.precision(defaults.patchOptions.precision);
   defaults.force.patchCapacity = a.patchCapacity;
   const rt::RendererFactory factory = [](std::shared_ptr<const PatchCache> c, ForceMethod m, const ForceOptions& o) {
     return makeForceRenderer(std::move(c), m, o);
@@ -104,9 +110,12 @@ void run(const LoopArgs& a) {
   }
   for (const rt::SceneObject& o : scene.objects()) {
     char buf[512];
-    std::snprintf(buf, sizeof buf, "object %s: %s, %d faces, method %s, stiffness %g N/m%s\n", o.name.c_str(),
-                  o.source.c_str(), o.cache->numFaces(), toString(o.method), o.force.stiffness,
-                  o.fromMesh ? " (patches built lazily near the contact point)" : "");
+    std::snprintf(buf, sizeof buf,
+                  "object %s: %s, %d faces, method %s, stiffness %g N/m, refine %s (angle tol %g rad, max %d "
+                  "iterations, %s start)%s\n",
+                  o.name.c_str(), o.source.c_str(), o.cache->numFaces(), toString(o.method), o.force.stiffness,
+                  toString(o.force.refine), o.force.angleTolerance, o.force.maxIterations,
+                  toString(o.force.initialGuess), o.fromMesh ? " (patches built lazily near the contact point)" : "");
     info += buf;
   }
 
@@ -180,6 +189,7 @@ void addLoopCommand(CLI::App& app) {
                 "consecutive missed deadlines that latch a zero-force fault")
       ->capture_default_str();
   c->add_option("--spin-us", a->spinUs, "busy-wait before each deadline, us")->capture_default_str();
+  addRefineArgs(*c, a->refine);
   c->add_option("--rt-priority", a->rtPriority, "SCHED_FIFO priority 1..99 and mlockall (0: off)")
       ->check(CLI::Range(0, 99))
       ->capture_default_str();

@@ -16,6 +16,7 @@
 
 #include "cache_file.h"
 #include "cli_common.h"
+#include "force_tracking.h"
 #include "sweep_progress.h"
 #include "sweep_report.h"
 #include "sweep_run.h"
@@ -41,7 +42,7 @@ struct SigintGuard {
 };
 
 struct SweepArgs {
-  std::string cache, mesh, depth, methods = "patch,direct,shading", refine = "newton", reference, analytic;
+  std::string cache, mesh, depth, methods = "patch,direct,shading", reference, analytic;
   std::string sampleOn = "patch", hips, shard = "0/1", output, trajectoryStep;
   std::vector<std::string> trajectories;
   uint64_t samples = 10000, seed = 1;
@@ -49,6 +50,7 @@ struct SweepArgs {
   int knn = 8, level = 8;
   bool noPlots = false;
   PatchArgs patch;
+  RefineArgs refine;
 };
 
 std::vector<std::string> splitList(const std::string& s) {
@@ -78,7 +80,15 @@ void runSweepCommand(const SweepArgs& a) {
   c.level = a.level;
   c.stiffness = a.stiffness;
   c.approach = a.approach;
-  c.refine = a.refine;
+  ForceOptions fo;
+  a.refine.apply(fo);
+  validateForceOptions(fo);
+  c.refine = toString(fo.refine);
+  c.angleTolerance = fo.angleTolerance;
+  c.maxIterations = fo.maxIterations;
+  c.initialGuess = toString(fo.initialGuess);
+  c.guessLevel = fo.tessellationLevel;
+  c.preset = a.refine.preset;
   c.backend = a.patch.backend;
   c.reference = a.reference;
   c.analytic = a.analytic;
@@ -92,7 +102,9 @@ void runSweepCommand(const SweepArgs& a) {
 
   if (!a.mesh.empty() && isPatchCacheFile(a.mesh)) throw InputError(a.mesh + ": this is a patch cache: use --cache");
   if (!a.cache.empty() && !isPatchCacheFile(a.cache)) throw InputError(a.cache + ": not a patch cache: use --mesh");
-  Source src = openSource(c.source, a.patch);
+  PatchArgs patch = a.patch;
+  patch.precision = toString(a.refine.precision(parsePrecision(a.patch.precision)));
+  Source src = openSource(c.source, patch);
   if (src.loaded)
     std::printf(
         "sweep: built all %d patches of %s in %.2f s (%s backend; the HIPs are placed on or projected onto "
@@ -186,7 +198,6 @@ void addSweepCommands(CLI::App& app) {
   s->add_option("--approach", a->approach, "probes first step at p + APPROACH * depth * n (outside), then at the HIP")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  s->add_option("--refine", a->refine, "newton|paper: patch refinement")->capture_default_str();
   s->add_option("--level", a->level, "tessellation level for sampling and projection")
       ->check(CLI::Range(1, 64))
       ->capture_default_str();
@@ -206,6 +217,7 @@ void addSweepCommands(CLI::App& app) {
   s->add_flag("--no-plots", a->noPlots, "do not run tools/sweep_plots.py");
   s->add_option("-o,--output", a->output, "output directory")->required();
   addPatchArgs(*s, a->patch);
+  addRefineArgs(*s, a->refine);
   s->footer(
       "--backend tbb|serial|opencl: opencl builds the patches and runs the patch method's refinements (--refine "
       "newton) on the OpenCL device, a chunk of HIPs per kernel run; the global queries, god-objects and "

@@ -20,11 +20,11 @@ namespace sf::cli {
 namespace {
 
 struct TraceArgs {
-  std::string cache, mesh, method = "patch", hips, output, refine = "newton";
+  std::string cache, mesh, method = "patch", hips, output;
+  double stiffness = ForceOptions{}.stiffness;
   int patchCapacity = 256;
-  double stiffness = ForceOptions{}.stiffness, angleTol = ForceOptions{}.angleTolerance;
-  int maxIter = ForceOptions{}.maxIterations;
   PatchArgs patch;
+  RefineArgs refine;
 };
 
 bool parseDouble(const char* b, const char* e, double& out) {
@@ -81,9 +81,7 @@ std::vector<Eigen::Vector3d> readHips(const std::string& path) {
 void run(const TraceArgs& a) {
   ForceOptions opt;
   opt.stiffness = a.stiffness;
-  opt.angleTolerance = a.angleTol;
-  opt.maxIterations = a.maxIter;
-  opt.refine = parseRefineMethod(a.refine);
+  a.refine.apply(opt);
   opt.patchCapacity = a.patchCapacity;
   const ForceMethod method = parseForceMethod(a.method);
   validateForceOptions(opt);
@@ -91,7 +89,9 @@ void run(const TraceArgs& a) {
   if (!a.cache.empty() && !isPatchCacheFile(a.cache)) throw InputError(a.cache + ": not a patch cache file");
   if (!a.mesh.empty() && isPatchCacheFile(a.mesh)) throw InputError(a.mesh + ": is a patch cache; use --cache");
   const std::vector<Eigen::Vector3d> hips = readHips(a.hips);
-  Source src = openSource(input, a.patch, /*lazy=*/true);  // a mesh: patches built where the HIPs go
+  PatchArgs patch = a.patch;
+  patch.precision = toString(a.refine.precision(parsePrecision(a.patch.precision)));
+  Source src = openSource(input, patch, /*lazy=*/true);  // a mesh: patches built where the HIPs go
   auto cache = std::make_shared<const PatchCache>(std::move(src.cache));
   auto scene = std::make_shared<const PolygonScene>(*cache);
   auto renderer = makeForceRenderer(cache, scene, method, opt);
@@ -136,10 +136,11 @@ void run(const TraceArgs& a) {
     throw InputError(a.output + ": write failed");
   }
   std::fprintf(stderr,
-               "trace: %zu steps (%s%s%s), %zu in contact, %zu contacts, max consecutive force difference "
+               "trace: %zu steps (%s%s%s%s%s), %zu in contact, %zu contacts, max consecutive force difference "
                "%.6g N (step %zu), compute %.3g us/step mean, %.3g us max -> %s\n",
                hips.size(), toString(method), method == ForceMethod::Patch ? ", refine " : "",
-               method == ForceMethod::Patch ? toString(opt.refine) : "", inContact, starts, maxDiff, maxAt,
+               method == ForceMethod::Patch ? toString(opt.refine) : "", a.refine.preset.empty() ? "" : ", preset ",
+               a.refine.preset.c_str(), inContact, starts, maxDiff, maxAt,
                hips.empty() ? 0.0 : 1e6 * total / hips.size(), 1e6 * worst, a.output.c_str());
   if (!a.mesh.empty())
     std::fprintf(stderr, "trace: patches built lazily: %d of %d faces (at most %s held)\n", renderer->patchesBuilt(),
@@ -166,12 +167,8 @@ void addTraceCommand(CLI::App& app) {
                 "CSV to write: x,y,z,contact,face,xi,eta,scp_x,scp_y,scp_z,fx,fy,fz,iterations,status")
       ->required();
   t->add_option("--stiffness", a->stiffness, "k in N/m (F = k (SCP - HIP))")->capture_default_str();
-  t->add_option("--refine", a->refine, "newton|paper: SCP refinement on the patches")
-      ->check(CLI::IsMember({"newton", "paper"}))
-      ->capture_default_str();
-  t->add_option("--angle-tol", a->angleTol, "refinement stops below this angle (rad)")->capture_default_str();
-  t->add_option("--max-iter", a->maxIter, "refinement iteration cap")->capture_default_str();
   addPatchArgs(*t, a->patch);
+  addRefineArgs(*t, a->refine);
   t->callback([a] {
     if (a->cache.empty() == a->mesh.empty()) throw CLI::RequiredError("exactly one of --cache or --mesh");
     run(*a);
