@@ -1,40 +1,26 @@
-// `smoothforce trace` end to end (skipped with a reason while the command is not registered).
+// `smoothforce trace` end to end.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "cli_test_support.h"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct TraceRun {
-  int status = -1;
-  std::string out;
-};
-
-TraceRun runCli(const std::string& args) {
-  const std::string cmd = std::string(SF_CLI_PATH) + " " + args + " 2>&1";
-  TraceRun r;
-  FILE* p = popen(cmd.c_str(), "r");
-  std::array<char, 4096> buf;
-  size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
-  const int st = pclose(p);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
-}
+using sf::test::CliResult;
+using TraceRun = CliResult;
+CliResult runCli(const std::string& args) { return sf::test::smoothforce(args); }
 
 class ForceTraceCli : public ::testing::Test {
  protected:
   void SetUp() override {
-    if (runCli("trace --help").status != 0) GTEST_SKIP() << "`smoothforce trace` is not registered in main.cpp yet";
     dir = fs::temp_directory_path() / ("sf_trace_" + std::to_string(::getpid()));
     fs::create_directories(dir);
   }

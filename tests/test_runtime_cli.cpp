@@ -23,8 +23,8 @@ class RuntimeCli : public ::testing::Test {
  protected:
   void SetUp() override {
     const CliResult help = smoothforce("loop --help");
-    if (help.status != 0 || help.out.find("--duration") == std::string::npos)
-      GTEST_SKIP() << "`smoothforce loop` is not registered in this build";
+    ASSERT_TRUE(help.status == 0 && help.out.find("--duration") != std::string::npos)
+        << "`smoothforce loop` is not registered: " << help.out;
     dir = fs::temp_directory_path() / ("sf_rt_cli_" + std::to_string(::getpid()));
     fs::create_directories(dir);
     std::ofstream(dir / "cube.obj") << "v -0.5 -0.5 -0.5\nv 0.5 -0.5 -0.5\nv -0.5 0.5 -0.5\nv 0.5 0.5 -0.5\n"

@@ -29,9 +29,10 @@ class SweepCli : public ::testing::Test {
  protected:
   void SetUp() override {
     const CliResult sweep = run("sweep --help"), gen = run("generate --help");
-    if (sweep.status != 0 || sweep.out.find("--depth") == std::string::npos || gen.status != 0 ||
-        gen.out.find("torus-knot") == std::string::npos)
-      GTEST_SKIP() << "sweep/generate are not registered in tools/cli/main.cpp yet";
+    ASSERT_TRUE(sweep.status == 0 && sweep.out.find("--depth") != std::string::npos)
+        << "`smoothforce sweep` is not registered: " << sweep.out;
+    ASSERT_TRUE(gen.status == 0 && gen.out.find("torus-knot") != std::string::npos)
+        << "`smoothforce generate` is not registered: " << gen.out;
     dir = fs::temp_directory_path() / ("sf_sweep_cli_" + std::to_string(::getpid()));
     fs::create_directories(dir);
   }
