@@ -77,8 +77,11 @@ struct SegmentContext {
   Eigen::Vector3d a, b;
   const int* exclude;
   int nExclude;
+  bool bothSides;  ///< also report exits (the reversed segment entering a facet)
+  bool through;    ///< segmentEntersFacet's through test for entries
   double bestT;
   int bestFacet;
+  bool bestEntering;
 };
 
 void intersectFn(const RTCIntersectFunctionNArguments* args) {
@@ -90,9 +93,18 @@ void intersectFn(const RTCIntersectFunctionNArguments* args) {
   for (int i = pf.faceFacetOffsets[f]; i < pf.faceFacetOffsets[f + 1]; ++i) {
     if (std::find(sc->exclude, sc->exclude + sc->nExclude, i) != sc->exclude + sc->nExclude) continue;
     double t;
-    if (segmentEntersFacet(pf, i, sc->a, sc->b, t) && (t < sc->bestT || (t == sc->bestT && i < sc->bestFacet))) {
+    if (segmentEntersFacet(pf, i, sc->a, sc->b, t, sc->through) &&
+        (t < sc->bestT || (t == sc->bestT && (!sc->bestEntering || i < sc->bestFacet)))) {
       sc->bestT = t;
       sc->bestFacet = i;
+      sc->bestEntering = true;
+      hit = true;
+    }
+    if (sc->bothSides && segmentEntersFacet(pf, i, sc->b, sc->a, t) &&
+        (1 - t < sc->bestT || (1 - t == sc->bestT && !sc->bestEntering && i < sc->bestFacet))) {
+      sc->bestT = 1 - t;
+      sc->bestFacet = i;
+      sc->bestEntering = false;
       hit = true;
     }
   }
@@ -108,7 +120,10 @@ void occludedFn(const RTCOccludedFunctionNArguments*) {}  // not used; rtcOcclud
 }  // namespace
 
 PolygonScene::PolygonScene(const PatchCache& cache, double planarTolerance)
-    : cache_(cache), facets_(buildPolygonFacets(cache, planarTolerance)), impl_(std::make_unique<Impl>()) {
+    : cache_(cache),
+      planarTolerance_(planarTolerance),
+      facets_(buildPolygonFacets(cache, planarTolerance)),
+      impl_(std::make_unique<Impl>()) {
   impl_->facets = &facets_;
   const double scale =
       facets_.extent() + std::max(facets_.boxMax.cwiseAbs().maxCoeff(), facets_.boxMin.cwiseAbs().maxCoeff());
@@ -160,19 +175,25 @@ NearestPolygonPoint PolygonScene::nearest(const Eigen::Vector3d& p) const noexce
   return out;
 }
 
-PolygonCrossing PolygonScene::firstEntry(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const int* exclude,
-                                         int nExclude) const noexcept {
+namespace {
+
+PolygonCrossing segmentQuery(const PolygonScene::Impl& impl, const PolygonFacets& facets, const Eigen::Vector3d& a,
+                             const Eigen::Vector3d& b, const int* exclude, int nExclude, bool bothSides,
+                             bool through) noexcept {
   PolygonCrossing out;
-  if (cache_.numFaces() == 0 || !a.allFinite() || !b.allFinite()) return out;
+  if (facets.numFaces() == 0 || !a.allFinite() || !b.allFinite()) return out;
   SegmentContext sc;
   rtcInitIntersectContext(&sc.base);
-  sc.pf = &facets_;
+  sc.pf = &facets;
   sc.a = a;
   sc.b = b;
   sc.exclude = exclude;
   sc.nExclude = exclude ? nExclude : 0;
+  sc.bothSides = bothSides;
+  sc.through = through;
   sc.bestT = 2;
   sc.bestFacet = -1;
+  sc.bestEntering = true;
   RTCRayHit rh;
   const Eigen::Vector3d d = b - a;
   rh.ray.org_x = float(a.x());
@@ -191,13 +212,41 @@ PolygonCrossing PolygonScene::firstEntry(const Eigen::Vector3d& a, const Eigen::
   rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   if (!(d.squaredNorm() > 0)) return out;  // a zero-length segment enters nothing
-  rtcIntersect1(impl_->scene, &sc.base, &rh);
+  rtcIntersect1(impl.scene, &sc.base, &rh);
   if (sc.bestFacet < 0) return out;
   out.facet = sc.bestFacet;
-  out.face = facets_.facetFace[sc.bestFacet];
+  out.face = facets.facetFace[sc.bestFacet];
   out.t = sc.bestT;
   out.point = a + sc.bestT * d;
+  out.entering = sc.bestEntering;
   return out;
+}
+
+}  // namespace
+
+PolygonCrossing PolygonScene::firstEntry(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const int* exclude,
+                                         int nExclude, bool through) const noexcept {
+  return segmentQuery(*impl_, facets_, a, b, exclude, nExclude, false, through);
+}
+
+PolygonCrossing PolygonScene::firstCrossing(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const noexcept {
+  return segmentQuery(*impl_, facets_, a, b, nullptr, 0, true, false);
+}
+
+bool PolygonScene::contains(const Eigen::Vector3d& p, const Eigen::Vector3d& dir) const noexcept {
+  if (facets_.numFaces() == 0 || !p.allFinite()) return false;
+  const double len = 2 * facets_.extent() + (p - 0.5 * (facets_.boxMin + facets_.boxMax)).norm();
+  const Eigen::Vector3d fixed[3] = {Eigen::Vector3d(0.5406, 0.6209, 0.5676).normalized(),
+                                    Eigen::Vector3d(-0.7071, 0.1961, -0.6793).normalized(),
+                                    Eigen::Vector3d(0.2673, -0.8018, 0.5345).normalized()};
+  const bool haveDir = dir.allFinite() && dir.squaredNorm() > 0;
+  int exits = 0;
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d d = haveDir && k == 0 ? Eigen::Vector3d(dir.normalized()) : fixed[k];
+    const PolygonCrossing c = firstCrossing(p, p + len * d);
+    exits += c.face >= 0 && !c.entering ? 1 : 0;
+  }
+  return exits >= 2;
 }
 
 }  // namespace sf

@@ -56,7 +56,8 @@ std::unique_ptr<ForceRenderer> makeForceRenderer(std::shared_ptr<const PatchCach
                                                  const ForceOptions& options) {
   validateForceOptions(options);
   if (!cache) throw InputError("makeForceRenderer: no cache");
-  auto scene = std::make_shared<const PolygonScene>(*cache);
+  auto scene = std::make_shared<const PolygonScene>(
+      *cache, method == ForceMethod::Patch ? kPlanarTolerance : kWatertightPlanarTolerance);
   return makeForceRenderer(std::move(cache), std::move(scene), method, options);
 }
 

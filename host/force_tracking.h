@@ -14,7 +14,7 @@ namespace sf {
 class PolygonScene;
 class PatchSeeds;
 
-/// SF_TRACK_* bits: 0x10000 .. 0x4000000, above the GP_ST_* bits (0x1 .. 0x200, gp_config.h),
+/// SF_TRACK_* bits: 0x10000 .. 0x8000000, above the GP_ST_* bits (0x1 .. 0x200, gp_config.h),
 /// which ForceSample::status also carries (the patch's construction and evaluation bits).
 inline constexpr uint32_t SF_TRACK_CONVERGED = 0x10000u;      ///< refinement met angleTolerance
 inline constexpr uint32_t SF_TRACK_MAX_ITER = 0x20000u;       ///< refinement hit maxIterations
@@ -27,7 +27,8 @@ inline constexpr uint32_t SF_TRACK_LEAVE = 0x800000u;         ///< contact ended
 inline constexpr uint32_t SF_TRACK_NO_POLYGON = 0x1000000u;   ///< the mesh has no polygon
 inline constexpr uint32_t SF_TRACK_BAD_HIP = 0x2000000u;      ///< non-finite HIP: ignored, state reset
 inline constexpr uint32_t SF_TRACK_PROXY_LIMIT = 0x4000000u;  ///< god-object: > 3 constraints or pass limit
-inline constexpr uint32_t SF_TRACK_MASK = 0x7FF0000u;
+inline constexpr uint32_t SF_TRACK_INSIDE = 0x8000000u;       ///< god-object: HIP inside, proxy on nearest point
+inline constexpr uint32_t SF_TRACK_MASK = 0xFFF0000u;
 
 /// Checks options (stiffness > 0, angleTolerance > 0, maxIterations >= 1, all finite,
 /// tessellationLevel in 1..64);

@@ -171,14 +171,21 @@ double facetOutsideDistance(const PolygonFacets& pf, int i, const Eigen::Vector3
   return d;
 }
 
-bool segmentEntersFacet(const PolygonFacets& pf, int i, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                        double& t) noexcept {
+bool segmentEntersFacet(const PolygonFacets& pf, int i, const Eigen::Vector3d& a, const Eigen::Vector3d& b, double& t,
+                        bool through) noexcept {
   const double tol = pf.planeTolerance;
   const double sa = (a - pf.facetOrigin[i]).dot(pf.facetNormal[i]);
   const double sb = (b - pf.facetOrigin[i]).dot(pf.facetNormal[i]);
   if (!(sa >= -tol && sb < -tol)) return false;
   t = sa <= 0 ? 0.0 : std::min(1.0, sa / (sa - sb));
-  return facetOutsideDistance(pf, i, a + t * (b - a)) <= pf.facetTolerance[i];
+  if (facetOutsideDistance(pf, i, a + t * (b - a)) > pf.facetTolerance[i]) return false;
+  if (!through || sa > tol) return true;
+  // a on the plane: a touch of the facet's boundary counts only when the segment goes on
+  // through the facet, not when it dives behind the plane beside it (a proxy at a shared
+  // vertex or edge that moves away from this facet). The probe may pass outside by 1/20 of
+  // its length (3 degrees): along a fold between two facets it projects outside both.
+  const double len = (b - a).norm(), probe = std::min(len, 1e-3 * pf.faceDiameter[pf.facetFace[i]]);
+  return facetOutsideDistance(pf, i, a + (probe / len) * (b - a)) <= pf.facetTolerance[i] + 0.05 * probe;
 }
 
 }  // namespace sf

@@ -16,6 +16,15 @@ namespace sf {
 /// triangles (centroid, V_k, V_{k+1}), whose outer edges are the real mesh edges.
 inline constexpr double kPlanarTolerance = 1e-3;
 
+/// The god-object's facets (god_object.h): only faces flat to rounding stay one facet, so
+/// that adjacent facets meet on the real 3D edges. A projected facet lies up to
+/// planarity * diameter off its face's vertices, which leaves a gap or an overlap of about
+/// that much / sin(dihedral angle) at every edge it shares: on the 5 mm tube of the 10 cm
+/// torus knot (kPlanarTolerance facets) the proxy slid off a facet through such a gap into
+/// the solid and lost contact. At 1e-12 the gaps stay below the facets' in-plane tolerance
+/// (1e-7 diameter) down to dihedral angles of 1e-5 rad.
+inline constexpr double kWatertightPlanarTolerance = 1e-12;
+
 /// Facets of all faces, struct of arrays. #F faces, #C corners, #P facets.
 /// Face frame: centroid c, Newell normal n (outward for counter-clockwise faces), axes u, v;
 /// corner2d[c] = ((V - c).u, (V - c).v) for corner c (#C) - the projected polygon.
@@ -57,8 +66,13 @@ bool nearestOnFace(const PolygonFacets& pf, int f, const Eigen::Vector3d& p, Eig
 /// The segment a -> b entering facet i from its front side: a on or in front of the plane
 /// (signed distance >= -planeTolerance), b behind it (< -planeTolerance), the crossing point
 /// inside the facet closed and inflated by facetTolerance. t in [0, 1] is the parameter.
+/// through: when a lies on the plane (within planeTolerance) the segment must also go on
+/// through the facet: its point q at 1e-3 of the face's diameter from a (or b) must project
+/// into the facet inflated by facetTolerance + |q - a| / 20 (3 degrees of slack for folds),
+/// so that a proxy sliding on other planes that only touches this facet's boundary (at a
+/// shared vertex or edge) and moves away beside it does not enter it.
 bool segmentEntersFacet(const PolygonFacets& pf, int facet, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                        double& t) noexcept;
+                        double& t, bool through = false) noexcept;
 
 /// Distance (m) in facet i's plane from the projection of p to the facet (0 inside).
 double facetOutsideDistance(const PolygonFacets& pf, int facet, const Eigen::Vector3d& p) noexcept;

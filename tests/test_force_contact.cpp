@@ -135,7 +135,15 @@ TEST(GodObject, FlatFaceAndConvexEdge) {
   const double h = 1 / std::sqrt(3.0), d = 0.05;
   for (ForceMethod m : {ForceMethod::Direct, ForceMethod::Shading}) {
     GodObjectRenderer r(cache, scene, m, ForceOptions{});
-    EXPECT_FALSE(r.step(Eigen::Vector3d(0, 0, h - d)).contact);  // starts inside: no crossing, no contact
+    // a first HIP already inside: the proxy starts on the nearest polygon point
+    const ForceSample in = r.step(Eigen::Vector3d(0, 0, h - d));
+    ASSERT_TRUE(in.contact);
+    EXPECT_TRUE(in.status & SF_TRACK_INSIDE);
+    EXPECT_TRUE(in.status & SF_TRACK_ENTER);
+    EXPECT_NEAR((in.scp - Eigen::Vector3d(0, 0, h)).norm(), 0, 1e-15);
+    r.reset();
+    EXPECT_FALSE(r.step(Eigen::Vector3d(0, 0, h + 0.01)).contact);  // outside: no contact
+    EXPECT_FALSE(r.step(Eigen::Vector3d(0.01, 0, h + 0.02)).contact);
     r.reset();
     EXPECT_FALSE(r.step(Eigen::Vector3d(0, 0, h + 0.1)).contact);
     ForceSample s = r.step(Eigen::Vector3d(0, 0, h - d));
