@@ -45,6 +45,7 @@ bool payloadSize(uint64_t nv, uint64_t nf, uint64_t ns, Precision p, uint64_t* o
 
 template <class T>
 void put(std::vector<char>& buf, const std::vector<T>& v) {
+  if (v.empty()) return;
   const char* p = reinterpret_cast<const char*>(v.data());
   buf.insert(buf.end(), p, p + v.size() * sizeof(T));
 }
@@ -52,6 +53,7 @@ void put(std::vector<char>& buf, const std::vector<T>& v) {
 template <class T>
 void take(const char*& p, std::vector<T>& v, uint64_t count) {
   v.resize(count);
+  if (count == 0) return;  // v.data() may be null: memcpy must not see it
   std::memcpy(v.data(), p, count * sizeof(T));
   p += count * sizeof(T);
 }
