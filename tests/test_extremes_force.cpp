@@ -107,7 +107,7 @@ TEST(ExtremeForce, FarOutsideAndBeyondTheMedialAxis) {
   for (ForceMethod m : {ForceMethod::Patch, ForceMethod::Direct, ForceMethod::Shading}) {
     auto r = makeForceRenderer(cache, scene, m, o);
     for (double s : {1e3, 1e6, 1e12})
-      for (const Eigen::Vector3d d : {Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(-0.3, 0.5, -0.8).normalized()}) {
+      for (const Eigen::Vector3d& d : {Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(-0.3, 0.5, -0.8).normalized()}) {
         r->reset();
         const ForceSample f = r->step(s * d);
         ASSERT_TRUE(finite(f)) << toString(m) << " at " << s;

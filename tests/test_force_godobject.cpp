@@ -82,7 +82,9 @@ TEST(GodObjectTube, HelixInsideThinTubeKeepsContact) {
       EXPECT_EQ(contact, steps) << toString(m) << " depth " << depth << " first lost at step " << firstLost;
       EXPECT_EQ(recovered, 0) << toString(m) << " depth " << depth;
       EXPECT_EQ(limited, 0) << toString(m) << " depth " << depth;
-      if (depth < 0.003) EXPECT_EQ(far, 0) << toString(m);
+      if (depth < 0.003) {
+        EXPECT_EQ(far, 0) << toString(m);
+      }
     }
   }
 }

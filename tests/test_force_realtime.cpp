@@ -99,7 +99,9 @@ TEST(ForceRealtime, StepDoesNotAllocate) {
       r->reset();
       gArmed = false;
       EXPECT_EQ(gAllocations, 0) << toString(m) << " " << toString(rm) << (lazy ? " lazy" : "");
-      if (lazy && m == ForceMethod::Patch) EXPECT_GT(r->patchesBuilt(), 16) << "the path should evict and rebuild";
+      if (lazy && m == ForceMethod::Patch) {
+        EXPECT_GT(r->patchesBuilt(), 16) << "the path should evict and rebuild";
+      }
       EXPECT_GT(contacts, 50) << toString(m);
       EXPECT_LT(contacts, 1990) << toString(m);
     }
