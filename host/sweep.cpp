@@ -89,7 +89,7 @@ void inArena(int threads, F&& f) {
 }  // namespace
 
 size_t runProbes(const HipSet& set, size_t begin, size_t end, const RendererFactory& make, const ReferenceSurface* ref,
-                 HipResult* out, const SweepControl& control) {
+                 HipResult* out, const SweepControl& control, long* patchesBuilt) {
   if (begin >= end) return 0;
   tbb::enumerable_thread_specific<std::shared_ptr<ForceRenderer>> tls(
       [&] { return std::shared_ptr<ForceRenderer>(make()); });
@@ -107,6 +107,8 @@ size_t runProbes(const HipSet& set, size_t begin, size_t end, const RendererFact
       if (control.progress) control.progress(r.size());
     });
   });
+  if (patchesBuilt)
+    for (const auto& r : tls) *patchesBuilt += r->patchesBuilt();
   return done.load();
 }
 

@@ -82,8 +82,10 @@ void fillHipResult(HipResult& r, const ForceSample& s, const ReferenceSurface* r
 /// Probes HIPs [begin, end): per HIP, reset(), step(approach), step(hip); out[g - begin] gets
 /// the second step's sample (and |SCP - ref| when ref is given). Chunks run in parallel with
 /// one renderer per worker. Returns the number of HIPs done (end - begin unless stopped).
+/// patchesBuilt, when given, is increased by the workers' renderers' patchesBuilt() (lazy
+/// construction over a skeleton cache: each worker builds the patches its HIPs touch).
 size_t runProbes(const HipSet& set, size_t begin, size_t end, const RendererFactory& make, const ReferenceSurface* ref,
-                 HipResult* out, const SweepControl& control);
+                 HipResult* out, const SweepControl& control, long* patchesBuilt = nullptr);
 
 /// Forces along one trajectory for one method and depth (stateful tracker, no reset between steps).
 struct TrajectorySeries {

@@ -76,6 +76,14 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
   if (in.config.backend == "opencl" && opt.initialGuess == InitialGuess::Tessellation)
     throw InputError("--initial-guess tessellation: the OpenCL refinement starts from the polygon point; use "
                      "--backend tbb or --initial-guess polygon");
+  // A skeleton cache (sweep --mesh with --sample-on reference): every worker's patch renderer
+  // builds the patches its HIPs touch, none evicted; nothing else may evaluate patches.
+  const bool lazy = !hasPatchData(*in.cache);
+  if (lazy && (in.config.sampleOn == "patch" || !in.hipsFile.empty() || !in.config.trajectories.empty() ||
+               in.config.backend == "opencl"))
+    throw InputError("sweep: patches built lazily only with --sample-on reference, no --hips, no --trajectory and "
+                     "the CPU backend");
+  opt.patchCapacity = 0;
   if (!in.makeRenderer) {
     auto cache = in.cache;
     in.makeRenderer = [cache, opt](const std::string& m) { return makeForceRenderer(cache, parseForceMethod(m), opt); };
@@ -98,10 +106,12 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
     std::vector<HipResult> out(d.end - d.begin);
     const RendererFactory make = [&in, m] { return in.makeRenderer(m); };
     // --backend opencl: the patch method's refinements run on the device (sweep_opencl.h)
+    long built = 0;
     const size_t done =
         m == "patch" && in.config.backend == "opencl"
             ? runPatchProbesOpenCL(set, d.begin, d.end, in.cache, opt, ref.get(), out.data(), control, in.opencl)
-            : runProbes(set, d.begin, d.end, make, ref.get(), out.data(), control);
+            : runProbes(set, d.begin, d.end, make, ref.get(), out.data(), control, lazy ? &built : nullptr);
+    tm.methodPatchesBuilt.push_back(built);
     stopped = stopped || done < d.end - d.begin;
     tm.methodDone.push_back(done);
     d.results.push_back(std::move(out));
@@ -109,7 +119,7 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
   }
   // Trajectories: the first shard runs them, whole (they are short and sequential).
   const bool wantTraj =
-      in.shardIndex == 0 && in.hipsFile.empty() && !stopped && !(control.stop && control.stop->load());
+      !lazy && in.shardIndex == 0 && in.hipsFile.empty() && !stopped && !(control.stop && control.stop->load());
   if (wantTraj) {
     const auto t2 = std::chrono::steady_clock::now();
     SweepConfig& c = d.config;

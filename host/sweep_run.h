@@ -35,6 +35,9 @@ struct SweepTiming {
   double trajectorySeconds = 0;
   uint64_t hipsRun = 0;              ///< HIPs of the shard, per method
   std::vector<uint64_t> methodDone;  ///< HIPs done per method (fewer when stopped)
+  /// Patch constructions per method when the cache is a skeleton (lazy, summed over the
+  /// workers, each of which builds what its HIPs touch); 0 for a prebuilt cache.
+  std::vector<long> methodPatchesBuilt;
 };
 
 /// Progress covers the probes (methods x HIPs of the shard). Throws InputError for bad input.

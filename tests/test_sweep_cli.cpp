@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 
 #include "cli_test_support.h"
@@ -58,6 +59,31 @@ TEST_F(SweepCli, GenerateKnotSphereTorus) {
   r = run("generate torus --R 1 --r 2 -o " + p("bad.obj"));
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.out.find("0 < r < R"), std::string::npos) << r.out;
+}
+
+// With --mesh and HIPs sampled on a reference that covers a small cap of a 1,536-quad sphere,
+// only the patches the probes touch are built, and the results equal a prebuilt cache's.
+TEST_F(SweepCli, MeshWithReferenceBuildsOnlyTouchedPatches) {
+  ASSERT_EQ(run("generate sphere --segments 16 -o " + p("s.obj")).status, 0);
+  std::ofstream(p("cap.obj")) << "v 0.2 0.2 0.98\nv -0.2 0.2 0.98\nv 0 -0.25 0.98\nf 1 2 3\n";
+  ASSERT_EQ(run("cache build " + p("s.obj") + " --normals file -o " + p("s.sfcache")).status, 0);
+  const std::string common = " --sample-on reference --reference " + p("cap.obj") +
+                             " --depth 0.05 --samples 3000 --methods patch,direct --no-plots -o ";
+  CliResult lazy = run("sweep --mesh " + p("s.obj") + " --normals file" + common + p("lazy"));
+  ASSERT_EQ(lazy.status, 0) << lazy.out;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(lazy.out, m, std::regex(R"(patch +([0-9]+) patch constructions)"))) << lazy.out;
+  EXPECT_GT(std::stoi(m[1]), 0);
+  EXPECT_LT(std::stoi(m[1]), 200) << "the cap touches a few dozen of the 1,536 faces per worker";
+  ASSERT_EQ(run("sweep --cache " + p("s.sfcache") + common + p("full")).status, 0);
+  for (const char* f : {"results_patch.bin", "results_direct.bin", "hips.bin"})
+    EXPECT_EQ(slurp(dir / "lazy" / f), slurp(dir / "full" / f)) << f;
+  // a trajectory needs the whole patch surface: then every patch is built
+  std::ofstream(p("path.csv")) << "x,y,z\n0,0,1\n0.3,0,0.95\n";
+  CliResult all = run("sweep --mesh " + p("s.obj") + " --normals file --trajectory " + p("path.csv") + common + p("t"));
+  ASSERT_EQ(all.status, 0) << all.out;
+  EXPECT_NE(all.out.find("built all 1536 patches"), std::string::npos) << all.out;
+  EXPECT_EQ(all.out.find("patch constructions"), std::string::npos) << all.out;
 }
 
 TEST_F(SweepCli, ShardsMergeByteIdentical) {

@@ -104,8 +104,17 @@ void runSweepCommand(const SweepArgs& a) {
   if (!a.cache.empty() && !isPatchCacheFile(a.cache)) throw InputError(a.cache + ": not a patch cache: use --mesh");
   PatchArgs patch = a.patch;
   patch.precision = toString(a.refine.precision(parsePrecision(a.patch.precision)));
-  Source src = openSource(c.source, patch);
-  if (src.loaded)
+  // Only the patches the probes touch are built when nothing else needs the patch surface:
+  // HIPs sampled on the reference mesh, no HIP file or trajectory to project onto the patches.
+  const bool lazy = !a.mesh.empty() && c.sampleOn == "reference" && a.hips.empty() && a.trajectories.empty() &&
+                    a.patch.backendKind() != Backend::OpenCL;
+  Source src = openSource(c.source, patch, lazy);
+  if (lazy)
+    std::printf(
+        "sweep: patches of %s built lazily where the probes go (HIPs on the reference mesh; the default "
+        "trajectory needs every patch and is skipped: give --cache or --trajectory for it)\n",
+        a.mesh.c_str());
+  else if (src.loaded)
     std::printf(
         "sweep: built all %d patches of %s in %.2f s (%s backend; the HIPs are placed on or projected onto "
         "the patch surface, which needs every patch)\n",
@@ -142,6 +151,7 @@ void runSweepCommand(const SweepArgs& a) {
     if (total) bar->add(n);
   };
   SweepTiming tm;
+  const int meshFaces = in.cache->numFaces();
   SweepData d = runSweep(std::move(in), ctl, &tm);
   if (bar) bar->finish();
   if (d.interrupted) std::fprintf(stderr, "sweep: interrupted; writing the HIPs done so far (marked partial)\n");
@@ -160,6 +170,10 @@ void runSweepCommand(const SweepArgs& a) {
         {"seconds", s}, {"hips", tm.methodDone[m]}, {"hips_per_s", s > 0 ? n / s : 0.0}};
     std::printf("sweep: %-8s %llu HIPs in %.2f s (%.4g HIPs/s)\n", d.config.methods[m].c_str(),
                 static_cast<unsigned long long>(tm.methodDone[m]), s, s > 0 ? n / s : 0.0);
+    if (lazy && d.config.methods[m] == "patch")
+      std::printf("sweep: patch    %ld patch constructions (each worker builds the patches its HIPs touch), %d "
+                  "faces in the mesh\n",
+                  tm.methodPatchesBuilt[m], meshFaces);
   }
   if (d.shardCount > 1) {
     std::ofstream(a.output + "/timing.json") << tj.dump(2) << "\n";
