@@ -18,6 +18,17 @@ size_t PatchCache::bytes() const {
          edgeDataD.size() * sizeof(double) + edgeDataF.size() * sizeof(float);
 }
 
+double boundingDiagonal(const PatchCache& cache) {
+  if (cache.numVertices() == 0) return 0;
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
+  for (int v = 0; v < cache.numVertices(); ++v) {
+    const Eigen::Vector3d p(cache.positions[3 * v], cache.positions[3 * v + 1], cache.positions[3 * v + 2]);
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  return (hi - lo).norm();
+}
+
 PatchCache preparePatchCache(const PolygonMesh& mesh, const std::vector<Eigen::Vector3d>& cornerNormals,
                              const PatchOptions& options, uint64_t meshHash, bool allocatePatches) {
   if (static_cast<int>(cornerNormals.size()) != mesh.numCorners())

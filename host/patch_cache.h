@@ -66,6 +66,9 @@ void constructPatches(PatchCache& cache, Backend backend, int threads = 0);
 uint32_t buildPatchRecords(const PatchCache& skeleton, int f, double* recs, float* bulge = nullptr) noexcept;
 uint32_t buildPatchRecords(const PatchCache& skeleton, int f, float* recs, float* bulge = nullptr) noexcept;
 
+/// Bounding-box diagonal of the cache's base mesh, m (0 without vertices).
+double boundingDiagonal(const PatchCache& cache);
+
 /// True when the cache holds constructed patches (its edge data are filled), false for a
 /// skeleton (preparePatchSkeleton) whose patches are built on demand (lazy_patches.h).
 inline bool hasPatchData(const PatchCache& c) {

@@ -99,17 +99,6 @@ std::string depthTag(const std::string& label) {
   return t;
 }
 
-double boundingDiagonal(const PatchCache& cache) {
-  if (cache.numVertices() == 0) return 0;
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
-  for (int v = 0; v < cache.numVertices(); ++v) {
-    const Eigen::Vector3d p(cache.positions[3 * v], cache.positions[3 * v + 1], cache.positions[3 * v + 2]);
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  return (hi - lo).norm();
-}
-
 PatchSurfaceSampler::PatchSurfaceSampler(const PatchCache& cache, int level) : cache_(cache) {
   if (level < 1 || level > 64) throw InputError("sampling level must be in [1, 64], got " + std::to_string(level));
   std::vector<int32_t> qf;

@@ -34,9 +34,6 @@ std::vector<DepthSpec> parseDepthList(const std::string& text);
 /// A file-name-safe form of a depth label: "2%" -> "2pct", "0.002" -> "0.002m".
 std::string depthTag(const std::string& label);
 
-/// Bounding-box diagonal of the cache's base mesh, m.
-double boundingDiagonal(const PatchCache& cache);
-
 /// The patches split into small triangles (each polygon edge in `level`), the triangles'
 /// 3-D areas as sampling weights. Samples: a triangle by area, then a uniform barycentric point
 /// in that triangle's DOMAIN coordinates, evaluated exactly on the patch (point and normal).

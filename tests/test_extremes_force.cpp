@@ -21,16 +21,6 @@ bool finite(const ForceSample& s) {
          std::isfinite(s.eta);
 }
 
-double diagonalOf(const PatchCache& c) {
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
-  for (int v = 0; v < c.numVertices(); ++v) {
-    const Eigen::Vector3d p(c.positions[3 * v], c.positions[3 * v + 1], c.positions[3 * v + 2]);
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  return (hi - lo).norm();
-}
-
 // For every face: the patch's corners, edge midpoints and domain centre, 0.2% of the diagonal
 // outside along the normal, exactly on the surface, and 0.2% inside; every method, double and
 // float caches; every output finite. For the patch method: outside no contact, on the surface
@@ -41,7 +31,7 @@ TEST(ExtremeForce, HipsAtCornersEdgesAndCentres) {
     auto cache = std::make_shared<const PatchCache>(
         test::cacheFromFile(test::sharedMesh(kSpot), CrossTangentMode::Corrected, prec));
     auto scene = std::make_shared<const PolygonScene>(*cache);
-    const double diag = diagonalOf(*cache), depth = 2e-3 * diag;
+    const double diag = boundingDiagonal(*cache), depth = 2e-3 * diag;
     const ForceOptions o;
     for (ForceMethod m : {ForceMethod::Patch, ForceMethod::Direct, ForceMethod::Shading}) {
       auto r = makeForceRenderer(cache, scene, m, o);

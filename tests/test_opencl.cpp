@@ -88,16 +88,6 @@ PatchCache prepared(const PolygonMesh& m, Precision p) {
   return preparePatchCache(m, cornerNormals(m, NormalMode::Auto), o, 0);
 }
 
-double diagonal(const PatchCache& c) {
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
-  for (int v = 0; v < c.numVertices(); ++v) {
-    const Eigen::Vector3d p(c.positions[3 * v], c.positions[3 * v + 1], c.positions[3 * v + 2]);
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  return (hi - lo).norm();
-}
-
 /// `perFace` points uniform in each face's n-gon domain: a random fan triangle
 /// (origin, C_k, C_k+1), then uniform barycentrics.
 struct Queries {
@@ -211,7 +201,7 @@ TEST_F(OpenCLBackend, ConstructionMatchesTbb) {
       if (p == Precision::Double || exactFloat_)
         EXPECT_EQ(unequal, 0u);
       else
-        EXPECT_LE(d, 1e-5 * diagonal(cpu));
+        EXPECT_LE(d, 1e-5 * boundingDiagonal(cpu));
       EXPECT_LE(bulge, 1e-5);  // quality samples the patch: cos/sin of the domain enter
     }
 }
@@ -225,7 +215,7 @@ TEST_F(OpenCLBackend, EvaluationMatchesCpu) {
       std::vector<PatchPoint> cpu(q.face.size()), gpu(q.face.size());
       evaluatePatches(c, q.face.data(), q.xi.data(), q.eta.data(), cpu.size(), cpu.data(), Backend::Tbb);
       evaluator(c).evaluate(q.face.data(), q.xi.data(), q.eta.data(), gpu.size(), gpu.data());
-      const Diff d = compare(cpu, gpu, diagonal(c));
+      const Diff d = compare(cpu, gpu, boundingDiagonal(c));
       std::printf("[ OpenCL   ] evaluate  %-36s %-6s max|diff|/diag %.3g, max|normal diff| %.3g (%.3g / cond)\n",
                   name.c_str(), toString(p), d.vec, d.normal, d.normalRel);
       EXPECT_EQ(d.statusMismatch, 0);
@@ -264,7 +254,7 @@ TEST_F(OpenCLBackend, EvaluatorReusesBuffersAcrossBatches) {
     ev.evaluate(&q.face[off], &q.xi[off], &q.eta[off], std::min(n, q.face.size() - off), gpu.data());
     std::vector<PatchPoint> want(cpu.begin() + off, cpu.begin() + off + std::min(n, q.face.size() - off));
     gpu.resize(want.size());
-    const Diff d = compare(want, gpu, diagonal(c));
+    const Diff d = compare(want, gpu, boundingDiagonal(c));
     EXPECT_LE(d.vec, kEvalTolD) << "batch " << b;
     EXPECT_EQ(d.statusMismatch, 0) << "batch " << b;
     gpu.resize(q.face.size());
@@ -308,12 +298,12 @@ TEST_F(OpenCLBackend, OneShotWrappersMatch) {
   constructPatchesOpenCL(gpu);
   EXPECT_EQ(cpu.faceStatus, gpu.faceStatus);
   size_t unequal = 0;
-  EXPECT_LE(maxRecordDiff(cpu.edgeDataD, gpu.edgeDataD, &unequal), 1e-13 * diagonal(cpu));
+  EXPECT_LE(maxRecordDiff(cpu.edgeDataD, gpu.edgeDataD, &unequal), 1e-13 * boundingDiagonal(cpu));
   const Queries q = randomQueries(cpu, 16, 2);
   std::vector<PatchPoint> a(q.face.size()), b(q.face.size());
   evaluatePatches(cpu, q.face.data(), q.xi.data(), q.eta.data(), a.size(), a.data(), Backend::Serial);
   evaluatePatchesOpenCL(gpu, q.face.data(), q.xi.data(), q.eta.data(), b.size(), b.data());
-  EXPECT_LE(compare(a, b, diagonal(cpu)).vec, kEvalTolD);
+  EXPECT_LE(compare(a, b, boundingDiagonal(cpu)).vec, kEvalTolD);
   // an empty batch is fine
   evaluatePatchesOpenCL(gpu, nullptr, static_cast<const double*>(nullptr), nullptr, 0, nullptr);
 }
