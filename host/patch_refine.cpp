@@ -37,13 +37,7 @@ PatchRefiner::PatchRefiner(const PatchCache& cache, LazyPatches* lazy)
       recsF_(cache.options.precision == Precision::Float ? GP_MAX_N * GP_E_NFIELDS : 0) {
   for (int f = 0; f < cache.numFaces(); ++f)
     for (int s = cache.faceOffsets[f]; s < cache.faceOffsets[f + 1]; ++s) slotFace_[s] = f;
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
-  for (int v = 0; v < cache.numVertices(); ++v) {
-    const Eigen::Vector3d p(cache.positions[3 * v], cache.positions[3 * v + 1], cache.positions[3 * v + 2]);
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  scale_ = cache.numVertices() > 0 ? std::max((hi - lo).norm(), 1e-300) : 1.0;
+  scale_ = cache.numVertices() > 0 ? std::max(boundingDiagonal(cache), 1e-300) : 1.0;
   eps_ = cache.options.precision == Precision::Double ? 1e-6 : 1e-3;
   posNoise_ = (cache.options.precision == Precision::Double ? 1e-14 : 1e-6) * scale_;
 }
@@ -166,6 +160,21 @@ bool PatchRefiner::better(const Iterate& trial, const Iterate& cur, const Eigen:
   return sine(trial) < sine(cur);
 }
 
+bool PatchRefiner::tryStep(Iterate& cur, const Eigen::Vector2d& step, const Eigen::Vector3d& hip, int& transitions,
+                           uint32_t& status) noexcept {
+  int face = cur.face, tr = 0, edge = -1;
+  uint32_t st = 0;
+  Eigen::Vector2d X = cur.X + step;
+  if (outsideDomain(cache_.faceSize(cur.face), X)) transfer(face, X, edge, tr, st);
+  Iterate trial = at(face, X, hip);
+  trial.edge = edge;
+  if (!better(trial, cur, hip)) return false;
+  cur = trial;
+  transitions += tr;
+  status = (status & ~SF_TRACK_BOUNDARY) | st;
+  return true;
+}
+
 void PatchRefiner::newtonStep(Iterate& cur, const Eigen::Vector3d& hip, double& radius, int& transitions,
                               uint32_t& status, bool& stalled) noexcept {
   const int n = cache_.faceSize(cur.face);
@@ -200,16 +209,7 @@ void PatchRefiner::newtonStep(Iterate& cur, const Eigen::Vector3d& hip, double& 
     step *= radius / len;
     len = radius;
   }
-  int face = cur.face, tr2 = 0, edge = -1;
-  uint32_t st = 0;
-  Eigen::Vector2d X = cur.X + step;
-  if (outsideDomain(n, X)) transfer(face, X, edge, tr2, st);
-  Iterate trial = at(face, X, hip);
-  trial.edge = edge;
-  if (better(trial, cur, hip)) {
-    cur = trial;
-    transitions += tr2;
-    status = (status & ~SF_TRACK_BOUNDARY) | st;
+  if (tryStep(cur, step, hip, transitions, status)) {
     if (clipped) radius = std::min(2 * radius, kMaxRadius);
   } else {
     radius = 0.25 * len;
@@ -239,20 +239,8 @@ void PatchRefiner::descentStep(Iterate& cur, const Eigen::Vector3d& hip, int& tr
   if (!(alpha > 0) || !std::isfinite(alpha)) alpha = kInitialRadius / dn;
   Eigen::Vector2d step = alpha * d;
   if (step.norm() > kInitialRadius) step *= kInitialRadius / step.norm();
-  for (int halving = 0; halving < 40; ++halving, step *= 0.5) {
-    int face = cur.face, tr = 0, edge = -1;
-    uint32_t st = 0;
-    Eigen::Vector2d X = cur.X + step;
-    if (outsideDomain(n, X)) transfer(face, X, edge, tr, st);
-    Iterate trial = at(face, X, hip);
-    trial.edge = edge;
-    if (better(trial, cur, hip)) {
-      cur = trial;
-      transitions += tr;
-      status = (status & ~SF_TRACK_BOUNDARY) | st;
-      return;
-    }
-  }
+  for (int halving = 0; halving < 40; ++halving, step *= 0.5)
+    if (tryStep(cur, step, hip, transitions, status)) return;
   stalled = true;
 }
 

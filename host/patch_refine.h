@@ -83,6 +83,10 @@ class PatchRefiner {
   /// Step acceptance: f decreases, or stays within its evaluation noise while the angle
   /// between G - HIP and the normal shrinks.
   bool better(const Iterate& trial, const Iterate& cur, const Eigen::Vector3d& hip) const noexcept;
+  /// Moves cur by `step` in its domain (across an edge by Eq. 15 via transfer) and keeps the
+  /// result when better() accepts it; transitions and status then take the move's.
+  bool tryStep(Iterate& cur, const Eigen::Vector2d& step, const Eigen::Vector3d& hip, int& transitions,
+               uint32_t& status) noexcept;
   void newtonStep(Iterate& cur, const Eigen::Vector3d& hip, double& radius, int& transitions, uint32_t& status,
                   bool& stalled) noexcept;
   void descentStep(Iterate& cur, const Eigen::Vector3d& hip, int& transitions, uint32_t& status,
