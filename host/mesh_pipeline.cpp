@@ -12,16 +12,9 @@ LoadedMesh loadMesh(const std::string& path, const PatchOptions& options) {
   out.report = checkMesh(out.mesh);
   out.flipped =
       applyOrientation(out.mesh, out.report, options.keepOrientation ? OrientPolicy::Keep : OrientPolicy::Outward);
-  out.cornerNormals = cornerNormals(out.mesh, options.normals, &out.normalFallbacks);
-  // creases: corners of one vertex carrying different normals (per-corner file normals)
-  std::vector<int> firstCorner(out.mesh.numVertices(), -1);
-  for (int c = 0; c < out.mesh.numCorners(); ++c) {
-    int& first = firstCorner[out.mesh.faceVertices[c]];
-    if (first < 0)
-      first = c;
-    else if ((out.cornerNormals[c] - out.cornerNormals[first]).norm() > 1e-12)
-      ++out.creaseCorners;
-  }
+  out.cornerNormals = cornerNormals(out.mesh, options.normals, out.normalReport);
+  out.normalFallbacks = out.normalReport.fallbackVertices;
+  out.creaseCorners = out.normalReport.creaseCorners;
   return out;
 }
 

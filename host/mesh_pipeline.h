@@ -6,6 +6,7 @@
 
 #include "mesh.h"
 #include "mesh_check.h"
+#include "normals.h"
 #include "patch_cache.h"
 
 namespace sf {
@@ -17,12 +18,14 @@ struct LoadedMesh {
   bool flipped = false;                        ///< faces were reversed to point outward
   uint64_t fileHash = 0;                       ///< XXH64 of the file's bytes
   std::vector<Eigen::Vector3d> cornerNormals;  ///< #C unit normals per the chosen mode
-  std::vector<int> normalFallbacks;            ///< vertices whose normal needed a fallback
-  int creaseCorners = 0;                       ///< corners whose normal differs from another corner of the same vertex
+  NormalReport normalReport;                   ///< where they came from; split, crease and fallback vertices
+  std::vector<int> normalFallbacks;            ///< = normalReport.fallbackVertices
+  int creaseCorners = 0;                       ///< = normalReport.creaseCorners
 };
 
 /// Reads `path`, checks it, flips an inward-facing closed mesh unless options.keepOrientation,
-/// and computes corner normals per options.normals. Throws InputError (file:line, element).
+/// and computes corner normals per options.normals (normals.h: NormalMode, NormalReport).
+/// Throws InputError (file:line, element).
 LoadedMesh loadMesh(const std::string& path, const PatchOptions& options);
 
 /// Builds the whole-mesh patch cache from a loaded mesh on the CPU backends

@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 namespace sf {
@@ -53,6 +54,19 @@ std::vector<Eigen::Vector3d> fileNormals(const PolygonMesh& m, bool perVertexOnl
   return out;
 }
 
+/// First corner (in face order) of every vertex; -1 for unreferenced vertices.
+std::vector<int> firstCorners(const PolygonMesh& m) {
+  std::vector<int> first(m.numVertices(), -1);
+  for (int c = 0; c < m.numCorners(); ++c)
+    if (first[m.faceVertices[c]] < 0) first[m.faceVertices[c]] = c;
+  return first;
+}
+
+/// Angle between two unit vectors (radians, accurate near 0 and pi).
+double angleBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
 }  // namespace
 
 NormalMode parseNormalMode(const std::string& s) {
@@ -87,24 +101,12 @@ Eigen::Vector3d newellNormal(const PolygonMesh& mesh, int f) {
   return n;
 }
 
-std::vector<Eigen::Vector3d> cornerNormals(const PolygonMesh& mesh, NormalMode mode,
-                                           std::vector<int>* fallbackVertices) {
-  if (fallbackVertices) fallbackVertices->clear();
-  for (int f = 0; f < mesh.numFaces(); ++f) {
-    for (int c = mesh.faceOffsets[f]; c < mesh.faceOffsets[f + 1]; ++c) {
-      if (mesh.faceVertices[c] < 0 || mesh.faceVertices[c] >= mesh.numVertices()) {
-        throw InputError(where(mesh) + ": face " + std::to_string(f) + ": vertex index " +
-                         std::to_string(mesh.faceVertices[c]) + " out of range");
-      }
-    }
-  }
-  if (mode == NormalMode::Auto) {
-    const bool perVertex = !mesh.fileNormals.empty() && mesh.fileNormals.size() == mesh.positions.size();
-    if (perVertex) return fileNormals(mesh, true);
-    mode = NormalMode::Angle;
-  }
-  if (mode == NormalMode::File) return fileNormals(mesh, false);
+namespace {
 
+/// Angle- or area-weighted unit normal per vertex (#V by 3; +z for unreferenced vertices).
+/// Vertices that needed the first-incident-face fallback are appended to `fallbackVertices`.
+std::vector<Eigen::Vector3d> weightedVertexNormals(const PolygonMesh& mesh, NormalMode mode,
+                                                   std::vector<int>& fallbackVertices) {
   const int nv = mesh.numVertices();
   std::vector<Eigen::Vector3d> sum(nv, Eigen::Vector3d::Zero());
   std::vector<double> weight(nv, 0.0);
@@ -150,10 +152,131 @@ std::vector<Eigen::Vector3d> cornerNormals(const PolygonMesh& mesh, NormalMode m
     }
     const int f = firstGood[v] >= 0 ? firstGood[v] : firstNonZero[v];
     if (f >= 0) vertexNormal[v] = faceUnit[f];  // else +z: every incident face has zero Newell
-    if (fallbackVertices) fallbackVertices->push_back(v);
+    fallbackVertices.push_back(v);
   }
-  std::vector<Eigen::Vector3d> out(mesh.numCorners());
-  for (int c = 0; c < mesh.numCorners(); ++c) out[c] = vertexNormal[mesh.faceVertices[c]];
+  return vertexNormal;
+}
+
+}  // namespace
+
+std::vector<Eigen::Vector3d> cornerNormals(const PolygonMesh& mesh, NormalMode mode, NormalReport& report) {
+  report = NormalReport{};
+  report.mode = mode;
+  report.fileHasNormals = !mesh.fileNormals.empty() || !mesh.fileCornerNormals.empty();
+  for (int f = 0; f < mesh.numFaces(); ++f) {
+    for (int c = mesh.faceOffsets[f]; c < mesh.faceOffsets[f + 1]; ++c) {
+      if (mesh.faceVertices[c] < 0 || mesh.faceVertices[c] >= mesh.numVertices()) {
+        throw InputError(where(mesh) + ": face " + std::to_string(f) + ": vertex index " +
+                         std::to_string(mesh.faceVertices[c]) + " out of range");
+      }
+    }
+  }
+  const std::vector<int> first = firstCorners(mesh);
+  std::vector<Eigen::Vector3d> out;
+  const bool usable = !mesh.fileCornerNormals.empty() || mesh.fileNormals.size() == mesh.positions.size();
+  const bool fileMode = mode == NormalMode::File || (mode == NormalMode::Auto && usable);
+  if (fileMode && !mesh.fileCornerNormals.empty()) {
+    out = fileNormals(mesh, false);
+    std::vector<char> split(mesh.numVertices(), 0);
+    for (int c = 0; c < mesh.numCorners(); ++c) {
+      const int v = mesh.faceVertices[c];
+      if (!split[v] && angleBetween(out[c], out[first[v]]) > kSameNormalAngle) split[v] = 1;
+    }
+    for (int v = 0; v < mesh.numVertices(); ++v)
+      if (split[v]) report.splitVertices.push_back(v);
+    if (mode == NormalMode::File) {
+      report.source = NormalSource::FileCorners;
+    } else if (report.splitVertices.empty()) {
+      report.source = NormalSource::FileFaceRefs;
+      for (int c = 0; c < mesh.numCorners(); ++c) out[c] = out[first[mesh.faceVertices[c]]];  // first <= c
+    } else {
+      // Split vertices take the angle-weighted normal; every other vertex its first corner's.
+      report.source = NormalSource::FileAndAngle;
+      std::vector<int> fallbacks;
+      const std::vector<Eigen::Vector3d> angle = weightedVertexNormals(mesh, NormalMode::Angle, fallbacks);
+      for (int v : fallbacks)
+        if (split[v]) report.fallbackVertices.push_back(v);
+      for (int c = 0; c < mesh.numCorners(); ++c) {  // in place: first[v] <= c keeps its value
+        const int v = mesh.faceVertices[c];
+        out[c] = split[v] ? angle[v] : out[first[v]];
+      }
+    }
+  } else if (fileMode) {
+    out = fileNormals(mesh, true);
+    report.source = NormalSource::FileVertexOrder;
+  } else {
+    if (mode == NormalMode::Auto) mode = NormalMode::Angle;
+    report.source = mode == NormalMode::Area ? NormalSource::Area : NormalSource::Angle;
+    const std::vector<Eigen::Vector3d> vn = weightedVertexNormals(mesh, mode, report.fallbackVertices);
+    out.resize(mesh.numCorners());
+    for (int c = 0; c < mesh.numCorners(); ++c) out[c] = vn[mesh.faceVertices[c]];
+  }
+  if (fileMode) {
+    for (int v = 0; v < mesh.numVertices(); ++v) report.fileVertices += first[v] >= 0;
+    report.fileVertices -= static_cast<int>(report.splitVertices.size());
+  }
+  // Creases: corners whose normal differs from the first corner's of the same vertex.
+  for (int c = 0; c < mesh.numCorners(); ++c)
+    report.creaseCorners += (out[c] - out[first[mesh.faceVertices[c]]]).norm() > 1e-12;
+  return out;
+}
+
+std::vector<std::string> NormalReport::describe(int maxIds) const {
+  const auto ids = [&](const std::vector<int>& v) {
+    std::string s;
+    for (size_t i = 0; i < v.size() && static_cast<int>(i) < maxIds; ++i) {
+      if (i) s += ' ';
+      s += std::to_string(v[i]);
+    }
+    return s + (v.size() > static_cast<size_t>(maxIds) ? " ..." : "");
+  };
+  const std::string nSplit = std::to_string(splitVertices.size());
+  std::vector<std::string> out;
+  switch (source) {
+    case NormalSource::FileVertexOrder:
+      out.push_back("the file's normals, one per vertex (in vertex order)");
+      break;
+    case NormalSource::FileFaceRefs:
+      out.push_back("the file's normals, one per vertex (through face references)");
+      break;
+    case NormalSource::FileCorners:
+      out.push_back("the file's normals per corner, as given");
+      break;
+    case NormalSource::FileAndAngle:
+      out.push_back("the file's normals at " + std::to_string(fileVertices) + " vertices; angle-weighted at " + nSplit +
+                    " vertices whose corners carry different file normals");
+      break;
+    case NormalSource::Angle:
+    case NormalSource::Area:
+      out.push_back(std::string(source == NormalSource::Angle ? "angle" : "area") + "-weighted Newell normals" +
+                    (fileHasNormals ? "" : " (the file has no vertex normals)"));
+      break;
+  }
+  if (!splitVertices.empty()) {
+    char tol[32];
+    std::snprintf(tol, sizeof tol, "%g", kSameNormalAngle);
+    out.push_back(
+        "split vertices: " + nSplit + " (first: " + ids(splitVertices) +
+        "): their corners carry file normals more than " + tol + " rad apart" +
+        (mode == NormalMode::Auto ? "; auto used the angle-weighted normal there (--normals file keeps them)" : ""));
+  }
+  if (creaseCorners) {
+    out.push_back("crease corners: " + std::to_string(creaseCorners) +
+                  " (normal differs from another corner of the same vertex): the edges there are not shared "
+                  "curves, so the surface is open along them");
+  }
+  if (!fallbackVertices.empty()) {
+    out.push_back("no well-defined normal: " + std::to_string(fallbackVertices.size()) +
+                  " vertices (first: " + ids(fallbackVertices) + "): used an incident face's normal");
+  }
+  return out;
+}
+
+std::vector<Eigen::Vector3d> cornerNormals(const PolygonMesh& mesh, NormalMode mode,
+                                           std::vector<int>* fallbackVertices) {
+  NormalReport report;
+  std::vector<Eigen::Vector3d> out = cornerNormals(mesh, mode, report);
+  if (fallbackVertices) *fallbackVertices = std::move(report.fallbackVertices);
   return out;
 }
 

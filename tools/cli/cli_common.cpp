@@ -60,8 +60,11 @@ void addPatchArgs(CLI::App& cmd, PatchArgs& a) {
       ->check(CLI::IsMember({"float", "double"}))
       ->capture_default_str();
   cmd.add_option("--normals", a.normals,
-                 "auto|file|angle|area: vertex normals (auto = the file's when it has one per vertex, "
-                 "else angle-weighted)")
+                 "auto|file|angle|area: vertex normals. auto: the file's wherever it gives one normal per vertex "
+                 "(in vertex order, or through face references f v//vn whose corners agree within 1e-3 rad); at "
+                 "vertices whose corners carry different normals, and without file normals, angle-weighted "
+                 "(cache build reports how many). file: the file's, per corner as given (creases open the "
+                 "surface). angle|area: angle- or area-weighted Newell normals")
       ->check(CLI::IsMember({"auto", "file", "angle", "area"}))
       ->capture_default_str();
   cmd.add_option("--cross-tangent", a.crossTangent,

@@ -51,16 +51,8 @@ void build(const std::string& mesh, std::string out, const PatchArgs& args) {
         "orientation: closed mesh faced inward (signed volume %.6g): flipped to outward "
         "(--orient keep to keep)\n",
         r.signedVolume);
-  std::printf("normals: %s%s\n", toString(opt.normals),
-              lm.mesh.fileNormals.empty() && lm.mesh.fileCornerNormals.empty() ? " (file has none)" : "");
-  if (lm.creaseCorners)
-    std::printf(
-        "  %d corners carry a crease normal (per-corner file normals): the edges there are "
-        "not shared curves, so the surface is open along them\n",
-        lm.creaseCorners);
-  if (!lm.normalFallbacks.empty())
-    std::printf("  %zu vertices had no well-defined normal; used an incident face's normal (first: %d)\n",
-                lm.normalFallbacks.size(), lm.normalFallbacks.front());
+  std::printf("normals: %s\n", toString(opt.normals));
+  for (const std::string& line : lm.normalReport.describe()) std::printf("  %s\n", line.c_str());
   PatchCache cache = preparePatchCache(lm.mesh, lm.cornerNormals, opt, lm.fileHash);
   const double secs = construct(cache, args);
   printPatchSummary(cache);
