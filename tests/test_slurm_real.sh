@@ -65,7 +65,7 @@ host=$(hostname -s)
 mkdir -p "$work/state" "$work/spool"
 cat >"$SLURM_CONF" <<EOF
 ClusterName=sftest
-SlurmctldHost=$host
+SlurmctldHost=$host(127.0.0.1)
 SlurmctldPort=$ctld_port
 SlurmdPort=$d_port
 SlurmUser=root
@@ -86,6 +86,7 @@ SchedulerType=sched/backfill
 SelectType=select/cons_tres
 SelectTypeParameters=CR_Core
 ReturnToService=2
+CommunicationParameters=NoInAddrAny
 NodeName=$host NodeAddr=127.0.0.1 CPUs=2 State=UNKNOWN
 PartitionName=debug Nodes=$host Default=YES MaxTime=INFINITE State=UP
 EOF
