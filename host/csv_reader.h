@@ -1,4 +1,5 @@
-// Strict reader for small numeric CSV inputs (query points, HIP sequences, trajectories).
+// The one strict reader for numeric CSV inputs (query points, HIP sequences, trajectories,
+// replay files): every command reads its CSV through it, so they all accept the same files.
 #pragma once
 
 #include <string>
@@ -7,7 +8,7 @@
 namespace sf {
 
 /// Rows of finite numbers under a fixed header, read strictly.
-/// values: rows() by columns.size(), row-major; line[r]: the file line of row r.
+/// values: rows() by columns.size(), row-major; line[r]: the file line of row r (1-based).
 struct NumericCsv {
   std::vector<std::string> columns;
   std::vector<double> values;
@@ -16,12 +17,19 @@ struct NumericCsv {
   double at(size_t r, size_t c) const { return values[r * columns.size() + c]; }
 };
 
-/// Reads `path`. The first non-blank, non-`#` line must be the header `columns` joined by
-/// commas (blanks ignored); with headerRequired = false a row of numbers may come first.
-/// Blank lines and lines starting with `#` are skipped. Throws InputError `path:line: what`
-/// for a missing or wrong header, a wrong column count, a field that is not a finite number,
-/// and `path: no rows` for a file without data.
+/// Reads `path` ("-": standard input, named `<stdin>` in errors). The header is `columns`
+/// joined by commas (blanks ignored), either as the first non-blank, non-comment line or as a
+/// `#` line before any data (NumPy's `savetxt(..., delimiter=",", header="x,y,z")` writes
+/// `# x,y,z`); with headerRequired = false a row of numbers may come first. Blank lines and
+/// other lines starting with `#` are skipped; a UTF-8 byte-order mark and CR line ends are
+/// accepted. Fields: decimal or exponent numbers, optional leading `+`, blanks around them.
+/// Throws InputError `path:line: what` for a missing or wrong header, a wrong column count
+/// or a field that is not a finite number, `path: cannot open`, and `path: no rows` for a
+/// file without data.
 NumericCsv readNumericCsv(const std::string& path, const std::vector<std::string>& columns, bool headerRequired = true);
+
+/// The name readNumericCsv uses for `path` in messages ("<stdin>" for "-").
+std::string csvDisplayName(const std::string& path);
 
 /// Throws InputError `path:line: what`, for callers that check values themselves.
 [[noreturn]] void throwCsvError(const std::string& path, int line, const std::string& what);

@@ -1,7 +1,6 @@
 #include "sweep.h"
 
 #include <tbb/blocked_range.h>
-#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 #include <Eigen/Geometry>
@@ -88,16 +87,27 @@ void inArena(int threads, F&& f) {
 }
 }  // namespace
 
-size_t runProbes(const HipSet& set, size_t begin, size_t end, const RendererFactory& make, const ReferenceSurface* ref,
-                 HipResult* out, const SweepControl& control, long* patchesBuilt) {
+ForceRenderer& RendererPool::local() {
+  std::shared_ptr<ForceRenderer>& r = tls_.local();
+  if (!r) r = std::shared_ptr<ForceRenderer>(make_());
+  return *r;
+}
+
+long RendererPool::patchesBuilt() const {
+  long n = 0;
+  for (const auto& r : tls_)
+    if (r) n += r->patchesBuilt();
+  return n;
+}
+
+size_t runProbes(const HipSet& set, size_t begin, size_t end, RendererPool& pool, const ReferenceSurface* ref,
+                 HipResult* out, const SweepControl& control) {
   if (begin >= end) return 0;
-  tbb::enumerable_thread_specific<std::shared_ptr<ForceRenderer>> tls(
-      [&] { return std::shared_ptr<ForceRenderer>(make()); });
   std::atomic<size_t> done{0};
   inArena(control.threads, [&] {
     tbb::parallel_for(tbb::blocked_range<size_t>(begin, end, 64), [&](const tbb::blocked_range<size_t>& r) {
       if (control.stop && control.stop->load(std::memory_order_relaxed)) return;
-      ForceRenderer& R = *tls.local();
+      ForceRenderer& R = pool.local();
       for (size_t g = r.begin(); g < r.end(); ++g) {
         R.reset();
         R.step(set.approach(g));
@@ -107,9 +117,15 @@ size_t runProbes(const HipSet& set, size_t begin, size_t end, const RendererFact
       if (control.progress) control.progress(r.size());
     });
   });
-  if (patchesBuilt)
-    for (const auto& r : tls) *patchesBuilt += r->patchesBuilt();
   return done.load();
+}
+
+size_t runProbes(const HipSet& set, size_t begin, size_t end, const RendererFactory& make, const ReferenceSurface* ref,
+                 HipResult* out, const SweepControl& control, long* patchesBuilt) {
+  RendererPool pool(make);
+  const size_t done = runProbes(set, begin, end, pool, ref, out, control);
+  if (patchesBuilt) *patchesBuilt += pool.patchesBuilt();
+  return done;
 }
 
 std::vector<SurfaceSample> trajectorySamples(const std::vector<Eigen::Vector3d>& polyline, double step,

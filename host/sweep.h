@@ -2,6 +2,8 @@
 // along its normal, run in parallel, with per-HIP results that shards can write and merge.
 #pragma once
 
+#include <tbb/enumerable_thread_specific.h>
+
 #include <Eigen/Core>
 #include <atomic>
 #include <cstdint>
@@ -69,26 +71,58 @@ HipSet makeFileHips(const std::vector<Eigen::Vector3d>& hips, const PatchProject
 /// Makes one renderer for one worker (renderers are stateful and not thread-safe).
 using RendererFactory = std::function<std::unique_ptr<ForceRenderer>()>;
 
+struct SweepData;  // sweep_io.h
+
 struct SweepControl {
   int threads = 0;                          ///< oneTBB workers; 0 = oneTBB's default
   const std::atomic<bool>* stop = nullptr;  ///< when set, remaining chunks are skipped
   std::function<void(size_t)> progress;     ///< HIPs just finished; any thread, must be thread-safe
+  /// runSweep: called once on the calling thread before the probes, with the probes (HIPs x
+  /// methods) left to run now (fewer than the shard's after a resume) and the shard's total.
+  std::function<void(uint64_t pending, uint64_t total)> started;
+  /// runSweep: called on the calling thread between blocks of probes whenever
+  /// checkpointSeconds have passed since the start or the last call, with the data so far
+  /// (records of HIPs not yet computed have done = 0). Empty: no checkpoints (each method's
+  /// probes run as one block).
+  std::function<void(const SweepData&)> checkpoint;
+  double checkpointSeconds = 60;  ///< s, > 0
 };
 
 /// Packs a probe's pressed-in step into its record (float32), with |SCP - ref| when ref is
 /// given and the sample is in contact (NaN otherwise); done = 1.
 void fillHipResult(HipResult& r, const ForceSample& s, const ReferenceSurface* ref);
 
+/// One renderer per oneTBB worker, made on the worker's first use and kept across runProbes
+/// calls (a sweep probes in blocks between checkpoints; patches built lazily stay built).
+class RendererPool {
+ public:
+  explicit RendererPool(RendererFactory make) : make_(std::move(make)) {}
+  /// The calling worker's renderer.
+  ForceRenderer& local();
+  /// Sum of the renderers' patchesBuilt() (lazy construction: each builds what its HIPs touch).
+  long patchesBuilt() const;
+
+ private:
+  RendererFactory make_;
+  tbb::enumerable_thread_specific<std::shared_ptr<ForceRenderer>> tls_;
+};
+
 /// Probes HIPs [begin, end): per HIP, reset(), step(approach), step(hip); out[g - begin] gets
-/// the second step's sample (and |SCP - ref| when ref is given). Chunks run in parallel with
-/// one renderer per worker. Returns the number of HIPs done (end - begin unless stopped).
-/// patchesBuilt, when given, is increased by the workers' renderers' patchesBuilt() (lazy
-/// construction over a skeleton cache: each worker builds the patches its HIPs touch).
+/// the second step's sample (and |SCP - ref| when ref is given). Chunks of 64 HIPs run in
+/// parallel with one renderer per worker (from `pool`); control.stop is checked per chunk, so
+/// a stopped run leaves whole chunks undone (done = 0). Returns the number of HIPs done
+/// (end - begin unless stopped). A HIP's record does not depend on the chunking or on what
+/// its renderer probed before (reset()), so any split of [begin, end) gives the same bytes.
+size_t runProbes(const HipSet& set, size_t begin, size_t end, RendererPool& pool, const ReferenceSurface* ref,
+                 HipResult* out, const SweepControl& control);
+/// The same with a pool of its own; patchesBuilt, when given, is increased by its renderers'
+/// patchesBuilt().
 size_t runProbes(const HipSet& set, size_t begin, size_t end, const RendererFactory& make, const ReferenceSurface* ref,
                  HipResult* out, const SweepControl& control, long* patchesBuilt = nullptr);
 
 /// Forces along one trajectory for one method and depth (stateful tracker, no reset between steps).
 struct TrajectorySeries {
+  uint64_t index = 0;      ///< position in the sweep's list of series (trajectory, method, depth, half)
   std::string trajectory;  ///< name (file name, or "default")
   std::string method;
   std::string depthLabel;

@@ -40,31 +40,70 @@ struct SweepConfig {
   std::vector<double> groupDepths;        ///< m
 };
 
-/// One run's or one shard's data: HIPs and results for the global index range [begin, end).
+/// One run's or one shard's data: HIPs and results for the global index range [begin, end),
+/// complete or a checkpoint (records with done = 0 are still to compute).
 struct SweepData {
   SweepConfig config;
   int shardIndex = 0, shardCount = 1;
   uint64_t begin = 0, end = 0;
-  bool interrupted = false;
+  bool interrupted = false;                     ///< the run that wrote it stopped on a signal
   std::vector<Eigen::Vector3d> hips;            ///< end - begin
   std::vector<std::vector<HipResult>> results;  ///< per method, end - begin each
-  std::vector<TrajectorySeries> trajectories;   ///< shard 0 (or an unsharded run) only
+  /// Trajectory series: the sweep has trajectoryTotal of them (trajectory x method x depth x
+  /// step, TrajectorySeries::index); this shard runs [trajectoryBegin, trajectoryEnd) of them
+  /// (shardRange); `trajectories` holds those finished, by increasing index.
+  uint64_t trajectoryTotal = 0, trajectoryBegin = 0, trajectoryEnd = 0;
+  std::vector<TrajectorySeries> trajectories;
+  std::string directory;  ///< the directory readSweepData read ("" otherwise), for messages
   uint64_t total() const { return config.groupLabels.size() * config.samples; }
+  /// HIPs computed (done = 1), per method.
+  std::vector<uint64_t> doneCounts() const;
+  /// Every HIP of [begin, end) done for every method, every series of the shard's range finished.
+  bool complete() const;
+  /// "shard I/N" plus " (DIRECTORY)" when read from one.
+  std::string label() const;
 };
+
+/// XXH64 of the configuration without `source` (what shards and resumed runs must share);
+/// stored in every per-HIP file's header.
+uint64_t sweepConfigHash(const SweepConfig& c);
+/// "" when a and b describe the same sweep (all but `source` equal), else the first
+/// differing setting, e.g. "seed (1 vs 2)".
+std::string sweepConfigDifference(const SweepConfig& a, const SweepConfig& b);
 
 /// [begin, end) of shard `index` of `count`: contiguous, sizes differ by at most one.
 void shardRange(uint64_t total, int index, int count, uint64_t& begin, uint64_t& end);
 /// Parses "I/N" (0 <= I < N); throws InputError.
 void parseShard(const std::string& text, int& index, int& count);
 
-/// Writes sweep.json, hips.bin, results_METHOD.bin and trajectories.json into dir (created).
-/// Throws InputError when a file cannot be written.
+/// Writes sweep.json, hips.bin, results_METHOD.bin and trajectories.json into dir (created),
+/// each atomically (PATH.tmp.PID, fsync, rename; sweep.json last), so that a reader sees
+/// whole files of one checkpoint or the next, and done flags that are true. Throws
+/// InputError when a file cannot be written.
 void writeSweepData(const SweepData& data, const std::string& dir);
-/// Reads what writeSweepData wrote; throws InputError naming the file for a missing,
-/// truncated or inconsistent file.
+
+/// Writes checkpoints of one run into one directory: the first write() writes every file,
+/// later ones only the files whose content changed (results of methods with new HIPs done,
+/// new trajectory series) and sweep.json. Same atomicity as writeSweepData.
+class SweepWriter {
+ public:
+  explicit SweepWriter(std::string dir) : dir_(std::move(dir)) {}
+  void write(const SweepData& data);
+
+ private:
+  std::string dir_;
+  bool first_ = true;
+  std::vector<uint64_t> done_;  ///< per method, at the last write
+  size_t series_ = 0;           ///< trajectory series at the last write
+};
+
+/// Reads what writeSweepData wrote (complete or a checkpoint); throws InputError naming the
+/// file for a missing, truncated or inconsistent file (a per-HIP file of another sweep
+/// included).
 SweepData readSweepData(const std::string& dir);
-/// Joins shards into the unsharded run's data. Throws InputError when configurations differ,
-/// or the ranges overlap or leave a gap.
+/// Joins complete shards into the unsharded run's data. Throws InputError naming every
+/// incomplete shard (interrupted or killed: resume it with `sweep --resume`), and when
+/// configurations differ, or the HIP ranges or trajectory series overlap or leave a gap.
 SweepData mergeSweepData(std::vector<SweepData> shards);
 
 /// Computes the metrics of a whole run (begin 0, end total) and writes summary.json and one

@@ -3,9 +3,11 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 
 #include "hash.h"
 #include "sweep_opencl.h"
@@ -62,10 +64,62 @@ HipSet buildHipSet(SweepInputs& in, std::unique_ptr<ReferenceSurface>* reference
   return set;
 }
 
+namespace {
+
+using Path = std::pair<std::string, std::vector<Eigen::Vector3d>>;
+
+/// The trajectories of a sweep: the files (named by stem), else the default section loop.
+std::vector<Path> trajectoryPaths(const SweepConfig& c, const PatchCache& cache) {
+  std::vector<Path> paths;
+  for (const auto& f : c.trajectories) paths.emplace_back(std::filesystem::path(f).stem().string(), readPointsCsv(f));
+  if (c.trajectories.empty()) {
+    auto loop = defaultTrajectory(cache, c.level);
+    if (loop.size() >= 2) paths.emplace_back("default", std::move(loop));
+  }
+  return paths;
+}
+
+/// Takes over a checkpoint of the same sweep and shard (records and finished series).
+void adoptCheckpoint(SweepData& prev, SweepData& d) {
+  const std::string where = prev.directory.empty() ? "--resume" : prev.directory;
+  const std::string diff = sweepConfigDifference(prev.config, d.config);
+  if (!diff.empty())
+    throw InputError(where + ": holds another sweep (" + diff + "): give the options it was run with, or another -o");
+  if (prev.shardIndex != d.shardIndex || prev.shardCount != d.shardCount || prev.begin != d.begin ||
+      prev.end != d.end || prev.results.size() != d.results.size())
+    throw InputError(where + ": holds shard " + std::to_string(prev.shardIndex) + "/" +
+                     std::to_string(prev.shardCount) + ", not " + std::to_string(d.shardIndex) + "/" +
+                     std::to_string(d.shardCount));
+  if (prev.trajectoryTotal != d.trajectoryTotal || prev.trajectoryBegin != d.trajectoryBegin ||
+      prev.trajectoryEnd != d.trajectoryEnd)
+    throw InputError(where + ": holds another list of trajectory series");
+  d.results = std::move(prev.results);
+  d.trajectories = std::move(prev.trajectories);
+}
+
+/// Probe blocks sized so that checkpoints come about every checkpointSeconds: a block takes
+/// about a quarter of that (0.02 .. 2 s), measured from the previous block. Without
+/// checkpoints a block is everything.
+struct BlockSizer {
+  explicit BlockSizer(const SweepControl& c)
+      : target(c.checkpoint ? std::clamp(c.checkpointSeconds / 4, 0.02, 2.0) : 0),
+        next(c.checkpoint ? 1024 : std::numeric_limits<size_t>::max()) {}
+  void update(size_t hips, double seconds) {
+    if (target > 0 && seconds > 0)
+      next = static_cast<size_t>(std::clamp(static_cast<double>(hips) * target / seconds, 256.0, 4194304.0));
+  }
+  double target;
+  size_t next;
+};
+
+}  // namespace
+
 static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, SweepTiming* timing) {
   const auto t0 = std::chrono::steady_clock::now();
   if (!in.cache) throw InputError("sweep: no patch cache");
   if (in.config.methods.empty()) throw InputError("--methods: empty list");
+  if (control.checkpoint && !(control.checkpointSeconds > 0))
+    throw InputError("--checkpoint-every: expected a time > 0 s");
   ForceOptions opt;
   opt.stiffness = in.config.stiffness;
   opt.refine = parseRefineMethod(in.config.refine);
@@ -74,15 +128,17 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
   opt.initialGuess = parseInitialGuess(in.config.initialGuess);
   opt.tessellationLevel = in.config.guessLevel;
   if (in.config.backend == "opencl" && opt.initialGuess == InitialGuess::Tessellation)
-    throw InputError("--initial-guess tessellation: the OpenCL refinement starts from the polygon point; use "
-                     "--backend tbb or --initial-guess polygon");
+    throw InputError(
+        "--initial-guess tessellation: the OpenCL refinement starts from the polygon point; use "
+        "--backend tbb or --initial-guess polygon");
   // A skeleton cache (sweep --mesh with --sample-on reference): every worker's patch renderer
   // builds the patches its HIPs touch, none evicted; nothing else may evaluate patches.
   const bool lazy = !hasPatchData(*in.cache);
   if (lazy && (in.config.sampleOn == "patch" || !in.hipsFile.empty() || !in.config.trajectories.empty() ||
                in.config.backend == "opencl"))
-    throw InputError("sweep: patches built lazily only with --sample-on reference, no --hips, no --trajectory and "
-                     "the CPU backend");
+    throw InputError(
+        "sweep: patches built lazily only with --sample-on reference, no --hips, no --trajectory and "
+        "the CPU backend");
   opt.patchCapacity = 0;
   if (!in.makeRenderer) {
     auto cache = in.cache;
@@ -97,67 +153,99 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
   d.shardCount = in.shardCount;
   shardRange(set.size(), in.shardIndex, in.shardCount, d.begin, d.end);
   for (uint64_t g = d.begin; g < d.end; ++g) d.hips.push_back(set.hip(g));
+  const size_t n = d.end - d.begin, M = d.config.methods.size(), G = set.groups.size();
+  d.results.assign(M, std::vector<HipResult>(n));
+  // Trajectory series (trajectory, method, depth, step), spread over the shards like the HIPs.
+  const std::vector<Path> paths =
+      !lazy && in.hipsFile.empty() ? trajectoryPaths(d.config, *in.cache) : std::vector<Path>{};
+  d.trajectoryTotal = paths.size() * M * G * 2;
+  shardRange(d.trajectoryTotal, in.shardIndex, in.shardCount, d.trajectoryBegin, d.trajectoryEnd);
+  if (in.resume) adoptCheckpoint(*in.resume, d);
+
   SweepTiming tm;
   tm.setupSeconds = since(t0);
-  tm.hipsRun = d.end - d.begin;
-  bool stopped = false;
-  for (const auto& m : d.config.methods) {
+  tm.hipsRun = n;
+  const std::vector<uint64_t> doneBefore = d.doneCounts();
+  uint64_t pending = 0;
+  for (uint64_t k : doneBefore) pending += n - k;
+  if (control.started) control.started(pending, n * M);
+  auto stopRequested = [&] { return control.stop && control.stop->load(); };
+  auto lastCheckpoint = std::chrono::steady_clock::now();
+  auto maybeCheckpoint = [&] {
+    if (!control.checkpoint || since(lastCheckpoint) < control.checkpointSeconds) return;
+    control.checkpoint(d);
+    lastCheckpoint = std::chrono::steady_clock::now();
+  };
+  BlockSizer blocks(control);
+  for (size_t m = 0; m < M; ++m) {
     const auto t1 = std::chrono::steady_clock::now();
-    std::vector<HipResult> out(d.end - d.begin);
-    const RendererFactory make = [&in, m] { return in.makeRenderer(m); };
+    std::vector<HipResult>& out = d.results[m];
+    const std::string& method = d.config.methods[m];
     // --backend opencl: the patch method's refinements run on the device (sweep_opencl.h)
-    long built = 0;
-    const size_t done =
-        m == "patch" && in.config.backend == "opencl"
-            ? runPatchProbesOpenCL(set, d.begin, d.end, in.cache, opt, ref.get(), out.data(), control, in.opencl)
-            : runProbes(set, d.begin, d.end, make, ref.get(), out.data(), control, lazy ? &built : nullptr);
-    tm.methodPatchesBuilt.push_back(built);
-    stopped = stopped || done < d.end - d.begin;
-    tm.methodDone.push_back(done);
-    d.results.push_back(std::move(out));
+    const bool opencl = method == "patch" && in.config.backend == "opencl";
+    RendererPool pool([&in, method] { return in.makeRenderer(method); });
+    size_t computed = 0;
+    for (size_t i = 0; i < n && !stopRequested();) {
+      if (out[i].done) {
+        ++i;
+        continue;
+      }
+      size_t j = i;
+      while (j < n && !out[j].done && j - i < blocks.next) ++j;
+      const auto tb = std::chrono::steady_clock::now();
+      const size_t got = opencl ? runPatchProbesOpenCL(set, d.begin + i, d.begin + j, in.cache, opt, ref.get(),
+                                                       out.data() + i, control, in.opencl)
+                                : runProbes(set, d.begin + i, d.begin + j, pool, ref.get(), out.data() + i, control);
+      computed += got;
+      blocks.update(j - i, since(tb));
+      i = j;
+      maybeCheckpoint();
+    }
+    tm.methodPatchesBuilt.push_back(lazy ? pool.patchesBuilt() : 0);
+    tm.methodDone.push_back(computed);
     tm.methodSeconds.push_back(since(t1));
   }
-  // Trajectories: the first shard runs them, whole (they are short and sequential).
-  const bool wantTraj =
-      !lazy && in.shardIndex == 0 && in.hipsFile.empty() && !stopped && !(control.stop && control.stop->load());
-  if (wantTraj) {
+  std::vector<uint64_t> pendingSeries;
+  for (uint64_t k = d.trajectoryBegin, t = 0; k < d.trajectoryEnd; ++k) {
+    while (t < d.trajectories.size() && d.trajectories[t].index < k) ++t;
+    if (t == d.trajectories.size() || d.trajectories[t].index != k) pendingSeries.push_back(k);
+  }
+  if (!pendingSeries.empty() && !stopRequested()) {
     const auto t2 = std::chrono::steady_clock::now();
-    SweepConfig& c = d.config;
+    const SweepConfig& c = d.config;
+    const size_t per = M * G * 2;
     const PatchProjector projector(*in.cache, c.level);
-    std::vector<std::pair<std::string, std::vector<Eigen::Vector3d>>> paths;
-    for (const auto& f : c.trajectories) paths.emplace_back(std::filesystem::path(f).stem().string(), readPointsCsv(f));
-    if (c.trajectories.empty()) {
-      auto loop = defaultTrajectory(*in.cache, c.level);
-      if (loop.size() >= 2) paths.emplace_back("default", std::move(loop));
+    std::vector<std::vector<SurfaceSample>> walk(2 * paths.size());  // [2 t + half]: only those needed
+    for (uint64_t k : pendingSeries) {
+      const size_t t = k / per, h = k % 2;
+      if (walk[2 * t + h].empty())
+        walk[2 * t + h] = trajectorySamples(paths[t].second, h ? c.trajectoryStep / 2 : c.trajectoryStep, projector);
     }
-    std::vector<std::vector<SurfaceSample>> full, half;
-    for (const auto& [name, pts] : paths) {
-      full.push_back(trajectorySamples(pts, c.trajectoryStep, projector));
-      half.push_back(trajectorySamples(pts, c.trajectoryStep / 2, projector));
-    }
-    for (size_t t = 0; t < paths.size(); ++t)
-      for (const auto& m : c.methods)
-        for (size_t g = 0; g < set.groups.size(); ++g)
-          for (int h = 0; h < 2; ++h) {
-            TrajectorySeries s;
-            s.trajectory = paths[t].first;
-            s.method = m;
-            s.depthLabel = set.groups[g].label;
-            s.depth = set.groups[g].depth;
-            s.step = h ? c.trajectoryStep / 2 : c.trajectoryStep;
-            s.half = h == 1;
-            d.trajectories.push_back(std::move(s));
-          }
-    tbb::parallel_for(size_t(0), d.trajectories.size(), [&](size_t i) {
-      TrajectorySeries& s = d.trajectories[i];
-      const size_t per = c.methods.size() * set.groups.size() * 2;
-      const auto& path = s.half ? half[i / per] : full[i / per];
+    std::vector<TrajectorySeries> fresh(pendingSeries.size());
+    std::vector<uint8_t> ran(pendingSeries.size(), 0);
+    tbb::parallel_for(size_t(0), pendingSeries.size(), [&](size_t i) {
+      if (stopRequested()) return;
+      const uint64_t k = pendingSeries[i];
+      const size_t t = k / per, m = k % per / (G * 2), g = k % (G * 2) / 2, h = k % 2;
+      TrajectorySeries& s = fresh[i];
+      s.index = k;
+      s.trajectory = paths[t].first;
+      s.method = c.methods[m];
+      s.depthLabel = set.groups[g].label;
+      s.depth = set.groups[g].depth;
+      s.step = h ? c.trajectoryStep / 2 : c.trajectoryStep;
+      s.half = h == 1;
       auto r = in.makeRenderer(s.method);
-      runTrajectory(path, s.depth, c.approach, *r, s);
+      runTrajectory(walk[2 * t + h], s.depth, c.approach, *r, s);
+      ran[i] = 1;
     });
+    for (size_t i = 0; i < fresh.size(); ++i)
+      if (ran[i]) d.trajectories.push_back(std::move(fresh[i]));
+    std::sort(d.trajectories.begin(), d.trajectories.end(),
+              [](const TrajectorySeries& a, const TrajectorySeries& b) { return a.index < b.index; });
     tm.trajectorySeconds = since(t2);
   }
-  d.interrupted = stopped;
+  d.interrupted = !d.complete() && stopRequested();
   if (timing) *timing = tm;
   return d;
 }

@@ -3,6 +3,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,10 @@ struct SweepInputs {
   OpenCLOptions opencl;
   /// Makes a renderer for a method name; default: makeForceRenderer(cache, method, options).
   std::function<std::unique_ptr<ForceRenderer>(const std::string& method)> makeRenderer;
+  /// A checkpoint of this sweep and shard (readSweepData of a previous run's output): its
+  /// records with done = 1 and its finished trajectory series are kept, the rest computed.
+  /// runSweep throws InputError when it holds another sweep, shard or series range.
+  std::optional<SweepData> resume;
 };
 
 struct SweepTiming {
@@ -34,13 +39,16 @@ struct SweepTiming {
   std::vector<double> methodSeconds;  ///< probes, per method
   double trajectorySeconds = 0;
   uint64_t hipsRun = 0;              ///< HIPs of the shard, per method
-  std::vector<uint64_t> methodDone;  ///< HIPs done per method (fewer when stopped)
+  std::vector<uint64_t> methodDone;  ///< HIPs computed by this run per method (fewer when stopped or resumed)
   /// Patch constructions per method when the cache is a skeleton (lazy, summed over the
   /// workers, each of which builds what its HIPs touch); 0 for a prebuilt cache.
   std::vector<long> methodPatchesBuilt;
 };
 
-/// Progress covers the probes (methods x HIPs of the shard). Throws InputError for bad input.
+/// Runs the shard's probes, method by method, in blocks (checkpoints between blocks, see
+/// SweepControl), then its trajectory series, in parallel. Stops early when control.stop is
+/// set: the data then holds the records and series done (interrupted = true). Progress
+/// covers the probes (methods x HIPs of the shard left to run). Throws InputError for bad input.
 SweepData runSweep(SweepInputs inputs, const SweepControl& control, SweepTiming* timing = nullptr);
 
 /// The HIP list alone (deterministic), with the derived config fields filled.

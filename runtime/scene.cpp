@@ -147,6 +147,28 @@ std::string stringField(const Ctx& c, const json& j, const std::string& where) {
   return j.get<std::string>();
 }
 
+/// The patch options of a `mesh` object (after its preset): the keys of the command line's
+/// --precision, --normals, --cross-tangent (`cross_tangent`), --orient. A cache keeps its own.
+void parsePatchKeys(const Ctx& c, const json& o, const std::string& w, bool mesh, PatchOptions& opt) {
+  for (const char* key : {"precision", "normals", "cross_tangent", "orient"}) {
+    if (!o.contains(key)) continue;
+    const std::string where = w + "/" + key;
+    if (!mesh) c.fail(where, "applies to mesh objects only (a cache keeps the options it was built with)");
+    const std::string v = stringField(c, o[key], where);
+    try {
+      if (std::string(key) == "precision") opt.precision = parsePrecision(v);
+      if (std::string(key) == "normals") opt.normals = parseNormalMode(v);
+      if (std::string(key) == "cross_tangent") opt.crossTangent = parseCrossTangent(v);
+    } catch (const InputError& e) {
+      c.fail(where, e.what());
+    }
+    if (std::string(key) == "orient") {
+      if (v != "outward" && v != "keep") c.fail(where, "expected \"outward\" or \"keep\", got \"" + v + "\"");
+      opt.keepOrientation = v == "keep";
+    }
+  }
+}
+
 }  // namespace
 
 Scene loadScene(const std::string& path, const SceneDefaults& defaults, const RendererFactory& factory) {
@@ -173,7 +195,9 @@ Scene loadScene(const std::string& path, const SceneDefaults& defaults, const Re
     const std::string w = "/objects/" + std::to_string(i);
     const json& o = objs[i];
     if (!o.is_object()) c.fail(w, "expected an object with \"mesh\" or \"cache\"");
-    c.onlyKeys(o, w, {"name", "mesh", "cache", "pose", "stiffness", "method", "preset", "comment"});
+    c.onlyKeys(o, w,
+               {"name", "mesh", "cache", "pose", "stiffness", "method", "preset", "precision", "normals",
+                "cross_tangent", "orient", "comment"});
     const bool hasMesh = o.contains("mesh"), hasCache = o.contains("cache");
     if (hasMesh == hasCache)
       c.fail(w, hasMesh ? "give either \"mesh\" or \"cache\", not both" : "missing \"mesh\" or \"cache\"");
@@ -210,6 +234,7 @@ Scene loadScene(const std::string& path, const SceneDefaults& defaults, const Re
       applyForcePreset(*preset, obj.force);
       patchOptions.precision = preset->precision;
     }
+    parsePatchKeys(c, o, w, hasMesh, patchOptions);
     if (o.contains("stiffness")) {
       obj.force.stiffness = c.number(o["stiffness"], w + "/stiffness", "a stiffness > 0 N/m");
       if (!(obj.force.stiffness > 0))

@@ -95,7 +95,10 @@ struct SceneDefaults {
 /// in radians, or as a quaternion [w, x, y, z] (normalised; non-zero); uniform scale > 0),
 /// `stiffness` (N/m, > 0), `method` (patch|direct|shading), `preset` (fast|balanced|accurate,
 /// force_presets.h: the refinement options, and the precision of a `mesh` object's patches;
-/// `stiffness` still applies), `comment`. Unknown keys are
+/// `stiffness` still applies), `precision` (float|double), `normals` (auto|file|angle|area),
+/// `cross_tangent` (corrected|paper|blend), `orient` (outward|keep): a `mesh` object's patch
+/// options, as the command line's --precision, --normals, --cross-tangent, --orient (which
+/// give the defaults; errors on a `cache` object, which keeps its own), `comment`. Unknown keys are
 /// errors. Throws InputError `FILE: /json/path: message` for bad JSON, missing or unknown
 /// fields and bad values; errors inside a mesh or cache file name that file.
 Scene loadScene(const std::string& path, const SceneDefaults& defaults, const RendererFactory& factory);

@@ -1,6 +1,7 @@
 #include "cli_common.h"
 
 #include <chrono>
+#include <cstdio>
 
 #include "cache_file.h"
 #include "force_presets.h"
@@ -55,39 +56,66 @@ void addRefineArgs(CLI::App& cmd, RefineArgs& a) {
   a.precisionOpt = cmd.get_option_no_throw("--precision");
 }
 
-void addPatchArgs(CLI::App& cmd, PatchArgs& a) {
-  cmd.add_option("--precision", a.precision, "float|double: precision of the patch records")
-      ->check(CLI::IsMember({"float", "double"}))
-      ->capture_default_str();
-  cmd.add_option("--normals", a.normals,
-                 "auto|file|angle|area: vertex normals. auto: the file's wherever it gives one normal per vertex "
-                 "(in vertex order, or through face references f v//vn whose corners agree within 1e-3 rad); at "
-                 "vertices whose corners carry different normals, and without file normals, angle-weighted "
-                 "(cache build reports how many). file: the file's, per corner as given (creases open the "
-                 "surface). angle|area: angle- or area-weighted Newell normals")
-      ->check(CLI::IsMember({"auto", "file", "angle", "area"}))
-      ->capture_default_str();
-  cmd.add_option("--cross-tangent", a.crossTangent,
-                 "corrected|paper|blend: cross-tangent construction (design page, Robustness)")
-      ->check(CLI::IsMember({"corrected", "paper", "blend"}))
-      ->capture_default_str();
-  cmd.add_option("--orient", a.orient, "outward|keep: flip closed meshes whose faces point inward")
-      ->check(CLI::IsMember({"outward", "keep"}))
-      ->capture_default_str();
+void addSurfaceArgs(CLI::App& cmd, PatchArgs& a) {
+  a.precisionOpt = cmd.add_option("--precision", a.precision, "float|double: precision of the patch records")
+                       ->check(CLI::IsMember({"float", "double"}))
+                       ->capture_default_str();
+  a.normalsOpt = cmd.add_option("--normals", a.normals,
+                                "auto|file|angle|area: vertex normals. auto: the file's wherever it gives one normal "
+                                "per vertex (in vertex order, or through face references f v//vn whose corners agree "
+                                "within 1e-3 rad); at vertices whose corners carry different normals, and without file "
+                                "normals, angle-weighted (cache build reports how many). file: the file's, per corner "
+                                "as given (creases open the surface). angle|area: angle- or area-weighted Newell normals")
+                     ->check(CLI::IsMember({"auto", "file", "angle", "area"}))
+                     ->capture_default_str();
+  a.crossTangentOpt = cmd.add_option("--cross-tangent", a.crossTangent,
+                                     "corrected|paper|blend: cross-tangent construction (design page, Robustness)")
+                          ->check(CLI::IsMember({"corrected", "paper", "blend"}))
+                          ->capture_default_str();
+  a.orientOpt = cmd.add_option("--orient", a.orient, "outward|keep: flip closed meshes whose faces point inward")
+                    ->check(CLI::IsMember({"outward", "keep"}))
+                    ->capture_default_str();
+}
+
+void addBackendArgs(CLI::App& cmd, PatchArgs& a) {
   cmd.add_option("--backend", a.backend, "serial|tbb|opencl")
       ->check(CLI::IsMember({"serial", "tbb", "opencl"}))
       ->capture_default_str();
-  cmd.add_option("--device", a.device, "OpenCL device: index or name substring (default: first GPU, else CPU)");
+  cmd.add_option("--cl-device", a.clDevice,
+                 "OpenCL device for --backend opencl: index or name substring (default: first GPU, else CPU)");
+  cmd.add_option("--device", a.clDevice)  // deprecated spelling: hidden (empty group)
+      ->group("")
+      ->each([](const std::string&) {
+        std::fprintf(stderr, "smoothforce: --device is deprecated for the OpenCL device; use --cl-device\n");
+      });
   cmd.add_option("--threads", a.threads, "worker threads for tbb (0 = all cores)")
       ->check(CLI::Range(0, 4096))
       ->capture_default_str();
+}
+
+void addPatchArgs(CLI::App& cmd, PatchArgs& a) {
+  addSurfaceArgs(cmd, a);
+  addBackendArgs(cmd, a);
+}
+
+void PatchArgs::checkCache(const PatchCache& c, const std::string& path) const {
+  auto given = [](const CLI::Option* o) { return o && o->count() > 0; };
+  auto differs = [&](const char* option, const std::string& built, const std::string& wanted) {
+    if (built != wanted)
+      throw InputError(path + ": built with " + option + " " + built + ", but " + option + " " + wanted +
+                       " was given (a cache keeps its options: rebuild it, or drop the option)");
+  };
+  if (given(precisionOpt)) differs("--precision", toString(c.options.precision), precision);
+  if (given(normalsOpt)) differs("--normals", toString(c.options.normals), normals);
+  if (given(crossTangentOpt)) differs("--cross-tangent", toString(c.options.crossTangent), crossTangent);
+  if (given(orientOpt)) differs("--orient", c.options.keepOrientation ? "keep" : "outward", orient);
 }
 
 double construct(PatchCache& cache, const PatchArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
   if (args.backendKind() == Backend::OpenCL) {
     OpenCLOptions o;
-    o.device = args.device;
+    o.device = args.clDevice;
     constructPatchesOpenCL(cache, o);
   } else {
     constructPatches(cache, args.backendKind(), args.threads);
@@ -99,6 +127,7 @@ Source openSource(const std::string& path, const PatchArgs& args, bool lazy) {
   Source s;
   if (isPatchCacheFile(path)) {
     s.cache = readPatchCache(path);
+    args.checkCache(s.cache, path);
     return s;
   }
   const PatchOptions opt = args.options();
@@ -112,7 +141,7 @@ BatchEvaluator makeEvaluator(const PatchCache& cache, const PatchArgs& args) {
   const Backend b = args.backendKind();
   if (b == Backend::OpenCL) {
     OpenCLOptions o;
-    o.device = args.device;
+    o.device = args.clDevice;
     auto ev = std::make_shared<OpenCLEvaluator>(cache, o);
     return [ev](const int32_t* f, const double* x, const double* y, size_t n, PatchPoint* out) {
       ev->evaluate(f, x, y, n, out);

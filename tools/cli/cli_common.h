@@ -11,16 +11,28 @@
 
 namespace sf::cli {
 
-/// Options every command that builds patches takes.
+/// Options every command that builds patches takes: the patch surface (--precision,
+/// --normals, --cross-tangent, --orient) and where the work runs (--backend, --cl-device,
+/// --threads).
 struct PatchArgs {
   std::string precision = "double", normals = "auto", crossTangent = "corrected", orient = "outward";
-  std::string backend = "tbb", device;
+  std::string backend = "tbb", clDevice;
   int threads = 0;
+  /// The surface options as registered (null when the command lacks them); count() > 0 when given.
+  CLI::Option *precisionOpt = nullptr, *normalsOpt = nullptr, *crossTangentOpt = nullptr, *orientOpt = nullptr;
   PatchOptions options() const;
   Backend backendKind() const { return parseBackend(backend); }
+  /// A cache file keeps the options it was built with: throws InputError `PATH: built with
+  /// --normals angle, but --normals file was given` when an option given explicitly differs.
+  void checkCache(const PatchCache& cache, const std::string& path) const;
 };
 
-/// Registers --precision, --normals, --cross-tangent, --orient, --backend, --device, --threads.
+/// Registers --precision, --normals, --cross-tangent, --orient (the patch surface).
+void addSurfaceArgs(CLI::App& cmd, PatchArgs& args);
+/// Registers --backend, --cl-device (the OpenCL device; --device is a hidden, deprecated
+/// alias outside `loop`) and --threads.
+void addBackendArgs(CLI::App& cmd, PatchArgs& args);
+/// Both of the above.
 void addPatchArgs(CLI::App& cmd, PatchArgs& args);
 
 /// The patch method's refinement options of every command that computes forces (trace, loop,
@@ -51,9 +63,9 @@ struct Source {
   double buildSeconds = 0;
 };
 
-/// Loads a cache file (detected by its magic) or reads the mesh and builds its patches
-/// with the chosen backend; lazy: a mesh gives a skeleton (no patch built; the force
-/// renderer builds them on demand, lazy_patches.h).
+/// Loads a cache file (detected by its magic; PatchArgs::checkCache) or reads the mesh and
+/// builds its patches with the chosen backend; lazy: a mesh gives a skeleton (no patch built;
+/// the force renderer builds them on demand, lazy_patches.h).
 Source openSource(const std::string& path, const PatchArgs& args, bool lazy = false);
 
 /// Builds patches for an already loaded mesh with the chosen backend; returns seconds.

@@ -4,6 +4,8 @@
 
 #include "cache_file.h"
 #include "cli_common.h"
+#include "cli_exit.h"
+#include "cli_output.h"
 #include "hash.h"
 
 namespace sf::cli {
@@ -53,8 +55,10 @@ void build(const std::string& mesh, std::string out, const PatchArgs& args) {
         r.signedVolume);
   std::printf("normals: %s\n", toString(opt.normals));
   for (const std::string& line : lm.normalReport.describe()) std::printf("  %s\n", line.c_str());
+  throwIfInterrupted("cache build");
   PatchCache cache = preparePatchCache(lm.mesh, lm.cornerNormals, opt, lm.fileHash);
   const double secs = construct(cache, args);
+  throwIfInterrupted("cache build");
   printPatchSummary(cache);
   std::printf("build: %.3f ms on %s: %.0f patches/s\n", secs * 1e3, args.backend.c_str(),
               cache.numFaces() / std::max(secs, 1e-9));
@@ -64,16 +68,54 @@ void build(const std::string& mesh, std::string out, const PatchArgs& args) {
               static_cast<unsigned long long>(std::filesystem::file_size(out)), hexHash(cache.meshHash).c_str());
 }
 
-void info(const std::string& path) {
+nlohmann::ordered_json patchSummaryJson(const PatchCache& c) {
+  const PatchStatusSummary s = summarizePatchStatus(c);
+  return {{"built", c.numFaces() - s.notBuilt},
+          {"not_built", s.notBuilt},
+          {"guard_used", s.guard},
+          {"folds", s.fold},
+          {"bulges", s.bulge},
+          {"max_bulge", s.maxBulge},
+          {"degenerate", s.degenerateFaces.size()},
+          {"fold_faces", s.foldFaces},
+          {"bulge_faces", s.bulgeFaces},
+          {"degenerate_faces", s.degenerateFaces}};
+}
+
+void info(const std::string& path, bool json) {
   const PatchCache c = readPatchCache(path);
-  std::printf("cache: %s, format %u, %llu bytes\n", path.c_str(), kCacheFormatVersion,
-              static_cast<unsigned long long>(std::filesystem::file_size(path)));
+  const auto bytes = static_cast<unsigned long long>(std::filesystem::file_size(path));
+  int boundary = 0, nonManifold = 0;
+  for (int32_t t : c.slotTwin) boundary += t == -1, nonManifold += t == -2;
+  const std::vector<int> h = histogram(c);
+  if (json) {
+    nlohmann::ordered_json sizes = nlohmann::ordered_json::object();
+    for (size_t n = 0; n < h.size(); ++n)
+      if (h[n]) sizes[std::to_string(n)] = h[n];
+    printJson(stdout, {{"cache", path},
+                       {"format", kCacheFormatVersion},
+                       {"bytes", bytes},
+                       {"mesh_hash", hexHash(c.meshHash)},
+                       {"options_hash", hexHash(hashPatchOptions(c.options))},
+                       {"vertices", c.numVertices()},
+                       {"faces", c.numFaces()},
+                       {"face_sizes", sizes},
+                       {"edge_slots", c.numSlots()},
+                       {"boundary_slots", boundary},
+                       {"non_manifold_slots", nonManifold},
+                       {"options",
+                        {{"precision", toString(c.options.precision)},
+                         {"cross_tangent", toString(c.options.crossTangent)},
+                         {"normals", toString(c.options.normals)},
+                         {"orient", c.options.keepOrientation ? "keep" : "outward"}}},
+                       {"patches", patchSummaryJson(c)}});
+    return;
+  }
+  std::printf("cache: %s, format %u, %llu bytes\n", path.c_str(), kCacheFormatVersion, bytes);
   std::printf("mesh hash: %s, options hash: %s\n", hexHash(c.meshHash).c_str(),
               hexHash(hashPatchOptions(c.options)).c_str());
   std::printf("mesh: %d vertices, %d faces (%s), %d edge slots\n", c.numVertices(), c.numFaces(),
-              faceSizeText(histogram(c)).c_str(), c.numSlots());
-  int boundary = 0, nonManifold = 0;
-  for (int32_t t : c.slotTwin) boundary += t == -1, nonManifold += t == -2;
+              faceSizeText(h).c_str(), c.numSlots());
   std::printf("edges: %d boundary slots, %d non-manifold slots\n", boundary, nonManifold);
   std::printf("options: precision %s, cross tangent %s, normals %s, orient %s\n", toString(c.options.precision),
               toString(c.options.crossTangent), toString(c.options.normals),
@@ -98,8 +140,12 @@ void addCacheCommands(CLI::App& app) {
 
   auto* i = cache->add_subcommand("info", "Validate a cache file and describe it");
   auto path = std::make_shared<std::string>();
+  auto json = std::make_shared<bool>(false);
   i->add_option("CACHE", *path, "cache file")->required();
-  i->callback([=] { info(*path); });
+  i->add_flag("--json", *json,
+              "print one JSON object instead of text: cache, format, bytes, mesh_hash, options_hash, vertices, "
+              "faces, face_sizes, edge_slots, boundary_slots, non_manifold_slots, options, patches");
+  i->callback([=] { info(*path, *json); });
 }
 
 }  // namespace sf::cli

@@ -2,6 +2,7 @@
 #include <cstdio>
 
 #include "cli_common.h"
+#include "cli_exit.h"
 #include "tessellate.h"
 
 namespace sf::cli {
@@ -18,7 +19,9 @@ void addExportCommand(CLI::App& app) {
   addPatchArgs(*x, *args);
   x->callback([=] {
     Source src = openSource(*input, *args);
+    throwIfInterrupted("export");
     const TriangleMesh tm = tessellatePatches(src.cache, *level, makeEvaluator(src.cache, *args));
+    throwIfInterrupted("export");
     writeTriangleMesh(tm, *output);
     std::printf("export: %d patches at level %d -> %s (%zu vertices, %zu triangles)\n", src.cache.numFaces(), *level,
                 output->c_str(), tm.positions.size(), tm.triangles.size());

@@ -5,6 +5,8 @@
 #include <cstdlib>
 #include <memory>
 
+#include "cli_exit.h"
+#include "cli_output.h"
 #include "generators.h"
 #include "sweep_sampling.h"
 
@@ -12,16 +14,25 @@ namespace sf::cli {
 
 namespace {
 
-void report(const GeneratedMesh& m, const std::string& what, const std::string& out, const std::string& analytic) {
+/// Runs a generator; its parameter errors are option errors (exit 2).
+template <class F>
+GeneratedMesh generated(F&& make) {
+  GeneratedMesh m;
+  checkOptions([&] { m = make(); });
+  return m;
+}
+
+void report(const GeneratedMesh& m, const std::string& what, const std::string& out, const std::string& analytic,
+            std::FILE* to = stdout) {
   Eigen::Vector3d lo = m.positions[0], hi = lo;
   for (const auto& p : m.positions) {
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);
   }
-  std::printf("generate: %s: %zu quads, %zu vertices, box %.6g x %.6g x %.6g -> %s\n", what.c_str(), m.quads.size(),
-              m.positions.size(), hi.x() - lo.x(), hi.y() - lo.y(), hi.z() - lo.z(), out.c_str());
-  std::printf("  exact vertex normals: build patches with --normals file; reference surface: --analytic %s\n",
-              analytic.c_str());
+  std::fprintf(to, "generate: %s: %zu quads, %zu vertices, box %.6g x %.6g x %.6g -> %s\n", what.c_str(),
+               m.quads.size(), m.positions.size(), hi.x() - lo.x(), hi.y() - lo.y(), hi.z() - lo.z(), out.c_str());
+  std::fprintf(to, "  exact vertex normals: build patches with --normals file; reference surface: --analytic %s\n",
+               analytic.c_str());
 }
 
 /// The shortest %g form that reads back as x.
@@ -68,7 +79,8 @@ void addGenerateCommand(CLI::App& app) {
       ->capture_default_str();
   auto size = std::make_shared<double>(0);
   knot->add_option("--size", *size, "sets --scale so that the largest bounding-box side is this long (e.g. 0.1)");
-  knot->add_option("--trajectory-out", *traj, "also write a helix on the tube as x,y,z CSV (for sweep --trajectory)");
+  knot->add_option("--trajectory-out", *traj,
+                   "also write a helix on the tube as x,y,z CSV (for sweep --trajectory); - writes stdout");
   knot->add_option("--turns", *turns, "helix turns around the tube over one lap")->capture_default_str();
   knot->add_option("--trajectory-points", *trajPoints, "helix points")
       ->check(CLI::Range(2, 10000000))
@@ -77,18 +89,23 @@ void addGenerateCommand(CLI::App& app) {
   knot->callback([=] {
     if (*size > 0) {
       k->scale = 1;
-      k->scale = *size / largestExtent(torusKnot(*k));
+      k->scale = *size / largestExtent(generated([&] { return torusKnot(*k); }));
     }
-    const GeneratedMesh m = torusKnot(*k);
+    const GeneratedMesh m = generated([&] { return torusKnot(*k); });
     const std::string spec = "torus-knot:" + std::to_string(k->p) + "," + std::to_string(k->q) + "," + g17(k->R) + "," +
                              g17(k->r) + "," + g17(k->tube) + "," + g17(k->scale);
     writeGeneratedObj(m, *out,
                       "SmoothForce generate " + spec + " segments " + std::to_string(k->segments) + " sides " +
                           std::to_string(k->sides));
-    report(m, "torus-knot", *out, spec);
+    std::FILE* to = *traj == "-" ? stderr : stdout;  // stdout carries the helix with --trajectory-out -
+    report(m, "torus-knot", *out, spec, to);
     if (!traj->empty()) {
-      writePointsCsv(torusKnotHelix(*k, *turns, *trajPoints), *traj);
-      std::printf("  helix trajectory (%g turns, %d points) -> %s\n", *turns, *trajPoints, traj->c_str());
+      TextOutput helix(*traj);
+      std::fprintf(helix.file(), "x,y,z\n");
+      for (const auto& p : torusKnotHelix(*k, *turns, *trajPoints))
+        std::fprintf(helix.file(), "%.17g,%.17g,%.17g\n", p.x(), p.y(), p.z());
+      helix.commit();
+      std::fprintf(to, "  helix trajectory (%g turns, %d points) -> %s\n", *turns, *trajPoints, helix.name().c_str());
     }
   });
 
@@ -100,7 +117,7 @@ void addGenerateCommand(CLI::App& app) {
   sph->add_option("--segments", *segs, "quads per cube-face edge")->check(CLI::Range(1, 4096))->capture_default_str();
   sph->add_option("-o,--output", *outS, "OUT.obj")->required();
   sph->callback([=] {
-    const GeneratedMesh m = quadSphere(*radius, *segs);
+    const GeneratedMesh m = generated([&] { return quadSphere(*radius, *segs); });
     writeGeneratedObj(m, *outS, "SmoothForce generate sphere radius " + g17(*radius));
     report(m, "sphere", *outS, "sphere:" + g17(*radius));
   });
@@ -115,7 +132,7 @@ void addGenerateCommand(CLI::App& app) {
   tor->add_option("--sides", *tsides, "quads around the tube")->check(CLI::Range(3, 100000))->capture_default_str();
   tor->add_option("-o,--output", *outT, "OUT.obj")->required();
   tor->callback([=] {
-    const GeneratedMesh m = torusMesh(*R, *r, *tsegs, *tsides);
+    const GeneratedMesh m = generated([&] { return torusMesh(*R, *r, *tsegs, *tsides); });
     writeGeneratedObj(m, *outT, "SmoothForce generate torus R " + g17(*R) + " r " + g17(*r));
     report(m, "torus", *outT, "torus:" + g17(*R) + "," + g17(*r));
   });

@@ -8,12 +8,13 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <memory>
 
 #include "cache_file.h"
 #include "cli_common.h"
+#include "cli_exit.h"
+#include "cli_output.h"
 #include "force_tracking.h"
 #include "loop_report.h"
 #include "mesh_pipeline.h"
@@ -25,25 +26,22 @@
 namespace sf::cli {
 namespace {
 
-std::atomic<bool> gStop{false};
-static_assert(std::atomic<bool>::is_always_lock_free);
-void onInterrupt(int) { gStop.store(true, std::memory_order_relaxed); }
-
 struct LoopArgs {
   std::string scene, cache, mesh, method = "patch", device = "scripted", record;
   double rate = 1000, duration = 10, stiffness = 500, speed = 0.1, depth = 0, spinUs = 200;
   int patchCapacity = 256;
   rt::SafetyOptions safety;
   RefineArgs refine;
+  PatchArgs patch;  ///< the patch surface of objects given as meshes (--normals, --precision, ...)
   int rtPriority = 0;
-  bool depthGiven = false;
+  bool depthGiven = false, json = false;
 };
 
 void requireFinitePositive(double v, const char* option, const char* what) {
   if (!(v > 0) || !std::isfinite(v)) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%g", v);
-    throw InputError(std::string(option) + ": expected " + what + ", got " + buf);
+    throw UsageError(std::string(option) + ": expected " + what + ", got " + buf);
   }
 }
 
@@ -61,38 +59,96 @@ std::string raisePriority(int priority) {
   return s;
 }
 
-void run(const LoopArgs& a) {
-  const int sources = !a.scene.empty() + !a.cache.empty() + !a.mesh.empty();
-  if (sources != 1) throw InputError("loop: give exactly one of --scene, --cache, --mesh");
-  ForceMethod method;
-  try {
-    method = parseForceMethod(a.method);
-  } catch (const InputError&) {
-    throw InputError("--method: expected patch, direct or shading, got '" + a.method + "'");
-  }
-  rt::LoopOptions lo;
-  lo.rate = a.rate;
-  lo.duration = a.duration;
-  lo.stop = &gStop;
-  rt::validate(lo);
-  rt::validate(a.safety);
-  requireFinitePositive(a.stiffness, "--stiffness", "a finite stiffness > 0 N/m");
-  requireFinitePositive(a.speed, "--speed", "a finite speed > 0 m/s");
-  if (a.depthGiven) requireFinitePositive(a.depth, "--depth", "a finite depth > 0 m");
-  rt::checkDeviceSpec(a.device);
-  if (!(a.spinUs >= 0 && a.spinUs <= 1e6 / a.rate)) {
-    char buf[96];
-    std::snprintf(buf, sizeof buf, "--spin-us: expected 0 .. one period (%g us), got %g", 1e6 / a.rate, a.spinUs);
-    throw InputError(buf);
-  }
+nlohmann::ordered_json percentilesUs(const rt::LatencyHistogram& h) {
+  return {{"p50", 1e6 * h.percentile(50)},
+          {"p99", 1e6 * h.percentile(99)},
+          {"p99_9", 1e6 * h.percentile(99.9)},
+          {"max", 1e6 * h.max()}};
+}
 
+/// The report of `loop --json` (keys documented in README "Exit status and output").
+nlohmann::ordered_json loopJson(const rt::Scene& scene, const std::string& device, const LoopArgs& a,
+                                const rt::LoopStats& s, const rt::SafetyCounters& c, long long written, int status) {
+  nlohmann::ordered_json objects = nlohmann::ordered_json::array();
+  for (const rt::SceneObject& o : scene.objects())
+    objects.push_back({{"name", o.name},
+                       {"source", o.source},
+                       {"faces", o.cache->numFaces()},
+                       {"method", toString(o.method)},
+                       {"stiffness", o.force.stiffness},
+                       {"refine", toString(o.force.refine)},
+                       {"angle_tolerance", o.force.angleTolerance},
+                       {"max_iterations", o.force.maxIterations},
+                       {"initial_guess", toString(o.force.initialGuess)},
+                       {"precision", toString(o.cache->options.precision)},
+                       {"normals", toString(o.cache->options.normals)},
+                       {"cross_tangent", toString(o.cache->options.crossTangent)},
+                       {"lazy", o.fromMesh}});
+  nlohmann::ordered_json records = nullptr;
+  if (written >= 0) records = {{"file", a.record}, {"written", written}, {"dropped", s.recordsDropped}};
+  return {{"objects", objects},
+          {"device", device},
+          {"rate_hz", a.rate},
+          {"duration_s", a.duration},
+          {"step_compute_us", percentilesUs(s.compute)},
+          {"wake_up_lateness_us", percentilesUs(s.lateness)},
+          {"steps", s.steps},
+          {"ticks", s.ticks},
+          {"elapsed_s", s.elapsed},
+          {"stopped", s.stopped},
+          {"missed_deadlines", s.missedDeadlines},
+          {"max_consecutive_misses", c.maxConsecutiveMisses},
+          {"skipped_ticks", s.skippedTicks},
+          {"contact_steps", s.contactSteps},
+          {"contact_onsets", s.contactOnsets},
+          {"patches_built", scene.patchesBuilt()},
+          {"faces", scene.totalFaces()},
+          {"safety",
+           {{"clamps", c.clamps},
+            {"rate_limits", c.rateLimits},
+            {"non_finite", c.nonFinite},
+            {"fault", c.fault == rt::Fault::None ? nullptr : nlohmann::ordered_json(toString(c.fault))},
+            {"fault_time_s", c.fault == rt::Fault::None ? nullptr : nlohmann::ordered_json(c.faultTime)}}},
+          {"records", records},
+          {"exit_status", status}};
+}
+
+void run(const LoopArgs& a) {
+  ForceMethod method{};
+  rt::LoopOptions lo;
   rt::SceneDefaults defaults;
-  defaults.method = method;
-  defaults.force.stiffness = a.stiffness;
-  a.refine.apply(defaults.force);
-  validateForceOptions(defaults.force);
-  defaults.patchOptions.precision = a.refine.precision(defaults.patchOptions.precision);
-  defaults.force.patchCapacity = a.patchCapacity;
+  checkOptions([&] {  // every mistake on the command line: exit 2
+    const int sources = !a.scene.empty() + !a.cache.empty() + !a.mesh.empty();
+    if (sources != 1) throw UsageError("loop: give exactly one of --scene, --cache, --mesh");
+    try {
+      method = parseForceMethod(a.method);
+    } catch (const InputError&) {
+      throw UsageError("--method: expected patch, direct or shading, got '" + a.method + "'");
+    }
+    lo.rate = a.rate;
+    lo.duration = a.duration;
+    lo.stop = &stopFlag();
+    rt::validate(lo);
+    rt::validate(a.safety);
+    requireFinitePositive(a.stiffness, "--stiffness", "a finite stiffness > 0 N/m");
+    requireFinitePositive(a.speed, "--speed", "a finite speed > 0 m/s");
+    if (a.depthGiven) requireFinitePositive(a.depth, "--depth", "a finite depth > 0 m");
+    rt::checkDeviceSpec(a.device);
+    if (a.record == "-") throw UsageError("--record: give a file (standard output carries the report)");
+    if (!(a.spinUs >= 0 && a.spinUs <= 1e6 / a.rate)) {
+      char buf[96];
+      std::snprintf(buf, sizeof buf, "--spin-us: expected 0 .. one period (%g us), got %g", 1e6 / a.rate, a.spinUs);
+      throw UsageError(buf);
+    }
+    defaults.method = method;
+    defaults.force.stiffness = a.stiffness;
+    a.refine.apply(defaults.force);
+    validateForceOptions(defaults.force);
+    defaults.patchOptions = a.patch.options();
+    defaults.patchOptions.precision = a.refine.precision(defaults.patchOptions.precision);
+    defaults.force.patchCapacity = a.patchCapacity;
+  });
+
   const rt::RendererFactory factory = [](std::shared_ptr<const PatchCache> c, ForceMethod m, const ForceOptions& o) {
     return makeForceRenderer(std::move(c), m, o);
   };
@@ -102,6 +158,7 @@ void run(const LoopArgs& a) {
     scene = rt::loadScene(a.scene, defaults, factory);
   } else if (!a.cache.empty()) {
     auto cache = std::make_shared<const PatchCache>(readPatchCache(a.cache));
+    a.patch.checkCache(*cache, a.cache);
     scene = rt::singleObjectScene(cache, a.cache, method, defaults.force, factory);
   } else {
     const LoadedMesh loaded = loadMesh(a.mesh, defaults.patchOptions);
@@ -132,16 +189,16 @@ void run(const LoopArgs& a) {
   }
   rt::SteadyClock clock(a.spinUs * 1e-6);
   rt::ServoLoop loop(*device, scene, safety, clock, lo, ring.get());
-  std::fputs(info.c_str(), stdout);
-  std::printf("device: %s\n", device->describe().c_str());
-  std::printf("loop: %g Hz for %g s, spin %g us, %s; Ctrl-C stops\n", a.rate, a.duration, a.spinUs,
-              raisePriority(a.rtPriority).c_str());
-  std::fflush(stdout);
+  // The set-up lines are the text report's head; with --json they are diagnostics (stderr).
+  std::FILE* head = a.json ? stderr : stdout;
+  const std::string deviceText = device->describe();
+  std::fputs(info.c_str(), head);
+  std::fprintf(head, "device: %s\n", deviceText.c_str());
+  std::fprintf(head, "loop: %g Hz for %g s, spin %g us, %s; Ctrl-C stops\n", a.rate, a.duration, a.spinUs,
+               raisePriority(a.rtPriority).c_str());
+  std::fflush(head);
 
-  gStop.store(false);
-  auto previous = std::signal(SIGINT, onInterrupt);
   loop.run();
-  std::signal(SIGINT, previous);
   if (a.rtPriority > 0) {
     sched_param p{};
     pthread_setschedparam(pthread_self(), SCHED_OTHER, &p);
@@ -151,10 +208,26 @@ void run(const LoopArgs& a) {
     writer->finish();
     written = writer->written();
   }
-  std::fputs(rt::loopReport(loop.stats(), a.rate, safety.counters(), scene.patchesBuilt(), scene.totalFaces(), written)
-                 .c_str(),
-             stdout);
-  if (writer) std::printf("record: %s\n", a.record.c_str());
+  // A latched safety fault exits 3 (also when the run was then interrupted); an interrupted
+  // run 128 + signal; the report is printed either way.
+  const rt::SafetyCounters& counters = safety.counters();
+  const int signal = receivedSignal();
+  const int status = counters.fault != rt::Fault::None ? kExitFault : signal ? 128 + signal : kExitOk;
+  if (a.json) {
+    printJson(stdout, loopJson(scene, deviceText, a, loop.stats(), counters, written, status));
+  } else {
+    std::fputs(
+        rt::loopReport(loop.stats(), a.rate, counters, scene.patchesBuilt(), scene.totalFaces(), written).c_str(),
+        stdout);
+    if (writer) std::printf("record: %s\n", a.record.c_str());
+    std::fflush(stdout);
+  }
+  if (status == kExitFault)
+    std::fprintf(stderr, "smoothforce: loop: safety fault: %s at %.3f s (force zero from then on)\n",
+                 toString(counters.fault), counters.faultTime);
+  else if (signal)
+    std::fprintf(stderr, "smoothforce: loop: interrupted by %s; report printed\n", signalName(signal));
+  setExitStatus(status);
 }
 
 }  // namespace
@@ -173,7 +246,8 @@ void addLoopCommand(CLI::App& app) {
   c->add_option("--method", a->method, "patch|direct|shading (default for scene objects)")
       ->check(CLI::IsMember({"patch", "direct", "shading"}))
       ->capture_default_str();
-  c->add_option("--device", a->device, "null|scripted|scripted:slide|scripted:circle|replay:FILE (CSV t,x,y,z)")
+  c->add_option("--device", a->device,
+                "haptic device: null|scripted|scripted:slide|scripted:circle|replay:FILE (CSV t,x,y,z; - reads stdin)")
       ->capture_default_str();
   c->add_option("--rate", a->rate, "servo rate, Hz, 1..10000")->capture_default_str();
   c->add_option("--duration", a->duration, "seconds (> 0)")->capture_default_str();
@@ -189,7 +263,13 @@ void addLoopCommand(CLI::App& app) {
                 "consecutive missed deadlines that latch a zero-force fault")
       ->capture_default_str();
   c->add_option("--spin-us", a->spinUs, "busy-wait before each deadline, us")->capture_default_str();
+  addSurfaceArgs(*c, a->patch);  // not addBackendArgs: --device is the haptic device here
   addRefineArgs(*c, a->refine);
+  c->add_flag("--json", a->json,
+              "print the report as one JSON object on stdout (objects, device, rate_hz, duration_s, step_compute_us, "
+              "wake_up_lateness_us, steps, ticks, elapsed_s, stopped, missed_deadlines, max_consecutive_misses, "
+              "skipped_ticks, contact_steps, contact_onsets, patches_built, faces, safety, records, exit_status); "
+              "the set-up lines go to stderr");
   c->add_option("--rt-priority", a->rtPriority, "SCHED_FIFO priority 1..99 and mlockall (0: off)")
       ->check(CLI::Range(0, 99))
       ->capture_default_str();

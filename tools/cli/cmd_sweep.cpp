@@ -6,8 +6,8 @@
 
 #include <atomic>
 #include <chrono>
-#include <csignal>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <mutex>
@@ -16,6 +16,7 @@
 
 #include "cache_file.h"
 #include "cli_common.h"
+#include "cli_exit.h"
 #include "force_tracking.h"
 #include "sweep_progress.h"
 #include "sweep_report.h"
@@ -25,22 +26,6 @@ namespace sf::cli {
 
 namespace {
 
-std::atomic<bool> gStop{false};
-extern "C" void onSigint(int) { gStop.store(true); }  // SA_RESETHAND: a second Ctrl-C kills
-
-struct SigintGuard {
-  struct sigaction old {};
-  SigintGuard() {
-    gStop.store(false);
-    struct sigaction sa {};
-    sa.sa_handler = onSigint;
-    sigemptyset(&sa.sa_mask);
-    sa.sa_flags = SA_RESETHAND;
-    sigaction(SIGINT, &sa, &old);
-  }
-  ~SigintGuard() { sigaction(SIGINT, &old, nullptr); }
-};
-
 struct SweepArgs {
   std::string cache, mesh, depth, methods = "patch,direct,shading", reference, analytic;
   std::string sampleOn = "patch", hips, shard = "0/1", output, trajectoryStep;
@@ -48,7 +33,8 @@ struct SweepArgs {
   uint64_t samples = 10000, seed = 1;
   double stiffness = 500, thresholdDeg = 10, approach = 1e-3;
   int knn = 8, level = 8;
-  bool noPlots = false;
+  double checkpointEvery = 60, progressEvery = 10;
+  bool noPlots = false, resume = false;
   PatchArgs patch;
   RefineArgs refine;
 };
@@ -66,14 +52,14 @@ double seconds(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-void runSweepCommand(const SweepArgs& a) {
-  const auto t0 = std::chrono::steady_clock::now();
-  if (a.cache.empty() == a.mesh.empty()) throw InputError("sweep: give exactly one of --cache and --mesh");
-  if (a.depth.empty() == a.hips.empty()) throw InputError("sweep: give exactly one of --depth and --hips");
-  SweepInputs in;
+/// Fills the inputs from the options; every mistake here is a usage error (exit 2).
+void sweepInputs(const SweepArgs& a, SweepInputs& in) {
+  if (a.cache.empty() == a.mesh.empty()) throw UsageError("sweep: give exactly one of --cache and --mesh");
+  if (a.depth.empty() == a.hips.empty()) throw UsageError("sweep: give exactly one of --depth and --hips");
   SweepConfig& c = in.config;
   c.source = a.cache.empty() ? a.mesh : a.cache;
   c.methods = splitList(a.methods);
+  if (c.methods.empty()) throw UsageError("--methods: empty list");
   for (const auto& m : c.methods) parseForceMethod(m);
   c.samples = a.samples;
   c.seed = a.seed;
@@ -82,6 +68,7 @@ void runSweepCommand(const SweepArgs& a) {
   c.approach = a.approach;
   ForceOptions fo;
   a.refine.apply(fo);
+  fo.stiffness = a.stiffness;
   validateForceOptions(fo);
   c.refine = toString(fo.refine);
   c.angleTolerance = fo.angleTolerance;
@@ -92,16 +79,45 @@ void runSweepCommand(const SweepArgs& a) {
   c.backend = a.patch.backend;
   c.reference = a.reference;
   c.analytic = a.analytic;
+  if (!c.analytic.empty()) makeAnalyticSurface(c.analytic);  // the spec's errors now
   c.knn = a.knn;
   c.thresholdDeg = a.thresholdDeg;
   c.trajectories = a.trajectories;
   c.sampleOn = a.sampleOn;
   parseShard(a.shard, in.shardIndex, in.shardCount);
   if (!a.depth.empty()) in.depths = parseDepthList(a.depth);
+  if (!a.trajectoryStep.empty() && parseDepthList(a.trajectoryStep).size() != 1)
+    throw UsageError("--trajectory-step: one value");
+  if (!(a.checkpointEvery > 0)) throw UsageError("--checkpoint-every: expected a time > 0 s");
   in.hipsFile = a.hips;
+}
 
+std::string doneText(const SweepData& d) {
+  std::string s;
+  const std::vector<uint64_t> done = d.doneCounts();
+  for (size_t m = 0; m < done.size(); ++m)
+    s += (s.empty() ? "" : ", ") + d.config.methods[m] + " " + std::to_string(done[m]) + " of " +
+         std::to_string(d.end - d.begin) + " HIPs";
+  return s + ", trajectory series " + std::to_string(d.trajectories.size()) + " of " +
+         std::to_string(d.trajectoryEnd - d.trajectoryBegin);
+}
+
+void runSweepCommand(const SweepArgs& a) {
+  const auto t0 = std::chrono::steady_clock::now();
+  SweepInputs in;
+  checkOptions([&] { sweepInputs(a, in); });
+  SweepConfig& c = in.config;
   if (!a.mesh.empty() && isPatchCacheFile(a.mesh)) throw InputError(a.mesh + ": this is a patch cache: use --cache");
   if (!a.cache.empty() && !isPatchCacheFile(a.cache)) throw InputError(a.cache + ": not a patch cache: use --mesh");
+  namespace fs = std::filesystem;
+  const std::string checkpoint = a.output + "/sweep.json";
+  if (a.resume && fs::exists(checkpoint)) {
+    in.resume = readSweepData(a.output);
+    std::fprintf(stderr, "sweep: resuming %s: %s done%s\n", in.resume->label().c_str(), doneText(*in.resume).c_str(),
+                 in.resume->complete() ? " (complete)" : "");
+  } else if (a.resume) {
+    std::fprintf(stderr, "sweep: --resume: no checkpoint in %s yet: starting\n", a.output.c_str());
+  }
   PatchArgs patch = a.patch;
   patch.precision = toString(a.refine.precision(parsePrecision(a.patch.precision)));
   // Only the patches the probes touch are built when nothing else needs the patch surface:
@@ -110,53 +126,47 @@ void runSweepCommand(const SweepArgs& a) {
                     a.patch.backendKind() != Backend::OpenCL;
   Source src = openSource(c.source, patch, lazy);
   if (lazy)
-    std::printf(
-        "sweep: patches of %s built lazily where the probes go (HIPs on the reference mesh; the default "
-        "trajectory needs every patch and is skipped: give --cache or --trajectory for it)\n",
-        a.mesh.c_str());
+    std::fprintf(stderr,
+                 "sweep: patches of %s built lazily where the probes go (HIPs on the reference mesh; the default "
+                 "trajectory needs every patch and is skipped: give --cache or --trajectory for it)\n",
+                 a.mesh.c_str());
   else if (src.loaded)
-    std::printf(
-        "sweep: built all %d patches of %s in %.2f s (%s backend; the HIPs are placed on or projected onto "
-        "the patch surface, which needs every patch)\n",
-        src.cache.numFaces(), a.mesh.c_str(), src.buildSeconds, a.patch.backend.c_str());
+    std::fprintf(stderr,
+                 "sweep: built all %d patches of %s in %.2f s (%s backend; the HIPs are placed on or projected onto "
+                 "the patch surface, which needs every patch)\n",
+                 src.cache.numFaces(), a.mesh.c_str(), src.buildSeconds, a.patch.backend.c_str());
   if (a.patch.backendKind() == Backend::OpenCL)
-    std::printf(
-        "sweep: --backend opencl: patch construction (with --mesh) and the patch method's refinements on the "
-        "OpenCL device; global queries, contact decisions, god-objects and trajectories on the CPU (oneTBB)\n");
-  in.opencl.device = a.patch.device;
+    std::fprintf(stderr,
+                 "sweep: --backend opencl: patch construction (with --mesh) and the patch method's refinements on the "
+                 "OpenCL device; global queries, contact decisions, god-objects and trajectories on the CPU "
+                 "(oneTBB)\n");
+  in.opencl.device = a.patch.clDevice;
   in.cache = std::make_shared<const PatchCache>(std::move(src.cache));
-  if (!a.trajectoryStep.empty()) {
-    const auto s = parseDepthList(a.trajectoryStep);
-    if (s.size() != 1) throw InputError("--trajectory-step: one value");
-    c.trajectoryStep = s[0].metres(boundingDiagonal(*in.cache));
-  }
+  if (!a.trajectoryStep.empty())
+    c.trajectoryStep = parseDepthList(a.trajectoryStep)[0].metres(boundingDiagonal(*in.cache));
   const int threads = a.patch.backendKind() == Backend::Serial ? 1 : a.patch.threads;
 
-  // The HIP count is known only after sampling; the bar is created on the first report.
-  SigintGuard sigint;
+  SweepWriter writer(a.output);
   std::unique_ptr<ProgressBar> bar;
-  std::once_flag barOnce;
-  uint64_t total = 0;
-  {
-    uint64_t b = 0, e = 0;
-    const uint64_t perGroup = a.hips.empty() ? a.samples : readPointsCsv(a.hips).size();
-    shardRange(perGroup * (a.hips.empty() ? in.depths.size() : 1), in.shardIndex, in.shardCount, b, e);
-    total = (e - b) * c.methods.size();
-  }
   SweepControl ctl;
   ctl.threads = threads;
-  ctl.stop = &gStop;
-  ctl.progress = [&](size_t n) {
-    std::call_once(barOnce, [&] { bar = std::make_unique<ProgressBar>(total, "HIP"); });
-    if (total) bar->add(n);
+  ctl.stop = &stopFlag();
+  ctl.started = [&](uint64_t pending, uint64_t) {
+    bar = std::make_unique<ProgressBar>(pending, "probe", a.progressEvery);
   };
+  ctl.progress = [&](size_t n) {
+    if (bar) bar->add(n);
+  };
+  ctl.checkpoint = [&](const SweepData& d) { writer.write(d); };
+  ctl.checkpointSeconds = a.checkpointEvery;
   SweepTiming tm;
   const int meshFaces = in.cache->numFaces();
   SweepData d = runSweep(std::move(in), ctl, &tm);
   if (bar) bar->finish();
-  if (d.interrupted) std::fprintf(stderr, "sweep: interrupted; writing the HIPs done so far (marked partial)\n");
+  writer.write(d);  // the final checkpoint, complete or not
+  if (d.interrupted)
+    throwIfInterrupted("sweep", doneText(d) + " done, saved in " + a.output + " (continue with sweep --resume)");
 
-  writeSweepData(d, a.output);
   nlohmann::ordered_json tj{{"wall_s", seconds(t0)},
                             {"setup_s", tm.setupSeconds},
                             {"trajectory_s", tm.trajectorySeconds},
@@ -171,17 +181,24 @@ void runSweepCommand(const SweepArgs& a) {
     std::printf("sweep: %-8s %llu HIPs in %.2f s (%.4g HIPs/s)\n", d.config.methods[m].c_str(),
                 static_cast<unsigned long long>(tm.methodDone[m]), s, s > 0 ? n / s : 0.0);
     if (lazy && d.config.methods[m] == "patch")
-      std::printf("sweep: patch    %ld patch constructions (each worker builds the patches its HIPs touch), %d "
-                  "faces in the mesh\n",
-                  tm.methodPatchesBuilt[m], meshFaces);
+      std::printf(
+          "sweep: patch    %ld patch constructions (each worker builds the patches its HIPs touch), %d "
+          "faces in the mesh\n",
+          tm.methodPatchesBuilt[m], meshFaces);
   }
   if (d.shardCount > 1) {
     std::ofstream(a.output + "/timing.json") << tj.dump(2) << "\n";
-    std::printf("sweep: shard %d/%d (HIPs %llu..%llu of %llu) -> %s; join the shards with smoothforce sweep-merge\n",
-                d.shardIndex, d.shardCount, static_cast<unsigned long long>(d.begin),
-                static_cast<unsigned long long>(d.end), static_cast<unsigned long long>(d.total()), a.output.c_str());
+    std::printf(
+        "sweep: shard %d/%d (HIPs %llu..%llu of %llu, trajectory series %llu..%llu of %llu) -> %s; join the "
+        "shards with smoothforce sweep-merge\n",
+        d.shardIndex, d.shardCount, static_cast<unsigned long long>(d.begin), static_cast<unsigned long long>(d.end),
+        static_cast<unsigned long long>(d.total()), static_cast<unsigned long long>(d.trajectoryBegin),
+        static_cast<unsigned long long>(d.trajectoryEnd), static_cast<unsigned long long>(d.trajectoryTotal),
+        a.output.c_str());
     return;
   }
+  throwIfInterrupted("sweep", "the per-HIP data in " + a.output +
+                                  " is complete; the summary was not written (sweep --resume writes it)");
   const auto t1 = std::chrono::steady_clock::now();
   finishSweepOutputs(d, a.output, !a.noPlots);
   tj["summary_s"] = seconds(t1);
@@ -202,7 +219,8 @@ void addSweepCommands(CLI::App& app) {
   s->add_option("--depth", a->depth,
                 "depths below the surface: metres or percent of the bounding-box diagonal, "
                 "comma-separated (0.002,0.004 or 2%,4%)");
-  s->add_option("--hips", a->hips, "CSV with header x,y,z: explicit HIPs instead of --depth");
+  s->add_option("--hips", a->hips,
+                "CSV with header x,y,z (or # x,y,z): explicit HIPs instead of --depth; - reads stdin");
   s->add_option("--samples", a->samples, "surface samples per depth")
       ->check(CLI::Range(uint64_t(1), uint64_t(1) << 32))
       ->capture_default_str();
@@ -226,7 +244,18 @@ void addSweepCommands(CLI::App& app) {
       ->check(CLI::Range(1, 64))
       ->capture_default_str();
   s->add_option("--threshold-deg", a->thresholdDeg, "flag neighbour pairs above this angle")->capture_default_str();
-  s->add_option("--shard", a->shard, "I/N: compute slice I of N of the HIP list (join with sweep-merge)")
+  s->add_option("--shard", a->shard,
+                "I/N: compute slice I (0-based) of N of the HIP list and of the trajectory series (join with "
+                "sweep-merge)")
+      ->capture_default_str();
+  s->add_flag("--resume", a->resume,
+              "continue from the checkpoint in the output directory (the same options; without a checkpoint: "
+              "start)");
+  s->add_option("--checkpoint-every", a->checkpointEvery,
+                "seconds between checkpoints of the per-HIP files (atomic; a killed run loses at most this much)")
+      ->capture_default_str();
+  s->add_option("--progress-every", a->progressEvery,
+                "seconds between progress lines on stderr when it is not a terminal (0: none)")
       ->capture_default_str();
   s->add_flag("--no-plots", a->noPlots, "do not run tools/sweep_plots.py");
   s->add_option("-o,--output", a->output, "output directory")->required();
@@ -235,8 +264,9 @@ void addSweepCommands(CLI::App& app) {
   s->footer(
       "--backend tbb|serial|opencl: opencl builds the patches and runs the patch method's refinements (--refine "
       "newton) on the OpenCL device, a chunk of HIPs per kernel run; the global queries, god-objects and "
-      "trajectories run on the CPU with oneTBB.\nCtrl-C stops cleanly: the HIPs done are written and "
-      "summary.json says \"complete\": false. See docs/sweeps.md.");
+      "trajectories run on the CPU with oneTBB.\nSIGINT (Ctrl-C) and SIGTERM (Slurm's time limit, scancel) stop at the "
+      "next chunk: the HIPs done are saved as a checkpoint and the exit status is 130 or 143; --resume continues. "
+      "See docs/sweeps.md; tools/slurm/ has job-array scripts.");
   s->callback([a] { runSweepCommand(*a); });
 
   auto* m = app.add_subcommand("sweep-merge", "Join sweep shards (--shard I/N outputs) into the whole run");
@@ -248,8 +278,10 @@ void addSweepCommands(CLI::App& app) {
   m->add_flag("--no-plots", *noPlots, "do not run tools/sweep_plots.py");
   m->callback([=] {
     std::vector<SweepData> shards;
+    throwIfInterrupted("sweep-merge");
     for (const auto& d : *dirs) shards.push_back(readSweepData(d));
     const SweepData merged = mergeSweepData(std::move(shards));
+    throwIfInterrupted("sweep-merge");
     writeSweepData(merged, *out);
     std::printf("sweep-merge: %zu shards, %llu HIPs -> %s\n", dirs->size(),
                 static_cast<unsigned long long>(merged.total()), out->c_str());

@@ -1,17 +1,16 @@
 // `smoothforce trace (--cache C | --mesh M) --method M --hips IN.csv -o OUT.csv`
 #include "cmd_trace.h"
 
-#include <charconv>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
-#include <fstream>
-#include <sstream>
-#include <string_view>
 
 #include "cache_file.h"
 #include "cli_common.h"
+#include "cli_exit.h"
+#include "cli_output.h"
+#include "csv_reader.h"
 #include "embree_scene.h"
 #include "force_method.h"
 #include "force_tracking.h"
@@ -25,66 +24,28 @@ struct TraceArgs {
   int patchCapacity = 256;
   PatchArgs patch;
   RefineArgs refine;
+  bool json = false;
 };
 
-bool parseDouble(const char* b, const char* e, double& out) {
-  while (b < e && (*b == ' ' || *b == '\t')) ++b;
-  while (e > b && (e[-1] == ' ' || e[-1] == '\t' || e[-1] == '\r')) --e;
-  if (b == e) return false;
-  if (*b == '+') ++b;
-  const auto r = std::from_chars(b, e, out);
-  return r.ec == std::errc() && r.ptr == e && std::isfinite(out);
-}
-
-/// Reads the `x,y,z` rows of `path`; every problem names file:line.
+/// Reads the `x,y,z` rows of `path` ("-": stdin) with the one CSV reader (csv_reader.h).
 std::vector<Eigen::Vector3d> readHips(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  const std::string text = ss.str();
-  std::vector<Eigen::Vector3d> hips;
-  size_t pos = 0;
-  int lineNo = 0;
-  bool header = false;
-  auto fail = [&](const std::string& what) { return InputError(path + ":" + std::to_string(lineNo) + ": " + what); };
-  while (pos < text.size()) {
-    size_t end = text.find('\n', pos);
-    if (end == std::string::npos) end = text.size();
-    const char* b = text.data() + pos;
-    const char* e = text.data() + end;
-    pos = end + 1;
-    ++lineNo;
-    std::string_view line(b, e - b);
-    if (line.find_first_not_of(" \t\r") == std::string_view::npos) continue;
-    if (!header) {
-      std::string h;
-      for (char ch : line)
-        if (ch != ' ' && ch != '\t' && ch != '\r') h += ch;
-      if (h != "x,y,z") throw fail("expected header 'x,y,z', got '" + std::string(line) + "'");
-      header = true;
-      continue;
-    }
-    const char* c1 = static_cast<const char*>(memchr(b, ',', e - b));
-    const char* c2 = c1 ? static_cast<const char*>(memchr(c1 + 1, ',', e - c1 - 1)) : nullptr;
-    if (!c1 || !c2 || memchr(c2 + 1, ',', e - c2 - 1)) throw fail("expected 3 columns x,y,z");
-    Eigen::Vector3d p;
-    if (!parseDouble(b, c1, p.x())) throw fail("x is not a finite number: '" + std::string(b, c1) + "'");
-    if (!parseDouble(c1 + 1, c2, p.y())) throw fail("y is not a finite number: '" + std::string(c1 + 1, c2) + "'");
-    if (!parseDouble(c2 + 1, e, p.z())) throw fail("z is not a finite number: '" + std::string(c2 + 1, e) + "'");
-    hips.push_back(p);
-  }
-  if (!header) throw InputError(path + ": empty file (expected header x,y,z)");
+  const NumericCsv t = readNumericCsv(path, {"x", "y", "z"});
+  std::vector<Eigen::Vector3d> hips(t.rows());
+  for (size_t r = 0; r < t.rows(); ++r) hips[r] = Eigen::Vector3d(t.at(r, 0), t.at(r, 1), t.at(r, 2));
   return hips;
 }
 
 void run(const TraceArgs& a) {
   ForceOptions opt;
-  opt.stiffness = a.stiffness;
-  a.refine.apply(opt);
-  opt.patchCapacity = a.patchCapacity;
-  const ForceMethod method = parseForceMethod(a.method);
-  validateForceOptions(opt);
+  ForceMethod method{};
+  checkOptions([&] {
+    if (a.cache.empty() == a.mesh.empty()) throw UsageError("trace: give exactly one of --cache and --mesh");
+    opt.stiffness = a.stiffness;
+    a.refine.apply(opt);
+    opt.patchCapacity = a.patchCapacity;
+    method = parseForceMethod(a.method);
+    validateForceOptions(opt);
+  });
   const std::string& input = a.cache.empty() ? a.mesh : a.cache;
   if (!a.cache.empty() && !isPatchCacheFile(a.cache)) throw InputError(a.cache + ": not a patch cache file");
   if (!a.mesh.empty() && isPatchCacheFile(a.mesh)) throw InputError(a.mesh + ": is a patch cache; use --cache");
@@ -95,20 +56,21 @@ void run(const TraceArgs& a) {
   auto cache = std::make_shared<const PatchCache>(std::move(src.cache));
   auto scene = std::make_shared<const PolygonScene>(*cache);
   auto renderer = makeForceRenderer(cache, scene, method, opt);
+  TextOutput file(a.output);  // opened first: an unwritable path fails before the work
 
   std::vector<ForceSample> out(hips.size());
   std::vector<double> stepSeconds(hips.size());
+  const std::atomic<bool>& stop = stopFlag();
   for (size_t i = 0; i < hips.size(); ++i) {
+    if (stop.load(std::memory_order_relaxed))
+      throwIfInterrupted("trace", "stopped after " + std::to_string(i) + " of " + std::to_string(hips.size()) +
+                                      " steps, nothing written");
     const auto t0 = std::chrono::steady_clock::now();
     out[i] = renderer->step(hips[i]);
     stepSeconds[i] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
 
-  const std::string tmp = a.output + ".tmp";
-  std::FILE* f = std::fopen(tmp.c_str(), "w");
-  if (!f) throw InputError(a.output + ": cannot open for writing");
-  std::vector<char> buf(1 << 20);
-  std::setvbuf(f, buf.data(), _IOFBF, buf.size());
+  std::FILE* f = file.file();
   std::fprintf(f, "x,y,z,contact,face,xi,eta,scp_x,scp_y,scp_z,fx,fy,fz,iterations,status\n");
   size_t inContact = 0, starts = 0, maxAt = 0;
   double maxDiff = 0, total = 0, worst = 0;
@@ -130,20 +92,34 @@ void run(const TraceArgs& a) {
     total += stepSeconds[i];
     worst = std::max(worst, stepSeconds[i]);
   }
-  const bool bad = std::ferror(f) != 0;
-  if (std::fclose(f) != 0 || bad || std::rename(tmp.c_str(), a.output.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw InputError(a.output + ": write failed");
+  file.commit();
+  const double meanUs = hips.empty() ? 0.0 : 1e6 * total / static_cast<double>(hips.size());
+  std::FILE* report = reportStream(file.toStdout());
+  if (a.json) {
+    nlohmann::ordered_json j{{"steps", hips.size()},
+                             {"method", toString(method)},
+                             {"refine", toString(opt.refine)},
+                             {"preset", a.refine.preset},
+                             {"in_contact", inContact},
+                             {"contacts", starts},
+                             {"max_force_difference_n", maxDiff},
+                             {"max_force_difference_step", maxAt},
+                             {"compute_us_mean", meanUs},
+                             {"compute_us_max", 1e6 * worst},
+                             {"output", file.name()},
+                             {"faces", cache->numFaces()},
+                             {"patches_built", renderer->patchesBuilt()}};
+    printJson(report, j);
+    return;
   }
-  std::fprintf(stderr,
+  std::fprintf(report,
                "trace: %zu steps (%s%s%s%s%s), %zu in contact, %zu contacts, max consecutive force difference "
                "%.6g N (step %zu), compute %.3g us/step mean, %.3g us max -> %s\n",
                hips.size(), toString(method), method == ForceMethod::Patch ? ", refine " : "",
                method == ForceMethod::Patch ? toString(opt.refine) : "", a.refine.preset.empty() ? "" : ", preset ",
-               a.refine.preset.c_str(), inContact, starts, maxDiff, maxAt,
-               hips.empty() ? 0.0 : 1e6 * total / hips.size(), 1e6 * worst, a.output.c_str());
+               a.refine.preset.c_str(), inContact, starts, maxDiff, maxAt, meanUs, 1e6 * worst, file.name().c_str());
   if (!a.mesh.empty())
-    std::fprintf(stderr, "trace: patches built lazily: %d of %d faces (at most %s held)\n", renderer->patchesBuilt(),
+    std::fprintf(report, "trace: patches built lazily: %d of %d faces (at most %s held)\n", renderer->patchesBuilt(),
                  cache->numFaces(), a.patchCapacity > 0 ? std::to_string(a.patchCapacity).c_str() : "all");
 }
 
@@ -162,17 +138,19 @@ void addTraceCommand(CLI::App& app) {
   t->add_option("--method", a->method, "patch|direct|shading")
       ->check(CLI::IsMember({"patch", "direct", "shading"}))
       ->capture_default_str();
-  t->add_option("--hips", a->hips, "CSV with header x,y,z: one HIP (m) per servo step")->required();
-  t->add_option("-o,--output", a->output,
-                "CSV to write: x,y,z,contact,face,xi,eta,scp_x,scp_y,scp_z,fx,fy,fz,iterations,status")
+  t->add_option("--hips", a->hips, "CSV with header x,y,z (or # x,y,z): one HIP (m) per servo step; - reads stdin")
       ->required();
+  t->add_option("-o,--output", a->output,
+                "CSV to write: x,y,z,contact,face,xi,eta,scp_x,scp_y,scp_z,fx,fy,fz,iterations,status; - writes stdout")
+      ->required();
+  t->add_flag("--json", a->json,
+              "summary as one JSON object (steps, method, refine, preset, in_contact, contacts, "
+              "max_force_difference_n, max_force_difference_step, compute_us_mean, compute_us_max, output, faces, "
+              "patches_built); on stderr with -o -");
   t->add_option("--stiffness", a->stiffness, "k in N/m (F = k (SCP - HIP))")->capture_default_str();
   addPatchArgs(*t, a->patch);
   addRefineArgs(*t, a->refine);
-  t->callback([a] {
-    if (a->cache.empty() == a->mesh.empty()) throw CLI::RequiredError("exactly one of --cache or --mesh");
-    run(*a);
-  });
+  t->callback([a] { run(*a); });
 }
 
 }  // namespace sf::cli

@@ -1,25 +1,32 @@
-// smoothforce: command line of the SmoothForce engine.
+// smoothforce: command line of the SmoothForce engine. Exit status: 0 success, 1 bad input,
+// 2 usage, 3 a safety fault in `loop`, 130/143 interrupted by SIGINT/SIGTERM (cli_exit.h).
 #include <cstdio>
 #include <exception>
 #include <new>
 
 #include "cli_common.h"
+#include "cli_exit.h"
 #include "cmd_generate.h"
 #include "cmd_loop.h"
 #include "cmd_sweep.h"
 #include "cmd_trace.h"
 
 int main(int argc, char** argv) {
+  using namespace sf::cli;
+  installSignalHandlers();
   CLI::App app{"SmoothForce: smooth haptic force on coarse polygon meshes (n-sided Gregory patches)"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "smoothforce 0.1.0");
-  sf::cli::addCacheCommands(app);
-  sf::cli::addEvalCommand(app);
-  sf::cli::addExportCommand(app);
-  sf::cli::addTraceCommand(app);
-  sf::cli::addLoopCommand(app);
-  sf::cli::addSweepCommands(app);
-  sf::cli::addGenerateCommand(app);
+  app.footer(
+      "Exit status: 0 success, 1 bad input (a file or its values), 2 usage (the command line), 3 a safety fault "
+      "in loop, 130/143 interrupted by SIGINT/SIGTERM. Results go to stdout or files, diagnostics to stderr.");
+  addCacheCommands(app);
+  addEvalCommand(app);
+  addExportCommand(app);
+  addTraceCommand(app);
+  addLoopCommand(app);
+  addSweepCommands(app);
+  addGenerateCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -30,13 +37,19 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::fprintf(stderr, "smoothforce: %s (see --help)\n", e.what());
-    return e.get_exit_code() ? e.get_exit_code() : 2;
+    return kExitUsage;
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "smoothforce: %s (see --help)\n", e.what());
+    return kExitUsage;
+  } catch (const Interrupted& e) {
+    std::fprintf(stderr, "smoothforce: %s\n", e.what());
+    return 128 + e.signal();
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "smoothforce: out of memory\n");
-    return 1;
+    return kExitInput;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "smoothforce: %s\n", e.what());
-    return 1;
+    return kExitInput;
   }
-  return 0;
+  return exitStatus();
 }

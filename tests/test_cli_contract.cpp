@@ -1,0 +1,383 @@
+// The command line's contract for scripts (issue 13 part 2): exit status per subcommand and
+// kind of mistake, results on stdout and diagnostics on stderr, --json, `-` for standard
+// input and output, one CSV reader (NumPy `# x,y,z` headers), --cl-device.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "cli_contract_support.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using sf::test::CliStreams;
+using sf::test::readFile;
+using json = nlohmann::json;
+
+class CliContract : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir = fs::temp_directory_path() / ("sf_contract_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const CliStreams r = sf::test::runStreams(dir, "cache build " + mesh + " -o " + (dir / "spot.sfcache").string());
+    ASSERT_EQ(r.status, 0) << r.err;
+  }
+  static void TearDownTestSuite() { fs::remove_all(dir); }
+  CliStreams run(const std::string& args, const std::string& input = "") const {
+    return sf::test::runStreams(dir, args, input);
+  }
+  static std::string file(const std::string& name, const std::string& content = "") {
+    const std::string p = (dir / name).string();
+    if (!content.empty()) std::ofstream(p, std::ios::binary) << content;
+    return p;
+  }
+  static std::string cache() { return (dir / "spot.sfcache").string(); }
+  static inline fs::path dir;
+  static inline const std::string mesh = std::string(SF_DATA_DIR) + "/spot_control_mesh.obj";
+  static inline const std::string sphere = std::string(SF_SHARED_MESHES) + "/polygon_laplacian/quad-sphere.off";
+};
+
+/// x,y,z rows approaching the quad-sphere (radius 1) along +z, pressing in and sliding.
+std::string sphereHips(const char* header = "x,y,z") {
+  std::string s = std::string(header) + "\n";
+  char b[96];
+  for (int i = 0; i <= 40; ++i) {
+    std::snprintf(b, sizeof b, "%.17g,0.02,%.17g\n", 0.3 * std::sin(0.02 * i), 1.05 - 0.004 * i);
+    s += b;
+  }
+  return s;
+}
+
+std::vector<std::string> cells(const std::string& line) {
+  std::vector<std::string> c;
+  std::istringstream in(line);
+  for (std::string f; std::getline(in, f, ',');) c.push_back(f);
+  return c;
+}
+
+/// The numbers of a CSV file's rows (header dropped).
+std::vector<double> numbers(const std::string& text) {
+  std::istringstream in(text);
+  std::string line;
+  std::getline(in, line);
+  std::vector<double> v;
+  while (std::getline(in, line))
+    for (const auto& c : cells(line)) v.push_back(std::stod(c));
+  return v;
+}
+
+TEST_F(CliContract, ExitStatusPerSubcommandAndKindOfMistake) {
+  const std::string c = cache(), o = file("o.csv"), pts = file("pts.csv", "face,xi,eta\n0,0,0\n");
+  const std::string hips = file("hips.csv", sphereHips());
+  const std::string bad = file("bad.csv", "x,y,z\n1,abc,3\n");
+  const std::string outside = file("outside.csv", "face,xi,eta\n0,0.99,0.5\n");
+  const std::string garbage = file("garbage.sfcache", std::string(300, 'z'));
+  const std::string badObj = file("bad.obj", "v 0 0 0\nv 1 0 0\nf 1 2 9\n");
+  const std::string badScene = file("scene.json", R"({"objects": [{"mesh": "none.obj"}]})");
+  struct Case {
+    std::string args;
+    int status;
+    std::string message;  ///< a part of the one line on stderr
+  };
+  const std::vector<Case> cases = {
+      // 2: the command line
+      {"", 2, "A subcommand is required"},
+      {"frobnicate", 2, "A subcommand is required"},
+      {"cache build", 2, "MESH is required"},
+      {"cache build " + mesh + " --precision half", 2, "--precision"},
+      {"cache info", 2, "CACHE is required"},
+      {"eval " + c + " -o " + o, 2, "--points is required"},
+      {"eval " + c + " --points " + pts + " -o " + o + " --bogus", 2, "--bogus"},
+      {"export " + c + " --level 0 -o " + file("x.obj"), 2, "--level"},
+      {"trace --hips " + hips + " -o " + o, 2, "give exactly one of --cache and --mesh"},
+      {"trace --mesh " + sphere + " --cache " + c + " --hips " + hips + " -o " + o, 2, "excludes"},
+      {"trace --mesh " + sphere + " --stiffness -5 --hips " + hips + " -o " + o, 2, "stiffness"},
+      {"trace --mesh " + sphere + " --preset turbo --hips " + hips + " -o " + o, 2, "turbo"},
+      {"loop --duration 0.05", 2, "give exactly one of --scene, --cache, --mesh"},
+      {"loop --mesh " + sphere + " --rate 0", 2, "--rate: expected a rate"},
+      {"loop --mesh " + sphere + " --device warp", 2, "--device: expected null, scripted"},
+      {"loop --mesh " + sphere + " --normals weird", 2, "--normals"},
+      {"loop --mesh " + sphere + " --cl-device 0", 2, "--cl-device"},
+      {"loop --mesh " + sphere + " --record -", 2, "--record: give a file"},
+      {"sweep --mesh " + sphere + " --samples 10 -o " + file("s"), 2, "give exactly one of --depth and --hips"},
+      {"sweep --mesh " + sphere + " --depth 2% --shard 3/3 -o " + file("s"), 2, "--shard"},
+      {"sweep --mesh " + sphere + " --depth 2%x -o " + file("s"), 2, "2%x"},
+      {"sweep --mesh " + sphere + " --depth 2% --methods patch,nope -o " + file("s"), 2, "nope"},
+      {"sweep --mesh " + sphere + " --depth 2% --analytic cube:1 -o " + file("s"), 2, "cube:1"},
+      {"sweep --mesh " + sphere + " --depth 2% --checkpoint-every 0 -o " + file("s"), 2, "--checkpoint-every"},
+      {"sweep-merge -o " + file("m"), 2, "DIRS is required"},
+      {"generate torus --R 1 --r 2 -o " + file("t.obj"), 2, "0 < r < R"},
+      // 1: a file or its values
+      {"cache build " + file("nothere.obj") + " -o " + file("n.sfcache"), 1, "nothere.obj"},
+      {"cache build " + badObj + " -o " + file("n.sfcache"), 1, "bad.obj:3"},
+      {"cache info " + garbage, 1, "not a SmoothForce patch cache"},
+      {"eval " + c + " --points " + outside + " -o " + o, 1, "outside.csv:2"},
+      {"eval " + c + " --points " + pts + " -o " + (dir / "no" / "dir" / "o.csv").string(), 1,
+       "cannot open for writing"},
+      {"trace --cache " + sphere + " --hips " + hips + " -o " + o, 1, "not a patch cache"},
+      {"trace --mesh " + sphere + " --hips " + bad + " -o " + o, 1, "bad.csv:2: y is not a finite number"},
+      {"loop --cache " + garbage + " --duration 0.05", 1, "not a SmoothForce patch cache"},
+      {"loop --mesh " + sphere + " --device replay:" + file("none.csv") + " --duration 0.05", 1, "cannot open"},
+      {"loop --scene " + badScene + " --duration 0.05", 1, "/objects/0/mesh"},
+      {"sweep --cache " + sphere + " --depth 2% -o " + file("s"), 1, "not a patch cache"},
+      {"sweep-merge " + file("nodir") + " -o " + file("m"), 1, "sweep.json: cannot open"},
+  };
+  std::set<std::string> commands;
+  for (const Case& k : cases) {
+    const CliStreams r = run(k.args);
+    EXPECT_EQ(r.status, k.status) << k.args << "\n" << r.err;
+    EXPECT_NE(r.err.find(k.message), std::string::npos) << k.args << "\n" << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line: " << k.args << "\n" << r.err;
+    EXPECT_EQ(r.out, "") << "nothing on stdout: " << k.args;
+    commands.insert(k.args.substr(0, k.args.find(' ')));
+  }
+  EXPECT_EQ(cases.size(), 38u);
+  EXPECT_EQ(commands.size(), 10u);  // "", frobnicate, and the 8 subcommands
+  for (const char* help : {"--help", "cache build --help", "trace --help", "loop --help", "sweep --help"})
+    EXPECT_EQ(run(help).status, 0) << help;
+}
+
+TEST_F(CliContract, ResultsOnStdoutDiagnosticsOnStderr) {
+  const std::string pts = file("pts3.csv", "face,xi,eta\n0,0,0\n17,0.25,-0.4\n179,0.2,-0.3\n");
+  CliStreams r = run("cache info " + cache());
+  EXPECT_EQ(r.status, 0);
+  EXPECT_NE(r.out.find("188 vertices, 180 faces"), std::string::npos) << r.out;
+  EXPECT_EQ(r.err, "");
+  // eval: the summary on stdout; with -o - the CSV on stdout and the summary on stderr
+  const std::string csv = file("e.csv");
+  r = run("eval " + cache() + " --points " + pts + " -o " + csv);
+  EXPECT_EQ(r.status, 0);
+  EXPECT_EQ(r.out, "eval: 3 points -> " + csv + "\n");
+  EXPECT_EQ(r.err, "");
+  r = run("eval " + cache() + " --points " + pts + " -o -");
+  EXPECT_EQ(r.status, 0);
+  EXPECT_EQ(r.out, readFile(csv));
+  EXPECT_EQ(r.err, "eval: 3 points -> <stdout>\n");
+  // trace alike
+  const std::string hips = file("hips.csv", sphereHips()), tcsv = file("t.csv");
+  r = run("trace --mesh " + sphere + " --hips " + hips + " -o " + tcsv);
+  EXPECT_EQ(r.status, 0);
+  EXPECT_EQ(r.out.rfind("trace: 41 steps", 0), 0u) << r.out;
+  EXPECT_EQ(r.err, "");
+  r = run("trace --mesh " + sphere + " --hips " + hips + " -o -");
+  EXPECT_EQ(r.status, 0);
+  EXPECT_EQ(r.out, readFile(tcsv));
+  EXPECT_EQ(r.err.rfind("trace: 41 steps", 0), 0u) << r.err;
+  // loop: the report on stdout; with --json the set-up lines on stderr
+  r = run("loop --mesh " + sphere + " --device null --duration 0.05");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("step compute: p50"), std::string::npos) << r.out;
+  EXPECT_EQ(r.err, "");
+  r = run("loop --mesh " + sphere + " --device null --duration 0.05 --json");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(json::accept(r.out)) << r.out;
+  EXPECT_NE(r.err.find("device: null"), std::string::npos) << r.err;
+  // sweep: notes on stderr, the results table on stdout
+  r = run("sweep --mesh " + sphere + " --depth 1% --samples 200 --methods direct --no-plots -o " + file("sw"));
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("sweep: built all 512 patches"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("sweep: direct"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("built all"), std::string::npos) << r.out;
+}
+
+TEST_F(CliContract, JsonOutputsParseWithTheDocumentedKeys) {
+  auto keys = [](const json& j) {
+    std::vector<std::string> k;
+    for (const auto& [key, value] : j.items()) k.push_back(key);
+    return k;
+  };
+  using V = std::vector<std::string>;
+  CliStreams r = run("cache info " + cache() + " --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  json j = json::parse(r.out);
+  EXPECT_EQ(keys(j), (V{"boundary_slots", "bytes", "cache", "edge_slots", "face_sizes", "faces", "format", "mesh_hash",
+                        "non_manifold_slots", "options", "options_hash", "patches", "vertices"}));
+  EXPECT_EQ(j["faces"], 180);
+  EXPECT_EQ(j["vertices"], 188);
+  EXPECT_EQ(j["face_sizes"], json::parse(R"({"3": 4, "4": 160, "5": 16})"));
+  EXPECT_EQ(j["bytes"], fs::file_size(cache()));
+  EXPECT_EQ(keys(j["options"]), (V{"cross_tangent", "normals", "orient", "precision"}));
+  EXPECT_EQ(j["patches"]["built"], 180);
+  EXPECT_EQ(j["patches"]["folds"], j["patches"]["fold_faces"].size());  // the spot cage's 16 folded patches
+  EXPECT_EQ(j["patches"]["folds"], 16);
+
+  const std::string pts = file("pts2.csv", "face,xi,eta\n0,0,0\n3,0.1,0.1\n");
+  r = run("eval " + cache() + " --points " + pts + " -o " + file("e2.csv") + " --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  j = json::parse(r.out);
+  EXPECT_EQ(keys(j), (V{"flagged", "input", "output", "points", "precision"}));
+  EXPECT_EQ(j["points"], 2);
+
+  const std::string hips = file("hips.csv", sphereHips()), out = file("tj.csv");
+  r = run("trace --mesh " + sphere + " --hips " + hips + " -o " + out + " --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  j = json::parse(r.out);
+  EXPECT_EQ(keys(j),
+            (V{"compute_us_max", "compute_us_mean", "contacts", "faces", "in_contact", "max_force_difference_n",
+               "max_force_difference_step", "method", "output", "patches_built", "preset", "refine", "steps"}));
+  // against the CSV it wrote: steps = rows, in_contact = rows with contact 1
+  std::istringstream rows(readFile(out));
+  std::string line;
+  std::getline(rows, line);
+  int n = 0, contact = 0;
+  while (std::getline(rows, line)) {
+    ++n;
+    contact += cells(line).at(3) == "1";  // x,y,z,contact,...
+  }
+  EXPECT_EQ(n, 41);
+  EXPECT_EQ(j["steps"], n);
+  EXPECT_EQ(j["in_contact"], contact);
+  EXPECT_GT(contact, 10);
+
+  r = run("loop --mesh " + sphere + " --device scripted --speed 0.5 --duration 0.2 --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  j = json::parse(r.out);
+  EXPECT_EQ(keys(j), (V{"contact_onsets",
+                        "contact_steps",
+                        "device",
+                        "duration_s",
+                        "elapsed_s",
+                        "exit_status",
+                        "faces",
+                        "max_consecutive_misses",
+                        "missed_deadlines",
+                        "objects",
+                        "patches_built",
+                        "rate_hz",
+                        "records",
+                        "safety",
+                        "skipped_ticks",
+                        "step_compute_us",
+                        "steps",
+                        "stopped",
+                        "ticks",
+                        "wake_up_lateness_us"}));
+  EXPECT_EQ(keys(j["step_compute_us"]), (V{"max", "p50", "p99", "p99_9"}));
+  EXPECT_EQ(j["ticks"], 200);
+  EXPECT_EQ(j["steps"].get<int>() + j["skipped_ticks"].get<int>(), 200);
+  EXPECT_EQ(j["exit_status"], 0);
+  EXPECT_TRUE(j["safety"]["fault"].is_null());
+  EXPECT_EQ(j["objects"].size(), 1u);
+  EXPECT_GT(j["contact_steps"].get<int>(), 0);
+}
+
+TEST_F(CliContract, DashReadsStdinAndWritesStdout) {
+  const std::string pts = "face,xi,eta\n0,0,0\n17,0.25,-0.4\n";
+  const std::string viaFile = file("ef.csv");
+  ASSERT_EQ(run("eval " + cache() + " --points " + file("p.csv", pts) + " -o " + viaFile).status, 0);
+  CliStreams r = run("eval " + cache() + " --points - -o -", pts);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.out, readFile(viaFile));
+  const std::string hips = sphereHips(), tFile = file("tf.csv");
+  ASSERT_EQ(run("trace --mesh " + sphere + " --hips " + file("h.csv", hips) + " -o " + tFile).status, 0);
+  r = run("trace --mesh " + sphere + " --hips - -o -", hips);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.out, readFile(tFile));
+  // an error in standard input is named <stdin>
+  r = run("trace --mesh " + sphere + " --hips - -o -", "x,y,z\n1,2\n");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("<stdin>:2: expected 3 columns"), std::string::npos) << r.err;
+  EXPECT_EQ(r.out, "");
+  // sweep --hips -: the same per-HIP results as from the file
+  const std::string common = "sweep --mesh " + sphere + " --methods patch,direct --no-plots ";
+  ASSERT_EQ(run(common + "--hips " + file("h.csv") + " -o " + file("swf")).status, 0);
+  r = run(common + "--hips - -o " + file("sws"), hips);
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const char* f : {"results_patch.bin", "results_direct.bin", "hips.bin"})
+    EXPECT_EQ(readFile(dir / "swf" / f), readFile(dir / "sws" / f)) << f;
+  // generate --trajectory-out -: the helix on stdout, the report on stderr
+  ASSERT_EQ(
+      run("generate torus-knot --trajectory-points 50 --trajectory-out " + file("hx.csv") + " -o " + file("k1.obj"))
+          .status,
+      0);
+  r = run("generate torus-knot --trajectory-points 50 --trajectory-out - -o " + file("k2.obj"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.out, readFile(dir / "hx.csv"));
+  EXPECT_NE(r.err.find("generate: torus-knot"), std::string::npos) << r.err;
+}
+
+TEST_F(CliContract, OneCsvReaderAcceptsNumpyHeaders) {
+  // numpy.savetxt(f, a, delimiter=",", header="x,y,z") writes "# x,y,z" and %.18e values
+  auto numpy = [](const std::string& header, const std::string& plain) {
+    std::istringstream in(plain);
+    std::string line, out = "# " + header + "\n";
+    std::getline(in, line);  // the plain header
+    while (std::getline(in, line)) {
+      std::istringstream cells(line);
+      std::string cell, row;
+      char b[40];
+      while (std::getline(cells, cell, ',')) {
+        std::snprintf(b, sizeof b, "%.18e", std::stod(cell));
+        if (!row.empty()) row += ',';
+        row += b;
+      }
+      out += row + "\n";
+    }
+    return out;
+  };
+  const std::string hips = sphereHips();
+  int accepted = 0;
+  // trace --hips, sweep --hips, eval --points, loop --device replay: the same numbers either way
+  const std::string t1 = file("t1.csv"), t2 = file("t2.csv");
+  ASSERT_EQ(run("trace --mesh " + sphere + " --hips " + file("plain.csv", hips) + " -o " + t1).status, 0);
+  CliStreams r = run("trace --mesh " + sphere + " --hips " + file("np.csv", numpy("x,y,z", hips)) + " -o " + t2);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(readFile(t1), readFile(t2));
+  accepted += r.status == 0;
+  r = run("sweep --mesh " + sphere + " --methods direct --no-plots --hips " + file("np.csv") + " -o " + file("swn"));
+  EXPECT_EQ(r.status, 0) << r.err;
+  accepted += r.status == 0;
+  const std::string pts = "face,xi,eta\n0,0,0\n17,0.25,-0.4\n";
+  const std::string e1 = file("e1.csv"), e2 = file("e2n.csv");
+  ASSERT_EQ(run("eval " + cache() + " --points " + file("pp.csv", pts) + " -o " + e1).status, 0);
+  r = run("eval " + cache() + " --points " + file("pn.csv", "# made by gen.py\n" + numpy("face,xi,eta", pts)) + " -o " +
+          e2);
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(readFile(e1), readFile(e2));
+  accepted += r.status == 0;
+  r = run("loop --mesh " + sphere +
+          " --duration 0.02 --device replay:" + file("rp.csv", numpy("t,x,y,z", "t,x,y,z\n0,0,0,1.1\n1,0,0,0.9\n")));
+  EXPECT_EQ(r.status, 0) << r.err;
+  accepted += r.status == 0;
+  EXPECT_EQ(accepted, 4);
+  // a '#' line that is not the header stays a comment: the data line is then not a header
+  r = run("trace --mesh " + sphere + " --hips " + file("wrong.csv", "# a,b,c\n1,2,3\n") + " -o " + t2);
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("wrong.csv:2: expected header 'x,y,z', got '1,2,3'"), std::string::npos) << r.err;
+}
+
+TEST_F(CliContract, OpenClDeviceIsClDevice) {
+  for (const char* cmd : {"cache build", "eval", "export", "trace", "sweep"}) {
+    const CliStreams h = run(std::string(cmd) + " --help");
+    EXPECT_NE(h.out.find("--cl-device"), std::string::npos) << cmd;
+    EXPECT_EQ(h.out.find("--device"), std::string::npos) << cmd << ": the deprecated alias is hidden";
+  }
+  const CliStreams loop = run("loop --help");
+  EXPECT_NE(loop.out.find("--device"), std::string::npos);
+  EXPECT_EQ(loop.out.find("--cl-device"), std::string::npos);
+  // the OpenCL evaluation on device 0 equals the CPU's text; --device still works, with a warning
+  const std::string pts = file("pcl.csv", "face,xi,eta\n0,0,0\n17,0.25,-0.4\n");
+  const std::string cpu = file("cpu.csv"), cl = file("cl.csv"), old = file("old.csv");
+  ASSERT_EQ(run("eval " + cache() + " --points " + pts + " -o " + cpu).status, 0);
+  const CliStreams r = run("eval " + cache() + " --backend opencl --cl-device 0 --points " + pts + " -o " + cl);
+  if (r.status != 0 && r.err.find("no OpenCL device") != std::string::npos)
+    GTEST_SKIP() << "no OpenCL device here: " << r.err;
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::vector<double> a = numbers(readFile(cpu)), b = numbers(readFile(cl));
+  ASSERT_EQ(a.size(), 18u);  // 2 rows of face,xi,eta,x,y,z,nx,ny,nz
+  ASSERT_EQ(b.size(), a.size());
+  for (size_t i = 0; i < a.size(); ++i) EXPECT_NEAR(a[i], b[i], 1e-9) << i;
+  const CliStreams d = run("eval " + cache() + " --backend opencl --device 0 --points " + pts + " -o " + old);
+  EXPECT_EQ(d.status, 0) << d.err;
+  EXPECT_NE(d.err.find("--device is deprecated for the OpenCL device; use --cl-device"), std::string::npos) << d.err;
+  EXPECT_EQ(readFile(old), readFile(cl));
+  const CliStreams none =
+      run("eval " + cache() + " --backend opencl --cl-device nosuchdevice --points " + pts + " -o " + file("x.csv"));
+  EXPECT_EQ(none.status, 1);
+  EXPECT_NE(none.err.find("OpenCL device 'nosuchdevice' not found"), std::string::npos) << none.err;
+}
+
+}  // namespace

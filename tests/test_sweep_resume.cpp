@@ -1,0 +1,227 @@
+// Sweep checkpoints and --resume (issue 13 part 3), with fake renderers: a run stopped at any
+// point and resumed from what it wrote gives the bytes of the uninterrupted run; checkpoints
+// are atomic and self-identifying; trajectory series spread over the shards; sweep-merge
+// refuses incomplete shards and names them.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "sweep_io.h"
+#include "sweep_run.h"
+#include "test_sweep_support.h"
+
+namespace sf {
+namespace {
+
+namespace fs = std::filesystem;
+using sweeptest::FakeSphere;
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+const char* const kFiles[] = {"sweep.json", "hips.bin", "results_smooth.bin", "results_faceted.bin",
+                              "trajectories.json"};
+
+class SweepResume : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir = fs::temp_directory_path() / ("sf_resume_" + std::to_string(::getpid()) + "_" +
+                                       ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir);
+  }
+  void TearDown() override { fs::remove_all(dir); }
+  SweepInputs inputs(int shard = 0, int count = 1) const {
+    SweepInputs in;
+    in.cache = cache;
+    in.config.source = "sphere";
+    in.config.methods = {"smooth", "faceted"};
+    in.config.samples = 2000;
+    in.config.seed = 5;
+    in.config.analytic = "sphere:1";
+    in.depths = parseDepthList("2%,0.1");
+    in.shardIndex = shard;
+    in.shardCount = count;
+    in.makeRenderer = [](const std::string& m) { return std::make_unique<FakeSphere>(1.0, 500, m == "faceted"); };
+    return in;
+  }
+  /// Runs with a checkpoint every block (checkpointSeconds tiny) and stops after `stopAfter`
+  /// probes; returns the data the run ended with (written to out as the CLI does).
+  SweepData interruptedRun(SweepInputs in, size_t stopAfter, const fs::path& out, int* checkpoints) {
+    std::atomic<bool> stop{false};
+    std::atomic<size_t> seen{0};
+    SweepWriter writer(out.string());
+    SweepControl ctl;
+    ctl.threads = 1;
+    ctl.stop = &stop;
+    ctl.progress = [&](size_t n) {
+      if ((seen += n) >= stopAfter) stop = true;
+    };
+    ctl.checkpointSeconds = 1e-9;
+    ctl.checkpoint = [&](const SweepData& d) {
+      ++*checkpoints;
+      writer.write(d);
+    };
+    SweepData d = runSweep(std::move(in), ctl);
+    writer.write(d);
+    return d;
+  }
+  std::shared_ptr<const PatchCache> cache = sweeptest::sphereCache();
+  fs::path dir;
+};
+
+TEST_F(SweepResume, StoppedAnywhereAndResumedGivesTheUninterruptedBytes) {
+  writeSweepData(runSweep(inputs(), {}), (dir / "whole").string());
+  // 4,000 HIPs x 2 methods = 8,000 probes: stop in the first method, at the method boundary,
+  // in the second, and (8,000) after every probe but before the trajectory series.
+  int cases = 0;
+  for (size_t stopAfter : {64, 1000, 4000, 5555, 8000}) {
+    const fs::path out = dir / ("run_" + std::to_string(stopAfter));
+    int checkpoints = 0;
+    const SweepData partial = interruptedRun(inputs(), stopAfter, out, &checkpoints);
+    EXPECT_TRUE(partial.interrupted) << stopAfter;
+    EXPECT_FALSE(partial.complete()) << stopAfter;
+    EXPECT_GE(checkpoints, 1) << stopAfter;
+    const std::vector<uint64_t> done = partial.doneCounts();
+    EXPECT_GE(done[0] + done[1], std::min<size_t>(stopAfter, 8000)) << stopAfter;
+    EXPECT_LT(done[0] + done[1] + partial.trajectories.size(), 8000u + partial.trajectoryTotal) << stopAfter;
+    // what is on disk is what the run ended with; resume from it
+    SweepData onDisk = readSweepData(out.string());
+    EXPECT_EQ(onDisk.doneCounts(), done);
+    EXPECT_NE(slurp(out / "sweep.json").find("\"complete\": false"), std::string::npos);
+    SweepInputs again = inputs();
+    again.resume = std::move(onDisk);
+    SweepTiming tm;
+    const SweepData resumed = runSweep(std::move(again), {}, &tm);
+    EXPECT_TRUE(resumed.complete());
+    EXPECT_EQ(tm.methodDone[0] + tm.methodDone[1], 8000 - done[0] - done[1]) << "only the rest is computed";
+    writeSweepData(resumed, out.string());
+    for (const char* f : kFiles) EXPECT_EQ(slurp(dir / "whole" / f), slurp(out / f)) << stopAfter << " " << f;
+    ++cases;
+  }
+  EXPECT_EQ(cases, 5);
+}
+
+TEST_F(SweepResume, CheckpointsAreAtomicAndSelfIdentifying) {
+  const fs::path out = dir / "run";
+  int checkpoints = 0;
+  interruptedRun(inputs(), 3000, out, &checkpoints);
+  EXPECT_GE(checkpoints, 2);
+  for (const auto& e : fs::directory_iterator(out))  // tmp + rename: no temporaries stay
+    EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << e.path();
+  // a per-HIP file of another sweep in the directory is refused, not mixed in
+  SweepInputs other = inputs();
+  other.config.seed = 6;
+  writeSweepData(runSweep(std::move(other), {}), (dir / "other").string());
+  fs::copy_file(dir / "other" / "results_faceted.bin", out / "results_faceted.bin",
+                fs::copy_options::overwrite_existing);
+  try {
+    readSweepData(out.string());
+    ADD_FAILURE() << "a results file of another sweep was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("results_faceted.bin: written by another sweep"), std::string::npos)
+        << e.what();
+  }
+}
+
+TEST_F(SweepResume, ResumeRefusesAnotherSweepOrShard) {
+  const fs::path out = dir / "run";
+  int checkpoints = 0;
+  interruptedRun(inputs(), 500, out, &checkpoints);
+  struct Case {
+    SweepInputs in;
+    std::string message;
+  };
+  std::vector<Case> cases;
+  cases.push_back({inputs(), "seed (5 vs 9)"});
+  cases.back().in.config.seed = 9;
+  cases.push_back({inputs(), "stiffness (500.0 vs 800.0)"});
+  cases.back().in.config.stiffness = 800;
+  cases.push_back({inputs(1, 2), "holds shard 0/1, not 1/2"});
+  for (Case& c : cases) {
+    c.in.resume = readSweepData(out.string());
+    try {
+      runSweep(std::move(c.in), {});
+      ADD_FAILURE() << c.message;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(out.string() + ": holds"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(c.message), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_EQ(cases.size(), 3u);
+}
+
+TEST_F(SweepResume, TrajectorySeriesAreSpreadOverShards) {
+  const SweepData whole = runSweep(inputs(), {});
+  // one default loop x 2 methods x 2 depths x 2 steps
+  ASSERT_EQ(whole.trajectoryTotal, 8u);
+  ASSERT_EQ(whole.trajectories.size(), 8u);
+  std::vector<SweepData> shards;
+  size_t series = 0;
+  for (int i = 0; i < 3; ++i) {
+    const fs::path sd = dir / ("shard" + std::to_string(i));
+    writeSweepData(runSweep(inputs(i, 3), {}), sd.string());
+    shards.push_back(readSweepData(sd.string()));
+    const SweepData& s = shards.back();
+    EXPECT_EQ(s.trajectoryEnd - s.trajectoryBegin, s.trajectories.size());
+    EXPECT_GE(s.trajectories.size(), 2u) << "8 series over 3 shards: 2 or 3 each";
+    EXPECT_LE(s.trajectories.size(), 3u);
+    for (const auto& t : s.trajectories) {
+      const TrajectorySeries& w = whole.trajectories[t.index];
+      EXPECT_EQ(t.force, w.force) << t.index;
+      EXPECT_EQ(t.method + t.depthLabel, w.method + w.depthLabel) << t.index;
+    }
+    series += s.trajectories.size();
+  }
+  EXPECT_EQ(series, 8u);
+  const SweepData merged = mergeSweepData(shards);
+  writeSweepData(whole, (dir / "whole").string());
+  writeSweepData(merged, (dir / "merged").string());
+  for (const char* f : kFiles) EXPECT_EQ(slurp(dir / "whole" / f), slurp(dir / "merged" / f)) << f;
+  // a shard's series missing from the merge is named
+  shards[1].trajectories.clear();
+  shards[1].trajectoryEnd = shards[1].trajectoryBegin;
+  EXPECT_THROW(mergeSweepData(shards), InputError);
+}
+
+TEST_F(SweepResume, MergeRefusesIncompleteShardsAndNamesThem) {
+  std::vector<SweepData> shards;
+  int checkpoints = 0;
+  for (int i = 0; i < 4; ++i) {
+    const fs::path sd = dir / ("shard" + std::to_string(i));
+    if (i == 1 || i == 3)
+      interruptedRun(inputs(i, 4), 300, sd, &checkpoints);
+    else
+      writeSweepData(runSweep(inputs(i, 4), {}), sd.string());
+    shards.push_back(readSweepData(sd.string()));
+  }
+  try {
+    mergeSweepData(shards);
+    ADD_FAILURE() << "incomplete shards were merged";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("shard 1/4 (" + (dir / "shard1").string() + ")"), std::string::npos) << m;
+    EXPECT_NE(m.find("shard 3/4 (" + (dir / "shard3").string() + ")"), std::string::npos) << m;
+    EXPECT_EQ(m.find("shard 0/4"), std::string::npos) << m;
+    EXPECT_EQ(m.find("shard 2/4"), std::string::npos) << m;
+    EXPECT_NE(m.find("sweep --resume"), std::string::npos) << m;
+  }
+  for (int i : {1, 3}) {  // resumed, they merge to the unsharded run
+    SweepInputs in = inputs(i, 4);
+    in.resume = std::move(shards[i]);
+    writeSweepData(runSweep(std::move(in), {}), (dir / ("shard" + std::to_string(i))).string());
+    shards[i] = readSweepData((dir / ("shard" + std::to_string(i))).string());
+  }
+  writeSweepData(mergeSweepData(shards), (dir / "merged").string());
+  writeSweepData(runSweep(inputs(), {}), (dir / "whole").string());
+  for (const char* f : kFiles) EXPECT_EQ(slurp(dir / "whole" / f), slurp(dir / "merged" / f)) << f;
+}
+
+}  // namespace
+}  // namespace sf

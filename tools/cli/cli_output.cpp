@@ -1,0 +1,46 @@
+#include "cli_output.h"
+
+#include <unistd.h>
+
+#include "mesh.h"  // InputError
+
+namespace sf::cli {
+
+TextOutput::TextOutput(std::string path) : path_(std::move(path)) {
+  if (toStdout()) {
+    file_ = stdout;
+    return;
+  }
+  tmp_ = path_ + ".tmp." + std::to_string(::getpid());
+  file_ = std::fopen(tmp_.c_str(), "w");
+  if (!file_) throw InputError(path_ + ": cannot open for writing");
+  std::setvbuf(file_, nullptr, _IOFBF, 1 << 20);
+}
+
+TextOutput::~TextOutput() {
+  if (!file_ || toStdout()) return;
+  std::fclose(file_);
+  std::remove(tmp_.c_str());
+}
+
+void TextOutput::commit() {
+  if (toStdout()) {
+    if (std::fflush(stdout) != 0 || std::ferror(stdout)) throw InputError("<stdout>: write failed");
+    return;
+  }
+  const bool bad = std::ferror(file_) != 0;
+  const bool closed = std::fclose(file_) == 0;
+  file_ = nullptr;
+  if (bad || !closed || std::rename(tmp_.c_str(), path_.c_str()) != 0) {
+    std::remove(tmp_.c_str());
+    throw InputError(path_ + ": write failed");
+  }
+}
+
+void printJson(std::FILE* f, const nlohmann::ordered_json& j) {
+  const std::string s = j.dump(2) + "\n";
+  std::fputs(s.c_str(), f);
+  std::fflush(f);
+}
+
+}  // namespace sf::cli
