@@ -31,12 +31,13 @@ void onInterrupt(int) { gStop.store(true, std::memory_order_relaxed); }
 
 struct LoopArgs {
   std::string scene, cache, mesh, method = "patch", device = "scripted", record;
-  double rate = 1000, duration = 10, stiffness = 500, speed = 0.1, depth = 0, spinUs = 200;
+  double rate = 1000, duration = 10, stiffness = 500, speed = 0.1, depth = 0, spinUs = 200, watchdogMs = 50;
   int patchCapacity = 256;
   rt::SafetyOptions safety;
   RefineArgs refine;
   int rtPriority = 0;
   bool depthGiven = false;
+  bool paced = false;
 };
 
 void requireFinitePositive(double v, const char* option, const char* what) {
@@ -74,12 +75,17 @@ void run(const LoopArgs& a) {
   lo.rate = a.rate;
   lo.duration = a.duration;
   lo.stop = &gStop;
+  lo.devicePaced = a.paced;
   rt::validate(lo);
   rt::validate(a.safety);
   requireFinitePositive(a.stiffness, "--stiffness", "a finite stiffness > 0 N/m");
   requireFinitePositive(a.speed, "--speed", "a finite speed > 0 m/s");
   if (a.depthGiven) requireFinitePositive(a.depth, "--depth", "a finite depth > 0 m");
   rt::checkDeviceSpec(a.device);
+  const bool udp = a.device.rfind("udp:", 0) == 0;
+  if (a.paced && !udp)
+    throw InputError("--paced: only a udp:[HOST:]PORT device paces the loop, got '" + a.device + "'");
+  requireFinitePositive(a.watchdogMs, "--watchdog-ms", "a finite time > 0 ms");
   if (!(a.spinUs >= 0 && a.spinUs <= 1e6 / a.rate)) {
     char buf[96];
     std::snprintf(buf, sizeof buf, "--spin-us: expected 0 .. one period (%g us), got %g", 1e6 / a.rate, a.spinUs);
@@ -122,7 +128,9 @@ void run(const LoopArgs& a) {
   rt::ScriptOptions so;
   so.speed = a.speed;
   so.depth = a.depthGiven ? a.depth : 0;
+  so.watchdog = a.watchdogMs * 1e-3;
   const std::unique_ptr<rt::HapticDevice> device = rt::makeDevice(a.device, scene, so);
+  lo.deviceTransform = scene.deviceTransform();
   rt::SafetyFilter safety(a.safety);
   std::unique_ptr<rt::SpscRing<rt::StepRecord>> ring;
   std::unique_ptr<rt::RecordWriter> writer;
@@ -134,8 +142,14 @@ void run(const LoopArgs& a) {
   rt::ServoLoop loop(*device, scene, safety, clock, lo, ring.get());
   std::fputs(info.c_str(), stdout);
   std::printf("device: %s\n", device->describe().c_str());
-  std::printf("loop: %g Hz for %g s, spin %g us, %s; Ctrl-C stops\n", a.rate, a.duration, a.spinUs,
-              raisePriority(a.rtPriority).c_str());
+  if (!lo.deviceTransform.isIdentity())
+    std::printf("device transform: %s (device to world)\n", lo.deviceTransform.describe().c_str());
+  if (a.paced)
+    std::printf("loop: device-paced (one step per sample, deadline %g ms) for %g s, %s; Ctrl-C stops\n", 1e3 / a.rate,
+                a.duration, raisePriority(a.rtPriority).c_str());
+  else
+    std::printf("loop: %g Hz for %g s, spin %g us, %s; Ctrl-C stops\n", a.rate, a.duration, a.spinUs,
+                raisePriority(a.rtPriority).c_str());
   std::fflush(stdout);
 
   gStop.store(false);
@@ -154,6 +168,7 @@ void run(const LoopArgs& a) {
   std::fputs(rt::loopReport(loop.stats(), a.rate, safety.counters(), scene.patchesBuilt(), scene.totalFaces(), written)
                  .c_str(),
              stdout);
+  std::fputs(device->report().c_str(), stdout);
   if (writer) std::printf("record: %s\n", a.record.c_str());
 }
 
@@ -173,7 +188,15 @@ void addLoopCommand(CLI::App& app) {
   c->add_option("--method", a->method, "patch|direct|shading (default for scene objects)")
       ->check(CLI::IsMember({"patch", "direct", "shading"}))
       ->capture_default_str();
-  c->add_option("--device", a->device, "null|scripted|scripted:slide|scripted:circle|replay:FILE (CSV t,x,y,z)")
+  c->add_option("--device", a->device,
+                "null|scripted|scripted:slide|scripted:circle|replay:FILE (CSV t,x,y,z)|udp:[HOST:]PORT (network "
+                "bridge: HIP packets in, FORCE packets out; HOST defaults to 127.0.0.1, PORT 0 picks a free port)")
+      ->capture_default_str();
+  c->add_flag("--paced", a->paced,
+              "device-paced: one step per received sample (udp only) instead of the fixed --rate; --rate is then "
+              "the nominal sample rate that sets the deadline");
+  c->add_option("--watchdog-ms", a->watchdogMs,
+                "udp: no fresh sample for this long latches a stale-device fault (zero force), ms")
       ->capture_default_str();
   c->add_option("--rate", a->rate, "servo rate, Hz, 1..10000")->capture_default_str();
   c->add_option("--duration", a->duration, "seconds (> 0)")->capture_default_str();
