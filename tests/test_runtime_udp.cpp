@@ -437,7 +437,7 @@ void expectStaleFaultAtExpiry(const std::vector<StepRecord>& recs, double watchd
 
 TEST(RuntimeUdp, SenderStoppedFixedRateLoopZeroesTheForceAtTheWatchdog) {
   UdpOptions uo;
-  uo.watchdog = 0.1;
+  uo.watchdog = 0.2;  // long enough that a loaded machine does not stall the sender past it
   UdpDevice dev(UdpEndpoint{"127.0.0.1", 0}, uo);
   Peer peer;
   ASSERT_TRUE(peer.ok);
@@ -468,7 +468,7 @@ TEST(RuntimeUdp, SenderStoppedFixedRateLoopZeroesTheForceAtTheWatchdog) {
 // the watchdog and latches the fault.
 TEST(RuntimeUdp, PacedLoopStepsOncePerSampleAndFaultsWhenTheSenderStops) {
   UdpOptions uo;
-  uo.watchdog = 0.1;
+  uo.watchdog = 0.2;  // long enough that a loaded machine does not stall the sender past it
   UdpDevice dev(UdpEndpoint{"127.0.0.1", 0}, uo);
   Peer peer;
   ASSERT_TRUE(peer.ok);
