@@ -7,26 +7,64 @@
 #include <string>
 #include <vector>
 
+#include "safety.h"
+
 namespace sf::rt {
+
+/// Whether the device has a usable sample.
+enum class DeviceStatus : uint8_t {
+  Ok,        ///< position is current
+  NoSample,  ///< no sample has arrived yet (a network device before its sender starts): nothing is rendered
+  Stale,     ///< the device's watchdog expired: the servo step latches Fault::StaleDevice (zero force)
+};
 
 /// What the device reports each step.
 struct DeviceState {
-  Eigen::Vector3d position{0, 0, 0};  ///< haptic interface point (HIP), m, world frame
+  Eigen::Vector3d position{0, 0, 0};  ///< haptic interface point (HIP), m, device frame (DeviceTransform maps it)
   uint32_t buttons = 0;               ///< bit i set: button i pressed
+  DeviceStatus status = DeviceStatus::Ok;
+  uint64_t sample = 0;  ///< the device's number of this sample (network: the packet's sequence number; else 0)
+  double age = 0;       ///< s from when the sample was taken or received to this read (0: simulated)
+};
+
+/// The step's outcome that goes with a commanded force (network devices send it back).
+struct ForceStatus {
+  double loopTime = 0;        ///< s since the loop start
+  uint32_t flags = 0;         ///< SafetyFlag | StepFlag bits (servo_step.h)
+  Fault fault = Fault::None;  ///< the latched fault, if any (the force is then zero)
+  bool contact = false;       ///< the renderer reported contact
 };
 
 /// A 3-DoF haptic device as the servo loop sees it. read() and writeForce() run inside the
 /// 1 kHz loop and must be real-time safe (no allocation, locking, throwing or blocking I/O).
-/// A real driver implements the same two calls (and ignores `t`).
+/// A real driver implements the same two calls (and ignores `t`). Positions and forces are
+/// in the device frame; the loop maps them with its DeviceTransform.
 class HapticDevice {
  public:
   virtual ~HapticDevice() = default;
   /// Samples the device; t: seconds since the loop started (simulated devices move with it).
   virtual DeviceState read(double t) noexcept = 0;
-  /// Commands force `f` (N, world frame) until the next call.
+  /// Commands force `f` (N, device frame) until the next call.
   virtual void writeForce(const Eigen::Vector3d& f) noexcept = 0;
+  /// Commands force `f` with the step's status; the loop calls this one. Network devices send
+  /// both; the default forwards to writeForce(f). Real-time safe.
+  virtual void commandForce(const Eigen::Vector3d& f, const ForceStatus& status) noexcept {
+    (void)status;
+    writeForce(f);
+  }
+  /// True when the device can pace the loop (LoopOptions::devicePaced: one step per sample).
+  virtual bool canPace() const noexcept { return false; }
+  /// Device-paced loops only: returns true as soon as a sample newer than the last read() has
+  /// arrived, false after `timeout` s or when the device's watchdog expires first (then read()
+  /// reports Stale). This is the loop's wait; it does not allocate or throw.
+  virtual bool waitForSample(double timeout) noexcept {
+    (void)timeout;
+    return false;
+  }
   /// One line for the report (not real-time).
   virtual std::string describe() const = 0;
+  /// End-of-run lines for the report, each ending in '\n' ("" when none). Not real-time.
+  virtual std::string report() const { return {}; }
 };
 
 /// Base of the simulated devices: keeps the last commanded force (tests read it).
@@ -60,7 +98,7 @@ class NullDevice final : public SimulatedDevice {
 /// (the last point should equal points[loopStart]); otherwise the whole polyline is
 /// traversed back and forth (ping-pong).
 struct ScriptedPath {
-  std::vector<Eigen::Vector3d> points;  ///< m, world frame, at least 2
+  std::vector<Eigen::Vector3d> points;  ///< m, at least 2 (the device's frame once handed to a PathDevice)
   size_t loopStart = 0;
   bool closed = false;
   std::string description;  ///< for the report

@@ -10,8 +10,13 @@ std::string loopReport(const LoopStats& s, double rate, const SafetyCounters& c,
   char buf[256];
   out += "step compute: " + s.compute.summaryUs() + "\n";
   out += "wake-up lateness: " + s.lateness.summaryUs() + "\n";
-  std::snprintf(buf, sizeof buf, "steps: %lld of %lld ticks at %g Hz in %.3f s%s\n", static_cast<long long>(s.steps),
-                static_cast<long long>(s.ticks), rate, s.elapsed, s.stopped ? ", stopped early" : "");
+  if (s.paced)
+    std::snprintf(buf, sizeof buf, "steps: %lld device-paced (one per sample, mean %.1f Hz) in %.3f s%s\n",
+                  static_cast<long long>(s.steps), s.elapsed > 0 ? static_cast<double>(s.steps) / s.elapsed : 0.0,
+                  s.elapsed, s.stopped ? ", stopped early" : "");
+  else
+    std::snprintf(buf, sizeof buf, "steps: %lld of %lld ticks at %g Hz in %.3f s%s\n", static_cast<long long>(s.steps),
+                  static_cast<long long>(s.ticks), rate, s.elapsed, s.stopped ? ", stopped early" : "");
   out += buf;
   std::snprintf(buf, sizeof buf, "missed deadlines: %lld (max consecutive %d, skipped ticks %lld)\n",
                 static_cast<long long>(s.missedDeadlines), c.maxConsecutiveMisses,

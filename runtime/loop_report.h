@@ -12,6 +12,7 @@ namespace sf::rt {
 ///   step compute: p50 A us, p99 B us, p99.9 C us, max D us
 ///   wake-up lateness: p50 A us, p99 B us, p99.9 C us, max D us
 ///   steps: N of T ticks at R Hz in E s[, stopped early]
+///     (device-paced: steps: N device-paced (one per sample, mean R Hz) in E s[, stopped early])
 ///   missed deadlines: M (max consecutive C, skipped ticks S)
 ///   contacts: X steps in contact, Y onsets
 ///   patches built: P of F faces

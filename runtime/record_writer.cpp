@@ -29,10 +29,10 @@ void RecordWriter::drain() noexcept {
   StepRecord r;
   int64_t n = 0;
   while (ring_.tryPop(r)) {
-    if (std::fprintf(file_, "%lld,%.9f,%.9g,%.9g,%.9g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%.3f,%.3f,%u\n",
+    if (std::fprintf(file_, "%lld,%.9f,%.9g,%.9g,%.9g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%.3f,%.3f,%u,%llu,%.3f\n",
                      static_cast<long long>(r.tick), r.t, r.hip[0], r.hip[1], r.hip[2], r.force[0], r.force[1],
                      r.force[2], r.rendered[0], r.rendered[1], r.rendered[2], r.contact, r.compute * 1e6,
-                     r.lateness * 1e6, r.flags) < 0)
+                     r.lateness * 1e6, r.flags, static_cast<unsigned long long>(r.sample), r.age * 1e6) < 0)
       failed_ = true;
     ++n;
   }

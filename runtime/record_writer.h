@@ -12,11 +12,12 @@ namespace sf::rt {
 
 /// CSV header of the record file.
 inline constexpr const char* kRecordCsvHeader =
-    "tick,t,x,y,z,fx,fy,fz,rfx,rfy,rfz,contact,compute_us,lateness_us,flags";
+    "tick,t,x,y,z,fx,fy,fz,rfx,rfy,rfz,contact,compute_us,lateness_us,flags,sample,age_us";
 
 /// Consumes a SpscRing<StepRecord> on its own thread and writes one CSV row per record
-/// (header kRecordCsvHeader; t in s, positions in m, forces in N, times in us, flags as
-/// SafetyFlag bits). It polls the ring every `pollSeconds` when it is empty, so the loop
+/// (header kRecordCsvHeader; t in s, positions (world frame) in m, forces (world frame) in N,
+/// times in us, flags as SafetyFlag | StepFlag bits, sample = the device's sample number,
+/// age_us = the sample's age at the read). It polls the ring every `pollSeconds` when it is empty, so the loop
 /// never waits for it. Writes to PATH.tmp and renames it to PATH in finish().
 class RecordWriter {
  public:

@@ -34,6 +34,8 @@ const char* toString(Fault f) {
       return "non-finite force";
     case Fault::MissedDeadlines:
       return "consecutive missed deadlines";
+    case Fault::StaleDevice:
+      return "stale device (no sample within the watchdog time)";
   }
   return "?";
 }
@@ -96,6 +98,12 @@ bool SafetyFilter::noteDeadline(bool missed, double t) noexcept {
     return true;
   }
   return false;
+}
+
+bool SafetyFilter::trip(Fault f, double t) noexcept {
+  if (f == Fault::None || faulted()) return false;
+  latch(f, t);
+  return true;
 }
 
 void SafetyFilter::reset() noexcept {

@@ -17,8 +17,9 @@ struct SafetyOptions {
 /// Throws InputError naming the option ("--max-force: ...") when a limit is out of range.
 void validate(const SafetyOptions& o);
 
-/// Why the output was latched to zero.
-enum class Fault : uint8_t { None, NonFiniteHip, NonFiniteForce, MissedDeadlines };
+/// Why the output was latched to zero. StaleDevice: the device's watchdog expired (no fresh
+/// sample within its time, e.g. a network device whose sender stopped; DeviceStatus::Stale).
+enum class Fault : uint8_t { None, NonFiniteHip, NonFiniteForce, MissedDeadlines, StaleDevice };
 const char* toString(Fault f);
 
 /// Per-step flags (bits), also written to the record.
@@ -61,6 +62,9 @@ class SafetyFilter {
   /// Reports whether the step at time t missed its deadline. True when this call latched
   /// the fault (the caller should command zero force at once).
   bool noteDeadline(bool missed, double t) noexcept;
+  /// Latches fault `f` (not None) at time t (s since the loop start) for a condition found
+  /// outside the filter (a stale device). True when this call latched it (no earlier fault).
+  bool trip(Fault f, double t) noexcept;
 
   bool faulted() const noexcept { return counters_.fault != Fault::None; }
   const SafetyCounters& counters() const noexcept { return counters_; }

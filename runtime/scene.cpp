@@ -13,21 +13,63 @@
 
 namespace sf::rt {
 
-void Scene::add(SceneObject object) {
-  const Pose& p = object.pose;
-  if (!object.renderer) throw InputError("scene object '" + object.name + "': no renderer");
-  if (!(p.scale > 0) || !std::isfinite(p.scale) || !p.translation.allFinite() || !p.rotation.coeffs().allFinite())
-    throw InputError("scene object '" + object.name + "': pose must be finite with scale > 0");
+Scene::Frame Scene::frameOf(const Pose& p) noexcept {
   Frame f;
   f.r = p.rotation.normalized().toRotationMatrix();
   f.rt = f.r.transpose();
   f.t = p.translation;
   f.s = p.scale;
+  return f;
+}
+
+void Scene::add(SceneObject object) {
+  if (!object.renderer) throw InputError("scene object '" + object.name + "': no renderer");
+  if (!isValid(object.pose)) throw InputError("scene object '" + object.name + "': pose must be finite with scale > 0");
+  object.pose.rotation.normalize();
+  frames_.push_back(frameOf(object.pose));
   objects_.push_back(std::move(object));
-  frames_.push_back(f);
+  mailboxes_.push_back(std::make_unique<SeqlockMailbox<PoseWords>>());
+}
+
+bool Scene::setPose(size_t i, const Pose& pose) noexcept {
+  if (i >= mailboxes_.size() || !isValid(pose)) return false;
+  const Eigen::Quaterniond q = pose.rotation.normalized();
+  const PoseWords w{
+      {pose.translation.x(), pose.translation.y(), pose.translation.z()}, {q.w(), q.x(), q.y(), q.z()}, pose.scale};
+  return mailboxes_[i]->tryWrite(w);
+}
+
+void Scene::setMaxPoseStep(double metres) {
+  if (!(metres > 0) || !std::isfinite(metres)) throw InputError("scene: the pose-jump threshold must be > 0 m");
+  maxPoseStep_ = metres;
+}
+
+void Scene::applyPoses(const Eigen::Vector3d& hip) noexcept {
+  for (size_t i = 0; i < objects_.size(); ++i) {
+    Frame& f = frames_[i];
+    const SeqlockMailbox<PoseWords>& box = *mailboxes_[i];
+    if (box.version() == f.version) continue;
+    PoseWords w;
+    uint64_t v = 0;
+    if (!box.read(w, v) || v == f.version) continue;  // a write in progress: taken at the next step
+    Pose& p = objects_[i].pose;
+    p.translation = Eigen::Vector3d(w.t[0], w.t[1], w.t[2]);
+    p.rotation = Eigen::Quaterniond(w.q[0], w.q[1], w.q[2], w.q[3]);
+    p.scale = w.s;
+    Frame g = frameOf(p);
+    g.version = v;
+    // How far the HIP moved in the object's frame, in world metres.
+    const Eigen::Vector3d before = f.rt * (hip - f.t) / f.s, after = g.rt * (hip - g.t) / g.s;
+    const double moved = (after - before).norm() * g.s;
+    ++motion_.updates;
+    if (moved > maxPoseStep_) ++motion_.jumps;
+    if (moved > motion_.largestStep) motion_.largestStep = moved;
+    f = g;
+  }
 }
 
 ForceSample Scene::step(const Eigen::Vector3d& hip) noexcept {
+  applyPoses(hip);
   ForceSample out;
   for (size_t i = 0; i < objects_.size(); ++i) {
     const Frame& f = frames_[i];
@@ -185,12 +227,19 @@ Scene loadScene(const std::string& path, const SceneDefaults& defaults, const Re
     throw InputError(path + ": invalid JSON: " + e.what());
   }
   if (!root.is_object()) c.fail("", "expected an object with \"objects\"");
-  c.onlyKeys(root, "", {"objects", "comment"});
+  c.onlyKeys(root, "", {"objects", "device", "comment"});
   if (!root.contains("objects")) c.fail("/objects", "missing (expected an array of objects)");
   const json& objs = root["objects"];
   if (!objs.is_array() || objs.empty()) c.fail("/objects", "expected a non-empty array of objects");
   const fs::path base = fs::path(path).parent_path();
   Scene scene;
+  if (root.contains("device")) {
+    const json& d = root["device"];
+    if (!d.is_object()) c.fail("/device", "expected an object with \"transform\"");
+    c.onlyKeys(d, "/device", {"transform", "comment"});
+    if (d.contains("transform"))
+      scene.setDeviceTransform(DeviceTransform(parsePose(c, d["transform"], "/device/transform")));
+  }
   for (size_t i = 0; i < objs.size(); ++i) {
     const std::string w = "/objects/" + std::to_string(i);
     const json& o = objs[i];

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "mesh.h"
+#include "udp_device.h"
 
 namespace sf::rt {
 namespace {
@@ -137,24 +138,47 @@ void checkDeviceSpec(const std::string& spec) {
     if (spec.size() == 7) throw InputError("--device replay:FILE: missing FILE");
     return;
   }
-  throw InputError("--device: expected null, scripted, scripted:slide, scripted:circle or replay:FILE, got '" + spec +
-                   "'");
+  if (spec.rfind("udp:", 0) == 0) {
+    parseUdpSpec(spec);
+    return;
+  }
+  throw InputError(
+      "--device: expected null, scripted, scripted:slide, scripted:circle, replay:FILE or udp:[HOST:]PORT, got '" +
+      spec + "'");
 }
+
+namespace {
+
+/// A world-frame path in the device frame (the loop maps it back with the device transform).
+ScriptedPath toDevice(ScriptedPath p, const DeviceTransform& t) {
+  for (Eigen::Vector3d& q : p.points) q = t.toDevice(q);
+  return p;
+}
+
+}  // namespace
 
 std::unique_ptr<HapticDevice> makeDevice(const std::string& spec, const Scene& scene, const ScriptOptions& o) {
   checkDeviceSpec(spec);
+  const DeviceTransform& t = scene.deviceTransform();
   if (spec == "null") {
     const Eigen::AlignedBox3d box = sceneBounds(scene);
     const Eigen::Vector3d c = box.center();
-    return std::make_unique<NullDevice>(Eigen::Vector3d(c.x(), c.y(), box.max().z() + 0.1 * box.diagonal().norm()));
+    return std::make_unique<NullDevice>(
+        t.toDevice(Eigen::Vector3d(c.x(), c.y(), box.max().z() + 0.1 * box.diagonal().norm())));
   }
-  if (spec == "scripted:circle")
-    return std::make_unique<PathDevice>(circlePath(scene, effectiveDepth(scene, o.depth)), o.speed);
   if (spec.rfind("replay:", 0) == 0) {
     const std::string file = spec.substr(7);
     return std::make_unique<ReplayDevice>(readTrajectoryCsv(file), file);
   }
-  return std::make_unique<PathDevice>(slidePath(scene, effectiveDepth(scene, o.depth)), o.speed);
+  if (spec.rfind("udp:", 0) == 0) {
+    UdpOptions u;
+    u.watchdog = o.watchdog;
+    return std::make_unique<UdpDevice>(parseUdpSpec(spec), u);
+  }
+  if (!(o.speed > 0) || !std::isfinite(o.speed)) throw InputError("--speed: expected a finite speed > 0 m/s");
+  const double depth = effectiveDepth(scene, o.depth);
+  ScriptedPath path = spec == "scripted:circle" ? circlePath(scene, depth) : slidePath(scene, depth);
+  return std::make_unique<PathDevice>(toDevice(std::move(path), t), o.speed / t.scale());
 }
 
 }  // namespace sf::rt

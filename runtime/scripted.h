@@ -34,10 +34,11 @@ class SurfaceProbe {
   std::vector<Tri> tri_;
 };
 
-/// Parameters of the scripted paths.
+/// Parameters of the devices makeDevice makes.
 struct ScriptOptions {
-  double speed = 0.1;  ///< m/s along the path (> 0)
-  double depth = 0;    ///< m below the top surface (> 0; 0: 1% of the bounding-box diagonal)
+  double speed = 0.1;      ///< scripted: m/s along the path, world frame (> 0)
+  double depth = 0;        ///< scripted: m below the top surface (> 0; 0: 1% of the bounding-box diagonal)
+  double watchdog = 0.05;  ///< udp: s without a fresh sample before the stale-device fault (> 0)
 };
 
 /// The depth used for `depth`: itself when > 0, else 1% of the scene's bounding-box diagonal.
@@ -62,8 +63,12 @@ ScriptedPath circlePath(const Scene& scene, double depth);
 void checkDeviceSpec(const std::string& spec);
 
 /// Makes the device named by `spec`: null | scripted | scripted:slide | scripted:circle |
-/// replay:FILE. The null device rests 10% of the bounding-box diagonal above the top of the
-/// bounding box (out of contact). Throws InputError for an unknown spec or bad input.
+/// replay:FILE | udp:[HOST:]PORT (udp_device.h). The null device rests 10% of the
+/// bounding-box diagonal above the top of the bounding box (out of contact). Scripted paths
+/// and the null position are planned in the world and handed to the device in the device
+/// frame (the inverse of scene.deviceTransform(), speed divided by its scale), so the loop's
+/// transform maps them back; a replay file and udp samples are in the device frame. Throws
+/// InputError for an unknown spec or bad input.
 std::unique_ptr<HapticDevice> makeDevice(const std::string& spec, const Scene& scene, const ScriptOptions& options);
 
 }  // namespace sf::rt

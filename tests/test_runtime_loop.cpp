@@ -16,32 +16,10 @@
 #include "record_writer.h"
 #include "servo_loop.h"
 
-// Counts operator new calls made on a thread while it has counting switched on. The other
-// forms of new in libstdc++ (array, nothrow) call this one; delete stays std::free. Not under
-// sanitizers, which bring their own operator new and delete.
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define SF_COUNT_ALLOCS 0
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
-#define SF_COUNT_ALLOCS 0
-#endif
-#endif
-#ifndef SF_COUNT_ALLOCS
-#define SF_COUNT_ALLOCS 1
-#endif
-namespace {
-thread_local bool tCountAllocs = false;
-thread_local long tAllocs = 0;
-}  // namespace
-#if SF_COUNT_ALLOCS
-void* operator new(std::size_t n) {
-  if (tCountAllocs) ++tAllocs;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-#endif
+#include "runtime_alloc_counter.h"
+
+using sf::test::tAllocs;
+using sf::test::tCountAllocs;
 
 namespace {
 

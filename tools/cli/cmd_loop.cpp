@@ -28,13 +28,14 @@ namespace {
 
 struct LoopArgs {
   std::string scene, cache, mesh, method = "patch", device = "scripted", record;
-  double rate = 1000, duration = 10, stiffness = 500, speed = 0.1, depth = 0, spinUs = 200;
+  double rate = 1000, duration = 10, stiffness = 500, speed = 0.1, depth = 0, spinUs = 200, watchdogMs = 50;
   int patchCapacity = 256;
   rt::SafetyOptions safety;
   RefineArgs refine;
   PatchArgs patch;  ///< the patch surface of objects given as meshes (--normals, --precision, ...)
   int rtPriority = 0;
   bool depthGiven = false, json = false;
+  bool paced = false;
 };
 
 void requireFinitePositive(double v, const char* option, const char* what) {
@@ -128,12 +129,17 @@ void run(const LoopArgs& a) {
     lo.rate = a.rate;
     lo.duration = a.duration;
     lo.stop = &stopFlag();
+    lo.devicePaced = a.paced;
     rt::validate(lo);
     rt::validate(a.safety);
     requireFinitePositive(a.stiffness, "--stiffness", "a finite stiffness > 0 N/m");
     requireFinitePositive(a.speed, "--speed", "a finite speed > 0 m/s");
     if (a.depthGiven) requireFinitePositive(a.depth, "--depth", "a finite depth > 0 m");
     rt::checkDeviceSpec(a.device);
+    const bool udp = a.device.rfind("udp:", 0) == 0;
+    if (a.paced && !udp)
+      throw UsageError("--paced: only a udp:[HOST:]PORT device paces the loop, got '" + a.device + "'");
+    requireFinitePositive(a.watchdogMs, "--watchdog-ms", "a finite time > 0 ms");
     if (a.record == "-") throw UsageError("--record: give a file (standard output carries the report)");
     if (!(a.spinUs >= 0 && a.spinUs <= 1e6 / a.rate)) {
       char buf[96];
@@ -179,6 +185,8 @@ void run(const LoopArgs& a) {
   rt::ScriptOptions so;
   so.speed = a.speed;
   so.depth = a.depthGiven ? a.depth : 0;
+  so.watchdog = a.watchdogMs * 1e-3;
+  lo.deviceTransform = scene.deviceTransform();
   const std::unique_ptr<rt::HapticDevice> device = rt::makeDevice(a.device, scene, so);
   rt::SafetyFilter safety(a.safety);
   std::unique_ptr<rt::SpscRing<rt::StepRecord>> ring;
@@ -194,8 +202,14 @@ void run(const LoopArgs& a) {
   const std::string deviceText = device->describe();
   std::fputs(info.c_str(), head);
   std::fprintf(head, "device: %s\n", deviceText.c_str());
-  std::fprintf(head, "loop: %g Hz for %g s, spin %g us, %s; Ctrl-C stops\n", a.rate, a.duration, a.spinUs,
-               raisePriority(a.rtPriority).c_str());
+  if (!lo.deviceTransform.isIdentity())
+    std::fprintf(head, "device transform: %s (device to world)\n", lo.deviceTransform.describe().c_str());
+  if (a.paced)
+    std::fprintf(head, "loop: device-paced (one step per sample, deadline %g ms) for %g s, %s; Ctrl-C stops\n",
+                 1e3 / a.rate, a.duration, raisePriority(a.rtPriority).c_str());
+  else
+    std::fprintf(head, "loop: %g Hz for %g s, spin %g us, %s; Ctrl-C stops\n", a.rate, a.duration, a.spinUs,
+                 raisePriority(a.rtPriority).c_str());
   std::fflush(head);
 
   loop.run();
@@ -215,10 +229,12 @@ void run(const LoopArgs& a) {
   const int status = counters.fault != rt::Fault::None ? kExitFault : signal ? 128 + signal : kExitOk;
   if (a.json) {
     printJson(stdout, loopJson(scene, deviceText, a, loop.stats(), counters, written, status));
+    std::fputs(device->report().c_str(), stderr);  // a device's own end-of-run lines (udp: packets, faults)
   } else {
     std::fputs(
         rt::loopReport(loop.stats(), a.rate, counters, scene.patchesBuilt(), scene.totalFaces(), written).c_str(),
         stdout);
+    std::fputs(device->report().c_str(), stdout);
     if (writer) std::printf("record: %s\n", a.record.c_str());
     std::fflush(stdout);
   }
@@ -247,7 +263,15 @@ void addLoopCommand(CLI::App& app) {
       ->check(CLI::IsMember({"patch", "direct", "shading"}))
       ->capture_default_str();
   c->add_option("--device", a->device,
-                "haptic device: null|scripted|scripted:slide|scripted:circle|replay:FILE (CSV t,x,y,z; - reads stdin)")
+                "haptic device: null|scripted|scripted:slide|scripted:circle|replay:FILE (CSV t,x,y,z; - reads "
+                "stdin)|udp:[HOST:]PORT (network bridge: HIP packets in, FORCE packets out; HOST defaults to "
+                "127.0.0.1, PORT 0 picks a free port)")
+      ->capture_default_str();
+  c->add_flag("--paced", a->paced,
+              "device-paced: one step per received sample (udp only) instead of the fixed --rate; --rate is then "
+              "the nominal sample rate that sets the deadline");
+  c->add_option("--watchdog-ms", a->watchdogMs,
+                "udp: no fresh sample for this long latches a stale-device fault (zero force), ms")
       ->capture_default_str();
   c->add_option("--rate", a->rate, "servo rate, Hz, 1..10000")->capture_default_str();
   c->add_option("--duration", a->duration, "seconds (> 0)")->capture_default_str();

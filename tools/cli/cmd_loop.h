@@ -6,7 +6,8 @@
 namespace sf::cli {
 
 /// Registers the `loop` subcommand: --scene S | --cache C | --mesh M, --method, --device,
-/// --rate, --duration, --stiffness, --speed, --depth, --record, safety limits.
+/// --rate, --duration, --stiffness, --speed, --depth, --record, safety limits, --paced and
+/// --watchdog-ms (udp devices).
 void addLoopCommand(CLI::App& app);
 
 }  // namespace sf::cli

@@ -1,0 +1,541 @@
+// The UDP device on the loopback address with a sender thread: samples and echoed forces,
+// loss, reordering and duplicates, garbage, the watchdog when the sender stops (fixed-rate and
+// device-paced loops), the device-paced step count, and a real-time read/write path.
+#include <arpa/inet.h>
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstring>
+#include <functional>
+#include <random>
+#include <set>
+#include <thread>
+#include <vector>
+
+#include "analytic_renderers.h"
+#include "clock.h"
+#include "runtime_alloc_counter.h"
+#include "servo_loop.h"
+#include "udp_device.h"
+
+namespace {
+
+using Eigen::Vector3d;
+using namespace sf::rt;
+using Clock_ = std::chrono::steady_clock;
+
+/// Polls `done` every millisecond for at most `seconds`; true when it became true.
+bool waitFor(const std::function<bool()>& done, double seconds) {
+  const auto until = Clock_::now() + std::chrono::duration<double>(seconds);
+  while (!done()) {
+    if (Clock_::now() > until) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  return true;
+}
+
+/// A UDP socket on the loopback address with a free port: the sender process stand-in.
+class Peer {
+ public:
+  explicit Peer(int family = AF_INET) : family_(family) {
+    fd = ::socket(family, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+    sockaddr_storage a = address(0);
+    ok = fd >= 0 && ::bind(fd, reinterpret_cast<sockaddr*>(&a), length()) == 0;
+  }
+  ~Peer() {
+    if (fd >= 0) ::close(fd);
+  }
+  void send(int port, const void* data, size_t n) {
+    sockaddr_storage a = address(port);
+    ASSERT_EQ(::sendto(fd, data, n, 0, reinterpret_cast<sockaddr*>(&a), length()), ssize_t(n));
+  }
+  void sendHip(int port, uint64_t seq, const Vector3d& p, double t = 0, uint32_t buttons = 0) {
+    HipPacket h;
+    h.seq = seq;
+    h.senderTime = t;
+    for (int i = 0; i < 3; ++i) h.position[i] = p[i];
+    h.buttons = buttons;
+    uint8_t b[kHipPacketSize];
+    encodeHip(h, b);
+    send(port, b, sizeof b);
+  }
+  /// FORCE packets that arrived, without waiting; undecodable ones are counted in `bad`.
+  void drain(std::vector<ForcePacket>& out) {
+    uint8_t b[256];
+    for (;;) {
+      const ssize_t n = ::recv(fd, b, sizeof b, MSG_DONTWAIT);
+      if (n < 0) return;
+      ForcePacket f;
+      if (decodeForce(b, size_t(n), f) == PacketError::None)
+        out.push_back(f);
+      else
+        ++bad;
+    }
+  }
+  int fd = -1;
+  bool ok = false;
+  int bad = 0;
+
+ private:
+  sockaddr_storage address(int port) const {
+    sockaddr_storage s{};
+    if (family_ == AF_INET) {
+      auto& a = reinterpret_cast<sockaddr_in&>(s);
+      a.sin_family = AF_INET;
+      a.sin_port = htons(uint16_t(port));
+      a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    } else {
+      auto& a = reinterpret_cast<sockaddr_in6&>(s);
+      a.sin6_family = AF_INET6;
+      a.sin6_port = htons(uint16_t(port));
+      a.sin6_addr = in6addr_loopback;
+    }
+    return s;
+  }
+  socklen_t length() const { return family_ == AF_INET ? sizeof(sockaddr_in) : sizeof(sockaddr_in6); }
+  int family_;
+};
+
+SafetyOptions transparent() {
+  SafetyOptions o;
+  o.maxForce = 1e6;
+  o.maxForceStep = INFINITY;
+  o.rampTime = 0;
+  o.maxConsecutiveMisses = 1 << 30;  // a loaded test machine misses deadlines; not under test here
+  return o;
+}
+
+/// The plane z <= 0 that also publishes the x of the last HIP it saw (for the sender thread).
+class WatchedPlane final : public sf::ForceRenderer {
+ public:
+  PlaneRenderer plane{Vector3d::UnitZ(), 0.0, 500.0};
+  std::atomic<double> lastX{NAN};
+  sf::ForceSample step(const Vector3d& hip) noexcept override {
+    lastX.store(hip.x(), std::memory_order_relaxed);
+    return plane.step(hip);
+  }
+  void reset() noexcept override {}
+  int patchesBuilt() const noexcept override { return 0; }
+};
+
+std::vector<StepRecord> drain(SpscRing<StepRecord>& ring) {
+  std::vector<StepRecord> v;
+  for (StepRecord r; ring.tryPop(r);) v.push_back(r);
+  return v;
+}
+
+TEST(RuntimeUdp, SpecsAndSetupErrors) {
+  EXPECT_EQ(parseUdpSpec("udp:5555").host, "127.0.0.1");
+  EXPECT_EQ(parseUdpSpec("udp:5555").port, 5555);
+  EXPECT_EQ(parseUdpSpec("udp:0.0.0.0:0").host, "0.0.0.0");
+  EXPECT_EQ(parseUdpSpec("udp:[::1]:6000").host, "::1");
+  EXPECT_EQ(parseUdpSpec("udp:[::1]:6000").port, 6000);
+  EXPECT_EQ(parseUdpSpec("udp:localhost:65535").port, 65535);
+  int bad = 0;
+  for (const char* s : {"udp:", "udp:65536", "udp:-1", "udp:12a", "udp::5", "udp:[::1]5", "udp:[::1]:", "udp:[]:5",
+                        "tcp:5555", "udp:123456"}) {
+    try {
+      parseUdpSpec(s);
+      ADD_FAILURE() << s << " accepted";
+    } catch (const sf::InputError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind("--device udp:[HOST:]PORT: expected", 0), 0u) << e.what();
+      ++bad;
+    }
+  }
+  EXPECT_EQ(bad, 10);
+  UdpDevice a(UdpEndpoint{"127.0.0.1", 0});
+  EXPECT_GT(a.port(), 0);
+  EXPECT_NE(a.describe().find("udp 127.0.0.1:" + std::to_string(a.port())), std::string::npos) << a.describe();
+  try {
+    UdpDevice b(UdpEndpoint{"127.0.0.1", a.port()});
+    ADD_FAILURE() << "the port is taken";
+  } catch (const sf::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("udp:127.0.0.1:" + std::to_string(a.port()) + ": cannot bind"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(UdpDevice(UdpEndpoint{"no-such-host.invalid", 0}), sf::InputError);
+  UdpOptions o;
+  o.watchdog = 0;
+  EXPECT_THROW(UdpDevice(UdpEndpoint{}, o), sf::InputError);
+}
+
+TEST(RuntimeUdp, SampleInForceOutEchoesTheSample) {
+  for (int family : {AF_INET, AF_INET6}) {
+    const std::string host = family == AF_INET ? "127.0.0.1" : "::1";
+    std::unique_ptr<UdpDevice> dev;
+    try {
+      dev = std::make_unique<UdpDevice>(UdpEndpoint{host, 0});
+    } catch (const sf::InputError& e) {
+      if (family == AF_INET6) {
+        std::printf("IPv6 loopback unavailable, skipped: %s\n", e.what());
+        continue;
+      }
+      throw;
+    }
+    Peer peer(family);
+    ASSERT_TRUE(peer.ok);
+    EXPECT_EQ(dev->read(0).status, DeviceStatus::NoSample);
+    dev->commandForce(Vector3d(1, 2, 3), ForceStatus{});
+    EXPECT_EQ(dev->counters().forcesSent, 0) << "nobody to send to before the first sample";
+    peer.sendHip(dev->port(), 10, Vector3d(0.1, -0.2, 0.3), 0.5, 6);
+    ASSERT_TRUE(waitFor([&] { return dev->counters().accepted == 1; }, 5));
+    const DeviceState d = dev->read(0);
+    EXPECT_EQ(d.status, DeviceStatus::Ok);
+    EXPECT_EQ(d.position, Vector3d(0.1, -0.2, 0.3));
+    EXPECT_EQ(d.buttons, 6u);
+    EXPECT_EQ(d.sample, 10u);
+    EXPECT_GE(d.age, 0);
+    ForceStatus st;
+    st.loopTime = 1.25;
+    st.flags = kSafetyClamped;
+    st.contact = true;
+    dev->commandForce(Vector3d(0.5, -1.5, 2.5), st);
+    std::vector<ForcePacket> got;
+    ASSERT_TRUE(waitFor(
+        [&] {
+          peer.drain(got);
+          return !got.empty();
+        },
+        5));
+    ASSERT_EQ(got.size(), 1u);
+    EXPECT_EQ(got[0].seq, 10u);
+    EXPECT_EQ(got[0].senderTime, 0.5);
+    EXPECT_EQ(got[0].loopTime, 1.25);
+    EXPECT_EQ(Vector3d(got[0].force[0], got[0].force[1], got[0].force[2]), Vector3d(0.5, -1.5, 2.5));
+    EXPECT_EQ(got[0].status, uint32_t(kForceContact | kForceClamped));
+    EXPECT_EQ(got[0].fault, 0u);
+    EXPECT_EQ(dev->counters().forcesSent, 1);
+  }
+}
+
+// Sent in this order: seqs 1..600 with every seq = 3 (mod 7) lost, every seq = 0 (mod 11) sent
+// twice, every pair (s, s + 1) with s = 1 (mod 10) swapped, and seq 5 sent again after every
+// 100th. The expected counts come from replaying that order against "accept only a seq above
+// the last accepted". A device-paced loop runs meanwhile: it must step only on accepted
+// samples, in increasing order, and every FORCE packet must echo one with its force.
+TEST(RuntimeUdp, LossReorderingAndDuplicatesAreDropped) {
+  std::vector<uint64_t> order;
+  for (uint64_t s = 1; s <= 600; ++s) {
+    if (s % 10 == 1 && s + 1 <= 600) {
+      for (uint64_t q : {s + 1, s})
+        if (q % 7 != 3) order.push_back(q);
+      ++s;
+    } else if (s % 7 != 3) {
+      order.push_back(s);
+    }
+    if (s % 11 == 0 && s % 7 != 3) order.push_back(s);
+    if (s % 100 == 0) order.push_back(5);
+  }
+  std::set<uint64_t> accepted;
+  int64_t dups = 0, late = 0;
+  uint64_t maxSeq = 0;
+  for (uint64_t s : order) {
+    if (!accepted.empty() && s == maxSeq) {
+      ++dups;
+    } else if (!accepted.empty() && s < maxSeq) {
+      ++late;
+    } else {
+      accepted.insert(s);
+      maxSeq = s;
+    }
+  }
+  ASSERT_GT(dups, 40);
+  ASSERT_GT(late, 40);
+  auto pos = [](uint64_t s) { return Vector3d(1e-4 * double(s), -2e-4 * double(s), -0.002 + 1e-5 * double(s % 17)); };
+
+  UdpOptions uo;
+  uo.watchdog = 10;  // not under test here
+  UdpDevice dev(UdpEndpoint{"127.0.0.1", 0}, uo);
+  WatchedPlane plane;
+  SafetyFilter safety(transparent());
+  SpscRing<StepRecord> ring(4096);
+  FastForwardClock clock;
+  std::atomic<bool> stop{false};
+  LoopOptions lo;
+  lo.devicePaced = true;
+  lo.duration = 30;  // bounded; the sender stops the loop when done
+  lo.stop = &stop;
+  ServoLoop loop(dev, plane, safety, clock, lo, &ring);
+
+  Peer peer;
+  ASSERT_TRUE(peer.ok);
+  std::vector<ForcePacket> forces;
+  bool flowOk = true, consumed = false;
+  std::thread sender([&] {
+    for (size_t i = 0; i < order.size(); ++i) {
+      peer.sendHip(dev.port(), order[i], pos(order[i]), double(i) * 1e-3);
+      if (i % 40 == 39 || i + 1 == order.size()) {  // flow control: the socket buffer never overflows
+        flowOk = flowOk && waitFor([&] { return dev.counters().received == int64_t(i + 1); }, 10);
+        peer.drain(forces);
+      }
+    }
+    consumed = waitFor([&] { return plane.lastX.load() == pos(maxSeq).x(); }, 10);
+    stop.store(true);
+  });
+  loop.run();
+  sender.join();
+  ASSERT_TRUE(flowOk);
+  ASSERT_TRUE(consumed) << "the loop never stepped on the last sample";
+
+  const UdpCounters c = dev.counters();
+  EXPECT_EQ(c.received, int64_t(order.size()));
+  EXPECT_EQ(c.accepted, int64_t(accepted.size()));
+  EXPECT_EQ(c.duplicates, dups);
+  EXPECT_EQ(c.outOfOrder, late);
+  EXPECT_EQ(c.malformed() + c.wrongVersion + c.foreign, 0);
+  const std::vector<StepRecord> recs = drain(ring);
+  const LoopStats& st = loop.stats();
+  EXPECT_TRUE(st.paced);
+  ASSERT_EQ(int64_t(recs.size()), st.steps);
+  EXPECT_EQ(st.steps + c.superseded, c.accepted) << "one step per sample read";
+  uint64_t prev = 0;
+  for (const StepRecord& r : recs) {
+    ASSERT_GT(r.sample, prev);
+    prev = r.sample;
+    ASSERT_TRUE(accepted.count(r.sample)) << r.sample;
+    ASSERT_EQ(Vector3d(r.hip[0], r.hip[1], r.hip[2]), pos(r.sample));
+    ASSERT_EQ(r.flags & (uint32_t(kStepStale) | kSafetyFaulted), 0u);
+  }
+  ASSERT_TRUE(waitFor(
+      [&] {
+        peer.drain(forces);
+        return int64_t(forces.size()) == c.forcesSent;
+      },
+      5));
+  EXPECT_EQ(c.forcesSent, st.steps);
+  uint64_t last = 0;
+  for (const ForcePacket& f : forces) {
+    ASSERT_GE(f.seq, last);
+    last = f.seq;
+    ASSERT_TRUE(accepted.count(f.seq)) << f.seq;
+    const Vector3d want = 500 * std::max(0.0, -pos(f.seq).z()) * Vector3d::UnitZ();
+    ASSERT_EQ(Vector3d(f.force[0], f.force[1], f.force[2]), want) << f.seq;
+    ASSERT_EQ(f.status & kForceContact, want.z() > 0 ? uint32_t(kForceContact) : 0u);
+  }
+  EXPECT_EQ(peer.bad, 0);
+}
+
+// Every kind of bad datagram, interleaved with valid samples, from the sender and from a second
+// socket: each is counted in its category, none reaches the loop.
+TEST(RuntimeUdp, GarbageIsCountedAndDropped) {
+  UdpDevice dev(UdpEndpoint{"127.0.0.1", 0});
+  Peer peer, other;
+  ASSERT_TRUE(peer.ok && other.ok);
+  uint8_t good[kHipPacketSize];
+  auto valid = [&](uint64_t seq) {
+    HipPacket h;
+    h.seq = seq;
+    h.position[0] = double(seq);
+    encodeHip(h, good);
+    return std::vector<uint8_t>(good, good + sizeof good);
+  };
+  std::mt19937_64 rng(3);
+  int64_t want[6] = {};  // size, magic, version, type, reserved, non-finite
+  int64_t sent = 0, validSent = 0, foreign = 0;
+  uint64_t seq = 0;
+  for (int round = 0; round < 60; ++round) {
+    peer.send(dev.port(), valid(++seq).data(), kHipPacketSize);
+    ++validSent;
+    std::vector<uint8_t> b = valid(seq + 1000);  // corrupted copies of a future seq: never accepted
+    switch (round % 8) {
+      case 0:
+        b.resize(size_t(rng() % kHipPacketSize));
+        ++want[0];
+        break;
+      case 1:
+        b.push_back(0);
+        ++want[0];
+        break;
+      case 2:
+        b[rng() % 4] ^= 0x41;
+        ++want[1];
+        break;
+      case 3:
+        b[4] = 2;  // version 2
+        ++want[2];
+        break;
+      case 4:
+        b[6] = 2;  // a FORCE packet's type
+        ++want[3];
+        break;
+      case 5:
+        b[53] = 9;
+        ++want[4];
+        break;
+      case 6: {
+        const double nan = NAN;
+        std::memcpy(b.data() + 24 + 8 * (rng() % 3), &nan, 8);  // a NaN coordinate (little-endian host)
+        ++want[5];
+        break;
+      }
+      case 7:  // valid, but from another socket: the first sender owns the device
+        other.send(dev.port(), b.data(), b.size());
+        ++foreign;
+        ++sent;
+        continue;
+    }
+    if (round % 16 == 0) {  // and a datagram larger than the receive buffer
+      std::vector<uint8_t> big(4000, 0x53);
+      peer.send(dev.port(), big.data(), big.size());
+      ++want[0];
+      ++sent;
+    }
+    peer.send(dev.port(), b.data(), b.size());
+    ++sent;
+    ASSERT_TRUE(waitFor([&] { return dev.counters().received == sent + validSent; }, 5));
+  }
+  const UdpCounters c = dev.counters();
+  EXPECT_EQ(c.accepted, validSent);
+  EXPECT_EQ(c.badSize, want[0]);
+  EXPECT_EQ(c.badMagic, want[1]);
+  EXPECT_EQ(c.wrongVersion, want[2]);
+  EXPECT_EQ(c.badType, want[3]);
+  EXPECT_EQ(c.badReserved, want[4]);
+  EXPECT_EQ(c.nonFinite, want[5]);
+  EXPECT_EQ(c.foreign, foreign);
+  EXPECT_EQ(c.received, sent + validSent);
+  const DeviceState d = dev.read(0);
+  EXPECT_EQ(d.sample, seq);
+  EXPECT_EQ(d.position.x(), double(seq));
+  EXPECT_NE(dev.report().find("60 samples accepted"), std::string::npos) << dev.report();
+}
+
+/// Sends `n` samples `period` s apart (p(k) 1 mm deep), then stops.
+void playSamples(Peer& peer, int port, int n, double period) {
+  const auto t0 = Clock_::now();
+  for (int k = 1; k <= n; ++k) {
+    std::this_thread::sleep_until(t0 + std::chrono::duration<double>(period * k));
+    peer.sendHip(port, uint64_t(k), Vector3d(1e-5 * k, 0, -0.001), period * k);
+  }
+}
+
+/// The records after the sender stopped: the first step that read a sample at least `watchdog`
+/// old latched the stale fault; no step before it was faulted, every step from it on commanded
+/// zero force.
+void expectStaleFaultAtExpiry(const std::vector<StepRecord>& recs, double watchdog, uint64_t lastSample) {
+  size_t f = 0;
+  while (f < recs.size() && !(recs[f].flags & kStepStale)) ++f;
+  ASSERT_LT(f, recs.size()) << "no stale step";
+  ASSERT_GT(f, 0u);
+  EXPECT_GE(recs[f].age, watchdog);
+  EXPECT_LT(recs[f - 1].age, watchdog);
+  EXPECT_EQ(recs[f].sample, lastSample);
+  for (size_t i = 0; i < f; ++i) ASSERT_EQ(recs[i].flags & kSafetyFaulted, 0u) << i;
+  for (size_t i = f; i < recs.size(); ++i) {
+    ASSERT_TRUE(recs[i].flags & kSafetyFaulted) << i;
+    ASSERT_EQ(Vector3d(recs[i].force[0], recs[i].force[1], recs[i].force[2]), Vector3d::Zero()) << i;
+  }
+  std::printf("stale fault: sample age %.2f ms at the first stale step (watchdog %.0f ms), %.2f ms before it\n",
+              recs[f].age * 1e3, watchdog * 1e3, recs[f - 1].age * 1e3);
+}
+
+TEST(RuntimeUdp, SenderStoppedFixedRateLoopZeroesTheForceAtTheWatchdog) {
+  UdpOptions uo;
+  uo.watchdog = 0.2;  // long enough that a loaded machine does not stall the sender past it
+  UdpDevice dev(UdpEndpoint{"127.0.0.1", 0}, uo);
+  Peer peer;
+  ASSERT_TRUE(peer.ok);
+  PlaneRenderer plane(Vector3d::UnitZ(), 0.0, 500.0);
+  SafetyFilter safety(transparent());
+  SpscRing<StepRecord> ring(2048);
+  SteadyClock clock(0);
+  LoopOptions lo;
+  lo.duration = 0.6;
+  ServoLoop loop(dev, plane, safety, clock, lo, &ring);
+  std::thread sender([&] { playSamples(peer, dev.port(), 150, 1e-3); });
+  loop.run();
+  sender.join();
+  EXPECT_EQ(safety.counters().fault, Fault::StaleDevice);
+  EXPECT_EQ(dev.counters().accepted, 150);
+  const std::vector<StepRecord> recs = drain(ring);
+  ASSERT_EQ(int64_t(recs.size()), loop.stats().steps);
+  size_t first = 0;  // steps before the first sample render nothing
+  while (first < recs.size() && (recs[first].flags & kStepNoSample)) ++first;
+  ASSERT_LT(first, recs.size());
+  EXPECT_TRUE(recs[first].contact);
+  expectStaleFaultAtExpiry(std::vector<StepRecord>(recs.begin() + long(first), recs.end()), uo.watchdog, 150);
+  EXPECT_EQ(loop.stats().ticks, 600);
+}
+
+// Device-paced: one step per sample (the sample numbers of the steps only increase), the
+// samples not stepped on counted as superseded, and after the sender stops the wait ends at
+// the watchdog and latches the fault.
+TEST(RuntimeUdp, PacedLoopStepsOncePerSampleAndFaultsWhenTheSenderStops) {
+  UdpOptions uo;
+  uo.watchdog = 0.2;  // long enough that a loaded machine does not stall the sender past it
+  UdpDevice dev(UdpEndpoint{"127.0.0.1", 0}, uo);
+  Peer peer;
+  ASSERT_TRUE(peer.ok);
+  PlaneRenderer plane(Vector3d::UnitZ(), 0.0, 500.0);
+  SafetyFilter safety(transparent());
+  SpscRing<StepRecord> ring(2048);
+  SteadyClock clock(0);
+  LoopOptions lo;
+  lo.devicePaced = true;
+  lo.rate = 500;
+  lo.duration = 1.2;
+  ServoLoop loop(dev, plane, safety, clock, lo, &ring);
+  std::thread sender([&] { playSamples(peer, dev.port(), 300, 2e-3); });
+  loop.run();
+  sender.join();
+  const UdpCounters c = dev.counters();
+  EXPECT_EQ(c.accepted, 300);
+  const std::vector<StepRecord> recs = drain(ring);
+  ASSERT_EQ(int64_t(recs.size()), loop.stats().steps);
+  int64_t fresh = 0;
+  uint64_t prev = 0;
+  for (const StepRecord& r : recs) {
+    if (r.flags & kStepStale) continue;
+    ASSERT_GT(r.sample, prev) << "a paced step without a new sample";
+    prev = r.sample;
+    ++fresh;
+  }
+  EXPECT_EQ(fresh + c.superseded, c.accepted);
+  EXPECT_GE(fresh, c.accepted / 2) << "most samples should get their own step";
+  EXPECT_LT(loop.stats().steps, 300 + 1.2 / 0.05 + 2) << "no steps without samples but the stale ones";
+  EXPECT_EQ(safety.counters().fault, Fault::StaleDevice);
+  expectStaleFaultAtExpiry(recs, uo.watchdog, 300);
+  EXPECT_TRUE(loop.stats().paced);
+  EXPECT_EQ(loop.stats().ticks, loop.stats().steps);
+}
+
+TEST(RuntimeUdp, PacedLoopNeedsADeviceThatPaces) {
+  NullDevice d;
+  PlaneRenderer plane(Vector3d::UnitZ(), 0.0, 500.0);
+  SafetyFilter safety;
+  FakeClock clock;
+  LoopOptions lo;
+  lo.devicePaced = true;
+  EXPECT_THROW(ServoLoop(d, plane, safety, clock, lo), sf::InputError);
+}
+
+TEST(RuntimeUdp, ReadAndCommandDoNotAllocate) {
+  if (!SF_COUNT_ALLOCS) GTEST_SKIP() << "allocation counting is off under sanitizers";
+  UdpOptions uo;
+  uo.watchdog = 100;
+  UdpDevice dev(UdpEndpoint{"127.0.0.1", 0}, uo);
+  Peer peer;
+  ASSERT_TRUE(peer.ok);
+  peer.sendHip(dev.port(), 1, Vector3d(0, 0, -0.001));
+  ASSERT_TRUE(waitFor([&] { return dev.counters().accepted == 1; }, 5));
+  sf::test::tAllocs = 0;
+  sf::test::tCountAllocs = true;
+  int ok = 0;
+  for (int k = 0; k < 1000; ++k) {
+    ok += dev.read(k * 1e-3).status == DeviceStatus::Ok;
+    dev.commandForce(Vector3d(0, 0, 0.5), ForceStatus{});
+    dev.waitForSample(0);
+  }
+  sf::test::tCountAllocs = false;
+  EXPECT_EQ(sf::test::tAllocs, 0);
+  EXPECT_EQ(ok, 1000);
+  EXPECT_EQ(dev.counters().forcesSent + dev.counters().sendErrors, 1000);
+}
+
+}  // namespace
