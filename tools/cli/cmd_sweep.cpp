@@ -86,6 +86,7 @@ void runSweepCommand(const SweepArgs& a) {
   c.refine = toString(fo.refine);
   c.angleTolerance = fo.angleTolerance;
   c.maxIterations = fo.maxIterations;
+  c.positionTolerance = fo.positionTolerance;
   c.initialGuess = toString(fo.initialGuess);
   c.guessLevel = fo.tessellationLevel;
   c.preset = a.refine.preset;
