@@ -158,7 +158,7 @@ void computeReference(MeshCase& m, const std::shared_ptr<const PolygonScene>& sc
   o.angleTolerance = 1e-12;
   o.maxIterations = 500;
   auto byPolygon = makeForceRenderer(cache, scene, ForceMethod::Patch, o);
-  o.initialGuess = InitialGuess::Tessellation;
+  o.initialGuess = InitialGuess::Surface;
   o.tessellationLevel = 8;
   auto bySeeds = makeForceRenderer(cache, scene, ForceMethod::Patch, o);
   const PatchSeeds dense(*cache, 16);
@@ -352,13 +352,13 @@ int run(const Study& st) {
       for (RefineMethod rm : {RefineMethod::Newton, RefineMethod::PaperDescent})
         for (double tol : {1e-2, 1e-3, 1e-4, 1e-6})
           for (int it : {3, 10, 50})
-            for (InitialGuess g : {InitialGuess::Polygon, InitialGuess::Tessellation}) {
+            for (InitialGuess g : {InitialGuess::Polygon, InitialGuess::Surface}) {
               ForceOptions o;
               o.refine = rm;
               o.angleTolerance = tol;
               o.maxIterations = it;
               o.initialGuess = g;
-              o.tessellationLevel = 2;
+              o.tessellationLevel = 0;
               Config c;
               c.part = "query";
               c.precision = prec;

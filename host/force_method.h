@@ -18,11 +18,13 @@ enum class ForceMethod { Patch, Direct, Shading };
 /// Refinement of the SCP on a patch (paper 4.2): the paper's descent with numerical
 /// differences and the Fig. 8 adaptive step, or Newton / Gauss-Newton on exact derivatives.
 enum class RefineMethod { PaperDescent, Newton };
-/// Where the patch method's global query starts refinement (out of contact): polygon = the
-/// nearest point of the base polygons (Embree) mapped to the domain by mean value coordinates
-/// (paper 4.1); tessellation = the nearest vertex of a level-L tessellation of the patches
-/// (k-d tree), which carries its (face, xi, eta). Used by ForceMethod::Patch only.
-enum class InitialGuess { Polygon, Tessellation };
+/// The patch method's global query (out of contact). surface (default): the nearest point of the
+/// patch surface itself, from the candidates of a tessellation BVH (PatchSurface), each refined,
+/// the nearest wins, and contact starts when the HIP is inside the surface (winding number);
+/// needs prebuilt patches (a skeleton falls back to polygon). polygon: the paper's Section 4.1,
+/// the nearest point of the base polygons (Embree) mapped to the domain by mean value
+/// coordinates, refined once, contact when (HIP - SCP) . n < 0. Used by ForceMethod::Patch only.
+enum class InitialGuess { Surface, Polygon };
 
 /// Parsers throw InputError naming the value.
 ForceMethod parseForceMethod(const std::string& s);
@@ -36,10 +38,16 @@ const char* toString(InitialGuess g);
 struct ForceOptions {
   double stiffness = 500.0;  ///< k in F = k (SCP - HIP), N/m; > 0
   RefineMethod refine = RefineMethod::Newton;
-  double angleTolerance = 1e-5;  ///< stop when angle(G - HIP, normal) below this, rad
+  /// Refinement stops when the tangential residual |(HIP - SCP) x n| is at most
+  /// min(sin(angleTolerance) |HIP - SCP|, positionTolerance x bounding-box diagonal).
+  double angleTolerance = 1e-5;      ///< rad, > 0
+  double positionTolerance = 1e-10;  ///< fraction of the mesh's bounding-box diagonal, > 0
   int maxIterations = 50;        ///< per refinement
-  InitialGuess initialGuess = InitialGuess::Polygon;
-  int tessellationLevel = 2;  ///< for InitialGuess::Tessellation: each polygon edge split in L, 1..64
+  InitialGuess initialGuess = InitialGuess::Surface;
+  /// InitialGuess::Surface: level of the patch tessellation (each polygon edge split in L),
+  /// 1..64; 0 chooses it (PatchSurfaceOptions: error bound below 1e-4 of the diagonal within a
+  /// triangle budget).
+  int tessellationLevel = 0;
   /// Lazy construction (the cache is a skeleton, preparePatchSkeleton): faces whose patches
   /// are held at once (LRU); <= 0: every face that is touched stays built.
   int patchCapacity = 256;

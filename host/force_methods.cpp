@@ -22,9 +22,9 @@ RefineMethod parseRefineMethod(const std::string& s) {
 }
 
 InitialGuess parseInitialGuess(const std::string& s) {
+  if (s == "surface" || s == "tessellation") return InitialGuess::Surface;  // tessellation: its former name
   if (s == "polygon") return InitialGuess::Polygon;
-  if (s == "tessellation") return InitialGuess::Tessellation;
-  throw InputError("initial guess: expected polygon|tessellation, got '" + s + "'");
+  throw InputError("initial guess: expected surface|polygon, got '" + s + "'");
 }
 
 const char* toString(ForceMethod m) {
@@ -40,15 +40,17 @@ const char* toString(ForceMethod m) {
 }
 
 const char* toString(RefineMethod m) { return m == RefineMethod::Newton ? "newton" : "paper"; }
-const char* toString(InitialGuess g) { return g == InitialGuess::Polygon ? "polygon" : "tessellation"; }
+const char* toString(InitialGuess g) { return g == InitialGuess::Polygon ? "polygon" : "surface"; }
 
 std::unique_ptr<ForceRenderer> makeForceRenderer(std::shared_ptr<const PatchCache> cache,
                                                  std::shared_ptr<const PolygonScene> scene, ForceMethod method,
-                                                 const ForceOptions& options) {
+                                                 const ForceOptions& options,
+                                                 std::shared_ptr<const PatchSurface> surface) {
   validateForceOptions(options);
   if (!cache || !scene || &scene->cache() != cache.get())
     throw InputError("makeForceRenderer: the scene must be built from the same cache");
-  if (method == ForceMethod::Patch) return makePatchForceRenderer(std::move(cache), std::move(scene), options);
+  if (method == ForceMethod::Patch)
+    return makePatchForceRenderer(std::move(cache), std::move(scene), options, std::move(surface));
   return std::make_unique<GodObjectRenderer>(std::move(cache), std::move(scene), method, options);
 }
 

@@ -7,9 +7,9 @@ const std::vector<ForcePreset>& forcePresets() {
   // fastest point of the front; balanced = the fastest point whose max SCP error is below 1e-5
   // of the bounding diagonal; accurate = the point with the smallest median error.
   static const std::vector<ForcePreset> presets = {
-      {"fast", RefineMethod::Newton, 1e-2, 50, InitialGuess::Polygon, 2, Precision::Float},
-      {"balanced", RefineMethod::Newton, 1e-4, 10, InitialGuess::Polygon, 2, Precision::Float},
-      {"accurate", RefineMethod::Newton, 1e-6, 50, InitialGuess::Polygon, 2, Precision::Double},
+      {"fast", RefineMethod::Newton, 1e-2, 50, InitialGuess::Surface, 0, Precision::Float},
+      {"balanced", RefineMethod::Newton, 1e-4, 10, InitialGuess::Surface, 0, Precision::Float},
+      {"accurate", RefineMethod::Newton, 1e-6, 50, InitialGuess::Surface, 0, Precision::Double},
   };
   return presets;
 }

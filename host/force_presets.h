@@ -17,8 +17,8 @@ struct ForcePreset {
   RefineMethod refine = RefineMethod::Newton;
   double angleTolerance = 1e-5;  ///< rad
   int maxIterations = 50;
-  InitialGuess initialGuess = InitialGuess::Polygon;
-  int tessellationLevel = 2;
+  InitialGuess initialGuess = InitialGuess::Surface;
+  int tessellationLevel = 0;
   /// Precision of the patch records the study measured this preset with: applied when a
   /// command builds patches from a mesh and --precision is not given (a cache file keeps its own).
   Precision precision = Precision::Double;

@@ -10,6 +10,7 @@ namespace sf::gpf {
 #define GP_REAL float
 #define GP_IS_DOUBLE 0
 #include "gp_patch.h"
+#include "gp_domain.h"
 #include "gp_refine.h"
 #undef GP_REAL
 #undef GP_IS_DOUBLE
@@ -19,6 +20,7 @@ namespace sf::gpd {
 #define GP_REAL double
 #define GP_IS_DOUBLE 1
 #include "gp_patch.h"
+#include "gp_domain.h"
 #include "gp_refine.h"
 #undef GP_REAL
 #undef GP_IS_DOUBLE

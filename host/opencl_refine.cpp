@@ -14,7 +14,7 @@ namespace sf {
 
 static_assert(GP_TRACK_CONVERGED == SF_TRACK_CONVERGED && GP_TRACK_MAX_ITER == SF_TRACK_MAX_ITER &&
                   GP_TRACK_STALLED == SF_TRACK_STALLED && GP_TRACK_BOUNDARY == SF_TRACK_BOUNDARY &&
-                  GP_TRACK_DEGENERATE == SF_TRACK_DEGENERATE,
+                  GP_TRACK_DEGENERATE == SF_TRACK_DEGENERATE && GP_TRACK_FOLD_EDGE == SF_TRACK_FOLD_EDGE,
               "gp_config.h GP_TRACK_* must equal force_tracking.h SF_TRACK_*");
 
 using namespace opencl_detail;
@@ -106,6 +106,7 @@ struct OpenCLRefiner::Impl {
     k.setArg(a++, static_cast<cl_int>(n));
     k.setArg(a++, static_cast<cl_int>(o.maxIterations));
     k.setArg(a++, static_cast<Real>(o.angleTolerance));
+    k.setArg(a++, static_cast<Real>(o.positionTolerance * scale));
     k.setArg(a++, static_cast<Real>(scale));
     for (cl::Buffer* b : {&offs, &rec, &fst, &twin, &hips, &qf, &qx, &qy, &qe, &outR, &outI, &outSt}) k.setArg(a++, *b);
     const size_t g = dev.groupSize();

@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "force_tracking.h"
+#include "gp_math.h"
 #include "gp_traits.h"
 #include "lazy_patches.h"
 #include "mean_value.h"
@@ -25,9 +26,40 @@ bool outsideDomain(int n, const Eigen::Vector2d& X) {
 }
 
 constexpr double kInitialRadius = 0.5;  // domain units (circumradius 1)
-constexpr double kMaxRadius = 2.0;
 
 }  // namespace
+
+struct PatchRefiner::NewtonState {
+  gpd::gp_refine_mesh mesh{};
+  gpd::gp_refine_work work{};
+  std::vector<float> widen;  ///< float records of one face before widening
+  const PatchCache* cache = nullptr;
+  LazyPatches* lazy = nullptr;
+
+  /// gp_refine_mesh's loader hook: lazy construction and float records, widened to double.
+  static gp_uint load(void* user, int f, double* recs) noexcept {
+    auto* st = static_cast<NewtonState*>(user);
+    const PatchCache& c = *st->cache;
+    const size_t count = static_cast<size_t>(c.faceSize(f)) * GP_E_NFIELDS;
+    if (st->lazy) {
+      uint32_t status = 0;
+      if (!recs) return st->lazy->status(f);
+      if (c.options.precision == Precision::Double) {
+        const double* r = st->lazy->recordsD(f, status);
+        if (r) std::copy_n(r, count, recs);
+      } else {
+        const float* r = st->lazy->recordsF(f, status);
+        if (r) std::copy_n(r, count, recs);
+      }
+      return status;
+    }
+    if (recs) {
+      gatherRecords(c, f, st->widen.data());
+      std::copy_n(st->widen.data(), count, recs);
+    }
+    return c.faceStatus[f];
+  }
+};
 
 PatchRefiner::PatchRefiner(const PatchCache& cache, LazyPatches* lazy)
     : cache_(cache),
@@ -40,11 +72,34 @@ PatchRefiner::PatchRefiner(const PatchCache& cache, LazyPatches* lazy)
   scale_ = cache.numVertices() > 0 ? std::max(boundingDiagonal(cache), 1e-300) : 1.0;
   eps_ = cache.options.precision == Precision::Double ? 1e-6 : 1e-3;
   posNoise_ = (cache.options.precision == Precision::Double ? 1e-14 : 1e-6) * scale_;
+  newton_ = std::make_unique<NewtonState>();
+  NewtonState& ns = *newton_;
+  ns.cache = &cache;
+  ns.lazy = lazy;
+  gpd::gp_refine_mesh& m = ns.mesh;
+  m.faceOffsets = cache.faceOffsets.data();
+  m.slotTwin = cache.slotTwin.data();
+  m.slotFace = slotFace_.data();
+  m.numFaces = cache.numFaces();
+  m.numSlots = cache.numSlots();
+  m.mode = static_cast<int>(cache.options.crossTangent);
+  m.scale = scale_;
+  if (!lazy && cache.options.precision == Precision::Double && hasPatchData(cache)) {
+    m.edgeData = cache.edgeDataD.data();  // read in place
+    m.faceStatus = cache.faceStatus.data();
+  } else if (lazy || hasPatchData(cache)) {
+    ns.widen.resize(GP_MAX_N * GP_E_NFIELDS);
+    m.load = &NewtonState::load;
+    m.user = &ns;
+  } else {  // a skeleton without a lazy store: no face is evaluable
+    m.load = [](void*, int, double*) noexcept -> gp_uint { return GP_ST_TOO_MANY_SIDES; };
+  }
+  ns.work.loaded = -1;
 }
 
-uint32_t PatchRefiner::faceStatus(int f) const noexcept {
-  return lazy_ ? lazy_->status(f) : cache_.faceStatus[f];
-}
+PatchRefiner::~PatchRefiner() = default;
+
+uint32_t PatchRefiner::faceStatus(int f) const noexcept { return lazy_ ? lazy_->status(f) : cache_.faceStatus[f]; }
 
 bool PatchRefiner::evaluable(int f) const noexcept {
   if (f < 0 || f >= cache_.numFaces()) return false;
@@ -131,16 +186,18 @@ Eigen::Vector2d PatchRefiner::interior(int n, const Eigen::Vector2d& X, double e
   return X * (1 - 3 * eps / r);  // an eps-disc around it fits in the domain for n >= 3
 }
 
-bool PatchRefiner::converged(const Iterate& it, const Eigen::Vector3d& hip, double tol) const noexcept {
+bool PatchRefiner::converged(const Iterate& it, const Eigen::Vector3d& hip, const ForceOptions& o) const noexcept {
   const Eigen::Vector3d r = it.p.pos - hip;
-  if (r.norm() <= 1e-12 * scale_) return true;
+  double residual = r.cross(it.p.normal).norm();
   if (it.edge >= 0) {  // held on a boundary edge: stationary along the edge
     const int n = cache_.faceSize(it.face);
-    const Eigen::Vector2d e = (corner(n, it.edge + 1) - corner(n, it.edge)).normalized();
+    const Eigen::Vector2d e = corner(n, it.edge + 1) - corner(n, it.edge);
     const Eigen::Vector3d Ge = e.x() * it.p.dxi + e.y() * it.p.deta;
-    return std::abs(r.dot(Ge)) < std::sin(tol) * r.norm() * Ge.norm();
+    residual = Ge.norm() > 0 ? std::abs(r.dot(Ge)) / Ge.norm() : r.norm();
   }
-  return std::atan2(r.cross(it.p.normal).norm(), std::abs(r.dot(it.p.normal))) < tol;
+  const double noise = 64 * std::numeric_limits<double>::epsilon() * (hip.cwiseAbs().maxCoeff() + scale_);
+  const double tol = std::min(std::sin(o.angleTolerance) * r.norm(), o.positionTolerance * scale_);
+  return residual <= std::max(tol, std::max(noise, cache_.options.precision == Precision::Float ? posNoise_ : 0.0));
 }
 
 bool PatchRefiner::better(const Iterate& trial, const Iterate& cur, const Eigen::Vector3d& hip) const noexcept {
@@ -175,48 +232,6 @@ bool PatchRefiner::tryStep(Iterate& cur, const Eigen::Vector2d& step, const Eige
   return true;
 }
 
-void PatchRefiner::newtonStep(Iterate& cur, const Eigen::Vector3d& hip, double& radius, int& transitions,
-                              uint32_t& status, bool& stalled) noexcept {
-  const int n = cache_.faceSize(cur.face);
-  const Eigen::Vector3d r = cur.p.pos - hip, a = cur.p.dxi, b = cur.p.deta;
-  const Eigen::Vector2d g(a.dot(r), b.dot(r));
-  const double A00 = a.dot(a), A01 = a.dot(b), A11 = b.dot(b);
-  // second-order part sum r_i d2G_i from forward differences of the exact first derivatives
-  const Eigen::Vector2d Xc = interior(n, cur.X, eps_);
-  const PatchPoint pc = Xc == cur.X ? cur.p : eval(cur.face, Xc);
-  const PatchPoint p1 = eval(cur.face, Xc + Eigen::Vector2d(eps_, 0));
-  const PatchPoint p2 = eval(cur.face, Xc + Eigen::Vector2d(0, eps_));
-  const double S00 = r.dot(p1.dxi - pc.dxi) / eps_, S11 = r.dot(p2.deta - pc.deta) / eps_;
-  const double S01 = 0.5 * r.dot((p1.deta - pc.deta) + (p2.dxi - pc.dxi)) / eps_;
-  double H00 = A00 + S00, H01 = A01 + S01, H11 = A11 + S11;
-  const double tr = A00 + A11;
-  double det = H00 * H11 - H01 * H01;
-  if (!(H00 > 0 && det > 1e-10 * tr * tr) || !std::isfinite(det)) {  // not convex here: Gauss-Newton
-    const double mu = 1e-9 * tr + 1e-300;
-    H00 = A00 + mu;
-    H01 = A01;
-    H11 = A11 + mu;
-    det = H00 * H11 - H01 * H01;
-  }
-  Eigen::Vector2d step(-(H11 * g.x() - H01 * g.y()) / det, -(-H01 * g.x() + H00 * g.y()) / det);
-  double len = step.norm();
-  if (!std::isfinite(len) || len == 0) {
-    stalled = true;
-    return;
-  }
-  const bool clipped = len > radius;
-  if (clipped) {
-    step *= radius / len;
-    len = radius;
-  }
-  if (tryStep(cur, step, hip, transitions, status)) {
-    if (clipped) radius = std::min(2 * radius, kMaxRadius);
-  } else {
-    radius = 0.25 * len;
-    if (radius < 1e-14) stalled = true;
-  }
-}
-
 void PatchRefiner::descentStep(Iterate& cur, const Eigen::Vector3d& hip, int& transitions, uint32_t& status,
                                bool& stalled) noexcept {
   const int n = cache_.faceSize(cur.face);
@@ -245,43 +260,59 @@ void PatchRefiner::descentStep(Iterate& cur, const Eigen::Vector3d& hip, int& tr
 }
 
 RefineResult PatchRefiner::refine(const Eigen::Vector3d& hip, int face, double xi, double eta,
-                                  const ForceOptions& options) noexcept {
+                                  const ForceOptions& options, int edge) noexcept {
+  return options.refine == RefineMethod::Newton ? refineNewton(hip, face, xi, eta, options, edge)
+                                                : refineDescent(hip, face, xi, eta, options, edge);
+}
+
+RefineResult PatchRefiner::refineNewton(const Eigen::Vector3d& hip, int face, double xi, double eta,
+                                        const ForceOptions& options, int edge) noexcept {
+  gpd::gp_refine_options o;
+  o.maxIterations = options.maxIterations;
+  o.angleTol = options.angleTolerance;
+  o.positionTol = options.positionTolerance * scale_;
+  const gpd::gp_refine_result r = gpd::gp_refine_newton(&newton_->mesh, &newton_->work,
+                                                        gpd::gp_v3(hip.x(), hip.y(), hip.z()), face, xi, eta, edge, &o);
+  RefineResult out;
+  out.scp = {r.scp.x, r.scp.y, r.scp.z};
+  out.normal = {r.normal.x, r.normal.y, r.normal.z};
+  out.face = r.face;
+  out.edge = r.edge;
+  out.xi = r.xi;
+  out.eta = r.eta;
+  out.distance = r.distance;
+  out.iterations = r.iterations;
+  out.transitions = r.transitions;
+  out.status = r.status;
+  return out;
+}
+
+RefineResult PatchRefiner::refineDescent(const Eigen::Vector3d& hip, int face, double xi, double eta,
+                                         const ForceOptions& options, int edge) noexcept {
   RefineResult out;
   out.face = face;
   if (!hip.allFinite() || !evaluable(face) || !std::isfinite(xi) || !std::isfinite(eta)) {
     out.status = SF_TRACK_DEGENERATE;
     return out;
   }
-  const Eigen::Vector2d X0 = clampToDomain(cache_.faceSize(face), {xi, eta});
-  Iterate cur;
-  if (face == lastFace_ && X0 == lastX_) {  // the previous call ended here: reuse its evaluation
-    cur = Iterate{face, lastEdge_, X0, lastP_, 0.5 * (lastP_.pos - hip).squaredNorm()};
-  } else {
-    cur = at(face, X0, hip);
-  }
+  const int n0 = cache_.faceSize(face);
+  Iterate cur = at(face, clampToDomain(n0, {xi, eta}), hip);
+  cur.edge = edge >= 0 && edge < n0 ? edge : -1;
   if (!std::isfinite(cur.f)) {
     out.status = SF_TRACK_DEGENERATE | cur.p.status;
     return out;
   }
   uint32_t status = 0;
   bool conv = false, stalled = false;
-  double radius = kInitialRadius;
   int it = 0;
   for (; it < options.maxIterations; ++it) {
-    if ((conv = converged(cur, hip, options.angleTolerance))) break;
-    if (options.refine == RefineMethod::Newton)
-      newtonStep(cur, hip, radius, out.transitions, status, stalled);
-    else
-      descentStep(cur, hip, out.transitions, status, stalled);
+    if ((conv = converged(cur, hip, options))) break;
+    descentStep(cur, hip, out.transitions, status, stalled);
     if (stalled) break;
   }
-  if (!conv) conv = converged(cur, hip, options.angleTolerance);
+  if (!conv) conv = converged(cur, hip, options);
   if (cur.edge >= 0) status |= SF_TRACK_BOUNDARY;
   status |= conv ? SF_TRACK_CONVERGED : stalled ? SF_TRACK_STALLED : SF_TRACK_MAX_ITER;
-  lastFace_ = cur.face;
-  lastX_ = cur.X;
-  lastP_ = cur.p;
-  lastEdge_ = cur.edge;
   out.scp = cur.p.pos;
   out.normal = cur.p.normal;
   out.face = cur.face;

@@ -1,5 +1,5 @@
 // Starting points for nearest-point refinement from a coarse tessellation of the patches
-// (ForceOptions::initialGuess = InitialGuess::Tessellation).
+// (sweep projection, tests).
 #pragma once
 
 #include <Eigen/Core>

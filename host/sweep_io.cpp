@@ -36,6 +36,7 @@ ojson configJson(const SweepConfig& c) {
                {"refine", c.refine},
                {"angle_tolerance", c.angleTolerance},
                {"max_iterations", c.maxIterations},
+               {"position_tolerance", c.positionTolerance},
                {"initial_guess", c.initialGuess},
                {"guess_level", c.guessLevel},
                {"preset", c.preset},
@@ -69,7 +70,8 @@ SweepConfig configFrom(const ojson& j) {
   // absent in sweeps written before the presets: the defaults of that time
   c.angleTolerance = j.value("angle_tolerance", ForceOptions{}.angleTolerance);
   c.maxIterations = j.value("max_iterations", ForceOptions{}.maxIterations);
-  c.initialGuess = j.value("initial_guess", std::string("polygon"));
+  c.positionTolerance = j.value("position_tolerance", ForceOptions{}.positionTolerance);
+  c.initialGuess = j.value("initial_guess", std::string("surface"));
   c.guessLevel = j.value("guess_level", ForceOptions{}.tessellationLevel);
   c.preset = j.value("preset", std::string());
   c.backend = j.at("backend");

@@ -25,8 +25,9 @@ struct SweepConfig {
   std::string refine = "newton";
   double angleTolerance = 1e-5;          ///< rad, patch refinement (ForceOptions)
   int maxIterations = 50;                ///< patch refinement cap (ForceOptions)
-  std::string initialGuess = "polygon";  ///< polygon | tessellation (ForceOptions)
-  int guessLevel = 2;                    ///< tessellation level of the initial guess
+  double positionTolerance = 1e-10;      ///< fraction of the diagonal (ForceOptions)
+  std::string initialGuess = "surface";  ///< surface | polygon (ForceOptions)
+  int guessLevel = 0;                    ///< patch surface tessellation level (0: chosen)
   std::string preset;                    ///< --preset as given ("" when none)
   std::string backend = "tbb";           ///< tbb | serial | opencl (construction, patch refinement)
   std::string reference, analytic;       ///< reference mesh path, analytic spec ("" when none)

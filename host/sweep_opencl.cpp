@@ -1,8 +1,10 @@
 #include "sweep_opencl.h"
 
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <memory>
 #include <vector>
 
 #include "embree_scene.h"
@@ -19,7 +21,12 @@ size_t runPatchProbesOpenCL(const HipSet& set, size_t begin, size_t end, std::sh
     throw InputError("--backend opencl refines with --refine newton only (the paper's descent runs on the CPU)");
   if (begin >= end) return 0;
   const PolygonScene scene(*cache);
+  std::unique_ptr<const PatchSurface> surface;
+  if (options.initialGuess == InitialGuess::Surface)
+    surface = std::make_unique<const PatchSurface>(*cache, patchSurfaceOptions(options));
   OpenCLRefiner refiner(*cache, opencl);
+  // the CPU refines the global query's further candidates, where they could be nearer (rare)
+  tbb::enumerable_thread_specific<std::unique_ptr<PatchRefiner>> cpu([&] { return std::make_unique<PatchRefiner>(*cache); });
   int maxN = 3;
   for (int f = 0; f < cache->numFaces(); ++f) maxN = std::max(maxN, cache->faceSize(f));
   chunk = std::max<size_t>(1, std::min(chunk, end - begin));
@@ -36,12 +43,14 @@ size_t runPatchProbesOpenCL(const HipSet& set, size_t begin, size_t end, std::sh
       thread_local std::vector<double> lambda;
       lambda.resize(maxN);
       const Eigen::Vector3d hip = hipOf(c0 + i);
-      refine[i] = beginPatchStep(scene, *cache, hip, state[i], lambda.data(), start[i], sample[i]);
+      refine[i] = beginPatchStep(scene, surface.get(), *cache, hip, state[i], lambda.data(), start[i], sample[i]);
       query[i] = RefineQuery{hip, refine[i] ? start[i].face : -1, start[i].X.x(), start[i].X.y(), start[i].edge};
     });
     refiner.refine(query.data(), m, options, result.data());
     tbb::parallel_for(size_t(0), m, [&](size_t i) {
-      if (refine[i]) finishPatchStep(scene, query[i].hip, start[i], result[i], options.stiffness, state[i], sample[i]);
+      if (refine[i])
+        finishPatchStep(scene, surface.get(), *cpu.local(), query[i].hip, start[i], result[i], options, state[i],
+                        sample[i]);
       finish(c0 + i, i);
     });
   };

@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <limits>
 
+#include "embree_scene.h"
+#include "force_tracking.h"
 #include "hash.h"
 #include "sweep_opencl.h"
 
@@ -124,13 +126,10 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
   opt.stiffness = in.config.stiffness;
   opt.refine = parseRefineMethod(in.config.refine);
   opt.angleTolerance = in.config.angleTolerance;
+  opt.positionTolerance = in.config.positionTolerance;
   opt.maxIterations = in.config.maxIterations;
   opt.initialGuess = parseInitialGuess(in.config.initialGuess);
   opt.tessellationLevel = in.config.guessLevel;
-  if (in.config.backend == "opencl" && opt.initialGuess == InitialGuess::Tessellation)
-    throw InputError(
-        "--initial-guess tessellation: the OpenCL refinement starts from the polygon point; use "
-        "--backend tbb or --initial-guess polygon");
   // A skeleton cache (sweep --mesh with --sample-on reference): every worker's patch renderer
   // builds the patches its HIPs touch, none evicted; nothing else may evaluate patches.
   const bool lazy = !hasPatchData(*in.cache);
@@ -141,8 +140,19 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
         "the CPU backend");
   opt.patchCapacity = 0;
   if (!in.makeRenderer) {
+    // one polygon scene per kind and one patch surface, shared by every worker's renderer
     auto cache = in.cache;
-    in.makeRenderer = [cache, opt](const std::string& m) { return makeForceRenderer(cache, parseForceMethod(m), opt); };
+    auto patchScene = std::make_shared<const PolygonScene>(*cache, kPlanarTolerance);
+    auto godScene = std::make_shared<const PolygonScene>(*cache, kWatertightPlanarTolerance);
+    std::shared_ptr<const PatchSurface> surface;
+    const bool wantSurface = std::find(in.config.methods.begin(), in.config.methods.end(), "patch") !=
+                             in.config.methods.end();
+    if (wantSurface && !lazy && opt.initialGuess == InitialGuess::Surface)
+      surface = std::make_shared<const PatchSurface>(*cache, patchSurfaceOptions(opt));
+    in.makeRenderer = [cache, opt, patchScene, godScene, surface](const std::string& m) {
+      const ForceMethod method = parseForceMethod(m);
+      return makeForceRenderer(cache, method == ForceMethod::Patch ? patchScene : godScene, method, opt, surface);
+    };
   }
   for (const auto& m : in.config.methods) in.makeRenderer(m);  // bad names and options fail here, once
   std::unique_ptr<ReferenceSurface> ref;

@@ -1,37 +1,49 @@
-/* Nearest-point refinement on the patches (paper Section 4.2) with Eq. 15 transitions
- * (design page, "Leaving the domain"): the Newton variant of host/patch_refine.cpp
- * (PatchRefiner, RefineMethod::Newton) in restricted C, for the OpenCL kernel refine.cl and
- * for C++ (host/gp_math.h instantiates it per precision).
+/* Nearest-point refinement on the patches (paper Section 4.2) with Eq. 15 transitions (design
+ * page, "Leaving the domain"): the one definition of the Newton refinement, compiled as OpenCL C
+ * (refine.cl) and as C++ (host/gp_math.h; host/patch_refine.cpp wraps it).
  *
- * Same algorithm and acceptance rules as PatchRefiner (see its class comment): Newton on
- * f = |G - HIP|^2 / 2 with the exact gradient J^T r and the Hessian J^T J + sum r_i d2G_i (the
- * second-order part by forward differences of the exact first derivatives), Gauss-Newton where
- * that Hessian is not positive definite, a trust region in the domain (0.5 at the start,
- * doubled after a clipped accepted step up to 2, quartered after a rejected step); an iterate
- * leaving the domain moves onto the neighbour by Eq. 15, or stays on a boundary /
- * non-manifold edge at the edge's nearest point.
- * Differences from PatchRefiner: all arithmetic is in GP_REAL (PatchRefiner computes in double
- * also for float caches), and the HIP is rounded to GP_REAL.
+ * Minimises f(X) = |G(X) - HIP|^2 / 2 over the patch surface by a trust-region Newton method:
+ * - model: gradient g = J^T r (exact), Hessian B = J^T J + sum_i r_i d2G_i, the second-order part
+ *   by forward differences of the exact first derivatives (2 extra evaluations);
+ * - the trust region is measured in metres on the surface: |J s| <= Delta (the metric J^T J), so it
+ *   means the same on patches of any size and across patch edges; the 2x2 subproblem is solved
+ *   exactly (eigen-decomposition, secular equation), so indefinite models are handled;
+ * - a step is accepted when the actual decrease of f is at least 1% of the model's (ratio test;
+ *   computed as (G_c - G_t) . (r_c + r_t) / 2, without cancellation), or, where the model's
+ *   decrease is at the evaluation noise of f, when it is a full Newton step of a convex model
+ *   that does not increase f beyond that noise. Every accepted step decreases f (up to noise),
+ *   and with a bounded model Hessian the iterates converge to a stationary point (Nocedal &
+ *   Wright, Numerical Optimization, Thm. 4.5-4.6);
+ * - a step that leaves the domain through edge k stops at the exit point I0, which Eq. 15 maps to
+ *   I1 on the neighbour (the same surface point: the edge parameter is linear along a domain
+ *   side); the rest of the step continues in the neighbour's domain as the same 3-D
+ *   displacement (least squares through the neighbour's Jacobian at I1), crossing again if
+ *   needed (vertices of any valence, up to GP_RF_MAX_CROSS crossings per step);
+ * - on a boundary or non-manifold edge the iterate stops at the exit point and is held there;
+ *   held, it moves by 1-D Newton along the edge until it is stationary along the edge, and is
+ *   released when the free step points back inside.
+ * Converged when the tangential residual (|r x n|, or |r . G_e| / |G_e| along a held edge) is at
+ * most min(sin(angleTol) |r|, positionTol), or at most the evaluation noise of positions
+ * (64 eps times the coordinate magnitude).
  *
  * Memory: the cache arrays are read through GP_GLOBAL pointers (gp_refine_mesh), because the
- * iterate changes face while it runs and only the loop knows which records to gather next;
- * everything else is private. Part of the single-source math; include after gp_patch.h; no
- * include guard on purpose (one copy per precision). */
+ * iterate changes face while it runs; on the host a loader hook may supply the records instead
+ * (lazy construction, float records widened to double). Everything else is private. Part of the
+ * single-source math; include after gp_patch.h and gp_domain.h; no include guard on purpose. */
 
 #undef GP_RF_FD_EPS
-#undef GP_RF_NOISE
 #undef GP_RF_TINY
+#undef GP_RF_MAX_CROSS
 #if GP_IS_DOUBLE
 #define GP_RF_FD_EPS GP_R(1.0e-6) /* finite-difference step in the domain */
-#define GP_RF_NOISE GP_R(1.0e-14) /* evaluation noise of positions / mesh size */
 #define GP_RF_TINY GP_R(1.0e-300)
 #else
 #define GP_RF_FD_EPS GP_R(1.0e-3)
-#define GP_RF_NOISE GP_R(1.0e-6)
 #define GP_RF_TINY GP_R(1.0e-37)
 #endif
-#undef GP_RF_PI
-#define GP_RF_PI GP_R(3.14159265358979323846)
+#define GP_RF_MAX_CROSS 8
+#undef GP_RF_AT_ONCE
+#define GP_RF_AT_ONCE (GP_R(64.0) * GP_EPS) /* an exit this early in a step leaves from where it is */
 
 /* The cache as the refinement reads it. Counts: #F faces, #C slots (corners). */
 typedef struct {
@@ -39,20 +51,37 @@ typedef struct {
   GP_GLOBAL const GP_REAL* edgeData;   /* GP_E_NFIELDS * #C, field-major [field * #C + slot] */
   GP_GLOBAL const gp_uint* faceStatus; /* #F, GP_ST_* */
   GP_GLOBAL const int* slotTwin;       /* #C: twin slot, or < 0 (boundary / non-manifold) */
+  GP_GLOBAL const int* slotFace;       /* #C: face owning each slot; 0: found by binary search */
   int numFaces, numSlots, mode;        /* mode: GP_CT_* */
   GP_REAL scale;                       /* bounding-box diagonal of the mesh, m */
+#ifndef GP_OPENCL
+  /* Host only: when set, face records come from here instead of edgeData/faceStatus. Writes
+   * face f's n records (record-major) to recs, or only reports when recs is null; returns the
+   * face's GP_ST_* bits (GP_ST_TOO_MANY_SIDES when it has no patch). */
+  gp_uint (*load)(void* user, int f, GP_REAL* recs);
+  void* user;
+#endif
 } gp_refine_mesh;
 
-/* Private scratch: the records of the face last gathered. */
+/* Private scratch: the records of the face last loaded. */
 typedef struct {
   int loaded; /* face held in recs, -1 for none */
+  gp_uint loadedStatus;
   GP_REAL recs[GP_MAX_N * GP_E_NFIELDS];
 } gp_refine_work;
+
+/* Stopping rules (see the file comment). */
+typedef struct {
+  int maxIterations;   /* >= 1 */
+  GP_REAL angleTol;    /* rad */
+  GP_REAL positionTol; /* m: tangential residual allowed */
+} gp_refine_options;
 
 /* One refinement's result (the fields of host RefineResult). */
 typedef struct {
   gp_vec3 scp, normal; /* m; unit outward normal */
   GP_REAL xi, eta;     /* domain point of `face` */
+  GP_REAL distance;    /* |SCP - HIP|, m */
   int face, edge;      /* edge: domain edge the SCP is held on (boundary), else -1 */
   int iterations, transitions;
   gp_uint status; /* GP_TRACK_* | GP_ST_* of the final point */
@@ -62,13 +91,15 @@ typedef struct {
   int face, edge;
   GP_REAL x, y;
   gp_eval_result p;
+  gp_vec3 r; /* G - HIP */
   GP_REAL f; /* |G - HIP|^2 / 2; GP_BIG when not evaluable */
 } gp_rf_iterate;
 
 GP_FN int gp_rf_size(const gp_refine_mesh* m, int f) { return m->faceOffsets[f + 1] - m->faceOffsets[f]; }
 
-/* Face owning a slot: the last f with faceOffsets[f] <= slot. */
+/* Face owning a slot. */
 GP_FN int gp_rf_slot_face(const gp_refine_mesh* m, int slot) {
+  if (m->slotFace) return m->slotFace[slot];
   int lo = 0, hi = m->numFaces;
   while (hi - lo > 1) {
     const int mid = (lo + hi) / 2;
@@ -80,29 +111,41 @@ GP_FN int gp_rf_slot_face(const gp_refine_mesh* m, int slot) {
   return lo;
 }
 
-GP_FN int gp_rf_evaluable(const gp_refine_mesh* m, int f) {
-  if (f < 0 || f >= m->numFaces) return 0;
+/* GP_ST_* bits of face f (GP_ST_TOO_MANY_SIDES when out of range or not 3..GP_MAX_N sided). */
+GP_FN gp_uint gp_rf_face_status(const gp_refine_mesh* m, int f) {
+  if (f < 0 || f >= m->numFaces) return GP_ST_TOO_MANY_SIDES;
   const int n = gp_rf_size(m, f);
-  return n >= 3 && n <= GP_MAX_N && !(m->faceStatus[f] & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE));
+  if (n < 3 || n > GP_MAX_N) return GP_ST_TOO_MANY_SIDES;
+#ifndef GP_OPENCL
+  if (m->load) return m->load(m->user, f, 0);
+#endif
+  return m->faceStatus[f];
 }
 
-/* Patch f at (x, y), gathering its records when another face's are loaded. */
+GP_FN int gp_rf_evaluable(const gp_refine_mesh* m, int f) {
+  return !(gp_rf_face_status(m, f) & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE));
+}
+
+/* Patch f at (x, y), loading its records when another face's are held. f must be evaluable. */
 GP_FN gp_eval_result gp_rf_eval(const gp_refine_mesh* m, gp_refine_work* w, int f, GP_REAL x, GP_REAL y) {
-  if (!gp_rf_evaluable(m, f)) {
-    gp_eval_result r;
-    r.pos = r.dxi = r.deta = r.normal = gp_zero3();
-    r.status = GP_ST_TOO_MANY_SIDES;
-    return r;
-  }
-  const int first = m->faceOffsets[f], n = gp_rf_size(m, f);
+  const int n = gp_rf_size(m, f);
   if (w->loaded != f) {
-    for (int k = 0; k < n; ++k)
-      for (int i = 0; i < GP_E_NFIELDS; ++i)
-        w->recs[k * GP_E_NFIELDS + i] = m->edgeData[(size_t)i * (size_t)m->numSlots + (size_t)(first + k)];
+#ifndef GP_OPENCL
+    if (m->load) {
+      w->loadedStatus = m->load(m->user, f, w->recs);
+    } else
+#endif
+    {
+      const int first = m->faceOffsets[f];
+      for (int k = 0; k < n; ++k)
+        for (int i = 0; i < GP_E_NFIELDS; ++i)
+          w->recs[k * GP_E_NFIELDS + i] = m->edgeData[(size_t)i * (size_t)m->numSlots + (size_t)(first + k)];
+      w->loadedStatus = m->faceStatus[f];
+    }
     w->loaded = f;
   }
   gp_eval_result r = gp_patch_eval(n, w->recs, m->mode, x, y);
-  r.status |= m->faceStatus[f];
+  r.status |= w->loadedStatus;
   return r;
 }
 
@@ -113,196 +156,315 @@ GP_FN gp_rf_iterate gp_rf_at(const gp_refine_mesh* m, gp_refine_work* w, int f, 
   it.x = x;
   it.y = y;
   it.p = gp_rf_eval(m, w, f, x, y);
+  it.r = gp_sub(it.p.pos, hip);
   it.f = GP_BIG;
   if (!(it.p.status & (GP_ST_OUTSIDE | GP_ST_TOO_MANY_SIDES)) && gp_finite3(it.p.pos)) {
-    const gp_vec3 r = gp_sub(it.p.pos, hip);
-    const GP_REAL f2 = GP_R(0.5) * gp_dot(r, r);
+    const GP_REAL f2 = GP_R(0.5) * gp_dot(it.r, it.r);
     if (f2 < GP_BIG) it.f = f2;
   }
   return it;
 }
 
-/* max_k X . m_k over the domain's edge normals m_k (Eq. 3), and its k. */
-GP_FN GP_REAL gp_rf_edge_max(int n, GP_REAL x, GP_REAL y, int* k) {
-  GP_REAL best = -GP_BIG;
-  *k = 0;
-  for (int j = 0; j < n; ++j) {
-    const GP_REAL a = (GP_REAL)(2 * j + 1) * GP_RF_PI / (GP_REAL)n;
-    const GP_REAL v = x * GP_COS(a) + y * GP_SIN(a);
-    if (v > best) {
-      best = v;
-      *k = j;
+/* Unit direction C_{k+1} - C_k of domain edge k, and its tangent J e on the surface. */
+GP_FN gp_vec3 gp_rf_edge_tangent(int n, int k, const gp_eval_result* p, GP_REAL* ex, GP_REAL* ey) {
+  GP_REAL ax, ay, bx, by;
+  gp_domain_corner(n, k, &ax, &ay);
+  gp_domain_corner(n, (k + 1) % n, &bx, &by);
+  *ex = bx - ax;
+  *ey = by - ay;
+  return gp_add(gp_scale(p->dxi, *ex), gp_scale(p->deta, *ey));
+}
+
+/* The tangential residual: |r x n|, or along a held edge |r . G_e| / |G_e|. */
+GP_FN GP_REAL gp_rf_residual(const gp_refine_mesh* m, const gp_rf_iterate* it) {
+  if (it->edge >= 0) {
+    GP_REAL ex, ey;
+    const gp_vec3 ge = gp_rf_edge_tangent(gp_rf_size(m, it->face), it->edge, &it->p, &ex, &ey);
+    const GP_REAL gl = gp_len(ge);
+    return gl > GP_R(0.0) ? GP_FABS(gp_dot(it->r, ge)) / gl : gp_len(it->r);
+  }
+  return gp_len(gp_cross(it->r, it->p.normal));
+}
+
+/* Largest coordinate magnitude of a point: the scale of its rounding. */
+GP_FN GP_REAL gp_rf_mag(gp_vec3 a) { return gp_max(GP_FABS(a.x), gp_max(GP_FABS(a.y), GP_FABS(a.z))); }
+
+GP_FN int gp_rf_converged(const gp_refine_mesh* m, const gp_rf_iterate* it, gp_vec3 hip, const gp_refine_options* o) {
+  const GP_REAL rl = gp_len(it->r);
+  GP_REAL tol = GP_SIN(o->angleTol) * rl;
+  if (o->positionTol < tol) tol = o->positionTol;
+  const GP_REAL noise = GP_R(64.0) * GP_EPS * (gp_rf_mag(hip) + m->scale);
+  return gp_rf_residual(m, it) <= gp_max(tol, noise);
+}
+
+/* Minimises g.s + s^T B s / 2 subject to s^T M s <= D^2 (2x2; M positive definite up to a
+ * regularisation), exactly: Cholesky M = L L^T, z = L^T s, then the eigen-decomposition of
+ * L^-1 B L^-T and the secular equation |z(lambda)| = D (bisection; the hard case included).
+ * Writes s, sets *newton when s is the interior minimiser of a convex model; returns the
+ * model's decrease (>= 0). */
+GP_FN GP_REAL gp_rf_tr_solve(GP_REAL g0, GP_REAL g1, GP_REAL b00, GP_REAL b01, GP_REAL b11, GP_REAL m00, GP_REAL m01,
+                             GP_REAL m11, GP_REAL D, GP_REAL* s0, GP_REAL* s1, int* newton) {
+  *newton = 0;
+  *s0 = *s1 = GP_R(0.0);
+  const GP_REAL tr = m00 + m11;
+  const GP_REAL reg = GP_R(16.0) * GP_EPS * tr + GP_RF_TINY;
+  m00 += reg;
+  m11 += reg;
+  const GP_REAL l00 = GP_SQRT(m00), l10 = m01 / l00;
+  GP_REAL q = m11 - l10 * l10;
+  if (!(q > reg)) q = reg;
+  const GP_REAL l11 = GP_SQRT(q);
+  const GP_REAL i00 = GP_R(1.0) / l00, i11 = GP_R(1.0) / l11, i10 = -l10 / (l00 * l11);
+  const GP_REAL h0 = g0 * i00, h1 = g0 * i10 + g1 * i11; /* L^-1 g */
+  /* T = L^-1 B L^-T */
+  const GP_REAL c00 = i00 * b00, c01 = i00 * b01, c10 = i10 * b00 + i11 * b01, c11 = i10 * b01 + i11 * b11;
+  const GP_REAL t00 = c00 * i00, t11 = c10 * i10 + c11 * i11;
+  const GP_REAL t01 = GP_R(0.5) * (c00 * i10 + c01 * i11 + c10 * i00);
+  const GP_REAL mean = GP_R(0.5) * (t00 + t11), dif = GP_R(0.5) * (t00 - t11);
+  const GP_REAL rad = GP_SQRT(dif * dif + t01 * t01);
+  const GP_REAL mu1 = mean - rad, mu2 = mean + rad;
+  GP_REAL e1x = GP_R(1.0), e1y = GP_R(0.0);
+  if (rad > GP_R(0.0)) {
+    const GP_REAL ax = t01, ay = mu1 - t00, bx = mu1 - t11, by = t01;
+    const GP_REAL la = ax * ax + ay * ay, lb = bx * bx + by * by;
+    if (la >= lb && la > GP_R(0.0)) {
+      e1x = ax / GP_SQRT(la);
+      e1y = ay / GP_SQRT(la);
+    } else if (lb > GP_R(0.0)) {
+      e1x = bx / GP_SQRT(lb);
+      e1y = by / GP_SQRT(lb);
     }
   }
-  return best;
-}
-
-GP_FN int gp_rf_outside(int n, GP_REAL x, GP_REAL y) {
-  int k;
-  return gp_rf_edge_max(n, x, y, &k) > GP_COS(GP_RF_PI / (GP_REAL)n);
-}
-
-/* Scales a point outside the domain back onto its boundary along the ray from the origin. */
-GP_FN void gp_rf_clamp(int n, GP_REAL* x, GP_REAL* y) {
-  int k;
-  const GP_REAL mx = gp_rf_edge_max(n, *x, *y, &k), c = GP_COS(GP_RF_PI / (GP_REAL)n);
-  if (mx > c) {
-    const GP_REAL s = c / mx;
-    *x = *x * s;
-    *y = *y * s;
+  const GP_REAL e2x = -e1y, e2y = e1x;
+  const GP_REAL ga = e1x * h0 + e1y * h1, gb = e2x * h0 + e2y * h1;
+  GP_REAL za = GP_R(0.0), zb = GP_R(0.0);
+  int done = 0;
+  if (mu1 > GP_R(0.0)) {
+    za = -ga / mu1;
+    zb = -gb / mu2;
+    if (za * za + zb * zb <= D * D) {
+      done = 1;
+      *newton = 1;
+    }
   }
+  if (!done) {
+    const GP_REAL lo = mu1 < GP_R(0.0) ? -mu1 : GP_R(0.0);
+    const GP_REAL hl = GP_SQRT(h0 * h0 + h1 * h1);
+    /* hard case: no gradient along the lowest curvature, the boundary not reached at lambda = lo */
+    const GP_REAL zbl = (mu2 + lo) > GP_R(0.0) ? -gb / (mu2 + lo) : GP_R(0.0);
+    if (GP_FABS(ga) <= GP_EPS * hl && mu1 <= GP_R(0.0) && zbl * zbl < D * D) {
+      zb = zbl;
+      za = GP_SQRT(D * D - zb * zb);
+    } else {
+      GP_REAL a = lo, b = lo + hl / D + GP_EPS * (GP_FABS(mu1) + GP_FABS(mu2)) + GP_R(1.0e-30);
+      for (int i = 0; i < 100; ++i) { /* |z(lambda)| decreases in lambda; find |z| = D */
+        const GP_REAL l = GP_R(0.5) * (a + b);
+        if (!(l > a && l < b)) break;
+        const GP_REAL ya = ga / (mu1 + l), yb = gb / (mu2 + l);
+        if (ya * ya + yb * yb > D * D)
+          a = l;
+        else
+          b = l;
+      }
+      za = -ga / (mu1 + b);
+      zb = -gb / (mu2 + b);
+    }
+  }
+  const GP_REAL pred = -(ga * za + gb * zb + GP_R(0.5) * (mu1 * za * za + mu2 * zb * zb));
+  const GP_REAL w0 = za * e1x + zb * e2x, w1 = za * e1y + zb * e2y;
+  *s0 = i00 * w0 + i10 * w1; /* s = L^-T z */
+  *s1 = i11 * w1;
+  return pred > GP_R(0.0) ? pred : GP_R(0.0);
 }
 
-GP_FN GP_REAL gp_rf_clamp01(GP_REAL v) { return v < GP_R(0.0) ? GP_R(0.0) : (v > GP_R(1.0) ? GP_R(1.0) : v); }
-
-/* Eq. 15: maps (x, y) outside face f's domain onto the neighbour (face, point, transitions
- * updated) or, on a boundary / non-manifold edge or an unusable neighbour, onto the nearest
- * point of the edge (edge set, GP_TRACK_BOUNDARY in *st). */
-GP_FN void gp_rf_transfer(const gp_refine_mesh* m, int* f, GP_REAL* x, GP_REAL* y, int* edge, int* transitions,
-                          gp_uint* st) {
+/* Moves (f, x, y) by the domain step (dx, dy) of face f, whose Jacobian there is (ja, jb):
+ * across patch edges by Eq. 15 with the rest of the step carried over as the same 3-D
+ * displacement; on a boundary / non-manifold edge (or an unusable neighbour) it stops at the
+ * exit point with *edge set and GP_TRACK_BOUNDARY in *st; where the carried step points straight
+ * back out of the neighbour through the edge it came in by (the surface folds back over the
+ * edge), it stops on that edge of the neighbour with *edge set and GP_TRACK_FOLD_EDGE. */
+GP_FN void gp_rf_move(const gp_refine_mesh* m, gp_refine_work* w, int* f, GP_REAL* x, GP_REAL* y, GP_REAL dx,
+                      GP_REAL dy, gp_vec3 ja, gp_vec3 jb, int* edge, int* transitions, gp_uint* st) {
   *edge = -1;
-  const int n = gp_rf_size(m, *f);
-  int k;
-  const GP_REAL mx = gp_rf_edge_max(n, *x, *y, &k), c = GP_COS(GP_RF_PI / (GP_REAL)n);
-  if (!(mx > c)) return;
-  const GP_REAL i0x = *x * (c / mx), i0y = *y * (c / mx);
-  GP_REAL ckx, cky, c1x, c1y;
-  gp_domain_corner(n, k, &ckx, &cky);
-  gp_domain_corner(n, (k + 1) % n, &c1x, &c1y);
-  const GP_REAL ex = c1x - ckx, ey = c1y - cky;
-  const GP_REAL el = GP_SQRT(ex * ex + ey * ey);
-  const GP_REAL s = gp_rf_clamp01(GP_SQRT((i0x - c1x) * (i0x - c1x) + (i0y - c1y) * (i0y - c1y)) / el);
-  const int twin = m->slotTwin[m->faceOffsets[*f] + k];
-  const int g = twin >= 0 ? gp_rf_slot_face(m, twin) : -1;
-  if (g < 0 || !gp_rf_evaluable(m, g)) {
-    const GP_REAL t = gp_rf_clamp01(((*x - ckx) * ex + (*y - cky) * ey) / (ex * ex + ey * ey));
-    *x = ckx + t * ex;
-    *y = cky + t * ey;
-    gp_rf_clamp(n, x, y);
-    *edge = k;
-    *st |= GP_TRACK_BOUNDARY;
-    return;
+  int from = -1; /* edge of *f we entered through */
+  for (int c = 0;; ++c) {
+    const int n = gp_rf_size(m, *f);
+    int k;
+    const GP_REAL tau = gp_dom_exit(n, *x, *y, dx, dy, &k);
+    if (!(tau < GP_R(1.0))) { /* stays inside */
+      *x += dx;
+      *y += dy;
+      return;
+    }
+    const GP_REAL ix = *x + tau * dx, iy = *y + tau * dy;
+    const GP_REAL t = gp_dom_edge_param(n, k, ix, iy);
+    const int twin = m->slotTwin[m->faceOffsets[*f] + k];
+    const int g = twin >= 0 ? gp_rf_slot_face(m, twin) : -1;
+    const int blocked = g < 0 || !gp_rf_evaluable(m, g);
+    /* a straight step that entered the convex domain through edge `from` cannot leave through it:
+     * when it does, the carried direction points back out (the surface folds back over the edge) */
+    const int folded = k == from;
+    if (blocked || folded || c == GP_RF_MAX_CROSS) {
+      gp_dom_edge_point(n, k, t, x, y); /* stop on the edge, held there when it cannot be crossed */
+      if (blocked || folded) {
+        *edge = k;
+        *st |= blocked ? GP_TRACK_BOUNDARY : GP_TRACK_FOLD_EDGE;
+      }
+      return;
+    }
+    const int ng = gp_rf_size(m, g), i = twin - m->faceOffsets[g];
+    GP_REAL gx, gy;
+    gp_dom_edge_point(ng, i, GP_R(1.0) - t, &gx, &gy);
+    gp_dom_off_corner(ng, &gx, &gy);
+    const GP_REAL rx = (GP_R(1.0) - tau) * dx, ry = (GP_R(1.0) - tau) * dy;
+    const gp_vec3 D = gp_add(gp_scale(ja, rx), gp_scale(jb, ry));
+    const gp_eval_result pe = gp_rf_eval(m, w, g, gx, gy);
+    const GP_REAL a00 = gp_dot(pe.dxi, pe.dxi), a01 = gp_dot(pe.dxi, pe.deta), a11 = gp_dot(pe.deta, pe.deta);
+    const GP_REAL v0 = gp_dot(pe.dxi, D), v1 = gp_dot(pe.deta, D);
+    const GP_REAL det = a00 * a11 - a01 * a01;
+    dx = dy = GP_R(0.0);
+    if (det > GP_R(64.0) * GP_EPS * (a00 * a11) && gp_finite3(pe.dxi) && gp_finite3(pe.deta)) {
+      dx = (a11 * v0 - a01 * v1) / det;
+      dy = (a00 * v1 - a01 * v0) / det;
+    }
+    *f = g;
+    *x = gx;
+    *y = gy;
+    ja = pe.dxi;
+    jb = pe.deta;
+    from = i;
+    *transitions += 1;
   }
-  const int ng = gp_rf_size(m, g), i = twin - m->faceOffsets[g];
-  GP_REAL cix, ciy, ci1x, ci1y;
-  gp_domain_corner(ng, i, &cix, &ciy);
-  gp_domain_corner(ng, (i + 1) % ng, &ci1x, &ci1y);
-  *x = cix + s * (ci1x - cix);
-  *y = ciy + s * (ci1y - ciy);
-  gp_rf_clamp(ng, x, y);
-  *f = g;
-  *transitions += 1;
 }
 
-/* Moves X inward so that an eps-disc around it fits in the domain (finite differences). */
-GP_FN void gp_rf_interior(int n, GP_REAL* x, GP_REAL* y, GP_REAL eps) {
-  int k;
-  const GP_REAL dmin = GP_COS(GP_RF_PI / (GP_REAL)n) - gp_rf_edge_max(n, *x, *y, &k);
-  if (dmin > GP_R(2.0) * eps) return;
-  const GP_REAL r = GP_SQRT(*x * *x + *y * *y);
-  const GP_REAL s = GP_R(1.0) - GP_R(3.0) * eps / r;
-  *x = *x * s;
-  *y = *y * s;
-}
+#undef GP_RF_STEP_OK
+#undef GP_RF_STEP_STALLED
+#undef GP_RF_STEP_KKT
+#define GP_RF_STEP_OK 0
+#define GP_RF_STEP_STALLED 1
+#define GP_RF_STEP_KKT 2 /* held at a corner of a boundary edge that the step pushes against */
 
-GP_FN int gp_rf_converged(const gp_refine_mesh* m, const gp_rf_iterate* it, gp_vec3 hip, GP_REAL tol) {
-  const gp_vec3 r = gp_sub(it->p.pos, hip);
-  const GP_REAL rl = gp_len(r);
-  if (rl <= GP_R(1.0e-12) * m->scale) return 1;
-  if (it->edge >= 0) { /* held on a boundary edge: stationary along the edge */
-    const int n = gp_rf_size(m, it->face);
-    GP_REAL ax, ay, bx, by;
-    gp_domain_corner(n, it->edge, &ax, &ay);
-    gp_domain_corner(n, (it->edge + 1) % n, &bx, &by);
-    const GP_REAL el = GP_SQRT((bx - ax) * (bx - ax) + (by - ay) * (by - ay));
-    const gp_vec3 ge = gp_add(gp_scale(it->p.dxi, (bx - ax) / el), gp_scale(it->p.deta, (by - ay) / el));
-    return GP_FABS(gp_dot(r, ge)) < GP_SIN(tol) * rl * gp_len(ge);
-  }
-  return GP_ATAN2(gp_len(gp_cross(r, it->p.normal)), GP_FABS(gp_dot(r, it->p.normal))) < tol;
-}
-
-GP_FN GP_REAL gp_rf_sine(const gp_rf_iterate* it, gp_vec3 hip) {
-  const gp_vec3 r = gp_sub(it->p.pos, hip);
-  return gp_len(gp_cross(r, it->p.normal)) / gp_len(r);
-}
-
-/* Step acceptance (PatchRefiner::better): f decreases; or the step crossed onto the neighbour
- * with f unchanged up to its evaluation noise; or, off boundary edges, f is unchanged up to
- * its noise and the angle between G - HIP and the normal shrinks. */
-GP_FN int gp_rf_better(const gp_refine_mesh* m, const gp_rf_iterate* trial, const gp_rf_iterate* cur, gp_vec3 hip) {
-  if (trial->f < cur->f) return 1;
-  const GP_REAL pn = GP_RF_NOISE * m->scale;
-  const GP_REAL noise = GP_SQRT(GP_R(2.0) * cur->f) * pn + pn * pn + GP_R(1.0e-13) * cur->f;
-  if (trial->face != cur->face && trial->f <= cur->f + noise) return 1;
-  if (!(trial->f <= cur->f + noise) || trial->edge >= 0 || cur->edge >= 0) return 0;
-  return gp_rf_sine(trial, hip) < gp_rf_sine(cur, hip);
-}
-
-/* One trust-region Newton step (PatchRefiner::newtonStep). */
-GP_FN void gp_rf_newton_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* cur, gp_vec3 hip,
-                             GP_REAL* radius, int* transitions, gp_uint* status, int* stalled) {
+/* One trust-region step from *cur (see the file comment); D: the radius (m), updated. */
+GP_FN int gp_rf_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* cur, gp_vec3 hip, GP_REAL* D,
+                     GP_REAL Dmax, int* transitions, gp_uint* status) {
   const int n = gp_rf_size(m, cur->face);
   const GP_REAL eps = GP_RF_FD_EPS;
-  const gp_vec3 r = gp_sub(cur->p.pos, hip), a = cur->p.dxi, b = cur->p.deta;
-  const GP_REAL gx = gp_dot(a, r), gy = gp_dot(b, r);
-  const GP_REAL A00 = gp_dot(a, a), A01 = gp_dot(a, b), A11 = gp_dot(b, b);
+  const gp_vec3 r = cur->r, a = cur->p.dxi, b = cur->p.deta;
+  const GP_REAL g0 = gp_dot(a, r), g1 = gp_dot(b, r);
+  const GP_REAL m00 = gp_dot(a, a), m01 = gp_dot(a, b), m11 = gp_dot(b, b);
   /* second-order part sum r_i d2G_i from forward differences of the exact first derivatives */
   GP_REAL xc = cur->x, yc = cur->y;
-  gp_rf_interior(n, &xc, &yc, eps);
+  gp_dom_interior(n, &xc, &yc, eps);
   const gp_eval_result pc = (xc == cur->x && yc == cur->y) ? cur->p : gp_rf_eval(m, w, cur->face, xc, yc);
   const gp_eval_result p1 = gp_rf_eval(m, w, cur->face, xc + eps, yc);
   const gp_eval_result p2 = gp_rf_eval(m, w, cur->face, xc, yc + eps);
-  const GP_REAL S00 = gp_dot(r, gp_sub(p1.dxi, pc.dxi)) / eps, S11 = gp_dot(r, gp_sub(p2.deta, pc.deta)) / eps;
-  const GP_REAL S01 = GP_R(0.5) * gp_dot(r, gp_add(gp_sub(p1.deta, pc.deta), gp_sub(p2.dxi, pc.dxi))) / eps;
-  GP_REAL H00 = A00 + S00, H01 = A01 + S01, H11 = A11 + S11;
-  const GP_REAL tr = A00 + A11;
-  GP_REAL det = H00 * H11 - H01 * H01;
-  if (!(H00 > GP_R(0.0) && det > GP_R(1.0e-10) * tr * tr) || !(GP_FABS(det) <= GP_BIG)) { /* Gauss-Newton */
-    const GP_REAL mu = GP_R(1.0e-9) * tr + GP_RF_TINY;
-    H00 = A00 + mu;
-    H01 = A01;
-    H11 = A11 + mu;
-    det = H00 * H11 - H01 * H01;
-  }
-  GP_REAL sx = -(H11 * gx - H01 * gy) / det, sy = -(-H01 * gx + H00 * gy) / det;
-  GP_REAL len = GP_SQRT(sx * sx + sy * sy);
-  if (!(len <= GP_BIG) || len == GP_R(0.0)) {
-    *stalled = 1;
-    return;
-  }
-  const int clipped = len > *radius;
-  if (clipped) {
-    sx = sx * (*radius / len);
-    sy = sy * (*radius / len);
-    len = *radius;
-  }
-  int face = cur->face, tr2 = 0, edge = -1;
+  const GP_REAL s00 = gp_dot(r, gp_sub(p1.dxi, pc.dxi)) / eps, s11 = gp_dot(r, gp_sub(p2.deta, pc.deta)) / eps;
+  const GP_REAL s01 = GP_R(0.5) * gp_dot(r, gp_add(gp_sub(p1.deta, pc.deta), gp_sub(p2.dxi, pc.dxi))) / eps;
+  const GP_REAL b00 = m00 + s00, b01 = m01 + s01, b11 = m11 + s11;
+  if (!(GP_FABS(b00) + GP_FABS(b01) + GP_FABS(b11) <= GP_BIG)) return GP_RF_STEP_STALLED;
+
+  GP_REAL sx, sy, pred;
+  int newton, face = cur->face, edge = -1, tr = 0;
   gp_uint st = 0u;
-  GP_REAL x = cur->x + sx, y = cur->y + sy;
-  if (gp_rf_outside(n, x, y)) gp_rf_transfer(m, &face, &x, &y, &edge, &tr2, &st);
+  GP_REAL x = cur->x, y = cur->y;
+  pred = gp_rf_tr_solve(g0, g1, b00, b01, b11, m00, m01, m11, *D, &sx, &sy, &newton);
+  int kx = -1;
+  const GP_REAL tau = gp_dom_exit(n, x, y, sx, sy, &kx);
+  if (cur->edge >= 0 && kx == cur->edge && tau <= GP_RF_AT_ONCE) {
+    /* held on a boundary edge and the free step points out: 1-D Newton along the edge */
+    GP_REAL ex, ey;
+    (void)gp_rf_edge_tangent(n, cur->edge, &cur->p, &ex, &ey);
+    const GP_REAL ge = g0 * ex + g1 * ey, be = ex * (b00 * ex + b01 * ey) + ey * (b01 * ex + b11 * ey);
+    const GP_REAL me = ex * (m00 * ex + m01 * ey) + ey * (m01 * ex + m11 * ey);
+    const GP_REAL smax = me > GP_R(0.0) ? *D / GP_SQRT(me) : GP_R(0.0);
+    GP_REAL sig = be > GP_R(0.0) ? -ge / be : (ge > GP_R(0.0) ? -smax : smax);
+    newton = be > GP_R(0.0) && GP_FABS(sig) <= smax;
+    if (sig > smax) sig = smax;
+    if (sig < -smax) sig = -smax;
+    const GP_REAL t0 = gp_dom_edge_param(n, cur->edge, x, y);
+    GP_REAL t1 = t0 + sig;
+    if (t1 < GP_R(0.0) || t1 > GP_R(1.0)) newton = 0; /* cut at the edge's end */
+    t1 = t1 < GP_R(0.0) ? GP_R(0.0) : (t1 > GP_R(1.0) ? GP_R(1.0) : t1);
+    sig = t1 - t0;
+    pred = -(ge * sig + GP_R(0.5) * be * sig * sig);
+    if (!(pred > GP_R(0.0))) return GP_RF_STEP_KKT; /* blocked at a corner of the held edge */
+    gp_dom_edge_point(n, cur->edge, t1, &x, &y);
+    edge = cur->edge;
+    st |= *status & (GP_TRACK_BOUNDARY | GP_TRACK_FOLD_EDGE);
+  } else {
+    gp_rf_move(m, w, &face, &x, &y, sx, sy, a, b, &edge, &tr, &st);
+    if (edge >= 0 && tau <= GP_RF_AT_ONCE && (face == cur->face || (st & GP_TRACK_FOLD_EDGE))) {
+      /* stopped at once on an edge it cannot cross (the same surface point): hold it there and
+       * step along it next */
+      gp_rf_iterate held = gp_rf_at(m, w, face, x, y, hip);
+      if (held.f < GP_BIG) {
+        held.edge = edge;
+        *cur = held;
+        *transitions += tr;
+        *status = (*status & ~(GP_TRACK_BOUNDARY | GP_TRACK_FOLD_EDGE)) | st;
+        return GP_RF_STEP_OK;
+      }
+      return GP_RF_STEP_STALLED;
+    }
+    if (face == cur->face) { /* the model's decrease for the displacement actually taken */
+      const GP_REAL u = x - cur->x, v = y - cur->y;
+      pred = -(g0 * u + g1 * v + GP_R(0.5) * (u * (b00 * u + b01 * v) + v * (b01 * u + b11 * v)));
+      sx = u;
+      sy = v;
+    }
+  }
+  if (face == cur->face) {
+    sx = x - cur->x;
+    sy = y - cur->y;
+  }
+  const GP_REAL len =
+      GP_SQRT(gp_max(sx * (m00 * sx + m01 * sy) + sy * (m01 * sx + m11 * sy), GP_R(0.0))); /* |J s|, m */
   gp_rf_iterate trial = gp_rf_at(m, w, face, x, y, hip);
   trial.edge = edge;
-  if (gp_rf_better(m, &trial, cur, hip)) {
-    *cur = trial;
-    *transitions += tr2;
-    *status = (*status & ~GP_TRACK_BOUNDARY) | st;
-    if (clipped) *radius = *radius * GP_R(2.0) < GP_R(2.0) ? *radius * GP_R(2.0) : GP_R(2.0);
-  } else {
-    *radius = GP_R(0.25) * len;
-    if (*radius < GP_R(1.0e-14)) *stalled = 1;
+  int accept = 0;
+  GP_REAL rho = GP_R(0.0);
+  if (trial.f < GP_BIG && pred > GP_R(0.0)) {
+    const GP_REAL ared = GP_R(0.5) * gp_dot(gp_sub(cur->p.pos, trial.p.pos), gp_add(cur->r, trial.r));
+    const GP_REAL noise = GP_R(16.0) * GP_EPS * (gp_rf_mag(hip) + gp_rf_mag(cur->p.pos)) * gp_len(cur->r) +
+                          GP_R(1.0e-30) * m->scale * m->scale;
+    rho = ared / pred;
+    accept = ared >= GP_R(0.01) * pred;
+    if (!accept && pred <= GP_R(16.0) * noise && newton && ared >= -noise) {
+      accept = 1;      /* a full Newton step below the noise of f: the model knows better than f */
+      rho = GP_R(0.5); /* and says nothing about the radius */
+    }
+    /* stopped by an edge it cannot cross (boundary, fold) after crossing others: the model of
+     * the first face says nothing of the cut step; take it when it does not go uphill */
+    if (!accept && edge >= 0 && face != cur->face && ared >= -noise) {
+      accept = 1;
+      rho = GP_R(0.5); /* keep the radius */
+    }
   }
+  if (!accept || rho < GP_R(0.25)) {
+    const GP_REAL shrink = GP_R(0.25) * len;
+    *D = shrink < *D ? shrink : GP_R(0.25) * *D;
+  } else if (rho > GP_R(0.75) && len > GP_R(0.99) * *D) {
+    *D = GP_R(2.0) * *D < Dmax ? GP_R(2.0) * *D : Dmax;
+  }
+  if (accept) {
+    *cur = trial;
+    *transitions += tr;
+    *status = (*status & ~(GP_TRACK_BOUNDARY | GP_TRACK_FOLD_EDGE)) | st;
+  }
+  const GP_REAL floor = GP_R(16.0) * GP_EPS * (gp_rf_mag(hip) + m->scale);
+  return *D < floor ? GP_RF_STEP_STALLED : GP_RF_STEP_OK;
 }
 
 /* Refines from (face, xi, eta) (clamped into the domain; startEdge: the domain edge the start
- * is held on, -1 for none) towards the patch point nearest `hip` (m), stopping when the angle
- * between G - HIP and the normal is below `tol` (rad; on a boundary edge: G - HIP orthogonal to
- * the edge), after maxIterations, or when the step vanishes. A start that is not evaluable
- * (bad face, non-finite input) returns GP_TRACK_DEGENERATE with zeros. */
+ * is held on, -1 for none) towards the patch point nearest `hip` (m). A start that is not
+ * evaluable (bad face, non-finite input) returns GP_TRACK_DEGENERATE with zeros. The result is
+ * the last accepted iterate: every accepted step decreased the distance, so a refinement that
+ * stops early (GP_TRACK_MAX_ITER, GP_TRACK_STALLED) reports a point no farther than its start. */
 GP_FN gp_refine_result gp_refine_newton(const gp_refine_mesh* m, gp_refine_work* w, gp_vec3 hip, int face, GP_REAL xi,
-                                        GP_REAL eta, int startEdge, int maxIterations, GP_REAL tol) {
+                                        GP_REAL eta, int startEdge, const gp_refine_options* o) {
   gp_refine_result out;
   out.scp = out.normal = gp_zero3();
-  out.xi = out.eta = GP_R(0.0);
+  out.xi = out.eta = out.distance = GP_R(0.0);
   out.face = face;
   out.edge = -1;
   out.iterations = out.transitions = 0;
@@ -312,23 +474,36 @@ GP_FN gp_refine_result gp_refine_newton(const gp_refine_mesh* m, gp_refine_work*
     return out;
   }
   const int n0 = gp_rf_size(m, face);
-  gp_rf_clamp(n0, &xi, &eta);
+  gp_dom_clamp(n0, &xi, &eta);
+  gp_dom_off_corner(n0, &xi, &eta);
   gp_rf_iterate cur = gp_rf_at(m, w, face, xi, eta, hip);
   cur.edge = startEdge >= 0 && startEdge < n0 ? startEdge : -1;
   if (!(cur.f < GP_BIG)) {
     out.status = GP_TRACK_DEGENERATE | cur.p.status;
     return out;
   }
+  /* trust radius: half the patch's size (|dG/dxi|, |dG/deta| per domain unit), at most the mesh size */
+  GP_REAL D = GP_R(0.5) * GP_SQRT(gp_dot(cur.p.dxi, cur.p.dxi) + gp_dot(cur.p.deta, cur.p.deta));
+  const GP_REAL Dmax = GP_R(0.25) * m->scale;
+  if (!(D > GP_R(0.0)) || D > Dmax) D = Dmax;
   gp_uint status = 0u;
+  if (cur.edge >= 0) { /* held: on a boundary edge, or on a fold where the neighbour turns back */
+    const int twin = m->slotTwin[m->faceOffsets[face] + cur.edge];
+    status = twin >= 0 && gp_rf_evaluable(m, gp_rf_slot_face(m, twin)) ? GP_TRACK_FOLD_EDGE : GP_TRACK_BOUNDARY;
+  }
   int conv = 0, stalled = 0, it = 0;
-  GP_REAL radius = GP_R(0.5);
-  for (; it < maxIterations; ++it) {
-    if ((conv = gp_rf_converged(m, &cur, hip, tol))) break;
-    gp_rf_newton_step(m, w, &cur, hip, &radius, &out.transitions, &status, &stalled);
+  for (; it < o->maxIterations; ++it) {
+    if ((conv = gp_rf_converged(m, &cur, hip, o))) break;
+    const int s = gp_rf_step(m, w, &cur, hip, &D, Dmax, &out.transitions, &status);
+    if (s == GP_RF_STEP_KKT) {
+      conv = 1;
+      break;
+    }
+    stalled = s == GP_RF_STEP_STALLED;
     if (stalled) break;
   }
-  if (!conv) conv = gp_rf_converged(m, &cur, hip, tol);
-  if (cur.edge >= 0) status |= GP_TRACK_BOUNDARY;
+  if (!conv) conv = gp_rf_converged(m, &cur, hip, o);
+  if (cur.edge < 0) status &= ~(GP_TRACK_BOUNDARY | GP_TRACK_FOLD_EDGE);
   status |= conv ? GP_TRACK_CONVERGED : (stalled ? GP_TRACK_STALLED : GP_TRACK_MAX_ITER);
   out.scp = cur.p.pos;
   out.normal = cur.p.normal;
@@ -336,6 +511,7 @@ GP_FN gp_refine_result gp_refine_newton(const gp_refine_mesh* m, gp_refine_work*
   out.edge = cur.edge;
   out.xi = cur.x;
   out.eta = cur.y;
+  out.distance = gp_len(cur.r);
   out.iterations = it;
   out.status = status | cur.p.status;
   return out;

@@ -9,11 +9,12 @@
 #endif
 #ifndef GP_EMBEDDED
 #include "gp_patch.h"
+#include "gp_domain.h"
 #include "gp_refine.h"
 #endif
 
 /* numFaces: #F. numSlots: #C. mode: GP_CT_*. count: N HIPs. maxIterations >= 1.
- * angleTolerance: rad. scale: bounding-box diagonal, m.
+ * angleTolerance: rad. positionTolerance: m. scale: bounding-box diagonal, m.
  * faceOffsets: #F+1. edgeData: GP_E_NFIELDS*#C, field-major. faceStatus: #F. slotTwin: #C.
  * hips: 3*N component-major (hips[c * N + q], m). qFace, qXi, qEta, qEdge: N (start; qEdge
  * the domain edge the start is held on, -1 for none).
@@ -21,7 +22,8 @@
  * outInt: 4*N component-major: 0 face, 1 held edge (-1: none), 2 iterations, 3 transitions.
  * outStatus: N, GP_TRACK_* | GP_ST_*. */
 __kernel void gp_refine(const int numFaces, const int numSlots, const int mode, const int count,
-                        const int maxIterations, const GP_REAL angleTolerance, const GP_REAL scale,
+                        const int maxIterations, const GP_REAL angleTolerance, const GP_REAL positionTolerance,
+                        const GP_REAL scale,
                         __global const int* faceOffsets, __global const GP_REAL* edgeData,
                         __global const uint* faceStatus, __global const int* slotTwin, __global const GP_REAL* hips,
                         __global const int* qFace, __global const GP_REAL* qXi, __global const GP_REAL* qEta,
@@ -35,6 +37,7 @@ __kernel void gp_refine(const int numFaces, const int numSlots, const int mode, 
   mesh.edgeData = edgeData;
   mesh.faceStatus = faceStatus;
   mesh.slotTwin = slotTwin;
+  mesh.slotFace = 0;
   mesh.numFaces = numFaces;
   mesh.numSlots = numSlots;
   mesh.mode = mode;
@@ -42,8 +45,11 @@ __kernel void gp_refine(const int numFaces, const int numSlots, const int mode, 
   gp_refine_work work;
   work.loaded = -1;
   const gp_vec3 hip = gp_v3(hips[q], hips[m + q], hips[2 * m + q]);
-  const gp_refine_result r =
-      gp_refine_newton(&mesh, &work, hip, qFace[q], qXi[q], qEta[q], qEdge[q], maxIterations, angleTolerance);
+  gp_refine_options opt;
+  opt.maxIterations = maxIterations;
+  opt.angleTol = angleTolerance;
+  opt.positionTol = positionTolerance;
+  const gp_refine_result r = gp_refine_newton(&mesh, &work, hip, qFace[q], qXi[q], qEta[q], qEdge[q], &opt);
   outReal[q] = r.scp.x;
   outReal[m + q] = r.scp.y;
   outReal[2 * m + q] = r.scp.z;

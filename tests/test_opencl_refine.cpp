@@ -3,11 +3,14 @@
 // query, Eq. 15 crossings, a boundary edge; and a sweep with --backend tbb vs opencl.
 // Skipped with the reason when no OpenCL device exists.
 #include <gtest/gtest.h>
+
 #include <unistd.h>
+#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <random>
@@ -65,13 +68,17 @@ std::vector<RefineQuery> globalQueries(const PatchCache& c, int count, double de
 }
 
 struct Agreement {
-  double maxScp = 0;  // m
+  double maxScp = 0;  // m, over the HIPs that reach the same minimum
   int otherFace = 0, ties = 0, transitions = 0, statusDiff = 0;
+  int otherMinimum = 0;  // both converged, to different stationary points (another basin)
 };
 
-/// Runs the queries on the device and on PatchRefiner; checks SCPs within tol x diagonal,
-/// the same face unless the point lies on a shared edge (a tie: the same 3D point).
-Agreement compareWithCpu(const PatchCache& c, const std::vector<RefineQuery>& q, double tol,
+/// Runs the queries on the device and on PatchRefiner. Each pair reaches the same point within
+/// tol x diagonal (the same face unless the point lies on a shared edge: a tie), or both
+/// converged to stationary points of the distance (residual |r x n| within `stationary` x
+/// diagonal) in different basins: counted in otherMinimum (float arithmetic can take another
+/// path from a start near a basin boundary; the caller bounds the count).
+Agreement compareWithCpu(const PatchCache& c, const std::vector<RefineQuery>& q, double tol, double stationary,
                          const ForceOptions& o = {}) {
   OpenCLRefiner dev(c);
   std::vector<RefineResult> g(q.size());
@@ -79,19 +86,33 @@ Agreement compareWithCpu(const PatchCache& c, const std::vector<RefineQuery>& q,
   PatchRefiner cpu(c);
   const double diag = boundingDiagonal(c);
   Agreement a;
+  auto residual = [&](const RefineResult& r, const Eigen::Vector3d& hip) {
+    return (hip - r.scp).cross(r.normal).norm() / diag;
+  };
   for (size_t i = 0; i < q.size(); ++i) {
     const RefineResult r = cpu.refine(q[i].hip, q[i].face, q[i].xi, q[i].eta, o);
     const double d = (r.scp - g[i].scp).norm();
-    a.maxScp = std::max(a.maxScp, d);
-    EXPECT_LE(d, tol * diag) << "HIP " << i << " face " << r.face << " / " << g[i].face;
-    EXPECT_NEAR(r.distance, g[i].distance, tol * diag) << i;
-    EXPECT_GT(g[i].normal.dot(r.normal), 1 - 1e3 * tol) << i;
-    if (r.face != g[i].face) {
-      ++a.otherFace;
-      a.ties += d <= tol * diag;  // the same point, on an edge shared by both faces
-    }
     a.transitions += g[i].transitions > 0;
     const uint32_t mask = SF_TRACK_CONVERGED | SF_TRACK_BOUNDARY | SF_TRACK_DEGENERATE;
+    // stationary, or held on an edge (boundary, fold) and stationary along it
+    auto isStationary = [&](const RefineResult& x) {
+      return (x.status & SF_TRACK_CONVERGED) && (x.edge >= 0 || residual(x, q[i].hip) <= stationary);
+    };
+    if (d > tol * diag) {
+      const bool bothStationary = isStationary(r) && isStationary(g[i]);
+      EXPECT_TRUE(bothStationary) << "HIP " << i << ": SCPs " << d / diag << " x diagonal apart, status " << std::hex
+                                  << r.status << " / " << g[i].status << std::dec << std::setprecision(17)
+                                  << "; start face " << q[i].face << " X " << q[i].xi << " " << q[i].eta << " HIP "
+                                  << q[i].hip.transpose() << "; device it " << g[i].iterations;
+      ++a.otherMinimum;
+      continue;
+    }
+    a.maxScp = std::max(a.maxScp, d);
+    EXPECT_NEAR(r.distance, g[i].distance, tol * diag) << i;
+    if (r.face == g[i].face) {  // across a fold edge the two faces' normals differ
+      EXPECT_GT(g[i].normal.dot(r.normal), 1 - 1e3 * tol) << i;
+    }
+    if (r.face != g[i].face) ++a.otherFace;
     a.statusDiff += (r.status & mask) != (g[i].status & mask);
   }
   return a;
@@ -104,15 +125,17 @@ TEST_F(OpenCLRefine, AgreesWithPatchRefinerDoubleAndFloat) {
       const double diag = boundingDiagonal(c);
       const std::vector<RefineQuery> q = globalQueries(c, 400, 0.05 * diag, 11);
       const bool dbl = p == Precision::Double;
-      const Agreement a = compareWithCpu(c, q, dbl ? kTolD : kTolF);
+      const Agreement a = compareWithCpu(c, q, dbl ? kTolD : kTolF, dbl ? 1e-9 : 1e-5);
       std::printf(
-          "  %s %s: max |SCP_cl - SCP_cpu| = %.3g x diagonal; other face %d (ties %d); %d HIPs cross "
-          "patch edges; converged/boundary status differs on %d\n",
-          rel, dbl ? "double" : "float", a.maxScp / diag, a.otherFace, a.ties, a.transitions, a.statusDiff);
+          "  %s %s: max |SCP_cl - SCP_cpu| = %.3g x diagonal; other face (a tie on an edge) %d; other "
+          "stationary point %d; %d HIPs cross patch edges; converged/boundary status differs on %d\n",
+          rel, dbl ? "double" : "float", a.maxScp / diag, a.otherFace, a.otherMinimum, a.transitions, a.statusDiff);
       EXPECT_GT(a.transitions, 0) << rel;  // some refinements cross patch edges (Eq. 15)
-      EXPECT_EQ(a.otherFace, a.ties) << rel;
-      if (dbl) {
+      if (dbl) {                           // the same arithmetic: the same path
+        EXPECT_EQ(a.otherMinimum, 0) << rel;
         EXPECT_EQ(a.statusDiff, 0) << rel;
+      } else {  // starts up to 5% of the diagonal away, near folded patches: few take another basin
+        EXPECT_LE(a.otherMinimum, static_cast<int>(q.size()) / 50) << rel;
       }
     }
   }
@@ -162,7 +185,7 @@ TEST_F(OpenCLRefine, StaysOnBoundaryEdgeOfOpenMesh) {
   EXPECT_FALSE(r[2].status & SF_TRACK_BOUNDARY);
   EXPECT_EQ(r[2].edge, -1);
   EXPECT_NEAR((r[2].scp - Eigen::Vector3d(0.5, 0.5, 0)).norm(), 0, 1e-9);
-  compareWithCpu(c, q, kTolD);
+  EXPECT_EQ(compareWithCpu(c, q, kTolD, 1e-9).otherMinimum, 0);
   // restarting on the edge (in contact) keeps it held there, as PatchRefiner's reuse does
   RefineQuery again = q[0];
   again.face = r[0].face;
@@ -204,21 +227,26 @@ TEST_F(OpenCLRefine, SharedCodeMatchesOnHostAndDevice) {
   const std::vector<RefineQuery> q = globalQueries(c, 100, 0.05 * boundingDiagonal(c), 3);
   std::vector<RefineResult> g(q.size());
   refineNearestPointsOpenCL(c, q.data(), q.size(), {}, g.data());
-  gpd::gp_refine_mesh mesh{c.faceOffsets.data(),
-                           c.edgeDataD.data(),
-                           c.faceStatus.data(),
-                           c.slotTwin.data(),
-                           c.numFaces(),
-                           c.numSlots(),
-                           static_cast<int>(c.options.crossTangent),
-                           boundingDiagonal(c)};
+  gpd::gp_refine_mesh mesh{};
+  mesh.faceOffsets = c.faceOffsets.data();
+  mesh.edgeData = c.edgeDataD.data();
+  mesh.faceStatus = c.faceStatus.data();
+  mesh.slotTwin = c.slotTwin.data();
+  mesh.numFaces = c.numFaces();
+  mesh.numSlots = c.numSlots();
+  mesh.mode = static_cast<int>(c.options.crossTangent);
+  mesh.scale = boundingDiagonal(c);
   auto work = std::make_unique<gpd::gp_refine_work>();
   const double diag = boundingDiagonal(c);
+  gpd::gp_refine_options opt;
+  opt.maxIterations = ForceOptions{}.maxIterations;
+  opt.angleTol = ForceOptions{}.angleTolerance;
+  opt.positionTol = ForceOptions{}.positionTolerance * diag;
   for (size_t i = 0; i < q.size(); ++i) {
     work->loaded = -1;
     const gpd::gp_refine_result h =
         gpd::gp_refine_newton(&mesh, work.get(), gpd::gp_v3(q[i].hip.x(), q[i].hip.y(), q[i].hip.z()), q[i].face,
-                              q[i].xi, q[i].eta, -1, ForceOptions{}.maxIterations, ForceOptions{}.angleTolerance);
+                              q[i].xi, q[i].eta, -1, &opt);
     EXPECT_LE((Eigen::Vector3d(h.scp.x, h.scp.y, h.scp.z) - g[i].scp).norm(), kTolD * diag) << i;
     EXPECT_EQ(h.face, g[i].face) << i;
     EXPECT_EQ(h.status, g[i].status) << i;
@@ -230,7 +258,10 @@ void expectJsonNear(const nlohmann::json& a, const nlohmann::json& b, double rel
                     int* compared) {
   if (a.is_number() && b.is_number()) {
     const double x = a.get<double>(), y = b.get<double>();
-    EXPECT_NEAR(x, y, rel * std::max({std::abs(x), std::abs(y), 1e-3})) << path;
+    // iteration counts: a refinement that ends right at the tolerance may take one more step on
+    // one side (the two agree to ~1e-14 of the diagonal): 1% on their mean
+    const double r = path.find("iterations") != std::string::npos ? std::max(rel, 1e-2) : rel;
+    EXPECT_NEAR(x, y, r * std::max({std::abs(x), std::abs(y), 1e-3})) << path;
     ++*compared;
   } else if (a.is_object() && b.is_object()) {
     for (auto it = a.begin(); it != a.end(); ++it) {
@@ -264,7 +295,7 @@ TEST_F(OpenCLRefine, SweepTbbAndOpenCLAgree) {
     d[b].trajectories.clear();  // CPU renderers on both backends
   }
   const double diag = boundingDiagonal(*cache);
-  size_t contactDiff = 0, faceDiff = 0, n = 0;
+  size_t contactDiff = 0, faceDiff = 0, n = 0, equidistant = 0;
   double maxScp = 0;
   const auto& r0 = d[0].results[0];
   const auto& r1 = d[1].results[0];
@@ -275,11 +306,25 @@ TEST_F(OpenCLRefine, SweepTbbAndOpenCLAgree) {
     if (!(r0[i].contact && r1[i].contact)) continue;
     ++n;
     faceDiff += r0[i].face != r1[i].face;
-    maxScp = std::max(maxScp, (Eigen::Vector3f(r0[i].scp) - Eigen::Vector3f(r1[i].scp)).norm() / diag);
+    const double d = (Eigen::Vector3f(r0[i].scp) - Eigen::Vector3f(r1[i].scp)).norm() / diag;
+    // two stationary points at the same distance from the HIP (a point of the medial axis): the
+    // last bits of the arithmetic pick one; |F| = k |SCP - HIP| then agrees to float rounding
+    const float f0 = Eigen::Vector3f(r0[i].force).norm(), f1 = Eigen::Vector3f(r1[i].force).norm();
+    if (d >= 1e-6 && std::getenv("SF_VERBOSE"))
+      std::printf("  HIP %zu: SCPs %.3g x diag apart, |F| %.9g / %.9g N, faces %d / %d, status %x / %x\n", i, d, f0, f1,
+                  r0[i].face, r1[i].face, r0[i].status, r1[i].status);
+    if (d >= 1e-6 && std::abs(f0 - f1) <= 1e-5f * std::max(f0, f1)) {
+      ++equidistant;
+      continue;
+    }
+    maxScp = std::max(maxScp, d);
   }
-  std::printf("  sweep tbb vs opencl: %zu HIPs, contact differs on %zu, face on %zu of %zu, max SCP diff %.3g x diag\n",
-              r0.size(), contactDiff, faceDiff, n, maxScp);
+  std::printf(
+      "  sweep tbb vs opencl: %zu HIPs, contact differs on %zu, face on %zu of %zu, max SCP diff %.3g x diag, "
+      "equidistant points %zu\n",
+      r0.size(), contactDiff, faceDiff, n, maxScp, equidistant);
   EXPECT_EQ(contactDiff, 0u);
+  EXPECT_LE(equidistant, r0.size() / 1000);
   EXPECT_LE(faceDiff, r0.size() / 500);  // ties on shared edges
   EXPECT_LT(maxScp, 1e-6);               // stored as float32
   int compared = 0;

@@ -67,8 +67,9 @@ TEST_F(SweepCli, MeshWithReferenceBuildsOnlyTouchedPatches) {
   ASSERT_EQ(run("generate sphere --segments 16 -o " + p("s.obj")).status, 0);
   std::ofstream(p("cap.obj")) << "v 0.2 0.2 0.98\nv -0.2 0.2 0.98\nv 0 -0.25 0.98\nf 1 2 3\n";
   ASSERT_EQ(run("cache build " + p("s.obj") + " --normals file -o " + p("s.sfcache")).status, 0);
+  // a skeleton's global query is the polygon start (lazy construction): the same on both sides
   const std::string common = " --sample-on reference --reference " + p("cap.obj") +
-                             " --depth 0.05 --samples 3000 --methods patch,direct --no-plots -o ";
+                             " --depth 0.05 --samples 3000 --methods patch,direct --initial-guess polygon --no-plots -o ";
   CliResult lazy = run("sweep --mesh " + p("s.obj") + " --normals file" + common + p("lazy"));
   ASSERT_EQ(lazy.status, 0) << lazy.out;
   std::smatch m;

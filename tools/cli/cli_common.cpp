@@ -25,6 +25,7 @@ void RefineArgs::apply(ForceOptions& o) const {
   auto given = [](const CLI::Option* opt) { return opt && opt->count() > 0; };
   if (given(refineOpt)) o.refine = parseRefineMethod(refine);
   if (given(tolOpt)) o.angleTolerance = angleTol;
+  if (given(posTolOpt)) o.positionTolerance = posTol;
   if (given(iterOpt)) o.maxIterations = maxIter;
   if (given(guessOpt)) o.initialGuess = parseInitialGuess(guess);
   if (given(levelOpt)) o.tessellationLevel = guessLevel;
@@ -44,14 +45,20 @@ void addRefineArgs(CLI::App& cmd, RefineArgs& a) {
                     ->capture_default_str();
   a.tolOpt =
       cmd.add_option("--angle-tol", a.angleTol, "refinement stops below this angle (rad)")->capture_default_str();
+  a.posTolOpt = cmd.add_option("--position-tol", a.posTol,
+                               "refinement also stops only when the SCP's tangential residual |(HIP - SCP) x n| is "
+                               "below this fraction of the bounding-box diagonal")
+                     ->capture_default_str();
   a.iterOpt = cmd.add_option("--max-iter", a.maxIter, "refinement iteration cap")->capture_default_str();
   a.guessOpt = cmd.add_option("--initial-guess", a.guess,
-                              "polygon|tessellation: start of refinement out of contact (nearest base-polygon point, "
-                              "or nearest vertex of a coarse patch tessellation)")
-                   ->check(CLI::IsMember({"polygon", "tessellation"}))
+                              "surface|polygon: the global query out of contact (the nearest point of the patch "
+                              "surface, contact when the HIP is inside it; or the paper's nearest base-polygon "
+                              "point, contact when below its patch's tangent plane)")
+                   ->check(CLI::IsMember({"surface", "polygon", "tessellation"}))
                    ->capture_default_str();
-  a.levelOpt = cmd.add_option("--guess-level", a.guessLevel, "tessellation level of --initial-guess tessellation")
-                   ->check(CLI::Range(1, 64))
+  a.levelOpt = cmd.add_option("--guess-level", a.guessLevel,
+                              "tessellation level of the patch surface for the global query (0: chosen)")
+                   ->check(CLI::Range(0, 64))
                    ->capture_default_str();
   a.precisionOpt = cmd.get_option_no_throw("--precision");
 }

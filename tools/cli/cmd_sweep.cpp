@@ -73,6 +73,7 @@ void sweepInputs(const SweepArgs& a, SweepInputs& in) {
   c.refine = toString(fo.refine);
   c.angleTolerance = fo.angleTolerance;
   c.maxIterations = fo.maxIterations;
+  c.positionTolerance = fo.positionTolerance;
   c.initialGuess = toString(fo.initialGuess);
   c.guessLevel = fo.tessellationLevel;
   c.preset = a.refine.preset;
