@@ -8,10 +8,10 @@
 #include <cstring>
 #include <vector>
 
-#include "cache_file.h"
+#include <smoothforce/patch/cache_file.h>
 #include "fuzz_common.h"
-#include "hash.h"
-#include "patch_eval.h"
+#include <smoothforce/base/hash.h>
+#include <smoothforce/patch/patch_eval.h>
 
 namespace {
 

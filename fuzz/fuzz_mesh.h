@@ -8,7 +8,7 @@
 #include <string_view>
 
 #include "fuzz_common.h"
-#include "mesh_io.h"
+#include <smoothforce/mesh/mesh_io.h>
 
 namespace sf::fuzz {
 

@@ -1,10 +1,10 @@
-#include "scripted.h"
+#include <smoothforce/runtime/scripted.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
-#include "mesh.h"
+#include <smoothforce/mesh/mesh.h>
 
 namespace sf::rt {
 namespace {

@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "mesh_pipeline.h"
-#include "patch_eval.h"
+#include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/patch/patch_eval.h>
 #include "ref_shapes.h"
-#include "topology.h"
+#include <smoothforce/mesh/topology.h>
 
 namespace sf::test {
 

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <numbers>
 
-#include "mesh_check.h"
-#include "mesh_io.h"
-#include "normals.h"
+#include <smoothforce/mesh/mesh_check.h>
+#include <smoothforce/mesh/mesh_io.h>
+#include <smoothforce/mesh/normals.h>
 
 namespace {
 

@@ -1,10 +1,10 @@
-#include "csv_reader.h"
+#include <smoothforce/base/csv_reader.h>
 
 #include <charconv>
 #include <cmath>
 #include <fstream>
 
-#include "mesh.h"
+#include <smoothforce/mesh/mesh.h>
 
 namespace sf {
 

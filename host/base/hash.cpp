@@ -1,4 +1,4 @@
-#include "hash.h"
+#include <smoothforce/base/hash.h>
 
 #include <xxhash.h>
 
@@ -6,7 +6,7 @@
 #include <fstream>
 #include <vector>
 
-#include "mesh.h"
+#include <smoothforce/mesh/mesh.h>
 
 namespace sf {
 

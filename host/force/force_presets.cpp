@@ -1,4 +1,4 @@
-#include "force_presets.h"
+#include <smoothforce/force/force_presets.h>
 
 namespace sf {
 

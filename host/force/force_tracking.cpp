@@ -1,14 +1,14 @@
 // The patch method: Algorithm 1 of Wu et al. over PolygonScene (global) and PatchRefiner (local).
-#include "force_tracking.h"
+#include <smoothforce/force/force_tracking.h>
 
 #include <cmath>
 #include <string>
 
-#include "embree_scene.h"
-#include "lazy_patches.h"
-#include "mean_value.h"
-#include "patch_refine.h"
-#include "patch_seeds.h"
+#include <smoothforce/query/embree_scene.h>
+#include <smoothforce/patch/lazy_patches.h>
+#include <smoothforce/query/mean_value.h>
+#include <smoothforce/query/patch_refine.h>
+#include <smoothforce/query/patch_seeds.h>
 
 namespace sf {
 

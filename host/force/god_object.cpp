@@ -1,10 +1,10 @@
-#include "god_object.h"
+#include <smoothforce/force/god_object.h>
 
 #include <Eigen/Dense>
 #include <cmath>
 
-#include "force_tracking.h"
-#include "mean_value.h"
+#include <smoothforce/force/force_tracking.h>
+#include <smoothforce/query/mean_value.h>
 
 namespace sf {
 

@@ -1,6 +1,6 @@
 // checkMesh: edges, manifoldness, duplicates, degeneracies, boundary loops, orientation,
 // components and signed volume of a polygon mesh; plus face flipping and orientation.
-#include "mesh_check.h"
+#include <smoothforce/mesh/mesh_check.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -8,7 +8,7 @@
 #include <map>
 #include <numeric>
 
-#include "normals.h"
+#include <smoothforce/mesh/normals.h>
 
 namespace sf {
 namespace {

@@ -1,5 +1,5 @@
 // readMesh: reads the file and dispatches to the OBJ, OFF or PLY reader by extension.
-#include "mesh_io.h"
+#include <smoothforce/mesh/mesh_io.h>
 
 #include <cctype>
 #include <filesystem>

@@ -10,7 +10,7 @@
 #include <string_view>
 #include <system_error>
 
-#include "mesh.h"
+#include <smoothforce/mesh/mesh.h>
 
 namespace sf::detail {
 

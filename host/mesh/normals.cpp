@@ -1,6 +1,6 @@
 // Vertex normals: file normals (per vertex or per corner), or angle- / area-weighted
 // averages of Newell face normals.
-#include "normals.h"
+#include <smoothforce/mesh/normals.h>
 
 #include <Eigen/Geometry>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "topology.h"
+#include <smoothforce/mesh/topology.h>
 
 #include <algorithm>
 #include <unordered_map>

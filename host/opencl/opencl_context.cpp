@@ -1,4 +1,4 @@
-#include "opencl_context.h"
+#include <smoothforce/opencl/opencl_context.h>
 
 #include <unistd.h>
 #include <xxhash.h>
@@ -12,7 +12,7 @@
 #include <iterator>
 #include <sstream>
 
-#include "hash.h"
+#include <smoothforce/base/hash.h>
 
 namespace sf {
 

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "opencl_backend.h"
-#include "opencl_context.h"
+#include <smoothforce/opencl/opencl_backend.h>
+#include <smoothforce/opencl/opencl_context.h>
 
 namespace sf::opencl_detail {
 

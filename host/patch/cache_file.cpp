@@ -1,4 +1,4 @@
-#include "cache_file.h"
+#include <smoothforce/patch/cache_file.h>
 
 #include <unistd.h>
 
@@ -10,7 +10,7 @@
 #include <fstream>
 #include <vector>
 
-#include "hash.h"
+#include <smoothforce/base/hash.h>
 
 namespace sf {
 

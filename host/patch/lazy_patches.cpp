@@ -1,9 +1,9 @@
 // Lazy patch construction with a bounded LRU set of faces.
-#include "lazy_patches.h"
+#include <smoothforce/patch/lazy_patches.h>
 
 #include <algorithm>
 
-#include "mesh.h"
+#include <smoothforce/mesh/mesh.h>
 
 namespace sf {
 

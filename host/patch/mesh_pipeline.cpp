@@ -1,7 +1,7 @@
-#include "mesh_pipeline.h"
+#include <smoothforce/patch/mesh_pipeline.h>
 
-#include "hash.h"
-#include "mesh_io.h"
+#include <smoothforce/base/hash.h>
+#include <smoothforce/mesh/mesh_io.h>
 
 namespace sf {
 

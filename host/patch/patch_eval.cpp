@@ -1,4 +1,4 @@
-#include "patch_eval.h"
+#include <smoothforce/patch/patch_eval.h>
 
 #include <tbb/blocked_range.h>
 #include <tbb/global_control.h>
@@ -10,7 +10,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "gp_traits.h"
+#include <smoothforce/patch/detail/gp_traits.h>
 
 namespace sf {
 

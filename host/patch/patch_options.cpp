@@ -1,6 +1,6 @@
-#include "patch_options.h"
+#include <smoothforce/patch/patch_options.h>
 
-#include "mesh.h"
+#include <smoothforce/mesh/mesh.h>
 
 namespace sf {
 

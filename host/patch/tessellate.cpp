@@ -1,4 +1,4 @@
-#include "tessellate.h"
+#include <smoothforce/patch/tessellate.h>
 
 #include <cstdio>
 #include <fstream>

@@ -1,7 +1,7 @@
 // The only file that calls Embree. Embree works in float: the user primitives' bounds are
 // padded so that BVH culling stays conservative for the double-precision queries, and the
 // query radius / ray tfar are only ever shrunk to values above the exact double result.
-#include "embree_scene.h"
+#include <smoothforce/query/embree_scene.h>
 
 #include <embree3/rtcore.h>
 

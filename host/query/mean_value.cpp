@@ -1,4 +1,4 @@
-#include "mean_value.h"
+#include <smoothforce/query/mean_value.h>
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "patch_refine.h"
+#include <smoothforce/query/patch_refine.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -6,10 +6,10 @@
 #include <limits>
 #include <numbers>
 
-#include "force_tracking.h"
-#include "gp_traits.h"
-#include "lazy_patches.h"
-#include "mean_value.h"
+#include <smoothforce/force/force_tracking.h>
+#include <smoothforce/patch/detail/gp_traits.h>
+#include <smoothforce/patch/lazy_patches.h>
+#include <smoothforce/query/mean_value.h>
 
 namespace sf {
 namespace {

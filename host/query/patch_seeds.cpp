@@ -1,12 +1,12 @@
-#include "patch_seeds.h"
+#include <smoothforce/query/patch_seeds.h>
 
 #include <algorithm>
 #include <string>
 
 #include "gp_config.h"
-#include "patch_eval.h"
-#include "sweep_knn.h"
-#include "tessellate.h"
+#include <smoothforce/patch/patch_eval.h>
+#include <smoothforce/query/point_index.h>
+#include <smoothforce/patch/tessellate.h>
 
 namespace sf {
 

@@ -1,4 +1,4 @@
-#include "sweep_knn.h"
+#include <smoothforce/query/point_index.h>
 
 #include <nanoflann.hpp>
 

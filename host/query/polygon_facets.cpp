@@ -1,4 +1,4 @@
-#include "polygon_facets.h"
+#include <smoothforce/query/polygon_facets.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>

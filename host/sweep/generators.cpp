@@ -1,4 +1,4 @@
-#include "generators.h"
+#include <smoothforce/sweep/generators.h>
 
 #include <Eigen/Geometry>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "sweep.h"
+#include <smoothforce/sweep/sweep.h>
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -10,7 +10,7 @@
 #include <cmath>
 #include <limits>
 
-#include "hash.h"
+#include <smoothforce/base/hash.h>
 
 namespace sf {
 

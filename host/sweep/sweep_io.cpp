@@ -1,4 +1,4 @@
-#include "sweep_io.h"
+#include <smoothforce/sweep/sweep_io.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -7,7 +7,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "force_method.h"
+#include <smoothforce/force/force_method.h>
 
 namespace sf {
 

@@ -1,4 +1,4 @@
-#include "sweep_metrics.h"
+#include <smoothforce/sweep/sweep_metrics.h>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -9,7 +9,7 @@
 #include <cmath>
 #include <limits>
 
-#include "sweep_knn.h"
+#include <smoothforce/query/point_index.h>
 
 namespace sf {
 

@@ -1,13 +1,13 @@
-#include "sweep_opencl.h"
+#include <smoothforce/sweep/sweep_opencl.h>
 
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <vector>
 
-#include "embree_scene.h"
-#include "force_tracking.h"
-#include "opencl_refine.h"
+#include <smoothforce/query/embree_scene.h>
+#include <smoothforce/force/force_tracking.h>
+#include <smoothforce/opencl/opencl_refine.h>
 
 namespace sf {
 

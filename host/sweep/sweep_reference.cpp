@@ -1,4 +1,4 @@
-#include "sweep_reference.h"
+#include <smoothforce/sweep/sweep_reference.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -7,10 +7,10 @@
 #include <numbers>
 #include <sstream>
 
-#include "generators.h"
-#include "mesh_io.h"
-#include "normals.h"
-#include "sweep_knn.h"
+#include <smoothforce/sweep/generators.h>
+#include <smoothforce/mesh/mesh_io.h>
+#include <smoothforce/mesh/normals.h>
+#include <smoothforce/query/point_index.h>
 
 namespace sf {
 

@@ -1,4 +1,4 @@
-#include "sweep_run.h"
+#include <smoothforce/sweep/sweep_run.h>
 
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -7,8 +7,8 @@
 #include <cmath>
 #include <filesystem>
 
-#include "hash.h"
-#include "sweep_opencl.h"
+#include <smoothforce/base/hash.h>
+#include <smoothforce/sweep/sweep_opencl.h>
 
 namespace sf {
 

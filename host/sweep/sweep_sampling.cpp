@@ -1,4 +1,4 @@
-#include "sweep_sampling.h"
+#include <smoothforce/sweep/sweep_sampling.h>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
@@ -9,9 +9,9 @@
 #include <sstream>
 
 #include "gp_config.h"
-#include "patch_eval.h"
-#include "patch_seeds.h"
-#include "tessellate.h"
+#include <smoothforce/patch/patch_eval.h>
+#include <smoothforce/query/patch_seeds.h>
+#include <smoothforce/patch/tessellate.h>
 
 namespace sf {
 

@@ -8,8 +8,8 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 
-#include "sweep_io.h"
-#include "sweep_metrics.h"
+#include <smoothforce/sweep/sweep_io.h>
+#include <smoothforce/sweep/sweep_metrics.h>
 
 namespace sf {
 

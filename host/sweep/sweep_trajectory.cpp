@@ -6,10 +6,10 @@
 #include <map>
 #include <unordered_map>
 
-#include "csv_reader.h"
-#include "patch_eval.h"
-#include "sweep_sampling.h"
-#include "tessellate.h"
+#include <smoothforce/base/csv_reader.h>
+#include <smoothforce/patch/patch_eval.h>
+#include <smoothforce/sweep/sweep_sampling.h>
+#include <smoothforce/patch/tessellate.h>
 
 namespace sf {
 

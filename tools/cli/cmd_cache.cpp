@@ -2,9 +2,9 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "cache_file.h"
+#include <smoothforce/patch/cache_file.h>
 #include "cli_common.h"
-#include "hash.h"
+#include <smoothforce/base/hash.h>
 
 namespace sf::cli {
 namespace {

@@ -3,7 +3,7 @@
 #include <cstdio>
 
 #include "cli_common.h"
-#include "csv_reader.h"
+#include <smoothforce/base/csv_reader.h>
 
 namespace sf::cli {
 namespace {

@@ -2,7 +2,7 @@
 #include <cstdio>
 
 #include "cli_common.h"
-#include "tessellate.h"
+#include <smoothforce/patch/tessellate.h>
 
 namespace sf::cli {
 

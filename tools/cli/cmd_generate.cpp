@@ -5,8 +5,8 @@
 #include <cstdlib>
 #include <memory>
 
-#include "generators.h"
-#include "sweep_sampling.h"
+#include <smoothforce/sweep/generators.h>
+#include <smoothforce/sweep/sweep_sampling.h>
 
 namespace sf::cli {
 

@@ -4,7 +4,7 @@
 
 #include <Eigen/Geometry>
 
-#include "force_method.h"
+#include <smoothforce/force/force_method.h>
 
 namespace sf::rt {
 

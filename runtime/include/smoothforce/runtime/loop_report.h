@@ -3,8 +3,8 @@
 
 #include <string>
 
-#include "safety.h"
-#include "servo_loop.h"
+#include <smoothforce/runtime/safety.h>
+#include <smoothforce/runtime/servo_loop.h>
 
 namespace sf::rt {
 

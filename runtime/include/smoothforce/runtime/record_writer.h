@@ -6,7 +6,7 @@
 #include <string>
 #include <thread>
 
-#include "servo_loop.h"
+#include <smoothforce/runtime/servo_loop.h>
 
 namespace sf::rt {
 

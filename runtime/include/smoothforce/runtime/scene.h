@@ -10,8 +10,8 @@
 #include <string_view>
 #include <vector>
 
-#include "force_method.h"
-#include "patch_cache.h"
+#include <smoothforce/force/force_method.h>
+#include <smoothforce/patch/patch_cache.h>
 
 namespace sf::rt {
 

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "device.h"
-#include "scene.h"
+#include <smoothforce/runtime/device.h>
+#include <smoothforce/runtime/scene.h>
 
 namespace sf::rt {
 

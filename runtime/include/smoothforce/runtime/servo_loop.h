@@ -4,12 +4,12 @@
 #include <atomic>
 #include <cstdint>
 
-#include "clock.h"
-#include "device.h"
-#include "force_method.h"
-#include "latency_histogram.h"
-#include "safety.h"
-#include "spsc_ring.h"
+#include <smoothforce/runtime/clock.h>
+#include <smoothforce/runtime/device.h>
+#include <smoothforce/force/force_method.h>
+#include <smoothforce/runtime/latency_histogram.h>
+#include <smoothforce/runtime/safety.h>
+#include <smoothforce/runtime/spsc_ring.h>
 
 namespace sf::rt {
 

@@ -6,7 +6,7 @@
 #include <memory>
 #include <string>
 
-#include "patch_cache.h"
+#include <smoothforce/patch/patch_cache.h>
 
 namespace sf {
 

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "force_method.h"
-#include "patch_options.h"
+#include <smoothforce/force/force_method.h>
+#include <smoothforce/patch/patch_options.h>
 
 namespace sf {
 

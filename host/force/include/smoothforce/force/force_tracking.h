@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <memory>
 
-#include "force_method.h"
-#include "patch_refine.h"
+#include <smoothforce/force/force_method.h>
+#include <smoothforce/query/patch_refine.h>
 
 namespace sf {
 

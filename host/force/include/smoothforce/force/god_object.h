@@ -4,8 +4,8 @@
 
 #include <memory>
 
-#include "embree_scene.h"
-#include "force_method.h"
+#include <smoothforce/query/embree_scene.h>
+#include <smoothforce/force/force_method.h>
 
 namespace sf {
 

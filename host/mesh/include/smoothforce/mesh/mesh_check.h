@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "mesh.h"
+#include <smoothforce/mesh/mesh.h>
 
 namespace sf {
 

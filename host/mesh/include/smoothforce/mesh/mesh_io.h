@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "mesh.h"
+#include <smoothforce/mesh/mesh.h>
 
 namespace sf {
 

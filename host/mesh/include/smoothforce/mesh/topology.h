@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "mesh.h"
+#include <smoothforce/mesh/mesh.h>
 
 namespace sf {
 

@@ -29,8 +29,8 @@
 #include <memory>
 #include <string>
 
-#include "patch_cache.h"
-#include "patch_eval.h"
+#include <smoothforce/patch/patch_cache.h>
+#include <smoothforce/patch/patch_eval.h>
 
 namespace sf {
 

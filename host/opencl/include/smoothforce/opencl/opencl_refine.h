@@ -15,10 +15,10 @@
 #include <memory>
 #include <string>
 
-#include "force_method.h"
-#include "opencl_backend.h"
-#include "patch_cache.h"
-#include "patch_refine.h"
+#include <smoothforce/force/force_method.h>
+#include <smoothforce/opencl/opencl_backend.h>
+#include <smoothforce/patch/patch_cache.h>
+#include <smoothforce/query/patch_refine.h>
 
 namespace sf {
 

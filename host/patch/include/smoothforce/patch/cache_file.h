@@ -5,7 +5,7 @@
 #include <optional>
 #include <string>
 
-#include "patch_cache.h"
+#include <smoothforce/patch/patch_cache.h>
 
 namespace sf {
 

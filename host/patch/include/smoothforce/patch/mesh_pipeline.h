@@ -4,9 +4,9 @@
 #include <string>
 #include <vector>
 
-#include "mesh.h"
-#include "mesh_check.h"
-#include "patch_cache.h"
+#include <smoothforce/mesh/mesh.h>
+#include <smoothforce/mesh/mesh_check.h>
+#include <smoothforce/patch/patch_cache.h>
 
 namespace sf {
 

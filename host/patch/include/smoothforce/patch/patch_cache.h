@@ -5,9 +5,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "mesh.h"
-#include "normals.h"
-#include "patch_options.h"
+#include <smoothforce/mesh/mesh.h>
+#include <smoothforce/mesh/normals.h>
+#include <smoothforce/patch/patch_options.h>
 
 namespace sf {
 

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "patch_cache.h"
-#include "patch_eval.h"
+#include <smoothforce/patch/patch_cache.h>
+#include <smoothforce/patch/patch_eval.h>
 
 namespace sf {
 

@@ -8,7 +8,7 @@
 #include <limits>
 #include <memory>
 
-#include "polygon_facets.h"
+#include <smoothforce/query/polygon_facets.h>
 
 namespace sf {
 

@@ -4,7 +4,7 @@
 
 #include <Eigen/Core>
 
-#include "polygon_facets.h"
+#include <smoothforce/query/polygon_facets.h>
 
 namespace sf {
 

@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "force_method.h"
-#include "patch_eval.h"
+#include <smoothforce/force/force_method.h>
+#include <smoothforce/patch/patch_eval.h>
 
 namespace sf {
 

@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "force_method.h"
-#include "sweep_reference.h"
-#include "sweep_sampling.h"
+#include <smoothforce/force/force_method.h>
+#include <smoothforce/sweep/sweep_reference.h>
+#include <smoothforce/sweep/sweep_sampling.h>
 
 namespace sf {
 

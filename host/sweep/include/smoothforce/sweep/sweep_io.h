@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "sweep.h"
+#include <smoothforce/sweep/sweep.h>
 
 namespace sf {
 

@@ -4,8 +4,8 @@
 
 #include <memory>
 
-#include "opencl_backend.h"
-#include "sweep.h"
+#include <smoothforce/opencl/opencl_backend.h>
+#include <smoothforce/sweep/sweep.h>
 
 namespace sf {
 

@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "opencl_backend.h"
-#include "sweep.h"
-#include "sweep_io.h"
+#include <smoothforce/opencl/opencl_backend.h>
+#include <smoothforce/sweep/sweep.h>
+#include <smoothforce/sweep/sweep_io.h>
 
 namespace sf {
 

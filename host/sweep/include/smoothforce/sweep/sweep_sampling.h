@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "patch_cache.h"
-#include "sweep_reference.h"
+#include <smoothforce/patch/patch_cache.h>
+#include <smoothforce/sweep/sweep_reference.h>
 
 namespace sf {
 

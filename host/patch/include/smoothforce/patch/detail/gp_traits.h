@@ -1,7 +1,7 @@
 // Picks the float or double instantiation of the shared patch math by type.
 #pragma once
 
-#include "gp_math.h"
+#include <smoothforce/patch/detail/gp_math.h>
 
 namespace sf {
 
