@@ -12,6 +12,7 @@
 #include "fuzz_common.h"
 #include <smoothforce/base/hash.h>
 #include <smoothforce/patch/patch_eval.h>
+#include "gp_config.h"  // GP_* status bits and record layout
 
 namespace {
 

@@ -9,6 +9,7 @@
 
 #include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/patch/patch_eval.h>
+#include "gp_config.h"  // GP_* status bits and record layout
 #include "ref_shapes.h"
 #include <smoothforce/mesh/topology.h>
 

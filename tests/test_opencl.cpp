@@ -21,6 +21,7 @@
 #include <smoothforce/opencl/opencl_backend.h>
 #include <smoothforce/opencl/opencl_context.h>
 #include <smoothforce/patch/patch_eval.h>
+#include "gp_config.h"  // GP_* status bits and record layout
 
 namespace {
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <fstream>
 
-#include <smoothforce/mesh/mesh.h>
+#include <smoothforce/base/error.h>
 
 namespace sf {
 

@@ -6,7 +6,7 @@
 #include <fstream>
 #include <vector>
 
-#include <smoothforce/mesh/mesh.h>
+#include <smoothforce/base/error.h>
 
 namespace sf {
 

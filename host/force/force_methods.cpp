@@ -15,18 +15,6 @@ ForceMethod parseForceMethod(const std::string& s) {
   throw InputError("force method: expected patch|direct|shading, got '" + s + "'");
 }
 
-RefineMethod parseRefineMethod(const std::string& s) {
-  if (s == "newton") return RefineMethod::Newton;
-  if (s == "paper") return RefineMethod::PaperDescent;
-  throw InputError("refinement: expected newton|paper, got '" + s + "'");
-}
-
-InitialGuess parseInitialGuess(const std::string& s) {
-  if (s == "polygon") return InitialGuess::Polygon;
-  if (s == "tessellation") return InitialGuess::Tessellation;
-  throw InputError("initial guess: expected polygon|tessellation, got '" + s + "'");
-}
-
 const char* toString(ForceMethod m) {
   switch (m) {
     case ForceMethod::Patch:
@@ -38,9 +26,6 @@ const char* toString(ForceMethod m) {
   }
   return "?";
 }
-
-const char* toString(RefineMethod m) { return m == RefineMethod::Newton ? "newton" : "paper"; }
-const char* toString(InitialGuess g) { return g == InitialGuess::Polygon ? "polygon" : "tessellation"; }
 
 std::unique_ptr<ForceRenderer> makeForceRenderer(std::shared_ptr<const PatchCache> cache,
                                                  std::shared_ptr<const PolygonScene> scene, ForceMethod method,

@@ -15,11 +15,7 @@ namespace sf {
 void validateForceOptions(const ForceOptions& o) {
   if (!(o.stiffness > 0) || !std::isfinite(o.stiffness))
     throw InputError("stiffness must be a finite value > 0 N/m, got " + std::to_string(o.stiffness));
-  if (!(o.angleTolerance > 0) || !std::isfinite(o.angleTolerance))
-    throw InputError("angleTolerance must be a finite value > 0 rad, got " + std::to_string(o.angleTolerance));
-  if (o.maxIterations < 1) throw InputError("maxIterations must be >= 1, got " + std::to_string(o.maxIterations));
-  if (o.tessellationLevel < 1 || o.tessellationLevel > 64)
-    throw InputError("tessellationLevel must be in 1..64, got " + std::to_string(o.tessellationLevel));
+  validateRefineOptions(o);
 }
 
 namespace {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include <smoothforce/base/hash.h>
+#include "gp_config.h"  // GP_* status bits and record layout
 
 namespace sf {
 

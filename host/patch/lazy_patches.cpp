@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include <smoothforce/mesh/mesh.h>
+#include "gp_config.h"  // GP_* status bits and record layout
 
 namespace sf {
 

@@ -2,6 +2,7 @@
 
 #include <smoothforce/base/hash.h>
 #include <smoothforce/mesh/mesh_io.h>
+#include "gp_config.h"  // GP_* status bits and record layout
 
 namespace sf {
 

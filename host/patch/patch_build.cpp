@@ -1,7 +1,7 @@
 // Patch construction on the CPU (serial and oneTBB).
 #include <tbb/blocked_range.h>
-#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <memory>
 
@@ -110,10 +110,12 @@ void buildAll(PatchCache& c, Backend backend, int threads) {
     for (int f = 0; f < nf; ++f) buildFace<Real>(c, f);
     return;
   }
-  std::unique_ptr<tbb::global_control> limit;
-  if (threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
-  tbb::parallel_for(tbb::blocked_range<int>(0, nf, 64), [&](const tbb::blocked_range<int>& r) {
-    for (int f = r.begin(); f != r.end(); ++f) buildFace<Real>(c, f);
+  // The thread limit applies to this call only (an arena), not to the host process's other TBB work.
+  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<int>(0, nf, 64), [&](const tbb::blocked_range<int>& r) {
+      for (int f = r.begin(); f != r.end(); ++f) buildFace<Real>(c, f);
+    });
   });
 }
 

@@ -1,8 +1,8 @@
 #include <smoothforce/patch/patch_eval.h>
 
 #include <tbb/blocked_range.h>
-#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <cmath>
 #include <memory>
@@ -80,10 +80,12 @@ void evaluatePatches(const PatchCache& cache, const int32_t* faces, const double
     for (size_t i = 0; i < count; ++i) one(i);
     return;
   }
-  std::unique_ptr<tbb::global_control> limit;
-  if (threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 256), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) one(i);
+  // The thread limit applies to this call only (an arena), not to the host process's other TBB work.
+  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 256), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i) one(i);
+    });
   });
 }
 

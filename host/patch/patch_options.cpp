@@ -1,8 +1,15 @@
 #include <smoothforce/patch/patch_options.h>
 
-#include <smoothforce/mesh/mesh.h>
+#include <smoothforce/base/error.h>
+
+#include "gp_config.h"
 
 namespace sf {
+
+static_assert(static_cast<int>(CrossTangentMode::Corrected) == GP_CT_CORRECTED &&
+                  static_cast<int>(CrossTangentMode::Paper) == GP_CT_PAPER &&
+                  static_cast<int>(CrossTangentMode::Blend) == GP_CT_BLEND,
+              "patch_options.h CrossTangentMode must equal gp_config.h GP_CT_*");
 
 Precision parsePrecision(const std::string& s) {
   if (s == "float") return Precision::Float;

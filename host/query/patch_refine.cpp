@@ -6,7 +6,7 @@
 #include <limits>
 #include <numbers>
 
-#include <smoothforce/force/force_tracking.h>
+#include <smoothforce/base/status.h>
 #include <smoothforce/patch/detail/gp_traits.h>
 #include <smoothforce/patch/lazy_patches.h>
 #include <smoothforce/query/mean_value.h>
@@ -245,7 +245,7 @@ void PatchRefiner::descentStep(Iterate& cur, const Eigen::Vector3d& hip, int& tr
 }
 
 RefineResult PatchRefiner::refine(const Eigen::Vector3d& hip, int face, double xi, double eta,
-                                  const ForceOptions& options) noexcept {
+                                  const RefineOptions& options) noexcept {
   RefineResult out;
   out.face = face;
   if (!hip.allFinite() || !evaluable(face) || !std::isfinite(xi) || !std::isfinite(eta)) {
@@ -295,7 +295,7 @@ RefineResult PatchRefiner::refine(const Eigen::Vector3d& hip, int face, double x
 }
 
 RefineResult refineNearestPoint(const PatchCache& cache, const Eigen::Vector3d& hip, int face, double xi, double eta,
-                                const ForceOptions& options) {
+                                const RefineOptions& options) {
   PatchRefiner r(cache);
   return r.refine(hip, face, xi, eta, options);
 }

@@ -4,6 +4,7 @@
 
 #include "cli_common.h"
 #include <smoothforce/base/csv_reader.h>
+#include "gp_config.h"  // GP_* status bits and record layout
 
 namespace sf::cli {
 namespace {

@@ -7,6 +7,7 @@
 #include <string>
 
 #include <smoothforce/patch/patch_cache.h>
+#include <smoothforce/query/refine_options.h>
 
 namespace sf {
 
@@ -15,31 +16,15 @@ namespace sf {
 /// shading: god-object position and depth, force direction from the normal interpolated
 ///          from vertex normals at the contact point (Morgenbesser & Srinivasan 1996).
 enum class ForceMethod { Patch, Direct, Shading };
-/// Refinement of the SCP on a patch (paper 4.2): the paper's descent with numerical
-/// differences and the Fig. 8 adaptive step, or Newton / Gauss-Newton on exact derivatives.
-enum class RefineMethod { PaperDescent, Newton };
-/// Where the patch method's global query starts refinement (out of contact): polygon = the
-/// nearest point of the base polygons (Embree) mapped to the domain by mean value coordinates
-/// (paper 4.1); tessellation = the nearest vertex of a level-L tessellation of the patches
-/// (k-d tree), which carries its (face, xi, eta). Used by ForceMethod::Patch only.
-enum class InitialGuess { Polygon, Tessellation };
-
-/// Parsers throw InputError naming the value.
+/// Parser throws InputError naming the value. (RefineMethod, InitialGuess: refine_options.h.)
 ForceMethod parseForceMethod(const std::string& s);
-RefineMethod parseRefineMethod(const std::string& s);
-InitialGuess parseInitialGuess(const std::string& s);
 const char* toString(ForceMethod m);
-const char* toString(RefineMethod m);
-const char* toString(InitialGuess g);
 
-/// Force rendering options. Units: metres, newtons, N/m, radians.
-struct ForceOptions {
+/// Force rendering options: the refinement options (refine, angleTolerance, maxIterations,
+/// initialGuess, tessellationLevel; refine_options.h) plus these. Units: metres, newtons,
+/// N/m, radians.
+struct ForceOptions : RefineOptions {
   double stiffness = 500.0;  ///< k in F = k (SCP - HIP), N/m; > 0
-  RefineMethod refine = RefineMethod::Newton;
-  double angleTolerance = 1e-5;  ///< stop when angle(G - HIP, normal) below this, rad
-  int maxIterations = 50;        ///< per refinement
-  InitialGuess initialGuess = InitialGuess::Polygon;
-  int tessellationLevel = 2;  ///< for InitialGuess::Tessellation: each polygon edge split in L, 1..64
   /// Lazy construction (the cache is a skeleton, preparePatchSkeleton): faces whose patches
   /// are held at once (LRU); <= 0: every face that is touched stays built.
   int patchCapacity = 256;
@@ -55,7 +40,7 @@ struct ForceSample {
   int face = -1;
   double xi = 0, eta = 0;
   int iterations = 0, transitions = 0;
-  uint32_t status = 0;  ///< GP_ST_* and SF_TRACK_* bits (force_tracking.h)
+  uint32_t status = 0;  ///< SF_ST_* (= GP_ST_*) and SF_TRACK_* bits (base/status.h)
 };
 
 /// A stateful contact tracker for one object (Algorithm 1): out of contact a global query

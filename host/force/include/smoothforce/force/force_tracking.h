@@ -1,11 +1,12 @@
-// Contact tracking on the Gregory patches (paper Algorithm 1) and the SF_TRACK_* status bits
-// that every force method adds to ForceSample::status.
+// Contact tracking on the Gregory patches (paper Algorithm 1). The SF_TRACK_* status bits
+// that every force method adds to ForceSample::status are in base/status.h (included here).
 #pragma once
 
 #include <Eigen/Core>
 #include <cstdint>
 #include <memory>
 
+#include <smoothforce/base/status.h>  // SF_TRACK_* bits
 #include <smoothforce/force/force_method.h>
 #include <smoothforce/query/patch_refine.h>
 
@@ -14,24 +15,7 @@ namespace sf {
 class PolygonScene;
 class PatchSeeds;
 
-/// SF_TRACK_* bits: 0x10000 .. 0x8000000, above the GP_ST_* bits (0x1 .. 0x200, gp_config.h),
-/// which ForceSample::status also carries (the patch's construction and evaluation bits).
-inline constexpr uint32_t SF_TRACK_CONVERGED = 0x10000u;      ///< refinement met angleTolerance
-inline constexpr uint32_t SF_TRACK_MAX_ITER = 0x20000u;       ///< refinement hit maxIterations
-inline constexpr uint32_t SF_TRACK_STALLED = 0x40000u;        ///< step shrank to nothing before the tolerance
-inline constexpr uint32_t SF_TRACK_BOUNDARY = 0x80000u;       ///< iterate held on a boundary / non-manifold edge
-inline constexpr uint32_t SF_TRACK_DEGENERATE = 0x100000u;    ///< patch not evaluable: polygon used instead
-inline constexpr uint32_t SF_TRACK_GLOBAL = 0x200000u;        ///< a global query ran this step (Embree, or the seeds)
-inline constexpr uint32_t SF_TRACK_ENTER = 0x400000u;         ///< contact began this step
-inline constexpr uint32_t SF_TRACK_LEAVE = 0x800000u;         ///< contact ended this step
-inline constexpr uint32_t SF_TRACK_NO_POLYGON = 0x1000000u;   ///< the mesh has no polygon
-inline constexpr uint32_t SF_TRACK_BAD_HIP = 0x2000000u;      ///< non-finite HIP: ignored, state reset
-inline constexpr uint32_t SF_TRACK_PROXY_LIMIT = 0x4000000u;  ///< god-object: > 3 constraints or pass limit
-inline constexpr uint32_t SF_TRACK_INSIDE = 0x8000000u;       ///< god-object: HIP inside, proxy on nearest point
-inline constexpr uint32_t SF_TRACK_MASK = 0xFFF0000u;
-
-/// Checks options (stiffness > 0, angleTolerance > 0, maxIterations >= 1, all finite,
-/// tessellationLevel in 1..64);
+/// Checks options (stiffness > 0 and finite, then validateRefineOptions);
 /// throws InputError naming the bad value.
 void validateForceOptions(const ForceOptions& options);
 

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include <smoothforce/base/error.h>  // InputError, thrown by every reader
+
 namespace sf {
 
 /// A polygon mesh in compressed-row form.
@@ -38,13 +40,6 @@ struct PolygonMesh {
     faceVertices.insert(faceVertices.end(), verts.begin(), verts.end());
     faceOffsets.push_back(static_cast<int32_t>(faceVertices.size()));
   }
-};
-
-/// Error in user input (a file, an option, an element). what() names the file and line
-/// (`path:line: message`) or the element (`face 12: ...`).
-class InputError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
 };
 
 }  // namespace sf

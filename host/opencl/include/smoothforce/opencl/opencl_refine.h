@@ -15,10 +15,10 @@
 #include <memory>
 #include <string>
 
-#include <smoothforce/force/force_method.h>
 #include <smoothforce/opencl/opencl_backend.h>
 #include <smoothforce/patch/patch_cache.h>
 #include <smoothforce/query/patch_refine.h>
+#include <smoothforce/query/refine_options.h>
 
 namespace sf {
 
@@ -38,7 +38,7 @@ struct RefineQuery {
 /// Errors: OpenCLError (opencl_context.h) naming the call, the error code and, for builds, the
 /// build log; "device X has no cl_khr_fp64; use --precision float" for a double cache on such
 /// a device; std::invalid_argument for a cache without records of its precision or options
-/// that ask for the paper's descent variant; InputError for invalid options (validateForceOptions).
+/// that ask for the paper's descent variant; InputError for invalid options (validateRefineOptions).
 class OpenCLRefiner {
  public:
   /// The cache must outlive the refiner (its bounding box and face sizes are read here).
@@ -51,7 +51,7 @@ class OpenCLRefiner {
   /// options) would return it (scp, normal, face, edge, xi, eta, distance, iterations,
   /// transitions, status = SF_TRACK_* | GP_ST_*); an unusable start gives SF_TRACK_DEGENERATE
   /// and zeros. options.angleTolerance (rad) and maxIterations are used; stiffness is not.
-  void refine(const RefineQuery* queries, size_t n, const ForceOptions& options, RefineResult* out);
+  void refine(const RefineQuery* queries, size_t n, const RefineOptions& options, RefineResult* out);
 
   Precision precision() const;
   std::string deviceName() const;
@@ -70,6 +70,6 @@ class OpenCLRefiner {
 
 /// One-shot wrapper (builds or loads the program, uploads the cache, refines once).
 void refineNearestPointsOpenCL(const PatchCache& cache, const RefineQuery* queries, size_t n,
-                               const ForceOptions& options, RefineResult* out, const OpenCLOptions& opt = {});
+                               const RefineOptions& options, RefineResult* out, const OpenCLOptions& opt = {});
 
 }  // namespace sf

@@ -3,16 +3,15 @@
 
 #include <string>
 
-#include "gp_config.h"
-
 namespace sf {
 
 /// Floating-point type of the patch records and of evaluation.
 enum class Precision { Float, Double };
 /// Cross-tangent construction (design page "Robustness"): Corrected (default: guard +
 /// corner-compatibility correction, G1), Paper (Eq. 11-14 as printed), Blend (cheaper:
-/// q = (1-t) d0 + t d1). Values equal the GP_CT_* codes of the shared math.
-enum class CrossTangentMode : int { Corrected = GP_CT_CORRECTED, Paper = GP_CT_PAPER, Blend = GP_CT_BLEND };
+/// q = (1-t) d0 + t d1). Values equal the GP_CT_* codes of the shared math (asserted in
+/// patch_options.cpp).
+enum class CrossTangentMode : int { Corrected = 0, Paper = 1, Blend = 2 };
 /// Where construction and evaluation run.
 enum class Backend { Serial, Tbb, OpenCL };
 

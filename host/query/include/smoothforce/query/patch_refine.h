@@ -6,15 +6,15 @@
 #include <cstdint>
 #include <vector>
 
-#include <smoothforce/force/force_method.h>
 #include <smoothforce/patch/patch_eval.h>
+#include <smoothforce/query/refine_options.h>
 
 namespace sf {
 
 class LazyPatches;
 
 /// The refined surface contact point. status: the final point's GP_ST_* bits (evaluation |
-/// face construction) and SF_TRACK_* bits (force_tracking.h): CONVERGED, MAX_ITER, STALLED,
+/// face construction) and SF_TRACK_* bits (base/status.h): CONVERGED, MAX_ITER, STALLED,
 /// BOUNDARY, DEGENERATE.
 struct RefineResult {
   Eigen::Vector3d scp{0, 0, 0};     ///< m, G(xi, eta) on `face`
@@ -58,7 +58,7 @@ class PatchRefiner {
   explicit PatchRefiner(const PatchCache& cache, LazyPatches* lazy = nullptr);
   /// Refines from (face, xi, eta) (clamped into the domain) towards the point nearest `hip`.
   RefineResult refine(const Eigen::Vector3d& hip, int face, double xi, double eta,
-                      const ForceOptions& options) noexcept;
+                      const RefineOptions& options) noexcept;
   /// True when face f's patch can be evaluated (built, n <= GP_MAX_N, finite input).
   bool evaluable(int f) const noexcept;
   /// One evaluation through the refiner's record buffer (same values as evaluatePatch).
@@ -109,6 +109,6 @@ class PatchRefiner {
 
 /// One-shot refinement (allocates a PatchRefiner).
 RefineResult refineNearestPoint(const PatchCache& cache, const Eigen::Vector3d& hip, int face, double xi, double eta,
-                                const ForceOptions& options = {});
+                                const RefineOptions& options = {});
 
 }  // namespace sf
