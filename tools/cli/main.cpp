@@ -3,6 +3,9 @@
 #include <exception>
 #include <new>
 
+#include <smoothforce/config.h>
+#include <smoothforce/version.h>
+
 #include "cli_common.h"
 #include "cmd_generate.h"
 #include "cmd_loop.h"
@@ -12,7 +15,9 @@
 int main(int argc, char** argv) {
   CLI::App app{"SmoothForce: smooth haptic force on coarse polygon meshes (n-sided Gregory patches)"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "smoothforce 0.1.0");
+  app.set_version_flag("--version", SF_HAS_OPENCL ? "smoothforce " SF_VERSION_STRING
+                                                  : "smoothforce " SF_VERSION_STRING
+                                                    " (CPU-only: built without OpenCL)");
   sf::cli::addCacheCommands(app);
   sf::cli::addEvalCommand(app);
   sf::cli::addExportCommand(app);
