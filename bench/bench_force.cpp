@@ -13,11 +13,11 @@
 #include <memory>
 #include <random>
 
-#include "bench_common.h"
-#include <smoothforce/query/embree_scene.h>
 #include <smoothforce/force/force_method.h>
 #include <smoothforce/force/force_tracking.h>
 #include <smoothforce/mesh/topology.h>
+#include <smoothforce/query/embree_scene.h>
+#include "bench_common.h"
 
 namespace {
 

@@ -11,8 +11,8 @@
 #include <map>
 #include <memory>
 
-#include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/opencl/opencl_backend.h>
+#include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/sweep/sweep.h>
 #include <smoothforce/sweep/sweep_opencl.h>
 

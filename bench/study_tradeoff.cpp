@@ -32,14 +32,14 @@
 #include <string>
 #include <vector>
 
-#include <smoothforce/query/embree_scene.h>
 #include <smoothforce/force/force_tracking.h>
-#include <smoothforce/sweep/generators.h>
-#include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/mesh/normals.h>
+#include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/patch/patch_eval.h>
+#include <smoothforce/query/embree_scene.h>
 #include <smoothforce/query/patch_refine.h>
 #include <smoothforce/query/patch_seeds.h>
+#include <smoothforce/sweep/generators.h>
 #include <smoothforce/sweep/sweep_sampling.h>
 
 namespace {

@@ -7,8 +7,8 @@
 #include <cstdint>
 #include <string_view>
 
-#include "fuzz_common.h"
 #include <smoothforce/mesh/mesh_io.h>
+#include "fuzz_common.h"
 
 namespace sf::fuzz {
 

@@ -7,8 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include <smoothforce/patch/cache_file.h>
 #include <smoothforce/force/force_presets.h>
+#include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/mesh_pipeline.h>
 
 namespace sf::rt {

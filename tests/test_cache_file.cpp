@@ -7,8 +7,8 @@
 
 #include <unistd.h>
 
-#include <smoothforce/patch/cache_file.h>
 #include <smoothforce/base/hash.h>
+#include <smoothforce/patch/cache_file.h>
 #include "patch_test_support.h"
 
 namespace sf {

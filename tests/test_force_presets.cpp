@@ -11,13 +11,13 @@
 #include <fstream>
 #include <memory>
 
-#include "cli_test_support.h"
 #include <smoothforce/base/csv_reader.h>
-#include <smoothforce/query/embree_scene.h>
 #include <smoothforce/force/force_presets.h>
 #include <smoothforce/force/force_tracking.h>
 #include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/query/embree_scene.h>
 #include <smoothforce/sweep/sweep_sampling.h>
+#include "cli_test_support.h"
 
 namespace sf {
 namespace {

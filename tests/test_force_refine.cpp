@@ -4,8 +4,8 @@
 
 #include <random>
 
-#include <smoothforce/query/embree_scene.h>
 #include <smoothforce/force/force_tracking.h>
+#include <smoothforce/query/embree_scene.h>
 #include <smoothforce/query/mean_value.h>
 #include <smoothforce/query/patch_refine.h>
 #include "patch_test_support.h"

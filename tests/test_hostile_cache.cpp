@@ -10,8 +10,8 @@
 #include <fstream>
 #include <limits>
 
-#include <smoothforce/patch/cache_file.h>
 #include <smoothforce/base/hash.h>
+#include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/patch_eval.h>
 #include "patch_test_support.h"
 #include "test_hostile_support.h"

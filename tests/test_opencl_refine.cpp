@@ -12,14 +12,14 @@
 #include <nlohmann/json.hpp>
 #include <random>
 
-#include <smoothforce/query/embree_scene.h>
 #include <smoothforce/force/force_tracking.h>
-#include <smoothforce/patch/detail/gp_math.h>
-#include <smoothforce/query/mean_value.h>
 #include <smoothforce/opencl/opencl_refine.h>
-#include "patch_test_support.h"
+#include <smoothforce/patch/detail/gp_math.h>
+#include <smoothforce/query/embree_scene.h>
+#include <smoothforce/query/mean_value.h>
 #include <smoothforce/sweep/sweep_io.h>
 #include <smoothforce/sweep/sweep_run.h>
+#include "patch_test_support.h"
 
 namespace sf {
 namespace {

@@ -5,8 +5,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include <smoothforce/runtime/analytic_renderers.h>
 #include <smoothforce/mesh/mesh.h>
+#include <smoothforce/runtime/analytic_renderers.h>
 #include <smoothforce/runtime/scripted.h>
 
 namespace {

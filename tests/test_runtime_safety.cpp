@@ -5,8 +5,8 @@
 #include <functional>
 #include <limits>
 
-#include <smoothforce/runtime/clock.h>
 #include <smoothforce/mesh/mesh.h>
+#include <smoothforce/runtime/clock.h>
 #include <smoothforce/runtime/safety.h>
 #include <smoothforce/runtime/servo_loop.h>
 

@@ -5,10 +5,10 @@
 #include <filesystem>
 #include <fstream>
 
-#include <smoothforce/runtime/analytic_renderers.h>
-#include <smoothforce/patch/cache_file.h>
 #include <smoothforce/force/force_presets.h>
+#include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/runtime/analytic_renderers.h>
 #include <smoothforce/runtime/scene.h>
 
 namespace {

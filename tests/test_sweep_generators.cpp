@@ -9,10 +9,10 @@
 #include <map>
 #include <numbers>
 
-#include <smoothforce/sweep/generators.h>
 #include <smoothforce/mesh/mesh_io.h>
-#include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/mesh/normals.h>
+#include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/sweep/generators.h>
 #include <smoothforce/sweep/sweep_reference.h>
 
 namespace sf {

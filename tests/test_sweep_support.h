@@ -7,9 +7,9 @@
 #include <string>
 
 #include <smoothforce/force/force_method.h>
-#include <smoothforce/sweep/generators.h>
 #include <smoothforce/mesh/normals.h>
 #include <smoothforce/patch/patch_cache.h>
+#include <smoothforce/sweep/generators.h>
 
 namespace sf::sweeptest {
 

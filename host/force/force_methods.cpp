@@ -1,10 +1,10 @@
 // Parsing and naming of the force methods, and the renderer factory.
 #include <string>
 
-#include <smoothforce/query/embree_scene.h>
 #include <smoothforce/force/force_method.h>
 #include <smoothforce/force/force_tracking.h>
 #include <smoothforce/force/god_object.h>
+#include <smoothforce/query/embree_scene.h>
 
 namespace sf {
 

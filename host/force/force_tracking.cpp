@@ -4,8 +4,8 @@
 #include <cmath>
 #include <string>
 
-#include <smoothforce/query/embree_scene.h>
 #include <smoothforce/patch/lazy_patches.h>
+#include <smoothforce/query/embree_scene.h>
 #include <smoothforce/query/mean_value.h>
 #include <smoothforce/query/patch_refine.h>
 #include <smoothforce/query/patch_seeds.h>

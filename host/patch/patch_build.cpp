@@ -5,9 +5,9 @@
 
 #include <memory>
 
+#include <smoothforce/mesh/topology.h>
 #include <smoothforce/patch/detail/gp_traits.h>
 #include <smoothforce/patch/patch_cache.h>
-#include <smoothforce/mesh/topology.h>
 
 namespace sf {
 

@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <string>
 
-#include "gp_config.h"
 #include <smoothforce/patch/patch_eval.h>
-#include <smoothforce/query/point_index.h>
 #include <smoothforce/patch/tessellate.h>
+#include <smoothforce/query/point_index.h>
+#include "gp_config.h"
 
 namespace sf {
 

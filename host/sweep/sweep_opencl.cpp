@@ -5,9 +5,9 @@
 #include <algorithm>
 #include <vector>
 
-#include <smoothforce/query/embree_scene.h>
 #include <smoothforce/force/force_tracking.h>
 #include <smoothforce/opencl/opencl_refine.h>
+#include <smoothforce/query/embree_scene.h>
 
 namespace sf {
 

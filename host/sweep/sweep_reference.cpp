@@ -7,10 +7,10 @@
 #include <numbers>
 #include <sstream>
 
-#include <smoothforce/sweep/generators.h>
 #include <smoothforce/mesh/mesh_io.h>
 #include <smoothforce/mesh/normals.h>
 #include <smoothforce/query/point_index.h>
+#include <smoothforce/sweep/generators.h>
 
 namespace sf {
 

@@ -8,10 +8,10 @@
 #include <random>
 #include <sstream>
 
-#include "gp_config.h"
 #include <smoothforce/patch/patch_eval.h>
-#include <smoothforce/query/patch_seeds.h>
 #include <smoothforce/patch/tessellate.h>
+#include <smoothforce/query/patch_seeds.h>
+#include "gp_config.h"
 
 namespace sf {
 

@@ -8,8 +8,8 @@
 
 #include <smoothforce/base/csv_reader.h>
 #include <smoothforce/patch/patch_eval.h>
-#include <smoothforce/sweep/sweep_sampling.h>
 #include <smoothforce/patch/tessellate.h>
+#include <smoothforce/sweep/sweep_sampling.h>
 
 namespace sf {
 

@@ -2,9 +2,9 @@
 
 #include <chrono>
 
-#include <smoothforce/patch/cache_file.h>
 #include <smoothforce/force/force_presets.h>
 #include <smoothforce/opencl/opencl_backend.h>
+#include <smoothforce/patch/cache_file.h>
 
 namespace sf::cli {
 

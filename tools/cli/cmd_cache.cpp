@@ -2,9 +2,9 @@
 #include <cstdio>
 #include <filesystem>
 
+#include <smoothforce/base/hash.h>
 #include <smoothforce/patch/cache_file.h>
 #include "cli_common.h"
-#include <smoothforce/base/hash.h>
 
 namespace sf::cli {
 namespace {

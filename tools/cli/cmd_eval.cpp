@@ -2,8 +2,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "cli_common.h"
 #include <smoothforce/base/csv_reader.h>
+#include "cli_common.h"
 #include "gp_config.h"  // GP_* status bits and record layout
 
 namespace sf::cli {

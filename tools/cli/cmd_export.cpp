@@ -1,8 +1,8 @@
 // `smoothforce export MESH|CACHE --level L -o OUT.obj|OUT.ply`
 #include <cstdio>
 
-#include "cli_common.h"
 #include <smoothforce/patch/tessellate.h>
+#include "cli_common.h"
 
 namespace sf::cli {
 

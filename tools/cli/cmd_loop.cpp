@@ -12,15 +12,15 @@
 #include <cstdio>
 #include <memory>
 
-#include <smoothforce/patch/cache_file.h>
-#include "cli_common.h"
 #include <smoothforce/force/force_tracking.h>
-#include <smoothforce/runtime/loop_report.h>
+#include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/runtime/loop_report.h>
 #include <smoothforce/runtime/record_writer.h>
 #include <smoothforce/runtime/scene.h>
 #include <smoothforce/runtime/scripted.h>
 #include <smoothforce/runtime/servo_loop.h>
+#include "cli_common.h"
 
 namespace sf::cli {
 namespace {

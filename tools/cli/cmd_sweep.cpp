@@ -14,12 +14,12 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include <smoothforce/patch/cache_file.h>
-#include "cli_common.h"
 #include <smoothforce/force/force_tracking.h>
+#include <smoothforce/patch/cache_file.h>
+#include <smoothforce/sweep/sweep_run.h>
+#include "cli_common.h"
 #include "sweep_progress.h"
 #include "sweep_report.h"
-#include <smoothforce/sweep/sweep_run.h>
 
 namespace sf::cli {
 

@@ -10,11 +10,11 @@
 #include <sstream>
 #include <string_view>
 
-#include <smoothforce/patch/cache_file.h>
-#include "cli_common.h"
-#include <smoothforce/query/embree_scene.h>
 #include <smoothforce/force/force_method.h>
 #include <smoothforce/force/force_tracking.h>
+#include <smoothforce/patch/cache_file.h>
+#include <smoothforce/query/embree_scene.h>
+#include "cli_common.h"
 
 namespace sf::cli {
 namespace {

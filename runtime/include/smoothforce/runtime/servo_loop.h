@@ -4,9 +4,9 @@
 #include <atomic>
 #include <cstdint>
 
+#include <smoothforce/force/force_method.h>
 #include <smoothforce/runtime/clock.h>
 #include <smoothforce/runtime/device.h>
-#include <smoothforce/force/force_method.h>
 #include <smoothforce/runtime/latency_histogram.h>
 #include <smoothforce/runtime/safety.h>
 #include <smoothforce/runtime/spsc_ring.h>

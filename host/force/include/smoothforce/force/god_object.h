@@ -4,8 +4,8 @@
 
 #include <memory>
 
-#include <smoothforce/query/embree_scene.h>
 #include <smoothforce/force/force_method.h>
+#include <smoothforce/query/embree_scene.h>
 
 namespace sf {
 
