@@ -16,11 +16,11 @@
 #include <string>
 #include <vector>
 
+#include <smoothforce/mesh/mesh_io.h>
+#include <smoothforce/mesh/normals.h>
+#include <smoothforce/opencl/opencl_backend.h>
+#include <smoothforce/patch/patch_eval.h>
 #include "gp_config.h"
-#include "mesh_io.h"
-#include "normals.h"
-#include "opencl_backend.h"
-#include "patch_eval.h"
 
 // ---------------------------------------------------------------- counting instantiation
 // The shared math (gp_vec.h, gp_edge.h, gp_eval.h) once more, with GP_REAL a scalar that
