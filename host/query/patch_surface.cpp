@@ -2,7 +2,7 @@
 // queries on the adaptive triangles, boxes inflated by their error bounds, our exact
 // double-precision point-triangle distance), the error-band test and the winding number (rays on
 // the uniform, closed tessellation, crossings counted in an intersection filter).
-#include "patch_surface.h"
+#include <smoothforce/query/patch_surface.h>
 
 #include <embree3/rtcore.h>
 #include <Eigen/Geometry>

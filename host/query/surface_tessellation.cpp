@@ -6,9 +6,9 @@
 #include <cmath>
 #include <limits>
 
+#include <smoothforce/patch/patch_eval.h>
+#include <smoothforce/patch/tessellate.h>
 #include "gp_config.h"
-#include "patch_eval.h"
-#include "tessellate.h"
 
 namespace sf {
 namespace {

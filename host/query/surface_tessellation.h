@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "patch_cache.h"
+#include <smoothforce/patch/patch_cache.h>
 
 namespace sf {
 

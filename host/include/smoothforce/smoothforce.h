@@ -31,6 +31,7 @@
 #include <smoothforce/query/mean_value.h>
 #include <smoothforce/query/patch_refine.h>
 #include <smoothforce/query/patch_seeds.h>
+#include <smoothforce/query/patch_surface.h>
 #include <smoothforce/query/point_index.h>
 #include <smoothforce/query/polygon_facets.h>
 #include <smoothforce/query/refine_options.h>

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "safety.h"
+#include <smoothforce/runtime/safety.h>
 
 namespace sf::rt {
 

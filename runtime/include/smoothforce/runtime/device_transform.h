@@ -4,7 +4,7 @@
 #include <Eigen/Core>
 #include <string>
 
-#include "pose.h"
+#include <smoothforce/runtime/pose.h>
 
 namespace sf::rt {
 

@@ -8,13 +8,13 @@
 #include <limits>
 #include <memory>
 
-#include "clock.h"
-#include "device.h"
-#include "device_transform.h"
-#include "force_method.h"
-#include "latency_histogram.h"
-#include "safety.h"
-#include "spsc_ring.h"
+#include <smoothforce/force/force_method.h>
+#include <smoothforce/runtime/clock.h>
+#include <smoothforce/runtime/device.h>
+#include <smoothforce/runtime/device_transform.h>
+#include <smoothforce/runtime/latency_histogram.h>
+#include <smoothforce/runtime/safety.h>
+#include <smoothforce/runtime/spsc_ring.h>
 
 namespace sf::rt {
 

@@ -8,9 +8,9 @@
 #include <string>
 #include <thread>
 
-#include "device.h"
-#include "seqlock.h"
-#include "udp_packet.h"
+#include <smoothforce/runtime/device.h>
+#include <smoothforce/runtime/seqlock.h>
+#include <smoothforce/runtime/udp_packet.h>
 
 namespace sf::rt {
 

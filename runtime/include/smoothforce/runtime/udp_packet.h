@@ -5,7 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "device.h"
+#include <smoothforce/runtime/device.h>
 
 namespace sf::rt {
 
