@@ -56,8 +56,10 @@ case $cmd in
         [[ -f $lib/libsmoothforce_$m.a ]] || fail "missing $lib/libsmoothforce_$m.a"
       fi
     done
-    # Private and in-tree-only headers stay out: detail/, mesh_io_detail.h, opencl_program.h, kernels/.
-    bad=$(find "$prefix/include" \( -name detail -o -name 'mesh_io_detail.h' -o -name 'opencl_program.h' \
+    # Private and in-tree-only headers stay out: detail/, mesh_io_detail.h, surface_tessellation.h,
+    # opencl_program.h, kernels/.
+    bad=$(find "$prefix/include" \( -name detail -o -name 'mesh_io_detail.h' -o -name 'surface_tessellation.h' \
+      -o -name 'opencl_program.h' \
       -o -name 'gp_*.h' -o -name '*.cl' -o -name 'sf_kernel_sources.h' \) -print)
     [[ -z $bad ]] || fail "private headers installed: $bad"
     if [[ $SF_HAS_OPENCL == 0 && -e $prefix/include/smoothforce/opencl/opencl_context.h ]]; then
