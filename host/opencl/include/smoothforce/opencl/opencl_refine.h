@@ -50,7 +50,8 @@ class OpenCLRefiner {
   /// queries, out: n each. out[i] as PatchRefiner::refine(queries[i].hip, face, xi, eta,
   /// options) would return it (scp, normal, face, edge, xi, eta, distance, iterations,
   /// transitions, status = SF_TRACK_* | GP_ST_*); an unusable start gives SF_TRACK_DEGENERATE
-  /// and zeros. options.angleTolerance (rad) and maxIterations are used; stiffness is not.
+  /// and zeros. options.angleTolerance (rad), positionTolerance and maxIterations are used; refine
+  /// must be Newton.
   void refine(const RefineQuery* queries, size_t n, const RefineOptions& options, RefineResult* out);
 
   Precision precision() const;
