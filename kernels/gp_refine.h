@@ -343,6 +343,8 @@ GP_FN void gp_rf_move(const gp_refine_mesh* m, gp_refine_work* w, int* f, GP_REA
 #define GP_RF_STEP_OK 0
 #define GP_RF_STEP_STALLED 1
 #define GP_RF_STEP_KKT 2 /* held at a corner of a boundary edge that the step pushes against */
+#undef GP_RF_STEP_HELD
+#define GP_RF_STEP_HELD 3 /* moved onto an edge it cannot cross, without moving on the surface */
 
 /* One trust-region step from *cur (see the file comment); D: the radius (m), updated. */
 GP_FN int gp_rf_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* cur, gp_vec3 hip, GP_REAL* D,
@@ -402,7 +404,7 @@ GP_FN int gp_rf_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* 
         *cur = held;
         *transitions += tr;
         *status = (*status & ~(GP_TRACK_BOUNDARY | GP_TRACK_FOLD_EDGE)) | st;
-        return GP_RF_STEP_OK;
+        return GP_RF_STEP_HELD;
       }
       return GP_RF_STEP_STALLED;
     }
@@ -491,13 +493,30 @@ GP_FN gp_refine_result gp_refine_newton(const gp_refine_mesh* m, gp_refine_work*
     const int twin = m->slotTwin[m->faceOffsets[face] + cur.edge];
     status = twin >= 0 && gp_rf_evaluable(m, gp_rf_slot_face(m, twin)) ? GP_TRACK_FOLD_EDGE : GP_TRACK_BOUNDARY;
   }
-  int conv = 0, stalled = 0, it = 0;
+  int conv = 0, stalled = 0, it = 0, idle = 0;
+  gp_rf_iterate best = cur; /* the nearest iterate so far */
   for (; it < o->maxIterations; ++it) {
     if ((conv = gp_rf_converged(m, &cur, hip, o))) break;
     const int s = gp_rf_step(m, w, &cur, hip, &D, Dmax, &out.transitions, &status);
     if (s == GP_RF_STEP_KKT) {
       conv = 1;
       break;
+    }
+    /* held on edges it cannot cross where they meet (a vertex on a fold or a boundary), the
+     * iterate can circle between them without getting nearer: after 6 steps without a decrease
+     * beyond the noise of f, the best point is a stationary point of the constrained problem */
+    const GP_REAL noise =
+        GP_R(16.0) * GP_EPS * (gp_rf_mag(hip) + gp_rf_mag(best.p.pos)) * GP_SQRT(GP_R(2.0) * best.f);
+    if (cur.f < best.f - noise) {
+      best = cur;
+      idle = 0;
+    } else {
+      if (cur.f < best.f) best = cur;
+      if (++idle >= 6 && (best.edge >= 0 || cur.edge >= 0) && s != GP_RF_STEP_STALLED) {
+        cur = best;
+        conv = 1;
+        break;
+      }
     }
     stalled = s == GP_RF_STEP_STALLED;
     if (stalled) break;

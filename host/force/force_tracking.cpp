@@ -170,8 +170,10 @@ bool insidePatchSurface(const PatchSurface& surface, const Eigen::Vector3d& hip,
   if (!surface.closed()) return below && !(q.nearest.status & SF_TRACK_BOUNDARY);
   // the side of the nearest point decides, unless the winding number is reliable here (outside every
   // error band) or a refined point about as near sees the other side (overlapping or folded patches)
-  const bool conflict = below ? q.anyAbove && q.nearestAbove <= kConflict * q.nearest.distance
-                              : q.anyBelow && q.nearestBelow.distance <= kConflict * q.nearest.distance;
+  // (a nearest point held on a fold edge has two sides by itself: the two faces disagree there)
+  const bool conflict = (q.nearest.status & SF_TRACK_FOLD_EDGE) ||
+                        (below ? q.anyAbove && q.nearestAbove <= kConflict * q.nearest.distance
+                               : q.anyBelow && q.nearestBelow.distance <= kConflict * q.nearest.distance);
   const bool useWinding = conflict || !surface.inErrorBand(hip);
   const bool inside = useWinding ? surface.winding(hip) >= 1 : below;
   if (inside && scp && q.anyBelow) *scp = q.nearestBelow;
