@@ -21,6 +21,7 @@ namespace {
 
 constexpr char kHipMagic[8] = {'S', 'F', 'S', 'W', 'H', 'I', 'P', '1'};
 constexpr char kResMagic[8] = {'S', 'F', 'S', 'W', 'R', 'E', 'S', '1'};
+constexpr char kNrmMagic[8] = {'S', 'F', 'S', 'W', 'N', 'R', 'M', '1'};
 
 ojson configJson(const SweepConfig& c) {
   return ojson{{"source", c.source},
@@ -252,6 +253,12 @@ void SweepWriter::write(const SweepData& d) {
     xyz.reserve(3 * d.hips.size());
     for (const auto& h : d.hips) xyz.insert(xyz.end(), {h.x(), h.y(), h.z()});
     writeBlock(dir_ + "/hips.bin", kHipMagic, d.begin, d.end, config, xyz.data(), xyz.size() * sizeof(double));
+    if (d.normals.size() == d.hips.size() && !d.normals.empty()) {
+      std::vector<double> nrm;
+      nrm.reserve(3 * d.normals.size());
+      for (const auto& v : d.normals) nrm.insert(nrm.end(), {v.x(), v.y(), v.z()});
+      writeBlock(dir_ + "/normals.bin", kNrmMagic, d.begin, d.end, config, nrm.data(), nrm.size() * sizeof(double));
+    }
   }
   const std::vector<uint64_t> done = d.doneCounts();
   for (size_t m = 0; m < d.config.methods.size(); ++m)
@@ -323,6 +330,10 @@ SweepData readSweepData(const std::string& dir) {
   const uint64_t config = sweepConfigHash(d.config);
   const auto xyz = readBlock<double>(dir + "/hips.bin", kHipMagic, d.begin, d.end, config, 3);
   for (size_t i = 0; i < xyz.size(); i += 3) d.hips.emplace_back(xyz[i], xyz[i + 1], xyz[i + 2]);
+  if (fs::exists(dir + "/normals.bin")) {  // optional: directories written before it existed lack it
+    const auto nrm = readBlock<double>(dir + "/normals.bin", kNrmMagic, d.begin, d.end, config, 3);
+    for (size_t i = 0; i < nrm.size(); i += 3) d.normals.emplace_back(nrm[i], nrm[i + 1], nrm[i + 2]);
+  }
   for (const auto& m : d.config.methods)
     d.results.push_back(readBlock<HipResult>(dir + "/results_" + m + ".bin", kResMagic, d.begin, d.end, config, 1));
   return d;
@@ -352,6 +363,7 @@ SweepData mergeSweepData(std::vector<SweepData> shards) {
   out.end = out.total();
   out.results.resize(out.config.methods.size());
   uint64_t next = 0;
+  bool allNormals = true;
   for (auto& s : shards) {
     const std::string diff = sweepConfigDifference(shards[0].config, s.config);
     if (!diff.empty())
@@ -363,6 +375,8 @@ SweepData mergeSweepData(std::vector<SweepData> shards) {
                        (s.begin < next ? " are in two shards" : " are missing"));
     next = s.end;
     out.hips.insert(out.hips.end(), s.hips.begin(), s.hips.end());
+    allNormals = allNormals && s.normals.size() == s.hips.size();
+    out.normals.insert(out.normals.end(), s.normals.begin(), s.normals.end());
     for (size_t m = 0; m < out.results.size(); ++m)
       out.results[m].insert(out.results[m].end(), s.results[m].begin(), s.results[m].end());
     out.trajectoryTotal = std::max(out.trajectoryTotal, s.trajectoryTotal);
@@ -379,6 +393,7 @@ SweepData mergeSweepData(std::vector<SweepData> shards) {
   if (out.trajectories.size() != out.trajectoryTotal)
     throw InputError("sweep-merge: trajectory series " + std::to_string(out.trajectories.size()) + ".." +
                      std::to_string(out.trajectoryTotal) + " are missing");
+  if (!allNormals) out.normals.clear();  // a shard from before normals.bin: none
   out.trajectoryEnd = out.trajectoryTotal;
   return out;
 }

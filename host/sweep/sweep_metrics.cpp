@@ -38,7 +38,8 @@ double angleBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
 
 Discontinuity forceDiscontinuity(const std::vector<Eigen::Vector3d>& positions,
                                  const std::vector<Eigen::Vector3d>& directions, const std::vector<char>& valid, int k,
-                                 double thresholdRad, double spacing, int threads) {
+                                 double thresholdRad, double spacing, int threads,
+                                 const std::vector<Eigen::Vector3d>* sampleNormals) {
   Discontinuity out;
   const size_t n = positions.size();
   out.local.assign(n, std::numeric_limits<double>::quiet_NaN());
@@ -55,6 +56,10 @@ Discontinuity forceDiscontinuity(const std::vector<Eigen::Vector3d>& positions,
     std::vector<double> maxAngle(pts.size(), 0);
     // Flagged neighbours per point, counted once per unordered pair below.
     std::vector<std::vector<uint32_t>> flagged(pts.size());
+    // Left-out neighbours (opposite sample normals) with a larger tree index: each unordered
+    // pair is seen from its smaller end, or from the larger one when the smaller does not list it.
+    std::vector<std::vector<uint32_t>> leftOut(pts.size());
+    const bool useNormals = sampleNormals && sampleNormals->size() == n;
     auto body = [&](const tbb::blocked_range<size_t>& r) {
       std::vector<uint32_t> idx(kk);
       std::vector<double> d2(kk);
@@ -64,6 +69,10 @@ Discontinuity forceDiscontinuity(const std::vector<Eigen::Vector3d>& positions,
         double best = -1, bestAngle = 0;
         for (size_t j = 0; j < found; ++j) {
           if (idx[j] == t || !(d2[j] > 0)) continue;
+          if (useNormals && (*sampleNormals)[map[t]].dot((*sampleNormals)[map[idx[j]]]) < 0) {
+            leftOut[t].push_back(idx[j]);
+            continue;
+          }
           const double d = std::sqrt(d2[j]);
           const double ang = angleBetween(a, directions[map[idx[j]]]);
           best = std::max(best, ang / d);
@@ -81,6 +90,12 @@ Discontinuity forceDiscontinuity(const std::vector<Eigen::Vector3d>& positions,
     } else {
       tbb::parallel_for(all, body);
     }
+    for (size_t t = 0; t < pts.size(); ++t)
+      for (uint32_t j : leftOut[t]) {
+        const auto& lj = leftOut[j];
+        const bool mutual = std::find(lj.begin(), lj.end(), static_cast<uint32_t>(t)) != lj.end();
+        if (!mutual || t < j) ++out.leftOutPairs;
+      }
     for (size_t t = 0; t < pts.size(); ++t) {
       out.maxAngle = std::max(out.maxAngle, maxAngle[t]);
       for (uint32_t j : flagged[t]) {

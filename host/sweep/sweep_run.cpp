@@ -9,9 +9,12 @@
 #include <filesystem>
 #include <limits>
 
+#include <smoothforce/base/error.h>
 #include <smoothforce/base/hash.h>
+#include <smoothforce/base/status.h>
 #include <smoothforce/force/force_tracking.h>
 #include <smoothforce/query/embree_scene.h>
+#include <smoothforce/sweep/probe_inside.h>
 #include <smoothforce/sweep/sweep_opencl.h>
 
 namespace sf {
@@ -114,6 +117,31 @@ struct BlockSizer {
   size_t next;
 };
 
+/// The sweep's inside test of every HIP of d, per method (SF_PROBE_* bits, probe_inside.h): one
+/// test of the patch surface, one of the polygons shared by direct and shading. A method the
+/// test cannot serve (patches built lazily, a name of a custom renderer) gets UNDECIDED.
+std::vector<std::vector<uint32_t>> insideBits(const SweepData& d, const PatchCache& cache, bool lazy) {
+  std::vector<uint32_t> patch, polygon;
+  std::vector<std::vector<uint32_t>> bits;
+  for (const std::string& name : d.config.methods) {
+    ForceMethod method;
+    try {
+      method = parseForceMethod(name);
+    } catch (const InputError&) {
+      bits.emplace_back(d.hips.size(), SF_PROBE_UNDECIDED);
+      continue;
+    }
+    if (method == ForceMethod::Patch && lazy) {
+      bits.emplace_back(d.hips.size(), SF_PROBE_UNDECIDED);
+      continue;
+    }
+    std::vector<uint32_t>& v = method == ForceMethod::Patch ? patch : polygon;
+    if (v.empty() && !d.hips.empty()) v = ProbeInsideTest(cache, method).classify(d.hips);
+    bits.push_back(v);
+  }
+  return bits;
+}
+
 }  // namespace
 
 static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, SweepTiming* timing) {
@@ -145,8 +173,8 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
     auto patchScene = std::make_shared<const PolygonScene>(*cache, kPlanarTolerance);
     auto godScene = std::make_shared<const PolygonScene>(*cache, kWatertightPlanarTolerance);
     std::shared_ptr<const PatchSurface> surface;
-    const bool wantSurface = std::find(in.config.methods.begin(), in.config.methods.end(), "patch") !=
-                             in.config.methods.end();
+    const bool wantSurface =
+        std::find(in.config.methods.begin(), in.config.methods.end(), "patch") != in.config.methods.end();
     if (wantSurface && !lazy && opt.initialGuess == InitialGuess::Surface)
       surface = std::make_shared<const PatchSurface>(*cache, patchSurfaceOptions(opt));
     in.makeRenderer = [cache, opt, patchScene, godScene, surface](const std::string& m) {
@@ -162,8 +190,12 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
   d.shardIndex = in.shardIndex;
   d.shardCount = in.shardCount;
   shardRange(set.size(), in.shardIndex, in.shardCount, d.begin, d.end);
-  for (uint64_t g = d.begin; g < d.end; ++g) d.hips.push_back(set.hip(g));
+  for (uint64_t g = d.begin; g < d.end; ++g) {
+    d.hips.push_back(set.hip(g));
+    d.normals.push_back(set.samples[g % set.perGroup()].normal);
+  }
   const size_t n = d.end - d.begin, M = d.config.methods.size(), G = set.groups.size();
+  const std::vector<std::vector<uint32_t>> probeBits = insideBits(d, *in.cache, lazy);
   d.results.assign(M, std::vector<HipResult>(n));
   // Trajectory series (trajectory, method, depth, step), spread over the shards like the HIPs.
   const std::vector<Path> paths =
@@ -207,6 +239,8 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
                                                        out.data() + i, control, in.opencl)
                                 : runProbes(set, d.begin + i, d.begin + j, pool, ref.get(), out.data() + i, control);
       computed += got;
+      for (size_t k = i; k < j; ++k)
+        if (out[k].done) out[k].status |= probeBits[m][k];
       blocks.update(j - i, since(tb));
       i = j;
       maybeCheckpoint();

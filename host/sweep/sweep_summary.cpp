@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 
+#include <smoothforce/base/status.h>
 #include <smoothforce/sweep/sweep_io.h>
 #include <smoothforce/sweep/sweep_metrics.h>
 
@@ -93,16 +94,17 @@ std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
   ojson results = ojson::array();
   char line[512];
   std::string table;
-  std::snprintf(line, sizeof line, "%-8s %-8s %8s %8s | %9s %9s %9s %9s %7s | %9s %9s %9s | %9s %6s\n", "method",
-                "depth", "HIPs run", "contact", "disc p50", "p99", "p99.9", "max", "flagged", "acc p50", "p99", "max",
-                "traj|dF|", "ratio");
+  std::snprintf(line, sizeof line, "%-8s %-8s %8s %8s %7s | %9s %9s %9s %9s %7s | %9s %9s %9s | %9s %6s\n", "method",
+                "depth", "HIPs run", "contact", "missed", "disc p50", "p99", "p99.9", "max", "flagged", "acc p50",
+                "p99", "max", "traj|dF|", "ratio");
   table += line;
   std::vector<PlyJob> plys;
   std::vector<double> colourRef(c.groupLabels.size(), 0.0);
   for (size_t m = 0; m < c.methods.size(); ++m)
     for (size_t g = 0; g < c.groupLabels.size(); ++g) {
-      std::vector<Eigen::Vector3d> pos, fdir;
+      std::vector<Eigen::Vector3d> pos, fdir, nrm;
       std::vector<char> valid;
+      size_t missed = 0, spurious = 0, undecided = 0;  // by the sweep's inside test (SF_PROBE_*)
       std::vector<double> acc, fmag, iters;
       std::map<uint32_t, size_t> bits;
       size_t done = 0, contact = 0;
@@ -112,6 +114,13 @@ std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
         ++done;
         const Eigen::Vector3d F(r.force[0], r.force[1], r.force[2]);
         pos.push_back(d.hips[g * N + s]);
+        if (d.normals.size() == d.hips.size()) nrm.push_back(d.normals[g * N + s]);
+        if (r.status & SF_PROBE_UNDECIDED)
+          ++undecided;
+        else if ((r.status & SF_PROBE_INSIDE) && !r.contact)
+          ++missed;
+        else if (!(r.status & SF_PROBE_INSIDE) && r.contact)
+          ++spurious;
         fdir.push_back(F);
         valid.push_back(r.contact && F.norm() > 0 ? 1 : 0);
         contact += r.contact;
@@ -124,7 +133,8 @@ std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
           if (r.status & (1u << b)) ++bits[1u << b];
       }
       if (done < N) complete = false;
-      const Discontinuity disc = forceDiscontinuity(pos, fdir, valid, c.knn, thr, spacing);
+      const Discontinuity disc =
+          forceDiscontinuity(pos, fdir, valid, c.knn, thr, spacing, 0, nrm.size() == pos.size() ? &nrm : nullptr);
       const std::string tag = c.methods[m] + "_" + depthTag(c.groupLabels[g]);
       if (std::isfinite(disc.stats.p50)) colourRef[g] = std::max(colourRef[g], disc.stats.p50);
       std::vector<size_t> hist(kHistBins + 2, 0);
@@ -151,6 +161,13 @@ std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
               {"hips", N},
               {"done", done},
               {"contact", contact},
+              {"inside_test",
+               {{"missed", missed},
+                {"spurious", spurious},
+                {"undecided", undecided},
+                {"of",
+                 "HIPs inside (outside) the method's surface by the sweep's inside test, without (with) "
+                 "contact; undecided: open surface or within the test's error band"}}},
               {"discontinuity",
                {{"unit", "rad/m"},
                 {"count", disc.stats.count},
@@ -159,6 +176,8 @@ std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
                 {"p999", num(disc.stats.p999)},
                 {"max", num(disc.stats.max)},
                 {"flagged_pairs", disc.flaggedPairs},
+                {"left_out_pairs", disc.leftOutPairs},
+                {"sample_normals", nrm.size() == pos.size()},
                 {"max_neighbour_angle_deg", disc.maxAngle * 180 / std::numbers::pi}}},
               {"accuracy", hasRef ? pctJson(accP, false) : ojson(nullptr)},
               {"force_N", pctJson(fP, false)},
@@ -189,12 +208,12 @@ std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
         }
       }
       results.push_back(r);
-      std::snprintf(line, sizeof line, "%-8s %-8s %8zu %8zu | %9s %9s %9s %9s %7zu | %9s %9s %9s | %9s %6s\n",
-                    c.methods[m].c_str(), c.groupLabels[g].c_str(), done, contact, fmt("%.3g", disc.stats.p50).c_str(),
-                    fmt("%.3g", disc.stats.p99).c_str(), fmt("%.3g", disc.stats.p999).c_str(),
-                    fmt("%.3g", disc.stats.max).c_str(), disc.flaggedPairs, fmt("%.3g", accP.p50).c_str(),
-                    fmt("%.3g", accP.p99).c_str(), fmt("%.3g", accP.max).c_str(), fmt("%.3g", trajMax).c_str(),
-                    fmt("%.2f", ratio).c_str());
+      std::snprintf(line, sizeof line, "%-8s %-8s %8zu %8zu %7zu | %9s %9s %9s %9s %7zu | %9s %9s %9s | %9s %6s\n",
+                    c.methods[m].c_str(), c.groupLabels[g].c_str(), done, contact, missed,
+                    fmt("%.3g", disc.stats.p50).c_str(), fmt("%.3g", disc.stats.p99).c_str(),
+                    fmt("%.3g", disc.stats.p999).c_str(), fmt("%.3g", disc.stats.max).c_str(), disc.flaggedPairs,
+                    fmt("%.3g", accP.p50).c_str(), fmt("%.3g", accP.p99).c_str(), fmt("%.3g", accP.max).c_str(),
+                    fmt("%.3g", trajMax).c_str(), fmt("%.2f", ratio).c_str());
       table += line;
       plys.push_back(
           PlyJob{dir + "/" + tag + ".ply", g, std::move(pos), std::move(fdir), std::move(valid), disc.local});
@@ -265,6 +284,9 @@ std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
   o << s.dump(2) << "\n";
   o.close();
   if (!o) throw InputError(dir + "/summary.json: write failed");
+  table +=
+      "missed: HIPs inside the method's surface (the sweep's inside test: patch tessellation at twice the "
+      "query's level, or the polygons) without contact\n";
   table += "discontinuity: max over the " + std::to_string(c.knn) +
            " nearest HIPs of (angle between force directions) / distance, rad/m; flagged: pairs with angle > " +
            fmt("%g", c.thresholdDeg) + " deg closer than the spacing " + fmt("%.3g", spacing) +

@@ -44,4 +44,12 @@ inline constexpr uint32_t SF_TRACK_INSIDE = 0x8000000u;       ///< contact start
 inline constexpr uint32_t SF_TRACK_FOLD_EDGE = 0x10000000u;
 inline constexpr uint32_t SF_TRACK_MASK = 0x1FFF0000u;
 
+/// SF_PROBE_* bits: set by sweeps in a probe's record (HipResult::status), never by a force
+/// method: the verdict of the sweep's own inside test on the HIP (probe_inside.h), independent of
+/// the method's tracking. A probe is a missed contact when INSIDE is set and it has no contact.
+inline constexpr uint32_t SF_PROBE_INSIDE = 0x20000000u;  ///< the HIP is inside the method's surface
+inline constexpr uint32_t SF_PROBE_UNDECIDED =
+    0x40000000u;  ///< the inside test cannot decide (open surface, error band)
+inline constexpr uint32_t SF_PROBE_MASK = 0x60000000u;
+
 }  // namespace sf

@@ -47,8 +47,12 @@ struct SweepData {
   SweepConfig config;
   int shardIndex = 0, shardCount = 1;
   uint64_t begin = 0, end = 0;
-  bool interrupted = false;                     ///< the run that wrote it stopped on a signal
-  std::vector<Eigen::Vector3d> hips;            ///< end - begin
+  bool interrupted = false;           ///< the run that wrote it stopped on a signal
+  std::vector<Eigen::Vector3d> hips;  ///< end - begin
+  /// Unit outward normal of each HIP's surface sample (end - begin), or empty (a sweep directory
+  /// written before normals.bin existed): the discontinuity metric leaves out neighbour pairs
+  /// whose sample normals disagree (opposite sides of a thin part).
+  std::vector<Eigen::Vector3d> normals;
   std::vector<std::vector<HipResult>> results;  ///< per method, end - begin each
   /// Trajectory series: the sweep has trajectoryTotal of them (trajectory x method x depth x
   /// step, TrajectorySeries::index); this shard runs [trajectoryBegin, trajectoryEnd) of them

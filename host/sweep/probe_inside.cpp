@@ -1,0 +1,72 @@
+#include <smoothforce/sweep/probe_inside.h>
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include <smoothforce/base/error.h>
+#include <smoothforce/base/status.h>
+#include <smoothforce/query/embree_scene.h>
+#include <smoothforce/query/patch_surface.h>
+#include <smoothforce/query/polygon_facets.h>
+
+namespace sf {
+
+namespace {
+/// Every polygon edge has a twin (slotTwin): the polygons close.
+bool polygonsClosed(const PatchCache& cache) {
+  if (cache.numFaces() == 0) return false;
+  for (int f = 0; f < cache.numFaces(); ++f)
+    for (int s = cache.faceOffsets[f]; s < cache.faceOffsets[f + 1]; ++s)
+      if (cache.slotTwin[s] < 0) return false;
+  return true;
+}
+
+/// About twice the level of the patch method's own query (PatchSurfaceOptions defaults), at most
+/// 64 and at most kBudget triangles (n L^2 per n-gon).
+int oracleLevel(const PatchCache& cache) {
+  constexpr double kBudget = 4e6;
+  const int chosen = choosePatchSurfaceLevel(cache, PatchSurfaceOptions{});
+  double perLevel2 = 0;  // triangles at level 1
+  for (int f = 0; f < cache.numFaces(); ++f) perLevel2 += cache.faceSize(f);
+  const int fits = perLevel2 > 0 ? static_cast<int>(std::floor(std::sqrt(kBudget / perLevel2))) : 64;
+  return std::clamp(std::min(2 * chosen, fits), std::max(1, chosen), 64);
+}
+}  // namespace
+
+ProbeInsideTest::ProbeInsideTest(const PatchCache& cache, ForceMethod method) {
+  if (method == ForceMethod::Patch) {
+    if (!hasPatchData(cache))
+      throw InputError("inside test: the patch method's surface needs built patches (a prebuilt cache)");
+    PatchSurfaceOptions o;
+    o.level = oracleLevel(cache);
+    o.subdivision = 0;  // only the uniform tessellation's rays are used
+    surface_ = std::make_unique<const PatchSurface>(cache, o);
+    closed_ = surface_->closed();
+  } else {
+    polygons_ = std::make_unique<const PolygonScene>(cache, kWatertightPlanarTolerance);
+    closed_ = polygonsClosed(cache);
+  }
+}
+
+ProbeInsideTest::~ProbeInsideTest() = default;
+
+uint32_t ProbeInsideTest::classify(const Eigen::Vector3d& hip) const noexcept {
+  if (!closed_ || !hip.allFinite()) return SF_PROBE_UNDECIDED;
+  if (surface_) {
+    if (surface_->inErrorBand(hip)) return SF_PROBE_UNDECIDED;
+    return surface_->winding(hip) >= 1 ? SF_PROBE_INSIDE : 0;
+  }
+  return polygons_->contains(hip, Eigen::Vector3d::Zero()) ? SF_PROBE_INSIDE : 0;
+}
+
+std::vector<uint32_t> ProbeInsideTest::classify(const std::vector<Eigen::Vector3d>& hips) const {
+  std::vector<uint32_t> out(hips.size());
+  tbb::parallel_for(size_t(0), hips.size(), [&](size_t i) { out[i] = classify(hips[i]); });
+  return out;
+}
+
+int ProbeInsideTest::level() const noexcept { return surface_ ? surface_->level() : 0; }
+
+}  // namespace sf
