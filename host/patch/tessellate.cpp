@@ -1,6 +1,5 @@
 #include <smoothforce/patch/tessellate.h>
 
-
 #include "gp_config.h"
 
 namespace sf {

@@ -27,8 +27,7 @@ void writeObj(std::FILE* f, const TriangleMesh& m) {
   for (size_t t = 0; t < m.triangles.size(); ++t) {
     if (t == 0 || m.face[t] != m.face[t - 1]) std::fprintf(f, "g patch_%d\n", m.face[t]);
     const auto& tri = m.triangles[t];
-    std::fprintf(f, "f %d//%d %d//%d %d//%d\n", tri[0] + 1, tri[0] + 1, tri[1] + 1, tri[1] + 1, tri[2] + 1,
-                 tri[2] + 1);
+    std::fprintf(f, "f %d//%d %d//%d %d//%d\n", tri[0] + 1, tri[0] + 1, tri[1] + 1, tri[1] + 1, tri[2] + 1, tri[2] + 1);
   }
 }
 

@@ -41,7 +41,8 @@ void writeNpy(const std::string& path, const std::vector<NpyField>& fields, uint
   std::string descr = "[";
   size_t record = 0;
   for (const NpyField& f : fields) {
-    descr += "('" + f.name + "', '" + f.type + "'" + (f.count > 1 ? ", (" + std::to_string(f.count) + ",)" : "") + "), ";
+    descr +=
+        "('" + f.name + "', '" + f.type + "'" + (f.count > 1 ? ", (" + std::to_string(f.count) + ",)" : "") + "), ";
     record += typeBytes(f.type) * static_cast<size_t>(f.count);
   }
   descr += "]";
@@ -65,10 +66,20 @@ void writeNpy(const std::string& path, const std::vector<NpyField>& fields, uint
 }
 
 std::vector<NpyField> sweepNpyFields() {
-  return {{"hip", "<f8", 3},           {"depth", "<f8", 1},         {"group", "<u2", 1},  {"force", "<f4", 3},
-          {"force_magnitude", "<f4", 1}, {"scp", "<f4", 3},           {"ref_distance", "<f4", 1},
-          {"discontinuity", "<f8", 1}, {"face", "<i4", 1},          {"status", "<u4", 1}, {"iterations", "<u2", 1},
-          {"contact", "|u1", 1},       {"missed", "|u1", 1},        {"done", "|u1", 1}};
+  return {{"hip", "<f8", 3},
+          {"depth", "<f8", 1},
+          {"group", "<u2", 1},
+          {"force", "<f4", 3},
+          {"force_magnitude", "<f4", 1},
+          {"scp", "<f4", 3},
+          {"ref_distance", "<f4", 1},
+          {"discontinuity", "<f8", 1},
+          {"face", "<i4", 1},
+          {"status", "<u4", 1},
+          {"iterations", "<u2", 1},
+          {"contact", "|u1", 1},
+          {"missed", "|u1", 1},
+          {"done", "|u1", 1}};
 }
 
 size_t sweepNpyRecordSize() {

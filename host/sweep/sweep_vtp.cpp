@@ -31,8 +31,7 @@ void append(std::vector<unsigned char>& out, T value) {
 const HipResult& record(const HipCloud& c, size_t i) { return c.data->results[c.method][c.index[i]]; }
 
 double magnitude(const HipResult& r) {
-  return std::sqrt(double(r.force[0]) * r.force[0] + double(r.force[1]) * r.force[1] +
-                   double(r.force[2]) * r.force[2]);
+  return std::sqrt(double(r.force[0]) * r.force[0] + double(r.force[1]) * r.force[1] + double(r.force[2]) * r.force[2]);
 }
 
 /// Writes all of `bytes` or throws naming the file.
@@ -53,11 +52,11 @@ void closeChecked(std::FILE* f, const std::string& path) {
 void writeHipVtp(const std::string& path, const HipCloud& c) {
   static_assert(sizeof(float) == 4 && sizeof(double) == 8, "IEEE-754 binary32/64");
   const size_t n = c.index.size();
-  std::vector<VtpArray> point = {{"Float32", "force", 3, {}},          {"Float32", "force_magnitude", 1, {}},
-                                 {"Float64", "discontinuity", 1, {}},  {"UInt8", "contact", 1, {}},
-                                 {"UInt8", "missed", 1, {}},           {"Int32", "face", 1, {}},
-                                 {"UInt32", "status", 1, {}},          {"UInt16", "iterations", 1, {}},
-                                 {"Float32", "ref_distance", 1, {}},   {"Float32", "scp", 3, {}},
+  std::vector<VtpArray> point = {{"Float32", "force", 3, {}},         {"Float32", "force_magnitude", 1, {}},
+                                 {"Float64", "discontinuity", 1, {}}, {"UInt8", "contact", 1, {}},
+                                 {"UInt8", "missed", 1, {}},          {"Int32", "face", 1, {}},
+                                 {"UInt32", "status", 1, {}},         {"UInt16", "iterations", 1, {}},
+                                 {"Float32", "ref_distance", 1, {}},  {"Float32", "scp", 3, {}},
                                  {"UInt64", "hip_index", 1, {}}};
   VtpArray points{"Float64", "Points", 3, {}}, conn{"Int64", "connectivity", 1, {}}, offs{"Int64", "offsets", 1, {}};
   for (size_t i = 0; i < n; ++i) {
@@ -78,13 +77,12 @@ void writeHipVtp(const std::string& path, const HipCloud& c) {
     append(conn.bytes, static_cast<int64_t>(i));
     append(offs.bytes, static_cast<int64_t>(i + 1));
   }
-  std::string xml =
-      "<?xml version=\"1.0\"?>\n<!-- SmoothForce sweep: " + c.data->config.methods[c.method] +
-      " HIPs, one vertex cell each; units: m, N, rad/m -->\n"
-      "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
-      "  <PolyData>\n    <Piece NumberOfPoints=\"" +
-      std::to_string(n) + "\" NumberOfVerts=\"" + std::to_string(n) +
-      "\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n";
+  std::string xml = "<?xml version=\"1.0\"?>\n<!-- SmoothForce sweep: " + c.data->config.methods[c.method] +
+                    " HIPs, one vertex cell each; units: m, N, rad/m -->\n"
+                    "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
+                    "  <PolyData>\n    <Piece NumberOfPoints=\"" +
+                    std::to_string(n) + "\" NumberOfVerts=\"" + std::to_string(n) +
+                    "\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n";
   uint64_t offset = 0;
   auto tag = [&](const VtpArray& a, const char* indent) {
     xml += std::string(indent) + "<DataArray type=\"" + a.type + "\" Name=\"" + a.name + "\"" +

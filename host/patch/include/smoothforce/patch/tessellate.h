@@ -43,9 +43,9 @@ TriangleMesh tessellatePatches(const PatchCache& cache, int level, const BatchEv
 /// meet (their boundary curves differ by more than the tolerance somewhere: a crease of
 /// `--normals file`), left open there.
 struct WeldReport {
-  size_t merged = 0;      ///< vertices removed
-  size_t openEdges = 0;   ///< shared edges with at least one point left unwelded
-  size_t edgesWelded = 0; ///< shared edges (slot pairs) visited
+  size_t merged = 0;       ///< vertices removed
+  size_t openEdges = 0;    ///< shared edges with at least one point left unwelded
+  size_t edgesWelded = 0;  ///< shared edges (slot pairs) visited
 };
 
 /// Welds the tessellation of tessellatePatches(cache, level, ...) along the patches' shared
