@@ -8,7 +8,8 @@ Needs python3-vtk9 and python3-numpy (tools/setup). Checks, against independent 
   mesh file), one connected component per mesh component, no boundary edge on a closed mesh
   (no open seam), no two vertices closer than the weld tolerance, and the same vertex count as a
   positional merge (vtkCleanPolyData) of the unwelded export; binary PLY per-vertex status, fold
-  and bulge against `cache info --json`; OBJ groups per patch.
+  and bulge against `cache info --json`; OBJ groups per patch; a flat-shaded mesh on its file normals
+  (creases everywhere) welds only its corners and reports every edge open.
 - sweep: every .vtp array against results_METHOD.bin (read with the documented dtype) for every
   HIP, the discontinuity against a brute-force k-nearest computation, the PLY's quality and
   `element face 0`, results_METHOD.npy against the .bin files, a PDF beside every PNG.
@@ -167,6 +168,30 @@ def check_export(sf, mesh, work, level, closed, name):
     check(sorted(map(int, groups)) == list(range(len(faces))), f"{name}: OBJ has one group per patch ({len(groups)})")
 
 
+def check_crease_export(sf, work):
+    """A flat-shaded mesh built on its file normals (--normals file): the two patches of every edge
+    build different curves, so the weld joins the corners only and leaves every edge open."""
+    knot, flat = os.path.join(work, "knot.obj"), os.path.join(work, "knot_flat.obj")
+    run(sf, "generate", "torus-knot", "--segments", 24, "--sides", 6, "-o", knot)
+    nv, faces = read_mesh_faces(knot)
+    v = np.array([[float(x) for x in l.split()[1:4]] for l in open(knot) if l.startswith("v ")])
+    with open(flat, "w") as f:
+        f.writelines(f"v {p[0]!r} {p[1]!r} {p[2]!r}\n" for p in v)
+        for fv in faces:
+            n = np.cross(v[fv[1]] - v[fv[0]], v[fv[2]] - v[fv[0]])
+            f.write(f"vn {n[0]!r} {n[1]!r} {n[2]!r}\n")
+        for i, fv in enumerate(faces):
+            f.write("f " + " ".join(f"{x + 1}//{i + 1}" for x in fv) + "\n")
+    cache, ply, L = os.path.join(work, "knot_flat.sfcache"), os.path.join(work, "knot_flat.ply"), 3
+    run(sf, "cache", "build", flat, "--normals", "file", "-o", cache)
+    text = run(sf, "export", cache, "--level", L, "-o", ply)
+    edges = {tuple(sorted((fv[k], fv[(k + 1) % len(fv)]))) for fv in faces for k in range(len(fv))}
+    expected = sum(1 + len(fv) * L * (L + 1) // 2 for fv in faces) - sum(len(fv) for fv in faces) + nv
+    n = read_vtk(vtk.vtkPLYReader, ply).GetNumberOfPoints()
+    check(f"{len(edges)} edges left open" in text and n == expected,
+          f"crease: {n} vertices = unwelded less the merged corners ({expected}), all {len(edges)} edges open")
+
+
 RESULT_DTYPE = np.dtype([("force", "<f4", (3,)), ("scp", "<f4", (3,)), ("ref_distance", "<f4"), ("face", "<i4"),
                          ("status", "<u4"), ("iterations", "<u2"), ("contact", "u1"), ("done", "u1")])
 
@@ -265,6 +290,7 @@ def main():
     os.makedirs(work, exist_ok=True)
     check_export(sf, os.path.join(data, "spot_control_mesh.obj"), work, 4, True, "spot")
     check_export(sf, os.path.join(shared, "pmp", "hole_capsule.off"), work, 3, False, "hole_capsule")
+    check_crease_export(sf, work)
     check_sweep(sf, os.path.join(work, "spot.sfcache"), work)
     if FAILURES:
         sys.exit(f"{len(FAILURES)} checks failed")
