@@ -74,11 +74,17 @@ TEST_F(Cli, CacheBuildInfoEvalExport) {
 
   for (const char* ext : {".obj", ".ply"}) {
     const std::string tess = file(std::string("tess") + ext);
-    r = run("export " + cache + " --level 3 -o " + tess);
+    r = run("export " + cache + " --level 3 -o " + tess + " --no-weld");
     ASSERT_EQ(r.status, 0) << r.out;
     // 4 tri * (1+3*6) + 160 quad * (1+4*6) + 16 pentagons * (1+5*6) vertices
     EXPECT_NE(r.out.find("(4572 vertices"), std::string::npos) << r.out;
     EXPECT_GT(fs::file_size(tess), 1000u);
+    // Welded along the 366 shared edges: 188 V + 366 E * 2 + interiors 4 * 10 + 160 * 13 + 16 * 16
+    // (tests/test_viewer_outputs.py checks the welded surface in VTK).
+    r = run("export " + cache + " --level 3 -o " + tess);
+    ASSERT_EQ(r.status, 0) << r.out;
+    EXPECT_NE(r.out.find("(3296 vertices"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("0 edges left open"), std::string::npos) << r.out;
   }
 }
 

@@ -3,7 +3,8 @@
 
 usage: tools/sweep_plots.py OUTDIR
 
-Reads OUTDIR/summary.json and OUTDIR/trajectories.json and writes:
+Reads OUTDIR/summary.json and OUTDIR/trajectories.json and writes, each as PNG and, beside it,
+as PDF (vector, for papers):
   traj_<trajectory>_<depth>.png  consecutive force differences |F_i+1 - F_i| along the trajectory,
                                  one bar graph per method (the paper's bar graphs)
   disc_hist_<depth>.png          histogram of the local force-direction discontinuity, all methods
@@ -34,6 +35,15 @@ def safe(name):
     return re.sub(r"[^A-Za-z0-9._-]", "_", name)
 
 
+def save(fig, png):
+    """Writes the figure as PNG and as PDF beside it; returns both paths."""
+    fig.savefig(png, dpi=110)
+    pdf = os.path.splitext(png)[0] + ".pdf"
+    fig.savefig(pdf)
+    plt.close(fig)
+    return [png, pdf]
+
+
 def differences(force):
     f = [force[i:i + 3] for i in range(0, len(force), 3)]
     return [math.dist(f[i + 1], f[i]) for i in range(len(f) - 1)]
@@ -58,9 +68,7 @@ def plot_trajectories(outdir, trajectories):
         fig.suptitle(f"Consecutive force differences, depth {depth}")
         fig.tight_layout()
         path = os.path.join(outdir, f"traj_{safe(name)}_{depth_tag(depth)}.png")
-        fig.savefig(path, dpi=110)
-        plt.close(fig)
-        written.append(path)
+        written += save(fig, path)
     return written
 
 
@@ -87,9 +95,7 @@ def plot_histograms(outdir, results):
         ax.legend(fontsize=8)
         fig.tight_layout()
         path = os.path.join(outdir, f"disc_hist_{depth_tag(depth)}.png")
-        fig.savefig(path, dpi=110)
-        plt.close(fig)
-        written.append(path)
+        written += save(fig, path)
     return written
 
 
@@ -108,9 +114,7 @@ def plot_summary(outdir, results):
     ax.legend(fontsize=8)
     fig.tight_layout()
     path = os.path.join(outdir, "disc_summary.png")
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return [path]
+    return save(fig, path)
 
 
 def main():
@@ -124,6 +128,8 @@ def main():
     if os.path.exists(tpath):
         with open(tpath) as f:
             trajectories = json.load(f)
+        if isinstance(trajectories, dict):  # {"config_hash": ..., "series": [...]} since checkpoints
+            trajectories = trajectories["series"]
     written = plot_trajectories(outdir, trajectories) + plot_histograms(outdir, summary["results"])
     if summary["results"]:
         written += plot_summary(outdir, summary["results"])

@@ -11,6 +11,7 @@
 #include <smoothforce/base/status.h>
 #include <smoothforce/sweep/sweep_io.h>
 #include <smoothforce/sweep/sweep_metrics.h>
+#include <smoothforce/sweep/sweep_outputs.h>
 
 namespace sf {
 
@@ -30,48 +31,12 @@ ojson pctJson(const Percentiles& p, bool p999 = true) {
   return j;
 }
 
-/// One PLY to write once every method's discontinuity of its depth is known.
-struct PlyJob {
-  std::string path;
+/// One point cloud to write once every method's discontinuity of its depth is known.
+struct CloudJob {
+  std::string tag;
   size_t group;
-  std::vector<Eigen::Vector3d> pos, dir;
-  std::vector<char> valid;
-  std::vector<double> local;
+  HipCloud cloud;
 };
-
-/// Red: log10(local / ref) / 2 clamped to [0, 1]: white at the depth's typical turning rate
-/// (ref), full red at 100 times it.
-void writePly(const std::string& path, const std::vector<Eigen::Vector3d>& pos, const std::vector<Eigen::Vector3d>& dir,
-              const std::vector<char>& valid, const std::vector<double>& local, double ref) {
-  std::FILE* f = std::fopen(path.c_str(), "wb");
-  if (!f) throw InputError(path + ": cannot open for writing");
-  std::fprintf(f,
-               "ply\nformat binary_little_endian 1.0\ncomment SmoothForce sweep: HIPs, normal = force direction,\n"
-               "comment red = local force-direction discontinuity, log scale: white at the depth's largest\n"
-               "comment per-method median, full red at 100 times it\n"
-               "comment blue = no contact\nelement vertex %zu\nproperty float x\nproperty float y\nproperty float z\n"
-               "property float nx\nproperty float ny\nproperty float nz\nproperty uchar red\nproperty uchar green\n"
-               "property uchar blue\nend_header\n",
-               pos.size());
-  bool ok = true;
-  for (size_t i = 0; i < pos.size(); ++i) {
-    float v[6];
-    const Eigen::Vector3d n = valid[i] ? dir[i].normalized() : Eigen::Vector3d::Zero();
-    for (int a = 0; a < 3; ++a) {
-      v[a] = static_cast<float>(pos[i][a]);
-      v[3 + a] = static_cast<float>(n[a]);
-    }
-    unsigned char c[3] = {0, 0, 255};
-    if (valid[i]) {
-      const double t =
-          std::isfinite(local[i]) && local[i] > 0 ? std::clamp(std::log10(local[i] / ref) / 2, 0.0, 1.0) : 0.0;
-      c[0] = 255;
-      c[1] = c[2] = static_cast<unsigned char>(std::lround(255 * (1 - t)));
-    }
-    ok = ok && std::fwrite(v, sizeof v, 1, f) == 1 && std::fwrite(c, 1, 3, f) == 3;
-  }
-  if (std::fclose(f) != 0 || !ok) throw InputError(path + ": write failed");
-}
 
 std::string fmt(const char* f, double x) {
   if (!std::isfinite(x)) return "-";
@@ -98,13 +63,16 @@ std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
                 "depth", "HIPs run", "contact", "missed", "disc p50", "p99", "p99.9", "max", "flagged", "acc p50",
                 "p99", "max", "traj|dF|", "ratio");
   table += line;
-  std::vector<PlyJob> plys;
+  std::vector<CloudJob> clouds;
+  // Per method, per HIP of the whole run: the discontinuity for the .npy files (NaN: none).
+  std::vector<std::vector<double>> hipDisc(c.methods.size(), std::vector<double>(d.hips.size(), NAN));
   std::vector<double> colourRef(c.groupLabels.size(), 0.0);
   for (size_t m = 0; m < c.methods.size(); ++m)
     for (size_t g = 0; g < c.groupLabels.size(); ++g) {
       std::vector<Eigen::Vector3d> pos, fdir, nrm;
       std::vector<char> valid;
       size_t missed = 0, spurious = 0, undecided = 0;  // by the sweep's inside test (SF_PROBE_*)
+      std::vector<uint64_t> index;
       std::vector<double> acc, fmag, iters;
       std::map<uint32_t, size_t> bits;
       size_t done = 0, contact = 0;
@@ -121,6 +89,7 @@ std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
           ++missed;
         else if (!(r.status & SF_PROBE_INSIDE) && r.contact)
           ++spurious;
+        index.push_back(g * N + s);
         fdir.push_back(F);
         valid.push_back(r.contact && F.norm() > 0 ? 1 : 0);
         contact += r.contact;
@@ -189,7 +158,8 @@ std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
                 {"hi", kHistHi},
                 {"bins", kHistBins},
                 {"counts_below_bins_above", hist}}},
-              {"ply", tag + ".ply"}};
+              {"ply", tag + ".ply"},
+              {"vtp", tag + ".vtp"}};
       // The worst trajectory of this method and depth.
       double trajMax = NAN, ratio = NAN;
       for (const auto& t : d.trajectories) {
@@ -215,13 +185,15 @@ std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
                     fmt("%.3g", accP.p50).c_str(), fmt("%.3g", accP.p99).c_str(), fmt("%.3g", accP.max).c_str(),
                     fmt("%.3g", trajMax).c_str(), fmt("%.2f", ratio).c_str());
       table += line;
-      plys.push_back(
-          PlyJob{dir + "/" + tag + ".ply", g, std::move(pos), std::move(fdir), std::move(valid), disc.local});
+      for (size_t i = 0; i < index.size(); ++i) hipDisc[m][index[i]] = disc.local[i];
+      clouds.push_back(CloudJob{tag, g, HipCloud{&d, m, std::move(index), disc.local}});
     }
-  for (const PlyJob& j : plys) {
+  for (const CloudJob& j : clouds) {
     const double ref = colourRef[j.group] > 0 ? colourRef[j.group] : thr / std::max(spacing, 1e-300);
-    writePly(j.path, j.pos, j.dir, j.valid, j.local, ref);
+    writeHipPly(dir + "/" + j.tag + ".ply", j.cloud, ref);
+    writeHipVtp(dir + "/" + j.tag + ".vtp", j.cloud);
   }
+  writeSweepNpy(d, hipDisc, dir);
   ojson trajs = ojson::array();
   for (const auto& t : d.trajectories) {
     if (t.half) continue;

@@ -4,6 +4,7 @@
 #   check_install.sh cmake     PREFIX CONSUMER_DIR WORK MESH   find_package consumer: configure, build, run
 #   check_install.sh pkgconfig PREFIX MAIN_CPP WORK MESH       one-file program built with pkg-config, run
 #   check_install.sh headers   PREFIX WORK                installed headers: alone (preprocessor), together (compiler)
+#   check_install.sh plots     PREFIX WORK MESH           the installed smoothforce finds its plot script (share/)
 # Environment (set by CMake): SF_CXX, SF_CMAKE, SF_GENERATOR, SF_SHARED_LIBS (1/0),
 # SF_HAS_OPENCL (1/0), SF_VERSION. Prints what it checked; exit status 1 on the first failure.
 set -euo pipefail
@@ -42,7 +43,7 @@ case $cmd in
     for f in "$lib/cmake/SmoothForce/SmoothForceConfig.cmake" "$lib/cmake/SmoothForce/SmoothForceConfigVersion.cmake" \
       "$lib/cmake/SmoothForce/SmoothForceTargets.cmake" "$lib/pkgconfig/smoothforce.pc" \
       "$prefix/include/smoothforce/smoothforce.h" "$prefix/include/smoothforce/version.h" \
-      "$prefix/include/smoothforce/config.h" "$prefix/bin/smoothforce"; do
+      "$prefix/include/smoothforce/config.h" "$prefix/bin/smoothforce" "$prefix/share/smoothforce/sweep_plots.py"; do
       [[ -f $f ]] || fail "missing $f"
     done
     for m in base mesh patch query force opencl sweep runtime; do
@@ -134,8 +135,27 @@ case $cmd in
     [[ -z $missing ]] || fail "smoothforce.h does not include:$missing"
     echo "smoothforce.h includes every core header"
     ;;
+  plots)
+    # A sweep by the installed binary, with no SF_SWEEP_PLOTS: the script must come from
+    # PREFIX/share/smoothforce (the binary looks next to itself; the source tree is only for the
+    # binary of the build tree), and every PNG gets its PDF.
+    prefix=$(cd "$1" && pwd) work=$2 mesh=$3
+    rm -rf "$work" && mkdir -p "$work"
+    /usr/bin/python3 -c 'import matplotlib' 2>/dev/null || fail "no /usr/bin/python3 with matplotlib (tools/setup)"
+    env -u SF_SWEEP_PLOTS "$prefix/bin/smoothforce" sweep --mesh "$mesh" --depth 1% --samples 60 --methods patch \
+      -o "$work/sweep" >"$work/sweep.log" 2>&1 || { cat "$work/sweep.log"; fail "installed sweep exited with $?"; }
+    ! grep -q "plot script" "$work/sweep.log" || { cat "$work/sweep.log"; fail "installed sweep: no plots"; }
+    ! grep -q "Note:" "$work/sweep/index.html" || fail "index.html carries a note: $(grep Note: "$work/sweep/index.html")"
+    n=0
+    for png in "$work"/sweep/*.png; do
+      [[ -f $png ]] || fail "no PNG plot in $work/sweep"
+      [[ $(head -c 5 "${png%.png}.pdf" 2>/dev/null) == %PDF- ]] || fail "no PDF beside $png"
+      n=$((n + 1))
+    done
+    echo "installed sweep found $prefix/share/smoothforce/sweep_plots.py: $n PNG plots, each with its PDF"
+    ;;
   *)
-    sed -n '2,9p' "$0"
+    sed -n '2,10p' "$0"
     exit 2
     ;;
 esac

@@ -111,8 +111,9 @@ SweepData readSweepData(const std::string& dir);
 /// configurations differ, or the HIP ranges or trajectory series overlap or leave a gap.
 SweepData mergeSweepData(std::vector<SweepData> shards);
 
-/// Computes the metrics of a whole run (begin 0, end total) and writes summary.json and one
-/// METHOD_DEPTH.ply per method and depth into dir. Returns the table printed for people.
+/// Computes the metrics of a whole run (begin 0, end total) and writes summary.json, one
+/// METHOD_DEPTH.ply and one METHOD_DEPTH.vtp per method and depth, and results_METHOD.npy per
+/// method into dir (sweep_outputs.h). Returns the table printed for people.
 /// summary.json holds no timings or thread counts: merged shards give the same bytes.
 std::string writeSweepSummary(const SweepData& data, const std::string& dir);
 
