@@ -163,7 +163,7 @@ pyb::array evaluate(const PyCache& c, const pyb::array& faces, const pyb::handle
       static_cast<size_t>(y.size()) != f.size())
     throw InputError("evaluate: faces, xi and eta must be 1-D arrays of one length (" + std::to_string(f.size()) + ")");
   static_assert(std::is_standard_layout_v<PatchPoint>);
-  pyb::array out(patchPointDtype(), {static_cast<ssize_t>(f.size())});
+  pyb::array out(patchPointDtype(), std::vector<ssize_t>{static_cast<ssize_t>(f.size())});
   auto* pts = static_cast<PatchPoint*>(out.mutable_data());
   for (size_t i = 0; i < f.size(); ++i) new (&pts[i]) PatchPoint();
   {

@@ -68,7 +68,7 @@ pyb::array trace(const PyCache& c, const pyb::handle& hipsIn, const std::string&
   const Doubles hips = Doubles::ensure(hipsIn);
   if (!hips || hips.ndim() != 2 || hips.shape(1) != 3) throw InputError("hips: expected shape (T, 3)");
   const size_t n = static_cast<size_t>(hips.shape(0));
-  pyb::array out(traceDtype(), {static_cast<ssize_t>(n)});
+  pyb::array out(traceDtype(), std::vector<ssize_t>{static_cast<ssize_t>(n)});
   auto* rows = static_cast<TraceRow*>(out.mutable_data());
   const double* h = hips.data();
   {
