@@ -27,7 +27,8 @@ Options options(const std::string& precision, const std::string& normals, const 
   o.patch.precision = parsePrecision(precision);
   o.patch.normals = parseNormalMode(normals);
   o.patch.crossTangent = parseCrossTangent(crossTangent);
-  if (orient != "outward" && orient != "keep") throw InputError("orient: expected outward or keep, got '" + orient + "'");
+  if (orient != "outward" && orient != "keep")
+    throw InputError("orient: expected outward or keep, got '" + orient + "'");
   o.patch.keepOrientation = orient == "keep";
   o.backend = parseBackend(backend);
   if (o.backend == Backend::OpenCL) throw InputError("backend: the Python module builds on the CPU: tbb or serial");
@@ -56,9 +57,9 @@ PyCache fromLoaded(const LoadedMesh& lm, const Options& o, std::string source) {
 std::vector<int32_t> int32Array(const pyb::array& a, const char* field, int cols = 0) {
   const char kind = a.dtype().kind();
   if (kind != 'i' && kind != 'u')
-    throw InputError(std::string(field) + ": expected an integer array, got dtype " +
-                     std::string(pyb::str(a.dtype())));
-  if (a.ndim() != 1) throw InputError(std::string(field) + ": expected a 1-D array, got " + std::to_string(a.ndim()) + "-D");
+    throw InputError(std::string(field) + ": expected an integer array, got dtype " + std::string(pyb::str(a.dtype())));
+  if (a.ndim() != 1)
+    throw InputError(std::string(field) + ": expected a 1-D array, got " + std::to_string(a.ndim()) + "-D");
   (void)cols;
   auto wide = pyb::array_t<int64_t, pyb::array::c_style | pyb::array::forcecast>::ensure(a);
   std::vector<int32_t> out(static_cast<size_t>(wide.size()));
@@ -216,8 +217,9 @@ void bindCache(pyb::module_& m) {
       .def_property_readonly("num_corners", [](const PyCache& c) { return c.cache->numSlots(); })
       .def_property_readonly("lazy", [](const PyCache& c) { return !hasPatchData(*c.cache); })
       .def_property_readonly("precision", [](const PyCache& c) { return toString(c.cache->options.precision); })
-      .def_property_readonly("mesh_hash", [](const PyCache& c) { return hexHash(c.cache->meshHash); },
-                             "XXH64 of the mesh file's bytes (arrays: of the arrays), 16 hex digits")
+      .def_property_readonly(
+          "mesh_hash", [](const PyCache& c) { return hexHash(c.cache->meshHash); },
+          "XXH64 of the mesh file's bytes (arrays: of the arrays), 16 hex digits")
       .def_property_readonly("source", [](const PyCache& c) { return c.source; })
       .def_property_readonly(
           "positions",

@@ -1,11 +1,11 @@
 // smoothforce.sweep (an offset-surface force sweep) and smoothforce.read_sweep (its directory).
 #include <pybind11/stl.h>
 
+#include <unistd.h>
 #include <cstddef>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <unistd.h>
 
 #include <smoothforce/base/hash.h>
 #include <smoothforce/sweep/sweep_io.h>
@@ -103,8 +103,8 @@ pyb::dict readSweep(const std::string& dir) {
   return toPython(std::move(d), dir, "");
 }
 
-pyb::dict sweep(const PyCache& c, const std::string& depths, const std::vector<std::string>& methods,
-                uint64_t samples, uint64_t seed, int level, double stiffness, int threads, const pyb::object& output,
+pyb::dict sweep(const PyCache& c, const std::string& depths, const std::vector<std::string>& methods, uint64_t samples,
+                uint64_t seed, int level, double stiffness, int threads, const pyb::object& output,
                 const std::string& sampleOn) {
   SweepInputs in;
   in.cache = c.cache;
@@ -124,8 +124,8 @@ pyb::dict sweep(const PyCache& c, const std::string& depths, const std::vector<s
   std::string dir;
   bool temporary = output.is_none();
   if (temporary) {
-    dir = (fs::temp_directory_path() / ("smoothforce_sweep_" + hexHash(reinterpret_cast<uintptr_t>(&in)) + "_" +
-                                        std::to_string(::getpid())))
+    dir = (fs::temp_directory_path() /
+           ("smoothforce_sweep_" + hexHash(reinterpret_cast<uintptr_t>(&in)) + "_" + std::to_string(::getpid())))
               .string();
   } else {
     dir = pyb::str(output).cast<std::string>();

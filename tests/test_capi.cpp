@@ -153,11 +153,10 @@ TEST(CApi, StepEqualsServoStepOnEveryHip) {
   ASSERT_EQ(sf_haptic_create(c.get(), &o, &raw), SF_OK) << sf_last_error();
   HapticPtr h(raw);
   c.reset();  // the haptic keeps the cache
-  sf::rt::Scene scene = sf::rt::singleObjectScene(
-      ref, kSpot, sf::ForceMethod::Patch, sf::ForceOptions{},
-      [](std::shared_ptr<const sf::PatchCache> cc, sf::ForceMethod m, const sf::ForceOptions& f) {
-        return sf::makeForceRenderer(std::move(cc), m, f);
-      });
+  sf::rt::Scene scene =
+      sf::rt::singleObjectScene(ref, kSpot, sf::ForceMethod::Patch, sf::ForceOptions{},
+                                [](std::shared_ptr<const sf::PatchCache> cc, sf::ForceMethod m,
+                                   const sf::ForceOptions& f) { return sf::makeForceRenderer(std::move(cc), m, f); });
   sf::rt::SafetyFilter safety;
   sf::rt::StepOptions so;
   so.rate = 10;
@@ -230,13 +229,15 @@ TEST(CApi, EveryErrorClassIsACodeAndAMessage) {
   sf_cache_options_init(&o);
   o.name = "tri";
   st = sf_cache_from_arrays(p, 3, off, 1, bad, nullptr, 0, &o, &c);
-  expect(st, SF_ERROR_INPUT, sf_last_error(), "tri: faceVertices[2] (face 0, corner 2): vertex index 7 out of range [0, 3)");
+  expect(st, SF_ERROR_INPUT, sf_last_error(),
+         "tri: faceVertices[2] (face 0, corner 2): vertex index 7 out of range [0, 3)");
   st = sf_cache_from_arrays(p, 4, off, 1, good, nullptr, 0, &o, &c);
   expect(st, SF_ERROR_INPUT, sf_last_error(), "tri: positions[3][2] (vertex 3): non-finite value inf");
   st = sf_cache_from_arrays(p, 3, off2, 1, good, nullptr, 0, &o, &c);
   expect(st, SF_ERROR_INPUT, sf_last_error(), "tri: faceOffsets[1] (face 0): 2 corners");
   st = sf_cache_from_arrays(p, 3, off, 1, good, p, 2, &o, &c);
-  expect(st, SF_ERROR_INPUT, sf_last_error(), "tri: normals: 2 rows, expected 3 (one per vertex) or 3 (one per corner)");
+  expect(st, SF_ERROR_INPUT, sf_last_error(),
+         "tri: normals: 2 rows, expected 3 (one per vertex) or 3 (one per corner)");
   st = sf_cache_from_arrays(p, -1, off, 1, good, nullptr, 0, &o, &c);
   expect(st, SF_ERROR_INPUT, sf_last_error(), "num_vertices: -1");
   st = sf_cache_from_arrays(nullptr, 3, off, 1, good, nullptr, 0, &o, &c);

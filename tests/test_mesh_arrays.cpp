@@ -5,8 +5,8 @@
 #include <unistd.h>
 
 #include <filesystem>
-#include <functional>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <limits>
 
@@ -127,8 +127,9 @@ TEST(MeshArrays, SameCacheBytesAsTheFileForEveryMesh) {
   EXPECT_GE(withNormals, 4);
   EXPECT_GE(perCorner, 2);
   EXPECT_GE(unreadable, 50);
-  std::printf("compared %d caches (%d from ../shared/meshes, %d with file normals, %d per corner); %d unreadable files\n",
-              compared, shared, withNormals, perCorner, unreadable);
+  std::printf(
+      "compared %d caches (%d from ../shared/meshes, %d with file normals, %d per corner); %d unreadable files\n",
+      compared, shared, withNormals, perCorner, unreadable);
 }
 
 TEST(MeshArrays, DefaultHashIsTheArraysContent) {

@@ -7,13 +7,13 @@
 
 #include <smoothforce.h>
 
-#define CHECK(call, handle_error)                                                        \
-  do {                                                                                   \
-    sf_status st_ = (call);                                                              \
-    if (st_ != SF_OK) {                                                                  \
-      fprintf(stderr, "%s: %s: %s\n", #call, sf_status_name(st_), (handle_error));      \
-      return 1;                                                                          \
-    }                                                                                    \
+#define CHECK(call, handle_error)                                                  \
+  do {                                                                             \
+    sf_status st_ = (call);                                                        \
+    if (st_ != SF_OK) {                                                            \
+      fprintf(stderr, "%s: %s: %s\n", #call, sf_status_name(st_), (handle_error)); \
+      return 1;                                                                    \
+    }                                                                              \
   } while (0)
 
 int main(int argc, char** argv) {
@@ -57,7 +57,8 @@ int main(int argc, char** argv) {
     if (mag > fmax) fmax = mag;
     if (i > 0) {
       const double* g = trace[i - 1].force;
-      const double d = sqrt((f[0] - g[0]) * (f[0] - g[0]) + (f[1] - g[1]) * (f[1] - g[1]) + (f[2] - g[2]) * (f[2] - g[2]));
+      const double d =
+          sqrt((f[0] - g[0]) * (f[0] - g[0]) + (f[1] - g[1]) * (f[1] - g[1]) + (f[2] - g[2]) * (f[2] - g[2]));
       if (d > maxJump) maxJump = d;
     }
   }

@@ -55,11 +55,10 @@ int main(int argc, char** argv) try {
   std::printf("trace: %d of %d steps in contact, largest step-to-step change %.4f N\n", contacts, n, maxJump);
 
   // 3. The servo step from the caller's own loop: scene + safety + ServoStep.
-  sf::rt::Scene scene = sf::rt::singleObjectScene(
-      cache, argv[1], sf::ForceMethod::Patch, force,
-      [](std::shared_ptr<const sf::PatchCache> c, sf::ForceMethod m, const sf::ForceOptions& f) {
-        return sf::makeForceRenderer(std::move(c), m, f);
-      });
+  sf::rt::Scene scene =
+      sf::rt::singleObjectScene(cache, argv[1], sf::ForceMethod::Patch, force,
+                                [](std::shared_ptr<const sf::PatchCache> c, sf::ForceMethod m,
+                                   const sf::ForceOptions& f) { return sf::makeForceRenderer(std::move(c), m, f); });
   sf::rt::SafetyFilter safety;
   sf::rt::ServoStep step(scene, safety);
   double maxForce = 0;

@@ -79,11 +79,16 @@ const char* sf_version(void) { return SF_VERSION_STRING; }
 
 const char* sf_status_name(sf_status s) {
   switch (s) {
-    case SF_OK: return "SF_OK";
-    case SF_ERROR_INPUT: return "SF_ERROR_INPUT";
-    case SF_ERROR_ARGUMENT: return "SF_ERROR_ARGUMENT";
-    case SF_ERROR_MEMORY: return "SF_ERROR_MEMORY";
-    case SF_ERROR_INTERNAL: return "SF_ERROR_INTERNAL";
+    case SF_OK:
+      return "SF_OK";
+    case SF_ERROR_INPUT:
+      return "SF_ERROR_INPUT";
+    case SF_ERROR_ARGUMENT:
+      return "SF_ERROR_ARGUMENT";
+    case SF_ERROR_MEMORY:
+      return "SF_ERROR_MEMORY";
+    case SF_ERROR_INTERNAL:
+      return "SF_ERROR_INTERNAL";
   }
   return "SF_UNKNOWN_STATUS";
 }

@@ -7,13 +7,13 @@
 #include <stdexcept>
 #include <string>
 
+#include <smoothforce.h>
 #include <smoothforce/base/error.h>
 #include <smoothforce/force/force_method.h>
 #include <smoothforce/patch/patch_cache.h>
 #include <smoothforce/runtime/safety.h>
 #include <smoothforce/runtime/scene.h>
 #include <smoothforce/runtime/servo_step.h>
-#include <smoothforce.h>
 
 struct sf_cache {
   std::shared_ptr<const sf::PatchCache> cache;

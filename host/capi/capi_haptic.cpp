@@ -54,8 +54,8 @@ extern "C" {
 void sf_haptic_options_init(sf_haptic_options* o) {
   if (!o) return;
   const rt::SafetyOptions s;
-  *o = sf_haptic_options{nullptr, nullptr, ForceOptions{}.stiffness, ForceOptions{}.patchCapacity,
-                         s.maxForce, s.maxForceStep, s.rampTime, rt::StepOptions{}.rate};
+  *o = sf_haptic_options{nullptr,        nullptr,    ForceOptions{}.stiffness, ForceOptions{}.patchCapacity, s.maxForce,
+                         s.maxForceStep, s.rampTime, rt::StepOptions{}.rate};
 }
 
 sf_status sf_haptic_create(sf_cache* cache, const sf_haptic_options* options, sf_haptic** out) {
@@ -105,8 +105,7 @@ sf_status sf_haptic_step(sf_haptic* haptic, const double hip[3], double time, sf
   return SF_OK;
 }
 
-sf_status sf_haptic_set_pose(sf_haptic* haptic, const double translation[3], const double quaternion[4],
-                             double scale) {
+sf_status sf_haptic_set_pose(sf_haptic* haptic, const double translation[3], const double quaternion[4], double scale) {
   if (!haptic || !translation || !quaternion) return SF_ERROR_ARGUMENT;
   rt::Pose p;
   p.translation = Eigen::Vector3d(translation[0], translation[1], translation[2]);

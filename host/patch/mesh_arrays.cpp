@@ -39,10 +39,12 @@ NormalLayout parseNormalLayout(const std::string& s) {
 }
 
 PolygonMesh meshFromArrays(const MeshArrays& in) {
-  if (in.numVertices > kMaxCount) fail(in, "positions: " + std::to_string(in.numVertices) + " vertices (at most 2^31-1)");
+  if (in.numVertices > kMaxCount)
+    fail(in, "positions: " + std::to_string(in.numVertices) + " vertices (at most 2^31-1)");
   if (in.numFaces > kMaxCount - 1) fail(in, "faceOffsets: " + std::to_string(in.numFaces) + " faces (at most 2^31-2)");
   if (in.numFaces == 0) fail(in, "no faces");
-  if (in.numVertices > 0 && !in.positions) fail(in, "positions: null with " + std::to_string(in.numVertices) + " vertices");
+  if (in.numVertices > 0 && !in.positions)
+    fail(in, "positions: null with " + std::to_string(in.numVertices) + " vertices");
   if (!in.faceOffsets) fail(in, "faceOffsets: null with " + std::to_string(in.numFaces) + " faces");
   if (in.faceOffsets[0] != 0) fail(in, "faceOffsets[0]: " + std::to_string(in.faceOffsets[0]) + " (must be 0)");
   for (size_t f = 0; f < in.numFaces; ++f) {
