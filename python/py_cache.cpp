@@ -1,5 +1,6 @@
 // smoothforce.Cache: from files or NumPy arrays, saved, evaluated in batches.
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
 
 #include <cstddef>
 #include <limits>
@@ -54,7 +55,9 @@ PyCache fromLoaded(const LoadedMesh& lm, const Options& o, std::string source) {
 }
 
 /// An integer array as int32, rows x cols (cols 0: 1-D); ValueError naming the field.
-std::vector<int32_t> int32Array(const pyb::array& a, const char* field, int cols = 0) {
+std::vector<int32_t> int32Array(const pyb::handle& h, const char* field, int cols = 0) {
+  const pyb::array a = pyb::array::ensure(h);
+  if (!a) throw InputError(std::string(field) + ": not convertible to an array");
   const char kind = a.dtype().kind();
   if (kind != 'i' && kind != 'u')
     throw InputError(std::string(field) + ": expected an integer array, got dtype " + std::string(pyb::str(a.dtype())));
@@ -88,7 +91,7 @@ Doubles rows3(const pyb::handle& h, const char* field) {
   return d;
 }
 
-PyCache fromArrays(const pyb::handle& positions, const pyb::array& faceOffsets, const pyb::array& faceVertices,
+PyCache fromArrays(const pyb::handle& positions, const pyb::handle& faceOffsets, const pyb::handle& faceVertices,
                    const pyb::object& normals, const std::string& normalLayout, const std::string& name,
                    const std::string& precision, const std::string& normalMode, const std::string& crossTangent,
                    const std::string& orient, const std::string& backend, int threads, bool lazy) {
@@ -118,10 +121,11 @@ PyCache fromArrays(const pyb::handle& positions, const pyb::array& faceOffsets, 
   return fromLoaded(loadMeshArrays(a, o.patch), o, name);
 }
 
-PyCache fromFile(const std::string& path, const std::string& precision, const std::string& normals,
+PyCache fromFile(const std::filesystem::path& fsPath, const std::string& precision, const std::string& normals,
                  const std::string& crossTangent, const std::string& orient, const std::string& backend, int threads,
                  bool lazy) {
   const Options o = options(precision, normals, crossTangent, orient, backend, threads, lazy);
+  const std::string path = fsPath.string();
   pyb::gil_scoped_release release;
   if (isPatchCacheFile(path)) {
     PyCache c;
@@ -155,7 +159,7 @@ pyb::dtype patchPointDtype() {
   return pyb::dtype::from_args(d);
 }
 
-pyb::array evaluate(const PyCache& c, const pyb::array& faces, const pyb::handle& xi, const pyb::handle& eta) {
+pyb::array evaluate(const PyCache& c, const pyb::handle& faces, const pyb::handle& xi, const pyb::handle& eta) {
   if (!hasPatchData(*c.cache))
     throw InputError(c.source + ": a lazy cache (no patch built) cannot be evaluated: build it with lazy=False");
   const std::vector<int32_t> f = int32Array(faces, "faces");
@@ -201,10 +205,10 @@ void bindCache(pyb::module_& m) {
                   "vertex index 8 out of range [0, 8)'). The GIL is released while the patches are built.")
       .def(
           "save",
-          [](const PyCache& c, const std::string& path) {
+          [](const PyCache& c, const std::filesystem::path& path) {
             if (!hasPatchData(*c.cache)) throw InputError(c.source + ": a lazy cache cannot be saved");
             pyb::gil_scoped_release release;
-            writePatchCache(*c.cache, path);
+            writePatchCache(*c.cache, path.string());
           },
           "path"_a, "Writes the patch cache file atomically (temporary file, then rename).")
       .def("evaluate", &evaluate, "faces"_a, "xi"_a, "eta"_a,

@@ -1,5 +1,6 @@
 // smoothforce.sweep (an offset-surface force sweep) and smoothforce.read_sweep (its directory).
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
 
 #include <unistd.h>
 #include <cstddef>
@@ -94,7 +95,8 @@ pyb::dict toPython(SweepData&& d, const std::string& dir, const std::string& tab
   return r;
 }
 
-pyb::dict readSweep(const std::string& dir) {
+pyb::dict readSweep(const std::filesystem::path& path) {
+  const std::string dir = path.string();
   SweepData d;
   {
     pyb::gil_scoped_release release;

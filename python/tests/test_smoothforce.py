@@ -12,6 +12,9 @@ SHARED = ["polygon_laplacian/hexaSphere.off", "pmp/chamfer-cube.off", "geomview/
           "odedstein/spot_low_resolution.obj", "lagrange/cube.obj", "keenan_crane/spot_control_mesh.obj"]
 
 
+GP_ST_OUTSIDE = 0x40  # kernels/gp_config.h
+
+
 def run(*args):
     subprocess.run([str(a) for a in args], check=True, capture_output=True)
 
@@ -55,14 +58,14 @@ def test_evaluate_matches_cli_eval_on_every_face(spot, paths, tmp_path):
     ref = np.array([[float(r[k]) for k in ("x", "y", "z", "nx", "ny", "nz")] for r in rows])
     np.testing.assert_array_equal(pts["position"], ref[:, :3])
     np.testing.assert_array_equal(pts["normal"], ref[:, 3:])
-    assert (pts["status"] & 1).sum() == 0  # none outside its domain
+    assert (pts["status"] & GP_ST_OUTSIDE).sum() == 0  # none outside its domain
     np.testing.assert_allclose(np.linalg.norm(pts["normal"], axis=1), 1.0, atol=1e-12)
 
 
 def test_evaluate_outside_domain_and_bad_face_are_flagged(spot):
     cache = sf.Cache.from_file(spot)
     pts = cache.evaluate([0, 5, 10_000, -1], [2.0, 0.0, 0.0, 0.0], [0.0, 3.0, 0.0, 0.0])
-    assert list(pts["status"] & 1) == [1, 1, 1, 1]
+    assert list(pts["status"] & GP_ST_OUTSIDE) == [GP_ST_OUTSIDE] * 4
     assert not pts["position"].any()
 
 
@@ -71,9 +74,9 @@ def test_arrays_and_file_build_the_same_patches(paths, rel):
     path = paths["shared"] / rel
     if not path.exists():
         pytest.skip(f"{path} missing")
-    a = sf.Cache.from_file(str(path))
+    a = sf.Cache.from_file(path, normals="angle", orient="keep")
     b = sf.Cache.from_arrays(np.array(a.positions), np.array(a.face_offsets), np.array(a.face_vertices),
-                             np.array(a.corner_normals), normal_layout="corner", normals_mode="file")
+                             normals_mode="angle", orient="keep")
     assert b.num_faces == a.num_faces and b.num_corners == a.num_corners
     np.testing.assert_array_equal(a.corner_normals, b.corner_normals)
     np.testing.assert_array_equal(a.face_status, b.face_status)
@@ -184,7 +187,8 @@ def test_trace_matches_cli_trace_on_every_hip(spot, paths, tmp_path):
         assert list(t["face"]) == [int(r["face"]) for r in rows]
         assert list(t["status"]) == [int(r["status"]) for r in rows]
         assert list(t["iterations"]) == [int(r["iterations"]) for r in rows]
-        assert t["contact"][:-50].sum() > 0.9 * (len(hips) - 50) and not t["contact"][-50:].any()
+        assert t["contact"][:-50].sum() > 0.9 * (len(hips) - 50)
+        assert (~t["contact"][-50:]).sum() >= 40  # 5 cm outside (a few land inside another part)
 
 
 def test_haptic_step_applies_safety_and_matches_trace(spot):
@@ -219,7 +223,10 @@ def test_lazy_cache_builds_only_touched_patches(spot):
     assert lazy.lazy and not full.lazy
     pts = full.evaluate(np.zeros(20, dtype=np.int32), np.linspace(-0.3, 0.3, 20), np.zeros(20))
     hips = pts["position"] - 0.005 * pts["normal"]
-    np.testing.assert_array_equal(sf.trace(lazy, hips)["force"], sf.trace(full, hips)["force"])
+    a, b = sf.trace(lazy, hips), sf.trace(full, hips)
+    # The same SCPs up to the refinement tolerance (a lazy cache starts from the polygon query).
+    assert a["contact"].all() and b["contact"].all() and (a["face"] == b["face"]).all()
+    np.testing.assert_allclose(a["force"], b["force"], rtol=0, atol=1e-6)
     with pytest.raises(ValueError, match="lazy"):
         lazy.evaluate([0], [0.0], [0.0])
 
