@@ -22,6 +22,7 @@ ALLOWED = {
     "opencl": {"base", "mesh", "patch", "query"},
     "sweep": {"base", "mesh", "patch", "query", "force", "opencl"},
     "runtime": {"base", "mesh", "patch", "query", "force"},
+    "capi": {"base", "mesh", "patch", "query", "force", "runtime"},
 }
 GENERATED = {"smoothforce/version.h": "base", "smoothforce/config.h": "base"}
 INCLUDE = re.compile(r'^\s*#\s*include\s*([<"])([^>"]+)[>"]', re.M)

@@ -7,9 +7,15 @@
 namespace sf {
 
 LoadedMesh loadMesh(const std::string& path, const PatchOptions& options) {
+  PolygonMesh mesh = readMesh(path);
+  const uint64_t hash = hashFile(path);
+  return loadMesh(std::move(mesh), hash, options);
+}
+
+LoadedMesh loadMesh(PolygonMesh mesh, uint64_t meshHash, const PatchOptions& options) {
   LoadedMesh out;
-  out.mesh = readMesh(path);
-  out.fileHash = hashFile(path);
+  out.mesh = std::move(mesh);
+  out.fileHash = meshHash;
   out.report = checkMesh(out.mesh);
   out.flipped =
       applyOrientation(out.mesh, out.report, options.keepOrientation ? OrientPolicy::Keep : OrientPolicy::Outward);

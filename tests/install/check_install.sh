@@ -5,6 +5,8 @@
 #   check_install.sh pkgconfig PREFIX MAIN_CPP WORK MESH       one-file program built with pkg-config, run
 #   check_install.sh headers   PREFIX WORK                installed headers: alone (preprocessor), together (compiler)
 #   check_install.sh plots     PREFIX WORK MESH           the installed smoothforce finds its plot script (share/)
+#   check_install.sh capi      PREFIX EXAMPLE_C WORK MESH  the C example compiled as C99 against <smoothforce.h>, run
+#   check_install.sh python    PREFIX EXAMPLE_PY MESH     the Python example against the installed module
 # Environment (set by CMake): SF_CXX, SF_CMAKE, SF_GENERATOR, SF_SHARED_LIBS (1/0),
 # SF_HAS_OPENCL (1/0), SF_VERSION. Prints what it checked; exit status 1 on the first failure.
 set -euo pipefail
@@ -154,8 +156,34 @@ case $cmd in
     done
     echo "installed sweep found $prefix/share/smoothforce/sweep_plots.py: $n PNG plots, each with its PDF"
     ;;
+  capi)
+    prefix=$(cd "$1" && pwd) example=$2 work=$3 mesh=$4
+    lib=$(libdir_of "$prefix")
+    rm -rf "$work" && mkdir -p "$work"
+    [[ -f $prefix/include/smoothforce.h ]] || fail "missing $prefix/include/smoothforce.h"
+    if [[ $SF_SHARED_LIBS != 1 ]]; then
+      echo "static libraries: a C program links the C API with the C++ runtime through CMake (SmoothForce::capi)"
+      exit 0
+    fi
+    cc=${SF_CC:-cc}
+    echo "$cc -std=c99 -Wall -Wextra -pedantic -Werror $example -I$prefix/include -L$lib -lsmoothforce_capi -lm"
+    "$cc" -std=c99 -Wall -Wextra -pedantic -Werror "$example" -I"$prefix/include" -L"$lib" -lsmoothforce_capi -lm \
+      -o "$work/example_c" || fail "compile the C example against the installed tree"
+    LD_LIBRARY_PATH=$lib "$work/example_c" "$mesh" >"$work/out" || { cat "$work/out"; fail "example_c exited with $?"; }
+    cat "$work/out"
+    grep -q "^example_c: OK$" "$work/out" || fail "example_c did not report OK"
+    ;;
+  python)
+    prefix=$(cd "$1" && pwd) example=$2 mesh=$3
+    mod=$(find "$prefix" -name 'smoothforce.cpython-*.so' | head -n1)
+    [[ -n $mod ]] || fail "no installed Python module under $prefix"
+    out=$(cd / && PYTHONPATH=$(dirname "$mod") "${SF_PYTHON:-python3}" "$example" "$mesh") || { echo "$out"; fail "example.py"; }
+    echo "$out"
+    grep -q "^example_py: OK$" <<<"$out" || fail "example.py did not report OK"
+    echo "installed module: $mod"
+    ;;
   *)
-    sed -n '2,10p' "$0"
+    sed -n '2,13p' "$0"
     exit 2
     ;;
 esac

@@ -21,6 +21,7 @@
 
 #include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/lazy_patches.h>
+#include <smoothforce/patch/mesh_arrays.h>
 #include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/patch/patch_cache.h>
 #include <smoothforce/patch/patch_eval.h>

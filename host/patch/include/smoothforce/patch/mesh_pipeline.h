@@ -28,6 +28,10 @@ struct LoadedMesh {
 /// Throws InputError (file:line, element).
 LoadedMesh loadMesh(const std::string& path, const PatchOptions& options);
 
+/// The same for a mesh already in memory (mesh_arrays.h builds one from arrays): checks it,
+/// orients it and computes its corner normals; fileHash = meshHash.
+LoadedMesh loadMesh(PolygonMesh mesh, uint64_t meshHash, const PatchOptions& options);
+
 /// Builds the whole-mesh patch cache from a loaded mesh on the CPU backends
 /// (Backend::Serial / Backend::Tbb; threads <= 0: oneTBB default).
 PatchCache buildPatchCache(const LoadedMesh& loaded, const PatchOptions& options, Backend backend, int threads = 0);

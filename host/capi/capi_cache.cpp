@@ -1,0 +1,178 @@
+// C API: caches from files or arrays, saving, batch evaluation.
+#include <smoothforce/base/status.h>
+#include <smoothforce/mesh/mesh_check.h>
+#include <smoothforce/patch/cache_file.h>
+#include <smoothforce/patch/mesh_arrays.h>
+#include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/patch/patch_eval.h>
+#include <smoothforce/version.h>
+#include "capi_detail.h"
+
+#include <vector>
+
+namespace sf::capi {
+
+std::string& lastError() {
+  thread_local std::string message;
+  return message;
+}
+
+namespace {
+
+struct Parsed {
+  PatchOptions patch;
+  Backend backend = Backend::Tbb;
+  int threads = 0;
+  bool lazy = false;
+};
+
+Parsed parseOptions(const sf_cache_options* o) {
+  sf_cache_options d;
+  sf_cache_options_init(&d);
+  if (!o) o = &d;
+  Parsed p;
+  p.patch.precision = parsePrecision(opt(o->precision, "double"));
+  p.patch.normals = parseNormalMode(opt(o->normals, "auto"));
+  p.patch.crossTangent = parseCrossTangent(opt(o->cross_tangent, "corrected"));
+  const std::string orient = opt(o->orient, "outward");
+  if (orient != "outward" && orient != "keep")
+    throw InputError("orient: expected outward or keep, got '" + orient + "'");
+  p.patch.keepOrientation = orient == "keep";
+  p.backend = parseBackend(opt(o->backend, "tbb"));
+  if (p.backend == Backend::OpenCL) throw InputError("backend: the C API builds on the CPU: tbb or serial");
+  if (o->threads < 0) throw InputError("threads: expected >= 0, got " + std::to_string(o->threads));
+  p.threads = o->threads;
+  p.lazy = o->lazy != 0;
+  return p;
+}
+
+sf_cache* finish(const LoadedMesh& lm, const Parsed& p, std::string source) {
+  PatchCache c = preparePatchCache(lm.mesh, lm.cornerNormals, p.patch, lm.fileHash, !p.lazy);
+  if (!p.lazy) constructPatches(c, p.backend, p.threads);
+  auto* h = new sf_cache;
+  h->cache = std::make_shared<const PatchCache>(std::move(c));
+  h->backend = p.backend;
+  h->threads = p.threads;
+  h->source = std::move(source);
+  return h;
+}
+
+template <class F>
+sf_status create(sf_cache** out, F&& make) noexcept {
+  if (!out) {
+    lastError() = "out: NULL";
+    return SF_ERROR_ARGUMENT;
+  }
+  *out = nullptr;
+  return guarded(lastError(), [&] { *out = make(); });
+}
+
+}  // namespace
+}  // namespace sf::capi
+
+using namespace sf;
+using namespace sf::capi;
+
+extern "C" {
+
+const char* sf_version(void) { return SF_VERSION_STRING; }
+
+const char* sf_status_name(sf_status s) {
+  switch (s) {
+    case SF_OK:
+      return "SF_OK";
+    case SF_ERROR_INPUT:
+      return "SF_ERROR_INPUT";
+    case SF_ERROR_ARGUMENT:
+      return "SF_ERROR_ARGUMENT";
+    case SF_ERROR_MEMORY:
+      return "SF_ERROR_MEMORY";
+    case SF_ERROR_INTERNAL:
+      return "SF_ERROR_INTERNAL";
+  }
+  return "SF_UNKNOWN_STATUS";
+}
+
+const char* sf_last_error(void) { return lastError().c_str(); }
+
+void sf_cache_options_init(sf_cache_options* o) {
+  if (o) *o = sf_cache_options{nullptr, nullptr, nullptr, nullptr, nullptr, 0, 0, nullptr, nullptr};
+}
+
+sf_status sf_cache_from_file(const char* path, const sf_cache_options* options, sf_cache** out) {
+  return create(out, [&]() -> sf_cache* {
+    if (!path) throw std::invalid_argument("path: NULL");
+    const Parsed p = parseOptions(options);
+    if (isPatchCacheFile(path)) {
+      CacheExpectation expect;
+      auto* h = new sf_cache;
+      std::unique_ptr<sf_cache> keep(h);
+      h->cache = std::make_shared<const PatchCache>(readPatchCache(path, expect));
+      h->backend = p.backend;
+      h->threads = p.threads;
+      h->source = path;
+      return keep.release();
+    }
+    return finish(loadMesh(path, p.patch), p, path);
+  });
+}
+
+sf_status sf_cache_from_arrays(const double* positions, int32_t num_vertices, const int32_t* face_offsets,
+                               int32_t num_faces, const int32_t* face_vertices, const double* normals,
+                               int32_t num_normals, const sf_cache_options* options, sf_cache** out) {
+  return create(out, [&]() -> sf_cache* {
+    const Parsed p = parseOptions(options);
+    MeshArrays a;
+    if (options && options->name) a.name = options->name;
+    if (options && options->normal_layout) a.normalLayout = parseNormalLayout(options->normal_layout);
+    if (num_vertices < 0) throw InputError(a.name + ": num_vertices: " + std::to_string(num_vertices) + " (< 0)");
+    if (num_faces < 0) throw InputError(a.name + ": num_faces: " + std::to_string(num_faces) + " (< 0)");
+    if (num_normals < 0) throw InputError(a.name + ": num_normals: " + std::to_string(num_normals) + " (< 0)");
+    a.positions = positions;
+    a.numVertices = static_cast<size_t>(num_vertices);
+    a.faceOffsets = face_offsets;
+    a.numFaces = static_cast<size_t>(num_faces);
+    a.faceVertices = face_vertices;
+    a.normals = normals;
+    a.numNormals = static_cast<size_t>(num_normals);
+    return finish(loadMeshArrays(a, p.patch), p, a.name);
+  });
+}
+
+void sf_cache_free(sf_cache* cache) { delete cache; }
+
+const char* sf_cache_error(const sf_cache* cache) { return cache ? cache->error.c_str() : "cache: NULL"; }
+
+int32_t sf_cache_num_faces(const sf_cache* cache) { return cache ? cache->cache->numFaces() : 0; }
+int32_t sf_cache_num_vertices(const sf_cache* cache) { return cache ? cache->cache->numVertices() : 0; }
+
+sf_status sf_cache_save(sf_cache* cache, const char* path) {
+  if (!cache) return SF_ERROR_ARGUMENT;
+  return guarded(cache->error, [&] {
+    if (!path) throw std::invalid_argument("path: NULL");
+    if (!hasPatchData(*cache->cache))
+      throw InputError(cache->source + ": a lazy cache (no patch built) cannot be saved: create it with lazy = 0");
+    writePatchCache(*cache->cache, path);
+  });
+}
+
+sf_status sf_cache_evaluate(sf_cache* cache, size_t count, const int32_t* faces, const double* xi, const double* eta,
+                            double* position, double* normal, uint32_t* status) {
+  if (!cache) return SF_ERROR_ARGUMENT;
+  return guarded(cache->error, [&] {
+    if (count && (!faces || !xi || !eta)) throw std::invalid_argument("evaluate: faces, xi and eta must not be NULL");
+    if (!hasPatchData(*cache->cache))
+      throw InputError(cache->source + ": a lazy cache (no patch built) cannot be evaluated: create it with lazy = 0");
+    std::vector<PatchPoint> pts(count);
+    evaluatePatches(*cache->cache, faces, xi, eta, count, pts.data(), cache->backend, cache->threads);
+    for (size_t i = 0; i < count; ++i) {
+      for (int k = 0; k < 3; ++k) {
+        if (position) position[3 * i + k] = pts[i].pos[k];
+        if (normal) normal[3 * i + k] = pts[i].normal[k];
+      }
+      if (status) status[i] = pts[i].status;
+    }
+  });
+}
+
+}  // extern "C"

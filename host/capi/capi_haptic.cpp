@@ -1,0 +1,148 @@
+// C API: the servo step (renderer + safety + ServoStep on a one-object scene) and traces.
+#include <cmath>
+#include <cstring>
+
+#include <smoothforce/force/force_presets.h>
+#include <smoothforce/force/force_tracking.h>
+#include <smoothforce/runtime/pose.h>
+#include "capi_detail.h"
+
+namespace sf::capi {
+
+ForceOptions forceOptions(const sf_haptic_options& o, ForceMethod* method) {
+  ForceOptions f;
+  *method = parseForceMethod(opt(o.method, "patch"));
+  if (o.preset) applyForcePreset(findForcePreset(o.preset), f);
+  f.stiffness = o.stiffness;
+  f.patchCapacity = o.patch_capacity;
+  validateForceOptions(f);
+  return f;
+}
+
+namespace {
+
+void fill(sf_step_result& r, const ForceSample& s, const Eigen::Vector3d& force) noexcept {
+  for (int k = 0; k < 3; ++k) {
+    r.force[k] = force[k];
+    r.scp[k] = s.scp[k];
+    r.normal[k] = s.normal[k];
+  }
+  r.contact = s.contact ? 1 : 0;
+  r.face = s.contact ? s.face : -1;
+  r.xi = s.xi;
+  r.eta = s.eta;
+  r.iterations = s.iterations;
+  r.status = s.status;
+  r.flags = 0;
+  r.faulted = 0;
+}
+
+sf_haptic_options defaults(const sf_haptic_options* o) {
+  sf_haptic_options d;
+  sf_haptic_options_init(&d);
+  return o ? *o : d;
+}
+
+}  // namespace
+}  // namespace sf::capi
+
+using namespace sf;
+using namespace sf::capi;
+
+extern "C" {
+
+void sf_haptic_options_init(sf_haptic_options* o) {
+  if (!o) return;
+  const rt::SafetyOptions s;
+  *o = sf_haptic_options{nullptr,        nullptr,    ForceOptions{}.stiffness, ForceOptions{}.patchCapacity, s.maxForce,
+                         s.maxForceStep, s.rampTime, rt::StepOptions{}.rate};
+}
+
+sf_status sf_haptic_create(sf_cache* cache, const sf_haptic_options* options, sf_haptic** out) {
+  if (!out) {
+    lastError() = "out: NULL";
+    return SF_ERROR_ARGUMENT;
+  }
+  *out = nullptr;
+  return guarded(lastError(), [&] {
+    if (!cache) throw std::invalid_argument("cache: NULL");
+    const sf_haptic_options o = defaults(options);
+    ForceMethod method{};
+    const ForceOptions force = forceOptions(o, &method);
+    rt::SafetyOptions so;
+    so.maxForce = o.max_force;
+    so.maxForceStep = o.max_force_step;
+    so.rampTime = o.ramp_time;
+    rt::validate(so);
+    rt::StepOptions step;
+    step.rate = o.rate;
+    rt::validate(step);
+    auto h = std::make_unique<sf_haptic>();
+    h->scene = rt::singleObjectScene(cache->cache, cache->source, method, force,
+                                     [](std::shared_ptr<const PatchCache> c, ForceMethod m, const ForceOptions& f) {
+                                       return makeForceRenderer(std::move(c), m, f);
+                                     });
+    h->safety = std::make_unique<rt::SafetyFilter>(so);
+    h->step = std::make_unique<rt::ServoStep>(h->scene, *h->safety, step);
+    *out = h.release();
+  });
+}
+
+void sf_haptic_free(sf_haptic* haptic) { delete haptic; }
+
+const char* sf_haptic_error(const sf_haptic* haptic) { return haptic ? haptic->error.c_str() : "haptic: NULL"; }
+
+sf_status sf_haptic_step(sf_haptic* haptic, const double hip[3], double time, sf_step_result* out) {
+  if (!haptic || !hip || !out) return SF_ERROR_ARGUMENT;
+  rt::StepTime t;
+  t.wake = time;
+  rt::DeviceState d;
+  d.position = Eigen::Vector3d(hip[0], hip[1], hip[2]);
+  const rt::StepOutput s = haptic->step->step(t, d);  // noexcept, allocation-free
+  fill(*out, s.sample, s.force);
+  out->flags = s.flags;
+  out->faulted = s.faulted ? 1 : 0;
+  return SF_OK;
+}
+
+sf_status sf_haptic_set_pose(sf_haptic* haptic, const double translation[3], const double quaternion[4], double scale) {
+  if (!haptic || !translation || !quaternion) return SF_ERROR_ARGUMENT;
+  rt::Pose p;
+  p.translation = Eigen::Vector3d(translation[0], translation[1], translation[2]);
+  p.rotation = Eigen::Quaterniond(quaternion[0], quaternion[1], quaternion[2], quaternion[3]);
+  p.scale = scale;
+  if (!rt::isValid(p)) {
+    // Not on the servo path's success branch: a message may allocate here.
+    haptic->error = "pose: expected a finite translation, a non-zero finite quaternion and a finite scale > 0";
+    return SF_ERROR_INPUT;
+  }
+  if (!haptic->scene.setPose(0, p)) {
+    haptic->error = "pose: another thread is publishing a pose for this object";
+    return SF_ERROR_INPUT;
+  }
+  return SF_OK;
+}
+
+void sf_haptic_reset(sf_haptic* haptic) {
+  if (!haptic) return;
+  haptic->scene.reset();
+  haptic->safety->reset();
+}
+
+sf_status sf_cache_trace(sf_cache* cache, const sf_haptic_options* options, size_t count, const double* hips,
+                         sf_step_result* out) {
+  if (!cache) return SF_ERROR_ARGUMENT;
+  return guarded(cache->error, [&] {
+    if (count && (!hips || !out)) throw std::invalid_argument("trace: hips and out must not be NULL");
+    const sf_haptic_options o = defaults(options);
+    ForceMethod method{};
+    const ForceOptions force = forceOptions(o, &method);
+    auto renderer = makeForceRenderer(cache->cache, method, force);
+    for (size_t i = 0; i < count; ++i) {
+      const ForceSample s = renderer->step(Eigen::Vector3d(hips[3 * i], hips[3 * i + 1], hips[3 * i + 2]));
+      fill(out[i], s, s.force);
+    }
+  });
+}
+
+}  // extern "C"

@@ -1,0 +1,275 @@
+// smoothforce.Cache: from files or NumPy arrays, saved, evaluated in batches.
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <cstddef>
+#include <limits>
+
+#include <smoothforce/base/hash.h>
+#include <smoothforce/mesh/mesh_check.h>
+#include <smoothforce/patch/cache_file.h>
+#include <smoothforce/patch/mesh_arrays.h>
+#include <smoothforce/patch/patch_eval.h>
+#include "py_common.h"
+
+namespace sf::py {
+namespace {
+
+struct Options {
+  PatchOptions patch;
+  Backend backend = Backend::Tbb;
+  int threads = 0;
+  bool lazy = false;
+};
+
+Options options(const std::string& precision, const std::string& normals, const std::string& crossTangent,
+                const std::string& orient, const std::string& backend, int threads, bool lazy) {
+  Options o;
+  o.patch.precision = parsePrecision(precision);
+  o.patch.normals = parseNormalMode(normals);
+  o.patch.crossTangent = parseCrossTangent(crossTangent);
+  if (orient != "outward" && orient != "keep")
+    throw InputError("orient: expected outward or keep, got '" + orient + "'");
+  o.patch.keepOrientation = orient == "keep";
+  o.backend = parseBackend(backend);
+  if (o.backend == Backend::OpenCL) throw InputError("backend: the Python module builds on the CPU: tbb or serial");
+  if (threads < 0) throw InputError("threads: expected >= 0, got " + std::to_string(threads));
+  o.threads = threads;
+  o.lazy = lazy;
+  return o;
+}
+
+PyCache fromLoaded(const LoadedMesh& lm, const Options& o, std::string source) {
+  PyCache c;
+  PatchCache pc = preparePatchCache(lm.mesh, lm.cornerNormals, o.patch, lm.fileHash, !o.lazy);
+  if (!o.lazy) constructPatches(pc, o.backend, o.threads);
+  c.cache = std::make_shared<const PatchCache>(std::move(pc));
+  c.source = std::move(source);
+  c.backend = o.backend;
+  c.threads = o.threads;
+  c.fromMesh = true;
+  c.meshReport = lm.report.describe();
+  c.normalReport = lm.normalReport.describe();
+  c.flipped = lm.flipped;
+  return c;
+}
+
+/// An integer array as int32, rows x cols (cols 0: 1-D); ValueError naming the field.
+std::vector<int32_t> int32Array(const pyb::handle& h, const char* field, int cols = 0) {
+  const pyb::array a = pyb::array::ensure(h);
+  if (!a) throw InputError(std::string(field) + ": not convertible to an array");
+  const char kind = a.dtype().kind();
+  if (kind != 'i' && kind != 'u')
+    throw InputError(std::string(field) + ": expected an integer array, got dtype " + std::string(pyb::str(a.dtype())));
+  if (a.ndim() != 1)
+    throw InputError(std::string(field) + ": expected a 1-D array, got " + std::to_string(a.ndim()) + "-D");
+  (void)cols;
+  auto wide = pyb::array_t<int64_t, pyb::array::c_style | pyb::array::forcecast>::ensure(a);
+  std::vector<int32_t> out(static_cast<size_t>(wide.size()));
+  const int64_t* p = wide.data();
+  for (size_t i = 0; i < out.size(); ++i) {
+    if (p[i] < std::numeric_limits<int32_t>::min() || p[i] > std::numeric_limits<int32_t>::max())
+      throw InputError(std::string(field) + "[" + std::to_string(i) + "]: " + std::to_string(p[i]) +
+                       " does not fit in int32");
+    out[i] = static_cast<int32_t>(p[i]);
+  }
+  return out;
+}
+
+using Doubles = pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>;
+
+/// rows x 3 doubles (NumPy may convert; no copy when already float64 C-contiguous).
+Doubles rows3(const pyb::handle& h, const char* field) {
+  pyb::array a = pyb::array::ensure(h);
+  if (!a) throw InputError(std::string(field) + ": not convertible to an array");
+  const char kind = a.dtype().kind();
+  if (kind != 'f' && kind != 'i' && kind != 'u')
+    throw InputError(std::string(field) + ": expected a numeric array, got dtype " + std::string(pyb::str(a.dtype())));
+  Doubles d = Doubles::ensure(a);
+  if (d.ndim() != 2 || d.shape(1) != 3)
+    throw InputError(std::string(field) + ": expected shape (n, 3), got " + std::string(pyb::str(a.attr("shape"))));
+  return d;
+}
+
+PyCache fromArrays(const pyb::handle& positions, const pyb::handle& faceOffsets, const pyb::handle& faceVertices,
+                   const pyb::object& normals, const std::string& normalLayout, const std::string& name,
+                   const std::string& precision, const std::string& normalMode, const std::string& crossTangent,
+                   const std::string& orient, const std::string& backend, int threads, bool lazy) {
+  const Options o = options(precision, normalMode, crossTangent, orient, backend, threads, lazy);
+  const Doubles pos = rows3(positions, "positions");
+  const std::vector<int32_t> offsets = int32Array(faceOffsets, "face_offsets");
+  const std::vector<int32_t> verts = int32Array(faceVertices, "face_vertices");
+  if (offsets.empty()) throw InputError(name + ": face_offsets: empty (expected #F + 1 entries, 0 first)");
+  if (offsets.back() < 0 || static_cast<size_t>(offsets.back()) != verts.size())
+    throw InputError(name + ": face_offsets[-1] = " + std::to_string(offsets.back()) + " but face_vertices has " +
+                     std::to_string(verts.size()) + " entries");
+  Doubles nrm;
+  MeshArrays a;
+  a.name = name;
+  a.normalLayout = parseNormalLayout(normalLayout);
+  if (!normals.is_none()) {
+    nrm = rows3(normals, "normals");
+    a.normals = nrm.data();
+    a.numNormals = static_cast<size_t>(nrm.shape(0));
+  }
+  a.positions = pos.data();
+  a.numVertices = static_cast<size_t>(pos.shape(0));
+  a.faceOffsets = offsets.data();
+  a.numFaces = offsets.size() - 1;
+  a.faceVertices = verts.data();
+  pyb::gil_scoped_release release;
+  return fromLoaded(loadMeshArrays(a, o.patch), o, name);
+}
+
+PyCache fromFile(const std::filesystem::path& fsPath, const std::string& precision, const std::string& normals,
+                 const std::string& crossTangent, const std::string& orient, const std::string& backend, int threads,
+                 bool lazy) {
+  const Options o = options(precision, normals, crossTangent, orient, backend, threads, lazy);
+  const std::string path = fsPath.string();
+  pyb::gil_scoped_release release;
+  if (isPatchCacheFile(path)) {
+    PyCache c;
+    c.cache = std::make_shared<const PatchCache>(readPatchCache(path));
+    c.source = path;
+    c.backend = o.backend;
+    c.threads = o.threads;
+    return c;
+  }
+  return fromLoaded(loadMesh(path, o.patch), o, path);
+}
+
+/// PatchPoint as a NumPy structured dtype (the array is written in place by evaluatePatches).
+pyb::dtype patchPointDtype() {
+  pyb::list names, formats, offsets;
+  auto add = [&](const char* n, const char* f, size_t off) {
+    names.append(n);
+    formats.append(f);
+    offsets.append(off);
+  };
+  add("position", "(3,)f8", offsetof(PatchPoint, pos));
+  add("dxi", "(3,)f8", offsetof(PatchPoint, dxi));
+  add("deta", "(3,)f8", offsetof(PatchPoint, deta));
+  add("normal", "(3,)f8", offsetof(PatchPoint, normal));
+  add("status", "u4", offsetof(PatchPoint, status));
+  pyb::dict d;
+  d["names"] = names;
+  d["formats"] = formats;
+  d["offsets"] = offsets;
+  d["itemsize"] = sizeof(PatchPoint);
+  return pyb::dtype::from_args(d);
+}
+
+pyb::array evaluate(const PyCache& c, const pyb::handle& faces, const pyb::handle& xi, const pyb::handle& eta) {
+  if (!hasPatchData(*c.cache))
+    throw InputError(c.source + ": a lazy cache (no patch built) cannot be evaluated: build it with lazy=False");
+  const std::vector<int32_t> f = int32Array(faces, "faces");
+  const Doubles x = Doubles::ensure(xi), y = Doubles::ensure(eta);
+  if (!x || !y || x.ndim() != 1 || y.ndim() != 1 || static_cast<size_t>(x.size()) != f.size() ||
+      static_cast<size_t>(y.size()) != f.size())
+    throw InputError("evaluate: faces, xi and eta must be 1-D arrays of one length (" + std::to_string(f.size()) + ")");
+  static_assert(std::is_standard_layout_v<PatchPoint>);
+  pyb::array out(patchPointDtype(), std::vector<ssize_t>{static_cast<ssize_t>(f.size())});
+  auto* pts = static_cast<PatchPoint*>(out.mutable_data());
+  for (size_t i = 0; i < f.size(); ++i) new (&pts[i]) PatchPoint();
+  {
+    pyb::gil_scoped_release release;
+    evaluatePatches(*c.cache, f.data(), x.data(), y.data(), f.size(), pts, c.backend, c.threads);
+  }
+  return out;
+}
+
+}  // namespace
+
+void bindCache(pyb::module_& m) {
+  using namespace pybind11::literals;
+  pyb::class_<PyCache, std::shared_ptr<PyCache>>(m, "Cache",
+                                                 "A whole mesh's Gregory patches (or, lazy, the mesh whose patches a "
+                                                 "renderer builds near the contact).")
+      .def_static("from_file", &fromFile, "path"_a, pyb::kw_only(), "precision"_a = "double", "normals"_a = "auto",
+                  "cross_tangent"_a = "corrected", "orient"_a = "outward", "backend"_a = "tbb", "threads"_a = 0,
+                  "lazy"_a = false,
+                  "A cache from a patch cache file (checked, kept as it is) or a mesh file (OBJ, OFF, PLY: read,\n"
+                  "checked, oriented, normals computed, every patch built unless lazy). Options as `smoothforce\n"
+                  "cache build`'s. Raises ValueError naming the file and line. The GIL is released.")
+      .def_static("from_arrays", &fromArrays, "positions"_a, "face_offsets"_a, "face_vertices"_a,
+                  "normals"_a = pyb::none(), pyb::kw_only(), "normal_layout"_a = "auto", "name"_a = "<arrays>",
+                  "precision"_a = "double", "normals_mode"_a = "auto", "cross_tangent"_a = "corrected",
+                  "orient"_a = "outward", "backend"_a = "tbb", "threads"_a = 0, "lazy"_a = false,
+                  "A cache from arrays, with the checks and reports of a file:\n"
+                  "  positions     (V, 3) float, m\n"
+                  "  face_offsets  (F + 1,) int: face f owns corners face_offsets[f] .. face_offsets[f+1]-1\n"
+                  "  face_vertices (C,) int vertex indices, counter-clockwise seen from outside\n"
+                  "  normals       (V, 3) per vertex or (C, 3) per corner, or None (normal_layout: auto, vertex,\n"
+                  "                corner); used as a file's normals are (normals_mode: auto, file, angle, area)\n"
+                  "Raises ValueError naming the field and element ('<arrays>: faceVertices[9] (face 2, corner 1):\n"
+                  "vertex index 8 out of range [0, 8)'). The GIL is released while the patches are built.")
+      .def(
+          "save",
+          [](const PyCache& c, const std::filesystem::path& path) {
+            if (!hasPatchData(*c.cache)) throw InputError(c.source + ": a lazy cache cannot be saved");
+            pyb::gil_scoped_release release;
+            writePatchCache(*c.cache, path.string());
+          },
+          "path"_a, "Writes the patch cache file atomically (temporary file, then rename).")
+      .def("evaluate", &evaluate, "faces"_a, "xi"_a, "eta"_a,
+           "Evaluates N points (faces (N,) int, xi and eta (N,) float in the face's domain, the regular n-gon\n"
+           "with corners (cos 2 pi k/n, sin 2 pi k/n)) in parallel, GIL released. Returns a structured array\n"
+           "(N,) with fields position (3,) m, dxi (3,), deta (3,) (derivatives), normal (3,) (unit), status\n"
+           "(GP_ST_* bits; a point outside its domain or a bad face: GP_ST_OUTSIDE = 1, zero vectors).")
+      .def_property_readonly("num_faces", [](const PyCache& c) { return c.cache->numFaces(); })
+      .def_property_readonly("num_vertices", [](const PyCache& c) { return c.cache->numVertices(); })
+      .def_property_readonly("num_corners", [](const PyCache& c) { return c.cache->numSlots(); })
+      .def_property_readonly("lazy", [](const PyCache& c) { return !hasPatchData(*c.cache); })
+      .def_property_readonly("precision", [](const PyCache& c) { return toString(c.cache->options.precision); })
+      .def_property_readonly(
+          "mesh_hash", [](const PyCache& c) { return hexHash(c.cache->meshHash); },
+          "XXH64 of the mesh file's bytes (arrays: of the arrays), 16 hex digits")
+      .def_property_readonly("source", [](const PyCache& c) { return c.source; })
+      .def_property_readonly(
+          "positions",
+          [](pyb::object self) {
+            const auto& c = *self.cast<const PyCache&>().cache;
+            return view(c.positions.data(), c.numVertices(), 3, self);
+          },
+          "(V, 3) float64 vertex positions, m (read-only view)")
+      .def_property_readonly(
+          "face_offsets",
+          [](pyb::object self) {
+            const auto& c = *self.cast<const PyCache&>().cache;
+            return view(c.faceOffsets.data(), c.faceOffsets.size(), 1, self);
+          },
+          "(F + 1,) int32 (read-only view)")
+      .def_property_readonly(
+          "face_vertices",
+          [](pyb::object self) {
+            const auto& c = *self.cast<const PyCache&>().cache;
+            return view(c.faceVertices.data(), c.faceVertices.size(), 1, self);
+          },
+          "(C,) int32 (read-only view; after any outward flip)")
+      .def_property_readonly(
+          "corner_normals",
+          [](pyb::object self) {
+            const auto& c = *self.cast<const PyCache&>().cache;
+            return view(c.cornerNormals.data(), c.numSlots(), 3, self);
+          },
+          "(C, 3) float64 unit normals the patches were built with (read-only view)")
+      .def_property_readonly(
+          "face_status",
+          [](pyb::object self) {
+            const auto& c = *self.cast<const PyCache&>().cache;
+            return view(c.faceStatus.data(), c.faceStatus.size(), 1, self);
+          },
+          "(F,) uint32 GP_ST_* construction bits (read-only view)")
+      .def_property_readonly(
+          "report",
+          [](const PyCache& c) {
+            pyb::dict d;
+            d["mesh"] = c.meshReport;
+            d["normals"] = c.normalReport;
+            d["flipped"] = c.flipped;
+            return d;
+          },
+          "What the checks found (lists of lines, as `cache build` prints; empty for a cache file)");
+}
+
+}  // namespace sf::py

@@ -1,0 +1,46 @@
+// Shared pieces of the Python module: the cache wrapper and the binding entry points.
+#pragma once
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/patch/patch_cache.h>
+
+namespace sf::py {
+
+namespace pyb = pybind11;
+
+/// A patch cache as Python sees it: shared, with how it was made.
+struct PyCache {
+  std::shared_ptr<const PatchCache> cache;
+  std::string source;
+  Backend backend = Backend::Tbb;
+  int threads = 0;
+  bool fromMesh = false;
+  std::vector<std::string> meshReport, normalReport;
+  bool flipped = false;
+};
+
+/// A read-only NumPy view of `count` x `cols` values at `data`, keeping `owner` alive.
+template <class T>
+pyb::array_t<T> view(const T* data, size_t count, size_t cols, pyb::handle owner) {
+  std::vector<ssize_t> shape{static_cast<ssize_t>(count)}, strides{static_cast<ssize_t>(cols * sizeof(T))};
+  if (cols > 1) {
+    shape.push_back(static_cast<ssize_t>(cols));
+    strides.push_back(sizeof(T));
+  }
+  pyb::array_t<T> a(shape, strides, data, owner);
+  reinterpret_cast<pyb::detail::PyArray_Proxy*>(a.ptr())->flags &= ~pyb::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+  return a;
+}
+
+void bindCache(pyb::module_& m);
+void bindForce(pyb::module_& m);
+void bindSweep(pyb::module_& m);
+
+}  // namespace sf::py

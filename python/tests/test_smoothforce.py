@@ -1,0 +1,259 @@
+"""The Python module against the engine's command line (the C++ results) and its own invariants:
+properties over every face and every HIP, counts asserted."""
+import csv
+import json
+import subprocess
+
+import numpy as np
+import pytest
+import smoothforce as sf
+
+SHARED = ["polygon_laplacian/hexaSphere.off", "pmp/chamfer-cube.off", "geomview/dodecahedron.off",
+          "odedstein/spot_low_resolution.obj", "lagrange/cube.obj", "keenan_crane/spot_control_mesh.obj"]
+
+
+GP_ST_OUTSIDE = 0x40  # kernels/gp_config.h
+
+
+def run(*args):
+    subprocess.run([str(a) for a in args], check=True, capture_output=True)
+
+
+def read_csv(path):
+    with open(path) as f:
+        rows = list(csv.DictReader(f))
+    return rows
+
+
+def domain_points(cache):
+    """Every face: its centre and one point towards each corner (n + 1 points per face)."""
+    off = np.asarray(cache.face_offsets)
+    faces, xi, eta = [], [], []
+    for f in range(cache.num_faces):
+        n = off[f + 1] - off[f]
+        faces.append(f), xi.append(0.0), eta.append(0.0)
+        for k in range(n):
+            a = 2 * np.pi * k / n
+            faces.append(f), xi.append(0.6 * np.cos(a)), eta.append(0.6 * np.sin(a))
+    return np.array(faces, dtype=np.int32), np.array(xi), np.array(eta)
+
+
+def test_version():
+    assert sf.__version__.count(".") == 2
+
+
+def test_evaluate_matches_cli_eval_on_every_face(spot, paths, tmp_path):
+    cache = sf.Cache.from_file(spot)
+    faces, xi, eta = domain_points(cache)
+    pts = cache.evaluate(faces, xi, eta)
+    assert pts.shape == (len(faces),) and len(faces) == 180 + 4 * 3 + 160 * 4 + 16 * 5
+    cache.save(tmp_path / "spot.sfcache")
+    with open(tmp_path / "points.csv", "w") as f:
+        f.write("face,xi,eta\n")
+        for i in range(len(faces)):
+            f.write(f"{faces[i]},{xi[i]!r},{eta[i]!r}\n")
+    run(paths["cli"], "eval", tmp_path / "spot.sfcache", "--points", tmp_path / "points.csv", "-o", tmp_path / "e.csv")
+    rows = read_csv(tmp_path / "e.csv")
+    assert len(rows) == len(faces)
+    ref = np.array([[float(r[k]) for k in ("x", "y", "z", "nx", "ny", "nz")] for r in rows])
+    np.testing.assert_array_equal(pts["position"], ref[:, :3])
+    np.testing.assert_array_equal(pts["normal"], ref[:, 3:])
+    assert (pts["status"] & GP_ST_OUTSIDE).sum() == 0  # none outside its domain
+    np.testing.assert_allclose(np.linalg.norm(pts["normal"], axis=1), 1.0, atol=1e-12)
+
+
+def test_evaluate_outside_domain_and_bad_face_are_flagged(spot):
+    cache = sf.Cache.from_file(spot)
+    pts = cache.evaluate([0, 5, 10_000, -1], [2.0, 0.0, 0.0, 0.0], [0.0, 3.0, 0.0, 0.0])
+    assert list(pts["status"] & GP_ST_OUTSIDE) == [GP_ST_OUTSIDE] * 4
+    assert not pts["position"].any()
+
+
+@pytest.mark.parametrize("rel", SHARED)
+def test_arrays_and_file_build_the_same_patches(paths, rel):
+    path = paths["shared"] / rel
+    if not path.exists():
+        pytest.skip(f"{path} missing")
+    a = sf.Cache.from_file(path, normals="angle", orient="keep")
+    b = sf.Cache.from_arrays(np.array(a.positions), np.array(a.face_offsets), np.array(a.face_vertices),
+                             normals_mode="angle", orient="keep")
+    assert b.num_faces == a.num_faces and b.num_corners == a.num_corners
+    np.testing.assert_array_equal(a.corner_normals, b.corner_normals)
+    np.testing.assert_array_equal(a.face_status, b.face_status)
+    faces, xi, eta = domain_points(a)
+    pa, pb = a.evaluate(faces, xi, eta), b.evaluate(faces, xi, eta)
+    np.testing.assert_array_equal(pa["position"], pb["position"])
+    np.testing.assert_array_equal(pa["normal"], pb["normal"])
+
+
+def test_arrays_from_the_file_give_the_file_cache_bytes(spot, tmp_path):
+    """The positions and faces as read, no normals: the same bytes but the provenance hash."""
+    a = sf.Cache.from_file(spot)
+    b = sf.Cache.from_arrays(a.positions, a.face_offsets, a.face_vertices)
+    a.save(tmp_path / "a.sfcache")
+    b.save(tmp_path / "b.sfcache")
+    ab, bb = (tmp_path / "a.sfcache").read_bytes(), (tmp_path / "b.sfcache").read_bytes()
+    assert len(ab) == len(bb) and ab[128:] == bb[128:]  # payload identical; header has the mesh hash
+    assert a.mesh_hash != b.mesh_hash
+    assert sf.Cache.from_file(str(tmp_path / "b.sfcache")).num_faces == 180
+
+
+def test_arrays_views_are_read_only_and_zero_copy(spot):
+    c = sf.Cache.from_file(spot)
+    p = c.positions
+    assert p.shape == (188, 3) and not p.flags.writeable
+    assert c.face_offsets.shape == (181,) and c.face_vertices.shape == (c.num_corners,)
+    assert c.corner_normals.shape == (c.num_corners, 3) and c.face_status.shape == (180,)
+    del c
+    assert np.isfinite(p).all()  # the view keeps the cache alive
+
+
+CUBE_P = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]], float)
+CUBE_F = np.array([0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 1, 2, 6, 5, 2, 3, 7, 6, 3, 0, 4, 7])
+CUBE_O = np.arange(0, 25, 4)
+
+
+def bad(spoil):
+    p, f, o = CUBE_P.copy(), CUBE_F.copy(), CUBE_O.copy()
+    kw = spoil(p, f, o) or {}
+    return p, f, o, kw
+
+
+@pytest.mark.parametrize("spoil,message", [
+    (lambda p, f, o: p.__setitem__((5, 1), np.nan), "cube: positions[5][1] (vertex 5): non-finite value nan"),
+    (lambda p, f, o: f.__setitem__(9, 8), "cube: faceVertices[9] (face 2, corner 1): vertex index 8 out of range [0, 8)"),
+    (lambda p, f, o: f.__setitem__(23, -1), "vertex index -1 out of range [0, 8)"),
+    (lambda p, f, o: o.__setitem__(3, 10), "cube: faceOffsets[3] (face 2): 2 corners (8 to 10); a face needs at least 3"),
+    (lambda p, f, o: o.__setitem__(0, 1), "cube: faceOffsets[0]: 1 (must be 0)"),
+    (lambda p, f, o: {"normals": np.ones((5, 3))}, "cube: normals: 5 rows, expected 8 (one per vertex) or 24"),
+    (lambda p, f, o: {"normals": np.ones((8, 3)), "normal_layout": "corner"}, "normals: 8 rows, expected 24 (one per corner)"),
+    (lambda p, f, o: {"normals": np.full((24, 3), np.inf)}, "cube: normals[0][0] (corner 0): non-finite value inf"),
+    (lambda p, f, o: {"precision": "half"}, "half"),
+    (lambda p, f, o: {"normal_layout": "face"}, "normal layout: expected auto, vertex or corner, got 'face'"),
+])
+def test_every_bad_input_class_raises_value_error_naming_it(spoil, message):
+    p, f, o, kw = bad(spoil)
+    normals = kw.pop("normals", None)
+    with pytest.raises(ValueError) as e:
+        sf.Cache.from_arrays(p, o, f, normals, name="cube", **kw)
+    assert message in str(e.value)
+
+
+def test_wrong_shapes_and_dtypes_raise_value_error():
+    with pytest.raises(ValueError, match=r"positions: expected shape \(n, 3\)"):
+        sf.Cache.from_arrays(CUBE_P[:, :2], CUBE_O, CUBE_F)
+    with pytest.raises(ValueError, match="face_vertices: expected an integer array"):
+        sf.Cache.from_arrays(CUBE_P, CUBE_O, CUBE_F.astype(float))
+    with pytest.raises(ValueError, match=r"face_vertices\[2\]: 4294967296 does not fit in int32"):
+        f = CUBE_F.astype(np.int64)
+        f[2] = 2**32
+        sf.Cache.from_arrays(CUBE_P, CUBE_O, f)
+    with pytest.raises(ValueError, match="has 23 entries"):
+        sf.Cache.from_arrays(CUBE_P, CUBE_O, CUBE_F[:-1])
+
+
+def test_file_errors_name_the_file_and_line(paths, tmp_path):
+    bad_obj = tmp_path / "bad.obj"
+    bad_obj.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n")
+    with pytest.raises(ValueError, match="bad.obj:4"):
+        sf.Cache.from_file(str(bad_obj))
+    with pytest.raises(ValueError, match="no_such.obj"):
+        sf.Cache.from_file(str(tmp_path / "no_such.obj"))
+
+
+def test_trace_matches_cli_trace_on_every_hip(spot, paths, tmp_path):
+    cache = sf.Cache.from_file(spot)
+    faces, xi, eta = domain_points(cache)
+    pts = cache.evaluate(faces, xi, eta)
+    hips = pts["position"] - 0.01 * pts["normal"]  # every face, 1 cm inside
+    hips = np.vstack([hips, pts["position"][:50] + 0.05 * pts["normal"][:50]])  # and some outside
+    for method in ("patch", "direct", "shading"):
+        t = sf.trace(cache, hips, method=method)
+        assert t.shape == (len(hips),)
+        with open(tmp_path / "hips.csv", "w") as f:
+            f.write("x,y,z\n")
+            for h in hips:
+                f.write(f"{h[0]!r},{h[1]!r},{h[2]!r}\n")
+        cache.save(tmp_path / "spot.sfcache")
+        run(paths["cli"], "trace", "--cache", tmp_path / "spot.sfcache", "--method", method, "--hips",
+            tmp_path / "hips.csv", "-o", tmp_path / "t.csv")
+        rows = read_csv(tmp_path / "t.csv")
+        assert len(rows) == len(hips)
+        ref_force = np.array([[float(r["fx"]), float(r["fy"]), float(r["fz"])] for r in rows])
+        ref_scp = np.array([[float(r["scp_x"]), float(r["scp_y"]), float(r["scp_z"])] for r in rows])
+        np.testing.assert_array_equal(t["force"], ref_force)
+        np.testing.assert_array_equal(t["scp"], ref_scp)
+        assert list(t["contact"].astype(int)) == [int(r["contact"]) for r in rows]
+        assert list(t["face"]) == [int(r["face"]) for r in rows]
+        assert list(t["status"]) == [int(r["status"]) for r in rows]
+        assert list(t["iterations"]) == [int(r["iterations"]) for r in rows]
+        if method == "patch":  # the god-object methods may lose a jump between faces (same in the CLI)
+            assert t["contact"][:-50].sum() > 0.9 * (len(hips) - 50)
+            assert (~t["contact"][-50:]).sum() >= 40  # 5 cm outside (a few land inside another part)
+
+
+def test_haptic_step_applies_safety_and_matches_trace(spot):
+    cache = sf.Cache.from_file(spot)
+    pts = cache.evaluate(np.zeros(200, dtype=np.int32), np.linspace(-0.5, 0.5, 200), np.zeros(200))
+    hips = pts["position"] - 0.005 * pts["normal"]
+    t = sf.trace(cache, hips)
+    h = sf.Haptic(cache, max_force=2.0, max_force_step=0.5, ramp_time=0.0)
+    prev = np.zeros(3)
+    for i, hip in enumerate(hips):
+        r = h.step(hip, i * 1e-3)
+        f = np.array(r["force"])
+        np.testing.assert_array_equal(r["rendered"], t["force"][i])  # the renderer's force, before safety
+        assert np.linalg.norm(f) <= 2.0 + 1e-12
+        assert np.linalg.norm(f - prev) <= 0.5 + 1e-12
+        prev = f
+    r = h.step([np.nan, 0, 0], 0.3)
+    assert r["faulted"] and not any(r["force"])
+    h.reset()
+    assert not h.step(hips[0], 0.4)["faulted"]
+    with pytest.raises(ValueError, match="stiffness"):
+        sf.Haptic(cache, stiffness=-1)
+    with pytest.raises(ValueError, match="max-force"):
+        sf.Haptic(cache, max_force=0)
+    with pytest.raises(ValueError, match="pose"):
+        h.set_pose([0, 0, 0], [0, 0, 0, 0], 1.0)
+
+
+def test_lazy_cache_builds_only_touched_patches(spot):
+    lazy = sf.Cache.from_file(spot, lazy=True)
+    full = sf.Cache.from_file(spot)
+    assert lazy.lazy and not full.lazy
+    pts = full.evaluate(np.zeros(20, dtype=np.int32), np.linspace(-0.3, 0.3, 20), np.zeros(20))
+    hips = pts["position"] - 0.005 * pts["normal"]
+    a, b = sf.trace(lazy, hips), sf.trace(full, hips)
+    # The same SCPs up to the refinement tolerance (a lazy cache starts from the polygon query).
+    assert a["contact"].all() and b["contact"].all() and (a["face"] == b["face"]).all()
+    np.testing.assert_allclose(a["force"], b["force"], rtol=0, atol=1e-6)
+    with pytest.raises(ValueError, match="lazy"):
+        lazy.evaluate([0], [0.0], [0.0])
+
+
+def test_sweep_and_read_sweep_agree_with_the_cli(spot, paths, tmp_path):
+    cache = sf.Cache.from_file(spot)
+    cache.save(tmp_path / "spot.sfcache")
+    out = tmp_path / "py"
+    r = sf.sweep(cache, depths="1%,2%", methods=["patch", "direct"], samples=300, seed=3, output=str(out))
+    assert r["complete"] and r["hips"].shape == (600, 3) and r["total"] == 600
+    assert set(r["results"]) == {"patch", "direct"}
+    for m in ("patch", "direct"):
+        res = r["results"][m]
+        assert res.shape == (600,) and res["done"].all() and res.dtype.itemsize == 40
+    assert r["summary"]["complete"] and "patch" in r["table"]
+    cli = tmp_path / "cli"
+    run(paths["cli"], "sweep", "--cache", tmp_path / "spot.sfcache", "--depth", "1%,2%", "--methods", "patch,direct",
+        "--samples", 300, "--seed", 3, "-o", cli)
+    c = sf.read_sweep(str(cli))
+    assert c["complete"] and c["table"] is None
+    np.testing.assert_array_equal(c["hips"], r["hips"])
+    for m in ("patch", "direct"):
+        assert c["results"][m].tobytes() == r["results"][m].tobytes()
+    assert json.loads((cli / "summary.json").read_text())["results"] == r["summary"]["results"]
+    assert len(c["trajectories"]) == len(r["trajectories"]) > 0
+    again = sf.read_sweep(str(out))
+    assert again["results"]["patch"].tobytes() == r["results"]["patch"].tobytes()
+    with pytest.raises(ValueError, match="sweep.json"):
+        sf.read_sweep(str(tmp_path / "nothing"))

@@ -1,0 +1,294 @@
+// The C API (<smoothforce.h>) against the C++ engine: the same caches, evaluations, traces and
+// servo steps; every error class as a code plus a message naming the element; no exception.
+#include <gtest/gtest.h>
+#include <smoothforce.h>
+
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <string>
+
+#include <smoothforce/force/force_method.h>
+#include <smoothforce/mesh/mesh_io.h>
+#include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/patch/patch_eval.h>
+#include <smoothforce/runtime/safety.h>
+#include <smoothforce/runtime/scene.h>
+#include <smoothforce/runtime/servo_step.h>
+
+namespace {
+
+const std::string kSpot = std::string(SF_DATA_DIR) + "/spot_control_mesh.obj";
+
+struct CacheDeleter {
+  void operator()(sf_cache* c) const { sf_cache_free(c); }
+};
+struct HapticDeleter {
+  void operator()(sf_haptic* h) const { sf_haptic_free(h); }
+};
+using CachePtr = std::unique_ptr<sf_cache, CacheDeleter>;
+using HapticPtr = std::unique_ptr<sf_haptic, HapticDeleter>;
+
+CachePtr fromFile(const std::string& path) {
+  sf_cache* c = nullptr;
+  EXPECT_EQ(sf_cache_from_file(path.c_str(), nullptr, &c), SF_OK) << sf_last_error();
+  return CachePtr(c);
+}
+
+/// Every face's centre and a point towards each corner.
+void domainPoints(const sf::PatchCache& c, std::vector<int32_t>& f, std::vector<double>& x, std::vector<double>& y) {
+  for (int face = 0; face < c.numFaces(); ++face) {
+    const int n = c.faceSize(face);
+    f.push_back(face), x.push_back(0), y.push_back(0);
+    for (int k = 0; k < n; ++k) {
+      const Eigen::Vector2d p = 0.6 * sf::domainCorner(n, k);
+      f.push_back(face), x.push_back(p.x()), y.push_back(p.y());
+    }
+  }
+}
+
+sf::PatchCache cppCache() {
+  sf::PatchOptions o;
+  return sf::buildPatchCache(sf::loadMesh(kSpot, o), o, sf::Backend::Tbb);
+}
+
+TEST(CApi, EvaluateEqualsTheEngineOnEveryFace) {
+  CachePtr c = fromFile(kSpot);
+  ASSERT_TRUE(c);
+  const sf::PatchCache ref = cppCache();
+  EXPECT_EQ(sf_cache_num_faces(c.get()), 180);
+  EXPECT_EQ(sf_cache_num_vertices(c.get()), 188);
+  std::vector<int32_t> f;
+  std::vector<double> x, y;
+  domainPoints(ref, f, x, y);
+  std::vector<double> pos(3 * f.size()), nrm(3 * f.size());
+  std::vector<uint32_t> st(f.size());
+  ASSERT_EQ(sf_cache_evaluate(c.get(), f.size(), f.data(), x.data(), y.data(), pos.data(), nrm.data(), st.data()),
+            SF_OK);
+  std::vector<sf::PatchPoint> pts(f.size());
+  sf::evaluatePatches(ref, f.data(), x.data(), y.data(), f.size(), pts.data(), sf::Backend::Serial);
+  size_t same = 0;
+  for (size_t i = 0; i < f.size(); ++i)
+    same += pts[i].pos == Eigen::Vector3d(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]) &&
+            pts[i].normal == Eigen::Vector3d(nrm[3 * i], nrm[3 * i + 1], nrm[3 * i + 2]) && pts[i].status == st[i];
+  EXPECT_EQ(same, f.size());
+  EXPECT_EQ(f.size(), 180u + 4 * 3 + 160 * 4 + 16 * 5);
+}
+
+TEST(CApi, ArraysGiveTheFilesPatches) {
+  const sf::PolygonMesh m = sf::readMesh(kSpot);
+  std::vector<double> p;
+  for (const auto& v : m.positions) p.insert(p.end(), {v.x(), v.y(), v.z()});
+  sf_cache* raw = nullptr;
+  ASSERT_EQ(sf_cache_from_arrays(p.data(), m.numVertices(), m.faceOffsets.data(), m.numFaces(), m.faceVertices.data(),
+                                 nullptr, 0, nullptr, &raw),
+            SF_OK)
+      << sf_last_error();
+  CachePtr a(raw);
+  CachePtr f = fromFile(kSpot);
+  std::vector<int32_t> faces;
+  std::vector<double> x, y;
+  domainPoints(cppCache(), faces, x, y);
+  std::vector<double> pa(3 * faces.size()), pf(3 * faces.size());
+  ASSERT_EQ(sf_cache_evaluate(a.get(), faces.size(), faces.data(), x.data(), y.data(), pa.data(), nullptr, nullptr),
+            SF_OK);
+  ASSERT_EQ(sf_cache_evaluate(f.get(), faces.size(), faces.data(), x.data(), y.data(), pf.data(), nullptr, nullptr),
+            SF_OK);
+  EXPECT_EQ(pa, pf);
+}
+
+/// HIPs 1 cm inside every face (centre and towards each corner), then 20 outside.
+std::vector<double> hipsInside(const sf::PatchCache& ref) {
+  std::vector<int32_t> f;
+  std::vector<double> x, y, out;
+  domainPoints(ref, f, x, y);
+  for (size_t i = 0; i < f.size(); ++i) {
+    const sf::PatchPoint p = sf::evaluatePatch(ref, f[i], x[i], y[i]);
+    const Eigen::Vector3d h = p.pos - 0.01 * p.normal;
+    out.insert(out.end(), {h.x(), h.y(), h.z()});
+  }
+  for (int i = 0; i < 20; ++i) {
+    const sf::PatchPoint p = sf::evaluatePatch(ref, i, 0, 0);
+    const Eigen::Vector3d h = p.pos + 0.05 * p.normal;
+    out.insert(out.end(), {h.x(), h.y(), h.z()});
+  }
+  return out;
+}
+
+TEST(CApi, TraceEqualsTheRendererOnEveryHipForEveryMethod) {
+  CachePtr c = fromFile(kSpot);
+  auto ref = std::make_shared<const sf::PatchCache>(cppCache());
+  const std::vector<double> hips = hipsInside(*ref);
+  const size_t n = hips.size() / 3;
+  for (const char* method : {"patch", "direct", "shading"}) {
+    sf_haptic_options o;
+    sf_haptic_options_init(&o);
+    o.method = method;
+    std::vector<sf_step_result> out(n);
+    ASSERT_EQ(sf_cache_trace(c.get(), &o, n, hips.data(), out.data()), SF_OK) << sf_cache_error(c.get());
+    auto r = sf::makeForceRenderer(ref, sf::parseForceMethod(method), sf::ForceOptions{});
+    size_t same = 0, contacts = 0;
+    for (size_t i = 0; i < n; ++i) {
+      const sf::ForceSample s = r->step(Eigen::Vector3d(hips[3 * i], hips[3 * i + 1], hips[3 * i + 2]));
+      same += s.force == Eigen::Vector3d(out[i].force[0], out[i].force[1], out[i].force[2]) &&
+              s.scp == Eigen::Vector3d(out[i].scp[0], out[i].scp[1], out[i].scp[2]) && s.contact == out[i].contact &&
+              s.status == out[i].status && s.iterations == out[i].iterations;
+      contacts += out[i].contact;
+    }
+    EXPECT_EQ(same, n) << method;
+    // The patch method tracks every jump between faces 1 cm deep; the god-object methods may
+    // lose such a jump (their own behaviour, the same in C++: `same` above).
+    if (std::string(method) == "patch") {
+      EXPECT_GT(contacts, (n - 20) * 9 / 10);
+      size_t outside = 0;
+      for (size_t i = n - 20; i < n; ++i) outside += out[i].contact == 0;
+      EXPECT_GE(outside, 15u);
+    }
+  }
+}
+
+TEST(CApi, StepEqualsServoStepOnEveryHip) {
+  CachePtr c = fromFile(kSpot);
+  auto ref = std::make_shared<const sf::PatchCache>(cppCache());
+  const std::vector<double> hips = hipsInside(*ref);
+  const size_t n = hips.size() / 3;
+  sf_haptic_options o;
+  sf_haptic_options_init(&o);
+  o.rate = 10;  // 100 ms deadlines: no missed deadline on a loaded machine
+  sf_haptic* raw = nullptr;
+  ASSERT_EQ(sf_haptic_create(c.get(), &o, &raw), SF_OK) << sf_last_error();
+  HapticPtr h(raw);
+  c.reset();  // the haptic keeps the cache
+  sf::rt::Scene scene =
+      sf::rt::singleObjectScene(ref, kSpot, sf::ForceMethod::Patch, sf::ForceOptions{},
+                                [](std::shared_ptr<const sf::PatchCache> cc, sf::ForceMethod m,
+                                   const sf::ForceOptions& f) { return sf::makeForceRenderer(std::move(cc), m, f); });
+  sf::rt::SafetyFilter safety;
+  sf::rt::StepOptions so;
+  so.rate = 10;
+  sf::rt::ServoStep step(scene, safety, so);
+  size_t same = 0, limited = 0;
+  for (size_t i = 0; i < n; ++i) {
+    sf_step_result r;
+    ASSERT_EQ(sf_haptic_step(h.get(), &hips[3 * i], 0.1 * static_cast<double>(i), &r), SF_OK);
+    sf::rt::StepTime t;
+    t.wake = 0.1 * static_cast<double>(i);
+    sf::rt::DeviceState d;
+    d.position = Eigen::Vector3d(hips[3 * i], hips[3 * i + 1], hips[3 * i + 2]);
+    const sf::rt::StepOutput s = step.step(t, d);
+    same += s.force == Eigen::Vector3d(r.force[0], r.force[1], r.force[2]) && s.sample.contact == r.contact &&
+            s.flags == r.flags;
+    limited += std::sqrt(r.force[0] * r.force[0] + r.force[1] * r.force[1] + r.force[2] * r.force[2]) <= 3.3 + 1e-12;
+  }
+  EXPECT_EQ(same, n);
+  EXPECT_EQ(limited, n);
+  // A NaN HIP latches the fault: zero force until reset.
+  const double nan[3] = {std::numeric_limits<double>::quiet_NaN(), 0, 0};
+  sf_step_result r;
+  ASSERT_EQ(sf_haptic_step(h.get(), nan, 1e3, &r), SF_OK);
+  EXPECT_EQ(r.faulted, 1);
+  EXPECT_EQ(r.force[0], 0.0);
+  ASSERT_EQ(sf_haptic_step(h.get(), &hips[0], 1e3 + 0.1, &r), SF_OK);
+  EXPECT_EQ(r.faulted, 1);
+  sf_haptic_reset(h.get());
+  ASSERT_EQ(sf_haptic_step(h.get(), &hips[0], 1e3 + 0.2, &r), SF_OK);
+  EXPECT_EQ(r.faulted, 0);
+}
+
+std::string createError(const char* path, const sf_cache_options* o, sf_status* st) {
+  sf_cache* c = reinterpret_cast<sf_cache*>(1);
+  *st = sf_cache_from_file(path, o, &c);
+  EXPECT_EQ(c, nullptr);
+  return sf_last_error();
+}
+
+TEST(CApi, EveryErrorClassIsACodeAndAMessage) {
+  sf_status st;
+  int checked = 0;
+  auto expect = [&](sf_status got, sf_status want, const std::string& msg, const std::string& part) {
+    EXPECT_EQ(got, want) << msg;
+    EXPECT_NE(msg.find(part), std::string::npos) << msg;
+    checked += got == want && msg.find(part) != std::string::npos;
+  };
+  std::string m = createError("/nonexistent/x.obj", nullptr, &st);
+  expect(st, SF_ERROR_INPUT, m, "/nonexistent/x.obj");
+  m = createError((std::string(SF_TEST_DATA) + "/malformed/obj_index_out_of_range.obj").c_str(), nullptr, &st);
+  expect(st, SF_ERROR_INPUT, m, "obj_index_out_of_range.obj:");
+  m = createError((std::string(SF_TEST_DATA) + "/hostile/cache_random.sfcache").c_str(), nullptr, &st);
+  expect(st, SF_ERROR_INPUT, m, "cache_random.sfcache");
+  sf_cache_options o;
+  sf_cache_options_init(&o);
+  o.precision = "half";
+  m = createError(kSpot.c_str(), &o, &st);
+  expect(st, SF_ERROR_INPUT, m, "half");
+  sf_cache_options_init(&o);
+  o.orient = "inward";
+  m = createError(kSpot.c_str(), &o, &st);
+  expect(st, SF_ERROR_INPUT, m, "orient: expected outward or keep, got 'inward'");
+  m = createError(nullptr, nullptr, &st);
+  expect(st, SF_ERROR_ARGUMENT, m, "path: NULL");
+
+  // Arrays: every class names its field and element.
+  const double p[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, std::numeric_limits<double>::infinity()};
+  const int32_t off[] = {0, 3}, bad[] = {0, 1, 7}, good[] = {0, 1, 2}, off2[] = {0, 2};
+  sf_cache* c = nullptr;
+  sf_cache_options_init(&o);
+  o.name = "tri";
+  st = sf_cache_from_arrays(p, 3, off, 1, bad, nullptr, 0, &o, &c);
+  expect(st, SF_ERROR_INPUT, sf_last_error(),
+         "tri: faceVertices[2] (face 0, corner 2): vertex index 7 out of range [0, 3)");
+  st = sf_cache_from_arrays(p, 4, off, 1, good, nullptr, 0, &o, &c);
+  expect(st, SF_ERROR_INPUT, sf_last_error(), "tri: positions[3][2] (vertex 3): non-finite value inf");
+  st = sf_cache_from_arrays(p, 3, off2, 1, good, nullptr, 0, &o, &c);
+  expect(st, SF_ERROR_INPUT, sf_last_error(), "tri: faceOffsets[1] (face 0): 2 corners");
+  st = sf_cache_from_arrays(p, 3, off, 1, good, p, 2, &o, &c);
+  expect(st, SF_ERROR_INPUT, sf_last_error(),
+         "tri: normals: 2 rows, expected 3 (one per vertex) or 3 (one per corner)");
+  st = sf_cache_from_arrays(p, -1, off, 1, good, nullptr, 0, &o, &c);
+  expect(st, SF_ERROR_INPUT, sf_last_error(), "num_vertices: -1");
+  st = sf_cache_from_arrays(nullptr, 3, off, 1, good, nullptr, 0, &o, &c);
+  expect(st, SF_ERROR_INPUT, sf_last_error(), "positions: null");
+  EXPECT_EQ(c, nullptr);
+
+  // Per-handle messages.
+  CachePtr spot = fromFile(kSpot);
+  sf_haptic_options ho;
+  sf_haptic_options_init(&ho);
+  ho.method = "magnetic";
+  sf_haptic* h = nullptr;
+  st = sf_haptic_create(spot.get(), &ho, &h);
+  expect(st, SF_ERROR_INPUT, sf_last_error(), "magnetic");
+  sf_haptic_options_init(&ho);
+  ho.stiffness = -5;
+  st = sf_cache_trace(spot.get(), &ho, 0, nullptr, nullptr);
+  expect(st, SF_ERROR_INPUT, sf_cache_error(spot.get()), "stiffness");
+  st = sf_cache_save(spot.get(), "/nonexistent/dir/x.sfcache");
+  expect(st, SF_ERROR_INPUT, sf_cache_error(spot.get()), "/nonexistent/dir/x.sfcache");
+  st = sf_cache_evaluate(spot.get(), 1, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr);
+  expect(st, SF_ERROR_ARGUMENT, sf_cache_error(spot.get()), "must not be NULL");
+  st = sf_cache_save(spot.get(), (::testing::TempDir() + "/capi.sfcache").c_str());
+  EXPECT_EQ(st, SF_OK);
+  EXPECT_STREQ(sf_cache_error(spot.get()), "");  // cleared by a successful call
+  sf_haptic_options_init(&ho);
+  ASSERT_EQ(sf_haptic_create(spot.get(), &ho, &h), SF_OK);
+  HapticPtr hp(h);
+  const double t[3] = {0, 0, 0}, q0[4] = {0, 0, 0, 0}, q1[4] = {1, 0, 0, 0};
+  st = sf_haptic_set_pose(h, t, q0, 1);
+  expect(st, SF_ERROR_INPUT, sf_haptic_error(h), "pose");
+  EXPECT_EQ(sf_haptic_set_pose(h, t, q1, 2), SF_OK);
+  EXPECT_EQ(sf_haptic_step(h, nullptr, 0, nullptr), SF_ERROR_ARGUMENT);
+  EXPECT_EQ(sf_cache_evaluate(nullptr, 0, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr), SF_ERROR_ARGUMENT);
+  EXPECT_EQ(checked, 17);
+  // A lazy cache: traces build their patches; evaluation and saving say why not.
+  sf_cache_options_init(&o);
+  o.lazy = 1;
+  sf_cache* lz = nullptr;
+  ASSERT_EQ(sf_cache_from_file(kSpot.c_str(), &o, &lz), SF_OK);
+  CachePtr lazy(lz);
+  EXPECT_EQ(sf_cache_save(lz, "x.sfcache"), SF_ERROR_INPUT);
+  EXPECT_NE(std::string(sf_cache_error(lz)).find("lazy"), std::string::npos);
+  EXPECT_STREQ(sf_status_name(SF_ERROR_MEMORY), "SF_ERROR_MEMORY");
+  EXPECT_STREQ(sf_version(), SF_PROJECT_VERSION);
+}
+
+}  // namespace
