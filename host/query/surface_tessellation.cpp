@@ -2,8 +2,6 @@
 
 #include <tbb/parallel_for.h>
 
-#include <Eigen/Geometry>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -26,9 +24,12 @@ Eigen::Matrix<double, 3, 2> jacobian(const PatchPoint& p) {
   return J;
 }
 
-/// The whole deviation, in every direction: the larger of twice the sampled |G(X) - linear(X)| and
-/// (h / 2) osc(J), osc(J) the largest difference of the Jacobian between the 7 points.
-double fullError(const std::array<Eigen::Vector2d, 3>& X, const PatchPoint* c, const PatchPoint* s) {
+/// Error bound of a triangle from its corners (domain X, evaluations c) and its 4 samples s: the
+/// larger of twice the sampled deviation |G(X) - linear(X)| and the first-order bound
+/// (h / 2) osc(J), h its longest domain edge and osc(J) the largest difference of the Jacobian
+/// between the 7 points (mean value theorem along each segment; it sees folds that the midpoints
+/// miss). Infinite when an evaluation is not finite.
+double triangleError(const std::array<Eigen::Vector2d, 3>& X, const PatchPoint* c, const PatchPoint* s) {
   double dev = 0;
   Eigen::Matrix<double, 3, 2> J[7];
   for (int a = 0; a < 3; ++a) J[a] = jacobian(c[a]);
@@ -43,34 +44,6 @@ double fullError(const std::array<Eigen::Vector2d, 3>& X, const PatchPoint* c, c
   double h = 0;
   for (int a = 0; a < 3; ++a) h = std::max(h, (X[a] - X[(a + 1) % 3]).norm());
   const double e = std::max(2 * dev, 0.5 * h * osc);
-  return std::isfinite(e) ? e : std::numeric_limits<double>::infinity();
-}
-
-/// Error bound of a triangle from its corners (domain X, evaluations c) and its 4 samples s: how
-/// far the patch over the triangle's domain leaves the triangle's plane (n_T its unit normal), the
-/// larger of twice the sampled deviation |n_T . (G(X) - linear(X))| and the first-order bound
-/// h max |n_T^T J| (h its longest domain edge, J the patch's Jacobian at the 7 points: the mean
-/// value theorem along each segment from a corner, where n_T . G is 0 at every corner; it sees
-/// folds that the midpoints miss). Only the component along n_T counts: a patch parametrised
-/// unevenly over a flat part (the n-sided Gregory patch's corners) moves points within the plane,
-/// along the shared boundary curves, which the neighbouring triangles cover; it changes neither
-/// the distance to the surface nor the side of a point. Infinite when an evaluation is not
-/// finite; a triangle without a normal (collinear corners) gets fullError.
-double triangleError(const std::array<Eigen::Vector2d, 3>& X, const PatchPoint* c, const PatchPoint* s) {
-  const Eigen::Vector3d cross = (c[1].pos - c[0].pos).cross(c[2].pos - c[0].pos);
-  const double area2 = cross.norm();
-  if (!(area2 > 1e-12 * (c[1].pos - c[0].pos).squaredNorm())) return fullError(X, c, s);
-  const Eigen::Vector3d nT = cross / area2;
-  double dev = 0, slope = 0;
-  for (int k = 0; k < 4; ++k) {
-    const Eigen::Vector3d lin = kW[k][0] * c[0].pos + kW[k][1] * c[1].pos + kW[k][2] * c[2].pos;
-    dev = std::max(dev, std::abs(nT.dot(s[k].pos - lin)));
-    slope = std::max(slope, (nT.transpose() * jacobian(s[k])).norm());
-  }
-  for (int a = 0; a < 3; ++a) slope = std::max(slope, (nT.transpose() * jacobian(c[a])).norm());
-  double h = 0;
-  for (int a = 0; a < 3; ++a) h = std::max(h, (X[a] - X[(a + 1) % 3]).norm());
-  const double e = std::max(2 * dev, h * slope);
   return std::isfinite(e) ? e : std::numeric_limits<double>::infinity();
 }
 

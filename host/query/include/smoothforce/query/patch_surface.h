@@ -38,13 +38,12 @@ struct PatchSurfaceOptions {
 
 /// The patch surface for queries, from a prebuilt cache.
 ///
-/// Two tessellations (surface_tessellation.h), each triangle with an error bound on how far the
-/// patch over its domain leaves the triangle's plane: the larger of twice the largest distance
-/// |n_T . (G(X) - linear(X))| at its centroid and edge midpoints, and h max |n_T^T J| (h its
-/// longest domain edge, J the patch's Jacobian at those 7 points: a first-order bound that sees
-/// the folds the midpoints miss), plus the evaluation noise of the cache's precision. Movement
-/// within the plane (the uneven parametrisation near a Gregory patch's corners) does not count:
-/// it neither moves the surface nor changes a point's side. These are estimates, not proofs: the tests check the queries they serve
+/// Two tessellations (surface_tessellation.h), each triangle with an error bound on the distance
+/// between a patch point G(X) and the triangle's point at the same X: the larger of twice the
+/// largest such distance at its centroid and edge midpoints, and h osc(J) / 2 (h its longest
+/// domain edge, osc(J) the largest difference of the patch's Jacobian between those 7 points: a
+/// first-order bound that sees the folds the midpoints miss), plus the evaluation noise of the
+/// cache's precision. These are estimates, not proofs: the tests check the queries they serve
 /// against dense sampling and an independent inside test.
 /// - uniform: every face at one level L (domainRingPoints: n L^2 triangles per n-gon; one L, so
 ///   that neighbouring patches share their boundary vertices up to rounding and the
