@@ -26,13 +26,17 @@ void spit(const std::string& p, const std::vector<char>& b) {
   std::ofstream(p, std::ios::binary).write(b.data(), static_cast<std::streamsize>(b.size()));
 }
 
+/// Expects readPatchCache to reject `path` with an InputError whose message starts with "<path>: "
+/// and contains `fragment` (never empty: every case names what it expects).
 void expectRejected(const std::string& path, const std::string& fragment, const CacheExpectation& ex = {}) {
+  ASSERT_FALSE(fragment.empty());
   try {
     readPatchCache(path, ex);
-    ADD_FAILURE() << "accepted " << path;
+    ADD_FAILURE() << "accepted " << path << " (expected '" << fragment << "')";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    const std::string msg = e.what();
+    EXPECT_EQ(msg.rfind(path + ": ", 0), 0u) << msg;
+    EXPECT_NE(msg.find(fragment), std::string::npos) << "expected '" << fragment << "' in: " << msg;
   }
 }
 
@@ -69,28 +73,62 @@ TEST_F(CacheFile, RoundTripIsExact) {
   EXPECT_TRUE(isPatchCacheFile(path));
 }
 
+// Both precisions of the spot cage (test_hostile_cache.cpp damages the cube cache byte by byte;
+// these are a real mesh's files): every cut names what is missing, with the byte counts.
 TEST_F(CacheFile, RejectsTruncated) {
-  auto b = slurp(path);
-  for (size_t keep : {size_t(0), size_t(5), size_t(100), size_t(128), b.size() / 2, b.size() - 1}) {
-    spit(path, std::vector<char>(b.begin(), b.begin() + static_cast<long>(keep)));
-    expectRejected(path, keep >= 8 ? "truncated" : "not a SmoothForce patch cache");
+  int cases = 0;
+  for (const PatchCache& cache : caches) {
+    writePatchCache(cache, path);
+    const auto b = slurp(path);
+    ASSERT_GT(b.size(), 400u);
+    const std::string payload = std::to_string(b.size() - 128) + " bytes";
+    for (size_t keep : {size_t(0), size_t(5), size_t(100), size_t(128), b.size() / 2, b.size() - 1}) {
+      spit(path, std::vector<char>(b.begin(), b.begin() + static_cast<long>(keep)));
+      SCOPED_TRACE("kept " + std::to_string(keep) + " of " + std::to_string(b.size()) + " bytes");
+      if (keep < 8)
+        expectRejected(path, "not a SmoothForce patch cache (too short, no SFPATCH header)");
+      else if (keep < 128)
+        expectRejected(path, "truncated cache file: " + std::to_string(keep) + " bytes, shorter than its header");
+      else
+        expectRejected(path, "truncated cache file: payload has " + std::to_string(keep - 128) + " of " + payload);
+      ++cases;
+    }
   }
+  EXPECT_EQ(cases, 12);
 }
 
+// A bit flipped in the magic, in every header field and across the payload: each is caught by
+// the check that covers its byte (magic, header checksum, payload checksum).
 TEST_F(CacheFile, RejectsCorruption) {
-  const auto b = slurp(path);
-  // a bit flipped in every header field and across the payload
-  for (size_t at : {size_t(3), size_t(9), size_t(17), size_t(33), size_t(41), size_t(60), size_t(70), size_t(90),
-                    size_t(121), size_t(200), b.size() / 2, b.size() - 3}) {
+  int magic = 0, header = 0, payload = 0;
+  for (const PatchCache& cache : caches) {
+    writePatchCache(cache, path);
+    const auto b = slurp(path);
+    for (size_t at : {size_t(3), size_t(9), size_t(17), size_t(33), size_t(41), size_t(60), size_t(70), size_t(90),
+                      size_t(121), size_t(200), b.size() / 2, b.size() - 3}) {
+      auto c = b;
+      c[at] ^= 0x10;
+      spit(path, c);
+      SCOPED_TRACE("byte " + std::to_string(at));
+      if (at < 8) {
+        expectRejected(path, "not a SmoothForce patch cache (bad magic)");
+        ++magic;
+      } else if (at < 128) {
+        expectRejected(path, "corrupted cache header (checksum mismatch)");
+        ++header;
+      } else {
+        expectRejected(path, "corrupted cache payload (checksum mismatch)");
+        ++payload;
+      }
+    }
     auto c = b;
-    c[at] ^= 0x10;
+    c.push_back('x');
     spit(path, c);
-    expectRejected(path, at < 8 ? "bad magic" : "");
+    expectRejected(path, "trailing bytes after the cache payload");
   }
-  auto c = b;
-  c.push_back('x');
-  spit(path, c);
-  expectRejected(path, "trailing bytes");
+  EXPECT_EQ(magic, 2);
+  EXPECT_EQ(header, 16);
+  EXPECT_EQ(payload, 6);
 }
 
 TEST_F(CacheFile, RejectsNewerVersionAndMismatch) {
@@ -101,19 +139,19 @@ TEST_F(CacheFile, RejectsNewerVersionAndMismatch) {
   const uint64_t hc = hashBytes(b.data(), 120);
   std::memcpy(&b[120], &hc, 8);
   spit(path, b);
-  expectRejected(path, "newer SmoothForce");
+  expectRejected(path, "written by a newer SmoothForce (cache format " + std::to_string(v) + ")");
 
   writePatchCache(caches[0], path);
-  expectRejected(path, "different mesh", {caches[0].meshHash + 1, std::nullopt});
+  expectRejected(path, "cache was built from a different mesh", {caches[0].meshHash + 1, std::nullopt});
   PatchOptions other = caches[0].options;
   other.crossTangent = CrossTangentMode::Paper;
-  expectRejected(path, "different options", {std::nullopt, other});
+  expectRejected(path, "cache was built with different options", {std::nullopt, other});
 }
 
 TEST_F(CacheFile, MissingFileAndNonCache) {
-  expectRejected(tmpPath("does_not_exist.sfcache"), "cannot open");
+  expectRejected(tmpPath("does_not_exist.sfcache"), "cannot open cache file");
   spit(path, std::vector<char>(4096, 'a'));
-  expectRejected(path, "not a SmoothForce patch cache");
+  expectRejected(path, "not a SmoothForce patch cache (bad magic)");
 }
 
 }  // namespace
