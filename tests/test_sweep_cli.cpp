@@ -1,7 +1,10 @@
 // End-to-end: `smoothforce generate`, `sweep` (sharded and whole) and `sweep-merge`.
 #include <gtest/gtest.h>
+
 #include <sys/wait.h>
 #include <unistd.h>
+#include <cstddef>
+#include <cstring>
 
 #include <array>
 #include <cstdio>
@@ -10,6 +13,8 @@
 #include <regex>
 #include <sstream>
 
+#include <smoothforce/base/status.h>
+#include <smoothforce/sweep/sweep.h>
 #include "cli_test_support.h"
 
 namespace {
@@ -68,8 +73,9 @@ TEST_F(SweepCli, MeshWithReferenceBuildsOnlyTouchedPatches) {
   std::ofstream(p("cap.obj")) << "v 0.2 0.2 0.98\nv -0.2 0.2 0.98\nv 0 -0.25 0.98\nf 1 2 3\n";
   ASSERT_EQ(run("cache build " + p("s.obj") + " --normals file -o " + p("s.sfcache")).status, 0);
   // a skeleton's global query is the polygon start (lazy construction): the same on both sides
-  const std::string common = " --sample-on reference --reference " + p("cap.obj") +
-                             " --depth 0.05 --samples 3000 --methods patch,direct --initial-guess polygon --no-plots -o ";
+  const std::string common =
+      " --sample-on reference --reference " + p("cap.obj") +
+      " --depth 0.05 --samples 3000 --methods patch,direct --initial-guess polygon --no-plots -o ";
   CliResult lazy = run("sweep --mesh " + p("s.obj") + " --normals file" + common + p("lazy"));
   ASSERT_EQ(lazy.status, 0) << lazy.out;
   std::smatch m;
@@ -77,8 +83,29 @@ TEST_F(SweepCli, MeshWithReferenceBuildsOnlyTouchedPatches) {
   EXPECT_GT(std::stoi(m[1]), 0);
   EXPECT_LT(std::stoi(m[1]), 200) << "the cap touches a few dozen of the 1,536 faces per worker";
   ASSERT_EQ(run("sweep --cache " + p("s.sfcache") + common + p("full")).status, 0);
-  for (const char* f : {"results_patch.bin", "results_direct.bin", "hips.bin"})
+  for (const char* f : {"results_direct.bin", "hips.bin"})
     EXPECT_EQ(slurp(dir / "lazy" / f), slurp(dir / "full" / f)) << f;
+  // the patch records too, but for the sweep's inside test: it needs every patch built, so a
+  // lazy sweep says UNDECIDED for the patch method (SF_PROBE_* bits of the status, offset 32)
+  std::string lazyPatch = slurp(dir / "lazy" / "results_patch.bin"),
+              fullPatch = slurp(dir / "full" / "results_patch.bin");
+  ASSERT_EQ(lazyPatch.size(), fullPatch.size());
+  ASSERT_EQ((lazyPatch.size() - 32) % sizeof(sf::HipResult), 0u);
+  size_t records = 0, decided = 0;
+  for (size_t off = 32; off < lazyPatch.size(); off += sizeof(sf::HipResult), ++records) {
+    uint32_t a, b;
+    std::memcpy(&a, lazyPatch.data() + off + offsetof(sf::HipResult, status), 4);
+    std::memcpy(&b, fullPatch.data() + off + offsetof(sf::HipResult, status), 4);
+    EXPECT_EQ(a & sf::SF_PROBE_MASK, sf::SF_PROBE_UNDECIDED);
+    decided += (b & sf::SF_PROBE_UNDECIDED) == 0;
+    a &= ~sf::SF_PROBE_MASK;
+    b &= ~sf::SF_PROBE_MASK;
+    std::memcpy(lazyPatch.data() + off + offsetof(sf::HipResult, status), &a, 4);
+    std::memcpy(fullPatch.data() + off + offsetof(sf::HipResult, status), &b, 4);
+  }
+  EXPECT_EQ(records, 3000u);
+  EXPECT_GE(decided, records * 19 / 20);
+  EXPECT_EQ(lazyPatch, fullPatch) << "results_patch.bin without the inside test's bits";
   // a trajectory needs the whole patch surface: then every patch is built
   std::ofstream(p("path.csv")) << "x,y,z\n0,0,1\n0.3,0,0.95\n";
   CliResult all = run("sweep --mesh " + p("s.obj") + " --normals file --trajectory " + p("path.csv") + common + p("t"));
