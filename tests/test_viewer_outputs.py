@@ -196,8 +196,9 @@ RESULT_DTYPE = np.dtype([("force", "<f4", (3,)), ("scp", "<f4", (3,)), ("ref_dis
                          ("status", "<u4"), ("iterations", "<u2"), ("contact", "u1"), ("done", "u1")])
 
 
-def discontinuity(pos, force, k):
-    """Brute force: per valid HIP, max over its k nearest valid HIPs of angle / distance."""
+def discontinuity(pos, force, k, normals):
+    """Brute force: per valid HIP, max over its k nearest valid HIPs of angle / distance, leaving
+    out neighbours whose sample normals point apart (opposite sides of a thin part)."""
     valid = np.linalg.norm(force, axis=1) > 0
     out = np.full(len(pos), np.nan)
     idx = np.nonzero(valid)[0]
@@ -206,7 +207,7 @@ def discontinuity(pos, force, k):
         order = np.argsort(d2, kind="stable")[:min(k + 1, len(idx))]
         best = -1.0
         for j in order:
-            if d2[j] > 0:
+            if d2[j] > 0 and normals[i] @ normals[idx[j]] >= 0:
                 a, b = force[i], force[idx[j]]
                 ang = np.arctan2(np.linalg.norm(np.cross(a, b)), a @ b)
                 best = max(best, ang / np.sqrt(d2[j]))
@@ -224,6 +225,8 @@ def check_sweep(sf, cache, work):
     cfg = summary["config"]
     hips = np.fromfile(os.path.join(out, "hips.bin"), "<f8", offset=32).reshape(-1, 3)
     check(len(hips) == 2 * n, f"hips.bin holds {len(hips)} HIPs = 2 depths x {n}")
+    normals = np.fromfile(os.path.join(out, "normals.bin"), "<f8", offset=32).reshape(-1, 3)
+    check(len(normals) == 2 * n, f"normals.bin holds {len(normals)} sample normals")
     labels = {"0.5%": "0.5pct", "1%": "1pct"}
     for method in cfg["methods"]:
         res = np.fromfile(os.path.join(out, f"results_{method}.bin"), RESULT_DTYPE, offset=32)
@@ -237,10 +240,10 @@ def check_sweep(sf, cache, work):
         check(np.array_equal(npy["group"], np.repeat([0, 1], n)), f"results_{method}.npy 'group'")
         for g, label in enumerate(("0.5%", "1%")):
             sl = slice(g * n, (g + 1) * n)
-            r, h = res[sl], hips[sl]
+            r, h, nr = res[sl], hips[sl], normals[sl]
             force = r["force"].astype(np.float64)
             valid = (r["contact"] == 1) & (np.linalg.norm(force, axis=1) > 0)
-            disc = discontinuity(h, np.where(valid[:, None], force, 0), cfg["knn"])
+            disc = discontinuity(h, np.where(valid[:, None], force, 0), cfg["knn"], nr)
             tag = f"{method}_{labels[label]}"
             poly = read_vtk(vtk.vtkXMLPolyDataReader, os.path.join(out, tag + ".vtp"))
             pd = poly.GetPointData()
