@@ -13,9 +13,12 @@
 namespace sf::gpf {
 #define GP_REAL float
 #define GP_IS_DOUBLE 0
-#include "gp_domain.h"
+// order matters: each part uses the ones before it
+// clang-format off
 #include "gp_patch.h"
+#include "gp_domain.h"
 #include "gp_refine.h"
+// clang-format on
 #undef GP_REAL
 #undef GP_IS_DOUBLE
 }  // namespace sf::gpf
@@ -23,9 +26,12 @@ namespace sf::gpf {
 namespace sf::gpd {
 #define GP_REAL double
 #define GP_IS_DOUBLE 1
-#include "gp_domain.h"
+// order matters: each part uses the ones before it
+// clang-format off
 #include "gp_patch.h"
+#include "gp_domain.h"
 #include "gp_refine.h"
+// clang-format on
 #undef GP_REAL
 #undef GP_IS_DOUBLE
 }  // namespace sf::gpd
