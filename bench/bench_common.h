@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "mesh_pipeline.h"
-#include "patch_eval.h"
+#include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/patch/patch_eval.h>
 
 namespace sf::bench {
 

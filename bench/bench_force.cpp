@@ -13,11 +13,11 @@
 #include <memory>
 #include <random>
 
+#include <smoothforce/force/force_method.h>
+#include <smoothforce/force/force_tracking.h>
+#include <smoothforce/mesh/topology.h>
+#include <smoothforce/query/embree_scene.h>
 #include "bench_common.h"
-#include "embree_scene.h"
-#include "force_method.h"
-#include "force_tracking.h"
-#include "topology.h"
 
 namespace {
 

@@ -14,9 +14,9 @@
 #include <chrono>
 #include <thread>
 
-#include "analytic_renderers.h"
-#include "clock.h"
-#include "servo_loop.h"
+#include <smoothforce/runtime/analytic_renderers.h>
+#include <smoothforce/runtime/clock.h>
+#include <smoothforce/runtime/servo_loop.h>
 
 namespace {
 

@@ -16,12 +16,12 @@
 #include <string>
 #include <vector>
 
+#include <smoothforce/mesh/mesh_io.h>
+#include <smoothforce/mesh/normals.h>
+#include <smoothforce/opencl/opencl_backend.h>
+#include <smoothforce/patch/patch_eval.h>
 #include "gp_config.h"
 #include "gp_count.h"
-#include "mesh_io.h"
-#include "normals.h"
-#include "opencl_backend.h"
-#include "patch_eval.h"
 
 namespace {
 

@@ -11,10 +11,10 @@
 #include <map>
 #include <memory>
 
-#include "mesh_pipeline.h"
-#include "opencl_backend.h"
-#include "sweep.h"
-#include "sweep_opencl.h"
+#include <smoothforce/opencl/opencl_backend.h>
+#include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/sweep/sweep.h>
+#include <smoothforce/sweep/sweep_opencl.h>
 
 namespace {
 

@@ -1,13 +1,13 @@
 // Operation counts of the patch math: kernels/gp_patch.h compiled with GP_REAL a scalar that
 // counts what it does, once on the scalar path (branches taken as a point needs them) and
 // once on the lane path (GP_LANES: both sides of every select, as each SIMD lane executes).
-// The instantiation goes through the same hooks as the SIMD lanes (host/gp_lanes-inl.h:
+// The instantiation goes through the same hooks as the SIMD lanes (host/patch/gp_lanes-inl.h:
 // overloadable gp_sqrt etc., GP_SEL, GP_MASK), so it follows the math as it changes.
 #pragma once
 
 #include <cmath>
 
-#include "gp_math.h"
+#include <smoothforce/patch/detail/gp_math.h>
 
 namespace sf::flops {
 

@@ -32,15 +32,15 @@
 #include <string>
 #include <vector>
 
-#include "embree_scene.h"
-#include "force_tracking.h"
-#include "generators.h"
-#include "mesh_pipeline.h"
-#include "normals.h"
-#include "patch_eval.h"
-#include "patch_refine.h"
-#include "patch_seeds.h"
-#include "sweep_sampling.h"
+#include <smoothforce/force/force_tracking.h>
+#include <smoothforce/mesh/normals.h>
+#include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/patch/patch_eval.h>
+#include <smoothforce/query/embree_scene.h>
+#include <smoothforce/query/patch_refine.h>
+#include <smoothforce/query/patch_seeds.h>
+#include <smoothforce/sweep/generators.h>
+#include <smoothforce/sweep/sweep_sampling.h>
 
 namespace {
 

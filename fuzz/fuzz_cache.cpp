@@ -8,10 +8,11 @@
 #include <cstring>
 #include <vector>
 
-#include "cache_file.h"
+#include <smoothforce/base/hash.h>
+#include <smoothforce/patch/cache_file.h>
+#include <smoothforce/patch/patch_eval.h>
 #include "fuzz_common.h"
-#include "hash.h"
-#include "patch_eval.h"
+#include "gp_config.h"  // GP_* status bits and record layout
 
 namespace {
 

@@ -15,7 +15,7 @@
 #include <exception>
 #include <string>
 
-#include "mesh.h"
+#include <smoothforce/mesh/mesh.h>
 
 namespace sf::fuzz {
 

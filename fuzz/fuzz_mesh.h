@@ -7,8 +7,8 @@
 #include <cstdint>
 #include <string_view>
 
+#include <smoothforce/mesh/mesh_io.h>
 #include "fuzz_common.h"
-#include "mesh_io.h"
 
 namespace sf::fuzz {
 

@@ -1,4 +1,4 @@
-#include "clock.h"
+#include <smoothforce/runtime/clock.h>
 
 #include <cerrno>
 #include <ctime>

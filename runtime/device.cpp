@@ -1,12 +1,12 @@
-#include "device.h"
+#include <smoothforce/runtime/device.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 
-#include "csv_reader.h"
-#include "mesh.h"
+#include <smoothforce/base/csv_reader.h>
+#include <smoothforce/mesh/mesh.h>
 
 namespace sf::rt {
 namespace {

@@ -1,8 +1,8 @@
-#include "device_transform.h"
+#include <smoothforce/runtime/device_transform.h>
 
 #include <cstdio>
 
-#include "mesh.h"
+#include <smoothforce/mesh/mesh.h>
 
 namespace sf::rt {
 

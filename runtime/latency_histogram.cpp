@@ -1,4 +1,4 @@
-#include "latency_histogram.h"
+#include <smoothforce/runtime/latency_histogram.h>
 
 #include <algorithm>
 #include <bit>

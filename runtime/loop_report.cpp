@@ -1,4 +1,4 @@
-#include "loop_report.h"
+#include <smoothforce/runtime/loop_report.h>
 
 #include <cstdio>
 

@@ -1,8 +1,8 @@
-#include "record_writer.h"
+#include <smoothforce/runtime/record_writer.h>
 
 #include <chrono>
 
-#include "mesh.h"
+#include <smoothforce/mesh/mesh.h>
 
 namespace sf::rt {
 

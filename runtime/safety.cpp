@@ -1,10 +1,10 @@
-#include "safety.h"
+#include <smoothforce/runtime/safety.h>
 
 #include <cmath>
 #include <cstdio>
 #include <string>
 
-#include "mesh.h"
+#include <smoothforce/mesh/mesh.h>
 
 namespace sf::rt {
 

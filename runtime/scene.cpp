@@ -1,4 +1,4 @@
-#include "scene.h"
+#include <smoothforce/runtime/scene.h>
 
 #include <chrono>
 #include <cmath>
@@ -7,9 +7,9 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "cache_file.h"
-#include "force_presets.h"
-#include "mesh_pipeline.h"
+#include <smoothforce/force/force_presets.h>
+#include <smoothforce/patch/cache_file.h>
+#include <smoothforce/patch/mesh_pipeline.h>
 
 namespace sf::rt {
 

@@ -1,11 +1,11 @@
-#include "scripted.h"
+#include <smoothforce/runtime/scripted.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
-#include "mesh.h"
-#include "udp_device.h"
+#include <smoothforce/mesh/mesh.h>
+#include <smoothforce/runtime/udp_device.h>
 
 namespace sf::rt {
 namespace {

@@ -1,11 +1,11 @@
-#include "servo_step.h"
+#include <smoothforce/runtime/servo_step.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
 
-#include "mesh.h"
+#include <smoothforce/mesh/mesh.h>
 
 namespace sf::rt {
 

@@ -1,4 +1,4 @@
-#include "udp_device.h"
+#include <smoothforce/runtime/udp_device.h>
 
 #include <linux/futex.h>
 #include <netdb.h>
@@ -14,7 +14,7 @@
 #include <cstring>
 #include <ctime>
 
-#include "mesh.h"
+#include <smoothforce/mesh/mesh.h>
 
 namespace sf::rt {
 namespace {

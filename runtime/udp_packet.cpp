@@ -1,9 +1,9 @@
-#include "udp_packet.h"
+#include <smoothforce/runtime/udp_packet.h>
 
 #include <bit>
 #include <cmath>
 
-#include "servo_step.h"
+#include <smoothforce/runtime/servo_step.h>
 
 namespace sf::rt {
 namespace {

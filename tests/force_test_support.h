@@ -4,9 +4,9 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "patch_eval.h"
+#include <smoothforce/mesh/topology.h>
+#include <smoothforce/patch/patch_eval.h>
 #include "patch_test_support.h"
-#include "topology.h"
 
 namespace sf::test {
 

@@ -7,10 +7,11 @@
 #include <string>
 #include <vector>
 
-#include "mesh_pipeline.h"
-#include "patch_eval.h"
+#include <smoothforce/mesh/topology.h>
+#include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/patch/patch_eval.h>
+#include "gp_config.h"  // GP_* status bits and record layout
 #include "ref_shapes.h"
-#include "topology.h"
 
 namespace sf::test {
 

@@ -7,8 +7,8 @@
 
 #include <unistd.h>
 
-#include "cache_file.h"
-#include "hash.h"
+#include <smoothforce/base/hash.h>
+#include <smoothforce/patch/cache_file.h>
 #include "patch_test_support.h"
 
 namespace sf {

@@ -5,9 +5,9 @@
 
 #include <cmath>
 
-#include "embree_scene.h"
-#include "force_tracking.h"
-#include "mesh_pipeline.h"
+#include <smoothforce/force/force_tracking.h>
+#include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/query/embree_scene.h>
 #include "patch_test_support.h"
 
 namespace sf {

@@ -4,8 +4,8 @@
 
 #include <random>
 
-#include "mesh_pipeline.h"
-#include "normals.h"
+#include <smoothforce/mesh/normals.h>
+#include <smoothforce/patch/mesh_pipeline.h>
 #include "patch_test_support.h"
 #include "ref_shapes.h"
 #include "test_extremes_support.h"

@@ -12,8 +12,8 @@
 #include <memory>
 #include <random>
 
-#include "normals.h"
-#include "opencl_backend.h"
+#include <smoothforce/mesh/normals.h>
+#include <smoothforce/opencl/opencl_backend.h>
 #include "ref_shapes.h"
 #include "test_extremes_support.h"
 

@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "gp_math.h"
-#include "patch_eval.h"
+#include <smoothforce/patch/detail/gp_math.h>
+#include <smoothforce/patch/patch_eval.h>
 
 namespace sf::extreme {
 

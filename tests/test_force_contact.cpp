@@ -2,9 +2,9 @@
 // plate, the god-object on flat faces and across a convex edge, options and names.
 #include <gtest/gtest.h>
 
-#include "embree_scene.h"
-#include "force_tracking.h"
-#include "god_object.h"
+#include <smoothforce/force/force_tracking.h>
+#include <smoothforce/force/god_object.h>
+#include <smoothforce/query/embree_scene.h>
 #include "patch_test_support.h"
 
 namespace sf {

@@ -6,8 +6,8 @@
 #include <random>
 #include <thread>
 
-#include "embree_scene.h"
-#include "mean_value.h"
+#include <smoothforce/query/embree_scene.h>
+#include <smoothforce/query/mean_value.h>
 #include "patch_test_support.h"
 
 namespace sf {

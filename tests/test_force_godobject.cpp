@@ -7,12 +7,12 @@
 #include <cstdio>
 #include <numbers>
 
-#include "embree_scene.h"
-#include "force_tracking.h"
-#include "generators.h"
-#include "mesh_pipeline.h"
-#include "normals.h"
-#include "patch_eval.h"
+#include <smoothforce/force/force_tracking.h>
+#include <smoothforce/mesh/normals.h>
+#include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/patch/patch_eval.h>
+#include <smoothforce/query/embree_scene.h>
+#include <smoothforce/sweep/generators.h>
 #include "patch_test_support.h"
 
 namespace sf {

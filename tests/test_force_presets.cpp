@@ -11,13 +11,13 @@
 #include <fstream>
 #include <memory>
 
+#include <smoothforce/base/csv_reader.h>
+#include <smoothforce/force/force_presets.h>
+#include <smoothforce/force/force_tracking.h>
+#include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/query/embree_scene.h>
+#include <smoothforce/sweep/sweep_sampling.h>
 #include "cli_test_support.h"
-#include "csv_reader.h"
-#include "embree_scene.h"
-#include "force_presets.h"
-#include "force_tracking.h"
-#include "mesh_pipeline.h"
-#include "sweep_sampling.h"
 
 namespace sf {
 namespace {

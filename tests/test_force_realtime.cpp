@@ -7,8 +7,8 @@
 #include <cerrno>
 #include <cstdlib>
 
-#include "embree_scene.h"
-#include "force_tracking.h"
+#include <smoothforce/force/force_tracking.h>
+#include <smoothforce/query/embree_scene.h>
 #include "patch_test_support.h"
 
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)

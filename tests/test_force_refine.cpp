@@ -4,10 +4,10 @@
 
 #include <random>
 
-#include "embree_scene.h"
-#include "force_tracking.h"
-#include "mean_value.h"
-#include "patch_refine.h"
+#include <smoothforce/force/force_tracking.h>
+#include <smoothforce/query/embree_scene.h>
+#include <smoothforce/query/mean_value.h>
+#include <smoothforce/query/patch_refine.h>
 #include "patch_test_support.h"
 
 namespace sf {

@@ -2,9 +2,9 @@
 // edges at constant depth, no pop-through on a thin plate, contact logic.
 #include <gtest/gtest.h>
 
-#include "embree_scene.h"
-#include "force_tracking.h"
-#include "god_object.h"
+#include <smoothforce/force/force_tracking.h>
+#include <smoothforce/force/god_object.h>
+#include <smoothforce/query/embree_scene.h>
 #include "force_test_support.h"
 #include "patch_test_support.h"
 

@@ -10,9 +10,9 @@
 #include <fstream>
 #include <limits>
 
-#include "cache_file.h"
-#include "hash.h"
-#include "patch_eval.h"
+#include <smoothforce/base/hash.h>
+#include <smoothforce/patch/cache_file.h>
+#include <smoothforce/patch/patch_eval.h>
 #include "patch_test_support.h"
 #include "test_hostile_support.h"
 

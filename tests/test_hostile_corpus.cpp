@@ -11,8 +11,8 @@
 #include <set>
 #include <sstream>
 
-#include "cache_file.h"
-#include "mesh_io.h"
+#include <smoothforce/mesh/mesh_io.h>
+#include <smoothforce/patch/cache_file.h>
 #include "test_hostile_support.h"
 
 namespace sf::hostile {

@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <string>
 
-#include "mesh.h"
+#include <smoothforce/mesh/mesh.h>
 
 namespace sf::hostile {
 

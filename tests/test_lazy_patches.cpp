@@ -2,10 +2,10 @@
 // force renderer over a skeleton renders exactly what it renders over the prebuilt cache.
 #include <gtest/gtest.h>
 
-#include "embree_scene.h"
+#include <smoothforce/force/force_tracking.h>
+#include <smoothforce/patch/lazy_patches.h>
+#include <smoothforce/query/embree_scene.h>
 #include "force_test_support.h"
-#include "force_tracking.h"
-#include "lazy_patches.h"
 #include "patch_test_support.h"
 
 namespace sf {

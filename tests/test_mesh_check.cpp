@@ -7,8 +7,8 @@
 #include <random>
 #include <set>
 
-#include "mesh_check.h"
-#include "mesh_io.h"
+#include <smoothforce/mesh/mesh_check.h>
+#include <smoothforce/mesh/mesh_io.h>
 
 namespace {
 

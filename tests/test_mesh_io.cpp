@@ -10,7 +10,7 @@
 #include <limits>
 #include <set>
 
-#include "mesh_io.h"
+#include <smoothforce/mesh/mesh_io.h>
 
 namespace fs = std::filesystem;
 

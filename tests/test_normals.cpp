@@ -16,12 +16,12 @@
 #include <random>
 #include <set>
 
-#include "cache_file.h"
+#include <smoothforce/mesh/mesh_check.h>
+#include <smoothforce/mesh/mesh_io.h>
+#include <smoothforce/mesh/normals.h>
+#include <smoothforce/patch/cache_file.h>
+#include <smoothforce/patch/mesh_pipeline.h>
 #include "cli_test_support.h"
-#include "mesh_check.h"
-#include "mesh_io.h"
-#include "mesh_pipeline.h"
-#include "normals.h"
 
 namespace {
 

@@ -16,11 +16,12 @@
 #include <string>
 #include <vector>
 
-#include "mesh_io.h"
-#include "normals.h"
-#include "opencl_backend.h"
-#include "opencl_context.h"
-#include "patch_eval.h"
+#include <smoothforce/mesh/mesh_io.h>
+#include <smoothforce/mesh/normals.h>
+#include <smoothforce/opencl/opencl_backend.h>
+#include <smoothforce/opencl/opencl_context.h>
+#include <smoothforce/patch/patch_eval.h>
+#include "gp_config.h"  // GP_* status bits and record layout
 
 namespace {
 

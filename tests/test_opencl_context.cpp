@@ -10,8 +10,8 @@
 #include <fstream>
 #include <string>
 
-#include "opencl_backend.h"
-#include "opencl_context.h"
+#include <smoothforce/opencl/opencl_backend.h>
+#include <smoothforce/opencl/opencl_context.h>
 
 namespace {
 

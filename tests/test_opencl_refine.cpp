@@ -15,14 +15,14 @@
 #include <nlohmann/json.hpp>
 #include <random>
 
-#include "embree_scene.h"
-#include "force_tracking.h"
-#include "gp_math.h"
-#include "mean_value.h"
-#include "opencl_refine.h"
+#include <smoothforce/force/force_tracking.h>
+#include <smoothforce/opencl/opencl_refine.h>
+#include <smoothforce/patch/detail/gp_math.h>
+#include <smoothforce/query/embree_scene.h>
+#include <smoothforce/query/mean_value.h>
+#include <smoothforce/sweep/sweep_io.h>
+#include <smoothforce/sweep/sweep_run.h>
 #include "patch_test_support.h"
-#include "sweep_io.h"
-#include "sweep_run.h"
 
 namespace sf {
 namespace {

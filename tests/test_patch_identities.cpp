@@ -2,7 +2,7 @@
 // corner interpolation, boundary = edge curve, cross-tangent end identities, derivatives.
 #include <gtest/gtest.h>
 
-#include "gp_math.h"
+#include <smoothforce/patch/detail/gp_math.h>
 #include "patch_test_support.h"
 
 namespace sf {

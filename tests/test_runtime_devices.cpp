@@ -5,9 +5,9 @@
 #include <filesystem>
 #include <fstream>
 
-#include "analytic_renderers.h"
-#include "mesh.h"
-#include "scripted.h"
+#include <smoothforce/mesh/mesh.h>
+#include <smoothforce/runtime/analytic_renderers.h>
+#include <smoothforce/runtime/scripted.h>
 
 namespace {
 

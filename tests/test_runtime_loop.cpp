@@ -10,11 +10,11 @@
 #include <new>
 #include <sstream>
 
-#include "analytic_renderers.h"
-#include "clock.h"
-#include "loop_report.h"
-#include "record_writer.h"
-#include "servo_loop.h"
+#include <smoothforce/runtime/analytic_renderers.h>
+#include <smoothforce/runtime/clock.h>
+#include <smoothforce/runtime/loop_report.h>
+#include <smoothforce/runtime/record_writer.h>
+#include <smoothforce/runtime/servo_loop.h>
 
 #include "runtime_alloc_counter.h"
 

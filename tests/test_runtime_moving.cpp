@@ -11,11 +11,11 @@
 #include <fstream>
 #include <thread>
 
-#include "analytic_renderers.h"
+#include <smoothforce/runtime/analytic_renderers.h>
+#include <smoothforce/runtime/scene.h>
+#include <smoothforce/runtime/scripted.h>
+#include <smoothforce/runtime/servo_step.h>
 #include "patch_test_support.h"
-#include "scene.h"
-#include "scripted.h"
-#include "servo_step.h"
 
 namespace {
 

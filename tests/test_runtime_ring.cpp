@@ -5,8 +5,8 @@
 #include <chrono>
 #include <thread>
 
-#include "servo_loop.h"
-#include "spsc_ring.h"
+#include <smoothforce/runtime/servo_loop.h>
+#include <smoothforce/runtime/spsc_ring.h>
 
 namespace {
 

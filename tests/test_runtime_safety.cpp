@@ -5,10 +5,10 @@
 #include <functional>
 #include <limits>
 
-#include "clock.h"
-#include "mesh.h"
-#include "safety.h"
-#include "servo_loop.h"
+#include <smoothforce/mesh/mesh.h>
+#include <smoothforce/runtime/clock.h>
+#include <smoothforce/runtime/safety.h>
+#include <smoothforce/runtime/servo_loop.h>
 
 namespace {
 

@@ -5,11 +5,11 @@
 #include <filesystem>
 #include <fstream>
 
-#include "analytic_renderers.h"
-#include "cache_file.h"
-#include "force_presets.h"
-#include "mesh_pipeline.h"
-#include "scene.h"
+#include <smoothforce/force/force_presets.h>
+#include <smoothforce/patch/cache_file.h>
+#include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/runtime/analytic_renderers.h>
+#include <smoothforce/runtime/scene.h>
 
 namespace {
 

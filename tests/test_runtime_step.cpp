@@ -6,11 +6,11 @@
 #include <random>
 #include <vector>
 
-#include "analytic_renderers.h"
-#include "clock.h"
+#include <smoothforce/runtime/analytic_renderers.h>
+#include <smoothforce/runtime/clock.h>
+#include <smoothforce/runtime/servo_loop.h>
+#include <smoothforce/runtime/servo_step.h>
 #include "runtime_alloc_counter.h"
-#include "servo_loop.h"
-#include "servo_step.h"
 
 namespace {
 

@@ -7,13 +7,13 @@
 #include <filesystem>
 #include <fstream>
 
-#include "analytic_renderers.h"
-#include "clock.h"
-#include "force_tracking.h"
+#include <smoothforce/force/force_tracking.h>
+#include <smoothforce/runtime/analytic_renderers.h>
+#include <smoothforce/runtime/clock.h>
+#include <smoothforce/runtime/scene.h>
+#include <smoothforce/runtime/scripted.h>
+#include <smoothforce/runtime/servo_loop.h>
 #include "patch_test_support.h"
-#include "scene.h"
-#include "scripted.h"
-#include "servo_loop.h"
 
 namespace {
 

@@ -17,11 +17,11 @@
 #include <thread>
 #include <vector>
 
-#include "analytic_renderers.h"
-#include "clock.h"
+#include <smoothforce/runtime/analytic_renderers.h>
+#include <smoothforce/runtime/clock.h>
+#include <smoothforce/runtime/servo_loop.h>
+#include <smoothforce/runtime/udp_device.h>
 #include "runtime_alloc_counter.h"
-#include "servo_loop.h"
-#include "udp_device.h"
 
 namespace {
 

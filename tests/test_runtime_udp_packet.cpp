@@ -10,8 +10,8 @@
 #include <random>
 #include <vector>
 
-#include "servo_step.h"
-#include "udp_packet.h"
+#include <smoothforce/runtime/servo_step.h>
+#include <smoothforce/runtime/udp_packet.h>
 
 namespace {
 

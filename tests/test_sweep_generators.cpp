@@ -9,11 +9,11 @@
 #include <map>
 #include <numbers>
 
-#include "generators.h"
-#include "mesh_io.h"
-#include "mesh_pipeline.h"
-#include "normals.h"
-#include "sweep_reference.h"
+#include <smoothforce/mesh/mesh_io.h>
+#include <smoothforce/mesh/normals.h>
+#include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/sweep/generators.h>
+#include <smoothforce/sweep/sweep_reference.h>
 
 namespace sf {
 namespace {

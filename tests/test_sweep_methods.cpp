@@ -5,8 +5,8 @@
 #include <cstring>
 #include <numbers>
 
-#include "sweep_metrics.h"
-#include "sweep_run.h"
+#include <smoothforce/sweep/sweep_metrics.h>
+#include <smoothforce/sweep/sweep_run.h>
 #include "test_sweep_support.h"
 
 namespace sf {

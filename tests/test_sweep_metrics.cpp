@@ -6,11 +6,11 @@
 #include <numbers>
 #include <random>
 
-#include "mesh.h"
-#include "sweep_io.h"
-#include "sweep_metrics.h"
-#include "sweep_reference.h"
-#include "sweep_sampling.h"
+#include <smoothforce/mesh/mesh.h>
+#include <smoothforce/sweep/sweep_io.h>
+#include <smoothforce/sweep/sweep_metrics.h>
+#include <smoothforce/sweep/sweep_reference.h>
+#include <smoothforce/sweep/sweep_sampling.h>
 
 namespace sf {
 namespace {

@@ -6,8 +6,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "sweep_io.h"
-#include "sweep_run.h"
+#include <smoothforce/sweep/sweep_io.h>
+#include <smoothforce/sweep/sweep_run.h>
 #include "test_sweep_support.h"
 
 namespace sf {

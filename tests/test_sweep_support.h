@@ -6,10 +6,10 @@
 #include <memory>
 #include <string>
 
-#include "force_method.h"
-#include "generators.h"
-#include "normals.h"
-#include "patch_cache.h"
+#include <smoothforce/force/force_method.h>
+#include <smoothforce/mesh/normals.h>
+#include <smoothforce/patch/patch_cache.h>
+#include <smoothforce/sweep/generators.h>
 
 namespace sf::sweeptest {
 

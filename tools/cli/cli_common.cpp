@@ -3,9 +3,9 @@
 #include <chrono>
 #include <cstdio>
 
-#include "cache_file.h"
-#include "force_presets.h"
-#include "opencl_backend.h"
+#include <smoothforce/force/force_presets.h>
+#include <smoothforce/opencl/opencl_backend.h>
+#include <smoothforce/patch/cache_file.h>
 
 namespace sf::cli {
 

@@ -5,9 +5,9 @@
 #include <memory>
 #include <string>
 
-#include "force_method.h"
-#include "mesh_pipeline.h"
-#include "patch_eval.h"
+#include <smoothforce/force/force_method.h>
+#include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/patch/patch_eval.h>
 
 namespace sf::cli {
 

@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "mesh.h"  // InputError
+#include <smoothforce/base/error.h>  // InputError
 
 namespace sf::cli {
 

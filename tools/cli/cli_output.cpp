@@ -2,7 +2,7 @@
 
 #include <unistd.h>
 
-#include "mesh.h"  // InputError
+#include <smoothforce/base/error.h>  // InputError
 
 namespace sf::cli {
 

@@ -2,11 +2,11 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "cache_file.h"
+#include <smoothforce/base/hash.h>
+#include <smoothforce/patch/cache_file.h>
 #include "cli_common.h"
 #include "cli_exit.h"
 #include "cli_output.h"
-#include "hash.h"
 
 namespace sf::cli {
 namespace {

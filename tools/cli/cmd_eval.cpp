@@ -2,10 +2,11 @@
 #include <cmath>
 #include <cstdio>
 
+#include <smoothforce/base/csv_reader.h>
 #include "cli_common.h"
 #include "cli_exit.h"
 #include "cli_output.h"
-#include "csv_reader.h"
+#include "gp_config.h"  // GP_* status bits and record layout
 
 namespace sf::cli {
 namespace {

@@ -1,9 +1,9 @@
 // `smoothforce export MESH|CACHE --level L -o OUT.obj|OUT.ply`
 #include <cstdio>
 
+#include <smoothforce/patch/tessellate.h>
 #include "cli_common.h"
 #include "cli_exit.h"
-#include "tessellate.h"
 
 namespace sf::cli {
 

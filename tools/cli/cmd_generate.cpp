@@ -5,10 +5,10 @@
 #include <cstdlib>
 #include <memory>
 
+#include <smoothforce/sweep/generators.h>
+#include <smoothforce/sweep/sweep_sampling.h>
 #include "cli_exit.h"
 #include "cli_output.h"
-#include "generators.h"
-#include "sweep_sampling.h"
 
 namespace sf::cli {
 

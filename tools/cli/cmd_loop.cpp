@@ -11,17 +11,17 @@
 #include <cstdio>
 #include <memory>
 
-#include "cache_file.h"
+#include <smoothforce/force/force_tracking.h>
+#include <smoothforce/patch/cache_file.h>
+#include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/runtime/loop_report.h>
+#include <smoothforce/runtime/record_writer.h>
+#include <smoothforce/runtime/scene.h>
+#include <smoothforce/runtime/scripted.h>
+#include <smoothforce/runtime/servo_loop.h>
 #include "cli_common.h"
 #include "cli_exit.h"
 #include "cli_output.h"
-#include "force_tracking.h"
-#include "loop_report.h"
-#include "mesh_pipeline.h"
-#include "record_writer.h"
-#include "scene.h"
-#include "scripted.h"
-#include "servo_loop.h"
 
 namespace sf::cli {
 namespace {

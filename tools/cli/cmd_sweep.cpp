@@ -14,13 +14,13 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "cache_file.h"
+#include <smoothforce/force/force_tracking.h>
+#include <smoothforce/patch/cache_file.h>
+#include <smoothforce/sweep/sweep_run.h>
 #include "cli_common.h"
 #include "cli_exit.h"
-#include "force_tracking.h"
 #include "sweep_progress.h"
 #include "sweep_report.h"
-#include "sweep_run.h"
 
 namespace sf::cli {
 

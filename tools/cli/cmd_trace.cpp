@@ -6,14 +6,14 @@
 #include <cmath>
 #include <cstdio>
 
-#include "cache_file.h"
+#include <smoothforce/base/csv_reader.h>
+#include <smoothforce/force/force_method.h>
+#include <smoothforce/force/force_tracking.h>
+#include <smoothforce/patch/cache_file.h>
+#include <smoothforce/query/embree_scene.h>
 #include "cli_common.h"
 #include "cli_exit.h"
 #include "cli_output.h"
-#include "csv_reader.h"
-#include "embree_scene.h"
-#include "force_method.h"
-#include "force_tracking.h"
 
 namespace sf::cli {
 namespace {

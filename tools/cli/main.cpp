@@ -4,6 +4,9 @@
 #include <exception>
 #include <new>
 
+#include <smoothforce/config.h>
+#include <smoothforce/version.h>
+
 #include "cli_common.h"
 #include "cli_exit.h"
 #include "cmd_generate.h"
@@ -16,7 +19,9 @@ int main(int argc, char** argv) {
   installSignalHandlers();
   CLI::App app{"SmoothForce: smooth haptic force on coarse polygon meshes (n-sided Gregory patches)"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "smoothforce 0.1.0");
+  app.set_version_flag("--version", SF_HAS_OPENCL ? "smoothforce " SF_VERSION_STRING
+                                                  : "smoothforce " SF_VERSION_STRING
+                                                    " (CPU-only: built without OpenCL)");
   app.footer(
       "Exit status: 0 success, 1 bad input (a file or its values), 2 usage (the command line), 3 a safety fault "
       "in loop, 130/143 interrupted by SIGINT/SIGTERM. Results go to stdout or files, diagnostics to stderr.");

@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "sweep_io.h"
+#include <smoothforce/sweep/sweep_io.h>
 
 namespace sf::cli {
 

@@ -1,0 +1,47 @@
+// Status bits of SmoothForce, in one place: the SF_ST_* bits of patch construction and
+// evaluation (PatchCache::faceStatus, PatchPoint::status), and the SF_TRACK_* bits that
+// refinement and every force method add (RefineResult::status, ForceSample::status).
+// The shared patch math (kernels/gp_config.h) spells them GP_ST_* and GP_TRACK_*; status.cpp
+// asserts at compile time that the values are equal.
+#pragma once
+
+#include <cstdint>
+
+namespace sf {
+
+/// SF_ST_* bits (= GP_ST_*): per patch (construction, quality) and per evaluated point.
+inline constexpr uint32_t SF_ST_GUARD = 0x1u;             ///< a backward end tangent was replaced (guard 1)
+inline constexpr uint32_t SF_ST_ZERO_EDGE = 0x2u;         ///< an edge of (near) zero length
+inline constexpr uint32_t SF_ST_EDGE_NORMAL = 0x4u;       ///< n_c or an end tangent undefined; fallback used
+inline constexpr uint32_t SF_ST_CROSS_TANGENT = 0x8u;     ///< cross tangent undefined; fallback used
+inline constexpr uint32_t SF_ST_FOLD = 0x10u;             ///< patch normal opposite to n_c near an edge
+inline constexpr uint32_t SF_ST_BULGE = 0x20u;            ///< surface leaves the face box by > 0.5 face diameters
+inline constexpr uint32_t SF_ST_OUTSIDE = 0x40u;          ///< evaluation point outside the domain
+inline constexpr uint32_t SF_ST_SINGULAR = 0x80u;         ///< dG/dxi x dG/deta vanishes; normal is a fallback
+inline constexpr uint32_t SF_ST_TOO_MANY_SIDES = 0x100u;  ///< n > 64 or n < 3: not built
+inline constexpr uint32_t SF_ST_NONFINITE = 0x200u;       ///< non-finite input
+/// The bits that make a patch degenerate (its surface is a fallback or missing).
+inline constexpr uint32_t SF_ST_DEGENERATE_MASK =
+    SF_ST_ZERO_EDGE | SF_ST_EDGE_NORMAL | SF_ST_CROSS_TANGENT | SF_ST_TOO_MANY_SIDES | SF_ST_NONFINITE;
+
+/// SF_TRACK_* bits: 0x10000 .. 0x10000000, above the SF_ST_* bits (0x1 .. 0x200), which
+/// ForceSample::status also carries (the patch's construction and evaluation bits).
+/// CONVERGED .. DEGENERATE and FOLD_EDGE equal the refinement's GP_TRACK_* (kernels/gp_config.h).
+inline constexpr uint32_t SF_TRACK_CONVERGED = 0x10000u;  ///< refinement met the tolerances
+inline constexpr uint32_t SF_TRACK_MAX_ITER = 0x20000u;   ///< refinement hit maxIterations
+inline constexpr uint32_t SF_TRACK_STALLED = 0x40000u;    ///< no step could decrease the distance before the tolerance
+inline constexpr uint32_t SF_TRACK_BOUNDARY = 0x80000u;   ///< iterate held on a boundary / non-manifold edge
+inline constexpr uint32_t SF_TRACK_DEGENERATE = 0x100000u;    ///< patch not evaluable: polygon used instead
+inline constexpr uint32_t SF_TRACK_GLOBAL = 0x200000u;        ///< a global query ran this step
+inline constexpr uint32_t SF_TRACK_ENTER = 0x400000u;         ///< contact began this step
+inline constexpr uint32_t SF_TRACK_LEAVE = 0x800000u;         ///< contact ended this step
+inline constexpr uint32_t SF_TRACK_NO_POLYGON = 0x1000000u;   ///< the mesh has no polygon
+inline constexpr uint32_t SF_TRACK_BAD_HIP = 0x2000000u;      ///< non-finite HIP: ignored, state reset
+inline constexpr uint32_t SF_TRACK_PROXY_LIMIT = 0x4000000u;  ///< god-object: > 3 constraints or pass limit
+inline constexpr uint32_t SF_TRACK_INSIDE = 0x8000000u;       ///< contact started: the HIP is inside the surface
+/// the SCP is held on a patch edge where the surface folds back over itself (the neighbour's
+/// side turns back: a crease of the folded surface); stationary along the edge only
+inline constexpr uint32_t SF_TRACK_FOLD_EDGE = 0x10000000u;
+inline constexpr uint32_t SF_TRACK_MASK = 0x1FFF0000u;
+
+}  // namespace sf

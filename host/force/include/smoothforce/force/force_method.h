@@ -1,0 +1,67 @@
+// Force rendering methods and the stateful contact tracker interface (paper Section 4).
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include <smoothforce/patch/patch_cache.h>
+#include <smoothforce/query/refine_options.h>
+
+namespace sf {
+
+/// patch: SCP tracked on the Gregory patches (Wu et al., Algorithm 1).
+/// direct: god-object on the base polygons (Zilles & Salisbury 1995).
+/// shading: god-object position and depth, force direction from the normal interpolated
+///          from vertex normals at the contact point (Morgenbesser & Srinivasan 1996).
+enum class ForceMethod { Patch, Direct, Shading };
+/// Parser throws InputError naming the value. (RefineMethod, InitialGuess: refine_options.h.)
+ForceMethod parseForceMethod(const std::string& s);
+const char* toString(ForceMethod m);
+
+/// Force rendering options: the refinement options (refine, angleTolerance, positionTolerance,
+/// maxIterations, initialGuess, tessellationLevel; refine_options.h) plus these. Units: metres,
+/// newtons, N/m, radians.
+struct ForceOptions : RefineOptions {
+  double stiffness = 500.0;  ///< k in F = k (SCP - HIP), N/m; > 0
+  /// Lazy construction (the cache is a skeleton, preparePatchSkeleton): faces whose patches
+  /// are held at once (LRU); <= 0: every face that is touched stays built.
+  int patchCapacity = 256;
+};
+
+/// One servo step's result. For direct/shading, scp is the god-object (proxy) and face,
+/// xi, eta locate it on the polygon holding it (domain coordinates, design page).
+struct ForceSample {
+  Eigen::Vector3d force{0, 0, 0};   ///< N
+  Eigen::Vector3d scp{0, 0, 0};     ///< m
+  Eigen::Vector3d normal{0, 0, 0};  ///< unit surface normal at the SCP
+  bool contact = false;
+  int face = -1;
+  double xi = 0, eta = 0;
+  int iterations = 0, transitions = 0;
+  uint32_t status = 0;  ///< SF_ST_* (= GP_ST_*) and SF_TRACK_* bits (base/status.h)
+};
+
+/// A stateful contact tracker for one object (Algorithm 1): out of contact a global query
+/// decides penetration; in contact only local tracking from the previous SCP, so thin parts
+/// never pop through. step() is real-time safe: it does not allocate, lock, throw or log.
+class ForceRenderer {
+ public:
+  virtual ~ForceRenderer() = default;
+  /// One servo step at haptic interface point `hip` (m).
+  virtual ForceSample step(const Eigen::Vector3d& hip) noexcept = 0;
+  /// Forget the contact state (next step starts out of contact).
+  virtual void reset() noexcept = 0;
+  /// Patch constructions so far with lazy construction (a face evicted and needed again counts
+  /// again); the cache's face count when prebuilt; 0 for methods that need no patch.
+  virtual int patchesBuilt() const noexcept = 0;
+};
+
+/// A tracker over a prebuilt cache (shared, read-only), or over a skeleton (hasPatchData false)
+/// whose patches the patch method then builds lazily near the contact point (lazy_patches.h,
+/// at most options.patchCapacity held). Throws InputError for bad options.
+std::unique_ptr<ForceRenderer> makeForceRenderer(std::shared_ptr<const PatchCache> cache, ForceMethod method,
+                                                 const ForceOptions& options);
+
+}  // namespace sf

@@ -1,0 +1,131 @@
+// Contact tracking on the Gregory patches (paper Algorithm 1). The SF_TRACK_* status bits
+// that every force method adds to ForceSample::status are in base/status.h (included here).
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <limits>
+#include <memory>
+
+#include <smoothforce/base/status.h>  // SF_TRACK_* bits
+#include <smoothforce/force/force_method.h>
+#include <smoothforce/query/patch_refine.h>
+#include <smoothforce/query/patch_surface.h>
+
+namespace sf {
+
+class PolygonScene;
+
+/// Checks options (stiffness > 0 and finite, then validateRefineOptions: angleTolerance > 0,
+/// positionTolerance > 0, maxIterations >= 1, all finite, tessellationLevel in 0..64); throws
+/// InputError naming the bad value.
+void validateForceOptions(const ForceOptions& options);
+
+/// The patch method (Algorithm 1) over a shared scene of the same cache.
+///
+/// Out of contact (InitialGuess::Surface, the default, with prebuilt patches) each step runs the
+/// global nearest-point query on the patch surface: PatchSurface gives every face whose patch
+/// can hold the nearest point (its tessellation's distance minus its error bound is below the
+/// best upper bound) with the nearest tessellation point as the start; the refinement runs from
+/// each, in order, until the next candidate's lower bound exceeds the best distance found; the
+/// nearest refined point is the SCP candidate. Contact starts when the HIP is inside the patch
+/// surface (insidePatchSurface). With InitialGuess::Polygon (the paper's Section 4.1), or for a
+/// skeleton cache whose patches are built lazily, the global query is the nearest base-polygon
+/// point mapped into its patch's domain by mean value coordinates, refined once, and contact
+/// starts when (HIP - SCP) . n < 0.
+/// In contact only the local refinement from the previous SCP runs (Algorithm 1), and contact
+/// ends when (HIP - SCP) . n >= 0. F = stiffness (SCP - HIP).
+/// surface: shared by several renderers; when null and needed it is built here (from the cache).
+std::unique_ptr<ForceRenderer> makePatchForceRenderer(std::shared_ptr<const PatchCache> cache,
+                                                      std::shared_ptr<const PolygonScene> scene,
+                                                      const ForceOptions& options,
+                                                      std::shared_ptr<const PatchSurface> surface = nullptr);
+
+/// The PatchSurface options for these force options (level = tessellationLevel, 0: chosen).
+PatchSurfaceOptions patchSurfaceOptions(const ForceOptions& options);
+
+/// What the global query on the patch surface found (nearestOnPatches, refineCandidates).
+struct PatchNearest {
+  RefineResult nearest;       ///< the nearest refined point (SF_TRACK_DEGENERATE, face -1: none)
+  RefineResult nearestBelow;  ///< the nearest refined point with the HIP below its tangent plane
+  bool anyBelow = false;      ///< some refined point has (HIP - SCP) . n < 0
+  bool anyAbove = false;      ///< some refined point has (HIP - SCP) . n >= 0
+  double nearestAbove = std::numeric_limits<double>::infinity();  ///< m, the nearest such
+  double minLower = 0;  ///< m, the smallest candidate lower bound (> 0: outside every error band)
+  int candidates = 0, refined = 0;
+};
+
+/// Refines the candidates c[0..n) (sorted by lower bound, PatchSurface::candidates) in order until
+/// the next lower bound is not below the nearest distance found, skipping a start within
+/// `spacing` (domain units) of an earlier start or result on the same face; first, when given, is
+/// c[0]'s refinement already done (the OpenCL sweep). Refinements that end degenerate are
+/// skipped. Never throws or allocates.
+PatchNearest refineCandidates(const SurfaceCandidate* c, int n, double spacing, PatchRefiner& refiner,
+                              const Eigen::Vector3d& hip, const ForceOptions& options,
+                              const RefineResult* first = nullptr) noexcept;
+
+/// The global nearest point of the patches to `hip` (m): PatchSurface::candidates, then
+/// refineCandidates. Never throws or allocates.
+/// first: as in refineCandidates (the refinement of the first candidate, already done).
+PatchNearest nearestOnPatches(const PatchSurface& surface, PatchRefiner& refiner, const Eigen::Vector3d& hip,
+                              const ForceOptions& options, const RefineResult* first = nullptr) noexcept;
+
+/// Whether `hip` is inside the patch surface (Algorithm 1, line 3), from its global query, and
+/// the SCP to start contact at (*scp). Closed surface (PatchSurface::closed): the winding number
+/// of the tessellation (>= 1) where it is reliable (the HIP outside every triangle's error band),
+/// and where the side is in doubt (a refined point within 3 times the nearest distance sees the
+/// other side: overlapping or folded patches); otherwise the side of the nearest point's tangent
+/// plane ((HIP - SCP) . n < 0). Inside, the SCP is the nearest refined point the HIP is below
+/// (else the nearest). Open surface: "inside" is the side the normals point away from, within the
+/// surface's reach: the nearest point is not held on a boundary edge and (HIP - SCP) . n < 0.
+bool insidePatchSurface(const PatchSurface& surface, const Eigen::Vector3d& hip, const PatchNearest& q,
+                        RefineResult* scp) noexcept;
+
+/// Contact state of the patch method between steps (Algorithm 1).
+struct PatchContactState {
+  bool inContact = false;
+  int face = -1;            ///< face of the last SCP in contact
+  Eigen::Vector2d X{0, 0};  ///< its domain point
+  int edge = -1;            ///< its held boundary edge (RefineResult::edge)
+};
+
+/// Where one patch step's refinement starts: in contact the previous SCP; out of contact the
+/// global query's first candidate (surface), or the nearest polygon point mapped into the face's
+/// domain by mean value coordinates (polygon, Section 4.1).
+struct PatchStepStart {
+  bool global = false;  ///< the global query ran
+  int face = -1, facet = -1, edge = -1;
+  Eigen::Vector2d X{0, 0};
+  Eigen::Vector3d polygonPoint{0, 0, 0};  ///< m, nearest polygon point (polygon start only)
+  SurfaceCandidate candidate;             ///< surface start: the first candidate, (face, X); face -1 otherwise
+};
+
+/// First half of a patch-method step at `hip` (m), for callers that run the refinement elsewhere
+/// (the OpenCL sweep): returns false when the step ends without a refinement (non-finite HIP,
+/// no polygon or no candidate): s is then the step's sample and state is updated. Otherwise
+/// fills start, and s with the status bits so far. surface: the global query on the patches
+/// (null: the polygon start). lambda: scratch for the largest face's size. Never throws or
+/// allocates; the scene and surface must belong to the cache.
+bool beginPatchStep(const PolygonScene& scene, const PatchSurface* surface, const PatchCache& cache,
+                    const Eigen::Vector3d& hip, PatchContactState& state, double* lambda, PatchStepStart& start,
+                    ForceSample& s) noexcept;
+
+/// Second half: r = the refinement from `start` (PatchRefiner::refine or OpenCLRefiner). A
+/// global surface step runs the rest of the global query with `refiner` (nearestOnPatches, r as
+/// its first candidate's refinement: the candidates are deterministic),
+/// then decides contact by insidePatchSurface; a polygon step uses the polygon itself where the
+/// patch is degenerate and decides by (HIP - SCP) . n < 0; a tracking step continues contact
+/// while (HIP - SCP) . n < 0. F = stiffness (SCP - HIP) (N/m, m). Updates state and s. Never
+/// throws or allocates.
+void finishPatchStep(const PolygonScene& scene, const PatchSurface* surface, PatchRefiner& refiner,
+                     const Eigen::Vector3d& hip, const PatchStepStart& start, RefineResult r,
+                     const ForceOptions& options, PatchContactState& state, ForceSample& s) noexcept;
+
+/// makeForceRenderer with a scene (and, for the patch method, a patch surface) built once and
+/// shared by several renderers (they must belong to `cache`; surface may be null).
+std::unique_ptr<ForceRenderer> makeForceRenderer(std::shared_ptr<const PatchCache> cache,
+                                                 std::shared_ptr<const PolygonScene> scene, ForceMethod method,
+                                                 const ForceOptions& options,
+                                                 std::shared_ptr<const PatchSurface> surface = nullptr);
+
+}  // namespace sf

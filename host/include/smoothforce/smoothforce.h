@@ -1,0 +1,47 @@
+// SmoothForce core: every public header of base, mesh, patch, query, force and opencl
+// (link SmoothForce::core). The device loop is SmoothForce::runtime
+// (<smoothforce/runtime/...>), sweeps SmoothForce::sweep (<smoothforce/sweep/...>).
+// opencl_context.h (the OpenCL C++ bindings, only in builds with OpenCL) is left out so that
+// this header never pulls <CL/opencl.hpp> in; include it where needed.
+#pragma once
+
+#include <smoothforce/config.h>
+#include <smoothforce/version.h>
+
+#include <smoothforce/base/csv_reader.h>
+#include <smoothforce/base/error.h>
+#include <smoothforce/base/hash.h>
+#include <smoothforce/base/status.h>
+
+#include <smoothforce/mesh/mesh.h>
+#include <smoothforce/mesh/mesh_check.h>
+#include <smoothforce/mesh/mesh_io.h>
+#include <smoothforce/mesh/normals.h>
+#include <smoothforce/mesh/topology.h>
+
+#include <smoothforce/patch/cache_file.h>
+#include <smoothforce/patch/lazy_patches.h>
+#include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/patch/patch_build.h>
+#include <smoothforce/patch/patch_cache.h>
+#include <smoothforce/patch/patch_eval.h>
+#include <smoothforce/patch/patch_options.h>
+#include <smoothforce/patch/patch_simd.h>
+#include <smoothforce/patch/tessellate.h>
+
+#include <smoothforce/query/embree_scene.h>
+#include <smoothforce/query/mean_value.h>
+#include <smoothforce/query/patch_refine.h>
+#include <smoothforce/query/patch_seeds.h>
+#include <smoothforce/query/patch_surface.h>
+#include <smoothforce/query/point_index.h>
+#include <smoothforce/query/polygon_facets.h>
+#include <smoothforce/query/refine_options.h>
+
+#include <smoothforce/force/force_method.h>
+#include <smoothforce/force/force_presets.h>
+#include <smoothforce/force/force_tracking.h>
+#include <smoothforce/force/god_object.h>
+
+#include <smoothforce/opencl/opencl_backend.h>
+#include <smoothforce/opencl/opencl_refine.h>

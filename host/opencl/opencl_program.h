@@ -1,0 +1,66 @@
+// Internal to the OpenCL backends (opencl_backend.cpp, opencl_refine.cpp): program sources
+// from the embedded kernel text, a device with the float and double programs of one kernel
+// file, and buffer helpers. Not part of the public API.
+#pragma once
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include <smoothforce/opencl/opencl_backend.h>
+#include <smoothforce/opencl/opencl_context.h>
+
+namespace sf::opencl_detail {
+
+/// Program source = fp64 pragma + gp_config.h, gp_vec.h, gp_tables.h, gp_edge.h, gp_eval.h (+ gp_refine.h
+/// when withRefine) + the kernel file, each with a #line so that build logs name the file.
+std::vector<std::string> programSources(const char* kernelFile, const char* kernelText, bool withRefine = false);
+
+inline size_t roundUp(size_t n, size_t m) { return (n + m - 1) / m * m; }
+
+/// A context plus the float and double programs of one kernel file, built on first use.
+struct Device {
+  /// file, text: the kernel file's name and embedded text; kernelName: its __kernel.
+  /// withRefine: the program needs gp_refine.h. Throws OpenCLError (no device).
+  Device(const OpenCLOptions& o, const char* file, const char* text, const char* kernelName, bool withRefine = false)
+      : opt(o), ctx(o.device), file(file), text(text), kernelName(kernelName), withRefine(withRefine) {}
+
+  OpenCLOptions opt;
+  OpenCLContext ctx;
+  const char* file;
+  const char* text;
+  const char* kernelName;
+  bool withRefine;
+  BuiltProgram prog[2];
+  cl::Kernel kernel[2];
+  size_t local[2] = {1, 1};
+  int last = 0;
+
+  /// Work-group size for the last kernel obtained (see OpenCLOptions::workGroupSize).
+  size_t groupSize() const { return local[last]; }
+  /// Work-group size for k on this device (OpenCLOptions::workGroupSize, or automatic).
+  size_t chooseGroupSize(const cl::Kernel& k) const;
+  /// The kernel for precision p, building its program on first use. Throws OpenCLError
+  /// (build log included; double on a device without cl_khr_fp64).
+  cl::Kernel& get(Precision p);
+};
+
+/// A read-only device buffer holding v (at least one element), written without blocking;
+/// the write's event is appended to ev. v must stay alive until the queue is finished.
+template <class T>
+cl::Buffer upload(OpenCLContext& c, const std::vector<T>& v, std::vector<cl::Event>& ev) {
+  cl::Buffer b(c.context(), CL_MEM_READ_ONLY, std::max<size_t>(1, v.size()) * sizeof(T));
+  if (!v.empty()) {
+    ev.emplace_back();
+    c.queue().enqueueWriteBuffer(b, CL_FALSE, 0, v.size() * sizeof(T), v.data(), nullptr, &ev.back());
+  }
+  return b;
+}
+
+/// Sum of the profiled durations of completed events, s.
+double sumSeconds(const std::vector<cl::Event>& ev);
+
+/// Throws std::invalid_argument "<what> exceeds INT_MAX" when n does not fit a kernel int.
+void checkInt(size_t n, const char* what);
+
+}  // namespace sf::opencl_detail

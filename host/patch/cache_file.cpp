@@ -1,0 +1,227 @@
+#include <smoothforce/patch/cache_file.h>
+
+#include <unistd.h>
+
+#include <bit>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <vector>
+
+#include <smoothforce/base/hash.h>
+#include "gp_config.h"  // GP_* status bits and record layout
+
+namespace sf {
+
+static_assert(std::endian::native == std::endian::little, "cache files are little-endian");
+
+namespace {
+
+constexpr char kMagic[8] = {'S', 'F', 'P', 'A', 'T', 'C', 'H', '\0'};
+
+struct Header {  // 128 bytes on disk
+  char magic[8];
+  uint32_t version, headerBytes;
+  uint64_t meshHash, optionsHash;
+  uint32_t precision, crossTangent, normals, keepOrientation;
+  uint32_t recordFields, maxSides;
+  uint64_t numVertices, numFaces, numSlots;
+  uint64_t payloadBytes, payloadChecksum;
+  uint64_t reserved[3];
+  uint64_t headerChecksum;  // XXH64 of the bytes before this field
+};
+static_assert(sizeof(Header) == 128);
+
+/// Payload size for the given counts; false on overflow.
+bool payloadSize(uint64_t nv, uint64_t nf, uint64_t ns, Precision p, uint64_t* out) {
+  const uint64_t lim = uint64_t(1) << 40;  // no count of a real mesh comes near this
+  if (nv > lim || nf > lim || ns > lim) return false;
+  const uint64_t real = p == Precision::Double ? 8 : 4;
+  *out =
+      nv * 3 * 8 + (nf + 1) * 4 + ns * 4 + ns * 3 * 8 + ns * 4 + nf * 4 + nf * 4 + uint64_t(GP_E_NFIELDS) * ns * real;
+  return true;
+}
+
+template <class T>
+void put(std::vector<char>& buf, const std::vector<T>& v) {
+  if (v.empty()) return;
+  const char* p = reinterpret_cast<const char*>(v.data());
+  buf.insert(buf.end(), p, p + v.size() * sizeof(T));
+}
+
+template <class T>
+void take(const char*& p, std::vector<T>& v, uint64_t count) {
+  v.resize(count);
+  if (count == 0) return;  // v.data() may be null: memcpy must not see it
+  std::memcpy(v.data(), p, count * sizeof(T));
+  p += count * sizeof(T);
+}
+
+std::string optionsText(const PatchOptions& o) {
+  return std::string("precision=") + toString(o.precision) + ";cross-tangent=" + toString(o.crossTangent) +
+         ";normals=" + toString(o.normals) + ";orient=" + (o.keepOrientation ? "keep" : "outward") +
+         ";fields=" + std::to_string(GP_E_NFIELDS);
+}
+
+}  // namespace
+
+bool isPatchCacheFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char m[8] = {};
+  in.read(m, 8);
+  return in.gcount() == 8 && std::memcmp(m, kMagic, 8) == 0;
+}
+
+uint64_t hashPatchOptions(const PatchOptions& options) {
+  const std::string s = optionsText(options);
+  return hashBytes(s.data(), s.size());
+}
+
+void writePatchCache(const PatchCache& c, const std::string& path) {
+  std::vector<char> payload;
+  payload.reserve(c.bytes());
+  put(payload, c.positions);
+  put(payload, c.faceOffsets);
+  put(payload, c.faceVertices);
+  put(payload, c.cornerNormals);
+  put(payload, c.slotTwin);
+  put(payload, c.faceStatus);
+  put(payload, c.faceBulge);
+  if (c.options.precision == Precision::Double)
+    put(payload, c.edgeDataD);
+  else
+    put(payload, c.edgeDataF);
+  Header h{};
+  std::memcpy(h.magic, kMagic, 8);
+  h.version = kCacheFormatVersion;
+  h.headerBytes = sizeof(Header);
+  h.meshHash = c.meshHash;
+  h.optionsHash = hashPatchOptions(c.options);
+  h.precision = static_cast<uint32_t>(c.options.precision);
+  h.crossTangent = static_cast<uint32_t>(c.options.crossTangent);
+  h.normals = static_cast<uint32_t>(c.options.normals);
+  h.keepOrientation = c.options.keepOrientation ? 1 : 0;
+  h.recordFields = GP_E_NFIELDS;
+  h.maxSides = GP_MAX_N;
+  h.numVertices = c.numVertices();
+  h.numFaces = c.numFaces();
+  h.numSlots = c.numSlots();
+  h.payloadBytes = payload.size();
+  h.payloadChecksum = hashBytes(payload.data(), payload.size());
+  h.headerChecksum = hashBytes(&h, offsetof(Header, headerChecksum));
+
+  const std::string tmp = path + ".tmp." + std::to_string(::getpid());
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw InputError(path + ": cannot write (temporary file " + tmp + ")");
+    out.write(reinterpret_cast<const char*>(&h), sizeof h);
+    out.write(payload.data(), static_cast<std::streamsize>(payload.size()));
+    out.flush();
+    if (!out) {
+      std::remove(tmp.c_str());
+      throw InputError(path + ": write failed (disk full?)");
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::remove(tmp.c_str());
+    throw InputError(path + ": cannot rename temporary file into place: " + ec.message());
+  }
+}
+
+PatchCache readPatchCache(const std::string& path, const CacheExpectation& expect) {
+  auto fail = [&](const std::string& what) -> InputError { return InputError(path + ": " + what); };
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  if (!in) throw fail("cannot open cache file");
+  const uint64_t fileSize = static_cast<uint64_t>(in.tellg());
+  in.seekg(0);
+  Header h{};
+  if (fileSize < sizeof(Header)) {
+    in.read(reinterpret_cast<char*>(&h), static_cast<std::streamsize>(fileSize));
+    if (fileSize >= 8 && std::memcmp(h.magic, kMagic, 8) == 0)
+      throw fail("truncated cache file: " + std::to_string(fileSize) + " bytes, shorter than its header");
+    throw fail("not a SmoothForce patch cache (too short, no SFPATCH header)");
+  }
+  in.read(reinterpret_cast<char*>(&h), sizeof h);
+  if (std::memcmp(h.magic, kMagic, 8) != 0) throw fail("not a SmoothForce patch cache (bad magic)");
+  if (h.headerChecksum != hashBytes(&h, offsetof(Header, headerChecksum)))
+    throw fail("corrupted cache header (checksum mismatch)");
+  if (h.version > kCacheFormatVersion)
+    throw fail("written by a newer SmoothForce (cache format " + std::to_string(h.version) +
+               "); this build reads formats up to " + std::to_string(kCacheFormatVersion) + ": rebuild the cache");
+  if (h.version == 0 || h.headerBytes != sizeof(Header)) throw fail("unsupported cache header");
+  if (h.recordFields != GP_E_NFIELDS || h.maxSides != GP_MAX_N)
+    throw fail("cache record layout differs from this build's; rebuild the cache");
+  if (h.precision > 1 || h.crossTangent > 2 || h.normals > 3 || h.keepOrientation > 1)
+    throw fail("corrupted cache header (option codes out of range)");
+  PatchOptions opt;
+  opt.precision = static_cast<Precision>(h.precision);
+  opt.crossTangent = static_cast<CrossTangentMode>(h.crossTangent);
+  opt.normals = static_cast<NormalMode>(h.normals);
+  opt.keepOrientation = h.keepOrientation != 0;
+  if (h.optionsHash != hashPatchOptions(opt)) throw fail("corrupted cache header (options hash)");
+  uint64_t expected = 0;
+  if (!payloadSize(h.numVertices, h.numFaces, h.numSlots, opt.precision, &expected) || expected != h.payloadBytes)
+    throw fail("corrupted cache header (counts do not match the payload size)");
+  if (fileSize - sizeof(Header) < h.payloadBytes)
+    throw fail("truncated cache file: payload has " + std::to_string(fileSize - sizeof(Header)) + " of " +
+               std::to_string(h.payloadBytes) + " bytes");
+  if (fileSize - sizeof(Header) > h.payloadBytes) throw fail("trailing bytes after the cache payload");
+  if (expect.meshHash && *expect.meshHash != h.meshHash)
+    throw fail("cache was built from a different mesh (mesh hash " + hexHash(h.meshHash) + ", expected " +
+               hexHash(*expect.meshHash) + "): rebuild it");
+  if (expect.options && hashPatchOptions(*expect.options) != h.optionsHash)
+    throw fail("cache was built with different options (" + optionsText(opt) + ", asked for " +
+               optionsText(*expect.options) + "): rebuild it");
+
+  std::vector<char> payload(h.payloadBytes);
+  in.read(payload.data(), static_cast<std::streamsize>(payload.size()));
+  if (!in) throw fail("read error");
+  if (hashBytes(payload.data(), payload.size()) != h.payloadChecksum)
+    throw fail("corrupted cache payload (checksum mismatch)");
+
+  PatchCache c;
+  c.options = opt;
+  c.meshHash = h.meshHash;
+  const char* p = payload.data();
+  take(p, c.positions, h.numVertices * 3);
+  take(p, c.faceOffsets, h.numFaces + 1);
+  take(p, c.faceVertices, h.numSlots);
+  take(p, c.cornerNormals, h.numSlots * 3);
+  take(p, c.slotTwin, h.numSlots);
+  take(p, c.faceStatus, h.numFaces);
+  take(p, c.faceBulge, h.numFaces);
+  if (opt.precision == Precision::Double)
+    take(p, c.edgeDataD, uint64_t(GP_E_NFIELDS) * h.numSlots);
+  else
+    take(p, c.edgeDataF, uint64_t(GP_E_NFIELDS) * h.numSlots);
+
+  // Values and structure: a valid checksum does not prove the writer was sane.
+  auto allFinite = [](const auto& v) {
+    for (auto x : v)
+      if (!std::isfinite(x)) return false;
+    return true;
+  };
+  if (!allFinite(c.positions)) throw fail("non-finite vertex position");
+  if (!allFinite(c.cornerNormals)) throw fail("non-finite corner normal");
+  if (!allFinite(c.faceBulge) || !allFinite(c.edgeDataD) || !allFinite(c.edgeDataF))
+    throw fail("non-finite patch record");
+  if (c.faceOffsets.front() != 0 || c.faceOffsets.back() != static_cast<int32_t>(h.numSlots))
+    throw fail("inconsistent face offsets");
+  for (uint64_t f = 0; f < h.numFaces; ++f)
+    if (int64_t(c.faceOffsets[f + 1]) - int64_t(c.faceOffsets[f]) < 3)
+      throw fail("face " + std::to_string(f) + " has fewer than 3 corners");
+  for (uint64_t s = 0; s < h.numSlots; ++s) {
+    if (c.faceVertices[s] < 0 || static_cast<uint64_t>(c.faceVertices[s]) >= h.numVertices)
+      throw fail("corner " + std::to_string(s) + " refers to vertex " + std::to_string(c.faceVertices[s]) +
+                 " out of range");
+    if (c.slotTwin[s] < -2 || (c.slotTwin[s] >= 0 && static_cast<uint64_t>(c.slotTwin[s]) >= h.numSlots))
+      throw fail("slot " + std::to_string(s) + " has an out-of-range neighbour");
+  }
+  return c;
+}
+
+}  // namespace sf

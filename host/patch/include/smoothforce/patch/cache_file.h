@@ -1,0 +1,40 @@
+// The patch cache file: versioned header, provenance hashes, checksummed payload.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include <smoothforce/patch/patch_cache.h>
+
+namespace sf {
+
+/// Format version this build writes; it reads versions 1 .. kCacheFormatVersion.
+inline constexpr uint32_t kCacheFormatVersion = 1;
+
+/// XXH64 of the options that determine the patches (precision, cross tangent, normals,
+/// orientation) and of the record layout.
+uint64_t hashPatchOptions(const PatchOptions& options);
+
+/// Writes the cache to `path` atomically: to a temporary file beside it, then renamed.
+/// Layout: 128-byte little-endian header (magic "SFPATCH", version, mesh and options hashes,
+/// counts, payload size and XXH64 checksum, header checksum), then the arrays in
+/// PatchCache order. Throws InputError when the file cannot be written.
+void writePatchCache(const PatchCache& cache, const std::string& path);
+
+/// True when the file at `path` starts with the cache magic (false when unreadable).
+bool isPatchCacheFile(const std::string& path);
+
+/// What a loaded cache must match; unset fields are not checked.
+struct CacheExpectation {
+  std::optional<uint64_t> meshHash;
+  std::optional<PatchOptions> options;
+};
+
+/// Reads and fully validates a cache file. Throws InputError naming the file for: a file
+/// that is not a cache, truncated, corrupted (checksum), written by a newer format version,
+/// inconsistent counts or indices, or not matching `expect` (different mesh or options).
+/// Sizes are checked against the file size before anything is allocated.
+PatchCache readPatchCache(const std::string& path, const CacheExpectation& expect = {});
+
+}  // namespace sf

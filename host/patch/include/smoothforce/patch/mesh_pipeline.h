@@ -1,0 +1,47 @@
+// From a mesh file to a patch cache: read, check, orient, normals, construct.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <smoothforce/mesh/mesh.h>
+#include <smoothforce/mesh/mesh_check.h>
+#include <smoothforce/mesh/normals.h>
+#include <smoothforce/patch/patch_cache.h>
+
+namespace sf {
+
+/// A mesh read and checked, ready for construction.
+struct LoadedMesh {
+  PolygonMesh mesh;
+  MeshReport report;                           ///< topology report (before any flip)
+  bool flipped = false;                        ///< faces were reversed to point outward
+  uint64_t fileHash = 0;                       ///< XXH64 of the file's bytes
+  std::vector<Eigen::Vector3d> cornerNormals;  ///< #C unit normals per the chosen mode
+  NormalReport normalReport;                   ///< where they came from; split, crease and fallback vertices
+  std::vector<int> normalFallbacks;            ///< = normalReport.fallbackVertices
+  int creaseCorners = 0;                       ///< = normalReport.creaseCorners
+};
+
+/// Reads `path`, checks it, flips an inward-facing closed mesh unless options.keepOrientation,
+/// and computes corner normals per options.normals (normals.h: NormalMode, NormalReport).
+/// Throws InputError (file:line, element).
+LoadedMesh loadMesh(const std::string& path, const PatchOptions& options);
+
+/// Builds the whole-mesh patch cache from a loaded mesh on the CPU backends
+/// (Backend::Serial / Backend::Tbb; threads <= 0: oneTBB default).
+PatchCache buildPatchCache(const LoadedMesh& loaded, const PatchOptions& options, Backend backend, int threads = 0);
+
+/// The base mesh, corner normals and adjacency without any patch (hasPatchData false): for
+/// lazy construction near the contact point (lazy_patches.h). Cheap: no patch is built.
+PatchCache preparePatchSkeleton(const LoadedMesh& loaded, const PatchOptions& options);
+
+/// Counts of construction status bits over all faces, for reports.
+struct PatchStatusSummary {
+  int guard = 0, zeroEdge = 0, edgeNormal = 0, crossTangent = 0, fold = 0, bulge = 0, notBuilt = 0;
+  float maxBulge = 0;
+  std::vector<int> foldFaces, bulgeFaces, degenerateFaces;  ///< face ids
+};
+PatchStatusSummary summarizePatchStatus(const PatchCache& cache);
+
+}  // namespace sf

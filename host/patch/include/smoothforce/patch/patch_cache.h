@@ -1,0 +1,82 @@
+// The patch cache: a whole mesh's Gregory patches as struct-of-arrays, ready to evaluate.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include <smoothforce/mesh/mesh.h>
+#include <smoothforce/mesh/normals.h>
+#include <smoothforce/patch/patch_options.h>
+
+namespace sf {
+
+/// Options that determine the patches (hashed into the cache file).
+struct PatchOptions {
+  Precision precision = Precision::Double;
+  CrossTangentMode crossTangent = CrossTangentMode::Corrected;
+  NormalMode normals = NormalMode::Auto;
+  bool keepOrientation = false;  ///< `--orient keep`: do not flip inward-facing closed meshes
+};
+
+/// All patches of a mesh. Counts: #V vertices, #F faces, #C corners = slots (one slot per
+/// face edge: slot faceOffsets[f] + k is edge k of face f, from V_k to V_{k+1}).
+/// The base mesh is kept too, so that force methods and the device loop need only the cache.
+struct PatchCache {
+  PatchOptions options;
+  uint64_t meshHash = 0;                ///< xxh64 of the source mesh file's bytes
+  std::vector<double> positions;        ///< #V*3, metres (file units)
+  std::vector<int32_t> faceOffsets{0};  ///< #F+1
+  std::vector<int32_t> faceVertices;    ///< #C
+  std::vector<double> cornerNormals;    ///< #C*3 unit normals used for construction
+  std::vector<int32_t> slotTwin;        ///< #C: see topology.h
+  std::vector<uint32_t> faceStatus;     ///< #F: GP_ST_* bits of construction and quality
+  std::vector<float> faceBulge;         ///< #F: bulge / face diameter (design page)
+  /// GP_E_NFIELDS * #C per-edge records, field-major: value of field i of slot s at
+  /// [i * #C + s]. Exactly one of the two is filled, per options.precision.
+  std::vector<double> edgeDataD;
+  std::vector<float> edgeDataF;
+
+  int numVertices() const { return static_cast<int>(positions.size() / 3); }
+  int numFaces() const { return static_cast<int>(faceOffsets.size()) - 1; }
+  int numSlots() const { return static_cast<int>(faceVertices.size()); }
+  int faceSize(int f) const { return faceOffsets[f + 1] - faceOffsets[f]; }
+  /// Bytes held by the arrays.
+  size_t bytes() const;
+};
+
+/// Copies the base mesh, its corner normals (#C, unit) and adjacency into a new cache and
+/// sizes the patch arrays; constructPatches then fills them. allocatePatches false leaves the
+/// patch arrays empty (a skeleton: patches built on demand, lazy_patches.h; faceStatus and
+/// faceBulge then stay 0 until a face is built there).
+PatchCache preparePatchCache(const PolygonMesh& mesh, const std::vector<Eigen::Vector3d>& cornerNormals,
+                             const PatchOptions& options, uint64_t meshHash, bool allocatePatches = true);
+
+/// Builds every patch (Eq. 6-14 with the design page's conventions) and its quality, on the
+/// CPU: Backend::Serial or Backend::Tbb (threads <= 0: oneTBB's default). The OpenCL backend
+/// fills the same arrays (opencl_backend.h). Never throws on degenerate faces: their status
+/// says what happened.
+void constructPatches(PatchCache& cache, Backend backend, int threads = 0);
+
+/// Builds face f's patch alone (Eq. 6-14 and its quality, as constructPatches does) from the
+/// base mesh, corner normals and options of `skeleton` (its patch arrays may be empty) into
+/// recs (n * GP_E_NFIELDS, record-major, n <= GP_MAX_N). Returns the GP_ST_* status
+/// (GP_ST_TOO_MANY_SIDES, recs untouched, when n is outside 3..GP_MAX_N); *bulge, when given,
+/// receives the bulge / face diameter. Allocation-free; used for lazy construction.
+uint32_t buildPatchRecords(const PatchCache& skeleton, int f, double* recs, float* bulge = nullptr) noexcept;
+uint32_t buildPatchRecords(const PatchCache& skeleton, int f, float* recs, float* bulge = nullptr) noexcept;
+
+/// Bounding-box diagonal of the cache's base mesh, m (0 without vertices).
+double boundingDiagonal(const PatchCache& cache);
+
+/// True when the cache holds constructed patches (its edge data are filled), false for a
+/// skeleton (preparePatchSkeleton) whose patches are built on demand (lazy_patches.h).
+inline bool hasPatchData(const PatchCache& c) {
+  return c.options.precision == Precision::Double ? !c.edgeDataD.empty() : !c.edgeDataF.empty();
+}
+
+/// Copies face f's edge records from the cache into recs (n * GP_E_NFIELDS, record-major).
+void gatherRecords(const PatchCache& cache, int f, double* recs);
+void gatherRecords(const PatchCache& cache, int f, float* recs);
+
+}  // namespace sf

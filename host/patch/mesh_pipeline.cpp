@@ -1,0 +1,55 @@
+#include <smoothforce/patch/mesh_pipeline.h>
+
+#include <smoothforce/base/hash.h>
+#include <smoothforce/mesh/mesh_io.h>
+#include "gp_config.h"  // GP_* status bits and record layout
+
+namespace sf {
+
+LoadedMesh loadMesh(const std::string& path, const PatchOptions& options) {
+  LoadedMesh out;
+  out.mesh = readMesh(path);
+  out.fileHash = hashFile(path);
+  out.report = checkMesh(out.mesh);
+  out.flipped =
+      applyOrientation(out.mesh, out.report, options.keepOrientation ? OrientPolicy::Keep : OrientPolicy::Outward);
+  out.cornerNormals = cornerNormals(out.mesh, options.normals, out.normalReport);
+  out.normalFallbacks = out.normalReport.fallbackVertices;
+  out.creaseCorners = out.normalReport.creaseCorners;
+  return out;
+}
+
+PatchCache buildPatchCache(const LoadedMesh& loaded, const PatchOptions& options, Backend backend, int threads) {
+  PatchCache cache = preparePatchCache(loaded.mesh, loaded.cornerNormals, options, loaded.fileHash);
+  constructPatches(cache, backend, threads);
+  return cache;
+}
+
+PatchCache preparePatchSkeleton(const LoadedMesh& loaded, const PatchOptions& options) {
+  return preparePatchCache(loaded.mesh, loaded.cornerNormals, options, loaded.fileHash, false);
+}
+
+PatchStatusSummary summarizePatchStatus(const PatchCache& cache) {
+  PatchStatusSummary s;
+  for (int f = 0; f < cache.numFaces(); ++f) {
+    const uint32_t st = cache.faceStatus[f];
+    s.guard += (st & GP_ST_GUARD) != 0;
+    s.zeroEdge += (st & GP_ST_ZERO_EDGE) != 0;
+    s.edgeNormal += (st & GP_ST_EDGE_NORMAL) != 0;
+    s.crossTangent += (st & GP_ST_CROSS_TANGENT) != 0;
+    s.notBuilt += (st & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE)) != 0;
+    if (st & GP_ST_FOLD) {
+      ++s.fold;
+      s.foldFaces.push_back(f);
+    }
+    if (st & GP_ST_BULGE) {
+      ++s.bulge;
+      s.bulgeFaces.push_back(f);
+    }
+    if (st & GP_ST_DEGENERATE_MASK) s.degenerateFaces.push_back(f);
+    s.maxBulge = std::max(s.maxBulge, cache.faceBulge[f]);
+  }
+  return s;
+}
+
+}  // namespace sf

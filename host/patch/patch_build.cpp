@@ -1,0 +1,219 @@
+// Patch construction on the CPU (serial and oneTBB).
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <stdexcept>
+#include <type_traits>
+#include <utility>
+
+#include <smoothforce/mesh/topology.h>
+#include <smoothforce/patch/detail/gp_traits.h>
+#include <smoothforce/patch/patch_build.h>
+#include <smoothforce/patch/patch_cache.h>
+
+#include "patch_simd_detail.h"
+
+namespace sf {
+
+size_t PatchCache::bytes() const {
+  return positions.size() * sizeof(double) + faceOffsets.size() * sizeof(int32_t) +
+         faceVertices.size() * sizeof(int32_t) + cornerNormals.size() * sizeof(double) +
+         slotTwin.size() * sizeof(int32_t) + faceStatus.size() * sizeof(uint32_t) + faceBulge.size() * sizeof(float) +
+         edgeDataD.size() * sizeof(double) + edgeDataF.size() * sizeof(float);
+}
+
+double boundingDiagonal(const PatchCache& cache) {
+  if (cache.numVertices() == 0) return 0;
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
+  for (int v = 0; v < cache.numVertices(); ++v) {
+    const Eigen::Vector3d p(cache.positions[3 * v], cache.positions[3 * v + 1], cache.positions[3 * v + 2]);
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  return (hi - lo).norm();
+}
+
+PatchCache preparePatchCache(const PolygonMesh& mesh, const std::vector<Eigen::Vector3d>& cornerNormals,
+                             const PatchOptions& options, uint64_t meshHash, bool allocatePatches) {
+  if (static_cast<int>(cornerNormals.size()) != mesh.numCorners())
+    throw std::invalid_argument("preparePatchCache: need one normal per corner");
+  PatchCache c;
+  c.options = options;
+  c.meshHash = meshHash;
+  c.positions.reserve(mesh.positions.size() * 3);
+  for (const auto& p : mesh.positions) c.positions.insert(c.positions.end(), {p.x(), p.y(), p.z()});
+  c.faceOffsets = mesh.faceOffsets;
+  c.faceVertices = mesh.faceVertices;
+  c.cornerNormals.reserve(cornerNormals.size() * 3);
+  for (const auto& n : cornerNormals) c.cornerNormals.insert(c.cornerNormals.end(), {n.x(), n.y(), n.z()});
+  c.slotTwin = computeSlotTwins(mesh);
+  c.faceStatus.assign(mesh.numFaces(), 0u);
+  c.faceBulge.assign(mesh.numFaces(), 0.f);
+  const size_t recs = static_cast<size_t>(GP_E_NFIELDS) * mesh.numCorners();
+  if (!allocatePatches) return c;
+  if (options.precision == Precision::Double)
+    c.edgeDataD.assign(recs, 0.0);
+  else
+    c.edgeDataF.assign(recs, 0.f);
+  return c;
+}
+
+namespace {
+
+template <class Real>
+std::vector<Real>& edgeData(PatchCache& c);
+template <>
+std::vector<double>& edgeData<double>(PatchCache& c) {
+  return c.edgeDataD;
+}
+template <>
+std::vector<float>& edgeData<float>(PatchCache& c) {
+  return c.edgeDataF;
+}
+
+template <class Real>
+uint32_t buildRecords(const PatchCache& c, int f, Real* recs, float* bulgeOut) {
+  using G = Gp<Real>;
+  const int n = c.faceSize(f), first = c.faceOffsets[f];
+  if (bulgeOut) *bulgeOut = 0.f;
+  if (n < 3 || n > GP_MAX_N) return GP_ST_TOO_MANY_SIDES;
+  typename G::vec3 V[GP_MAX_N], N[GP_MAX_N];
+  int vid[GP_MAX_N];
+  for (int k = 0; k < n; ++k) {
+    const int v = c.faceVertices[first + k];
+    vid[k] = v;
+    V[k] = G::v3(c.positions[3 * v], c.positions[3 * v + 1], c.positions[3 * v + 2]);
+    const double* nn = &c.cornerNormals[3 * (first + k)];
+    N[k] = G::v3(nn[0], nn[1], nn[2]);
+  }
+  const int mode = static_cast<int>(c.options.crossTangent);
+  gp_uint st = G::build(n, V, N, vid, mode, recs);
+  Real bulge = 0;
+  if (!(st & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE))) st |= G::quality(n, recs, mode, &bulge);
+  if (bulgeOut) *bulgeOut = static_cast<float>(bulge);
+  return st;
+}
+
+/// Builds face f with buildRecords and scatters the records field-major into the cache.
+template <class Real>
+void buildFace(PatchCache& c, int f) {
+  Real recs[GP_MAX_N * GP_E_NFIELDS];
+  c.faceStatus[f] = buildRecords(c, f, recs, &c.faceBulge[f]);
+  if (c.faceStatus[f] & GP_ST_TOO_MANY_SIDES) return;
+  const int n = c.faceSize(f), first = c.faceOffsets[f];
+  std::vector<Real>& data = edgeData<Real>(c);
+  const size_t ns = c.numSlots();
+  for (int k = 0; k < n; ++k)
+    for (int i = 0; i < GP_E_NFIELDS; ++i) data[i * ns + first + k] = recs[k * GP_E_NFIELDS + i];
+}
+
+/// Faces by size: the SIMD path builds faces of one size side by side.
+struct SizeGroups {
+  std::vector<int32_t> faces;  // grouped by size n (3..GP_MAX_N), then in order
+  std::vector<size_t> start;   // faces of size n: [start[n], start[n + 1])
+};
+SizeGroups groupBySize(const PatchCache& c) {
+  SizeGroups g;
+  g.start.assign(GP_MAX_N + 2, 0);
+  for (int f = 0; f < c.numFaces(); ++f) {
+    const int n = c.faceSize(f);
+    if (n >= 3 && n <= GP_MAX_N) ++g.start[n + 1];
+  }
+  for (int n = 0; n <= GP_MAX_N; ++n) g.start[n + 1] += g.start[n];
+  g.faces.resize(g.start[GP_MAX_N + 1]);
+  std::vector<size_t> pos(g.start.begin(), g.start.end() - 1);
+  for (int f = 0; f < c.numFaces(); ++f) {
+    const int n = c.faceSize(f);
+    if (n >= 3 && n <= GP_MAX_N) g.faces[pos[n]++] = f;
+  }
+  return g;
+}
+
+template <class Real>
+void buildAll(PatchCache& c, const BuildOptions& o) {
+  const int nf = c.numFaces();
+  const SimdTarget target = resolveSimdTarget(o.simd);
+  auto inArena = [&](auto&& body) {
+    if (o.backend == Backend::Serial) return body();
+    if (o.threads > 0) {
+      tbb::task_arena arena(o.threads);
+      return arena.execute(body);
+    }
+    return body();
+  };
+  if (target == SimdTarget::Scalar) {
+    if (o.backend == Backend::Serial) {
+      for (int f = 0; f < nf; ++f) buildFace<Real>(c, f);
+      return;
+    }
+    inArena([&] {
+      tbb::parallel_for(tbb::blocked_range<int>(0, nf, 64), [&](const tbb::blocked_range<int>& r) {
+        for (int f = r.begin(); f != r.end(); ++f) buildFace<Real>(c, f);
+      });
+    });
+    return;
+  }
+  const simd_detail::BuildFns* fns = simd_detail::buildFns(target);
+  const simd_detail::BuildFn fn = std::is_same_v<Real, double> ? fns->buildD : fns->buildF;
+  for (int f = 0; f < nf; ++f) {  // faces without a patch: as buildFace leaves them
+    const int n = c.faceSize(f);
+    if (n < 3 || n > GP_MAX_N) c.faceStatus[f] = GP_ST_TOO_MANY_SIDES, c.faceBulge[f] = 0.f;
+  }
+  const SizeGroups g = groupBySize(c);
+  // work items: runs of up to 64 faces of one size
+  std::vector<std::pair<size_t, size_t>> items;
+  for (int n = 3; n <= GP_MAX_N; ++n)
+    for (size_t b = g.start[n]; b < g.start[n + 1]; b += 64) items.emplace_back(b, std::min(b + 64, g.start[n + 1]));
+  auto one = [&](size_t i) { fn(c, g.faces.data() + items[i].first, items[i].second - items[i].first); };
+  if (o.backend == Backend::Serial) {
+    for (size_t i = 0; i < items.size(); ++i) one(i);
+    return;
+  }
+  inArena([&] {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, items.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i) one(i);
+    });
+  });
+}
+
+template <class Real>
+void gather(const PatchCache& c, const std::vector<Real>& data, int f, Real* recs) {
+  const int n = c.faceSize(f), first = c.faceOffsets[f];
+  const size_t ns = c.numSlots();
+  for (int i = 0; i < GP_E_NFIELDS; ++i)  // a field's n values lie side by side
+    for (int k = 0; k < n; ++k) recs[k * GP_E_NFIELDS + i] = data[i * ns + first + k];
+}
+
+}  // namespace
+
+void constructPatches(PatchCache& cache, const BuildOptions& options) {
+  if (options.backend == Backend::OpenCL)
+    throw std::invalid_argument("constructPatches: use the OpenCL backend's constructPatchesOpenCL");
+  if (!hasPatchData(cache) && cache.numFaces() > 0)
+    throw std::invalid_argument("constructPatches: the cache has no patch arrays (prepared as a skeleton)");
+  if (cache.options.precision == Precision::Double)
+    buildAll<double>(cache, options);
+  else
+    buildAll<float>(cache, options);
+}
+
+void constructPatches(PatchCache& cache, Backend backend, int threads) {
+  BuildOptions o;
+  o.backend = backend;
+  o.threads = threads;
+  constructPatches(cache, o);
+}
+
+uint32_t buildPatchRecords(const PatchCache& skeleton, int f, double* recs, float* bulge) noexcept {
+  return buildRecords(skeleton, f, recs, bulge);
+}
+uint32_t buildPatchRecords(const PatchCache& skeleton, int f, float* recs, float* bulge) noexcept {
+  return buildRecords(skeleton, f, recs, bulge);
+}
+
+void gatherRecords(const PatchCache& cache, int f, double* recs) { gather(cache, cache.edgeDataD, f, recs); }
+void gatherRecords(const PatchCache& cache, int f, float* recs) { gather(cache, cache.edgeDataF, f, recs); }
+
+}  // namespace sf

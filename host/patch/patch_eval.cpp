@@ -1,0 +1,183 @@
+#include <smoothforce/patch/patch_eval.h>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include <smoothforce/patch/detail/gp_traits.h>
+
+#include "patch_simd_detail.h"
+
+namespace sf {
+
+Eigen::Vector2d domainCorner(int n, int k) {
+  const double a = 2.0 * std::numbers::pi * k / n;
+  return {std::cos(a), std::sin(a)};
+}
+
+bool insideDomain(int n, double xi, double eta, double tol) {
+  if (!std::isfinite(xi) || !std::isfinite(eta) || n < 3) return false;
+  const double c = std::cos(std::numbers::pi / n);
+  for (int k = 0; k < n; ++k) {
+    const double a = (2 * k + 1) * std::numbers::pi / n;
+    if (c - (xi * std::cos(a) + eta * std::sin(a)) < -tol) return false;
+  }
+  return true;
+}
+
+namespace {
+
+template <class Real>
+void fill(PatchPoint& p, const typename Gp<Real>::result& r, uint32_t faceStatus) {
+  p.pos = {r.pos.x, r.pos.y, r.pos.z};
+  p.dxi = {r.dxi.x, r.dxi.y, r.dxi.z};
+  p.deta = {r.deta.x, r.deta.y, r.deta.z};
+  p.normal = {r.normal.x, r.normal.y, r.normal.z};
+  p.status = r.status | faceStatus;
+}
+
+template <class Real>
+PatchPoint evalFace(const PatchCache& c, int f, double xi, double eta) {
+  Real recs[GP_MAX_N * GP_E_NFIELDS];
+  PatchPoint p;
+  const int n = c.faceSize(f);
+  if (n < 3 || n > GP_MAX_N) {
+    p.status = GP_ST_TOO_MANY_SIDES;
+    return p;
+  }
+  gatherRecords(c, f, recs);
+  fill<Real>(p, Gp<Real>::eval(n, recs, static_cast<int>(c.options.crossTangent), xi, eta), c.faceStatus[f]);
+  return p;
+}
+
+PatchPoint evalChecked(const PatchCache& c, int f, double xi, double eta) {
+  if (c.options.precision == Precision::Double) return evalFace<double>(c, f, xi, eta);
+  return evalFace<float>(c, f, xi, eta);
+}
+
+/// The scalar path of a group: the face's records gathered once, then one point at a time.
+template <class Real>
+void evalGroupScalar(const simd_detail::EvalGroup& g) {
+  Real recs[GP_MAX_N * GP_E_NFIELDS];
+  const Real* data = static_cast<const Real*>(g.data);
+  for (int i = 0; i < GP_E_NFIELDS; ++i)
+    for (int k = 0; k < g.n; ++k) recs[k * GP_E_NFIELDS + i] = data[static_cast<size_t>(i) * g.numSlots + g.first + k];
+  const auto* dom = Gp<Real>::domain(g.n);
+  for (size_t j = 0; j < g.count; ++j) {
+    const uint32_t q = g.idx[j];
+    fill<Real>(g.out[q], Gp<Real>::evalDom(dom, recs, g.mode, g.xi[q], g.eta[q]), g.faceStatus);
+  }
+}
+
+/// Queries per chunk of one face's group: the unit of parallel work.
+constexpr uint32_t kChunk = 512;
+
+}  // namespace
+
+PatchPoint evaluatePatch(const PatchCache& cache, int f, double xi, double eta) {
+  if (f < 0 || f >= cache.numFaces())
+    throw std::out_of_range("face " + std::to_string(f) + " out of range [0, " + std::to_string(cache.numFaces()) +
+                            ")");
+  return evalChecked(cache, f, xi, eta);
+}
+
+PatchEvaluator::PatchEvaluator(const PatchCache& cache, const EvalOptions& options)
+    : cache_(&cache), options_(options), target_(resolveSimdTarget(options.simd)) {
+  if (options.backend == Backend::OpenCL)
+    throw std::invalid_argument("PatchEvaluator: use the OpenCL backend's batch evaluator (opencl_backend.h)");
+  if (!hasPatchData(cache) && cache.numFaces() > 0)
+    throw std::invalid_argument("PatchEvaluator: the cache holds no patches (a skeleton); build them first");
+}
+
+void PatchEvaluator::evaluate(const int32_t* faces, const double* xi, const double* eta, size_t count,
+                              PatchPoint* out) noexcept {
+  const PatchCache& c = *cache_;
+  const int nf = c.numFaces();
+  // group the queries by face: order_ lists them face by face
+  order_.resize(count);
+  size_t valid = 0;
+  auto usable = [&](int f) { return f >= 0 && f < nf && c.faceSize(f) >= 3 && c.faceSize(f) <= GP_MAX_N; };
+  for (size_t i = 0; i < count; ++i) {
+    if (usable(faces[i])) {
+      ++valid;
+      continue;
+    }
+    out[i] = PatchPoint{};
+    out[i].status = faces[i] >= 0 && faces[i] < nf ? GP_ST_TOO_MANY_SIDES : GP_ST_OUTSIDE;
+  }
+  if (count >= static_cast<size_t>(nf) / 4) {  // counting sort
+    start_.assign(static_cast<size_t>(nf) + 1, 0);
+    for (size_t i = 0; i < count; ++i)
+      if (usable(faces[i])) ++start_[faces[i] + 1];
+    for (int f = 0; f < nf; ++f) start_[f + 1] += start_[f];
+    for (size_t i = 0; i < count; ++i)
+      if (usable(faces[i])) order_[start_[faces[i]]++] = static_cast<uint32_t>(i);
+  } else {  // few queries on many faces
+    size_t m = 0;
+    for (size_t i = 0; i < count; ++i)
+      if (usable(faces[i])) order_[m++] = static_cast<uint32_t>(i);
+    std::sort(order_.begin(), order_.begin() + valid, [&](uint32_t a, uint32_t b) { return faces[a] < faces[b]; });
+  }
+  chunks_.clear();
+  for (uint32_t b = 0; b < valid;) {
+    const int32_t f = faces[order_[b]];
+    uint32_t e = b + 1;
+    while (e < valid && faces[order_[e]] == f && e - b < kChunk) ++e;
+    chunks_.push_back({f, b, e});
+    b = e;
+  }
+  const bool dbl = c.options.precision == Precision::Double;
+  simd_detail::EvalFn fn = dbl ? evalGroupScalar<double> : evalGroupScalar<float>;
+  if (target_ != SimdTarget::Scalar) {
+    const simd_detail::EvalFns* t = simd_detail::evalFns(target_);
+    fn = dbl ? t->evalD : t->evalF;
+  }
+  const void* data = dbl ? static_cast<const void*>(c.edgeDataD.data()) : static_cast<const void*>(c.edgeDataF.data());
+  auto run = [&](size_t i) {
+    const Chunk& ch = chunks_[i];
+    simd_detail::EvalGroup g;
+    g.n = c.faceSize(ch.face);
+    g.mode = static_cast<int>(c.options.crossTangent);
+    g.data = data;
+    g.numSlots = static_cast<size_t>(c.numSlots());
+    g.first = c.faceOffsets[ch.face];
+    g.faceStatus = c.faceStatus[ch.face];
+    g.idx = order_.data() + ch.begin;
+    g.count = ch.end - ch.begin;
+    g.xi = xi;
+    g.eta = eta;
+    g.out = out;
+    fn(g);
+  };
+  if (options_.backend == Backend::Serial || chunks_.size() < 2) {
+    for (size_t i = 0; i < chunks_.size(); ++i) run(i);
+    return;
+  }
+  auto all = [&] {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, chunks_.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i) run(i);
+    });
+  };
+  if (options_.threads > 0) {
+    tbb::task_arena arena(options_.threads);
+    arena.execute(all);
+  } else {
+    all();
+  }
+}
+
+void evaluatePatches(const PatchCache& cache, const int32_t* faces, const double* xi, const double* eta, size_t count,
+                     PatchPoint* out, Backend backend, int threads) {
+  EvalOptions o;
+  o.backend = backend;
+  o.threads = threads;
+  PatchEvaluator(cache, o).evaluate(faces, xi, eta, count, out);
+}
+
+}  // namespace sf

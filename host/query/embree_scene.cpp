@@ -1,0 +1,252 @@
+// The only file that calls Embree. Embree works in float: the user primitives' bounds are
+// padded so that BVH culling stays conservative for the double-precision queries, and the
+// query radius / ray tfar are only ever shrunk to values above the exact double result.
+#include <smoothforce/query/embree_scene.h>
+
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+
+namespace sf {
+
+struct PolygonScene::Impl {
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  const PolygonFacets* facets = nullptr;
+  float pad = 0;          ///< m, added around every primitive box and to shrunk radii
+  char error[256] = {0};  ///< first Embree error (no allocation in the callback)
+  ~Impl() {
+    if (scene) rtcReleaseScene(scene);
+    if (device) rtcReleaseDevice(device);
+  }
+};
+
+namespace {
+
+void onError(void* user, RTCError code, const char* str) {
+  auto* impl = static_cast<PolygonScene::Impl*>(user);
+  if (impl->error[0] == 0) std::snprintf(impl->error, sizeof impl->error, "Embree error %d: %s", int(code), str);
+}
+
+void boundsFn(const RTCBoundsFunctionArguments* args) {
+  const auto* impl = static_cast<const PolygonScene::Impl*>(args->geometryUserPtr);
+  const PolygonFacets& pf = *impl->facets;
+  const int f = static_cast<int>(args->primID);
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
+  for (int i = pf.faceFacetOffsets[f]; i < pf.faceFacetOffsets[f + 1]; ++i)
+    for (int v = pf.facetVertOffsets[i]; v < pf.facetVertOffsets[i + 1]; ++v) {
+      lo = lo.cwiseMin(pf.facetVert3d[v]);
+      hi = hi.cwiseMax(pf.facetVert3d[v]);
+    }
+  // a projected one-facet face lies within (2 * planarity * diameter) of its vertices' box
+  const double grow = pf.facetTolerance[pf.faceFacetOffsets[f]] + impl->pad;
+  RTCBounds* b = args->bounds_o;
+  b->lower_x = float(lo.x() - grow) - impl->pad;
+  b->lower_y = float(lo.y() - grow) - impl->pad;
+  b->lower_z = float(lo.z() - grow) - impl->pad;
+  b->upper_x = float(hi.x() + grow) + impl->pad;
+  b->upper_y = float(hi.y() + grow) + impl->pad;
+  b->upper_z = float(hi.z() + grow) + impl->pad;
+}
+
+struct PointState {
+  const PolygonFacets* pf;
+  Eigen::Vector3d p, best;
+  double bestDist2;
+  int facet;
+  float pad;
+};
+
+bool pointQueryFn(RTCPointQueryFunctionArguments* args) {
+  auto* st = static_cast<PointState*>(args->userPtr);
+  if (!nearestOnFace(*st->pf, static_cast<int>(args->primID), st->p, st->best, st->bestDist2, st->facet)) return false;
+  const float r = float(std::sqrt(st->bestDist2)) * (1.0f + 1e-6f) + st->pad;
+  if (r >= args->query->radius) return false;
+  args->query->radius = r;
+  return true;
+}
+
+/// RTCIntersectContext first, so that Embree's context pointer is ours.
+struct SegmentContext {
+  RTCIntersectContext base;
+  const PolygonFacets* pf;
+  Eigen::Vector3d a, b;
+  const int* exclude;
+  int nExclude;
+  bool bothSides;  ///< also report exits (the reversed segment entering a facet)
+  bool through;    ///< segmentEntersFacet's through test for entries
+  double bestT;
+  int bestFacet;
+  bool bestEntering;
+};
+
+void intersectFn(const RTCIntersectFunctionNArguments* args) {
+  if (args->N != 1 || !args->valid[0]) return;
+  auto* sc = reinterpret_cast<SegmentContext*>(args->context);
+  const PolygonFacets& pf = *sc->pf;
+  const int f = static_cast<int>(args->primID);
+  bool hit = false;
+  for (int i = pf.faceFacetOffsets[f]; i < pf.faceFacetOffsets[f + 1]; ++i) {
+    if (std::find(sc->exclude, sc->exclude + sc->nExclude, i) != sc->exclude + sc->nExclude) continue;
+    double t;
+    if (segmentEntersFacet(pf, i, sc->a, sc->b, t, sc->through) &&
+        (t < sc->bestT || (t == sc->bestT && (!sc->bestEntering || i < sc->bestFacet)))) {
+      sc->bestT = t;
+      sc->bestFacet = i;
+      sc->bestEntering = true;
+      hit = true;
+    }
+    if (sc->bothSides && segmentEntersFacet(pf, i, sc->b, sc->a, t) &&
+        (1 - t < sc->bestT || (1 - t == sc->bestT && !sc->bestEntering && i < sc->bestFacet))) {
+      sc->bestT = 1 - t;
+      sc->bestFacet = i;
+      sc->bestEntering = false;
+      hit = true;
+    }
+  }
+  if (!hit) return;
+  auto* rh = reinterpret_cast<RTCRayHit*>(args->rayhit);
+  rh->ray.tfar = std::min(rh->ray.tfar, float(sc->bestT) * (1.0f + 1e-5f) + 1e-5f);
+  rh->hit.geomID = args->geomID;
+  rh->hit.primID = args->primID;
+}
+
+void occludedFn(const RTCOccludedFunctionNArguments*) {}  // not used; rtcOccluded is never called
+
+}  // namespace
+
+PolygonScene::PolygonScene(const PatchCache& cache, double planarTolerance)
+    : cache_(cache),
+      planarTolerance_(planarTolerance),
+      facets_(buildPolygonFacets(cache, planarTolerance)),
+      impl_(std::make_unique<Impl>()) {
+  impl_->facets = &facets_;
+  const double scale =
+      facets_.extent() + std::max(facets_.boxMax.cwiseAbs().maxCoeff(), facets_.boxMin.cwiseAbs().maxCoeff());
+  impl_->pad = float(1e-5 * scale) + 1e-30f;
+  impl_->device = rtcNewDevice(nullptr);
+  if (!impl_->device)
+    throw std::runtime_error("rtcNewDevice failed: Embree error " + std::to_string(int(rtcGetDeviceError(nullptr))));
+  rtcSetDeviceErrorFunction(impl_->device, onError, impl_.get());
+  impl_->scene = rtcNewScene(impl_->device);
+  rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
+  if (cache.numFaces() > 0) {
+    RTCGeometry g = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_USER);
+    rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(cache.numFaces()));
+    rtcSetGeometryUserData(g, impl_.get());
+    rtcSetGeometryBoundsFunction(g, boundsFn, nullptr);
+    rtcSetGeometryIntersectFunction(g, intersectFn);
+    rtcSetGeometryOccludedFunction(g, occludedFn);
+    rtcSetGeometryPointQueryFunction(g, pointQueryFn);
+    rtcCommitGeometry(g);
+    rtcAttachGeometry(impl_->scene, g);
+    rtcReleaseGeometry(g);
+  }
+  rtcCommitScene(impl_->scene);
+  if (impl_->error[0]) throw std::runtime_error(std::string("building the polygon BVH: ") + impl_->error);
+  (void)nearest(0.5 * (facets_.boxMin + facets_.boxMax));  // warm-up: first-touch of the BVH
+}
+
+PolygonScene::~PolygonScene() = default;
+
+NearestPolygonPoint PolygonScene::nearest(const Eigen::Vector3d& p) const noexcept {
+  NearestPolygonPoint out;
+  if (cache_.numFaces() == 0 || !p.allFinite()) return out;
+  PointState st{&facets_, p, p, std::numeric_limits<double>::infinity(), -1, impl_->pad};
+  RTCPointQuery q;
+  q.x = float(p.x());
+  q.y = float(p.y());
+  q.z = float(p.z());
+  q.radius = std::numeric_limits<float>::infinity();
+  q.time = 0;
+  RTCPointQueryContext ctx;
+  rtcInitPointQueryContext(&ctx);
+  rtcPointQuery(impl_->scene, &q, &ctx, nullptr, &st);
+  if (st.facet < 0) return out;
+  out.facet = st.facet;
+  out.face = facets_.facetFace[st.facet];
+  out.point = st.best;
+  out.distance = std::sqrt(st.bestDist2);
+  return out;
+}
+
+namespace {
+
+PolygonCrossing segmentQuery(const PolygonScene::Impl& impl, const PolygonFacets& facets, const Eigen::Vector3d& a,
+                             const Eigen::Vector3d& b, const int* exclude, int nExclude, bool bothSides,
+                             bool through) noexcept {
+  PolygonCrossing out;
+  if (facets.numFaces() == 0 || !a.allFinite() || !b.allFinite()) return out;
+  SegmentContext sc;
+  rtcInitIntersectContext(&sc.base);
+  sc.pf = &facets;
+  sc.a = a;
+  sc.b = b;
+  sc.exclude = exclude;
+  sc.nExclude = exclude ? nExclude : 0;
+  sc.bothSides = bothSides;
+  sc.through = through;
+  sc.bestT = 2;
+  sc.bestFacet = -1;
+  sc.bestEntering = true;
+  RTCRayHit rh;
+  const Eigen::Vector3d d = b - a;
+  rh.ray.org_x = float(a.x());
+  rh.ray.org_y = float(a.y());
+  rh.ray.org_z = float(a.z());
+  rh.ray.dir_x = float(d.x());
+  rh.ray.dir_y = float(d.y());
+  rh.ray.dir_z = float(d.z());
+  rh.ray.tnear = 0;
+  rh.ray.tfar = 1.0f + 1e-5f;
+  rh.ray.time = 0;
+  rh.ray.mask = 0xFFFFFFFFu;
+  rh.ray.id = 0;
+  rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  if (!(d.squaredNorm() > 0)) return out;  // a zero-length segment enters nothing
+  rtcIntersect1(impl.scene, &sc.base, &rh);
+  if (sc.bestFacet < 0) return out;
+  out.facet = sc.bestFacet;
+  out.face = facets.facetFace[sc.bestFacet];
+  out.t = sc.bestT;
+  out.point = a + sc.bestT * d;
+  out.entering = sc.bestEntering;
+  return out;
+}
+
+}  // namespace
+
+PolygonCrossing PolygonScene::firstEntry(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const int* exclude,
+                                         int nExclude, bool through) const noexcept {
+  return segmentQuery(*impl_, facets_, a, b, exclude, nExclude, false, through);
+}
+
+PolygonCrossing PolygonScene::firstCrossing(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const noexcept {
+  return segmentQuery(*impl_, facets_, a, b, nullptr, 0, true, false);
+}
+
+bool PolygonScene::contains(const Eigen::Vector3d& p, const Eigen::Vector3d& dir) const noexcept {
+  if (facets_.numFaces() == 0 || !p.allFinite()) return false;
+  const double len = 2 * facets_.extent() + (p - 0.5 * (facets_.boxMin + facets_.boxMax)).norm();
+  const Eigen::Vector3d fixed[3] = {Eigen::Vector3d(0.5406, 0.6209, 0.5676).normalized(),
+                                    Eigen::Vector3d(-0.7071, 0.1961, -0.6793).normalized(),
+                                    Eigen::Vector3d(0.2673, -0.8018, 0.5345).normalized()};
+  const bool haveDir = dir.allFinite() && dir.squaredNorm() > 0;
+  int exits = 0;
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d d = haveDir && k == 0 ? Eigen::Vector3d(dir.normalized()) : fixed[k];
+    const PolygonCrossing c = firstCrossing(p, p + len * d);
+    exits += c.face >= 0 && !c.entering ? 1 : 0;
+  }
+  return exits >= 2;
+}
+
+}  // namespace sf

@@ -1,0 +1,116 @@
+// Local nearest-point refinement on the patches (paper Section 4.2), crossing patch
+// boundaries by Eq. 15 (design page, "Leaving the domain").
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <smoothforce/patch/patch_eval.h>
+#include <smoothforce/query/refine_options.h>
+
+namespace sf {
+
+class LazyPatches;
+
+/// The refined surface contact point. status: the final point's GP_ST_* bits (evaluation |
+/// face construction) and SF_TRACK_* bits (base/status.h): CONVERGED, MAX_ITER, STALLED,
+/// BOUNDARY, DEGENERATE.
+struct RefineResult {
+  Eigen::Vector3d scp{0, 0, 0};     ///< m, G(xi, eta) on `face`
+  Eigen::Vector3d normal{0, 0, 0};  ///< unit outward patch normal there
+  int face = -1;
+  int edge = -1;  ///< domain edge of `face` the SCP is held on (boundary, non-manifold), else -1
+  double xi = 0, eta = 0;
+  double distance = 0;                  ///< |SCP - HIP|, m
+  int iterations = 0, transitions = 0;  ///< iterations run; Eq. 15 face changes
+  uint32_t status = 0;
+};
+
+/// A reusable refiner: all memory is allocated in the constructor, refine() does not allocate,
+/// lock or throw. Not thread-safe (one per thread); the cache must outlive it.
+///
+/// RefineMethod::Newton runs the one Newton refinement of the project, gp_refine_newton
+/// (kernels/gp_refine.h, which the OpenCL kernel runs too): a trust-region Newton method on
+/// f = |G - HIP|^2 / 2 whose trust region is measured in metres on the surface, an exact 2x2
+/// subproblem, the ratio test (every accepted step decreases f), patch crossings by Eq. 15 that
+/// carry the rest of a step into the neighbour's domain, boundary edges held (1-D Newton along
+/// them). On the CPU it always computes in double: a float cache's records are widened on load,
+/// so the float surface is refined to the same tolerance as a double one.
+/// RefineMethod::PaperDescent: the descent direction -grad f from central differences of
+/// |G - HIP|^2 (positions only, 4 evaluations); step length: the paper's Fig. 8 is not
+/// reproduced exactly - we take the step that moves G, along the numerical tangent G_d of the
+/// direction d, to the foot of the perpendicular from the HIP (alpha = -(r . G_d) / |G_d|^2),
+/// capped at 0.5 domain units, halved until f decreases (backtracking); an iterate leaving the
+/// domain crosses domain edge k at I0 on the ray from the origin and continues at
+/// I1 = C_i + s (C_{i+1} - C_i) on the neighbour (Eq. 15 as printed); on a boundary or
+/// non-manifold edge it stays at the edge's nearest point. The Fig. 8 reconstruction is ours.
+/// Both stop when the tangential residual |(G - HIP) x n| is at most
+/// min(sin(angleTolerance) |G - HIP|, positionTolerance x diagonal) (along a held edge: the
+/// residual along the edge), after maxIterations, or when no step can decrease f.
+class PatchRefiner {
+ public:
+  /// cache: a prebuilt cache, or a skeleton (hasPatchData false) with `lazy` building its
+  /// patches on demand (lazy must then be given and outlive the refiner; not owned).
+  explicit PatchRefiner(const PatchCache& cache, LazyPatches* lazy = nullptr);
+  ~PatchRefiner();
+  PatchRefiner(const PatchRefiner&) = delete;
+  PatchRefiner& operator=(const PatchRefiner&) = delete;
+  /// Refines from (face, xi, eta) (clamped into the domain; edge: the domain edge of `face` the
+  /// start is held on, -1 for none) towards the point nearest `hip` (m).
+  RefineResult refine(const Eigen::Vector3d& hip, int face, double xi, double eta, const RefineOptions& options,
+                      int edge = -1) noexcept;
+  /// True when face f's patch can be evaluated (built, n <= GP_MAX_N, finite input).
+  bool evaluable(int f) const noexcept;
+  /// One evaluation through the refiner's record buffer (same values as evaluatePatch).
+  PatchPoint eval(int f, const Eigen::Vector2d& X) noexcept;
+
+ private:
+  struct Iterate {
+    int face;
+    int edge;  // domain edge the iterate is held on (boundary), else -1
+    Eigen::Vector2d X;
+    PatchPoint p;
+    double f;  // |G - HIP|^2 / 2
+  };
+  void load(int f) noexcept;
+  RefineResult refineNewton(const Eigen::Vector3d& hip, int face, double xi, double eta, const RefineOptions& options,
+                            int edge) noexcept;
+  RefineResult refineDescent(const Eigen::Vector3d& hip, int face, double xi, double eta, const RefineOptions& options,
+                             int edge) noexcept;
+  /// GP_ST_* construction bits of face f (from the lazy store when there is one).
+  uint32_t faceStatus(int f) const noexcept;
+  Iterate at(int f, const Eigen::Vector2d& X, const Eigen::Vector3d& hip) noexcept;
+  /// Eq. 15: maps an X outside face f's domain onto the neighbour (or onto the edge).
+  void transfer(int& f, Eigen::Vector2d& X, int& edge, int& transitions, uint32_t& status) const noexcept;
+  Eigen::Vector2d interior(int n, const Eigen::Vector2d& X, double eps) const noexcept;
+  bool converged(const Iterate& it, const Eigen::Vector3d& hip, const RefineOptions& options) const noexcept;
+  /// Step acceptance: f decreases, or stays within its evaluation noise while the angle
+  /// between G - HIP and the normal shrinks.
+  bool better(const Iterate& trial, const Iterate& cur, const Eigen::Vector3d& hip) const noexcept;
+  /// Moves cur by `step` in its domain (across an edge by Eq. 15 via transfer) and keeps the
+  /// result when better() accepts it; transitions and status then take the move's.
+  bool tryStep(Iterate& cur, const Eigen::Vector2d& step, const Eigen::Vector3d& hip, int& transitions,
+               uint32_t& status) noexcept;
+  void descentStep(Iterate& cur, const Eigen::Vector3d& hip, int& transitions, uint32_t& status,
+                   bool& stalled) noexcept;
+
+  const PatchCache& cache_;
+  LazyPatches* lazy_ = nullptr;
+  std::vector<int32_t> slotFace_;  ///< #C: face owning each slot
+  struct NewtonState;              ///< gp_refine_newton's view of the cache, and its scratch
+  std::unique_ptr<NewtonState> newton_;
+  std::vector<double> recsD_;
+  std::vector<float> recsF_;
+  int loaded_ = -1;
+  double scale_ = 1;     ///< bounding-box diagonal, m
+  double eps_ = 1e-6;    ///< finite-difference step in the domain (1e-3 for float caches)
+  double posNoise_ = 0;  ///< m: evaluation noise of positions (1e-14 / 1e-6 of the mesh size)
+};
+
+/// One-shot refinement (allocates a PatchRefiner).
+RefineResult refineNearestPoint(const PatchCache& cache, const Eigen::Vector3d& hip, int face, double xi, double eta,
+                                const RefineOptions& options = {});
+
+}  // namespace sf

@@ -1,0 +1,112 @@
+// The patch surface as triangle BVHs (Embree): tessellations of every built patch with bounds
+// on their distance from the patches, for the global nearest-point query (candidates and
+// starting points for refinement) and the inside test (winding number) of Algorithm 1, line 3.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <smoothforce/patch/patch_cache.h>
+
+namespace sf {
+
+struct UniformTessellation;
+struct SurfaceTriangle;
+
+/// A tessellation triangle whose part of the patch may hold the point nearest a query: its
+/// point nearest the query (face, domain coordinates X) and lower = that distance minus the
+/// triangle's error bound (a lower bound of the distance to the patch over the triangle).
+struct SurfaceCandidate {
+  int face = -1, triangle = -1;
+  Eigen::Vector2d X{0, 0};  ///< domain point of the triangle's point nearest the query
+  double distance = 0;      ///< m, to the triangle
+  double lower = 0;         ///< m
+};
+
+/// Options of PatchSurface. Errors are fractions of the mesh's bounding-box diagonal.
+struct PatchSurfaceOptions {
+  int level = 0;  ///< uniform tessellation level (each polygon edge split in L), 1..64; 0: chosen
+  /// level 0: the smallest L (<= 32) whose 90th-percentile triangle error is at most this, unless
+  /// that takes more than triangleBudget triangles (then the largest L that fits); and the
+  /// adaptive tessellation subdivides triangles while their error exceeds it
+  double targetError = 1e-3;
+  int64_t triangleBudget = 1'000'000;
+  int subdivision = 6;  ///< at most this many halvings of a triangle, 0..8
+};
+
+/// The patch surface for queries, from a prebuilt cache.
+///
+/// Two tessellations (surface_tessellation.h), each triangle with an error bound on the distance
+/// between a patch point G(X) and the triangle's point at the same X: the larger of twice the
+/// largest such distance at its centroid and edge midpoints, and h osc(J) / 2 (h its longest
+/// domain edge, osc(J) the largest difference of the patch's Jacobian between those 7 points: a
+/// first-order bound that sees the folds the midpoints miss), plus the evaluation noise of the
+/// cache's precision. These are estimates, not proofs: the tests check the queries they serve
+/// against dense sampling and an independent inside test.
+/// - uniform: every face at one level L (domainRingPoints: n L^2 triangles per n-gon; one L, so
+///   that neighbouring patches share their boundary vertices up to rounding and the
+///   tessellation is closed where the patch surface is): the rays of winding() and inErrorBand();
+/// - adaptive: the uniform triangles subdivided while their error bound exceeds the target: the
+///   point queries of candidates(), on boxes inflated by the bounds (Embree user geometry).
+/// Queries are const and thread-safe (state on the stack), and do not allocate, lock or throw.
+/// The cache must outlive the surface.
+class PatchSurface {
+ public:
+  /// The most candidates() collects.
+  static constexpr size_t kMaxCandidates = 256;
+  /// Needs a prebuilt cache (hasPatchData); throws InputError for a skeleton or bad options,
+  /// and std::runtime_error with Embree's message when Embree fails.
+  explicit PatchSurface(const PatchCache& cache, const PatchSurfaceOptions& options = {});
+  ~PatchSurface();
+  PatchSurface(const PatchSurface&) = delete;
+  PatchSurface& operator=(const PatchSurface&) = delete;
+
+  /// Every adaptive triangle whose lower bound (distance to q - its error bound) is at most the
+  /// smallest (distance + error bound) over all triangles, so that the patch point nearest q lies
+  /// over one of them; sorted by lower bound, at most `cap` (the smallest kept; at most 256 are
+  /// collected). Returns how many.
+  size_t candidates(const Eigen::Vector3d& q, SurfaceCandidate* out, size_t cap) const noexcept;
+
+  /// Whether q lies within the error bound of a uniform triangle: then winding() may differ from
+  /// the patch surface's own winding number around q.
+  bool inErrorBand(const Eigen::Vector3d& q) const noexcept;
+
+  /// Winding number of the uniform tessellation around q: signed crossings of a ray from q (+1
+  /// leaving through a triangle's front), the majority of three rays in fixed skew directions (a
+  /// ray that grazes an edge or vertex can miscount). 1 inside a closed outward surface, 0 outside.
+  int winding(const Eigen::Vector3d& q) const noexcept;
+
+  /// Level of the uniform tessellation, and its triangle count.
+  int level() const noexcept;
+  size_t numTriangles() const noexcept;
+  /// Spacing of the uniform tessellation's vertices in the domain (1 / level): refinements that
+  /// start closer than this on one face fall into the same basin.
+  double spacing() const noexcept { return 1.0 / level(); }
+  /// The largest error bound of face f's adaptive triangles, and of all, m.
+  double error(int f) const noexcept { return error_[f]; }
+  double maxError() const noexcept { return maxError_; }
+  /// True when every face is built and every edge has a twin: the patch surface is closed.
+  bool closed() const noexcept { return closed_; }
+  const PatchCache& cache() const noexcept { return cache_; }
+
+  const UniformTessellation& uniform() const noexcept { return *uniform_; }
+  const std::vector<SurfaceTriangle>& pointTriangles() const noexcept { return points_; }
+
+  struct Impl;  ///< Embree device and scenes (opaque)
+
+ private:
+  const PatchCache& cache_;
+  bool closed_ = false;
+  double maxError_ = 0;
+  std::vector<double> error_;  ///< #F, m (0 for faces not built)
+  std::unique_ptr<UniformTessellation> uniform_;
+  std::vector<SurfaceTriangle> points_;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// The uniform tessellation level PatchSurface uses for `cache` with these options.
+int choosePatchSurfaceLevel(const PatchCache& cache, const PatchSurfaceOptions& options);
+
+}  // namespace sf

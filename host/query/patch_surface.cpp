@@ -1,0 +1,388 @@
+// Embree BVHs over tessellations of the patches: candidates for the global nearest point (point
+// queries on the adaptive triangles, boxes inflated by their error bounds, our exact
+// double-precision point-triangle distance), the error-band test and the winding number (rays on
+// the uniform, closed tessellation, crossings counted in an intersection filter).
+#include <smoothforce/query/patch_surface.h>
+
+#include <embree3/rtcore.h>
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "gp_config.h"
+#include "surface_tessellation.h"
+
+namespace sf {
+
+struct PatchSurface::Impl {
+  RTCDevice device = nullptr;
+  RTCScene points = nullptr;  ///< user geometry: the adaptive triangles, boxes inflated by their error
+  RTCScene band = nullptr;    ///< user geometry: the uniform triangles, boxes inflated by their error
+  RTCScene rays = nullptr;    ///< the uniform triangles as Embree triangles
+  const PatchSurface* surface = nullptr;
+  float pad = 0;  ///< m: float rounding of the BVHs, added to boxes and radii
+  char error[256] = {0};
+  ~Impl() {
+    for (RTCScene s : {points, band, rays})
+      if (s) rtcReleaseScene(s);
+    if (device) rtcReleaseDevice(device);
+  }
+};
+
+namespace {
+
+constexpr uint32_t kNotBuilt = GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE;
+
+void onError(void* user, RTCError code, const char* str) {
+  auto* impl = static_cast<PatchSurface::Impl*>(user);
+  if (impl->error[0] == 0) std::snprintf(impl->error, sizeof impl->error, "Embree error %d: %s", int(code), str);
+}
+
+/// Closest point of triangle abc to p (Ericson, Real-Time Collision Detection 5.1.5): returns the
+/// squared distance and the barycentric weights (u, v, w) of the closest point.
+double closestOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                         const Eigen::Vector3d& c, double& u, double& v, double& w) {
+  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  auto at = [&](double uu, double vv, double ww) {
+    u = uu;
+    v = vv;
+    w = ww;
+    return (uu * a + vv * b + ww * c - p).squaredNorm();
+  };
+  if (d1 <= 0 && d2 <= 0) return at(1, 0, 0);
+  const Eigen::Vector3d bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return at(0, 1, 0);
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+    const double t = d1 / (d1 - d3);
+    return at(1 - t, t, 0);
+  }
+  const Eigen::Vector3d cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return at(0, 0, 1);
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+    const double t = d2 / (d2 - d6);
+    return at(1 - t, 0, t);
+  }
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    const double t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return at(0, 1 - t, t);
+  }
+  const double denom = 1 / (va + vb + vc);
+  const double vv = vb * denom, ww = vc * denom;
+  return at(1 - vv - ww, vv, ww);
+}
+
+void setBounds(RTCBounds* b, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double e, float pad) {
+  if (!std::isfinite(e)) e = 0;  // a triangle with a non-finite evaluation: its corners only
+  b->lower_x = float(lo.x() - e) - pad;
+  b->lower_y = float(lo.y() - e) - pad;
+  b->lower_z = float(lo.z() - e) - pad;
+  b->upper_x = float(hi.x() + e) + pad;
+  b->upper_y = float(hi.y() + e) + pad;
+  b->upper_z = float(hi.z() + e) + pad;
+}
+
+void pointBounds(const RTCBoundsFunctionArguments* args) {
+  const auto* impl = static_cast<const PatchSurface::Impl*>(args->geometryUserPtr);
+  const SurfaceTriangle& t = impl->surface->pointTriangles()[args->primID];
+  const Eigen::Vector3d lo = t.P[0].cwiseMin(t.P[1]).cwiseMin(t.P[2]), hi = t.P[0].cwiseMax(t.P[1]).cwiseMax(t.P[2]);
+  setBounds(args->bounds_o, lo, hi, t.error, impl->pad);
+}
+
+void bandBounds(const RTCBoundsFunctionArguments* args) {
+  const auto* impl = static_cast<const PatchSurface::Impl*>(args->geometryUserPtr);
+  const UniformTessellation& u = impl->surface->uniform();
+  const auto& tr = u.tri[args->primID];
+  const Eigen::Vector3d &a = u.vertex[tr[0]], &b = u.vertex[tr[1]], &c = u.vertex[tr[2]];
+  setBounds(args->bounds_o, a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c), u.error[args->primID], impl->pad);
+}
+
+void noIntersect(const RTCIntersectFunctionNArguments*) {}
+void noOccluded(const RTCOccludedFunctionNArguments*) {}
+
+// ---- candidates ----
+
+constexpr size_t kMaxCandidates = PatchSurface::kMaxCandidates;
+
+struct CandidateState {
+  const std::vector<SurfaceTriangle>* tri;
+  Eigen::Vector3d q;
+  double bound;  ///< min over the triangles seen of (distance + error)
+  float pad;
+  size_t count;
+  SurfaceCandidate c[kMaxCandidates];
+};
+
+bool candidateFn(RTCPointQueryFunctionArguments* args) {
+  auto* st = static_cast<CandidateState*>(args->userPtr);
+  const SurfaceTriangle& t = (*st->tri)[args->primID];
+  double u, v, w;
+  const double d = std::sqrt(closestOnTriangle(st->q, t.P[0], t.P[1], t.P[2], u, v, w));
+  const double e = t.error;
+  if (!(d - e <= st->bound)) return false;
+  SurfaceCandidate* slot = nullptr;
+  if (st->count < kMaxCandidates) {
+    slot = &st->c[st->count++];
+  } else {  // full: replace the candidate with the largest lower bound, if worse than this one
+    slot = &st->c[0];
+    for (size_t i = 1; i < st->count; ++i)
+      if (st->c[i].lower > slot->lower) slot = &st->c[i];
+    if (slot->lower <= d - e) slot = nullptr;
+  }
+  if (slot) {
+    slot->face = t.face;
+    slot->triangle = static_cast<int>(args->primID);
+    slot->distance = d;
+    slot->lower = d - e;
+    slot->X = u * t.X[0] + v * t.X[1] + w * t.X[2];
+  }
+  if (d + e < st->bound) {
+    st->bound = d + e;  // every box is inflated by its triangle's error: no more margin needed
+    const float r = float(st->bound) * (1.0f + 1e-6f) + st->pad;
+    if (r < args->query->radius) {
+      args->query->radius = r;
+      return true;
+    }
+  }
+  return false;
+}
+
+// ---- error band ----
+
+struct BandState {
+  const UniformTessellation* u;
+  Eigen::Vector3d q;
+  bool inside;
+};
+
+bool bandFn(RTCPointQueryFunctionArguments* args) {
+  auto* st = static_cast<BandState*>(args->userPtr);
+  if (st->inside) return false;
+  const UniformTessellation& u = *st->u;
+  const auto& tr = u.tri[args->primID];
+  double a, b, c;
+  const double d = std::sqrt(closestOnTriangle(st->q, u.vertex[tr[0]], u.vertex[tr[1]], u.vertex[tr[2]], a, b, c));
+  if (!(d > u.error[args->primID])) {
+    st->inside = true;
+    args->query->radius = 0;  // found one: stop looking
+    return true;
+  }
+  return false;
+}
+
+// ---- rays: winding number ----
+
+struct WindingContext {
+  RTCIntersectContext base;  ///< first, so that Embree's context pointer is ours
+  const UniformTessellation* u;
+  Eigen::Vector3d dir;
+  int winding;
+};
+
+void windingFilter(const RTCFilterFunctionNArguments* args) {
+  if (args->N != 1 || !args->valid[0]) return;
+  auto* wc = reinterpret_cast<WindingContext*>(const_cast<RTCIntersectContext*>(args->context));
+  const auto& tr = wc->u->tri[RTCHitN_primID(args->hit, args->N, 0)];
+  const Eigen::Vector3d& a = wc->u->vertex[tr[0]];
+  const double s = ((wc->u->vertex[tr[1]] - a).cross(wc->u->vertex[tr[2]] - a)).dot(wc->dir);
+  wc->winding += s > 0 ? 1 : (s < 0 ? -1 : 0);
+  args->valid[0] = 0;  // reject: keep traversing for the further crossings
+}
+
+RTCGeometry userGeometry(RTCDevice device, size_t count, void* user, RTCBoundsFunction bounds,
+                         RTCPointQueryFunction query) {
+  RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
+  rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(count));
+  rtcSetGeometryUserData(g, user);
+  rtcSetGeometryBoundsFunction(g, bounds, nullptr);
+  rtcSetGeometryIntersectFunction(g, noIntersect);
+  rtcSetGeometryOccludedFunction(g, noOccluded);
+  rtcSetGeometryPointQueryFunction(g, query);
+  rtcCommitGeometry(g);
+  return g;
+}
+
+RTCScene sceneOf(RTCDevice device, RTCGeometry g, bool robust) {
+  RTCScene s = rtcNewScene(device);
+  if (robust) rtcSetSceneFlags(s, RTC_SCENE_FLAG_ROBUST);
+  if (g) {
+    rtcAttachGeometry(s, g);
+    rtcReleaseGeometry(g);
+  }
+  rtcCommitScene(s);
+  return s;
+}
+
+}  // namespace
+
+int choosePatchSurfaceLevel(const PatchCache& cache, const PatchSurfaceOptions& o) {
+  if (o.level > 0) return o.level;
+  // a triangle's error shrinks like its size squared: error(L) ~ error(2) (2 / L)^2
+  const UniformTessellation probe = tessellateUniform(cache, 2);
+  if (probe.error.empty()) return 1;
+  std::vector<double> e = probe.error;
+  for (double& x : e) x = std::isfinite(x) ? x : 0.0;
+  const size_t k = e.size() * 9 / 10;
+  std::nth_element(e.begin(), e.begin() + k, e.end());
+  const double target = o.targetError * boundingDiagonal(cache);
+  int L = 1;
+  while (L < 32 && e[k] * 4.0 / (double(L) * L) > target) ++L;
+  while (L > 1 && trianglesAtLevel(cache, L) > o.triangleBudget) --L;
+  return L;
+}
+
+PatchSurface::PatchSurface(const PatchCache& cache, const PatchSurfaceOptions& options)
+    : cache_(cache), impl_(std::make_unique<Impl>()) {
+  if (!hasPatchData(cache)) throw InputError("the patch surface needs built patches (a cache, not a skeleton)");
+  if (options.level < 0 || options.level > 64) throw InputError("patch surface level must be in 0..64");
+  if (!(options.targetError > 0) || options.subdivision < 0 || options.subdivision > 8)
+    throw InputError("patch surface: targetError must be > 0 and subdivision in 0..8");
+  const double diag = boundingDiagonal(cache);
+  const double noise = (cache.options.precision == Precision::Double ? 1e-13 : 2e-6) * diag;
+  uniform_ = std::make_unique<UniformTessellation>(tessellateUniform(cache, choosePatchSurfaceLevel(cache, options)));
+  for (double& e : uniform_->error) e += noise;
+  points_ = tessellateAdaptive(cache, *uniform_, options.targetError * diag, options.subdivision);
+  for (SurfaceTriangle& t : points_) t.error += noise;
+  error_.assign(cache.numFaces(), 0.0);
+  for (const SurfaceTriangle& t : points_) {
+    error_[t.face] = std::max(error_[t.face], t.error);
+    maxError_ = std::max(maxError_, t.error);
+  }
+  closed_ = true;
+  for (int f = 0; f < cache.numFaces(); ++f) {
+    if (cache.faceStatus[f] & kNotBuilt) {
+      closed_ = false;
+      continue;
+    }
+    for (int s = cache.faceOffsets[f]; s < cache.faceOffsets[f + 1]; ++s) closed_ = closed_ && cache.slotTwin[s] >= 0;
+  }
+
+  double extent = diag;
+  for (const auto& p : uniform_->vertex) extent = std::max(extent, p.cwiseAbs().maxCoeff());
+  impl_->surface = this;
+  impl_->pad = float(1e-5 * extent) + 1e-30f;
+  impl_->device = rtcNewDevice(nullptr);
+  if (!impl_->device)
+    throw std::runtime_error("rtcNewDevice failed: Embree error " + std::to_string(int(rtcGetDeviceError(nullptr))));
+  rtcSetDeviceErrorFunction(impl_->device, onError, impl_.get());
+  const UniformTessellation& u = *uniform_;
+  RTCGeometry gp =
+      points_.empty() ? nullptr : userGeometry(impl_->device, points_.size(), impl_.get(), pointBounds, candidateFn);
+  RTCGeometry gb = u.tri.empty() ? nullptr : userGeometry(impl_->device, u.tri.size(), impl_.get(), bandBounds, bandFn);
+  RTCGeometry gr = nullptr;
+  if (!u.tri.empty()) {
+    gr = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vb = static_cast<float*>(
+        rtcSetNewGeometryBuffer(gr, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), u.vertex.size()));
+    auto* ib = static_cast<unsigned*>(
+        rtcSetNewGeometryBuffer(gr, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), u.tri.size()));
+    if (!vb || !ib) throw std::runtime_error(std::string("patch surface BVH buffers: ") + impl_->error);
+    for (size_t i = 0; i < u.vertex.size(); ++i)
+      for (int a = 0; a < 3; ++a) vb[3 * i + a] = float(u.vertex[i][a]);
+    for (size_t i = 0; i < u.tri.size(); ++i)
+      for (int a = 0; a < 3; ++a) ib[3 * i + a] = unsigned(u.tri[i][a]);
+    rtcSetGeometryIntersectFilterFunction(gr, windingFilter);
+    rtcCommitGeometry(gr);
+  }
+  impl_->points = sceneOf(impl_->device, gp, false);
+  impl_->band = sceneOf(impl_->device, gb, false);
+  impl_->rays = sceneOf(impl_->device, gr, true);
+  if (impl_->error[0]) throw std::runtime_error(std::string("building the patch surface BVHs: ") + impl_->error);
+}
+
+PatchSurface::~PatchSurface() = default;
+
+int PatchSurface::level() const noexcept { return uniform_->level; }
+size_t PatchSurface::numTriangles() const noexcept { return uniform_->tri.size(); }
+
+size_t PatchSurface::candidates(const Eigen::Vector3d& q, SurfaceCandidate* out, size_t cap) const noexcept {
+  if (points_.empty() || !q.allFinite() || cap == 0) return 0;
+  CandidateState st;
+  st.tri = &points_;
+  st.q = q;
+  st.bound = std::numeric_limits<double>::infinity();
+  st.pad = impl_->pad;
+  st.count = 0;
+  RTCPointQuery pq;
+  pq.x = float(q.x());
+  pq.y = float(q.y());
+  pq.z = float(q.z());
+  pq.radius = std::numeric_limits<float>::infinity();
+  pq.time = 0;
+  RTCPointQueryContext ctx;
+  rtcInitPointQueryContext(&ctx);
+  rtcPointQuery(impl_->points, &pq, &ctx, nullptr, &st);
+  size_t n = 0;
+  for (size_t i = 0; i < st.count; ++i)
+    if (st.c[i].lower <= st.bound) st.c[n++] = st.c[i];
+  std::sort(st.c, st.c + n, [](const SurfaceCandidate& a, const SurfaceCandidate& b) {
+    return a.lower < b.lower || (a.lower == b.lower && a.triangle < b.triangle);
+  });
+  n = std::min(n, cap);
+  std::copy_n(st.c, n, out);
+  return n;
+}
+
+bool PatchSurface::inErrorBand(const Eigen::Vector3d& q) const noexcept {
+  if (uniform_->tri.empty() || !q.allFinite()) return false;
+  BandState st{uniform_.get(), q, false};
+  RTCPointQuery pq;
+  pq.x = float(q.x());
+  pq.y = float(q.y());
+  pq.z = float(q.z());
+  pq.radius = impl_->pad;  // boxes are inflated by the errors: q must lie in one
+  pq.time = 0;
+  RTCPointQueryContext ctx;
+  rtcInitPointQueryContext(&ctx);
+  rtcPointQuery(impl_->band, &pq, &ctx, nullptr, &st);
+  return st.inside;
+}
+
+int PatchSurface::winding(const Eigen::Vector3d& q) const noexcept {
+  if (uniform_->tri.empty() || !q.allFinite()) return 0;
+  static const Eigen::Vector3d kDir[3] = {Eigen::Vector3d(0.5406, 0.6209, 0.5676).normalized(),
+                                          Eigen::Vector3d(-0.7071, 0.1961, -0.6793).normalized(),
+                                          Eigen::Vector3d(0.2673, -0.8018, 0.5345).normalized()};
+  int w[3];
+  for (int k = 0; k < 3; ++k) {
+    WindingContext wc;
+    rtcInitIntersectContext(&wc.base);
+    wc.u = uniform_.get();
+    wc.dir = kDir[k];
+    wc.winding = 0;
+    RTCRayHit rh;
+    rh.ray.org_x = float(q.x());
+    rh.ray.org_y = float(q.y());
+    rh.ray.org_z = float(q.z());
+    rh.ray.dir_x = float(kDir[k].x());
+    rh.ray.dir_y = float(kDir[k].y());
+    rh.ray.dir_z = float(kDir[k].z());
+    rh.ray.tnear = 0;
+    rh.ray.tfar = std::numeric_limits<float>::infinity();
+    rh.ray.time = 0;
+    rh.ray.mask = 0xFFFFFFFFu;
+    rh.ray.id = 0;
+    rh.ray.flags = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(impl_->rays, &wc.base, &rh);
+    w[k] = wc.winding;
+    if (k == 1 && w[0] == w[1]) return w[0];  // two rays agree: the third cannot change the majority
+  }
+  if (w[0] == w[2]) return w[0];
+  if (w[1] == w[2]) return w[1];
+  return w[0];
+}
+
+}  // namespace sf

@@ -1,0 +1,36 @@
+// Parsing, naming and validation of the refinement options.
+#include <smoothforce/query/refine_options.h>
+
+#include <cmath>
+
+#include <smoothforce/base/error.h>
+
+namespace sf {
+
+RefineMethod parseRefineMethod(const std::string& s) {
+  if (s == "newton") return RefineMethod::Newton;
+  if (s == "paper") return RefineMethod::PaperDescent;
+  throw InputError("refinement: expected newton|paper, got '" + s + "'");
+}
+
+InitialGuess parseInitialGuess(const std::string& s) {
+  if (s == "surface" || s == "tessellation") return InitialGuess::Surface;  // tessellation: its former name
+  if (s == "polygon") return InitialGuess::Polygon;
+  throw InputError("initial guess: expected surface|polygon, got '" + s + "'");
+}
+
+const char* toString(RefineMethod m) { return m == RefineMethod::Newton ? "newton" : "paper"; }
+const char* toString(InitialGuess g) { return g == InitialGuess::Polygon ? "polygon" : "surface"; }
+
+void validateRefineOptions(const RefineOptions& o) {
+  if (!(o.angleTolerance > 0) || !std::isfinite(o.angleTolerance))
+    throw InputError("angleTolerance must be a finite value > 0 rad, got " + std::to_string(o.angleTolerance));
+  if (!(o.positionTolerance > 0) || !std::isfinite(o.positionTolerance))
+    throw InputError("positionTolerance must be a finite value > 0 (fraction of the diagonal), got " +
+                     std::to_string(o.positionTolerance));
+  if (o.maxIterations < 1) throw InputError("maxIterations must be >= 1, got " + std::to_string(o.maxIterations));
+  if (o.tessellationLevel < 0 || o.tessellationLevel > 64)
+    throw InputError("tessellationLevel must be in 0..64 (0: chosen), got " + std::to_string(o.tessellationLevel));
+}
+
+}  // namespace sf

@@ -1,0 +1,46 @@
+// Tessellations of the patch surface with per-triangle error bounds, for PatchSurface: a
+// uniform one (closed where the surface is, for rays) and an adaptive one (subdivided where the
+// patch bends away from its triangles, for point queries).
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <smoothforce/patch/patch_cache.h>
+
+namespace sf {
+
+/// Every built face at level L (domainRingPoints, n L^2 triangles per n-gon; tessellatePatches'
+/// layout), vertices shared within a face. error[t] bounds the distance between G(X) and the
+/// triangle's point at the same X (see triangleError).
+struct UniformTessellation {
+  int level = 1;
+  std::vector<Eigen::Vector3d> vertex;  ///< m
+  std::vector<Eigen::Vector2d> domain;  ///< the vertices' domain points
+  std::vector<std::array<int32_t, 3>> tri;
+  std::vector<int32_t> triFace;
+  std::vector<double> error;  ///< m, per triangle
+};
+
+/// One triangle of the adaptive tessellation (its own corners).
+struct SurfaceTriangle {
+  int32_t face = -1;
+  std::array<Eigen::Vector2d, 3> X;  ///< domain corners
+  std::array<Eigen::Vector3d, 3> P;  ///< G at the corners, m
+  double error = 0;                  ///< m
+};
+
+/// Tessellates every built face of a prebuilt cache at level L (CPU, oneTBB).
+UniformTessellation tessellateUniform(const PatchCache& cache, int L);
+
+/// The uniform triangles, each subdivided into 4 (at its domain edge midpoints) while its error
+/// exceeds `maxError` (m), at most `maxDepth` times.
+std::vector<SurfaceTriangle> tessellateAdaptive(const PatchCache& cache, const UniformTessellation& uniform,
+                                                double maxError, int maxDepth);
+
+/// Triangles of a level-L tessellation of the cache's built faces.
+int64_t trianglesAtLevel(const PatchCache& cache, int L);
+
+}  // namespace sf

@@ -1,0 +1,115 @@
+// Sweep results on disk: per-HIP files that shards write and sweep-merge joins, and the
+// summary (summary.json, PLY point clouds, the printed table) computed from them.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <smoothforce/sweep/sweep.h>
+
+namespace sf {
+
+/// Everything that determines a sweep's HIPs and results; shards must agree on all of it.
+struct SweepConfig {
+  std::string source;    ///< mesh or cache file as given
+  std::string meshHash;  ///< hex XXH64 of the mesh file (from the cache)
+  int faces = 0;
+  std::string sampleOn = "patch";  ///< patch | reference | file
+  uint64_t samples = 0, seed = 1;
+  int level = 8;  ///< tessellation level used for sampling and projection
+  std::vector<std::string> methods;
+  double stiffness = 500;  ///< N/m
+  double approach = 1e-3;  ///< probes first step at p + approach * depth * n
+  std::string refine = "newton";
+  double angleTolerance = 1e-5;          ///< rad, patch refinement (ForceOptions)
+  int maxIterations = 50;                ///< patch refinement cap (ForceOptions)
+  double positionTolerance = 1e-10;      ///< fraction of the diagonal (ForceOptions)
+  std::string initialGuess = "surface";  ///< surface | polygon (ForceOptions)
+  int guessLevel = 0;                    ///< patch surface tessellation level (0: chosen)
+  std::string preset;                    ///< --preset as given ("" when none)
+  std::string backend = "tbb";           ///< tbb | serial | opencl (construction, patch refinement)
+  std::string reference, analytic;       ///< reference mesh path, analytic spec ("" when none)
+  int knn = 8;
+  double thresholdDeg = 10;
+  std::vector<std::string> trajectories;  ///< files; empty: the default section loop
+  double trajectoryStep = 0;              ///< m
+  double diagonal = 0, area = 0;          ///< m, m^2
+  std::string hipHash;                    ///< hex HipSet::hash()
+  std::vector<std::string> groupLabels;   ///< depth labels ("file" for a HIP file)
+  std::vector<double> groupDepths;        ///< m
+};
+
+/// One run's or one shard's data: HIPs and results for the global index range [begin, end),
+/// complete or a checkpoint (records with done = 0 are still to compute).
+struct SweepData {
+  SweepConfig config;
+  int shardIndex = 0, shardCount = 1;
+  uint64_t begin = 0, end = 0;
+  bool interrupted = false;                     ///< the run that wrote it stopped on a signal
+  std::vector<Eigen::Vector3d> hips;            ///< end - begin
+  std::vector<std::vector<HipResult>> results;  ///< per method, end - begin each
+  /// Trajectory series: the sweep has trajectoryTotal of them (trajectory x method x depth x
+  /// step, TrajectorySeries::index); this shard runs [trajectoryBegin, trajectoryEnd) of them
+  /// (shardRange); `trajectories` holds those finished, by increasing index.
+  uint64_t trajectoryTotal = 0, trajectoryBegin = 0, trajectoryEnd = 0;
+  std::vector<TrajectorySeries> trajectories;
+  std::string directory;  ///< the directory readSweepData read ("" otherwise), for messages
+  uint64_t total() const { return config.groupLabels.size() * config.samples; }
+  /// HIPs computed (done = 1), per method.
+  std::vector<uint64_t> doneCounts() const;
+  /// Every HIP of [begin, end) done for every method, every series of the shard's range finished.
+  bool complete() const;
+  /// "shard I/N" plus " (DIRECTORY)" when read from one.
+  std::string label() const;
+};
+
+/// XXH64 of the configuration without `source` (what shards and resumed runs must share);
+/// stored in every per-HIP file's header.
+uint64_t sweepConfigHash(const SweepConfig& c);
+/// "" when a and b describe the same sweep (all but `source` equal), else the first
+/// differing setting, e.g. "seed (1 vs 2)".
+std::string sweepConfigDifference(const SweepConfig& a, const SweepConfig& b);
+
+/// [begin, end) of shard `index` of `count`: contiguous, sizes differ by at most one.
+void shardRange(uint64_t total, int index, int count, uint64_t& begin, uint64_t& end);
+/// Parses "I/N" (0 <= I < N); throws InputError.
+void parseShard(const std::string& text, int& index, int& count);
+
+/// Writes sweep.json, hips.bin, results_METHOD.bin and trajectories.json into dir (created),
+/// each atomically (PATH.tmp.PID, fsync, rename; sweep.json last), so that a reader sees
+/// whole files of one checkpoint or the next, and done flags that are true. Throws
+/// InputError when a file cannot be written.
+void writeSweepData(const SweepData& data, const std::string& dir);
+
+/// Writes checkpoints of one run into one directory: the first write() writes every file,
+/// later ones only the files whose content changed (results of methods with new HIPs done,
+/// new trajectory series) and sweep.json. Same atomicity as writeSweepData.
+class SweepWriter {
+ public:
+  explicit SweepWriter(std::string dir) : dir_(std::move(dir)) {}
+  void write(const SweepData& data);
+
+ private:
+  std::string dir_;
+  bool first_ = true;
+  std::vector<uint64_t> done_;  ///< per method, at the last write
+  size_t series_ = 0;           ///< trajectory series at the last write
+};
+
+/// Reads what writeSweepData wrote (complete or a checkpoint); throws InputError naming the
+/// file for a missing, truncated or inconsistent file (a per-HIP file of another sweep
+/// included).
+SweepData readSweepData(const std::string& dir);
+/// Joins complete shards into the unsharded run's data. Throws InputError naming every
+/// incomplete shard (interrupted or killed: resume it with `sweep --resume`), and when
+/// configurations differ, or the HIP ranges or trajectory series overlap or leave a gap.
+SweepData mergeSweepData(std::vector<SweepData> shards);
+
+/// Computes the metrics of a whole run (begin 0, end total) and writes summary.json and one
+/// METHOD_DEPTH.ply per method and depth into dir. Returns the table printed for people.
+/// summary.json holds no timings or thread counts: merged shards give the same bytes.
+std::string writeSweepSummary(const SweepData& data, const std::string& dir);
+
+}  // namespace sf

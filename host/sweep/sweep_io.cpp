@@ -1,0 +1,386 @@
+#include <smoothforce/sweep/sweep_io.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include <unistd.h>
+
+#include <smoothforce/base/hash.h>
+#include <smoothforce/force/force_method.h>
+
+namespace sf {
+
+namespace fs = std::filesystem;
+using ojson = nlohmann::ordered_json;
+
+namespace {
+
+constexpr char kHipMagic[8] = {'S', 'F', 'S', 'W', 'H', 'I', 'P', '1'};
+constexpr char kResMagic[8] = {'S', 'F', 'S', 'W', 'R', 'E', 'S', '1'};
+
+ojson configJson(const SweepConfig& c) {
+  return ojson{{"source", c.source},
+               {"mesh_hash", c.meshHash},
+               {"faces", c.faces},
+               {"sample_on", c.sampleOn},
+               {"samples", c.samples},
+               {"seed", c.seed},
+               {"level", c.level},
+               {"methods", c.methods},
+               {"stiffness", c.stiffness},
+               {"approach", c.approach},
+               {"refine", c.refine},
+               {"angle_tolerance", c.angleTolerance},
+               {"max_iterations", c.maxIterations},
+               {"position_tolerance", c.positionTolerance},
+               {"initial_guess", c.initialGuess},
+               {"guess_level", c.guessLevel},
+               {"preset", c.preset},
+               {"backend", c.backend},
+               {"reference", c.reference},
+               {"analytic", c.analytic},
+               {"knn", c.knn},
+               {"threshold_deg", c.thresholdDeg},
+               {"trajectories", c.trajectories},
+               {"trajectory_step", c.trajectoryStep},
+               {"diagonal", c.diagonal},
+               {"area", c.area},
+               {"hip_hash", c.hipHash},
+               {"depth_labels", c.groupLabels},
+               {"depths", c.groupDepths}};
+}
+
+SweepConfig configFrom(const ojson& j) {
+  SweepConfig c;
+  c.source = j.at("source");
+  c.meshHash = j.at("mesh_hash");
+  c.faces = j.at("faces");
+  c.sampleOn = j.at("sample_on");
+  c.samples = j.at("samples");
+  c.seed = j.at("seed");
+  c.level = j.at("level");
+  c.methods = j.at("methods").get<std::vector<std::string>>();
+  c.stiffness = j.at("stiffness");
+  c.approach = j.at("approach");
+  c.refine = j.at("refine");
+  // absent in sweeps written before the presets: the defaults of that time
+  c.angleTolerance = j.value("angle_tolerance", ForceOptions{}.angleTolerance);
+  c.maxIterations = j.value("max_iterations", ForceOptions{}.maxIterations);
+  c.positionTolerance = j.value("position_tolerance", ForceOptions{}.positionTolerance);
+  c.initialGuess = j.value("initial_guess", std::string("surface"));
+  c.guessLevel = j.value("guess_level", ForceOptions{}.tessellationLevel);
+  c.preset = j.value("preset", std::string());
+  c.backend = j.at("backend");
+  c.reference = j.at("reference");
+  c.analytic = j.at("analytic");
+  c.knn = j.at("knn");
+  c.thresholdDeg = j.at("threshold_deg");
+  c.trajectories = j.at("trajectories").get<std::vector<std::string>>();
+  c.trajectoryStep = j.at("trajectory_step");
+  c.diagonal = j.at("diagonal");
+  c.area = j.at("area");
+  c.hipHash = j.at("hip_hash");
+  c.groupLabels = j.at("depth_labels").get<std::vector<std::string>>();
+  c.groupDepths = j.at("depths").get<std::vector<double>>();
+  return c;
+}
+
+std::string tmpName(const std::string& path) { return path + ".tmp." + std::to_string(::getpid()); }
+
+/// Writes through PATH.tmp.PID: data, flush, fsync, close, rename over PATH.
+template <class F>
+void writeAtomically(const std::string& path, F&& fill) {
+  const std::string tmp = tmpName(path);
+  std::FILE* f = std::fopen(tmp.c_str(), "wb");
+  if (!f) throw InputError(path + ": cannot open for writing");
+  bool ok = fill(f);
+  ok = std::fflush(f) == 0 && ok;
+  ok = ::fsync(::fileno(f)) == 0 && ok;
+  ok = std::fclose(f) == 0 && ok;
+  if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    throw InputError(path + ": write failed");
+  }
+}
+
+void writeText(const std::string& path, const std::string& text) {
+  writeAtomically(path, [&](std::FILE* f) { return std::fwrite(text.data(), 1, text.size(), f) == text.size(); });
+}
+
+/// Header: magic, begin, end, sweepConfigHash.
+void writeBlock(const std::string& path, const char magic[8], uint64_t begin, uint64_t end, uint64_t config,
+                const void* data, size_t bytes) {
+  writeAtomically(path, [&](std::FILE* f) {
+    const uint64_t head[3] = {begin, end, config};
+    bool ok = std::fwrite(magic, 1, 8, f) == 8 && std::fwrite(head, sizeof head, 1, f) == 1;
+    return ok && (bytes == 0 || std::fwrite(data, 1, bytes, f) == bytes);
+  });
+}
+
+/// Reads a block written by writeBlock; a header hash of 0 (files older than the hash) is accepted.
+template <class T>
+std::vector<T> readBlock(const std::string& path, const char magic[8], uint64_t begin, uint64_t end, uint64_t config,
+                         size_t perHip) {
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) throw InputError(path + ": cannot open");
+  char m[8];
+  uint64_t head[3];
+  const bool okHead = std::fread(m, 1, 8, f) == 8 && std::fread(head, sizeof head, 1, f) == 1;
+  if (!okHead || std::memcmp(m, magic, 8) != 0) {
+    std::fclose(f);
+    throw InputError(path + ": not a sweep data file");
+  }
+  if (head[0] != begin || head[1] != end || (head[2] != 0 && head[2] != config)) {
+    std::fclose(f);
+    throw InputError(path + (head[2] != 0 && head[2] != config ? ": written by another sweep than sweep.json"
+                                                               : ": HIP range differs from sweep.json"));
+  }
+  std::vector<T> v((end - begin) * perHip);
+  const bool ok = v.empty() || std::fread(v.data(), sizeof(T), v.size(), f) == v.size();
+  char extra;
+  const bool tail = std::fread(&extra, 1, 1, f) == 0;
+  std::fclose(f);
+  if (!ok || !tail) throw InputError(path + ": truncated or oversized");
+  return v;
+}
+
+/// The configuration as shards and resumed runs must share it (no `source`).
+ojson configKey(const SweepConfig& c) {
+  ojson j = configJson(c);
+  j.erase("source");
+  return j;
+}
+
+std::string metaJson(const SweepData& d) {
+  ojson done = ojson::object();
+  const std::vector<uint64_t> counts = d.doneCounts();
+  for (size_t m = 0; m < d.config.methods.size(); ++m) done[d.config.methods[m]] = counts[m];
+  ojson j{{"smoothforce_sweep_data", 1},
+          {"config", configJson(d.config)},
+          {"shard", {{"index", d.shardIndex}, {"count", d.shardCount}, {"begin", d.begin}, {"end", d.end}}},
+          {"total", d.total()},
+          {"complete", d.complete()},
+          {"interrupted", d.interrupted},
+          {"done", done},
+          {"trajectory_series",
+           {{"total", d.trajectoryTotal},
+            {"begin", d.trajectoryBegin},
+            {"end", d.trajectoryEnd},
+            {"done", d.trajectories.size()}}}};
+  return j.dump(2) + "\n";
+}
+
+std::string trajectoriesJson(const SweepData& d) {
+  ojson tr = ojson::array();
+  for (const auto& t : d.trajectories)
+    tr.push_back(ojson{{"index", t.index},
+                       {"trajectory", t.trajectory},
+                       {"method", t.method},
+                       {"depth_label", t.depthLabel},
+                       {"depth", t.depth},
+                       {"step", t.step},
+                       {"half", t.half},
+                       {"force", t.force},
+                       {"contact", t.contact}});
+  return ojson{{"config_hash", hexHash(sweepConfigHash(d.config))}, {"series", tr}}.dump() + "\n";
+}
+
+}  // namespace
+
+void shardRange(uint64_t total, int index, int count, uint64_t& begin, uint64_t& end) {
+  begin = total * static_cast<uint64_t>(index) / static_cast<uint64_t>(count);
+  end = total * static_cast<uint64_t>(index + 1) / static_cast<uint64_t>(count);
+}
+
+void parseShard(const std::string& text, int& index, int& count) {
+  const auto slash = text.find('/');
+  bool ok = slash != std::string::npos;
+  if (ok) {
+    try {
+      size_t a = 0, b = 0;
+      index = std::stoi(text.substr(0, slash), &a);
+      count = std::stoi(text.substr(slash + 1), &b);
+      ok = a == slash && b == text.size() - slash - 1 && count >= 1 && index >= 0 && index < count;
+    } catch (const std::exception&) {
+      ok = false;
+    }
+  }
+  if (!ok) throw InputError("--shard: expected I/N with 0 <= I < N, got '" + text + "'");
+}
+
+std::vector<uint64_t> SweepData::doneCounts() const {
+  std::vector<uint64_t> n(config.methods.size(), 0);
+  for (size_t m = 0; m < n.size() && m < results.size(); ++m)
+    for (const HipResult& r : results[m]) n[m] += r.done;
+  return n;
+}
+
+bool SweepData::complete() const {
+  if (results.size() != config.methods.size()) return false;
+  for (uint64_t n : doneCounts())
+    if (n != end - begin) return false;
+  return trajectories.size() == trajectoryEnd - trajectoryBegin;
+}
+
+std::string SweepData::label() const {
+  return "shard " + std::to_string(shardIndex) + "/" + std::to_string(shardCount) +
+         (directory.empty() ? "" : " (" + directory + ")");
+}
+
+uint64_t sweepConfigHash(const SweepConfig& c) {
+  const std::string k = configKey(c).dump();
+  return hashBytes(k.data(), k.size());
+}
+
+std::string sweepConfigDifference(const SweepConfig& a, const SweepConfig& b) {
+  const ojson ja = configKey(a), jb = configKey(b);
+  for (const auto& [key, value] : ja.items())
+    if (!jb.contains(key) || jb.at(key) != value)
+      return key + " (" + value.dump() + " vs " + (jb.contains(key) ? jb.at(key).dump() : "none") + ")";
+  return "";
+}
+
+void SweepWriter::write(const SweepData& d) {
+  fs::create_directories(dir_);
+  const uint64_t config = sweepConfigHash(d.config);
+  if (first_) {
+    std::vector<double> xyz;
+    xyz.reserve(3 * d.hips.size());
+    for (const auto& h : d.hips) xyz.insert(xyz.end(), {h.x(), h.y(), h.z()});
+    writeBlock(dir_ + "/hips.bin", kHipMagic, d.begin, d.end, config, xyz.data(), xyz.size() * sizeof(double));
+  }
+  const std::vector<uint64_t> done = d.doneCounts();
+  for (size_t m = 0; m < d.config.methods.size(); ++m)
+    if (first_ || done[m] != done_[m])
+      writeBlock(dir_ + "/results_" + d.config.methods[m] + ".bin", kResMagic, d.begin, d.end, config,
+                 d.results[m].data(), d.results[m].size() * sizeof(HipResult));
+  if (first_ || d.trajectories.size() != series_) writeText(dir_ + "/trajectories.json", trajectoriesJson(d));
+  writeText(dir_ + "/sweep.json", metaJson(d));
+  first_ = false;
+  done_ = done;
+  series_ = d.trajectories.size();
+}
+
+void writeSweepData(const SweepData& d, const std::string& dir) { SweepWriter(dir).write(d); }
+
+SweepData readSweepData(const std::string& dir) {
+  SweepData d;
+  d.directory = dir;
+  const std::string meta = dir + "/sweep.json";
+  std::ifstream in(meta);
+  if (!in) throw InputError(meta + ": cannot open (not a sweep output directory?)");
+  try {
+    const ojson j = ojson::parse(in);
+    d.config = configFrom(j.at("config"));
+    d.shardIndex = j.at("shard").at("index");
+    d.shardCount = j.at("shard").at("count");
+    d.begin = j.at("shard").at("begin");
+    d.end = j.at("shard").at("end");
+    d.interrupted = j.at("interrupted");
+    if (d.begin > d.end || d.end > d.total()) throw InputError(meta + ": HIP range outside the sweep");
+    const std::string tpath = dir + "/trajectories.json";
+    std::ifstream tin(tpath);
+    if (!tin) throw InputError(tpath + ": cannot open");
+    const ojson tj = ojson::parse(tin);
+    if (tj.is_object() && tj.at("config_hash") != hexHash(sweepConfigHash(d.config)))
+      throw InputError(tpath + ": written by another sweep than sweep.json");
+    const ojson& list = tj.is_object() ? tj.at("series") : tj;  // an array: written before checkpoints
+    for (const auto& t : list) {
+      TrajectorySeries s;
+      s.index = t.value("index", static_cast<uint64_t>(d.trajectories.size()));
+      s.trajectory = t.at("trajectory");
+      s.method = t.at("method");
+      s.depthLabel = t.at("depth_label");
+      s.depth = t.at("depth");
+      s.step = t.at("step");
+      s.half = t.at("half");
+      s.force = t.at("force").get<std::vector<float>>();
+      s.contact = t.at("contact").get<std::vector<uint8_t>>();
+      d.trajectories.push_back(std::move(s));
+    }
+    if (j.contains("trajectory_series")) {
+      const ojson& ts = j.at("trajectory_series");
+      d.trajectoryTotal = ts.at("total");
+      d.trajectoryBegin = ts.at("begin");
+      d.trajectoryEnd = ts.at("end");
+    } else {  // before checkpoints: shard 0 (or the whole run) ran every series
+      d.trajectoryTotal = d.trajectoryEnd = d.trajectories.size();
+    }
+    if (d.trajectoryBegin > d.trajectoryEnd || d.trajectoryEnd > d.trajectoryTotal)
+      throw InputError(meta + ": trajectory series range outside the sweep");
+    for (size_t i = 0; i < d.trajectories.size(); ++i) {
+      const uint64_t k = d.trajectories[i].index;
+      if (k < d.trajectoryBegin || k >= d.trajectoryEnd || (i > 0 && k <= d.trajectories[i - 1].index))
+        throw InputError(tpath + ": series " + std::to_string(k) + " outside the shard's range or out of order");
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(dir + ": malformed sweep metadata: " + e.what());
+  }
+  const uint64_t config = sweepConfigHash(d.config);
+  const auto xyz = readBlock<double>(dir + "/hips.bin", kHipMagic, d.begin, d.end, config, 3);
+  for (size_t i = 0; i < xyz.size(); i += 3) d.hips.emplace_back(xyz[i], xyz[i + 1], xyz[i + 2]);
+  for (const auto& m : d.config.methods)
+    d.results.push_back(readBlock<HipResult>(dir + "/results_" + m + ".bin", kResMagic, d.begin, d.end, config, 1));
+  return d;
+}
+
+SweepData mergeSweepData(std::vector<SweepData> shards) {
+  if (shards.empty()) throw InputError("sweep-merge: no inputs");
+  std::string incomplete;
+  for (const SweepData& s : shards) {
+    if (s.complete()) continue;
+    std::string what;
+    const std::vector<uint64_t> done = s.doneCounts();
+    for (size_t m = 0; m < done.size(); ++m)
+      what += (what.empty() ? "" : ", ") + s.config.methods[m] + " " + std::to_string(done[m]) + " of " +
+              std::to_string(s.end - s.begin) + " HIPs";
+    what += ", trajectory series " + std::to_string(s.trajectories.size()) + " of " +
+            std::to_string(s.trajectoryEnd - s.trajectoryBegin);
+    incomplete += (incomplete.empty() ? "" : "; ") + s.label() + ": " + what;
+  }
+  if (!incomplete.empty())
+    throw InputError("sweep-merge: incomplete shards (continue each with sweep --resume): " + incomplete);
+  std::sort(shards.begin(), shards.end(), [](const SweepData& a, const SweepData& b) { return a.begin < b.begin; });
+  // The source path may differ between machines; the mesh and HIP hashes pin the input.
+  SweepData out;
+  out.config = shards[0].config;
+  out.begin = 0;
+  out.end = out.total();
+  out.results.resize(out.config.methods.size());
+  uint64_t next = 0;
+  for (auto& s : shards) {
+    const std::string diff = sweepConfigDifference(shards[0].config, s.config);
+    if (!diff.empty())
+      throw InputError("sweep-merge: " + s.label() + " was run with a different configuration or HIP list than " +
+                       shards[0].label() + ": " + diff);
+    if (s.begin != next)
+      throw InputError("sweep-merge: HIPs " + std::to_string(std::min(next, s.begin)) + ".." +
+                       std::to_string(std::max(next, s.begin)) +
+                       (s.begin < next ? " are in two shards" : " are missing"));
+    next = s.end;
+    out.hips.insert(out.hips.end(), s.hips.begin(), s.hips.end());
+    for (size_t m = 0; m < out.results.size(); ++m)
+      out.results[m].insert(out.results[m].end(), s.results[m].begin(), s.results[m].end());
+    out.trajectoryTotal = std::max(out.trajectoryTotal, s.trajectoryTotal);
+    for (auto& t : s.trajectories) out.trajectories.push_back(std::move(t));
+  }
+  if (next != out.total())
+    throw InputError("sweep-merge: HIPs " + std::to_string(next) + ".." + std::to_string(out.total()) + " are missing");
+  std::sort(out.trajectories.begin(), out.trajectories.end(),
+            [](const TrajectorySeries& a, const TrajectorySeries& b) { return a.index < b.index; });
+  for (size_t i = 0; i < out.trajectories.size(); ++i)
+    if (out.trajectories[i].index != i)
+      throw InputError("sweep-merge: trajectory series " + std::to_string(i) +
+                       (out.trajectories[i].index < i ? " is in two shards" : " is missing"));
+  if (out.trajectories.size() != out.trajectoryTotal)
+    throw InputError("sweep-merge: trajectory series " + std::to_string(out.trajectories.size()) + ".." +
+                     std::to_string(out.trajectoryTotal) + " are missing");
+  out.trajectoryEnd = out.trajectoryTotal;
+  return out;
+}
+
+}  // namespace sf

@@ -1,0 +1,269 @@
+#include <smoothforce/sweep/sweep_run.h>
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+
+#include <smoothforce/base/hash.h>
+#include <smoothforce/force/force_tracking.h>
+#include <smoothforce/query/embree_scene.h>
+#include <smoothforce/sweep/sweep_opencl.h>
+
+namespace sf {
+
+namespace {
+double since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
+HipSet buildHipSet(SweepInputs& in, std::unique_ptr<ReferenceSurface>* reference) {
+  SweepConfig& c = in.config;
+  const PatchCache& cache = *in.cache;
+  c.diagonal = boundingDiagonal(cache);
+  c.faces = cache.numFaces();
+  c.meshHash = hexHash(cache.meshHash);
+  if (!(c.trajectoryStep > 0)) c.trajectoryStep = c.diagonal / 400;
+  std::unique_ptr<TriangleSoup> soup;
+  if (!c.reference.empty()) soup = std::make_unique<TriangleSoup>(loadTriangleSoup(c.reference));
+  HipSet set;
+  if (!in.hipsFile.empty()) {
+    c.sampleOn = "file";
+    const PatchSurfaceSampler sampler(cache, c.level);
+    const PatchProjector projector(cache, c.level);
+    set = makeFileHips(readPointsCsv(in.hipsFile), projector, c.diagonal, sampler.area());
+    c.samples = set.samples.size();
+  } else if (c.sampleOn == "reference") {
+    if (!soup) throw InputError("--sample-on reference needs --reference");
+    set = makeDepthHips(sampleTriangleSoup(*soup, c.samples, c.seed), in.depths, c.diagonal, soup->area());
+  } else if (c.sampleOn == "patch") {
+    const PatchSurfaceSampler sampler(cache, c.level);
+    set = makeDepthHips(sampler.sample(c.samples, c.seed), in.depths, c.diagonal, sampler.area());
+  } else {
+    throw InputError("--sample-on: expected patch or reference, got '" + c.sampleOn + "'");
+  }
+  c.area = set.area;
+  c.groupLabels.clear();
+  c.groupDepths.clear();
+  for (const auto& g : set.groups) {
+    c.groupLabels.push_back(g.label);
+    c.groupDepths.push_back(g.depth);
+  }
+  if (!(c.approach > 0) || !std::isfinite(c.approach)) throw InputError("--approach must be positive");
+  set.approachFactor = c.approach;
+  c.hipHash = hexHash(set.hash());
+  if (reference) {
+    if (!c.analytic.empty())
+      *reference = makeAnalyticSurface(c.analytic);
+    else if (soup)
+      *reference = std::make_unique<MeshDistance>(std::move(*soup), c.reference);
+  }
+  return set;
+}
+
+namespace {
+
+using Path = std::pair<std::string, std::vector<Eigen::Vector3d>>;
+
+/// The trajectories of a sweep: the files (named by stem), else the default section loop.
+std::vector<Path> trajectoryPaths(const SweepConfig& c, const PatchCache& cache) {
+  std::vector<Path> paths;
+  for (const auto& f : c.trajectories) paths.emplace_back(std::filesystem::path(f).stem().string(), readPointsCsv(f));
+  if (c.trajectories.empty()) {
+    auto loop = defaultTrajectory(cache, c.level);
+    if (loop.size() >= 2) paths.emplace_back("default", std::move(loop));
+  }
+  return paths;
+}
+
+/// Takes over a checkpoint of the same sweep and shard (records and finished series).
+void adoptCheckpoint(SweepData& prev, SweepData& d) {
+  const std::string where = prev.directory.empty() ? "--resume" : prev.directory;
+  const std::string diff = sweepConfigDifference(prev.config, d.config);
+  if (!diff.empty())
+    throw InputError(where + ": holds another sweep (" + diff + "): give the options it was run with, or another -o");
+  if (prev.shardIndex != d.shardIndex || prev.shardCount != d.shardCount || prev.begin != d.begin ||
+      prev.end != d.end || prev.results.size() != d.results.size())
+    throw InputError(where + ": holds shard " + std::to_string(prev.shardIndex) + "/" +
+                     std::to_string(prev.shardCount) + ", not " + std::to_string(d.shardIndex) + "/" +
+                     std::to_string(d.shardCount));
+  if (prev.trajectoryTotal != d.trajectoryTotal || prev.trajectoryBegin != d.trajectoryBegin ||
+      prev.trajectoryEnd != d.trajectoryEnd)
+    throw InputError(where + ": holds another list of trajectory series");
+  d.results = std::move(prev.results);
+  d.trajectories = std::move(prev.trajectories);
+}
+
+/// Probe blocks sized so that checkpoints come about every checkpointSeconds: a block takes
+/// about a quarter of that (0.02 .. 2 s), measured from the previous block. Without
+/// checkpoints a block is everything.
+struct BlockSizer {
+  explicit BlockSizer(const SweepControl& c)
+      : target(c.checkpoint ? std::clamp(c.checkpointSeconds / 4, 0.02, 2.0) : 0),
+        next(c.checkpoint ? 1024 : std::numeric_limits<size_t>::max()) {}
+  void update(size_t hips, double seconds) {
+    if (target > 0 && seconds > 0)
+      next = static_cast<size_t>(std::clamp(static_cast<double>(hips) * target / seconds, 256.0, 4194304.0));
+  }
+  double target;
+  size_t next;
+};
+
+}  // namespace
+
+static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, SweepTiming* timing) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (!in.cache) throw InputError("sweep: no patch cache");
+  if (in.config.methods.empty()) throw InputError("--methods: empty list");
+  if (control.checkpoint && !(control.checkpointSeconds > 0))
+    throw InputError("--checkpoint-every: expected a time > 0 s");
+  ForceOptions opt;
+  opt.stiffness = in.config.stiffness;
+  opt.refine = parseRefineMethod(in.config.refine);
+  opt.angleTolerance = in.config.angleTolerance;
+  opt.positionTolerance = in.config.positionTolerance;
+  opt.maxIterations = in.config.maxIterations;
+  opt.initialGuess = parseInitialGuess(in.config.initialGuess);
+  opt.tessellationLevel = in.config.guessLevel;
+  // A skeleton cache (sweep --mesh with --sample-on reference): every worker's patch renderer
+  // builds the patches its HIPs touch, none evicted; nothing else may evaluate patches.
+  const bool lazy = !hasPatchData(*in.cache);
+  if (lazy && (in.config.sampleOn == "patch" || !in.hipsFile.empty() || !in.config.trajectories.empty() ||
+               in.config.backend == "opencl"))
+    throw InputError(
+        "sweep: patches built lazily only with --sample-on reference, no --hips, no --trajectory and "
+        "the CPU backend");
+  opt.patchCapacity = 0;
+  if (!in.makeRenderer) {
+    // one polygon scene per kind and one patch surface, shared by every worker's renderer
+    auto cache = in.cache;
+    auto patchScene = std::make_shared<const PolygonScene>(*cache, kPlanarTolerance);
+    auto godScene = std::make_shared<const PolygonScene>(*cache, kWatertightPlanarTolerance);
+    std::shared_ptr<const PatchSurface> surface;
+    const bool wantSurface = std::find(in.config.methods.begin(), in.config.methods.end(), "patch") !=
+                             in.config.methods.end();
+    if (wantSurface && !lazy && opt.initialGuess == InitialGuess::Surface)
+      surface = std::make_shared<const PatchSurface>(*cache, patchSurfaceOptions(opt));
+    in.makeRenderer = [cache, opt, patchScene, godScene, surface](const std::string& m) {
+      const ForceMethod method = parseForceMethod(m);
+      return makeForceRenderer(cache, method == ForceMethod::Patch ? patchScene : godScene, method, opt, surface);
+    };
+  }
+  for (const auto& m : in.config.methods) in.makeRenderer(m);  // bad names and options fail here, once
+  std::unique_ptr<ReferenceSurface> ref;
+  const HipSet set = buildHipSet(in, &ref);
+  SweepData d;
+  d.config = in.config;
+  d.shardIndex = in.shardIndex;
+  d.shardCount = in.shardCount;
+  shardRange(set.size(), in.shardIndex, in.shardCount, d.begin, d.end);
+  for (uint64_t g = d.begin; g < d.end; ++g) d.hips.push_back(set.hip(g));
+  const size_t n = d.end - d.begin, M = d.config.methods.size(), G = set.groups.size();
+  d.results.assign(M, std::vector<HipResult>(n));
+  // Trajectory series (trajectory, method, depth, step), spread over the shards like the HIPs.
+  const std::vector<Path> paths =
+      !lazy && in.hipsFile.empty() ? trajectoryPaths(d.config, *in.cache) : std::vector<Path>{};
+  d.trajectoryTotal = paths.size() * M * G * 2;
+  shardRange(d.trajectoryTotal, in.shardIndex, in.shardCount, d.trajectoryBegin, d.trajectoryEnd);
+  if (in.resume) adoptCheckpoint(*in.resume, d);
+
+  SweepTiming tm;
+  tm.setupSeconds = since(t0);
+  tm.hipsRun = n;
+  const std::vector<uint64_t> doneBefore = d.doneCounts();
+  uint64_t pending = 0;
+  for (uint64_t k : doneBefore) pending += n - k;
+  if (control.started) control.started(pending, n * M);
+  auto stopRequested = [&] { return control.stop && control.stop->load(); };
+  auto lastCheckpoint = std::chrono::steady_clock::now();
+  auto maybeCheckpoint = [&] {
+    if (!control.checkpoint || since(lastCheckpoint) < control.checkpointSeconds) return;
+    control.checkpoint(d);
+    lastCheckpoint = std::chrono::steady_clock::now();
+  };
+  BlockSizer blocks(control);
+  for (size_t m = 0; m < M; ++m) {
+    const auto t1 = std::chrono::steady_clock::now();
+    std::vector<HipResult>& out = d.results[m];
+    const std::string& method = d.config.methods[m];
+    // --backend opencl: the patch method's refinements run on the device (sweep_opencl.h)
+    const bool opencl = method == "patch" && in.config.backend == "opencl";
+    RendererPool pool([&in, method] { return in.makeRenderer(method); });
+    size_t computed = 0;
+    for (size_t i = 0; i < n && !stopRequested();) {
+      if (out[i].done) {
+        ++i;
+        continue;
+      }
+      size_t j = i;
+      while (j < n && !out[j].done && j - i < blocks.next) ++j;
+      const auto tb = std::chrono::steady_clock::now();
+      const size_t got = opencl ? runPatchProbesOpenCL(set, d.begin + i, d.begin + j, in.cache, opt, ref.get(),
+                                                       out.data() + i, control, in.opencl)
+                                : runProbes(set, d.begin + i, d.begin + j, pool, ref.get(), out.data() + i, control);
+      computed += got;
+      blocks.update(j - i, since(tb));
+      i = j;
+      maybeCheckpoint();
+    }
+    tm.methodPatchesBuilt.push_back(lazy ? pool.patchesBuilt() : 0);
+    tm.methodDone.push_back(computed);
+    tm.methodSeconds.push_back(since(t1));
+  }
+  std::vector<uint64_t> pendingSeries;
+  for (uint64_t k = d.trajectoryBegin, t = 0; k < d.trajectoryEnd; ++k) {
+    while (t < d.trajectories.size() && d.trajectories[t].index < k) ++t;
+    if (t == d.trajectories.size() || d.trajectories[t].index != k) pendingSeries.push_back(k);
+  }
+  if (!pendingSeries.empty() && !stopRequested()) {
+    const auto t2 = std::chrono::steady_clock::now();
+    const SweepConfig& c = d.config;
+    const size_t per = M * G * 2;
+    const PatchProjector projector(*in.cache, c.level);
+    std::vector<std::vector<SurfaceSample>> walk(2 * paths.size());  // [2 t + half]: only those needed
+    for (uint64_t k : pendingSeries) {
+      const size_t t = k / per, h = k % 2;
+      if (walk[2 * t + h].empty())
+        walk[2 * t + h] = trajectorySamples(paths[t].second, h ? c.trajectoryStep / 2 : c.trajectoryStep, projector);
+    }
+    std::vector<TrajectorySeries> fresh(pendingSeries.size());
+    std::vector<uint8_t> ran(pendingSeries.size(), 0);
+    tbb::parallel_for(size_t(0), pendingSeries.size(), [&](size_t i) {
+      if (stopRequested()) return;
+      const uint64_t k = pendingSeries[i];
+      const size_t t = k / per, m = k % per / (G * 2), g = k % (G * 2) / 2, h = k % 2;
+      TrajectorySeries& s = fresh[i];
+      s.index = k;
+      s.trajectory = paths[t].first;
+      s.method = c.methods[m];
+      s.depthLabel = set.groups[g].label;
+      s.depth = set.groups[g].depth;
+      s.step = h ? c.trajectoryStep / 2 : c.trajectoryStep;
+      s.half = h == 1;
+      auto r = in.makeRenderer(s.method);
+      runTrajectory(walk[2 * t + h], s.depth, c.approach, *r, s);
+      ran[i] = 1;
+    });
+    for (size_t i = 0; i < fresh.size(); ++i)
+      if (ran[i]) d.trajectories.push_back(std::move(fresh[i]));
+    std::sort(d.trajectories.begin(), d.trajectories.end(),
+              [](const TrajectorySeries& a, const TrajectorySeries& b) { return a.index < b.index; });
+    tm.trajectorySeconds = since(t2);
+  }
+  d.interrupted = !d.complete() && stopRequested();
+  if (timing) *timing = tm;
+  return d;
+}
+
+SweepData runSweep(SweepInputs in, const SweepControl& control, SweepTiming* timing) {
+  if (control.threads <= 0) return runSweepImpl(std::move(in), control, timing);
+  tbb::task_arena arena(control.threads);  // sampling, probes and trajectories alike
+  return arena.execute([&] { return runSweepImpl(std::move(in), control, timing); });
+}
+
+}  // namespace sf

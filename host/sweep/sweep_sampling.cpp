@@ -1,0 +1,258 @@
+#include <smoothforce/sweep/sweep_sampling.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <sstream>
+
+#include <smoothforce/patch/patch_eval.h>
+#include <smoothforce/patch/tessellate.h>
+#include <smoothforce/query/patch_seeds.h>
+#include "gp_config.h"
+
+namespace sf {
+
+namespace {
+
+constexpr uint32_t kBadPoint = GP_ST_OUTSIDE | GP_ST_SINGULAR | GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE;
+
+double uniform01(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1.0p-53; }
+
+bool evaluable(const PatchCache& c, int f) { return !(c.faceStatus[f] & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE)); }
+
+/// Domain triangles of face f at `level` rings, the ring layout of tessellatePatches.
+void domainTriangles(int n, int L, std::vector<Eigen::Vector2d>& out) {
+  auto vtx = [&](int r, int k, int j) -> Eigen::Vector2d {
+    if (r == 0) return {0, 0};
+    const Eigen::Vector2d a = domainCorner(n, k % n), b = domainCorner(n, (k + 1) % n);
+    return (double(r) / L) * (a + (double(j) / r) * (b - a));
+  };
+  for (int r = 1; r <= L; ++r)
+    for (int k = 0; k < n; ++k) {
+      for (int j = 0; j < r; ++j) {
+        out.push_back(vtx(r, k, j));
+        out.push_back(vtx(r, k, j + 1));
+        out.push_back(vtx(r - 1, k, j));
+      }
+      for (int j = 0; j + 1 < r; ++j) {
+        out.push_back(vtx(r - 1, k, j));
+        out.push_back(vtx(r, k, j + 1));
+        out.push_back(vtx(r - 1, k, j + 1));
+      }
+    }
+}
+
+size_t pickByCdf(const std::vector<double>& cdf, double u) {
+  const double target = u * cdf.back();
+  const auto it = std::upper_bound(cdf.begin(), cdf.end(), target);
+  return std::min(static_cast<size_t>(it - cdf.begin()), cdf.size() - 1);
+}
+
+std::string trim(const std::string& s) {
+  const auto a = s.find_first_not_of(" \t\r");
+  const auto b = s.find_last_not_of(" \t\r");
+  return a == std::string::npos ? "" : s.substr(a, b - a + 1);
+}
+
+}  // namespace
+
+std::vector<DepthSpec> parseDepthList(const std::string& text) {
+  std::vector<DepthSpec> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    DepthSpec d;
+    d.label = trim(item);
+    std::string num = d.label;
+    if (!num.empty() && num.back() == '%') {
+      d.relative = true;
+      num.pop_back();
+    }
+    size_t used = 0;
+    try {
+      d.value = std::stod(num, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (num.empty() || used != num.size() || !std::isfinite(d.value) || !(d.value > 0))
+      throw InputError("--depth: '" + d.label + "' is not a positive depth (metres, or percent like 2%)");
+    out.push_back(d);
+  }
+  if (out.empty()) throw InputError("--depth: empty list");
+  return out;
+}
+
+std::string depthTag(const std::string& label) {
+  std::string t;
+  for (char c : label) {
+    if (c == '%')
+      t += "pct";
+    else if (std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '_')
+      t += c;
+    else
+      t += '_';
+  }
+  if (label.empty() || label.back() != '%') t += "m";
+  return t;
+}
+
+PatchSurfaceSampler::PatchSurfaceSampler(const PatchCache& cache, int level) : cache_(cache) {
+  if (level < 1 || level > 64) throw InputError("sampling level must be in [1, 64], got " + std::to_string(level));
+  std::vector<int32_t> qf;
+  std::vector<double> qx, qy;
+  std::vector<Eigen::Vector2d> tri;
+  for (int f = 0; f < cache.numFaces(); ++f) {
+    if (!evaluable(cache, f)) continue;
+    tri.clear();
+    domainTriangles(cache.faceSize(f), level, tri);
+    for (const auto& X : tri) {
+      qf.push_back(f);
+      qx.push_back(X.x());
+      qy.push_back(X.y());
+      dom_.push_back(X);
+    }
+    face_.insert(face_.end(), tri.size() / 3, f);
+  }
+  if (face_.empty()) throw InputError("sampling: no patch can be evaluated");
+  std::vector<PatchPoint> pts(qf.size());
+  evaluatePatches(cache, qf.data(), qx.data(), qy.data(), qf.size(), pts.data(), Backend::Tbb);
+  cdf_.resize(face_.size());
+  double acc = 0;
+  for (size_t t = 0; t < face_.size(); ++t) {
+    const Eigen::Vector3d &a = pts[3 * t].pos, &b = pts[3 * t + 1].pos, &c = pts[3 * t + 2].pos;
+    const double area = 0.5 * (b - a).cross(c - a).norm();
+    acc += std::isfinite(area) ? area : 0.0;
+    cdf_[t] = acc;
+  }
+  area_ = acc;
+  if (!(area_ > 0)) throw InputError("sampling: the patches have zero area");
+}
+
+std::vector<SurfaceSample> PatchSurfaceSampler::sample(size_t n, uint64_t seed) const {
+  std::mt19937_64 rng(seed);
+  std::vector<SurfaceSample> out(n);
+  std::vector<size_t> todo(n);
+  for (size_t i = 0; i < n; ++i) todo[i] = i;
+  std::vector<int32_t> qf;
+  std::vector<double> qx, qy;
+  std::vector<PatchPoint> pts;
+  for (int round = 0; !todo.empty(); ++round) {
+    if (round == 64) throw InputError("sampling: patch evaluation keeps failing");
+    qf.resize(todo.size());
+    qx.resize(todo.size());
+    qy.resize(todo.size());
+    for (size_t j = 0; j < todo.size(); ++j) {  // serial: one RNG stream, deterministic
+      const size_t t = pickByCdf(cdf_, uniform01(rng));
+      const double s = std::sqrt(uniform01(rng)), v = uniform01(rng);
+      const Eigen::Vector2d X = (1 - s) * dom_[3 * t] + s * (1 - v) * dom_[3 * t + 1] + s * v * dom_[3 * t + 2];
+      qf[j] = face_[t];
+      qx[j] = X.x();
+      qy[j] = X.y();
+    }
+    pts.resize(todo.size());
+    evaluatePatches(cache_, qf.data(), qx.data(), qy.data(), todo.size(), pts.data(), Backend::Tbb);
+    std::vector<size_t> again;
+    for (size_t j = 0; j < todo.size(); ++j) {
+      const PatchPoint& p = pts[j];
+      if ((p.status & kBadPoint) || !p.pos.allFinite() || !p.normal.allFinite() || p.normal.norm() < 0.5) {
+        again.push_back(todo[j]);
+        continue;
+      }
+      out[todo[j]] = SurfaceSample{p.pos, p.normal.normalized(), qf[j], qx[j], qy[j]};
+    }
+    todo.swap(again);
+  }
+  return out;
+}
+
+std::vector<SurfaceSample> sampleTriangleSoup(const TriangleSoup& soup, size_t n, uint64_t seed) {
+  std::vector<double> cdf(soup.triangles.size());
+  double acc = 0;
+  for (size_t t = 0; t < cdf.size(); ++t) {
+    const auto& T = soup.triangles[t];
+    acc +=
+        0.5 * (soup.positions[T[1]] - soup.positions[T[0]]).cross(soup.positions[T[2]] - soup.positions[T[0]]).norm();
+    cdf[t] = acc;
+  }
+  if (!(acc > 0)) throw InputError("reference mesh has zero area");
+  std::mt19937_64 rng(seed);
+  std::vector<SurfaceSample> out(n);
+  for (size_t i = 0; i < n; ++i) {
+    const size_t t = pickByCdf(cdf, uniform01(rng));
+    const double s = std::sqrt(uniform01(rng)), v = uniform01(rng);
+    const double w0 = 1 - s, w1 = s * (1 - v), w2 = s * v;
+    const auto& T = soup.triangles[t];
+    const auto& N = soup.cornerNormals[t];
+    out[i].point = w0 * soup.positions[T[0]] + w1 * soup.positions[T[1]] + w2 * soup.positions[T[2]];
+    Eigen::Vector3d nrm = w0 * N[0] + w1 * N[1] + w2 * N[2];
+    if (!(nrm.norm() > 1e-12))
+      nrm = (soup.positions[T[1]] - soup.positions[T[0]]).cross(soup.positions[T[2]] - soup.positions[T[0]]);
+    out[i].normal = nrm.normalized();
+  }
+  return out;
+}
+
+struct PatchProjector::Impl {
+  const PatchCache& cache;
+  PatchSeeds seeds;
+  Impl(const PatchCache& c, int level) : cache(c), seeds(c, level) {}
+
+  SurfaceSample refine(const Eigen::Vector3d& q, int f, Eigen::Vector2d X) const {
+    const int n = cache.faceSize(f);
+    PatchPoint p = evaluatePatch(cache, f, X.x(), X.y());
+    double fx = (p.pos - q).squaredNorm();
+    for (int it = 0; it < 30; ++it) {
+      Eigen::Matrix<double, 3, 2> J;
+      J << p.dxi, p.deta;
+      const Eigen::Matrix2d A = J.transpose() * J;
+      if (!(std::abs(A.determinant()) > 1e-300)) break;
+      Eigen::Vector2d d = -A.ldlt().solve(J.transpose() * (p.pos - q));
+      bool accepted = false;
+      for (int h = 0; h < 30 && !accepted; ++h, d *= 0.5) {
+        const Eigen::Vector2d Y = X + d;
+        if (!insideDomain(n, Y.x(), Y.y())) continue;
+        const PatchPoint pn = evaluatePatch(cache, f, Y.x(), Y.y());
+        const double fn = (pn.pos - q).squaredNorm();
+        if (!(pn.status & kBadPoint) && fn <= fx) {
+          accepted = true;
+          X = Y;
+          p = pn;
+          fx = fn;
+        }
+      }
+      if (!accepted || d.norm() < 1e-14) break;
+    }
+    return SurfaceSample{p.pos, p.normal.normalized(), f, X.x(), X.y()};
+  }
+};
+
+PatchProjector::PatchProjector(const PatchCache& cache, int level) : impl_(std::make_unique<Impl>(cache, level)) {
+  if (impl_->seeds.size() == 0) throw InputError("projection: no patch can be evaluated");
+}
+
+PatchProjector::~PatchProjector() = default;
+
+SurfaceSample PatchProjector::project(const Eigen::Vector3d& q) const {
+  PatchSeed seeds[8];
+  const size_t k = impl_->seeds.knn(q, 8, seeds);
+  SurfaceSample best;
+  double bestD = 1e300;
+  int tried[8], nTried = 0;
+  for (size_t i = 0; i < k; ++i) {
+    const int f = seeds[i].face;
+    if (std::find(tried, tried + nTried, f) != tried + nTried) continue;
+    tried[nTried++] = f;
+    const SurfaceSample s = impl_->refine(q, f, seeds[i].X);
+    const double d = (s.point - q).squaredNorm();
+    if (d < bestD) {
+      bestD = d;
+      best = s;
+    }
+  }
+  return best;
+}
+
+}  // namespace sf

@@ -1,0 +1,277 @@
+// writeSweepSummary (sweep_io.h): metrics, summary.json, PLY point clouds, the printed table.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <numbers>
+
+#include <smoothforce/sweep/sweep_io.h>
+#include <smoothforce/sweep/sweep_metrics.h>
+
+namespace sf {
+
+using ojson = nlohmann::ordered_json;
+
+namespace {
+
+constexpr int kHistBins = 60;
+constexpr double kHistLo = -4, kHistHi = 2;  // log10(local * spacing / threshold)
+
+ojson num(double x) { return std::isfinite(x) ? ojson(x) : ojson(nullptr); }
+
+ojson pctJson(const Percentiles& p, bool p999 = true) {
+  ojson j{{"count", p.count}, {"p50", num(p.p50)}, {"p99", num(p.p99)}};
+  if (p999) j["p999"] = num(p.p999);
+  j["max"] = num(p.max);
+  return j;
+}
+
+/// One PLY to write once every method's discontinuity of its depth is known.
+struct PlyJob {
+  std::string path;
+  size_t group;
+  std::vector<Eigen::Vector3d> pos, dir;
+  std::vector<char> valid;
+  std::vector<double> local;
+};
+
+/// Red: log10(local / ref) / 2 clamped to [0, 1]: white at the depth's typical turning rate
+/// (ref), full red at 100 times it.
+void writePly(const std::string& path, const std::vector<Eigen::Vector3d>& pos, const std::vector<Eigen::Vector3d>& dir,
+              const std::vector<char>& valid, const std::vector<double>& local, double ref) {
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  if (!f) throw InputError(path + ": cannot open for writing");
+  std::fprintf(f,
+               "ply\nformat binary_little_endian 1.0\ncomment SmoothForce sweep: HIPs, normal = force direction,\n"
+               "comment red = local force-direction discontinuity, log scale: white at the depth's largest\n"
+               "comment per-method median, full red at 100 times it\n"
+               "comment blue = no contact\nelement vertex %zu\nproperty float x\nproperty float y\nproperty float z\n"
+               "property float nx\nproperty float ny\nproperty float nz\nproperty uchar red\nproperty uchar green\n"
+               "property uchar blue\nend_header\n",
+               pos.size());
+  bool ok = true;
+  for (size_t i = 0; i < pos.size(); ++i) {
+    float v[6];
+    const Eigen::Vector3d n = valid[i] ? dir[i].normalized() : Eigen::Vector3d::Zero();
+    for (int a = 0; a < 3; ++a) {
+      v[a] = static_cast<float>(pos[i][a]);
+      v[3 + a] = static_cast<float>(n[a]);
+    }
+    unsigned char c[3] = {0, 0, 255};
+    if (valid[i]) {
+      const double t =
+          std::isfinite(local[i]) && local[i] > 0 ? std::clamp(std::log10(local[i] / ref) / 2, 0.0, 1.0) : 0.0;
+      c[0] = 255;
+      c[1] = c[2] = static_cast<unsigned char>(std::lround(255 * (1 - t)));
+    }
+    ok = ok && std::fwrite(v, sizeof v, 1, f) == 1 && std::fwrite(c, 1, 3, f) == 3;
+  }
+  if (std::fclose(f) != 0 || !ok) throw InputError(path + ": write failed");
+}
+
+std::string fmt(const char* f, double x) {
+  if (!std::isfinite(x)) return "-";
+  char b[64];
+  std::snprintf(b, sizeof b, f, x);
+  return b;
+}
+
+}  // namespace
+
+std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
+  if (d.begin != 0 || d.end != d.total())
+    throw InputError("sweep summary: only a whole run (or merged shards) can be summarised");
+  std::filesystem::create_directories(dir);
+  const SweepConfig& c = d.config;
+  const size_t N = c.samples;
+  const double spacing = N ? std::sqrt(c.area / static_cast<double>(N)) : 0;
+  const double thr = c.thresholdDeg * std::numbers::pi / 180;
+  bool complete = !d.interrupted;
+  ojson results = ojson::array();
+  char line[512];
+  std::string table;
+  std::snprintf(line, sizeof line, "%-8s %-8s %8s %8s | %9s %9s %9s %9s %7s | %9s %9s %9s | %9s %6s\n", "method",
+                "depth", "HIPs run", "contact", "disc p50", "p99", "p99.9", "max", "flagged", "acc p50", "p99", "max",
+                "traj|dF|", "ratio");
+  table += line;
+  std::vector<PlyJob> plys;
+  std::vector<double> colourRef(c.groupLabels.size(), 0.0);
+  for (size_t m = 0; m < c.methods.size(); ++m)
+    for (size_t g = 0; g < c.groupLabels.size(); ++g) {
+      std::vector<Eigen::Vector3d> pos, fdir;
+      std::vector<char> valid;
+      std::vector<double> acc, fmag, iters;
+      std::map<uint32_t, size_t> bits;
+      size_t done = 0, contact = 0;
+      for (size_t s = 0; s < N; ++s) {
+        const HipResult& r = d.results[m][g * N + s];
+        if (!r.done) continue;
+        ++done;
+        const Eigen::Vector3d F(r.force[0], r.force[1], r.force[2]);
+        pos.push_back(d.hips[g * N + s]);
+        fdir.push_back(F);
+        valid.push_back(r.contact && F.norm() > 0 ? 1 : 0);
+        contact += r.contact;
+        if (r.contact) {
+          acc.push_back(r.refDistance);
+          fmag.push_back(F.norm());
+        }
+        iters.push_back(r.iterations);
+        for (int b = 0; b < 32; ++b)
+          if (r.status & (1u << b)) ++bits[1u << b];
+      }
+      if (done < N) complete = false;
+      const Discontinuity disc = forceDiscontinuity(pos, fdir, valid, c.knn, thr, spacing);
+      const std::string tag = c.methods[m] + "_" + depthTag(c.groupLabels[g]);
+      if (std::isfinite(disc.stats.p50)) colourRef[g] = std::max(colourRef[g], disc.stats.p50);
+      std::vector<size_t> hist(kHistBins + 2, 0);
+      for (double x : disc.local) {
+        if (!std::isfinite(x)) continue;
+        const double u = x > 0 ? std::log10(x * spacing / thr) : -1e300;
+        const double b = std::floor((u - kHistLo) / (kHistHi - kHistLo) * kHistBins);
+        ++hist[b < 0 ? 0 : b >= kHistBins ? kHistBins + 1 : static_cast<size_t>(b) + 1];
+      }
+      double itMean = 0;
+      for (double x : iters) itMean += x;
+      itMean = iters.empty() ? 0 : itMean / static_cast<double>(iters.size());
+      ojson bitJson = ojson::object();
+      for (const auto& [b, n] : bits) {
+        char k[16];
+        std::snprintf(k, sizeof k, "0x%08x", b);
+        bitJson[k] = n;
+      }
+      const Percentiles accP = percentiles(acc), fP = percentiles(fmag);
+      const bool hasRef = !c.reference.empty() || !c.analytic.empty();
+      ojson r{{"method", c.methods[m]},
+              {"depth", c.groupLabels[g]},
+              {"depth_m", c.groupDepths[g]},
+              {"hips", N},
+              {"done", done},
+              {"contact", contact},
+              {"discontinuity",
+               {{"unit", "rad/m"},
+                {"count", disc.stats.count},
+                {"p50", num(disc.stats.p50)},
+                {"p99", num(disc.stats.p99)},
+                {"p999", num(disc.stats.p999)},
+                {"max", num(disc.stats.max)},
+                {"flagged_pairs", disc.flaggedPairs},
+                {"max_neighbour_angle_deg", disc.maxAngle * 180 / std::numbers::pi}}},
+              {"accuracy", hasRef ? pctJson(accP, false) : ojson(nullptr)},
+              {"force_N", pctJson(fP, false)},
+              {"iterations_mean", itMean},
+              {"status_bits", bitJson},
+              {"histogram",
+               {{"of", "log10(local * spacing / threshold)"},
+                {"lo", kHistLo},
+                {"hi", kHistHi},
+                {"bins", kHistBins},
+                {"counts_below_bins_above", hist}}},
+              {"ply", tag + ".ply"}};
+      // The worst trajectory of this method and depth.
+      double trajMax = NAN, ratio = NAN;
+      for (const auto& t : d.trajectories) {
+        if (t.method != c.methods[m] || t.depthLabel != c.groupLabels[g] || t.half) continue;
+        const auto diffs = consecutiveDifferences(t.force);
+        const double mx = diffs.empty() ? 0 : *std::max_element(diffs.begin(), diffs.end());
+        double mh = NAN;
+        for (const auto& h : d.trajectories)
+          if (h.half && h.trajectory == t.trajectory && h.method == t.method && h.depthLabel == t.depthLabel) {
+            const auto dh = consecutiveDifferences(h.force);
+            mh = dh.empty() ? 0 : *std::max_element(dh.begin(), dh.end());
+          }
+        if (!(mx <= trajMax)) {
+          trajMax = mx;
+          ratio = mh / mx;
+        }
+      }
+      results.push_back(r);
+      std::snprintf(line, sizeof line, "%-8s %-8s %8zu %8zu | %9s %9s %9s %9s %7zu | %9s %9s %9s | %9s %6s\n",
+                    c.methods[m].c_str(), c.groupLabels[g].c_str(), done, contact, fmt("%.3g", disc.stats.p50).c_str(),
+                    fmt("%.3g", disc.stats.p99).c_str(), fmt("%.3g", disc.stats.p999).c_str(),
+                    fmt("%.3g", disc.stats.max).c_str(), disc.flaggedPairs, fmt("%.3g", accP.p50).c_str(),
+                    fmt("%.3g", accP.p99).c_str(), fmt("%.3g", accP.max).c_str(), fmt("%.3g", trajMax).c_str(),
+                    fmt("%.2f", ratio).c_str());
+      table += line;
+      plys.push_back(
+          PlyJob{dir + "/" + tag + ".ply", g, std::move(pos), std::move(fdir), std::move(valid), disc.local});
+    }
+  for (const PlyJob& j : plys) {
+    const double ref = colourRef[j.group] > 0 ? colourRef[j.group] : thr / std::max(spacing, 1e-300);
+    writePly(j.path, j.pos, j.dir, j.valid, j.local, ref);
+  }
+  ojson trajs = ojson::array();
+  for (const auto& t : d.trajectories) {
+    if (t.half) continue;
+    const auto diffs = consecutiveDifferences(t.force);
+    double mx = 0, mean = 0, mh = NAN;
+    for (double x : diffs) {
+      mx = std::max(mx, x);
+      mean += x;
+    }
+    mean = diffs.empty() ? 0 : mean / static_cast<double>(diffs.size());
+    for (const auto& h : d.trajectories)
+      if (h.half && h.trajectory == t.trajectory && h.method == t.method && h.depthLabel == t.depthLabel) {
+        mh = 0;
+        for (double x : consecutiveDifferences(h.force)) mh = std::max(mh, x);
+      }
+    size_t inContact = 0;
+    for (auto x : t.contact) inContact += x;
+    trajs.push_back(ojson{{"trajectory", t.trajectory},
+                          {"method", t.method},
+                          {"depth", t.depthLabel},
+                          {"points", t.contact.size()},
+                          {"contact", inContact},
+                          {"step_m", t.step},
+                          {"max_diff_N", mx},
+                          {"mean_diff_N", mean},
+                          {"max_diff_half_step_N", num(mh)},
+                          {"half_to_full_ratio", num(mh / mx)}});
+  }
+  ojson s{{"smoothforce_sweep_summary", 1},
+          {"complete", complete},
+          {"interrupted", d.interrupted},
+          {"hips_total", d.total()},
+          {"samples_per_depth", N},
+          {"spacing_m", spacing},
+          {"config",
+           {{"source", c.source},
+            {"mesh_hash", c.meshHash},
+            {"faces", c.faces},
+            {"sample_on", c.sampleOn},
+            {"seed", c.seed},
+            {"level", c.level},
+            {"methods", c.methods},
+            {"stiffness", c.stiffness},
+            {"approach", c.approach},
+            {"refine", c.refine},
+            {"preset", c.preset},
+            {"backend", c.backend},
+            {"reference", c.reference},
+            {"analytic", c.analytic},
+            {"knn", c.knn},
+            {"threshold_deg", c.thresholdDeg},
+            {"trajectories", c.trajectories},
+            {"trajectory_step_m", c.trajectoryStep},
+            {"diagonal_m", c.diagonal},
+            {"area_m2", c.area},
+            {"hip_hash", c.hipHash}}},
+          {"results", results},
+          {"trajectories", trajs}};
+  std::ofstream o(dir + "/summary.json", std::ios::binary);
+  o << s.dump(2) << "\n";
+  o.close();
+  if (!o) throw InputError(dir + "/summary.json: write failed");
+  table += "discontinuity: max over the " + std::to_string(c.knn) +
+           " nearest HIPs of (angle between force directions) / distance, rad/m; flagged: pairs with angle > " +
+           fmt("%g", c.thresholdDeg) + " deg closer than the spacing " + fmt("%.3g", spacing) +
+           " m\naccuracy: |SCP - reference|, m; traj|dF|: max |F_{i+1} - F_i| along a trajectory, N; ratio: the same "
+           "at half the step / at the step (~0.5 smooth, ~1 a jump)\n";
+  if (!complete) table += "PARTIAL: not every HIP was computed (interrupted); metrics cover the HIPs done\n";
+  return table;
+}
+
+}  // namespace sf

@@ -1,0 +1,132 @@
+// Trajectory helpers of sweep_sampling.h: CSV points, polyline resampling, the default section loop.
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <unordered_map>
+
+#include <smoothforce/base/csv_reader.h>
+#include <smoothforce/patch/patch_eval.h>
+#include <smoothforce/patch/tessellate.h>
+#include <smoothforce/sweep/sweep_sampling.h>
+
+namespace sf {
+
+std::vector<Eigen::Vector3d> readPointsCsv(const std::string& path) {
+  const NumericCsv t = readNumericCsv(path, {"x", "y", "z"});
+  std::vector<Eigen::Vector3d> pts(t.rows());
+  for (size_t r = 0; r < t.rows(); ++r) pts[r] = Eigen::Vector3d(t.at(r, 0), t.at(r, 1), t.at(r, 2));
+  return pts;
+}
+
+void writePointsCsv(const std::vector<Eigen::Vector3d>& pts, const std::string& path) {
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  if (!f) throw InputError(path + ": cannot open for writing");
+  std::fprintf(f, "x,y,z\n");
+  for (const auto& p : pts) std::fprintf(f, "%.17g,%.17g,%.17g\n", p.x(), p.y(), p.z());
+  const bool bad = std::ferror(f) != 0;
+  if (std::fclose(f) != 0 || bad) throw InputError(path + ": write failed");
+}
+
+std::vector<Eigen::Vector3d> resamplePolyline(const std::vector<Eigen::Vector3d>& pts, double step) {
+  std::vector<Eigen::Vector3d> out;
+  if (pts.empty() || !(step > 0)) return out;
+  out.push_back(pts[0]);
+  double carried = 0;  // arc length since the last output point
+  for (size_t i = 0; i + 1 < pts.size(); ++i) {
+    const Eigen::Vector3d a = pts[i], b = pts[i + 1];
+    const double len = (b - a).norm();
+    double t = step - carried;  // distance along this segment of the next output point
+    while (t <= len) {
+      out.push_back(a + (t / len) * (b - a));
+      t += step;
+    }
+    carried = len - (t - step);
+  }
+  return out;
+}
+
+std::vector<Eigen::Vector3d> defaultTrajectory(const PatchCache& cache, int level) {
+  const TriangleMesh tm = tessellatePatches(
+      cache, level, [&](const int32_t* f, const double* x, const double* y, size_t n, PatchPoint* out) {
+        evaluatePatches(cache, f, x, y, n, out, Backend::Tbb);
+      });
+  if (tm.triangles.empty()) return {};
+  Eigen::Vector3d lo = tm.positions[0], hi = lo;
+  for (const auto& p : tm.positions) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  // Weld the patches' shared boundary vertices (each patch has its own copies).
+  const double tol = 1e-7 * std::max((hi - lo).norm(), 1e-300);
+  std::map<std::array<long long, 3>, int> weld;
+  std::vector<int> id(tm.positions.size());
+  std::vector<Eigen::Vector3d> P;
+  for (size_t i = 0; i < tm.positions.size(); ++i) {
+    std::array<long long, 3> key;
+    for (int a = 0; a < 3; ++a) key[a] = std::llround(tm.positions[i][a] / tol);
+    auto [it, fresh] = weld.emplace(key, static_cast<int>(P.size()));
+    if (fresh) P.push_back(tm.positions[i]);
+    id[i] = it->second;
+  }
+  int axis = 0;
+  (hi - lo).minCoeff(&axis);
+  const double c = 0.5 * (lo[axis] + hi[axis]);
+  std::vector<double> s(P.size());
+  for (size_t i = 0; i < P.size(); ++i) {
+    s[i] = P[i][axis] - c;
+    if (s[i] == 0) s[i] = 1e-300;  // no vertex exactly on the plane
+  }
+  auto key = [](int u, int v) { return (static_cast<uint64_t>(std::min(u, v)) << 32) | uint32_t(std::max(u, v)); };
+  auto cross = [&](int u, int v) { return P[u] + (s[u] / (s[u] - s[v])) * (P[v] - P[u]); };
+  std::vector<std::array<uint64_t, 2>> seg;
+  std::unordered_map<uint64_t, std::vector<int>> at;
+  std::unordered_map<uint64_t, Eigen::Vector3d> point;
+  for (const auto& t : tm.triangles) {
+    const int v[3] = {id[t[0]], id[t[1]], id[t[2]]};
+    if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) continue;
+    uint64_t ends[2];
+    int ne = 0;
+    for (int e = 0; e < 3; ++e) {
+      const int a = v[e], b = v[(e + 1) % 3];
+      if ((s[a] > 0) != (s[b] > 0) && ne < 2) {
+        ends[ne++] = key(a, b);
+        point.emplace(key(a, b), cross(a, b));
+      }
+    }
+    if (ne != 2 || ends[0] == ends[1]) continue;
+    const int sid = static_cast<int>(seg.size());
+    seg.push_back({ends[0], ends[1]});
+    at[ends[0]].push_back(sid);
+    at[ends[1]].push_back(sid);
+  }
+  std::vector<char> used(seg.size(), 0);
+  std::vector<Eigen::Vector3d> best;
+  double bestLen = 0;
+  for (size_t s0 = 0; s0 < seg.size(); ++s0) {
+    if (used[s0]) continue;
+    std::vector<Eigen::Vector3d> loop;
+    uint64_t cur = seg[s0][0];
+    int sid = static_cast<int>(s0);
+    loop.push_back(point[cur]);
+    while (sid >= 0 && !used[sid]) {
+      used[sid] = 1;
+      cur = seg[sid][0] == cur ? seg[sid][1] : seg[sid][0];
+      loop.push_back(point[cur]);
+      int next = -1;
+      for (int cand : at[cur])
+        if (!used[cand]) next = cand;
+      sid = next;
+    }
+    double len = 0;
+    for (size_t i = 0; i + 1 < loop.size(); ++i) len += (loop[i + 1] - loop[i]).norm();
+    if (len > bestLen) {
+      bestLen = len;
+      best.swap(loop);
+    }
+  }
+  return best;
+}
+
+}  // namespace sf
