@@ -70,8 +70,7 @@ void evalGroupScalar(const simd_detail::EvalGroup& g) {
     for (int k = 0; k < g.n; ++k) recs[k * GP_E_NFIELDS + i] = data[static_cast<size_t>(i) * g.numSlots + g.first + k];
   const auto* dom = Gp<Real>::domain(g.n);
   for (size_t j = 0; j < g.count; ++j) {
-    const uint32_t q = g.idx[j];
-    fill<Real>(g.out[q], Gp<Real>::evalDom(dom, recs, g.mode, g.xi[q], g.eta[q]), g.faceStatus);
+    fill<Real>(g.out[g.idx[j]], Gp<Real>::evalDom(dom, recs, g.mode, g.xs[j], g.ys[j]), g.faceStatus);
   }
 }
 
@@ -124,6 +123,14 @@ void PatchEvaluator::evaluate(const int32_t* faces, const double* xi, const doub
       if (usable(faces[i])) order_[m++] = static_cast<uint32_t>(i);
     std::sort(order_.begin(), order_.begin() + valid, [&](uint32_t a, uint32_t b) { return faces[a] < faces[b]; });
   }
+  xs_.resize(valid + simd_detail::kPointPad);
+  ys_.resize(valid + simd_detail::kPointPad);
+  for (size_t i = 0; i < valid; ++i) {
+    xs_[i] = xi[order_[i]];
+    ys_[i] = eta[order_[i]];
+  }
+  std::fill(xs_.begin() + valid, xs_.end(), 0.0);
+  std::fill(ys_.begin() + valid, ys_.end(), 0.0);
   chunks_.clear();
   for (uint32_t b = 0; b < valid;) {
     const int32_t f = faces[order_[b]];
@@ -152,6 +159,8 @@ void PatchEvaluator::evaluate(const int32_t* faces, const double* xi, const doub
     g.count = ch.end - ch.begin;
     g.xi = xi;
     g.eta = eta;
+    g.xs = xs_.data() + ch.begin;
+    g.ys = ys_.data() + ch.begin;
     g.out = out;
     fn(g);
   };

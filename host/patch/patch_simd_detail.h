@@ -22,9 +22,14 @@ struct EvalGroup {
   size_t count = 0;
   const double* xi = nullptr;
   const double* eta = nullptr;
+  /// the group's points in order (xs[j] = xi[idx[j]]), readable up to count + kPointPad
+  const double* xs = nullptr;
+  const double* ys = nullptr;
   PatchPoint* out = nullptr;
 };
 using EvalFn = void (*)(const EvalGroup&);
+/// Readable values after the last point of EvalGroup::xs, ys (the widest vector's lanes).
+constexpr size_t kPointPad = 64;
 
 /// Builds faces[0..count) of `cache` (all of one size n in 3..GP_MAX_N) as constructPatches
 /// does: records, faceStatus, faceBulge.

@@ -3,6 +3,7 @@
 // per Highway target (hwy/foreach_target.h); patch_eval.cpp dispatches.
 #include <cstring>
 #include <memory>
+#include <type_traits>
 
 #include <smoothforce/patch/detail/gp_math.h>
 #include "patch_simd_detail.h"
@@ -45,6 +46,22 @@ struct LaneMath<float> {
   }
 };
 
+/// L consecutive points (doubles) as a vector of T: loaded in place, so that no vector load
+/// waits on lane-by-lane stores (a failed store forward stalls until every earlier store, the
+/// scattered results included, has left the store buffer).
+template <class D>
+HWY_INLINE hn::Vec<D> LoadPoints(D d, const double* p) {
+  if constexpr (std::is_same_v<hn::TFromD<D>, double>) {
+    return hn::LoadU(d, p);
+  } else {
+    const hn::Repartition<double, D> dd;
+    const hn::Half<D> dh;
+    const auto lo = hn::DemoteTo(dh, hn::LoadU(dd, p));
+    const auto hi = hn::DemoteTo(dh, hn::LoadU(dd, p + hn::Lanes(dd)));
+    return hn::Combine(d, hi, lo);
+  }
+}
+
 template <class T>
 void EvalGroupT(const simd_detail::EvalGroup& g) {
   using M = LaneMath<T>;
@@ -62,16 +79,12 @@ void EvalGroupT(const simd_detail::EvalGroup& g) {
     for (int k = 0; k < g.n; ++k) recs[k * GP_E_NFIELDS + i] = Lane(hn::Set(d, field[k]));
   }
   const typename M::Dom* dom = M::domain(g.n);
-  HWY_ALIGN T xs[kMax], ys[kMax], res[12][kMax];
+  HWY_ALIGN T res[12][kMax];
   HWY_ALIGN U st[kMax];
   for (size_t base = 0; base < g.count; base += L) {
     const size_t valid = g.count - base < L ? g.count - base : L;
-    for (size_t j = 0; j < L; ++j) {  // the last point fills the spare lanes
-      const uint32_t q = g.idx[base + (j < valid ? j : valid - 1)];
-      xs[j] = static_cast<T>(g.xi[q]);
-      ys[j] = static_cast<T>(g.eta[q]);
-    }
-    const auto r = M::eval(dom, recs.get(), g.mode, Lane(hn::Load(d, xs)), Lane(hn::Load(d, ys)));
+    // the spare lanes of the last vector compute the points after the group (never stored)
+    const auto r = M::eval(dom, recs.get(), g.mode, Lane(LoadPoints(d, g.xs + base)), Lane(LoadPoints(d, g.ys + base)));
     const Lane* comp[12] = {&r.pos.x,  &r.pos.y,  &r.pos.z,  &r.dxi.x,    &r.dxi.y,    &r.dxi.z,
                             &r.deta.x, &r.deta.y, &r.deta.z, &r.normal.x, &r.normal.y, &r.normal.z};
     for (int c = 0; c < 12; ++c) hn::Store(comp[c]->v, d, res[c]);
