@@ -46,7 +46,7 @@ inline gp_uint sel(bool m, gp_uint a, gp_uint b) { return m ? a : b; }
 
 // ---- the scalar path, with its own domain table (filled once, not counted) ----
 namespace scalar {
-#define GP_DOMAIN_TABLE_DECLARE const gp_domain* gp_domain_table();
+#define GP_DOMAIN_TABLE_DECLARE const gp_domain* gp_domain_table()
 #define GP_DOMAIN_TABLE(n) (gp_domain_table() + (n))
 #define GP_REAL R
 #define GP_IS_DOUBLE 1

@@ -21,14 +21,11 @@ typedef struct {
 } gp_domain;
 
 #ifdef GP_DOMAIN_TABLE_DECLARE
-GP_DOMAIN_TABLE_DECLARE /* the includer's table (see GP_DOMAIN_TABLE) */
+GP_DOMAIN_TABLE_DECLARE; /* the includer's table (see GP_DOMAIN_TABLE) */
 #endif
 
-    /* cos(pi/n) */
-    GP_FN GP_REAL
-    gp_domain_calc_apothem(int n) {
-  return GP_COS(GP_R(3.14159265358979323846) / (GP_REAL)n);
-}
+/* cos(pi/n) */
+GP_FN GP_REAL gp_domain_calc_apothem(int n) { return GP_COS(GP_R(3.14159265358979323846) / (GP_REAL)n); }
 /* m_k */
 GP_FN void gp_domain_calc_normal(int n, int k, GP_REAL* mx, GP_REAL* my) {
   const GP_REAL a = (GP_REAL)(2 * k + 1) * (GP_R(3.14159265358979323846) / (GP_REAL)n);

@@ -7,7 +7,7 @@
 
 #include "gp_config.h"
 
-#define GP_DOMAIN_TABLE_DECLARE const gp_domain* gp_domain_table();
+#define GP_DOMAIN_TABLE_DECLARE const gp_domain* gp_domain_table()
 #define GP_DOMAIN_TABLE(n) (gp_domain_table() + (n))
 
 namespace sf::gpf {
