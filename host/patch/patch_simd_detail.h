@@ -25,7 +25,8 @@ struct EvalGroup {
   /// the group's points in order (xs[j] = xi[idx[j]]), readable up to count + kPointPad
   const double* xs = nullptr;
   const double* ys = nullptr;
-  PatchPoint* out = nullptr;
+  PatchPoint* out = nullptr;     ///< results: out[idx[j]] ...
+  PatchPoint* sorted = nullptr;  ///< ... or sorted[j] when set (the caller copies them to out)
 };
 using EvalFn = void (*)(const EvalGroup&);
 /// Readable values after the last point of EvalGroup::xs, ys (the widest vector's lanes).

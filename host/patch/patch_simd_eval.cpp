@@ -90,7 +90,7 @@ void EvalGroupT(const simd_detail::EvalGroup& g) {
     for (int c = 0; c < 12; ++c) hn::Store(comp[c]->v, d, res[c]);
     hn::Store(r.status.v, du, st);
     for (size_t j = 0; j < valid; ++j) {
-      PatchPoint& p = g.out[g.idx[base + j]];
+      PatchPoint& p = g.sorted ? g.sorted[base + j] : g.out[g.idx[base + j]];
       p.pos = {res[0][j], res[1][j], res[2][j]};
       p.dxi = {res[3][j], res[4][j], res[5][j]};
       p.deta = {res[6][j], res[7][j], res[8][j]};
