@@ -1,7 +1,7 @@
 // OpenCL backend: program build time, construction (patches/s) and evaluation (points/s),
 // float and double, with kernel time (profiling events) reported apart from transfers and
-// host-side conversion; plus the arithmetic of one evaluation, counted by running the shared
-// patch math on a counting scalar type, for a roofline note.
+// host-side conversion; kernel GFLOP/s from the operations of one evaluation (gp_count.h;
+// the per-evaluation counts themselves are in bench_patch's BM_Flops*).
 //
 // Run: build/bench/bench_opencl [--benchmark_format=json]
 // Cold program builds: POCL_CACHE_DIR=$(mktemp -d) XDG_CACHE_HOME=$(mktemp -d) bench_opencl
@@ -21,84 +21,7 @@
 #include <smoothforce/opencl/opencl_backend.h>
 #include <smoothforce/patch/patch_eval.h>
 #include "gp_config.h"
-
-// ---------------------------------------------------------------- counting instantiation
-// The shared math (gp_vec.h, gp_edge.h, gp_eval.h) once more, with GP_REAL a scalar that
-// counts its operations. Only this translation unit sees it.
-namespace sf::flops {
-struct Counts {
-  long add = 0, mul = 0, div = 0, sqrt = 0, trig = 0, cmp = 0;
-};
-inline Counts g;
-struct R {
-  double v;
-  R() = default;
-  R(double x) : v(x) {}  // NOLINT: implicit, as a built-in real converts
-};
-inline R operator+(R a, R b) { return ++g.add, R(a.v + b.v); }
-inline R operator-(R a, R b) { return ++g.add, R(a.v - b.v); }
-inline R operator*(R a, R b) { return ++g.mul, R(a.v * b.v); }
-inline R operator/(R a, R b) { return ++g.div, R(a.v / b.v); }
-inline R operator-(R a) { return R(-a.v); }  // sign flip: not counted
-inline R& operator+=(R& a, R b) { return a = a + b; }
-inline R& operator-=(R& a, R b) { return a = a - b; }
-inline R& operator*=(R& a, R b) { return a = a * b; }
-inline bool operator<(R a, R b) { return ++g.cmp, a.v < b.v; }
-inline bool operator>(R a, R b) { return ++g.cmp, a.v > b.v; }
-inline bool operator<=(R a, R b) { return ++g.cmp, a.v <= b.v; }
-inline bool operator>=(R a, R b) { return ++g.cmp, a.v >= b.v; }
-inline R fc_sqrt(R a) { return ++g.sqrt, R(std::sqrt(a.v)); }
-inline R fc_cos(R a) { return ++g.trig, R(std::cos(a.v)); }
-inline R fc_sin(R a) { return ++g.trig, R(std::sin(a.v)); }
-inline R fc_fabs(R a) { return R(std::fabs(a.v)); }
-
-#undef GP_SQRT
-#undef GP_COS
-#undef GP_SIN
-#undef GP_FABS
-#define GP_SQRT(x) fc_sqrt(x)
-#define GP_COS(x) fc_cos(x)
-#define GP_SIN(x) fc_sin(x)
-#define GP_FABS(x) fc_fabs(x)
-#define GP_REAL R
-#define GP_IS_DOUBLE 1
-// order matters, each part uses the ones before it
-// clang-format off
-#include "gp_vec.h"
-#include "gp_edge.h"
-#include "gp_eval.h"
-// clang-format on
-#undef GP_REAL
-#undef GP_IS_DOUBLE
-#undef GP_SQRT
-#undef GP_COS
-#undef GP_SIN
-#undef GP_FABS
-#define GP_SQRT(x) std::sqrt(x)
-#define GP_COS(x) std::cos(x)
-#define GP_SIN(x) std::sin(x)
-#define GP_FABS(x) std::fabs(x)
-
-/// Operations of one gp_patch_eval on a regular n-gon patch (unit circle, normals tilted
-/// outward, so no fallback branch runs) at an interior point.
-inline Counts countEval(int n) {
-  gp_vec3 V[GP_MAX_N], N[GP_MAX_N];
-  int vid[GP_MAX_N];
-  for (int k = 0; k < n; ++k) {
-    const double a = 2 * M_PI * k / n;
-    V[k] = gp_v3(std::cos(a), std::sin(a), 0.0);
-    const double l = std::sqrt(1.0 + 0.09);
-    N[k] = gp_v3(0.3 * std::cos(a) / l, 0.3 * std::sin(a) / l, 1.0 / l);
-    vid[k] = k;
-  }
-  static R recs[GP_MAX_N * GP_E_NFIELDS];
-  gp_build_patch(n, V, N, vid, GP_CT_CORRECTED, recs);
-  g = Counts{};
-  const gp_eval_result r = gp_patch_eval(n, recs, GP_CT_CORRECTED, R(0.13), R(-0.21));
-  benchmark::DoNotOptimize(r.pos.x.v);
-  return g;
-}
-}  // namespace sf::flops
+#include "gp_count.h"
 
 namespace {
 
@@ -221,8 +144,7 @@ void BM_OpenCLEvaluate(benchmark::State& state) {
     transfer += ev.lastTransferSeconds();
     host += ev.lastHostSeconds();
   }
-  const flops::Counts k = flops::countEval(4);
-  const double fl = double(k.add + k.mul + k.div + k.sqrt);
+  const double fl = double(flops::countEval(4, false).flops());
   const double it = static_cast<double>(state.iterations());
   state.counters["points/s"] = benchmark::Counter(double(n) * it, benchmark::Counter::kIsRate);
   state.counters["kernel_points/s"] = double(n) * it / kernel;
@@ -237,27 +159,6 @@ BENCHMARK(BM_OpenCLEvaluate)
     ->Unit(benchmark::kMicrosecond)
     ->UseRealTime()
     ->Repetitions(3);
-
-// args: face size n. Counted operations of one evaluation, and the bytes it must read
-// (n records of GP_E_NFIELDS reals + the query) and write (12 reals + status), in double.
-void BM_FlopsPerEvaluation(benchmark::State& state) {
-  const int n = static_cast<int>(state.range(0));
-  flops::Counts k;
-  for (auto _ : state) k = flops::countEval(n);
-  const double fl = double(k.add + k.mul + k.div + k.sqrt);
-  const double bytes = n * GP_E_NFIELDS * 8.0 + 4 + 16 + 12 * 8 + 4;
-  state.counters["flops"] = fl;
-  state.counters["add"] = double(k.add);
-  state.counters["mul"] = double(k.mul);
-  state.counters["div"] = double(k.div);
-  state.counters["sqrt"] = double(k.sqrt);
-  state.counters["cos_sin"] = double(k.trig);
-  state.counters["compares"] = double(k.cmp);
-  state.counters["bytes_double"] = bytes;
-  state.counters["flop_per_byte"] = fl / bytes;
-  state.SetLabel(std::to_string(n) + "-gon, corrected cross tangents, interior point");
-}
-BENCHMARK(BM_FlopsPerEvaluation)->Arg(3)->Arg(4)->Arg(5)->Arg(6)->Iterations(1);
 
 }  // namespace
 

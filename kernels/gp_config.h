@@ -28,14 +28,26 @@
 #define GP_GLOBAL __global
 typedef uint gp_uint;
 #else
+#include <cmath>
 #define GP_FN static inline
-#define GP_SQRT(x) std::sqrt(x)
-#define GP_COS(x) std::cos(x)
-#define GP_SIN(x) std::sin(x)
-#define GP_FABS(x) std::fabs(x)
+/* C++: overloadable names, so that a lane type (host/gp_lanes-inl.h) or a counting type (bench/)
+ * can stand in for GP_REAL and bring its own sqrt, fabs, cos, sin, found by argument-dependent
+ * lookup. For float and double they are std::sqrt etc. */
+#define GP_SQRT(x) gp_sqrt(x)
+#define GP_COS(x) gp_cos(x)
+#define GP_SIN(x) gp_sin(x)
+#define GP_FABS(x) gp_fabs(x)
 #define GP_ATAN2(y, x) std::atan2(y, x)
 #define GP_GLOBAL
 typedef unsigned int gp_uint;
+static inline float gp_sqrt(float x) { return std::sqrt(x); }
+static inline double gp_sqrt(double x) { return std::sqrt(x); }
+static inline float gp_fabs(float x) { return std::fabs(x); }
+static inline double gp_fabs(double x) { return std::fabs(x); }
+static inline float gp_cos(float x) { return std::cos(x); }
+static inline double gp_cos(double x) { return std::cos(x); }
+static inline float gp_sin(float x) { return std::sin(x); }
+static inline double gp_sin(double x) { return std::sin(x); }
 #endif
 
 /* Largest polygon the fixed-size private arrays hold. */

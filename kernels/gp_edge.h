@@ -38,33 +38,36 @@ GP_FN GP_REAL gp_edge_scale(const GP_REAL* rec) {
 
 /* Unit surface normal along the edge, n_c(t) (Eq. 10, normalised), oriented so that
  * n_c . ((1-t) N_k + t N_{k+1}) >= 0, with its t-derivative. cp = (C', C''). */
-GP_FN gp_dvec3 gp_edge_normal(const GP_REAL* rec, GP_REAL t, gp_dvec3 cp, gp_uint* st) {
+GP_FN gp_dvec3 gp_edge_normal(const GP_REAL* rec, GP_REAL t, gp_dvec3 cp, GP_STATUS* st) {
   const gp_vec3 e = gp_sub(gp_get3(rec, GP_E_V1), gp_get3(rec, GP_E_V0));
   const GP_REAL L = gp_len(e);
   const gp_dvec3 nt = gp_dlerp(gp_get3(rec, GP_E_N0), gp_get3(rec, GP_E_N1), t);
   const gp_dvec3 ce = gp_dv(e, gp_zero3());
   const gp_dvec3 raw = gp_dcross(cp, gp_dcross(nt, ce));
-  gp_dvec3 n;
-  if (gp_len(raw.v) > GP_TINY * L * L) {
-    n = gp_dunit_or(raw, raw, GP_R(0.0), st, GP_ST_EDGE_NORMAL);
-  } else { /* normal along the edge or opposite normals: interpolated normal, else N_k */
-    *st |= GP_ST_EDGE_NORMAL;
-    n = gp_dunit_or(nt, gp_dv(gp_get3(rec, GP_E_N0), gp_zero3()), GP_TINY, st, GP_ST_EDGE_NORMAL);
+  /* where |raw| > tiny, |raw| > 0: the unit vector's own fallback never applies there */
+  GP_STATUS sraw = 0u;
+  gp_dvec3 n = gp_dunit_or(raw, raw, GP_R(0.0), &sraw, GP_ST_EDGE_NORMAL);
+  const GP_MASK flat = !(gp_len(raw.v) > GP_TINY * L * L);
+  if (GP_ANY(flat)) { /* normal along the edge or opposite normals: interpolated normal, else N_k */
+    GP_STATUS sfb = GP_ST_EDGE_NORMAL;
+    const gp_dvec3 fb = gp_dunit_or(nt, gp_dv(gp_get3(rec, GP_E_N0), gp_zero3()), GP_TINY, &sfb, GP_ST_EDGE_NORMAL);
+    n = gp_dsel(flat, fb, n);
+    sraw = GP_SEL(flat, sfb, sraw);
   }
-  if (gp_dot(n.v, nt.v) < GP_R(0.0)) n = gp_dneg(n);
-  return n;
+  *st |= sraw;
+  return gp_dsel(gp_dot(n.v, nt.v) < GP_R(0.0), gp_dneg(n), n);
 }
 
 /* Cross tangent T_k(t) with its t-derivative (Eq. 11-14 and the design page's variants).
  * c = (C, C'), cp = (C', C''), nc = n_c (dual). mode: GP_CT_*. */
 GP_FN gp_dvec3 gp_cross_tangent(const GP_REAL* rec, GP_REAL t, int mode, gp_dvec3 c, gp_dvec3 cp, gp_dvec3 nc,
-                                gp_uint* st) {
+                                GP_STATUS* st) {
   const GP_REAL scale = gp_edge_scale(rec);
   const gp_dreal len = gp_dr((GP_R(1.0) - t) * rec[GP_E_LP] + t * rec[GP_E_LN], rec[GP_E_LN] - rec[GP_E_LP]);
   const gp_vec3 d0 = gp_get3(rec, GP_E_D0), d1 = gp_get3(rec, GP_E_D1);
   /* Inward direction used when a construction step is undefined: n_c x C' (zero when
    * that too is undefined, e.g. on a zero-length edge). */
-  gp_uint ist = 0u;
+  GP_STATUS ist = 0u;
   const gp_dvec3 inward =
       gp_dunit_or(gp_dcross(nc, cp), gp_dv(gp_zero3(), gp_zero3()), GP_TINY * scale, &ist, GP_ST_CROSS_TANGENT);
   gp_dvec3 q;
@@ -89,40 +92,39 @@ GP_FN gp_dvec3 gp_cross_tangent(const GP_REAL* rec, GP_REAL t, int mode, gp_dvec
 /* Unit end tangents (t_s, t_e) of the edge Va -> Vb (Eq. 8-9) with the design page's
  * degenerate fallback and backward-tangent guard. The same curve results from either
  * direction; the caller evaluates each edge in one canonical direction. */
-GP_FN void gp_edge_tangents(gp_vec3 va, gp_vec3 vb, gp_vec3 na, gp_vec3 nb, gp_vec3* ts, gp_vec3* te, gp_uint* st) {
+GP_FN void gp_edge_tangents(gp_vec3 va, gp_vec3 vb, gp_vec3 na, gp_vec3 nb, gp_vec3* ts, gp_vec3* te, GP_STATUS* st) {
   const gp_vec3 e = gp_sub(vb, va);
   const GP_REAL L = gp_len(e);
   const GP_REAL span = gp_max(gp_len(va), gp_len(vb));
-  if (!(L > GP_TINY * span) || !(L > GP_R(0.0))) {
+  const GP_MASK zero = !(L > GP_TINY * span) || !(L > GP_R(0.0));
+  if (GP_ALL(zero)) {
     *st |= GP_ST_ZERO_EDGE;
     *ts = gp_zero3();
     *te = gp_zero3();
     return;
   }
+  GP_STATUS s = 0u; /* bits of the lanes with an edge */
   const gp_vec3 eu = gp_scale(e, GP_R(1.0) / L);
   const gp_vec3 navg = gp_scale(gp_add(na, nb), GP_R(0.5));
   const gp_vec3 w = gp_cross(eu, navg);
   /* projections of the edge on the vertices' tangent planes: fallback and guard */
-  const gp_vec3 pa = gp_unit_or(gp_madd(eu, na, -gp_dot(eu, na)), eu, GP_TINY, st, GP_ST_EDGE_NORMAL);
-  const gp_vec3 pb = gp_unit_or(gp_madd(eu, nb, -gp_dot(eu, nb)), eu, GP_TINY, st, GP_ST_EDGE_NORMAL);
-  gp_uint ignore = 0u;
+  const gp_vec3 pa = gp_unit_or(gp_madd(eu, na, -gp_dot(eu, na)), eu, GP_TINY, &s, GP_ST_EDGE_NORMAL);
+  const gp_vec3 pb = gp_unit_or(gp_madd(eu, nb, -gp_dot(eu, nb)), eu, GP_TINY, &s, GP_ST_EDGE_NORMAL);
+  GP_STATUS ignore = 0u;
   gp_vec3 a = gp_unit_or(gp_cross(na, w), pa, GP_TINY, &ignore, 1u);
   gp_vec3 b = gp_unit_or(gp_cross(nb, w), pb, GP_TINY, &ignore, 1u);
-  if (gp_dot(a, e) <= GP_R(0.0)) {
-    a = pa;
-    *st |= GP_ST_GUARD;
-  }
-  if (gp_dot(b, e) <= GP_R(0.0)) {
-    b = pb;
-    *st |= GP_ST_GUARD;
-  }
-  *ts = a;
-  *te = b;
+  const GP_MASK ga = gp_dot(a, e) <= GP_R(0.0), gb = gp_dot(b, e) <= GP_R(0.0);
+  a = gp_sel3(ga, pa, a);
+  b = gp_sel3(gb, pb, b);
+  s |= GP_BITS(ga || gb, GP_ST_GUARD);
+  *st |= GP_SEL(zero, (GP_STATUS)GP_ST_ZERO_EDGE, s);
+  *ts = gp_sel3(zero, gp_zero3(), a);
+  *te = gp_sel3(zero, gp_zero3(), b);
 }
 
 /* Fills the cross-tangent data (D0, D1, P0, P1, T0, T1, DT0, DT1) of one edge record whose
  * geometry fields are set. d0, d1 as on the design page. */
-GP_FN void gp_finish_edge_record(GP_REAL* rec, gp_vec3 d0, gp_vec3 d1, int mode, gp_uint* st) {
+GP_FN void gp_finish_edge_record(GP_REAL* rec, gp_vec3 d0, gp_vec3 d1, int mode, GP_STATUS* st) {
   gp_put3(rec, GP_E_D0, d0);
   gp_put3(rec, GP_E_D1, d1);
   for (int end = 0; end < 2; ++end) { /* p(0), p(1): the printed direction */
@@ -132,7 +134,7 @@ GP_FN void gp_finish_edge_record(GP_REAL* rec, gp_vec3 d0, gp_vec3 d1, int mode,
     const gp_dvec3 nc = gp_edge_normal(rec, t, cp, st);
     const gp_dvec3 T = gp_cross_tangent(rec, t, GP_CT_PAPER, c, cp, nc, st);
     const GP_REAL l = end ? rec[GP_E_LN] : rec[GP_E_LP];
-    gp_put3(rec, end ? GP_E_P1 : GP_E_P0, l > GP_R(0.0) ? gp_scale(T.v, GP_R(1.0) / l) : gp_zero3());
+    gp_put3(rec, end ? GP_E_P1 : GP_E_P0, gp_sel3(l > GP_R(0.0), gp_scale(T.v, GP_R(1.0) / l), gp_zero3()));
   }
   for (int end = 0; end < 2; ++end) { /* T(0), T(1) and exact dT/dt there (twists) */
     const GP_REAL t = end ? GP_R(1.0) : GP_R(0.0);
@@ -148,29 +150,30 @@ GP_FN void gp_finish_edge_record(GP_REAL* rec, gp_vec3 d0, gp_vec3 d1, int mode,
 /* Builds the n edge records of one polygon into recs (n * GP_E_NFIELDS, record-major).
  * V, N: n positions and unit normals, CCW from outside. vid: the global vertex ids, used
  * to evaluate each edge's end tangents in one canonical direction (lower id first) so that
- * both faces of an edge build the same curve. Returns the patch status bits. */
-GP_FN gp_uint gp_build_patch(int n, const gp_vec3* V, const gp_vec3* N, const int* vid, int mode, GP_REAL* recs) {
-  gp_uint st = 0u;
+ * both faces of an edge build the same curve. Returns the patch status bits. A lane with a
+ * non-finite V or N gets zero records and GP_ST_NONFINITE alone. */
+GP_FN GP_STATUS gp_build_patch(int n, const gp_vec3* V, const gp_vec3* N, const GP_VID* vid, int mode, GP_REAL* recs) {
+  GP_STATUS st = 0u;
   if (n < 3 || n > GP_MAX_N) return GP_ST_TOO_MANY_SIDES;
-  for (int k = 0; k < n; ++k)
-    if (!gp_finite3(V[k]) || !gp_finite3(N[k])) {
-      for (int i = 0; i < n * GP_E_NFIELDS; ++i) recs[i] = GP_R(0.0); /* defined output */
-      return GP_ST_NONFINITE;
-    }
+  GP_MASK bad = !gp_finite3(V[0]) || !gp_finite3(N[0]);
+  for (int k = 1; k < n; ++k) bad = bad || !gp_finite3(V[k]) || !gp_finite3(N[k]);
+  if (GP_ALL(bad)) {
+    for (int i = 0; i < n * GP_E_NFIELDS; ++i) recs[i] = GP_R(0.0); /* defined output */
+    return GP_ST_NONFINITE;
+  }
   gp_vec3 ts[GP_MAX_N], te[GP_MAX_N];
   for (int k = 0; k < n; ++k) {
-    const int k1 = (k + 1) % n;
-    if (vid[k] <= vid[k1]) {
-      gp_edge_tangents(V[k], V[k1], N[k], N[k1], &ts[k], &te[k], &st);
-    } else {
-      gp_vec3 a, b;
-      gp_edge_tangents(V[k1], V[k], N[k1], N[k], &a, &b, &st);
-      ts[k] = gp_neg(b);
-      te[k] = gp_neg(a);
-    }
+    const int k1 = k + 1 == n ? 0 : k + 1;
+    /* the edge from its lower vertex id; reversed, its tangents swap and change sign */
+    const GP_MASK fwd = vid[k] <= vid[k1];
+    gp_vec3 a, b;
+    gp_edge_tangents(gp_sel3(fwd, V[k], V[k1]), gp_sel3(fwd, V[k1], V[k]), gp_sel3(fwd, N[k], N[k1]),
+                     gp_sel3(fwd, N[k1], N[k]), &a, &b, &st);
+    ts[k] = gp_sel3(fwd, a, gp_neg(b));
+    te[k] = gp_sel3(fwd, b, gp_neg(a));
   }
   for (int k = 0; k < n; ++k) {
-    const int km = (k + n - 1) % n, k1 = (k + 1) % n, k2 = (k + 2) % n;
+    const int km = k == 0 ? n - 1 : k - 1, k1 = k + 1 == n ? 0 : k + 1, k2 = k1 + 1 == n ? 0 : k1 + 1;
     GP_REAL* rec = recs + k * GP_E_NFIELDS;
     const GP_REAL L = gp_len(gp_sub(V[k1], V[k]));
     gp_put3(rec, GP_E_V0, V[k]);
@@ -187,8 +190,12 @@ GP_FN gp_uint gp_build_patch(int n, const gp_vec3* V, const gp_vec3* N, const in
     rec[GP_E_LN] = gp_len(gp_sub(V[k2], V[k1]));
   }
   for (int k = 0; k < n; ++k) {
-    const int km = (k + n - 1) % n, k1 = (k + 1) % n;
+    const int km = k == 0 ? n - 1 : k - 1, k1 = k + 1 == n ? 0 : k + 1;
     gp_finish_edge_record(recs + k * GP_E_NFIELDS, gp_neg(te[km]), ts[k1], mode, &st);
+  }
+  if (GP_ANY(bad)) { /* lanes only: some lanes non-finite */
+    for (int i = 0; i < n * GP_E_NFIELDS; ++i) recs[i] = GP_SEL(bad, GP_R(0.0), recs[i]);
+    st = GP_SEL(bad, (GP_STATUS)GP_ST_NONFINITE, st);
   }
   return st;
 }

@@ -1,28 +1,17 @@
 /* Domain, blending and evaluation of the n-sided Gregory patch (Eq. 1-5), with exact first
  * derivatives, and the per-patch quality measures (fold, bulge).
- * Part of gp_patch.h; no include guard on purpose. */
+ * Part of gp_patch.h (after gp_tables.h); no include guard on purpose. Branch-free on
+ * per-point data (see gp_vec.h, "Lanes"). */
 
-/* Domain corner C_k = (cos 2 pi k/n, sin 2 pi k/n) of the regular n-gon. */
-GP_FN void gp_domain_corner(int n, int k, GP_REAL* xi, GP_REAL* eta) {
-  const GP_REAL a = GP_R(2.0) * GP_R(3.14159265358979323846) * (GP_REAL)k / (GP_REAL)n;
-  *xi = GP_COS(a);
-  *eta = GP_SIN(a);
-}
-
-/* Fills d_k(X) = cos(pi/n) - X . m_k and the unit edge normals m_k (Eq. 3). Returns the
- * smallest d_k before clamping; d_k are clamped at 0 so that points on the boundary that
- * rounding put a hair outside evaluate as on it. */
-GP_FN GP_REAL gp_domain_distances(int n, GP_REAL xi, GP_REAL eta, GP_REAL* d, GP_REAL* mx, GP_REAL* my) {
-  const GP_REAL pin = GP_R(3.14159265358979323846) / (GP_REAL)n;
-  const GP_REAL c = GP_COS(pin);
+/* Fills d_k(X) = cos(pi/n) - X . m_k (Eq. 3) for the domain dom. Returns the smallest d_k
+ * before clamping; d_k are clamped at 0 so that points on the boundary that rounding put a
+ * hair outside evaluate as on it. */
+GP_FN GP_REAL gp_domain_distances(const gp_domain* dom, GP_REAL xi, GP_REAL eta, GP_REAL* d) {
   GP_REAL dmin = GP_R(1.0);
-  for (int k = 0; k < n; ++k) {
-    const GP_REAL a = (GP_REAL)(2 * k + 1) * pin;
-    mx[k] = GP_COS(a);
-    my[k] = GP_SIN(a);
-    d[k] = c - (xi * mx[k] + eta * my[k]);
-    if (d[k] < dmin) dmin = d[k];
-    if (d[k] < GP_R(0.0)) d[k] = GP_R(0.0);
+  for (int k = 0; k < dom->n; ++k) {
+    const GP_REAL dk = dom->apothem - (xi * dom->mx[k] + eta * dom->my[k]);
+    dmin = GP_SEL(dk < dmin, dk, dmin);
+    d[k] = GP_SEL(dk < GP_R(0.0), GP_R(0.0), dk);
   }
   return dmin;
 }
@@ -34,24 +23,23 @@ GP_FN GP_REAL gp_domain_distances(int n, GP_REAL xi, GP_REAL eta, GP_REAL* d, GP
 /* The result of one patch evaluation. */
 typedef struct {
   gp_vec3 pos, dxi, deta, normal; /* G, dG/dxi, dG/deta, unit normal */
-  gp_uint status;                 /* GP_ST_* bits */
+  GP_STATUS status;               /* GP_ST_* bits */
 } gp_eval_result;
 
 /* Evaluates G(X) = sum_k w_k(X) r_k(u_k(X), v_k(X)) (Eq. 2-5) and its exact first
- * derivatives at X = (xi, eta) in the domain of an n-gon. recs: the patch's n edge records
- * (record-major, private memory). Points outside the domain return GP_ST_OUTSIDE and zeros. */
-GP_FN gp_eval_result gp_patch_eval(int n, const GP_REAL* recs, int mode, GP_REAL xi, GP_REAL eta) {
+ * derivatives at X = (xi, eta) in the domain dom of an n-gon (gp_domain_of). recs: the
+ * patch's n edge records (record-major, private memory). Points outside the domain return
+ * GP_ST_OUTSIDE and zeros. */
+GP_FN gp_eval_result gp_patch_eval_dom(const gp_domain* dom, const GP_REAL* recs, int mode, GP_REAL xi, GP_REAL eta) {
+  const int n = dom->n;
   gp_eval_result out;
   out.pos = out.dxi = out.deta = out.normal = gp_zero3();
   out.status = 0u;
-  if (n < 3 || n > GP_MAX_N) {
-    out.status = GP_ST_TOO_MANY_SIDES;
-    return out;
-  }
-  GP_REAL d[GP_MAX_N], mx[GP_MAX_N], my[GP_MAX_N];
+  GP_REAL d[GP_MAX_N];
+  const GP_REAL dmin = gp_domain_distances(dom, xi, eta, d);
   /* the domain lies in the unit disc; this also rejects NaN and Inf */
-  if (!(GP_FABS(xi) <= GP_R(1.5) && GP_FABS(eta) <= GP_R(1.5)) ||
-      gp_domain_distances(n, xi, eta, d, mx, my) < -GP_DOMAIN_TOL) {
+  const GP_MASK outside = !(GP_FABS(xi) <= GP_R(1.5) && GP_FABS(eta) <= GP_R(1.5)) || dmin < -GP_DOMAIN_TOL;
+  if (GP_ALL(outside)) {
     out.status = GP_ST_OUTSIDE;
     return out;
   }
@@ -59,28 +47,27 @@ GP_FN gp_eval_result gp_patch_eval(int n, const GP_REAL* recs, int mode, GP_REAL
    * serves corners k and k+1. Gradients: grad d_j = -m_j. */
   GP_REAL t[GP_MAX_N], tx[GP_MAX_N], ty[GP_MAX_N];
   for (int k = 0; k < n; ++k) {
-    const int km = (k + n - 1) % n, kp = (k + 1) % n;
+    const int km = k == 0 ? n - 1 : k - 1, kp = k + 1 == n ? 0 : k + 1;
     const GP_REAL den = d[km] + d[kp];
-    if (den > GP_R(0.0)) {
-      const GP_REAL id2 = GP_R(1.0) / (den * den);
-      t[k] = d[km] / den;
-      /* d(a/(a+b)) = (b da - a db) / (a+b)^2 */
-      tx[k] = (d[kp] * -mx[km] - d[km] * -mx[kp]) * id2;
-      ty[k] = (d[kp] * -my[km] - d[km] * -my[kp]) * id2;
-    } else { /* only where both corners using this edge have zero weight */
-      t[k] = tx[k] = ty[k] = GP_R(0.0);
-    }
+    /* den = 0 only where both corners using this edge have zero weight: t = 0 there */
+    const GP_MASK pos = den > GP_R(0.0);
+    const GP_REAL id2 = GP_R(1.0) / (den * den);
+    t[k] = GP_SEL(pos, d[km] / den, GP_R(0.0));
+    /* d(a/(a+b)) = (b da - a db) / (a+b)^2 */
+    tx[k] = GP_SEL(pos, (d[kp] * -dom->mx[km] - d[km] * -dom->mx[kp]) * id2, GP_R(0.0));
+    ty[k] = GP_SEL(pos, (d[kp] * -dom->my[km] - d[km] * -dom->my[kp]) * id2, GP_R(0.0));
   }
   /* W_k = prod_{j != k-1, k} d_j^2 and its gradient; S = sum W (Eq. 5). */
   GP_REAL W[GP_MAX_N], Wx[GP_MAX_N], Wy[GP_MAX_N];
   GP_REAL S = GP_R(0.0), Sx = GP_R(0.0), Sy = GP_R(0.0);
   for (int k = 0; k < n; ++k) {
     GP_REAL w = GP_R(1.0), wx = GP_R(0.0), wy = GP_R(0.0);
+    int j = k;
     for (int i = 1; i <= n - 2; ++i) {
-      const int j = (k + i) % n;
+      j = j + 1 == n ? 0 : j + 1; /* (k + i) mod n */
       const GP_REAL f = d[j] * d[j];
-      wx = wx * f + w * GP_R(2.0) * d[j] * -mx[j];
-      wy = wy * f + w * GP_R(2.0) * d[j] * -my[j];
+      wx = wx * f + w * GP_R(2.0) * d[j] * -dom->mx[j];
+      wy = wy * f + w * GP_R(2.0) * d[j] * -dom->my[j];
       w = w * f;
     }
     W[k] = w;
@@ -90,29 +77,29 @@ GP_FN gp_eval_result gp_patch_eval(int n, const GP_REAL* recs, int mode, GP_REAL
     Sx += wx;
     Sy += wy;
   }
-  /* Edge k at t_k: C, C', T, T' (needed when corner k or k+1 has weight). */
+  /* Edge k at t_k: C, C', T, T' (needed when corner k or k+1 has weight; computed for every
+   * edge, their status bits counted only where needed). */
   gp_vec3 C[GP_MAX_N], Cd[GP_MAX_N], T[GP_MAX_N], Td[GP_MAX_N];
   for (int k = 0; k < n; ++k) {
-    const int kp = (k + 1) % n;
-    if (W[k] > GP_R(0.0) || W[kp] > GP_R(0.0)) {
-      const GP_REAL* rec = recs + k * GP_E_NFIELDS;
-      gp_dvec3 c, cp;
-      gp_edge_curve(rec, t[k], &c, &cp);
-      const gp_dvec3 nc = gp_edge_normal(rec, t[k], cp, &out.status);
-      const gp_dvec3 tt = gp_cross_tangent(rec, t[k], mode, c, cp, nc, &out.status);
-      C[k] = c.v;
-      Cd[k] = c.d;
-      T[k] = tt.v;
-      Td[k] = tt.d;
-    } else {
-      C[k] = Cd[k] = T[k] = Td[k] = gp_zero3();
-    }
+    const int kp = k + 1 == n ? 0 : k + 1;
+    const GP_REAL* rec = recs + k * GP_E_NFIELDS;
+    GP_STATUS est = 0u;
+    gp_dvec3 c, cp;
+    gp_edge_curve(rec, t[k], &c, &cp);
+    const gp_dvec3 nc = gp_edge_normal(rec, t[k], cp, &est);
+    const gp_dvec3 tt = gp_cross_tangent(rec, t[k], mode, c, cp, nc, &est);
+    C[k] = c.v;
+    Cd[k] = c.d;
+    T[k] = tt.v;
+    Td[k] = tt.d;
+    out.status |= GP_BITS(W[k] > GP_R(0.0) || W[kp] > GP_R(0.0), est);
   }
   const GP_REAL iS = GP_R(1.0) / S;
   gp_vec3 nfb = gp_zero3(); /* fallback normal: weighted vertex normals */
   for (int k = 0; k < n; ++k) {
-    if (!(W[k] > GP_R(0.0))) continue;
-    const int km = (k + n - 1) % n;
+    const GP_MASK has = W[k] > GP_R(0.0); /* a corner without weight adds nothing */
+    if (!GP_ANY(has)) continue;
+    const int km = k == 0 ? n - 1 : k - 1;
     const GP_REAL* rk = recs + k * GP_E_NFIELDS;
     const GP_REAL* rm = recs + km * GP_E_NFIELDS;
     /* corner interpolator r_k(u, v) (Eq. 2): P(u) = C_k(u), Q(v) = C_{k-1}(1 - v) */
@@ -127,75 +114,111 @@ GP_FN gp_eval_result gp_patch_eval(int n, const GP_REAL* recs, int mode, GP_REAL
     gp_vec3 ru = gp_madd(gp_add(Cd[k], dTQ), Td[k], v);    /* P' + v T_P' + (T_Q - T_Q(0)) */
     gp_vec3 rv = gp_madd(gp_sub(dTP, Cd[km]), Td[km], -u); /* Q' + (T_P - T_P(0)) + u T_Q' */
     const GP_REAL s = u + v;
-    if (s > GP_R(0.0)) { /* - u v (v a + u b) / (u + v), and its partials */
+    { /* - u v (v a + u b) / (u + v), and its partials, where u + v > 0 */
+      const GP_MASK sp = s > GP_R(0.0);
       const GP_REAL is = GP_R(1.0) / s, is2 = is * is;
-      r = gp_sub(r, gp_scale(gp_add(gp_scale(a, u * v * v), gp_scale(b, u * u * v)), is));
-      ru = gp_sub(ru, gp_scale(gp_add(gp_scale(a, v * v * v), gp_scale(b, u * v * (u + GP_R(2.0) * v))), is2));
-      rv = gp_sub(rv, gp_scale(gp_add(gp_scale(a, u * v * (GP_R(2.0) * u + v)), gp_scale(b, u * u * u)), is2));
+      r = gp_sel3(sp, gp_sub(r, gp_scale(gp_add(gp_scale(a, u * v * v), gp_scale(b, u * u * v)), is)), r);
+      ru = gp_sel3(
+          sp, gp_sub(ru, gp_scale(gp_add(gp_scale(a, v * v * v), gp_scale(b, u * v * (u + GP_R(2.0) * v))), is2)), ru);
+      rv = gp_sel3(
+          sp, gp_sub(rv, gp_scale(gp_add(gp_scale(a, u * v * (GP_R(2.0) * u + v)), gp_scale(b, u * u * u)), is2)), rv);
     }
     const GP_REAL w = W[k] * iS;
     const GP_REAL wx = (Wx[k] - w * Sx) * iS, wy = (Wy[k] - w * Sy) * iS;
-    out.pos = gp_madd(out.pos, r, w);
-    out.dxi = gp_madd(gp_madd(out.dxi, r, wx), gp_add(gp_scale(ru, ux), gp_scale(rv, vx)), w);
-    out.deta = gp_madd(gp_madd(out.deta, r, wy), gp_add(gp_scale(ru, uy), gp_scale(rv, vy)), w);
-    nfb = gp_madd(nfb, gp_get3(rk, GP_E_N0), w);
+    out.pos = gp_sel3(has, gp_madd(out.pos, r, w), out.pos);
+    out.dxi = gp_sel3(has, gp_madd(gp_madd(out.dxi, r, wx), gp_add(gp_scale(ru, ux), gp_scale(rv, vx)), w), out.dxi);
+    out.deta = gp_sel3(has, gp_madd(gp_madd(out.deta, r, wy), gp_add(gp_scale(ru, uy), gp_scale(rv, vy)), w), out.deta);
+    nfb = gp_sel3(has, gp_madd(nfb, gp_get3(rk, GP_E_N0), w), nfb);
   }
   const gp_vec3 nn = gp_cross(out.dxi, out.deta);
   /* rank-deficient Jacobian (e.g. at a 180-degree corner): the normal is noise, flag it */
   const GP_REAL jmax = gp_max(gp_len(out.dxi), gp_len(out.deta));
   const GP_REAL scale = jmax * jmax;
-  gp_uint sst = 0u;
+  GP_STATUS sst = 0u;
   out.normal =
       gp_unit_or(nn, gp_unit_or(nfb, gp_get3(recs, GP_E_N0), GP_TINY, &sst, 0u), GP_TINY * scale, &sst, GP_ST_SINGULAR);
   out.status |= sst;
+  if (GP_ANY(outside)) { /* lanes only: some lanes outside */
+    out.pos = gp_sel3(outside, gp_zero3(), out.pos);
+    out.dxi = gp_sel3(outside, gp_zero3(), out.dxi);
+    out.deta = gp_sel3(outside, gp_zero3(), out.deta);
+    out.normal = gp_sel3(outside, gp_zero3(), out.normal);
+    out.status = GP_SEL(outside, (GP_STATUS)GP_ST_OUTSIDE, out.status);
+  }
   return out;
 }
+
+/* gp_patch_eval_dom on the domain of the n-gon; n outside 3..GP_MAX_N gives
+ * GP_ST_TOO_MANY_SIDES and zeros. */
+GP_FN gp_eval_result gp_patch_eval(int n, const GP_REAL* recs, int mode, GP_REAL xi, GP_REAL eta) {
+  if (n < 3 || n > GP_MAX_N) {
+    gp_eval_result out;
+    out.pos = out.dxi = out.deta = out.normal = gp_zero3();
+    out.status = GP_ST_TOO_MANY_SIDES;
+    return out;
+  }
+  gp_domain scratch;
+  return gp_patch_eval_dom(gp_domain_of(n, &scratch, 0), recs, mode, xi, eta);
+}
+
+/* Quality samples (design page, "Robustness"): for each edge k, GP_Q_STEPS + 1 points s along
+ * it on each of three rings, f ((1-s) C_k + s C_{k+1}) with f = 1 - 1e-3, 0.66, 0.33. */
+#undef GP_Q_STEPS
+#define GP_Q_STEPS 4
+#ifndef GP_LANES /* uniform: lane instantiations use the scalar one (gp_lanes-inl.h) */
+/* The sample of edge k, step i, ring (0: near the edge) of domain dom, and its s. */
+GP_FN void gp_quality_sample(const gp_domain* dom, int k, int i, int ring, GP_REAL* s, GP_REAL* px, GP_REAL* py) {
+  const int k1 = k + 1 == dom->n ? 0 : k + 1;
+  const GP_REAL ax = dom->cx[k], ay = dom->cy[k], bx = dom->cx[k1], by = dom->cy[k1];
+  const GP_REAL inset = GP_R(1.0e-3);
+  *s = (GP_REAL)i / (GP_REAL)GP_Q_STEPS;
+  const GP_REAL f = ring == 0 ? GP_R(1.0) - inset : (ring == 1 ? GP_R(0.66) : GP_R(0.33));
+  *px = f * ((GP_R(1.0) - *s) * ax + *s * bx);
+  *py = f * ((GP_R(1.0) - *s) * ay + *s * by);
+}
+#endif
 
 /* Quality of one built patch (design page, "Robustness"): fold = the patch normal opposite
  * to n_c at points 1e-3 inside an edge; bulge = the largest distance of sampled surface
  * points outside the face's bounding box over the face diameter. Returns GP_ST_FOLD and/or
  * GP_ST_BULGE (bulge > 0.5); the bulge value goes to *bulge. */
-GP_FN gp_uint gp_patch_quality(int n, const GP_REAL* recs, int mode, GP_REAL* bulge) {
-  gp_uint st = 0u;
+GP_FN GP_STATUS gp_patch_quality(int n, const GP_REAL* recs, int mode, GP_REAL* bulge) {
+  GP_STATUS st = 0u;
+  gp_domain scratch;
+  const gp_domain* dom = gp_domain_of(n, &scratch, 1);
   gp_vec3 lo = gp_get3(recs, GP_E_V0), hi = lo;
   GP_REAL diam = GP_R(0.0);
   for (int k = 0; k < n; ++k) {
     const gp_vec3 p = gp_get3(recs + k * GP_E_NFIELDS, GP_E_V0);
-    lo = gp_v3(p.x < lo.x ? p.x : lo.x, p.y < lo.y ? p.y : lo.y, p.z < lo.z ? p.z : lo.z);
-    hi = gp_v3(p.x > hi.x ? p.x : hi.x, p.y > hi.y ? p.y : hi.y, p.z > hi.z ? p.z : hi.z);
+    lo = gp_v3(gp_min(p.x, lo.x), gp_min(p.y, lo.y), gp_min(p.z, lo.z));
+    hi = gp_v3(gp_max(p.x, hi.x), gp_max(p.y, hi.y), gp_max(p.z, hi.z));
     for (int j = 0; j < k; ++j) diam = gp_max(diam, gp_len(gp_sub(p, gp_get3(recs + j * GP_E_NFIELDS, GP_E_V0))));
   }
   GP_REAL worst = GP_R(0.0);
-  const GP_REAL inset = GP_R(1.0e-3);
-  const int steps = 4;
   for (int k = 0; k < n; ++k) {
-    GP_REAL ax, ay, bx, by;
-    gp_domain_corner(n, k, &ax, &ay);
-    gp_domain_corner(n, (k + 1) % n, &bx, &by);
-    for (int i = 0; i <= steps; ++i) {
+    for (int i = 0; i <= GP_Q_STEPS; ++i) {
       for (int ring = 0; ring < 3; ++ring) {
         /* points on the segment from the centre towards the edge: near the edge and inside */
-        const GP_REAL s = (GP_REAL)i / (GP_REAL)steps;
-        const GP_REAL f = ring == 0 ? GP_R(1.0) - inset : (ring == 1 ? GP_R(0.66) : GP_R(0.33));
-        const GP_REAL px = f * ((GP_R(1.0) - s) * ax + s * bx), py = f * ((GP_R(1.0) - s) * ay + s * by);
-        const gp_eval_result g = gp_patch_eval(n, recs, mode, px, py);
+        GP_SREAL s, px, py;
+        gp_quality_sample(dom, k, i, ring, &s, &px, &py);
+        const gp_eval_result g = gp_patch_eval_dom(dom, recs, mode, px, py);
         const gp_vec3 q = g.pos;
         GP_REAL out = GP_R(0.0);
         out = gp_max(out, gp_max(lo.x - q.x, q.x - hi.x));
         out = gp_max(out, gp_max(lo.y - q.y, q.y - hi.y));
         out = gp_max(out, gp_max(lo.z - q.z, q.z - hi.z));
         worst = gp_max(worst, out);
-        if (ring == 0 && i > 0 && i < steps) {
+        if (ring == 0 && i > 0 && i < GP_Q_STEPS) {
           gp_dvec3 c, cp;
-          gp_uint ignore = 0u;
+          GP_STATUS ignore = 0u;
           gp_edge_curve(recs + k * GP_E_NFIELDS, s, &c, &cp);
           const gp_dvec3 nc = gp_edge_normal(recs + k * GP_E_NFIELDS, s, cp, &ignore);
-          if (gp_dot(nc.v, g.normal) < GP_R(0.0)) st |= GP_ST_FOLD;
+          st |= GP_BITS(gp_dot(nc.v, g.normal) < GP_R(0.0), GP_ST_FOLD);
         }
       }
     }
   }
-  *bulge = diam > GP_R(0.0) ? worst / diam : GP_R(0.0);
-  if (*bulge > GP_R(0.5)) st |= GP_ST_BULGE;
+  *bulge = GP_SEL(diam > GP_R(0.0), worst / diam, GP_R(0.0));
+  st |= GP_BITS(*bulge > GP_R(0.5), GP_ST_BULGE);
   return st;
 }

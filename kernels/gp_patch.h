@@ -13,6 +13,7 @@
 // clang-format off
 #include "gp_config.h"
 #include "gp_vec.h"
+#include "gp_tables.h"
 #include "gp_edge.h"
 #include "gp_eval.h"
 // clang-format on

@@ -1,6 +1,40 @@
 /* 3-vectors and forward-mode dual numbers (value + derivative) in restricted C.
  * Part of the single-source patch math; included once per precision by gp_patch.h
- * (no include guard on purpose). Requires GP_REAL and GP_IS_DOUBLE. */
+ * (no include guard on purpose). Requires GP_REAL and GP_IS_DOUBLE.
+ *
+ * Lanes. The math is written without branches on per-point data, so that GP_REAL may also be
+ * a SIMD lane type (one point, or one face, per lane; host/gp_lanes-inl.h): a condition on data is
+ * a GP_MASK, a choice is GP_SEL(mask, a, b) (both sides computed), status bits are set with
+ * GP_BITS(mask, bits). Branches on uniform values (n, k, mode) stay ordinary C. An includer
+ * with lane types defines GP_LANES and the macros below; otherwise they are the scalar ones:
+ *   GP_SREAL           the scalar real of the lanes (tables, uniform constants)
+ *   GP_MASK            the type of a comparison of GP_REALs; &&, ||, ! combine masks
+ *   GP_STATUS          status bits per lane (gp_uint for scalars)
+ *   GP_VID             a vertex id per lane (int for scalars); <= gives a GP_MASK
+ *   GP_SEL(m, a, b)    per lane: m ? a : b, for GP_REAL and GP_STATUS
+ *   GP_ANY(m), GP_ALL(m)  uniform: some lane / every lane of m is set (skips rare work)
+ * Every lane computes exactly the operations a scalar evaluation of its point computes, so
+ * a lane result is bit-identical to the scalar result (contraction is off everywhere). */
+
+#ifndef GP_LANES
+#undef GP_SREAL
+#undef GP_MASK
+#undef GP_STATUS
+#undef GP_VID
+#undef GP_SEL
+#undef GP_ANY
+#undef GP_ALL
+#define GP_SREAL GP_REAL
+#define GP_MASK int
+#define GP_STATUS gp_uint
+#define GP_VID int
+#define GP_SEL(m, a, b) ((m) ? (a) : (b))
+#define GP_ANY(m) (m)
+#define GP_ALL(m) (m)
+#endif
+/* bits where m holds, else none */
+#undef GP_BITS
+#define GP_BITS(m, bits) GP_SEL(m, (GP_STATUS)(bits), (GP_STATUS)0u)
 
 #undef GP_R
 #undef GP_EPS
@@ -57,20 +91,24 @@ GP_FN gp_vec3 gp_lerp(gp_vec3 a, gp_vec3 b, GP_REAL t) {
   const GP_REAL s = GP_R(1.0) - t;
   return gp_v3(s * a.x + t * b.x, s * a.y + t * b.y, s * a.z + t * b.z);
 }
-GP_FN GP_REAL gp_max(GP_REAL a, GP_REAL b) { return a > b ? a : b; }
-GP_FN int gp_finite3(gp_vec3 a) {
+/* a > b ? a : b (a NaN b gives b), a < b ? a : b */
+GP_FN GP_REAL gp_max(GP_REAL a, GP_REAL b) { return GP_SEL(a > b, a, b); }
+GP_FN GP_REAL gp_min(GP_REAL a, GP_REAL b) { return GP_SEL(a < b, a, b); }
+/* per lane m ? a : b */
+GP_FN gp_vec3 gp_sel3(GP_MASK m, gp_vec3 a, gp_vec3 b) {
+  return gp_v3(GP_SEL(m, a.x, b.x), GP_SEL(m, a.y, b.y), GP_SEL(m, a.z, b.z));
+}
+GP_FN GP_MASK gp_finite3(gp_vec3 a) {
   /* NaN fails every comparison; Inf exceeds the largest finite value. */
   return GP_FABS(a.x) <= GP_BIG && GP_FABS(a.y) <= GP_BIG && GP_FABS(a.z) <= GP_BIG;
 }
 
 /* unit(a), or `fallback` with `bit` set in *st when |a| <= tiny. */
-GP_FN gp_vec3 gp_unit_or(gp_vec3 a, gp_vec3 fallback, GP_REAL tiny, gp_uint* st, gp_uint bit) {
+GP_FN gp_vec3 gp_unit_or(gp_vec3 a, gp_vec3 fallback, GP_REAL tiny, GP_STATUS* st, GP_STATUS bit) {
   const GP_REAL l = gp_len(a);
-  if (!(l > tiny)) {
-    *st |= bit;
-    return fallback;
-  }
-  return gp_scale(a, GP_R(1.0) / l);
+  const GP_MASK ok = l > tiny;
+  *st |= GP_SEL(ok, (GP_STATUS)0u, bit);
+  return gp_sel3(ok, gp_scale(a, GP_R(1.0) / l), fallback);
 }
 
 /* Reads the 3-vector at field offset `off` of a record. */
@@ -94,6 +132,7 @@ GP_FN gp_dreal gp_dr(GP_REAL v, GP_REAL d) {
   r.d = d;
   return r;
 }
+GP_FN gp_dvec3 gp_dsel(GP_MASK m, gp_dvec3 a, gp_dvec3 b) { return gp_dv(gp_sel3(m, a.v, b.v), gp_sel3(m, a.d, b.d)); }
 GP_FN gp_dvec3 gp_dadd(gp_dvec3 a, gp_dvec3 b) { return gp_dv(gp_add(a.v, b.v), gp_add(a.d, b.d)); }
 GP_FN gp_dvec3 gp_dsub(gp_dvec3 a, gp_dvec3 b) { return gp_dv(gp_sub(a.v, b.v), gp_sub(a.d, b.d)); }
 GP_FN gp_dvec3 gp_dneg(gp_dvec3 a) { return gp_dv(gp_neg(a.v), gp_neg(a.d)); }
@@ -109,13 +148,11 @@ GP_FN gp_dvec3 gp_dcross(gp_dvec3 a, gp_dvec3 b) {
 /* (1-t) a + t b for constant a, b: derivative b - a. */
 GP_FN gp_dvec3 gp_dlerp(gp_vec3 a, gp_vec3 b, GP_REAL t) { return gp_dv(gp_lerp(a, b, t), gp_sub(b, a)); }
 /* unit(a) with derivative (a' - u (u.a')) / |a|, or the fallback (bit set) when |a| <= tiny. */
-GP_FN gp_dvec3 gp_dunit_or(gp_dvec3 a, gp_dvec3 fallback, GP_REAL tiny, gp_uint* st, gp_uint bit) {
+GP_FN gp_dvec3 gp_dunit_or(gp_dvec3 a, gp_dvec3 fallback, GP_REAL tiny, GP_STATUS* st, GP_STATUS bit) {
   const GP_REAL l = gp_len(a.v);
-  if (!(l > tiny)) {
-    *st |= bit;
-    return fallback;
-  }
+  const GP_MASK ok = l > tiny;
+  *st |= GP_SEL(ok, (GP_STATUS)0u, bit);
   const GP_REAL il = GP_R(1.0) / l;
   const gp_vec3 u = gp_scale(a.v, il);
-  return gp_dv(u, gp_scale(gp_madd(a.d, u, -gp_dot(u, a.d)), il));
+  return gp_dsel(ok, gp_dv(u, gp_scale(gp_madd(a.d, u, -gp_dot(u, a.d)), il)), fallback);
 }

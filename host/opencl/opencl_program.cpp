@@ -31,8 +31,11 @@ std::string withLine(const char* name, const char* text) {
 
 std::vector<std::string> programSources(const char* kernelFile, const char* kernelText, bool withRefine) {
   std::vector<std::string> s = {"#if GP_IS_DOUBLE\n#pragma OPENCL EXTENSION cl_khr_fp64 : enable\n#endif\n",
-                                withLine("gp_config.h", kernels::gp_config_h), withLine("gp_vec.h", kernels::gp_vec_h),
-                                withLine("gp_edge.h", kernels::gp_edge_h), withLine("gp_eval.h", kernels::gp_eval_h)};
+                                withLine("gp_config.h", kernels::gp_config_h),
+                                withLine("gp_vec.h", kernels::gp_vec_h),
+                                withLine("gp_tables.h", kernels::gp_tables_h),
+                                withLine("gp_edge.h", kernels::gp_edge_h),
+                                withLine("gp_eval.h", kernels::gp_eval_h)};
   if (withRefine) {
     s.push_back(withLine("gp_domain.h", kernels::gp_domain_h));
     s.push_back(withLine("gp_refine.h", kernels::gp_refine_h));

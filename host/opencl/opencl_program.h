@@ -12,7 +12,7 @@
 
 namespace sf::opencl_detail {
 
-/// Program source = fp64 pragma + gp_config.h, gp_vec.h, gp_edge.h, gp_eval.h (+ gp_refine.h
+/// Program source = fp64 pragma + gp_config.h, gp_vec.h, gp_tables.h, gp_edge.h, gp_eval.h (+ gp_refine.h
 /// when withRefine) + the kernel file, each with a #line so that build logs name the file.
 std::vector<std::string> programSources(const char* kernelFile, const char* kernelText, bool withRefine = false);
 

@@ -3,11 +3,17 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
-#include <memory>
+#include <algorithm>
+#include <stdexcept>
+#include <type_traits>
+#include <utility>
 
 #include <smoothforce/mesh/topology.h>
 #include <smoothforce/patch/detail/gp_traits.h>
+#include <smoothforce/patch/patch_build.h>
 #include <smoothforce/patch/patch_cache.h>
+
+#include "patch_simd_detail.h"
 
 namespace sf {
 
@@ -103,18 +109,71 @@ void buildFace(PatchCache& c, int f) {
     for (int i = 0; i < GP_E_NFIELDS; ++i) data[i * ns + first + k] = recs[k * GP_E_NFIELDS + i];
 }
 
+/// Faces by size: the SIMD path builds faces of one size side by side.
+struct SizeGroups {
+  std::vector<int32_t> faces;  // grouped by size n (3..GP_MAX_N), then in order
+  std::vector<size_t> start;   // faces of size n: [start[n], start[n + 1])
+};
+SizeGroups groupBySize(const PatchCache& c) {
+  SizeGroups g;
+  g.start.assign(GP_MAX_N + 2, 0);
+  for (int f = 0; f < c.numFaces(); ++f) {
+    const int n = c.faceSize(f);
+    if (n >= 3 && n <= GP_MAX_N) ++g.start[n + 1];
+  }
+  for (int n = 0; n <= GP_MAX_N; ++n) g.start[n + 1] += g.start[n];
+  g.faces.resize(g.start[GP_MAX_N + 1]);
+  std::vector<size_t> pos(g.start.begin(), g.start.end() - 1);
+  for (int f = 0; f < c.numFaces(); ++f) {
+    const int n = c.faceSize(f);
+    if (n >= 3 && n <= GP_MAX_N) g.faces[pos[n]++] = f;
+  }
+  return g;
+}
+
 template <class Real>
-void buildAll(PatchCache& c, Backend backend, int threads) {
+void buildAll(PatchCache& c, const BuildOptions& o) {
   const int nf = c.numFaces();
-  if (backend == Backend::Serial) {
-    for (int f = 0; f < nf; ++f) buildFace<Real>(c, f);
+  const SimdTarget target = resolveSimdTarget(o.simd);
+  auto inArena = [&](auto&& body) {
+    if (o.backend == Backend::Serial) return body();
+    if (o.threads > 0) {
+      tbb::task_arena arena(o.threads);
+      return arena.execute(body);
+    }
+    return body();
+  };
+  if (target == SimdTarget::Scalar) {
+    if (o.backend == Backend::Serial) {
+      for (int f = 0; f < nf; ++f) buildFace<Real>(c, f);
+      return;
+    }
+    inArena([&] {
+      tbb::parallel_for(tbb::blocked_range<int>(0, nf, 64), [&](const tbb::blocked_range<int>& r) {
+        for (int f = r.begin(); f != r.end(); ++f) buildFace<Real>(c, f);
+      });
+    });
     return;
   }
-  // The thread limit applies to this call only (an arena), not to the host process's other TBB work.
-  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
-  arena.execute([&] {
-    tbb::parallel_for(tbb::blocked_range<int>(0, nf, 64), [&](const tbb::blocked_range<int>& r) {
-      for (int f = r.begin(); f != r.end(); ++f) buildFace<Real>(c, f);
+  const simd_detail::BuildFns* fns = simd_detail::buildFns(target);
+  const simd_detail::BuildFn fn = std::is_same_v<Real, double> ? fns->buildD : fns->buildF;
+  for (int f = 0; f < nf; ++f) {  // faces without a patch: as buildFace leaves them
+    const int n = c.faceSize(f);
+    if (n < 3 || n > GP_MAX_N) c.faceStatus[f] = GP_ST_TOO_MANY_SIDES, c.faceBulge[f] = 0.f;
+  }
+  const SizeGroups g = groupBySize(c);
+  // work items: runs of up to 64 faces of one size
+  std::vector<std::pair<size_t, size_t>> items;
+  for (int n = 3; n <= GP_MAX_N; ++n)
+    for (size_t b = g.start[n]; b < g.start[n + 1]; b += 64) items.emplace_back(b, std::min(b + 64, g.start[n + 1]));
+  auto one = [&](size_t i) { fn(c, g.faces.data() + items[i].first, items[i].second - items[i].first); };
+  if (o.backend == Backend::Serial) {
+    for (size_t i = 0; i < items.size(); ++i) one(i);
+    return;
+  }
+  inArena([&] {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, items.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i) one(i);
     });
   });
 }
@@ -123,19 +182,28 @@ template <class Real>
 void gather(const PatchCache& c, const std::vector<Real>& data, int f, Real* recs) {
   const int n = c.faceSize(f), first = c.faceOffsets[f];
   const size_t ns = c.numSlots();
-  for (int k = 0; k < n; ++k)
-    for (int i = 0; i < GP_E_NFIELDS; ++i) recs[k * GP_E_NFIELDS + i] = data[i * ns + first + k];
+  for (int i = 0; i < GP_E_NFIELDS; ++i)  // a field's n values lie side by side
+    for (int k = 0; k < n; ++k) recs[k * GP_E_NFIELDS + i] = data[i * ns + first + k];
 }
 
 }  // namespace
 
-void constructPatches(PatchCache& cache, Backend backend, int threads) {
-  if (backend == Backend::OpenCL)
+void constructPatches(PatchCache& cache, const BuildOptions& options) {
+  if (options.backend == Backend::OpenCL)
     throw std::invalid_argument("constructPatches: use the OpenCL backend's constructPatchesOpenCL");
+  if (!hasPatchData(cache) && cache.numFaces() > 0)
+    throw std::invalid_argument("constructPatches: the cache has no patch arrays (prepared as a skeleton)");
   if (cache.options.precision == Precision::Double)
-    buildAll<double>(cache, backend, threads);
+    buildAll<double>(cache, options);
   else
-    buildAll<float>(cache, backend, threads);
+    buildAll<float>(cache, options);
+}
+
+void constructPatches(PatchCache& cache, Backend backend, int threads) {
+  BuildOptions o;
+  o.backend = backend;
+  o.threads = threads;
+  constructPatches(cache, o);
 }
 
 uint32_t buildPatchRecords(const PatchCache& skeleton, int f, double* recs, float* bulge) noexcept {

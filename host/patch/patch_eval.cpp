@@ -4,13 +4,15 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <cmath>
-#include <memory>
 #include <numbers>
 #include <stdexcept>
 #include <string>
 
 #include <smoothforce/patch/detail/gp_traits.h>
+
+#include "patch_simd_detail.h"
 
 namespace sf {
 
@@ -32,6 +34,15 @@ bool insideDomain(int n, double xi, double eta, double tol) {
 namespace {
 
 template <class Real>
+void fill(PatchPoint& p, const typename Gp<Real>::result& r, uint32_t faceStatus) {
+  p.pos = {r.pos.x, r.pos.y, r.pos.z};
+  p.dxi = {r.dxi.x, r.dxi.y, r.dxi.z};
+  p.deta = {r.deta.x, r.deta.y, r.deta.z};
+  p.normal = {r.normal.x, r.normal.y, r.normal.z};
+  p.status = r.status | faceStatus;
+}
+
+template <class Real>
 PatchPoint evalFace(const PatchCache& c, int f, double xi, double eta) {
   Real recs[GP_MAX_N * GP_E_NFIELDS];
   PatchPoint p;
@@ -41,12 +52,7 @@ PatchPoint evalFace(const PatchCache& c, int f, double xi, double eta) {
     return p;
   }
   gatherRecords(c, f, recs);
-  const auto r = Gp<Real>::eval(n, recs, static_cast<int>(c.options.crossTangent), xi, eta);
-  p.pos = {r.pos.x, r.pos.y, r.pos.z};
-  p.dxi = {r.dxi.x, r.dxi.y, r.dxi.z};
-  p.deta = {r.deta.x, r.deta.y, r.deta.z};
-  p.normal = {r.normal.x, r.normal.y, r.normal.z};
-  p.status = r.status | c.faceStatus[f];
+  fill<Real>(p, Gp<Real>::eval(n, recs, static_cast<int>(c.options.crossTangent), xi, eta), c.faceStatus[f]);
   return p;
 }
 
@@ -54,6 +60,25 @@ PatchPoint evalChecked(const PatchCache& c, int f, double xi, double eta) {
   if (c.options.precision == Precision::Double) return evalFace<double>(c, f, xi, eta);
   return evalFace<float>(c, f, xi, eta);
 }
+
+/// The scalar path of a group: the face's records gathered once, then one point at a time.
+template <class Real>
+void evalGroupScalar(const simd_detail::EvalGroup& g) {
+  Real recs[GP_MAX_N * GP_E_NFIELDS];
+  const Real* data = static_cast<const Real*>(g.data);
+  for (int i = 0; i < GP_E_NFIELDS; ++i)
+    for (int k = 0; k < g.n; ++k) recs[k * GP_E_NFIELDS + i] = data[static_cast<size_t>(i) * g.numSlots + g.first + k];
+  const auto* dom = Gp<Real>::domain(g.n);
+  for (size_t j = 0; j < g.count; ++j) {
+    fill<Real>(g.sorted ? g.sorted[j] : g.out[g.idx[j]], Gp<Real>::evalDom(dom, recs, g.mode, g.xs[j], g.ys[j]),
+               g.faceStatus);
+  }
+}
+
+/// Queries per chunk of one face's group: the unit of parallel work.
+constexpr uint32_t kChunk = 512;
+/// inv_ of a query without a slot in sorted_ (bad face)
+constexpr uint32_t kNoSlot = 0xFFFFFFFFu;
 
 }  // namespace
 
@@ -64,29 +89,119 @@ PatchPoint evaluatePatch(const PatchCache& cache, int f, double xi, double eta) 
   return evalChecked(cache, f, xi, eta);
 }
 
-void evaluatePatches(const PatchCache& cache, const int32_t* faces, const double* xi, const double* eta, size_t count,
-                     PatchPoint* out, Backend backend, int threads) {
-  if (backend == Backend::OpenCL)
-    throw std::invalid_argument("evaluatePatches: use the OpenCL backend's batch evaluator");
-  auto one = [&](size_t i) {
-    if (faces[i] < 0 || faces[i] >= cache.numFaces()) {
-      out[i] = PatchPoint{};
-      out[i].status = GP_ST_OUTSIDE;
-    } else {
-      out[i] = evalChecked(cache, faces[i], xi[i], eta[i]);
+PatchEvaluator::PatchEvaluator(const PatchCache& cache, const EvalOptions& options)
+    : cache_(&cache), options_(options), target_(resolveSimdTarget(options.simd)) {
+  if (options.backend == Backend::OpenCL)
+    throw std::invalid_argument("PatchEvaluator: use the OpenCL backend's batch evaluator (opencl_backend.h)");
+  if (!hasPatchData(cache) && cache.numFaces() > 0)
+    throw std::invalid_argument("PatchEvaluator: the cache holds no patches (a skeleton); build them first");
+}
+
+void PatchEvaluator::evaluate(const int32_t* faces, const double* xi, const double* eta, size_t count,
+                              PatchPoint* out) noexcept {
+  const PatchCache& c = *cache_;
+  const int nf = c.numFaces();
+  // group the queries by face: order_ lists them face by face
+  order_.resize(count);
+  size_t valid = 0;
+  auto usable = [&](int f) { return f >= 0 && f < nf && c.faceSize(f) >= 3 && c.faceSize(f) <= GP_MAX_N; };
+  for (size_t i = 0; i < count; ++i) {
+    if (usable(faces[i])) {
+      ++valid;
+      continue;
     }
+    out[i] = PatchPoint{};
+    out[i].status = faces[i] >= 0 && faces[i] < nf ? GP_ST_TOO_MANY_SIDES : GP_ST_OUTSIDE;
+  }
+  if (count >= static_cast<size_t>(nf) / 4) {  // counting sort
+    start_.assign(static_cast<size_t>(nf) + 1, 0);
+    for (size_t i = 0; i < count; ++i)
+      if (usable(faces[i])) ++start_[faces[i] + 1];
+    for (int f = 0; f < nf; ++f) start_[f + 1] += start_[f];
+    for (size_t i = 0; i < count; ++i)
+      if (usable(faces[i])) order_[start_[faces[i]]++] = static_cast<uint32_t>(i);
+  } else {  // few queries on many faces
+    size_t m = 0;
+    for (size_t i = 0; i < count; ++i)
+      if (usable(faces[i])) order_[m++] = static_cast<uint32_t>(i);
+    std::sort(order_.begin(), order_.begin() + valid, [&](uint32_t a, uint32_t b) { return faces[a] < faces[b]; });
+  }
+  xs_.resize(valid + simd_detail::kPointPad);
+  ys_.resize(valid + simd_detail::kPointPad);
+  for (size_t i = 0; i < valid; ++i) {
+    xs_[i] = xi[order_[i]];
+    ys_[i] = eta[order_[i]];
+  }
+  std::fill(xs_.begin() + valid, xs_.end(), 0.0);
+  std::fill(ys_.begin() + valid, ys_.end(), 0.0);
+  chunks_.clear();
+  for (uint32_t b = 0; b < valid;) {
+    const int32_t f = faces[order_[b]];
+    uint32_t e = b + 1;
+    while (e < valid && faces[order_[e]] == f && e - b < kChunk) ++e;
+    chunks_.push_back({f, b, e});
+    b = e;
+  }
+  sorted_.clear();  // the serial path writes into out directly
+  const bool dbl = c.options.precision == Precision::Double;
+  simd_detail::EvalFn fn = dbl ? evalGroupScalar<double> : evalGroupScalar<float>;
+  if (target_ != SimdTarget::Scalar) {
+    const simd_detail::EvalFns* t = simd_detail::evalFns(target_);
+    fn = dbl ? t->evalD : t->evalF;
+  }
+  const void* data = dbl ? static_cast<const void*>(c.edgeDataD.data()) : static_cast<const void*>(c.edgeDataF.data());
+  auto run = [&](size_t i) {
+    const Chunk& ch = chunks_[i];
+    simd_detail::EvalGroup g;
+    g.n = c.faceSize(ch.face);
+    g.mode = static_cast<int>(c.options.crossTangent);
+    g.data = data;
+    g.numSlots = static_cast<size_t>(c.numSlots());
+    g.first = c.faceOffsets[ch.face];
+    g.faceStatus = c.faceStatus[ch.face];
+    g.idx = order_.data() + ch.begin;
+    g.count = ch.end - ch.begin;
+    g.xi = xi;
+    g.eta = eta;
+    g.xs = xs_.data() + ch.begin;
+    g.ys = ys_.data() + ch.begin;
+    g.out = out;
+    g.sorted = sorted_.empty() ? nullptr : sorted_.data() + ch.begin;
+    fn(g);
   };
-  if (backend == Backend::Serial) {
-    for (size_t i = 0; i < count; ++i) one(i);
+  if (options_.backend == Backend::Serial || chunks_.size() < 2) {
+    for (size_t i = 0; i < chunks_.size(); ++i) run(i);
     return;
   }
-  // The thread limit applies to this call only (an arena), not to the host process's other TBB work.
-  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
-  arena.execute([&] {
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 256), [&](const tbb::blocked_range<size_t>& r) {
-      for (size_t i = r.begin(); i != r.end(); ++i) one(i);
+  // Threads write their results in face order (sorted_: each chunk a contiguous range), then
+  // each copies a contiguous range of `out` from there: scattering into `out` directly would
+  // have the threads writing into the same cache lines (neighbouring queries, other faces).
+  sorted_.resize(valid);
+  inv_.assign(count, kNoSlot);
+  for (size_t i = 0; i < valid; ++i) inv_[order_[i]] = static_cast<uint32_t>(i);
+  auto all = [&] {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, chunks_.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i) run(i);
     });
-  });
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 4096), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t q = r.begin(); q != r.end(); ++q)
+        if (inv_[q] != kNoSlot) out[q] = sorted_[inv_[q]];
+    });
+  };
+  if (options_.threads > 0) {
+    tbb::task_arena arena(options_.threads);
+    arena.execute(all);
+  } else {
+    all();
+  }
+}
+
+void evaluatePatches(const PatchCache& cache, const int32_t* faces, const double* xi, const double* eta, size_t count,
+                     PatchPoint* out, Backend backend, int threads) {
+  EvalOptions o;
+  o.backend = backend;
+  o.threads = threads;
+  PatchEvaluator(cache, o).evaluate(faces, xi, eta, count, out);
 }
 
 }  // namespace sf

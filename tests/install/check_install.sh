@@ -60,9 +60,9 @@ case $cmd in
       fi
     done
     # Private and in-tree-only headers stay out: detail/, mesh_io_detail.h, surface_tessellation.h,
-    # opencl_program.h, kernels/.
+    # opencl_program.h, patch_simd_detail.h, kernels/ and gp_lanes-inl.h.
     bad=$(find "$prefix/include" \( -name detail -o -name 'mesh_io_detail.h' -o -name 'surface_tessellation.h' \
-      -o -name 'opencl_program.h' \
+      -o -name 'opencl_program.h' -o -name 'patch_simd_detail.h' \
       -o -name 'gp_*.h' -o -name '*.cl' -o -name 'sf_kernel_sources.h' \) -print)
     [[ -z $bad ]] || fail "private headers installed: $bad"
     if [[ $SF_HAS_OPENCL == 0 && -e $prefix/include/smoothforce/opencl/opencl_context.h ]]; then

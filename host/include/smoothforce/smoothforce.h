@@ -23,9 +23,11 @@
 #include <smoothforce/patch/lazy_patches.h>
 #include <smoothforce/patch/mesh_arrays.h>
 #include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/patch/patch_build.h>
 #include <smoothforce/patch/patch_cache.h>
 #include <smoothforce/patch/patch_eval.h>
 #include <smoothforce/patch/patch_options.h>
+#include <smoothforce/patch/patch_simd.h>
 #include <smoothforce/patch/tessellate.h>
 
 #include <smoothforce/query/embree_scene.h>

@@ -5,8 +5,10 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <vector>
 
 #include <smoothforce/patch/patch_cache.h>
+#include <smoothforce/patch/patch_simd.h>
 
 namespace sf {
 
@@ -27,9 +29,53 @@ bool insideDomain(int n, double xi, double eta, double tol = 1e-12);
 /// is not an error here: status has GP_ST_OUTSIDE and the vectors are zero.
 PatchPoint evaluatePatch(const PatchCache& cache, int f, double xi, double eta);
 
+/// Options of the CPU batch evaluator.
+struct EvalOptions {
+  Backend backend = Backend::Tbb;      ///< Serial (the calling thread) or Tbb; OpenCL: opencl_backend.h
+  int threads = 0;                     ///< Tbb worker limit (<= 0: oneTBB's default), in a task_arena
+  SimdTarget simd = SimdTarget::Auto;  ///< instruction set (patch_simd.h); every one gives the same bits
+};
+
+/// Reusable CPU batch evaluator; evaluatePatches is its one-shot form. Groups the queries by
+/// face, reads each face's records once per group from the cache (in place, field-major) and
+/// evaluates the group's points side by side on SIMD lanes (Scalar: one after the other).
+/// Results are bit-identical for every target, thread count and query order, and equal to
+/// evaluatePatch. Keeps its scratch buffers between calls; not thread-safe (one per thread).
+/// The cache must outlive it.
+class PatchEvaluator {
+ public:
+  /// Throws std::invalid_argument for Backend::OpenCL, a SIMD target this CPU or build lacks,
+  /// or a cache without patch data (a skeleton, hasPatchData false).
+  explicit PatchEvaluator(const PatchCache& cache, const EvalOptions& options = {});
+
+  /// Evaluates N points: faces, xi, eta are N long (face indices into the cache, domain
+  /// points); out gets N results, in order. A face index outside [0, #F) gives GP_ST_OUTSIDE
+  /// and zeros, a face with n outside 3..GP_MAX_N GP_ST_TOO_MANY_SIDES and zeros; a point
+  /// outside its domain GP_ST_OUTSIDE (with the face's bits) and zeros. Never throws.
+  void evaluate(const int32_t* faces, const double* xi, const double* eta, size_t count, PatchPoint* out) noexcept;
+
+  /// The instruction set in use (Auto resolved).
+  SimdTarget target() const { return target_; }
+
+ private:
+  struct Chunk {
+    int32_t face;
+    uint32_t begin, end;  // range of order_
+  };
+  const PatchCache* cache_;
+  EvalOptions options_;
+  SimdTarget target_;
+  std::vector<uint32_t> order_, start_;
+  std::vector<double> xs_, ys_;     // the points in order_'s order, padded
+  std::vector<PatchPoint> sorted_;  // threaded: results in order_'s order
+  std::vector<uint32_t> inv_;       // threaded: query -> its index in sorted_
+  std::vector<Chunk> chunks_;
+};
+
 /// Evaluates N points: faces, xi, eta are N long; out gets N results, in order.
 /// Backend::Serial or Backend::Tbb (threads <= 0: oneTBB default); OpenCL: see
-/// opencl_backend.h. Bad face indices give status GP_ST_OUTSIDE.
+/// opencl_backend.h. Bad face indices give status GP_ST_OUTSIDE. A PatchEvaluator with the
+/// widest SIMD target this CPU runs; throws as its constructor does.
 void evaluatePatches(const PatchCache& cache, const int32_t* faces, const double* xi, const double* eta, size_t count,
                      PatchPoint* out, Backend backend, int threads = 0);
 

@@ -22,6 +22,11 @@ struct Gp<float> {
   static result eval(int n, const float* recs, int mode, double xi, double eta) {
     return gpf::gp_patch_eval(n, recs, mode, float(xi), float(eta));
   }
+  /// The domain table entry of the n-gon, 3 <= n <= GP_MAX_N.
+  static const gpf::gp_domain* domain(int n) { return gpf::gp_domain_of(n, nullptr, 1); }
+  static result evalDom(const gpf::gp_domain* dom, const float* recs, int mode, double xi, double eta) {
+    return gpf::gp_patch_eval_dom(dom, recs, mode, float(xi), float(eta));
+  }
 };
 
 template <>
@@ -37,6 +42,10 @@ struct Gp<double> {
   }
   static result eval(int n, const double* recs, int mode, double xi, double eta) {
     return gpd::gp_patch_eval(n, recs, mode, xi, eta);
+  }
+  static const gpd::gp_domain* domain(int n) { return gpd::gp_domain_of(n, nullptr, 1); }
+  static result evalDom(const gpd::gp_domain* dom, const double* recs, int mode, double xi, double eta) {
+    return gpd::gp_patch_eval_dom(dom, recs, mode, xi, eta);
   }
 };
 
