@@ -1,5 +1,7 @@
 #include <smoothforce/sweep/sweep_sampling.h>
 
+#include <tbb/enumerable_thread_specific.h>
+
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 #include <Eigen/LU>
@@ -10,6 +12,7 @@
 
 #include <smoothforce/patch/patch_eval.h>
 #include <smoothforce/patch/tessellate.h>
+#include <smoothforce/query/patch_refine.h>
 #include <smoothforce/query/patch_seeds.h>
 #include "gp_config.h"
 
@@ -198,33 +201,23 @@ std::vector<SurfaceSample> sampleTriangleSoup(const TriangleSoup& soup, size_t n
 struct PatchProjector::Impl {
   const PatchCache& cache;
   PatchSeeds seeds;
-  Impl(const PatchCache& c, int level) : cache(c), seeds(c, level) {}
+  RefineOptions options;
+  /// One refiner per thread (project() is const and runs in parallel; a refiner is not
+  /// thread-safe): the project's one Newton refinement (kernels/gp_refine.h), crossing patch
+  /// edges by Eq. 15, so a point near an edge projects onto the neighbour when that is nearer.
+  mutable tbb::enumerable_thread_specific<std::unique_ptr<PatchRefiner>> refiners;
+  Impl(const PatchCache& c, int level)
+      : cache(c), seeds(c, level), refiners([&c] { return std::make_unique<PatchRefiner>(c); }) {
+    options.refine = RefineMethod::Newton;
+    options.angleTolerance = 1e-12;  // rad: the nearest point itself, not a haptic tolerance
+    options.maxIterations = 100;
+  }
 
-  SurfaceSample refine(const Eigen::Vector3d& q, int f, Eigen::Vector2d X) const {
-    const int n = cache.faceSize(f);
-    PatchPoint p = evaluatePatch(cache, f, X.x(), X.y());
-    double fx = (p.pos - q).squaredNorm();
-    for (int it = 0; it < 30; ++it) {
-      Eigen::Matrix<double, 3, 2> J;
-      J << p.dxi, p.deta;
-      const Eigen::Matrix2d A = J.transpose() * J;
-      if (!(std::abs(A.determinant()) > 1e-300)) break;
-      Eigen::Vector2d d = -A.ldlt().solve(J.transpose() * (p.pos - q));
-      bool accepted = false;
-      for (int h = 0; h < 30 && !accepted; ++h, d *= 0.5) {
-        const Eigen::Vector2d Y = X + d;
-        if (!insideDomain(n, Y.x(), Y.y())) continue;
-        const PatchPoint pn = evaluatePatch(cache, f, Y.x(), Y.y());
-        const double fn = (pn.pos - q).squaredNorm();
-        if (!(pn.status & kBadPoint) && fn <= fx) {
-          accepted = true;
-          X = Y;
-          p = pn;
-          fx = fn;
-        }
-      }
-      if (!accepted || d.norm() < 1e-14) break;
-    }
+  SurfaceSample refine(const Eigen::Vector3d& q, int f, const Eigen::Vector2d& X) const {
+    const RefineResult r = refiners.local()->refine(q, f, X.x(), X.y(), options);
+    if (r.face >= 0 && r.scp.allFinite() && r.normal.norm() > 0.5)
+      return SurfaceSample{r.scp, r.normal, r.face, r.xi, r.eta};
+    const PatchPoint p = evaluatePatch(cache, f, X.x(), X.y());  // no refinement: the seed itself
     return SurfaceSample{p.pos, p.normal.normalized(), f, X.x(), X.y()};
   }
 };
