@@ -11,6 +11,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "embree_point_query.h"
+
 namespace sf {
 
 struct PolygonScene::Impl {
@@ -158,15 +160,7 @@ NearestPolygonPoint PolygonScene::nearest(const Eigen::Vector3d& p) const noexce
   NearestPolygonPoint out;
   if (cache_.numFaces() == 0 || !p.allFinite()) return out;
   PointState st{&facets_, p, p, std::numeric_limits<double>::infinity(), -1, impl_->pad};
-  RTCPointQuery q;
-  q.x = float(p.x());
-  q.y = float(p.y());
-  q.z = float(p.z());
-  q.radius = std::numeric_limits<float>::infinity();
-  q.time = 0;
-  RTCPointQueryContext ctx;
-  rtcInitPointQueryContext(&ctx);
-  rtcPointQuery(impl_->scene, &q, &ctx, nullptr, &st);
+  embreePointQuery(impl_->scene, p, &st);
   if (st.facet < 0) return out;
   out.facet = st.facet;
   out.face = facets_.facetFace[st.facet];

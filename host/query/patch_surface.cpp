@@ -14,6 +14,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "embree_point_query.h"
 #include "gp_config.h"
 #include "surface_tessellation.h"
 
@@ -313,15 +314,7 @@ size_t PatchSurface::candidates(const Eigen::Vector3d& q, SurfaceCandidate* out,
   st.bound = std::numeric_limits<double>::infinity();
   st.pad = impl_->pad;
   st.count = 0;
-  RTCPointQuery pq;
-  pq.x = float(q.x());
-  pq.y = float(q.y());
-  pq.z = float(q.z());
-  pq.radius = std::numeric_limits<float>::infinity();
-  pq.time = 0;
-  RTCPointQueryContext ctx;
-  rtcInitPointQueryContext(&ctx);
-  rtcPointQuery(impl_->points, &pq, &ctx, nullptr, &st);
+  embreePointQuery(impl_->points, q, &st);
   size_t n = 0;
   for (size_t i = 0; i < st.count; ++i)
     if (st.c[i].lower <= st.bound) st.c[n++] = st.c[i];
@@ -336,15 +329,7 @@ size_t PatchSurface::candidates(const Eigen::Vector3d& q, SurfaceCandidate* out,
 bool PatchSurface::inErrorBand(const Eigen::Vector3d& q) const noexcept {
   if (uniform_->tri.empty() || !q.allFinite()) return false;
   BandState st{uniform_.get(), q, false};
-  RTCPointQuery pq;
-  pq.x = float(q.x());
-  pq.y = float(q.y());
-  pq.z = float(q.z());
-  pq.radius = impl_->pad;  // boxes are inflated by the errors: q must lie in one
-  pq.time = 0;
-  RTCPointQueryContext ctx;
-  rtcInitPointQueryContext(&ctx);
-  rtcPointQuery(impl_->band, &pq, &ctx, nullptr, &st);
+  embreePointQuery(impl_->band, q, &st, impl_->pad);  // boxes are inflated by the errors: q must lie in one
   return st.inside;
 }
 
