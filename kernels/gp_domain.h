@@ -4,18 +4,20 @@
  * Part of the single-source patch math; include after gp_eval.h (gp_domain_corner). No
  * include guard on purpose (one copy per precision). */
 
-#undef GP_DOM_PI
-#define GP_DOM_PI GP_R(3.14159265358979323846)
-
-/* cos(pi/n): the distance from the centre to every domain edge. */
-GP_FN GP_REAL gp_dom_apothem(int n) { return GP_COS(GP_DOM_PI / (GP_REAL)n); }
-
-/* Unit outward normal m_k = (cos (2k+1) pi/n, sin (2k+1) pi/n) of domain edge k (C_k -> C_{k+1}). */
+/* cos(pi/n): the distance from the centre to every domain edge. Unit outward normal
+ * m_k = (cos (2k+1) pi/n, sin (2k+1) pi/n) of domain edge k (C_k -> C_{k+1}). On the host both
+ * come from the domain table (gp_tables.h: the same formulas, evaluated once); OpenCL computes
+ * them where they are used. */
+#ifdef GP_DOMAIN_TABLE
+GP_FN GP_REAL gp_dom_apothem(int n) { return GP_DOMAIN_TABLE(n)->apothem; }
 GP_FN void gp_dom_normal(int n, int k, GP_REAL* mx, GP_REAL* my) {
-  const GP_REAL a = (GP_REAL)(2 * k + 1) * GP_DOM_PI / (GP_REAL)n;
-  *mx = GP_COS(a);
-  *my = GP_SIN(a);
+  *mx = GP_DOMAIN_TABLE(n)->mx[k];
+  *my = GP_DOMAIN_TABLE(n)->my[k];
 }
+#else
+GP_FN GP_REAL gp_dom_apothem(int n) { return gp_domain_calc_apothem(n); }
+GP_FN void gp_dom_normal(int n, int k, GP_REAL* mx, GP_REAL* my) { gp_domain_calc_normal(n, k, mx, my); }
+#endif
 
 /* max_k X . m_k and its edge k: X is inside the domain iff this is <= cos(pi/n). */
 GP_FN GP_REAL gp_dom_edge_max(int n, GP_REAL x, GP_REAL y, int* k) {
