@@ -1,7 +1,10 @@
 // Sweeps with the real force methods (makeForceRenderer) on the generated quad-sphere.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <random>
 #include <cstring>
 #include <numbers>
 
@@ -126,6 +129,47 @@ TEST(SweepMethods, PatchIsSmoothDirectIsNot) {
   EXPECT_GT(direct.disc.stats.max, 3 * patch.disc.stats.max);
   EXPECT_GT(direct.disc.maxAngle, 20 * std::numbers::pi / 180);
   // The sweep's trajectory half-step test tells the same (checked by the summary elsewhere).
+}
+
+// probeOrder is a permutation of the HIPs, along the Morton curve (consecutive HIPs close:
+// the mean step is far below the mean distance of random pairs), non-finite HIPs last.
+TEST(SweepMethods, ProbeOrderIsAMortonPermutation) {
+  HipSet set;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int i = 0; i < 5000; ++i) {
+    SurfaceSample s;
+    s.point = Eigen::Vector3d(u(rng), u(rng), u(rng));
+    s.normal = Eigen::Vector3d::UnitZ();
+    if (i % 1000 == 7) s.point.x() = std::numeric_limits<double>::quiet_NaN();
+    set.samples.push_back(s);
+  }
+  set.groups.push_back(HipGroup{"1 mm", 0.001, {}});
+  set.groups.push_back(HipGroup{"2 mm", 0.002, {}});
+  set.diagonal = 2 * std::sqrt(3.0);
+  for (size_t begin : {size_t(0), size_t(1234)}) {
+    const size_t end = set.size() - 17;
+    const std::vector<uint32_t> order = probeOrder(set, begin, end);
+    ASSERT_EQ(order.size(), end - begin);
+    std::vector<uint32_t> sorted = order;
+    std::sort(sorted.begin(), sorted.end());
+    for (size_t i = 0; i < sorted.size(); ++i) ASSERT_EQ(sorted[i], i);
+    size_t finite = 0;
+    double step = 0, random = 0;
+    for (size_t i = 0; i < order.size(); ++i) {
+      const Eigen::Vector3d h = set.hip(begin + order[i]);
+      if (!h.allFinite()) {
+        for (size_t j = i; j < order.size(); ++j) EXPECT_FALSE(set.hip(begin + order[j]).allFinite()) << j;
+        break;
+      }
+      ++finite;
+      if (i > 0) step += (h - set.hip(begin + order[i - 1])).norm();
+      const Eigen::Vector3d other = set.hip(begin + (i * 7919) % order.size());
+      if (other.allFinite()) random += (h - other).norm();
+    }
+    EXPECT_EQ(order.size() - finite, begin == 0 ? 10u : 8u);
+    EXPECT_LT(step, 0.1 * random) << "consecutive probes should be neighbours";
+  }
 }
 
 TEST(SweepMethods, ThreadCountsGiveIdenticalResults) {

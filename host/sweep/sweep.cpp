@@ -76,6 +76,45 @@ void fillHipResult(HipResult& r, const ForceSample& s, const ReferenceSurface* r
 }
 
 namespace {
+/// Spreads the low 21 bits of x to every third bit (bit i to bit 3 i).
+uint64_t spreadBits3(uint64_t x) {
+  x &= 0x1fffff;
+  x = (x | x << 32) & 0x1f00000000ffffULL;
+  x = (x | x << 16) & 0x1f0000ff0000ffULL;
+  x = (x | x << 8) & 0x100f00f00f00f00fULL;
+  x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
+  x = (x | x << 2) & 0x1249249249249249ULL;
+  return x;
+}
+}  // namespace
+
+std::vector<uint32_t> probeOrder(const HipSet& set, size_t begin, size_t end) {
+  const size_t n = end > begin ? end - begin : 0;
+  std::vector<Eigen::Vector3d> p(n);
+  tbb::parallel_for(size_t(0), n, [&](size_t i) { p[i] = set.hip(begin + i); });
+  Eigen::AlignedBox3d box;
+  for (const Eigen::Vector3d& q : p)
+    if (q.allFinite()) box.extend(q);
+  std::vector<std::pair<uint64_t, uint32_t>> key(n);
+  const Eigen::Vector3d lo = box.isEmpty() ? Eigen::Vector3d::Zero() : box.min();
+  const double extent = box.isEmpty() ? 0.0 : box.sizes().maxCoeff();
+  const double scale = extent > 0 ? double((1 << 21) - 1) / extent : 0.0;
+  tbb::parallel_for(size_t(0), n, [&](size_t i) {
+    uint64_t code = ~uint64_t(0);  // non-finite HIPs last
+    if (p[i].allFinite()) {
+      code = 0;
+      for (int a = 0; a < 3; ++a)
+        code |= spreadBits3(uint64_t(std::clamp((p[i][a] - lo[a]) * scale, 0.0, double((1 << 21) - 1)))) << a;
+    }
+    key[i] = {code, static_cast<uint32_t>(i)};
+  });
+  std::sort(key.begin(), key.end());
+  std::vector<uint32_t> order(n);
+  for (size_t i = 0; i < n; ++i) order[i] = key[i].second;
+  return order;
+}
+
+namespace {
 template <class F>
 void inArena(int threads, F&& f) {
   if (threads > 0) {
@@ -105,10 +144,12 @@ size_t runProbes(const HipSet& set, size_t begin, size_t end, RendererPool& pool
   if (begin >= end) return 0;
   std::atomic<size_t> done{0};
   inArena(control.threads, [&] {
-    tbb::parallel_for(tbb::blocked_range<size_t>(begin, end, 64), [&](const tbb::blocked_range<size_t>& r) {
+    const std::vector<uint32_t> order = probeOrder(set, begin, end);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, end - begin, 64), [&](const tbb::blocked_range<size_t>& r) {
       if (control.stop && control.stop->load(std::memory_order_relaxed)) return;
       ForceRenderer& R = pool.local();
-      for (size_t g = r.begin(); g < r.end(); ++g) {
+      for (size_t i = r.begin(); i < r.end(); ++i) {
+        const size_t g = begin + order[i];
         R.reset();
         R.step(set.approach(g));
         fillHipResult(out[g - begin], R.step(set.hip(g)), ref);

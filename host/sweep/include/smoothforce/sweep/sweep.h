@@ -107,12 +107,19 @@ class RendererPool {
   tbb::enumerable_thread_specific<std::shared_ptr<ForceRenderer>> tls_;
 };
 
+/// The order in which runProbes visits HIPs [begin, end): offsets from begin sorted along a
+/// Morton (Z-order) curve of the HIPs' positions (21 bits per axis over their bounding box;
+/// non-finite HIPs last), so that consecutive probes query nearby parts of the BVHs and the
+/// same patch records.
+std::vector<uint32_t> probeOrder(const HipSet& set, size_t begin, size_t end);
+
 /// Probes HIPs [begin, end): per HIP, reset(), step(approach), step(hip); out[g - begin] gets
-/// the second step's sample (and |SCP - ref| when ref is given). Chunks of 64 HIPs run in
-/// parallel with one renderer per worker (from `pool`); control.stop is checked per chunk, so
-/// a stopped run leaves whole chunks undone (done = 0). Returns the number of HIPs done
-/// (end - begin unless stopped). A HIP's record does not depend on the chunking or on what
-/// its renderer probed before (reset()), so any split of [begin, end) gives the same bytes.
+/// the second step's sample (and |SCP - ref| when ref is given). The HIPs run in probeOrder,
+/// in chunks of 64 in parallel with one renderer per worker (from `pool`); control.stop is
+/// checked per chunk, so a stopped run leaves whole chunks undone (done = 0). Returns the
+/// number of HIPs done (end - begin unless stopped). A HIP's record does not depend on the
+/// order, the chunking or on what its renderer probed before (reset()), so any split of
+/// [begin, end) gives the same bytes.
 size_t runProbes(const HipSet& set, size_t begin, size_t end, RendererPool& pool, const ReferenceSurface* ref,
                  HipResult* out, const SweepControl& control);
 /// The same with a pool of its own; patchesBuilt, when given, is increased by its renderers'
