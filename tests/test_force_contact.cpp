@@ -5,6 +5,8 @@
 #include <smoothforce/force/force_tracking.h>
 #include <smoothforce/force/god_object.h>
 #include <smoothforce/query/embree_scene.h>
+#include <smoothforce/query/patch_refine.h>
+#include <smoothforce/query/patch_surface.h>
 #include "patch_test_support.h"
 
 namespace sf {
@@ -103,6 +105,51 @@ TEST(ForceTracker, EntersAndLeavesContact) {
   s = r->step(Eigen::Vector3d(NAN, 0, 0));
   EXPECT_FALSE(s.contact);
   EXPECT_TRUE(s.status & SF_TRACK_BAD_HIP);
+}
+
+// Out of contact, a HIP outside the closed patch surface beyond every error band needs no patch
+// work (insideByWinding 0: no candidates, no refinement), and the step's verdict and SCP are
+// those of the full global query (nearestOnPatches + insidePatchSurface) for every HIP: on
+// the spot cage and the quad-sphere, 4 points per face pressed in and pulled out along the
+// patch normal by 0.2%, 1%, 3% and 6% of the diagonal.
+TEST(ForceTracker, FarOutsideStepsDoNoPatchWork) {
+  for (const char* rel : {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/quad-sphere.off"}) {
+    auto cache = std::make_shared<const PatchCache>(test::cacheFromFile(test::sharedMesh(rel)));
+    const ForceOptions opt;
+    auto surface = std::make_shared<const PatchSurface>(*cache, patchSurfaceOptions(opt));
+    auto r = makeForceRenderer(cache, std::make_shared<const PolygonScene>(*cache), ForceMethod::Patch, opt, surface);
+    PatchRefiner refiner(*cache);
+    const double diag = boundingDiagonal(*cache);
+    size_t hips = 0, far = 0, contacts = 0, agree = 0;
+    for (int f = 0; f < cache->numFaces(); ++f) {
+      const int n = cache->faceSize(f);
+      for (int k = 0; k < 4; ++k) {
+        const Eigen::Vector2d X = 0.4 * domainCorner(n, k) + 0.05 * domainCorner(n, k + 1);
+        const PatchPoint p = evaluatePatch(*cache, f, X.x(), X.y());
+        for (double d : {-0.06, -0.03, -0.01, -0.002, 0.002, 0.01, 0.03, 0.06}) {
+          const Eigen::Vector3d hip = p.pos + d * diag * p.normal;
+          r->reset();
+          const ForceSample s = r->step(hip);
+          const PatchNearest q = nearestOnPatches(*surface, refiner, hip, opt);
+          RefineResult scp;
+          const bool inside = insidePatchSurface(*surface, hip, q, &scp);
+          ++hips;
+          contacts += s.contact;
+          if (insideByWinding(*surface, hip) == 0) {
+            ++far;
+            EXPECT_FALSE(s.contact);
+            EXPECT_EQ(s.iterations, 0) << rel << " face " << f;
+            EXPECT_FALSE(s.status & SF_TRACK_MASK & ~SF_TRACK_GLOBAL) << rel << " face " << f;
+          }
+          agree += s.contact == inside && (!inside || (s.scp == scp.scp && s.face == scp.face));
+        }
+      }
+    }
+    EXPECT_EQ(hips, size_t(32) * cache->numFaces());
+    EXPECT_EQ(agree, hips) << rel;
+    EXPECT_GT(far, hips / 4) << rel;
+    EXPECT_GT(contacts, hips / 3) << rel;
+  }
 }
 
 TEST(ForceTracker, FloatCacheAgreesWithDouble) {

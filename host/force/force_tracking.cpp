@@ -60,9 +60,10 @@ void setContact(bool contact, const RefineResult& r, const Eigen::Vector3d& hip,
 
 /// Ends a global step on the patch surface: contact when the HIP is inside it.
 void finishGlobalStep(const PatchSurface& surface, const Eigen::Vector3d& hip, const PatchNearest& q,
-                      const ForceOptions& options, PatchContactState& state, ForceSample& s) noexcept {
+                      const ForceOptions& options, PatchContactState& state, ForceSample& s,
+                      int windingVerdict = -2) noexcept {
   RefineResult scp;
-  const bool inside = insidePatchSurface(surface, hip, q, &scp);
+  const bool inside = insidePatchSurface(surface, hip, q, &scp, windingVerdict);
   if (inside) s.status |= SF_TRACK_INSIDE;
   setContact(inside, scp, hip, options, state, s);
 }
@@ -90,10 +91,11 @@ class PatchTracker final : public ForceRenderer {
   ForceSample step(const Eigen::Vector3d& hip) noexcept override {
     ForceSample s;
     PatchStepStart start;
-    if (!beginPatchStep(*scene_, surface_.get(), *cache_, hip, state_, lambda_.data(), start, s)) return s;
+    if (!beginPatchStep(*scene_, surface_.get(), *cache_, hip, state_, lambda_.data(), start, s, false)) return s;
     if (start.global && surface_) {  // the whole global query here: every candidate it may need
       const PatchNearest q = nearestOnPatches(*surface_, refiner_, hip, options_);
-      finishGlobalStep(*surface_, hip, q, options_, state_, s);
+      if (q.candidates == 0) s.status |= SF_TRACK_NO_POLYGON;
+      finishGlobalStep(*surface_, hip, q, options_, state_, s, start.windingVerdict);
       return s;
     }
     const RefineResult r = refiner_.refine(hip, start.face, start.X.x(), start.X.y(), options_, start.edge);
@@ -162,8 +164,13 @@ PatchNearest nearestOnPatches(const PatchSurface& surface, PatchRefiner& refiner
   return refineCandidates(c, n, surface.spacing(), refiner, hip, options, first);
 }
 
+int insideByWinding(const PatchSurface& surface, const Eigen::Vector3d& hip) noexcept {
+  if (!surface.closed() || surface.inErrorBand(hip)) return -1;
+  return surface.winding(hip) >= 1 ? 1 : 0;
+}
+
 bool insidePatchSurface(const PatchSurface& surface, const Eigen::Vector3d& hip, const PatchNearest& q,
-                        RefineResult* scp) noexcept {
+                        RefineResult* scp, int windingVerdict) noexcept {
   if (scp) *scp = q.nearest;
   if (!usable(q.nearest)) return false;
   const bool below = (hip - q.nearest.scp).dot(q.nearest.normal) < 0;
@@ -174,15 +181,16 @@ bool insidePatchSurface(const PatchSurface& surface, const Eigen::Vector3d& hip,
   const bool conflict = (q.nearest.status & SF_TRACK_FOLD_EDGE) ||
                         (below ? q.anyAbove && q.nearestAbove <= kConflict * q.nearest.distance
                                : q.anyBelow && q.nearestBelow.distance <= kConflict * q.nearest.distance);
-  const bool useWinding = conflict || !surface.inErrorBand(hip);
-  const bool inside = useWinding ? surface.winding(hip) >= 1 : below;
+  const int verdict = windingVerdict == -2 ? insideByWinding(surface, hip) : windingVerdict;
+  const bool useWinding = conflict || verdict >= 0;
+  const bool inside = useWinding ? (verdict >= 0 ? verdict == 1 : surface.winding(hip) >= 1) : below;
   if (inside && scp && q.anyBelow) *scp = q.nearestBelow;
   return inside;
 }
 
 bool beginPatchStep(const PolygonScene& scene, const PatchSurface* surface, const PatchCache& cache,
                     const Eigen::Vector3d& hip, PatchContactState& state, double* lambda, PatchStepStart& start,
-                    ForceSample& s) noexcept {
+                    ForceSample& s, bool firstCandidate) noexcept {
   s = ForceSample{};
   s.scp = hip;
   start = PatchStepStart{};
@@ -198,6 +206,17 @@ bool beginPatchStep(const PolygonScene& scene, const PatchSurface* surface, cons
     return true;
   }
   s.status |= SF_TRACK_GLOBAL;
+  if (surface) {  // outside the closed surface beyond every error band: no patch work
+    start.windingVerdict = insideByWinding(*surface, hip);
+    if (start.windingVerdict == 0) {
+      state.inContact = false;
+      return false;
+    }
+  }
+  if (surface && !firstCandidate) {  // the caller runs the whole global query on the patch surface
+    start.global = true;
+    return true;
+  }
   if (surface) {  // the global query on the patch surface: its first candidate starts the refinement
     if (surface->candidates(hip, &start.candidate, 1) == 0) {
       s.status |= SF_TRACK_NO_POLYGON;
@@ -226,7 +245,7 @@ void finishPatchStep(const PolygonScene& scene, const PatchSurface* surface, Pat
                      const ForceOptions& options, PatchContactState& state, ForceSample& s) noexcept {
   if (start.global && start.candidate.face >= 0 && surface) {  // the rest of the global query on the patches
     const PatchNearest q = nearestOnPatches(*surface, refiner, hip, options, &r);
-    finishGlobalStep(*surface, hip, q, options, state, s);
+    finishGlobalStep(*surface, hip, q, options, state, s, start.windingVerdict);
     return;
   }
   if (start.global && start.facet >= 0 && (r.status & SF_TRACK_DEGENERATE)) {  // no patch here: the polygon

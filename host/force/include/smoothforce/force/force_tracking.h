@@ -78,8 +78,15 @@ PatchNearest nearestOnPatches(const PatchSurface& surface, PatchRefiner& refiner
 /// plane ((HIP - SCP) . n < 0). Inside, the SCP is the nearest refined point the HIP is below
 /// (else the nearest). Open surface: "inside" is the side the normals point away from, within the
 /// surface's reach: the nearest point is not held on a boundary edge and (HIP - SCP) . n < 0.
+/// windingVerdict: insideByWinding(surface, hip) when the caller has it already (-2: not yet).
 bool insidePatchSurface(const PatchSurface& surface, const Eigen::Vector3d& hip, const PatchNearest& q,
-                        RefineResult* scp) noexcept;
+                        RefineResult* scp, int windingVerdict = -2) noexcept;
+
+/// The part of insidePatchSurface that needs no refined point: on a closed surface with `hip`
+/// outside every error band of the tessellation, the winding number decides alone (1 inside,
+/// 0 outside); -1 otherwise (within a band, or an open surface: the global query decides). An
+/// out-of-contact step with verdict 0 needs no patch work at all: no candidates, no refinement.
+int insideByWinding(const PatchSurface& surface, const Eigen::Vector3d& hip) noexcept;
 
 /// Contact state of the patch method between steps (Algorithm 1).
 struct PatchContactState {
@@ -98,17 +105,22 @@ struct PatchStepStart {
   Eigen::Vector2d X{0, 0};
   Eigen::Vector3d polygonPoint{0, 0, 0};  ///< m, nearest polygon point (polygon start only)
   SurfaceCandidate candidate;             ///< surface start: the first candidate, (face, X); face -1 otherwise
+  int windingVerdict = -2;                ///< surface start: insideByWinding (-2: not computed)
 };
 
 /// First half of a patch-method step at `hip` (m), for callers that run the refinement elsewhere
 /// (the OpenCL sweep): returns false when the step ends without a refinement (non-finite HIP,
-/// no polygon or no candidate): s is then the step's sample and state is updated. Otherwise
+/// no polygon or no candidate, or out of contact on the surface with insideByWinding 0: outside
+/// the closed surface beyond every error band, where no patch work is needed): s is then the
+/// step's sample and state is updated. Otherwise
 /// fills start, and s with the status bits so far. surface: the global query on the patches
-/// (null: the polygon start). lambda: scratch for the largest face's size. Never throws or
-/// allocates; the scene and surface must belong to the cache.
+/// (null: the polygon start). lambda: scratch for the largest face's size. firstCandidate: a
+/// surface step looks up its first candidate (start.candidate); false leaves the whole global
+/// query to the caller (nearestOnPatches: one candidate search per step, not two). Never throws
+/// or allocates; the scene and surface must belong to the cache.
 bool beginPatchStep(const PolygonScene& scene, const PatchSurface* surface, const PatchCache& cache,
                     const Eigen::Vector3d& hip, PatchContactState& state, double* lambda, PatchStepStart& start,
-                    ForceSample& s) noexcept;
+                    ForceSample& s, bool firstCandidate = true) noexcept;
 
 /// Second half: r = the refinement from `start` (PatchRefiner::refine or OpenCLRefiner). A
 /// global surface step runs the rest of the global query with `refiner` (nearestOnPatches, r as
