@@ -60,6 +60,10 @@ typedef struct {
    * face's GP_ST_* bits (GP_ST_TOO_MANY_SIDES when it has no patch). */
   gp_uint (*load)(void* user, int f, GP_REAL* recs);
   void* user;
+  /* Host only, without `load`: when set, evaluates two points of face f at once (the finite
+   * differences of a step; SIMD lanes, the same bits as gp_patch_eval) into out[0..2). */
+  void (*evalPair)(void* pairUser, int f, const GP_REAL* x, const GP_REAL* y, gp_eval_result* out);
+  void* pairUser;
 #endif
 } gp_refine_mesh;
 
@@ -147,6 +151,20 @@ GP_FN gp_eval_result gp_rf_eval(const gp_refine_mesh* m, gp_refine_work* w, int 
   gp_eval_result r = gp_patch_eval(n, w->recs, m->mode, x, y);
   r.status |= w->loadedStatus;
   return r;
+}
+
+/* Patch f at (x[0], y[0]) and (x[1], y[1]) into out[0..2): gp_rf_eval twice, or the host's
+ * evalPair hook. */
+GP_FN void gp_rf_eval_pair(const gp_refine_mesh* m, gp_refine_work* w, int f, const GP_REAL* x, const GP_REAL* y,
+                           gp_eval_result* out) {
+#ifndef GP_OPENCL
+  if (m->evalPair && !m->load) {
+    m->evalPair(m->pairUser, f, x, y, out);
+    return;
+  }
+#endif
+  out[0] = gp_rf_eval(m, w, f, x[0], y[0]);
+  out[1] = gp_rf_eval(m, w, f, x[1], y[1]);
 }
 
 GP_FN gp_rf_iterate gp_rf_at(const gp_refine_mesh* m, gp_refine_work* w, int f, GP_REAL x, GP_REAL y, gp_vec3 hip) {
@@ -358,8 +376,10 @@ GP_FN int gp_rf_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* 
   GP_REAL xc = cur->x, yc = cur->y;
   gp_dom_interior(n, &xc, &yc, eps);
   const gp_eval_result pc = (xc == cur->x && yc == cur->y) ? cur->p : gp_rf_eval(m, w, cur->face, xc, yc);
-  const gp_eval_result p1 = gp_rf_eval(m, w, cur->face, xc + eps, yc);
-  const gp_eval_result p2 = gp_rf_eval(m, w, cur->face, xc, yc + eps);
+  const GP_REAL fx[2] = {xc + eps, xc}, fy[2] = {yc, yc + eps};
+  gp_eval_result fd[2];
+  gp_rf_eval_pair(m, w, cur->face, fx, fy, fd);
+  const gp_eval_result p1 = fd[0], p2 = fd[1];
   const GP_REAL s00 = gp_dot(r, gp_sub(p1.dxi, pc.dxi)) / eps, s11 = gp_dot(r, gp_sub(p2.deta, pc.deta)) / eps;
   const GP_REAL s01 = GP_R(0.5) * gp_dot(r, gp_add(gp_sub(p1.deta, pc.deta), gp_sub(p2.dxi, pc.dxi))) / eps;
   const GP_REAL b00 = m00 + s00, b01 = m01 + s01, b11 = m11 + s11;

@@ -277,6 +277,41 @@ TEST(SimdEvaluation, FewQueriesOnManyFaces) {
   }
 }
 
+// FacePointEvaluator (a few points of one face side by side: the refinement's finite
+// differences) gives evaluatePatch's bits for every count 1..16, on every face of every mesh,
+// both precisions, every cross-tangent mode; its points include corners and points outside.
+TEST(SimdEvaluation, FacePointsBitIdenticalToScalar) {
+  long points = 0, faces = 0;
+  for (const char* rel : kMeshes)
+    for (Precision p : {Precision::Double, Precision::Float})
+      for (CrossTangentMode mode : kModes) {
+        const PatchCache c = test::cacheFromFile(test::sharedMesh(rel), mode, p);
+        FacePointEvaluator few(c);
+        std::mt19937 rng(5);
+        std::uniform_real_distribution<double> u(-1, 1);
+        for (int f = 0; f < c.numFaces(); ++f) {
+          if (c.faceSize(f) > GP_MAX_N) continue;
+          const int n = c.faceSize(f);
+          for (int count = 1; count <= 16; ++count) {
+            double xi[16], eta[16];
+            for (int i = 0; i < count; ++i) {
+              const Eigen::Vector2d a = domainCorner(n, i);
+              xi[i] = i % 3 == 0 ? a.x() : u(rng);  // corners and random points (some outside)
+              eta[i] = i % 3 == 0 ? a.y() : u(rng);
+            }
+            PatchPoint out[16];
+            few.evaluate(f, xi, eta, count, out);
+            for (int i = 0; i < count; ++i, ++points)
+              ASSERT_TRUE(sameBits(out[i], evaluatePatch(c, f, xi[i], eta[i])))
+                  << rel << " " << toString(p) << " " << toString(mode) << " face " << f << " count " << count << " point " << i;
+          }
+          ++faces;
+        }
+      }
+  EXPECT_GT(faces, 3000L);
+  EXPECT_EQ(points, faces * 136);
+}
+
 ref::CrossTangent refMode(CrossTangentMode m) {
   return m == CrossTangentMode::Paper   ? ref::CrossTangent::Paper
          : m == CrossTangentMode::Blend ? ref::CrossTangent::Blend

@@ -89,6 +89,74 @@ PatchPoint evaluatePatch(const PatchCache& cache, int f, double xi, double eta) 
   return evalChecked(cache, f, xi, eta);
 }
 
+namespace {
+/// The evaluator of count points (1..16) of one face in precision `dbl`: the narrowest
+/// supported target whose lanes hold them all, else the widest; the scalar path for one point.
+simd_detail::EvalFn fewPointsFn(bool dbl, int count) {
+  struct Pick {
+    simd_detail::EvalFn fn[17];
+  };
+  auto make = [](bool d) {
+    Pick p;
+    const std::vector<SimdTarget> targets = supportedSimdTargets();  // widest first
+    for (int k = 0; k <= 16; ++k) {
+      p.fn[k] = d ? evalGroupScalar<double> : evalGroupScalar<float>;
+      if (k < 2) continue;
+      for (SimdTarget t : targets) {
+        const simd_detail::EvalFns* e = t == SimdTarget::Scalar ? nullptr : simd_detail::evalFns(t);
+        if (!e) continue;
+        const bool fits = (d ? e->lanesD : e->lanesF) >= k;
+        if (fits || p.fn[k] == (d ? evalGroupScalar<double> : evalGroupScalar<float>)) p.fn[k] = d ? e->evalD : e->evalF;
+      }
+    }
+    return p;
+  };
+  static const Pick pd = make(true), pf = make(false);
+  return (dbl ? pd : pf).fn[std::clamp(count, 0, 16)];
+}
+}  // namespace
+
+/// The records of a face as vectors of the widest target (EvalGroup::laneRecs), aligned.
+struct FacePointEvaluator::Scratch {
+  static constexpr size_t kAlign = 64, kBytes = size_t(GP_MAX_N) * GP_E_NFIELDS * kAlign;
+  void* recs = ::operator new(kBytes, std::align_val_t(kAlign));
+  double xs[16 + simd_detail::kPointPad] = {}, ys[16 + simd_detail::kPointPad] = {};
+  ~Scratch() { ::operator delete(recs, std::align_val_t(kAlign)); }
+};
+
+FacePointEvaluator::FacePointEvaluator(const PatchCache& cache) : cache_(&cache), scratch_(std::make_unique<Scratch>()) {
+  if (!hasPatchData(cache) && cache.numFaces() > 0)
+    throw std::invalid_argument("FacePointEvaluator: the cache holds no patches (a skeleton); build them first");
+  for (int k = 0; k <= 16; ++k) (void)fewPointsFn(true, k);  // the targets are chosen here, once per process
+}
+
+FacePointEvaluator::~FacePointEvaluator() = default;
+
+void FacePointEvaluator::evaluate(int f, const double* xi, const double* eta, int count, PatchPoint* out) noexcept {
+  const PatchCache& c = *cache_;
+  count = std::clamp(count, 0, 16);
+  if (count == 0) return;
+  Scratch& s = *scratch_;
+  std::copy_n(xi, count, s.xs);
+  std::copy_n(eta, count, s.ys);
+  const bool dbl = c.options.precision == Precision::Double;
+  simd_detail::EvalGroup g;
+  g.n = c.faceSize(f);
+  g.mode = static_cast<int>(c.options.crossTangent);
+  g.data = dbl ? static_cast<const void*>(c.edgeDataD.data()) : static_cast<const void*>(c.edgeDataF.data());
+  g.numSlots = static_cast<size_t>(c.numSlots());
+  g.first = c.faceOffsets[f];
+  g.faceStatus = c.faceStatus[f];
+  g.count = static_cast<size_t>(count);
+  g.xi = s.xs;
+  g.eta = s.ys;
+  g.xs = s.xs;
+  g.ys = s.ys;
+  g.sorted = out;
+  g.laneRecs = s.recs;
+  fewPointsFn(dbl, count)(g);
+}
+
 PatchEvaluator::PatchEvaluator(const PatchCache& cache, const EvalOptions& options)
     : cache_(&cache), options_(options), target_(resolveSimdTarget(options.simd)) {
   if (options.backend == Backend::OpenCL)

@@ -27,6 +27,9 @@ struct EvalGroup {
   const double* ys = nullptr;
   PatchPoint* out = nullptr;     ///< results: out[idx[j]] ...
   PatchPoint* sorted = nullptr;  ///< ... or sorted[j] when set (the caller copies them to out)
+  /// scratch for the face's records as vectors: GP_MAX_N * GP_E_NFIELDS vectors of 64 bytes,
+  /// 64-byte aligned; null: a buffer of the calling thread (allocated on its first use)
+  void* laneRecs = nullptr;
 };
 using EvalFn = void (*)(const EvalGroup&);
 /// Readable values after the last point of EvalGroup::xs, ys (the widest vector's lanes).

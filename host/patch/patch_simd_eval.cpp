@@ -72,7 +72,12 @@ void EvalGroupT(const simd_detail::EvalGroup& g) {
   const size_t L = hn::Lanes(d);
   constexpr size_t kMax = HWY_MAX_BYTES / sizeof(T);
   // the face's records, each field broadcast to all lanes (record-major)
-  static thread_local std::unique_ptr<Lane[]> recs(new Lane[GP_MAX_N * GP_E_NFIELDS]);
+  static_assert(sizeof(Lane) <= 64 && alignof(Lane) <= 64, "EvalGroup::laneRecs holds 64-byte vectors");
+  Lane* recs = static_cast<Lane*>(g.laneRecs);
+  if (!recs) {
+    static thread_local std::unique_ptr<Lane[]> mine(new Lane[GP_MAX_N * GP_E_NFIELDS]);
+    recs = mine.get();
+  }
   const T* data = static_cast<const T*>(g.data);
   for (int i = 0; i < GP_E_NFIELDS; ++i) {
     const T* field = data + static_cast<size_t>(i) * g.numSlots + g.first;
@@ -84,7 +89,7 @@ void EvalGroupT(const simd_detail::EvalGroup& g) {
   for (size_t base = 0; base < g.count; base += L) {
     const size_t valid = g.count - base < L ? g.count - base : L;
     // the spare lanes of the last vector compute the points after the group (never stored)
-    const auto r = M::eval(dom, recs.get(), g.mode, Lane(LoadPoints(d, g.xs + base)), Lane(LoadPoints(d, g.ys + base)));
+    const auto r = M::eval(dom, recs, g.mode, Lane(LoadPoints(d, g.xs + base)), Lane(LoadPoints(d, g.ys + base)));
     const Lane* comp[12] = {&r.pos.x,  &r.pos.y,  &r.pos.z,  &r.dxi.x,    &r.dxi.y,    &r.dxi.z,
                             &r.deta.x, &r.deta.y, &r.deta.z, &r.normal.x, &r.normal.y, &r.normal.z};
     for (int c = 0; c < 12; ++c) hn::Store(comp[c]->v, d, res[c]);

@@ -33,6 +33,7 @@ struct PatchRefiner::NewtonState {
   gpd::gp_refine_mesh mesh{};
   gpd::gp_refine_work work{};
   std::vector<float> widen;  ///< float records of one face before widening
+  std::unique_ptr<FacePointEvaluator> pairs;  ///< the finite differences' point pairs (records read in place)
   const PatchCache* cache = nullptr;
   LazyPatches* lazy = nullptr;
 
@@ -61,6 +62,22 @@ struct PatchRefiner::NewtonState {
   }
 };
 
+namespace {
+/// gp_refine_mesh's evalPair hook: the two points of a step's finite differences side by side
+/// on SIMD lanes (evaluateFacePoints; the same bits as the refinement's own evaluation).
+void evalPair(void* user, int f, const double* x, const double* y, gpd::gp_eval_result* out) noexcept {
+  PatchPoint p[2];
+  static_cast<FacePointEvaluator*>(user)->evaluate(f, x, y, 2, p);
+  for (int k = 0; k < 2; ++k) {
+    out[k].pos = gpd::gp_v3(p[k].pos.x(), p[k].pos.y(), p[k].pos.z());
+    out[k].dxi = gpd::gp_v3(p[k].dxi.x(), p[k].dxi.y(), p[k].dxi.z());
+    out[k].deta = gpd::gp_v3(p[k].deta.x(), p[k].deta.y(), p[k].deta.z());
+    out[k].normal = gpd::gp_v3(p[k].normal.x(), p[k].normal.y(), p[k].normal.z());
+    out[k].status = p[k].status;
+  }
+}
+}  // namespace
+
 PatchRefiner::PatchRefiner(const PatchCache& cache, LazyPatches* lazy)
     : cache_(cache),
       lazy_(lazy),
@@ -87,6 +104,9 @@ PatchRefiner::PatchRefiner(const PatchCache& cache, LazyPatches* lazy)
   if (!lazy && cache.options.precision == Precision::Double && hasPatchData(cache)) {
     m.edgeData = cache.edgeDataD.data();  // read in place
     m.faceStatus = cache.faceStatus.data();
+    ns.pairs = std::make_unique<FacePointEvaluator>(cache);
+    m.evalPair = &evalPair;
+    m.pairUser = ns.pairs.get();
   } else if (lazy || hasPatchData(cache)) {
     ns.widen.resize(GP_MAX_N * GP_E_NFIELDS);
     m.load = &NewtonState::load;

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include <smoothforce/patch/patch_cache.h>
@@ -28,6 +29,30 @@ bool insideDomain(int n, double xi, double eta, double tol = 1e-12);
 /// Throws std::out_of_range for a face index outside [0, #F). A point outside the domain
 /// is not an error here: status has GP_ST_OUTSIDE and the vectors are zero.
 PatchPoint evaluatePatch(const PatchCache& cache, int f, double xi, double eta);
+
+/// A few points (1..16) of one face at a time: side by side on the narrowest SIMD target this
+/// CPU runs whose vector holds them all (SSE4 for 2 doubles; the widest when none does; one
+/// point: the scalar path), so that 2-4 points cost about one evaluation (the refinement's
+/// finite differences). Bit-identical to evaluatePatch. Its scratch is allocated in the
+/// constructor: evaluate() never allocates, locks or throws. Not thread-safe (one per thread);
+/// the cache must outlive it.
+class FacePointEvaluator {
+ public:
+  /// Throws std::invalid_argument for a cache without patch data (a skeleton).
+  explicit FacePointEvaluator(const PatchCache& cache);
+  ~FacePointEvaluator();
+  FacePointEvaluator(const FacePointEvaluator&) = delete;
+  FacePointEvaluator& operator=(const FacePointEvaluator&) = delete;
+
+  /// Evaluates face f at (xi[i], eta[i]), i < count (clamped to 0..16), into out[i]. f must
+  /// index a face with 3..GP_MAX_N sides.
+  void evaluate(int f, const double* xi, const double* eta, int count, PatchPoint* out) noexcept;
+
+ private:
+  struct Scratch;
+  const PatchCache* cache_;
+  std::unique_ptr<Scratch> scratch_;
+};
 
 /// Options of the CPU batch evaluator.
 struct EvalOptions {
