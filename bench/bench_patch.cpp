@@ -89,6 +89,25 @@ void evaluate(benchmark::State& state, SimdTarget t, Precision p, int threads) {
   state.SetLabel("spot cage, random points, " + std::to_string(simdLanes(t, p)) + " lanes");
 }
 
+/// A few points of one face at a time (FacePointEvaluator: the refinement's finite-difference
+/// pair is count 2): the random points of evaluate() in runs of `count` on one face each.
+void facePoints(benchmark::State& state, int count) {
+  const PatchCache c = bench::meshCache(std::string(SF_DATA_DIR) + "/spot_control_mesh.obj", Precision::Double);
+  const bench::Queries q = bench::randomQueries(c, 1 << 16);
+  FacePointEvaluator ev(c);
+  PatchPoint out[16];
+  const size_t runs = q.face.size() / static_cast<size_t>(count);
+  for (auto _ : state) {
+    for (size_t r = 0; r < runs; ++r) {
+      const size_t i = r * static_cast<size_t>(count);
+      ev.evaluate(q.face[i], q.xi.data() + i, q.eta.data() + i, count, out);
+      benchmark::DoNotOptimize(out);
+    }
+  }
+  state.counters["points/s"] = benchmark::Counter(double(runs) * count, benchmark::Counter::kIsIterationInvariantRate);
+  state.SetLabel("spot cage, double, " + std::to_string(count) + " points per call");
+}
+
 // ---------------------------------------------------------------- construction
 void constructNgons(benchmark::State& state, SimdTarget t, Precision p, int n, int threads) {
   PatchCache c = bench::ngonSoup(n, 4096, p);
@@ -226,6 +245,10 @@ int main(int argc, char** argv) {
         benchmark::RegisterBenchmark(evalName(t, p, threads).c_str(), evaluate, t, p, threads)
             ->Unit(benchmark::kMillisecond)
             ->UseRealTime();
+  for (int count : {1, 2, 4, 8})
+    benchmark::RegisterBenchmark(("FacePoints/count:" + std::to_string(count)).c_str(), facePoints, count)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
   for (SimdTarget t : targets)
     for (int threads : {1, 2}) {
       for (int m : {3, 4, 5, 6, 8, 12})

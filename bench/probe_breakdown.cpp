@@ -1,0 +1,95 @@
+// Where a sweep probe of the patch method spends its time (issue 11 part 4): the parts of the
+// two out-of-contact steps a probe runs (runProbes: reset, a step 0.1% of the depth outside the
+// surface, then the step at the HIP), each timed alone on one thread with steady_clock:
+//   candidates  PatchSurface::candidates (Embree point query over the adaptive triangles)
+//   refine      refineCandidates (Newton from each candidate in another basin)
+//   band        PatchSurface::inErrorBand (Embree point query over the uniform triangles)
+//   winding     PatchSurface::winding, where the HIP is outside every band (2-3 Embree rays)
+// and the evaluations per step (the patch records read in place, double). The HIPs are patch
+// samples pressed in along the normal by --depth (fraction of the diagonal), visited in face
+// order as the sweep's Morton order would.
+//   build/bench/probe_breakdown [MESH] [--depth 0.005] [--samples 20000]
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include <smoothforce/force/force_tracking.h>
+#include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/query/patch_surface.h>
+#include <smoothforce/sweep/sweep_sampling.h>
+
+namespace {
+
+using namespace sf;
+using Clock = std::chrono::steady_clock;
+
+double us(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::micro>(b - a).count(); }
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string mesh = std::string(SF_SHARED_MESHES) + "/keenan_crane/spot_control_mesh.obj";
+  double depth = 0.005;
+  int samples = 20000;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--depth" && i + 1 < argc)
+      depth = std::atof(argv[++i]);
+    else if (a == "--samples" && i + 1 < argc)
+      samples = std::atoi(argv[++i]);
+    else
+      mesh = a;
+  }
+  if (!(depth > 0) || samples < 1) {
+    std::fprintf(stderr, "probe_breakdown: --depth must be > 0 and --samples >= 1\n");
+    return 2;
+  }
+  PatchOptions po;
+  const PatchCache cache = buildPatchCache(loadMesh(mesh, po), po, Backend::Tbb);
+  const double diag = boundingDiagonal(cache);
+  const PatchSurface surface(cache);
+  std::vector<SurfaceSample> s = PatchSurfaceSampler(cache, 8).sample(samples, 1);
+  std::sort(s.begin(), s.end(), [](const SurfaceSample& a, const SurfaceSample& b) {
+    return a.face < b.face || (a.face == b.face && a.xi < b.xi);
+  });
+  std::printf("%s: %d faces, patch surface level %d (%zu uniform triangles), %d HIPs at %.3g of the diagonal\n",
+              mesh.c_str(), cache.numFaces(), surface.level(), surface.numTriangles(), samples, depth);
+  PatchRefiner refiner(cache);
+  const ForceOptions opt;
+  for (int pass = 0; pass < 2; ++pass) {
+    double tc = 0, tr = 0, tb = 0, tw = 0;
+    long candidates = 0, refined = 0, iterations = 0, inBand = 0, rays = 0;
+    for (const SurfaceSample& x : s) {
+      const Eigen::Vector3d hip =
+          pass == 0 ? Eigen::Vector3d(x.point + 0.001 * depth * diag * x.normal) : Eigen::Vector3d(x.point - depth * diag * x.normal);
+      SurfaceCandidate c[PatchSurface::kMaxCandidates];
+      const auto t0 = Clock::now();
+      const int n = static_cast<int>(surface.candidates(hip, c, PatchSurface::kMaxCandidates));
+      const auto t1 = Clock::now();
+      const PatchNearest q = refineCandidates(c, n, surface.spacing(), refiner, hip, opt);
+      const auto t2 = Clock::now();
+      const bool band = surface.inErrorBand(hip);
+      const auto t3 = Clock::now();
+      if (!band) (void)surface.winding(hip);
+      const auto t4 = Clock::now();
+      tc += us(t0, t1);
+      tr += us(t1, t2);
+      tb += us(t2, t3);
+      tw += us(t3, t4);
+      candidates += n;
+      refined += q.refined;
+      iterations += q.nearest.iterations;
+      inBand += band;
+      rays += !band;
+    }
+    const double N = static_cast<double>(s.size());
+    std::printf(
+        "%-9s step: candidates %.2f us (%.1f of them), refine %.2f us (%.2f refinements, %.2f iterations to the "
+        "nearest), band %.2f us (%.0f%% in a band), winding %.2f us (%.0f%% of the steps)\n",
+        pass == 0 ? "approach" : "HIP", tc / N, candidates / N, tr / N, refined / N, iterations / N, tb / N,
+        100.0 * inBand / N, tw / N, 100.0 * rays / N);
+  }
+  return 0;
+}
