@@ -3,7 +3,7 @@
 // on its own and percentiles come out directly.
 //
 //   build/bench/study_tradeoff [--out DIR] [--samples N] [--reps R] [--seed S]
-// (SF_STUDY_VERBOSE=1 prints every query whose SCP error exceeds 1e-6 of the diagonal.)
+// (SF_STUDY_VERBOSE=1 prints every query whose SCP error exceeds 1e-6 of the diagonal, and every missed contact.)
 //
 // Meshes: spot control cage and quad-sphere (../shared/meshes), a generated torus (exact
 // normals). HIPs: area-uniform patch samples pushed inside by 0.25%, 1% and 2% of the bounding
@@ -217,6 +217,12 @@ Samples runQueries(const MeshCase& m, const std::shared_ptr<const PatchCache>& c
     s.us.push_back(best[i]);
     if (!res[i].contact) {
       ++s.missed;
+      if (std::getenv("SF_STUDY_VERBOSE"))
+        std::printf("  missed: %s HIP %zu tol %g it %d guess %d: status %x; reference face %d (construction bits %x), "
+                    "distance %.3g of the diagonal\n",
+                    m.name.c_str(), i, o.angleTolerance, o.maxIterations, int(o.initialGuess), res[i].status,
+                    m.ref[i].face, m.ref[i].face >= 0 ? cache->faceStatus[m.ref[i].face] : 0u,
+                    (m.ref[i].scp - m.hips[i]).norm() / m.diagonal);
       continue;
     }
     const double e = (res[i].scp - m.ref[i].scp).norm() / m.diagonal;
