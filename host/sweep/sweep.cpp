@@ -90,27 +90,33 @@ uint64_t spreadBits3(uint64_t x) {
 
 std::vector<uint32_t> probeOrder(const HipSet& set, size_t begin, size_t end) {
   const size_t n = end > begin ? end - begin : 0;
-  std::vector<Eigen::Vector3d> p(n);
-  tbb::parallel_for(size_t(0), n, [&](size_t i) { p[i] = set.hip(begin + i); });
-  Eigen::AlignedBox3d box;
-  for (const Eigen::Vector3d& q : p)
-    if (q.allFinite()) box.extend(q);
-  std::vector<std::pair<uint64_t, uint32_t>> key(n);
-  const Eigen::Vector3d lo = box.isEmpty() ? Eigen::Vector3d::Zero() : box.min();
-  const double extent = box.isEmpty() ? 0.0 : box.sizes().maxCoeff();
-  const double scale = extent > 0 ? double((1 << 21) - 1) / extent : 0.0;
-  tbb::parallel_for(size_t(0), n, [&](size_t i) {
-    uint64_t code = ~uint64_t(0);  // non-finite HIPs last
-    if (p[i].allFinite()) {
-      code = 0;
-      for (int a = 0; a < 3; ++a)
-        code |= spreadBits3(uint64_t(std::clamp((p[i][a] - lo[a]) * scale, 0.0, double((1 << 21) - 1)))) << a;
-    }
-    key[i] = {code, static_cast<uint32_t>(i)};
-  });
-  std::sort(key.begin(), key.end());
   std::vector<uint32_t> order(n);
-  for (size_t i = 0; i < n; ++i) order[i] = key[i].second;
+  constexpr size_t kSegment = size_t(1) << 20;  // sorted segment by segment: bounded scratch
+  std::vector<std::pair<uint64_t, uint32_t>> key;
+  for (size_t s0 = 0; s0 < n; s0 += kSegment) {
+    const size_t m = std::min(kSegment, n - s0);
+    Eigen::AlignedBox3d box;
+    for (size_t i = 0; i < m; ++i) {
+      const Eigen::Vector3d q = set.hip(begin + s0 + i);
+      if (q.allFinite()) box.extend(q);
+    }
+    const Eigen::Vector3d lo = box.isEmpty() ? Eigen::Vector3d::Zero() : box.min();
+    const double extent = box.isEmpty() ? 0.0 : box.sizes().maxCoeff();
+    const double scale = extent > 0 ? double((1 << 21) - 1) / extent : 0.0;
+    key.resize(m);
+    tbb::parallel_for(size_t(0), m, [&](size_t i) {
+      const Eigen::Vector3d q = set.hip(begin + s0 + i);
+      uint64_t code = ~uint64_t(0);  // non-finite HIPs last
+      if (q.allFinite()) {
+        code = 0;
+        for (int a = 0; a < 3; ++a)
+          code |= spreadBits3(uint64_t(std::clamp((q[a] - lo[a]) * scale, 0.0, double((1 << 21) - 1)))) << a;
+      }
+      key[i] = {code, static_cast<uint32_t>(s0 + i)};
+    });
+    std::sort(key.begin(), key.end());
+    for (size_t i = 0; i < m; ++i) order[s0 + i] = key[i].second;
+  }
   return order;
 }
 

@@ -110,7 +110,8 @@ class RendererPool {
 /// The order in which runProbes visits HIPs [begin, end): offsets from begin sorted along a
 /// Morton (Z-order) curve of the HIPs' positions (21 bits per axis over their bounding box;
 /// non-finite HIPs last), so that consecutive probes query nearby parts of the BVHs and the
-/// same patch records.
+/// same patch records; segment by segment of 2^20 HIPs (each sorted on its own), so that the
+/// scratch stays bounded (16 MB) however many HIPs a call gets.
 std::vector<uint32_t> probeOrder(const HipSet& set, size_t begin, size_t end);
 
 /// Probes HIPs [begin, end): per HIP, reset(), step(approach), step(hip); out[g - begin] gets
