@@ -6,7 +6,9 @@
 // point it was pressed in from (the part is thinner, or the surface more curved, than the depth
 // allows). Prints every run of points whose |F| is outside [1/1.5, 1.5] x k x depth, with the
 // last point past the medial axis before its end, and the counts (runs that start at most 5
-// points after a point past the medial axis, or contain one, are counted as such).
+// points after a point past the medial axis, or contain one, are counted as such); then the
+// sweep's smoothness ratio (largest consecutive force change at half the step / at the step) and
+// whether each largest change lies within 3 points of one past the medial axis.
 //   build/bench/trajectory_medial [MESH] [--depth 0.01]
 #include <cstdio>
 #include <cstdlib>
@@ -81,6 +83,38 @@ int main(int argc, char** argv) {
     if (off) runMax = r > 1 ? std::max(runMax, r) : (runMax == 0 ? r : std::min(runMax, r));
   }
   endRun(walk.size());
+  // the sweep's smoothness ratio: the largest consecutive force change at half the step over the
+  // one at the step, each with a fresh tracker; and whether it sits next to the medial axis
+  auto largestChange = [&](double step, size_t& at, bool& nearMedial) {
+    const std::vector<SurfaceSample> w = trajectorySamples(defaultTrajectory(*cache, 8), step, projector);
+    auto r = makeForceRenderer(cache, std::make_shared<const PolygonScene>(*cache), ForceMethod::Patch, opt, surface);
+    r->reset();
+    r->step(w[0].point + 0.001 * depth * w[0].normal);
+    std::vector<Eigen::Vector3d> F(w.size());
+    std::vector<char> beyond(w.size());
+    for (size_t i = 0; i < w.size(); ++i) {
+      const Eigen::Vector3d hip = w[i].point - depth * w[i].normal;
+      F[i] = r->step(hip).force;
+      beyond[i] = nearestOnPatches(*surface, refiner, hip, opt).nearest.distance < 0.999 * depth;
+    }
+    double best = 0;
+    at = 0;
+    for (size_t i = 1; i < w.size(); ++i)
+      if ((F[i] - F[i - 1]).norm() > best) {
+        best = (F[i] - F[i - 1]).norm();
+        at = i;
+      }
+    nearMedial = false;
+    for (size_t j = at > 3 ? at - 3 : 0; j < std::min(w.size(), at + 4); ++j) nearMedial |= beyond[j] != 0;
+    return best;
+  };
+  size_t at1 = 0, at2 = 0;
+  bool near1 = false, near2 = false;
+  const double d1 = largestChange(diag / 400, at1, near1), d2 = largestChange(diag / 800, at2, near2);
+  std::printf("  largest consecutive force change: %.4g N at point %zu%s; at half the step %.4g N at point %zu%s; "
+              "ratio %.2f\n",
+              d1, at1, near1 ? " (within 3 points of one past the medial axis)" : "", d2, at2,
+              near2 ? " (within 3 points of one past the medial axis)" : "", d1 > 0 ? d2 / d1 : 0.0);
   std::printf(
       "%s, depth %.3g of the diagonal: %zu points; %zu past the medial axis; %zu in contact with |F| outside "
       "[1/1.5, 1.5] x k x depth, in %zu runs (%zu of them at a point past the medial axis or at most 5 points after one); %zu out of "
