@@ -140,23 +140,12 @@ PyCache fromFile(const std::filesystem::path& fsPath, const std::string& precisi
 
 /// PatchPoint as a NumPy structured dtype (the array is written in place by evaluatePatches).
 pyb::dtype patchPointDtype() {
-  pyb::list names, formats, offsets;
-  auto add = [&](const char* n, const char* f, size_t off) {
-    names.append(n);
-    formats.append(f);
-    offsets.append(off);
-  };
-  add("position", "(3,)f8", offsetof(PatchPoint, pos));
-  add("dxi", "(3,)f8", offsetof(PatchPoint, dxi));
-  add("deta", "(3,)f8", offsetof(PatchPoint, deta));
-  add("normal", "(3,)f8", offsetof(PatchPoint, normal));
-  add("status", "u4", offsetof(PatchPoint, status));
-  pyb::dict d;
-  d["names"] = names;
-  d["formats"] = formats;
-  d["offsets"] = offsets;
-  d["itemsize"] = sizeof(PatchPoint);
-  return pyb::dtype::from_args(d);
+  return structDtype({{"position", "(3,)f8", offsetof(PatchPoint, pos)},
+                      {"dxi", "(3,)f8", offsetof(PatchPoint, dxi)},
+                      {"deta", "(3,)f8", offsetof(PatchPoint, deta)},
+                      {"normal", "(3,)f8", offsetof(PatchPoint, normal)},
+                      {"status", "u4", offsetof(PatchPoint, status)}},
+                     sizeof(PatchPoint));
 }
 
 pyb::array evaluate(const PyCache& c, const pyb::handle& faces, const pyb::handle& xi, const pyb::handle& eta) {

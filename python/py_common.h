@@ -4,6 +4,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <initializer_list>
 #include <memory>
 #include <string>
 #include <vector>
@@ -37,6 +38,29 @@ pyb::array_t<T> view(const T* data, size_t count, size_t cols, pyb::handle owner
   pyb::array_t<T> a(shape, strides, data, owner);
   reinterpret_cast<pyb::detail::PyArray_Proxy*>(a.ptr())->flags &= ~pyb::detail::npy_api::NPY_ARRAY_WRITEABLE_;
   return a;
+}
+
+/// One field of a NumPy structured dtype: name, NumPy format ("f8", "(3,)<f4", ...), byte offset.
+struct DtypeField {
+  const char* name;
+  const char* format;
+  size_t offset;
+};
+
+/// The structured dtype of a C++ record of `itemsize` bytes with these fields (offsetof).
+inline pyb::dtype structDtype(std::initializer_list<DtypeField> fields, size_t itemsize) {
+  pyb::list names, formats, offsets;
+  for (const DtypeField& f : fields) {
+    names.append(f.name);
+    formats.append(f.format);
+    offsets.append(f.offset);
+  }
+  pyb::dict d;
+  d["names"] = names;
+  d["formats"] = formats;
+  d["offsets"] = offsets;
+  d["itemsize"] = itemsize;
+  return pyb::dtype::from_args(d);
 }
 
 void bindCache(pyb::module_& m);

@@ -24,28 +24,17 @@ struct TraceRow {
 };
 
 pyb::dtype traceDtype() {
-  pyb::list names, formats, offsets;
-  auto add = [&](const char* n, const char* f, size_t off) {
-    names.append(n);
-    formats.append(f);
-    offsets.append(off);
-  };
-  add("hip", "(3,)f8", offsetof(TraceRow, hip));
-  add("scp", "(3,)f8", offsetof(TraceRow, scp));
-  add("force", "(3,)f8", offsetof(TraceRow, force));
-  add("normal", "(3,)f8", offsetof(TraceRow, normal));
-  add("xi", "f8", offsetof(TraceRow, xi));
-  add("eta", "f8", offsetof(TraceRow, eta));
-  add("face", "i4", offsetof(TraceRow, face));
-  add("iterations", "i4", offsetof(TraceRow, iterations));
-  add("status", "u4", offsetof(TraceRow, status));
-  add("contact", "?", offsetof(TraceRow, contact));
-  pyb::dict d;
-  d["names"] = names;
-  d["formats"] = formats;
-  d["offsets"] = offsets;
-  d["itemsize"] = sizeof(TraceRow);
-  return pyb::dtype::from_args(d);
+  return structDtype({{"hip", "(3,)f8", offsetof(TraceRow, hip)},
+                      {"scp", "(3,)f8", offsetof(TraceRow, scp)},
+                      {"force", "(3,)f8", offsetof(TraceRow, force)},
+                      {"normal", "(3,)f8", offsetof(TraceRow, normal)},
+                      {"xi", "f8", offsetof(TraceRow, xi)},
+                      {"eta", "f8", offsetof(TraceRow, eta)},
+                      {"face", "i4", offsetof(TraceRow, face)},
+                      {"iterations", "i4", offsetof(TraceRow, iterations)},
+                      {"status", "u4", offsetof(TraceRow, status)},
+                      {"contact", "?", offsetof(TraceRow, contact)}},
+                     sizeof(TraceRow));
 }
 
 ForceOptions forceOptions(const std::string& method, double stiffness, const pyb::object& preset, int capacity,

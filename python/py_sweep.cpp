@@ -19,26 +19,15 @@ namespace {
 namespace fs = std::filesystem;
 
 pyb::dtype hipResultDtype() {
-  pyb::list names, formats, offsets;
-  auto add = [&](const char* n, const char* f, size_t off) {
-    names.append(n);
-    formats.append(f);
-    offsets.append(off);
-  };
-  add("force", "(3,)<f4", offsetof(HipResult, force));
-  add("scp", "(3,)<f4", offsetof(HipResult, scp));
-  add("ref_distance", "<f4", offsetof(HipResult, refDistance));
-  add("face", "<i4", offsetof(HipResult, face));
-  add("status", "<u4", offsetof(HipResult, status));
-  add("iterations", "<u2", offsetof(HipResult, iterations));
-  add("contact", "u1", offsetof(HipResult, contact));
-  add("done", "u1", offsetof(HipResult, done));
-  pyb::dict d;
-  d["names"] = names;
-  d["formats"] = formats;
-  d["offsets"] = offsets;
-  d["itemsize"] = sizeof(HipResult);
-  return pyb::dtype::from_args(d);
+  return structDtype({{"force", "(3,)<f4", offsetof(HipResult, force)},
+                      {"scp", "(3,)<f4", offsetof(HipResult, scp)},
+                      {"ref_distance", "<f4", offsetof(HipResult, refDistance)},
+                      {"face", "<i4", offsetof(HipResult, face)},
+                      {"status", "<u4", offsetof(HipResult, status)},
+                      {"iterations", "<u2", offsetof(HipResult, iterations)},
+                      {"contact", "u1", offsetof(HipResult, contact)},
+                      {"done", "u1", offsetof(HipResult, done)}},
+                     sizeof(HipResult));
 }
 
 /// A NumPy array owning a moved vector (no copy).
