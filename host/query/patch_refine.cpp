@@ -64,7 +64,7 @@ struct PatchRefiner::NewtonState {
 
 namespace {
 /// gp_refine_mesh's evalPair hook: the two points of a step's finite differences side by side
-/// on SIMD lanes (evaluateFacePoints; the same bits as the refinement's own evaluation).
+/// on SIMD lanes (FacePointEvaluator; the same bits as the refinement's own evaluation).
 void evalPair(void* user, int f, const double* x, const double* y, gpd::gp_eval_result* out) noexcept {
   PatchPoint p[2];
   static_cast<FacePointEvaluator*>(user)->evaluate(f, x, y, 2, p);
