@@ -165,7 +165,7 @@ PatchNearest nearestOnPatches(const PatchSurface& surface, PatchRefiner& refiner
 }
 
 int insideByWinding(const PatchSurface& surface, const Eigen::Vector3d& hip) noexcept {
-  if (!surface.closed() || surface.inErrorBand(hip)) return -1;
+  if (!surface.closed() || surface.numTriangles() == 0 || surface.inErrorBand(hip)) return -1;
   return surface.winding(hip) >= 1 ? 1 : 0;
 }
 

@@ -84,7 +84,7 @@ bool insidePatchSurface(const PatchSurface& surface, const Eigen::Vector3d& hip,
 
 /// The part of insidePatchSurface that needs no refined point: on a closed surface with `hip`
 /// outside every error band of the tessellation, the winding number decides alone (1 inside,
-/// 0 outside); -1 otherwise (within a band, or an open surface: the global query decides). An
+/// 0 outside); -1 otherwise (within a band, an open or empty surface: the global query decides). An
 /// out-of-contact step with verdict 0 needs no patch work at all: no candidates, no refinement.
 int insideByWinding(const PatchSurface& surface, const Eigen::Vector3d& hip) noexcept;
 
