@@ -41,18 +41,36 @@ int main(int argc, char** argv) {
   auto cache = std::make_shared<const PatchCache>(buildPatchCache(loadMesh(mesh, po), po, Backend::Tbb));
   const double diag = boundingDiagonal(*cache), depth = frac * diag;
   const PatchProjector projector(*cache, 8);
-  const std::vector<SurfaceSample> walk = trajectorySamples(defaultTrajectory(*cache, 8), diag / 400, projector);
   const ForceOptions opt;
   auto surface = std::make_shared<const PatchSurface>(*cache, patchSurfaceOptions(opt));
-  auto tracker =
-      makeForceRenderer(cache, std::make_shared<const PolygonScene>(*cache), ForceMethod::Patch, opt, surface);
   PatchRefiner refiner(*cache);
-  if (walk.empty()) {
+  // the loop as the sweep runs it (fresh tracker, approach step, then every point pressed in),
+  // with each HIP's force and contact, and whether it lies past the medial axis
+  struct Loop {
+    std::vector<Eigen::Vector3d> force;
+    std::vector<char> contact, beyond;
+  };
+  auto runLoop = [&](double step) {
+    const std::vector<SurfaceSample> w = trajectorySamples(defaultTrajectory(*cache, 8), step, projector);
+    Loop l;
+    if (w.empty()) return l;
+    auto r = makeForceRenderer(cache, std::make_shared<const PolygonScene>(*cache), ForceMethod::Patch, opt, surface);
+    r->reset();
+    r->step(w[0].point + 0.001 * depth * w[0].normal);
+    for (const SurfaceSample& x : w) {
+      const Eigen::Vector3d hip = x.point - depth * x.normal;
+      const ForceSample s = r->step(hip);
+      l.force.push_back(s.force);
+      l.contact.push_back(s.contact);
+      l.beyond.push_back(nearestOnPatches(*surface, refiner, hip, opt).nearest.distance < 0.999 * depth);
+    }
+    return l;
+  };
+  const Loop loop = runLoop(diag / 400);
+  if (loop.force.empty()) {
     std::printf("%s: no default trajectory\n", mesh.c_str());
     return 0;
   }
-  tracker->reset();
-  tracker->step(walk[0].point + 0.001 * depth * walk[0].normal);
   size_t outside = 0, past = 0, lost = 0, runs = 0, runsAfterCrossing = 0;
   long lastPast = -1, runStart = -1;
   double runMax = 0;
@@ -66,15 +84,12 @@ int main(int argc, char** argv) {
     runStart = -1;
     runMax = 0;
   };
-  for (size_t i = 0; i < walk.size(); ++i) {
-    const Eigen::Vector3d hip = walk[i].point - depth * walk[i].normal;
-    const ForceSample s = tracker->step(hip);
-    const PatchNearest q = nearestOnPatches(*surface, refiner, hip, opt);
-    lost += !s.contact;
-    const double r = s.force.norm() / (opt.stiffness * depth);
-    const bool off = s.contact && (r > 1.5 || r < 1 / 1.5);
+  for (size_t i = 0; i < loop.force.size(); ++i) {
+    lost += !loop.contact[i];
+    const double r = loop.force[i].norm() / (opt.stiffness * depth);
+    const bool off = loop.contact[i] && (r > 1.5 || r < 1 / 1.5);
     if (!off) endRun(i);  // a run ends at i - 1: lastPast is still "at or before its last point"
-    if (q.nearest.distance < 0.999 * depth) {
+    if (loop.beyond[i]) {
       ++past;
       lastPast = static_cast<long>(i);
     }
@@ -82,43 +97,34 @@ int main(int argc, char** argv) {
     if (off && runStart < 0) runStart = static_cast<long>(i);
     if (off) runMax = r > 1 ? std::max(runMax, r) : (runMax == 0 ? r : std::min(runMax, r));
   }
-  endRun(walk.size());
+  endRun(loop.force.size());
   // the sweep's smoothness ratio: the largest consecutive force change at half the step over the
-  // one at the step, each with a fresh tracker; and whether it sits next to the medial axis
-  auto largestChange = [&](double step, size_t& at, bool& nearMedial) {
-    const std::vector<SurfaceSample> w = trajectorySamples(defaultTrajectory(*cache, 8), step, projector);
-    auto r = makeForceRenderer(cache, std::make_shared<const PolygonScene>(*cache), ForceMethod::Patch, opt, surface);
-    r->reset();
-    r->step(w[0].point + 0.001 * depth * w[0].normal);
-    std::vector<Eigen::Vector3d> F(w.size());
-    std::vector<char> beyond(w.size());
-    for (size_t i = 0; i < w.size(); ++i) {
-      const Eigen::Vector3d hip = w[i].point - depth * w[i].normal;
-      F[i] = r->step(hip).force;
-      beyond[i] = nearestOnPatches(*surface, refiner, hip, opt).nearest.distance < 0.999 * depth;
-    }
+  // one at the step; and whether it sits next to the medial axis
+  auto largestChange = [](const Loop& l, size_t& at, bool& nearMedial) {
     double best = 0;
     at = 0;
-    for (size_t i = 1; i < w.size(); ++i)
-      if ((F[i] - F[i - 1]).norm() > best) {
-        best = (F[i] - F[i - 1]).norm();
+    for (size_t i = 1; i < l.force.size(); ++i)
+      if ((l.force[i] - l.force[i - 1]).norm() > best) {
+        best = (l.force[i] - l.force[i - 1]).norm();
         at = i;
       }
     nearMedial = false;
-    for (size_t j = at > 3 ? at - 3 : 0; j < std::min(w.size(), at + 4); ++j) nearMedial |= beyond[j] != 0;
+    for (size_t j = at > 3 ? at - 3 : 0; j < std::min(l.force.size(), at + 4); ++j) nearMedial |= l.beyond[j] != 0;
     return best;
   };
   size_t at1 = 0, at2 = 0;
   bool near1 = false, near2 = false;
-  const double d1 = largestChange(diag / 400, at1, near1), d2 = largestChange(diag / 800, at2, near2);
-  std::printf("  largest consecutive force change: %.4g N at point %zu%s; at half the step %.4g N at point %zu%s; "
-              "ratio %.2f\n",
-              d1, at1, near1 ? " (within 3 points of one past the medial axis)" : "", d2, at2,
-              near2 ? " (within 3 points of one past the medial axis)" : "", d1 > 0 ? d2 / d1 : 0.0);
+  const double d1 = largestChange(loop, at1, near1), d2 = largestChange(runLoop(diag / 800), at2, near2);
+  std::printf(
+      "  largest consecutive force change: %.4g N at point %zu%s; at half the step %.4g N at point %zu%s; "
+      "ratio %.2f\n",
+      d1, at1, near1 ? " (within 3 points of one past the medial axis)" : "", d2, at2,
+      near2 ? " (within 3 points of one past the medial axis)" : "", d1 > 0 ? d2 / d1 : 0.0);
   std::printf(
       "%s, depth %.3g of the diagonal: %zu points; %zu past the medial axis; %zu in contact with |F| outside "
-      "[1/1.5, 1.5] x k x depth, in %zu runs (%zu of them at a point past the medial axis or at most 5 points after one); %zu out of "
+      "[1/1.5, 1.5] x k x depth, in %zu runs (%zu of them at a point past the medial axis or at most 5 points after "
+      "one); %zu out of "
       "contact\n",
-      mesh.c_str(), frac, walk.size(), past, outside, runs, runsAfterCrossing, lost);
+      mesh.c_str(), frac, loop.force.size(), past, outside, runs, runsAfterCrossing, lost);
   return 0;
 }
