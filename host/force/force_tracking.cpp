@@ -206,23 +206,18 @@ bool beginPatchStep(const PolygonScene& scene, const PatchSurface* surface, cons
     return true;
   }
   s.status |= SF_TRACK_GLOBAL;
-  if (surface) {  // outside the closed surface beyond every error band: no patch work
+  if (surface) {  // the global query on the patch surface
     start.windingVerdict = insideByWinding(*surface, hip);
-    if (start.windingVerdict == 0) {
+    if (start.windingVerdict == 0) {  // outside the closed surface beyond every error band: no patch work
       state.inContact = false;
       return false;
     }
-  }
-  if (surface && !firstCandidate) {  // the caller runs the whole global query on the patch surface
     start.global = true;
-    return true;
-  }
-  if (surface) {  // the global query on the patch surface: its first candidate starts the refinement
-    if (surface->candidates(hip, &start.candidate, 1) == 0) {
+    if (!firstCandidate) return true;                          // the caller runs the whole global query
+    if (surface->candidates(hip, &start.candidate, 1) == 0) {  // its first candidate starts the refinement
       s.status |= SF_TRACK_NO_POLYGON;
       return false;
     }
-    start.global = true;
     start.face = start.candidate.face;
     start.X = start.candidate.X;
     return true;
