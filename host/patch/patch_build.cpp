@@ -74,7 +74,7 @@ std::vector<float>& edgeData<float>(PatchCache& c) {
 }
 
 template <class Real>
-uint32_t buildRecords(const PatchCache& c, int f, Real* recs, float* bulgeOut) {
+uint32_t buildRecords(const PatchCache& c, int f, Real* recs, float* bulgeOut, bool quality = true) {
   using G = Gp<Real>;
   const int n = c.faceSize(f), first = c.faceOffsets[f];
   if (bulgeOut) *bulgeOut = 0.f;
@@ -91,7 +91,7 @@ uint32_t buildRecords(const PatchCache& c, int f, Real* recs, float* bulgeOut) {
   const int mode = static_cast<int>(c.options.crossTangent);
   gp_uint st = G::build(n, V, N, vid, mode, recs);
   Real bulge = 0;
-  if (!(st & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE))) st |= G::quality(n, recs, mode, &bulge);
+  if (quality && !(st & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE))) st |= G::quality(n, recs, mode, &bulge);
   if (bulgeOut) *bulgeOut = static_cast<float>(bulge);
   return st;
 }
@@ -211,6 +211,10 @@ uint32_t buildPatchRecords(const PatchCache& skeleton, int f, double* recs, floa
 }
 uint32_t buildPatchRecords(const PatchCache& skeleton, int f, float* recs, float* bulge) noexcept {
   return buildRecords(skeleton, f, recs, bulge);
+}
+
+uint32_t buildPatchEdges(const PatchCache& skeleton, int f, double* recs) noexcept {
+  return buildRecords(skeleton, f, recs, nullptr, false);
 }
 
 void gatherRecords(const PatchCache& cache, int f, double* recs) { gather(cache, cache.edgeDataD, f, recs); }

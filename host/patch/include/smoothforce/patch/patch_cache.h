@@ -65,6 +65,9 @@ void constructPatches(PatchCache& cache, Backend backend, int threads = 0);
 /// receives the bulge / face diameter. Allocation-free; used for lazy construction.
 uint32_t buildPatchRecords(const PatchCache& skeleton, int f, double* recs, float* bulge = nullptr) noexcept;
 uint32_t buildPatchRecords(const PatchCache& skeleton, int f, float* recs, float* bulge = nullptr) noexcept;
+/// Face f's edge records as buildPatchRecords builds them, in double, without the quality
+/// sampling (status: the construction's bits only, no GP_ST_FOLD or bulge). Allocation-free.
+uint32_t buildPatchEdges(const PatchCache& skeleton, int f, double* recs) noexcept;
 
 /// Bounding-box diagonal of the cache's base mesh, m (0 without vertices).
 double boundingDiagonal(const PatchCache& cache);

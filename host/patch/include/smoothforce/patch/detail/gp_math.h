@@ -16,6 +16,7 @@ namespace sf::gpf {
 // order matters: each part uses the ones before it
 // clang-format off
 #include "gp_patch.h"
+#include "gp_bound.h"
 #include "gp_domain.h"
 #include "gp_refine.h"
 // clang-format on
@@ -29,6 +30,7 @@ namespace sf::gpd {
 // order matters: each part uses the ones before it
 // clang-format off
 #include "gp_patch.h"
+#include "gp_bound.h"
 #include "gp_domain.h"
 #include "gp_refine.h"
 // clang-format on
