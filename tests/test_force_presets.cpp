@@ -205,7 +205,7 @@ TEST_F(ForcePresetCli, ExplicitOptionsOverrideThePreset) {
 }
 
 // README "Speed against accuracy", "Checked bounds": on spot, against a converged double
-// reference from the same (polygon) start, with SCP errors over the bounding diagonal and
+// reference from the global query on the built cache, with SCP errors over the bounding diagonal and
 // force-direction errors in degrees: failures (no contact, or an SCP error above 1e-3: another
 // local minimum) at most 3% of the HIPs; of the rest, fast: median SCP error <= 1e-5 and max
 // <= 1e-3, max angle <= 2; accurate: median SCP error <= 1e-9, median angle <= 1e-6.
@@ -216,10 +216,8 @@ TEST_F(ForcePresetCli, FastAndAccurateMeetTheirDocumentedErrorBounds) {
   std::vector<Eigen::Vector3d> hips = insideHips(*c, 50, 0.0025, 21, &exits);
   const auto deeper = insideHips(*c, 50, 0.01, 22, &exits);
   hips.insert(hips.end(), deeper.begin(), deeper.end());
-  // trace --mesh builds patches lazily, whose global query is the polygon start: the reference too
-  ForceOptions refOptions = tight();
-  refOptions.initialGuess = InitialGuess::Polygon;
-  const auto ref = query(c, refOptions, hips);
+  // trace --mesh builds patches lazily; its global query is the surface query as on a built cache
+  const auto ref = query(c, tight(), hips);
   const std::string file = hipFile(hips, exits);
   struct Bound {
     std::string preset;

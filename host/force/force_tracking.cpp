@@ -8,8 +8,11 @@
 
 #include <smoothforce/patch/lazy_patches.h>
 #include <smoothforce/query/embree_scene.h>
+#include <smoothforce/query/lazy_surface.h>
 #include <smoothforce/query/mean_value.h>
 #include <smoothforce/query/patch_refine.h>
+
+#include "force_tracking_detail.h"
 
 namespace sf {
 
@@ -25,17 +28,12 @@ PatchSurfaceOptions patchSurfaceOptions(const ForceOptions& o) {
   return so;
 }
 
-namespace {
+namespace detail {
 
-/// A refined point on the other side than the nearest one, within this factor of its distance,
-/// makes the side of the nearest point doubtful (overlapping or folded patches).
-constexpr double kConflict = 3.0;
-
-bool usable(const RefineResult& r) {
+bool usable(const RefineResult& r) noexcept {
   return !(r.status & SF_TRACK_DEGENERATE) && r.scp.allFinite() && r.normal.allFinite() && r.normal.squaredNorm() > 0.5;
 }
 
-/// Ends a step: contact at SCP r (F = k (SCP - HIP)) or none; keeps the contact state.
 void setContact(bool contact, const RefineResult& r, const Eigen::Vector3d& hip, const ForceOptions& options,
                 PatchContactState& state, ForceSample& s) noexcept {
   const bool was = state.inContact;
@@ -57,6 +55,18 @@ void setContact(bool contact, const RefineResult& r, const Eigen::Vector3d& hip,
     if (was) s.status |= SF_TRACK_LEAVE;
   }
 }
+
+}  // namespace detail
+
+using detail::lazyGlobalStep;
+using detail::setContact;
+using detail::usable;
+
+namespace {
+
+/// A refined point on the other side than the nearest one, within this factor of its distance,
+/// makes the side of the nearest point doubtful (overlapping or folded patches).
+constexpr double kConflict = 3.0;
 
 /// Ends a global step on the patch surface: contact when the HIP is inside it.
 void finishGlobalStep(const PatchSurface& surface, const Eigen::Vector3d& hip, const PatchNearest& q,
@@ -80,6 +90,8 @@ class PatchTracker final : public ForceRenderer {
     int maxN = 3;
     for (int f = 0; f < cache_->numFaces(); ++f) maxN = std::max(maxN, cache_->faceSize(f));
     lambda_.resize(maxN);
+    if (options_.initialGuess == InitialGuess::Surface && lazy_)
+      lazySurface_ = std::make_unique<LazyPatchSurface>(*cache_, scene_->facets());
     if (options_.initialGuess == InitialGuess::Surface && !lazy_) {
       if (surface && &surface->cache() != cache_.get())
         throw InputError("makePatchForceRenderer: the patch surface must be built from the same cache");
@@ -90,6 +102,12 @@ class PatchTracker final : public ForceRenderer {
 
   ForceSample step(const Eigen::Vector3d& hip) noexcept override {
     ForceSample s;
+    if (lazySurface_ && !state_.inContact && hip.allFinite()) {  // patches built lazily: faces chosen by their boxes
+      s.scp = hip;
+      s.status = SF_TRACK_GLOBAL;
+      lazyGlobalStep(*lazySurface_, *scene_, *cache_, refiner_, hip, options_, lambda_.data(), state_, s);
+      return s;
+    }
     PatchStepStart start;
     if (!beginPatchStep(*scene_, surface_.get(), *cache_, hip, state_, lambda_.data(), start, s, false)) return s;
     if (start.global && surface_) {  // the whole global query here: every candidate it may need
@@ -112,7 +130,8 @@ class PatchTracker final : public ForceRenderer {
   ForceOptions options_;
   std::unique_ptr<LazyPatches> lazy_;  ///< patches built on demand when the cache is a skeleton
   PatchRefiner refiner_;
-  std::shared_ptr<const PatchSurface> surface_;  ///< InitialGuess::Surface with prebuilt patches
+  std::shared_ptr<const PatchSurface> surface_;    ///< InitialGuess::Surface with prebuilt patches
+  std::unique_ptr<LazyPatchSurface> lazySurface_;  ///< InitialGuess::Surface with lazy patches
   std::vector<double> lambda_;
   PatchContactState state_;
 };

@@ -23,6 +23,7 @@
 #include <smoothforce/patch/lazy_patches.h>
 #include <smoothforce/patch/mesh_arrays.h>
 #include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/patch/patch_bounds.h>
 #include <smoothforce/patch/patch_build.h>
 #include <smoothforce/patch/patch_cache.h>
 #include <smoothforce/patch/patch_eval.h>
@@ -31,6 +32,7 @@
 #include <smoothforce/patch/tessellate.h>
 
 #include <smoothforce/query/embree_scene.h>
+#include <smoothforce/query/lazy_surface.h>
 #include <smoothforce/query/mean_value.h>
 #include <smoothforce/query/patch_refine.h>
 #include <smoothforce/query/patch_seeds.h>

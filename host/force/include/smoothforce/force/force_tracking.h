@@ -29,8 +29,13 @@ void validateForceOptions(const ForceOptions& options);
 /// best upper bound) with the nearest tessellation point as the start; the refinement runs from
 /// each, in order, until the next candidate's lower bound exceeds the best distance found; the
 /// nearest refined point is the SCP candidate. Contact starts when the HIP is inside the patch
-/// surface (insidePatchSurface). With InitialGuess::Polygon (the paper's Section 4.1), or for a
-/// skeleton cache whose patches are built lazily, the global query is the nearest base-polygon
+/// surface (insidePatchSurface). On a skeleton cache (patches built lazily, LazyPatches) the
+/// same query runs over boxes instead of a tessellation of every patch (LazyPatchSurface: the
+/// faces whose a-priori box, computed from vertices and normals alone, is within the polygon
+/// start's refined distance, then the cells of those patches, in order of lower bound; outside
+/// every a-priori box of a closed mesh the base polygons' inside test decides, with no patch
+/// work): only the patches that can hold the nearest point are built. With
+/// InitialGuess::Polygon (the paper's Section 4.1) the global query is the nearest base-polygon
 /// point mapped into its patch's domain by mean value coordinates, refined once, and contact
 /// starts when (HIP - SCP) . n < 0.
 /// In contact only the local refinement from the previous SCP runs (Algorithm 1), and contact

@@ -1,0 +1,46 @@
+// Private to the force module: the pieces of a patch step shared by the tracker's global
+// queries (force_tracking.cpp on a prebuilt cache, force_lazy.cpp on a skeleton).
+#pragma once
+
+#include <Eigen/Core>
+
+#include <smoothforce/force/force_tracking.h>
+
+namespace sf {
+
+class LazyPatchSurface;
+
+namespace detail {
+
+/// A refined point that can carry a contact: not degenerate, finite, with a unit normal.
+bool usable(const RefineResult& r) noexcept;
+
+/// Ends a step: contact at SCP r (F = k (SCP - HIP)) or none; keeps the contact state.
+void setContact(bool contact, const RefineResult& r, const Eigen::Vector3d& hip, const ForceOptions& options,
+                PatchContactState& state, ForceSample& s) noexcept;
+
+/// The global query of an out-of-contact patch step on a skeleton whose patches are built
+/// lazily (Algorithm 1, lines 1-3), ending the step (state, s). The HIP is finite and s has
+/// SF_TRACK_GLOBAL set. lambda: scratch for the largest face's size.
+/// - Outside every a-priori box of a closed mesh, or outside the swept boxes of the faces whose
+///   a-priori box holds the HIP (LazyPatchSurface::inAnySweptBox), the base polygons' inside test decides
+///   (PolygonScene::contains; lazy_surface.h says why it equals the patch surface's there);
+///   outside: no patch work at all (no patch built, no refinement).
+/// - Otherwise the polygon start (nearest polygon point, mean value coordinates, refinement)
+///   gives an upper bound U of the nearest distance; every cell (LazyPatchSurface::cells) of
+///   every face whose a-priori box is within U of the HIP is a candidate, its lower bound the
+///   larger of the face's and the cell's box distance, its start the cell's point under the HIP (cellStart);
+///   refineCandidates refines them in order of lower bound until the next is not below the
+///   nearest distance found (only those faces' patches are built; at most 511 cells, the
+///   lowest).
+/// - Contact when the HIP is inside: by the polygons outside those boxes; else on the side the
+///   nearest refined point's normal points away from (an open mesh: and not held on a boundary
+///   edge), except where the nearest point is held on a fold edge of a closed mesh (two sides by
+///   itself), where the base polygons' inside test decides (a heuristic there: exact only
+///   outside those boxes). The SCP is the nearest refined point the HIP is below.
+void lazyGlobalStep(LazyPatchSurface& surface, const PolygonScene& scene, const PatchCache& cache,
+                    PatchRefiner& refiner, const Eigen::Vector3d& hip, const ForceOptions& options, double* lambda,
+                    PatchContactState& state, ForceSample& s) noexcept;
+
+}  // namespace detail
+}  // namespace sf

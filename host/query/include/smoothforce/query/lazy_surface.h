@@ -1,0 +1,113 @@
+// The patch surface of a skeleton cache (patches built lazily, lazy_patches.h) for the global
+// nearest-point query: which faces can hold the patch point nearest a HIP, without building
+// every patch (issue 10, part 1: "only patches whose bound is within the current best distance
+// are built").
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <smoothforce/patch/patch_bounds.h>
+#include <smoothforce/patch/patch_cache.h>
+#include <smoothforce/query/polygon_facets.h>
+
+namespace sf {
+
+/// A face and the distance (m) from a query point to its box.
+struct FaceDistance {
+  int face = -1;
+  double distance = 0;
+};
+
+/// Two kinds of boxes:
+/// - per face, the a-priori box (patchBoxes: from the face's vertices and normals, a proof that
+///   the patch lies inside; about 5-10 times the patch's own box diagonal), widened by the
+///   polygon facets' tolerance so that it holds the face's facets too; all of them in an Embree
+///   BVH, built in the constructor;
+/// - per face, its cells, computed the first time the face is asked for (cells()) and kept: the
+///   domain of an n-gon split into 4 n cells (each corner sector, the triangle of the centre and
+///   domain edge k, in 2 x 2 along the ray from the centre and along the edge), each with an
+///   oriented box (axes along the cell and its normal) of the patch at its 3 x 3 of a 5 x 5
+///   sample grid per sector, widened by the sector's
+///   largest sum of second differences of the samples along both grid directions (8 times the
+///   deviation of a quadratic from its bilinear interpolant), 1e-6 of the sector's size and 1e-7 of
+///   the distance from the origin. An
+///   estimate, not a proof:
+///   tests/test_lazy_surface.cpp checks that every patch point lies in one of its face's cell
+///   boxes, 10 x 11 samples per edge of every patch of every mesh in ../shared/meshes (600
+///   random patches of the larger ones).
+/// Outside every a-priori box, the winding number of the patch surface around a point equals
+/// that of the base polygons: the straight line from a polygon point to the patch point of the
+/// same domain point stays in the face's box, and neighbouring faces agree on their shared edge,
+/// so the polygons deform into the patches without crossing the point. The same holds outside
+/// the swept boxes of the faces whose a-priori box holds the point (sweptDistance), on the
+/// cells' estimate. For one renderer: not
+/// thread-safe (cells() caches); the cache and facets must outlive it. Memory: 90 floats per
+/// corner, allocated in the constructor.
+class LazyPatchSurface {
+ public:
+  /// The most faces facesWithin() returns.
+  static constexpr size_t kMaxFaces = 256;
+  /// Throws std::runtime_error with Embree's message when Embree fails.
+  LazyPatchSurface(const PatchCache& cache, const PolygonFacets& facets);
+  ~LazyPatchSurface();
+  LazyPatchSurface(const LazyPatchSurface&) = delete;
+  LazyPatchSurface& operator=(const LazyPatchSurface&) = delete;
+
+  /// Whether q (m) lies in some face's a-priori box.
+  bool inAnyBox(const Eigen::Vector3d& q) const noexcept;
+  /// The faces whose a-priori box is within `radius` (m) of q, nearest box first, at most `cap`
+  /// (<= kMaxFaces; the nearest kept) into out; returns how many. *found, when given, receives
+  /// how many qualified (more than cap: the rest were dropped). Does not allocate or throw.
+  size_t facesWithin(const Eigen::Vector3d& q, double radius, FaceDistance* out, size_t cap,
+                     size_t* found = nullptr) const noexcept;
+  /// Whether q lies in some swept box (sweptDistance) of a face whose a-priori box holds q
+  /// (computing their cells). Outside every swept box, the winding number of the patch surface
+  /// around q is that of the base polygons, as outside the a-priori boxes (on the cells'
+  /// estimate). True when more than kMaxFaces a-priori boxes hold q. Does not allocate or throw.
+  bool inAnySweptBox(const Eigen::Vector3d& q) noexcept;
+
+  /// Cells per corner sector.
+  static constexpr int kCellsPerSector = 4;
+  /// Face f's cells: computes them on first use; returns how many (4 n; 0 for a face without a
+  /// patch). Does not allocate or throw.
+  int cells(int f) noexcept;
+  /// Distance (m) from q to the box of cell i of face f (0 inside; cells(f) called before): a
+  /// lower bound of the distance from q to the part of the patch over the cell.
+  double cellDistance(int f, int i, const Eigen::Vector3d& q) const noexcept;
+  /// Distance (m) from q to the swept box of corner sector k of face f (cells(f) called before):
+  /// an oriented box, in the frame of the polygon's fan triangle (centroid, V_k, V_k+1), of the
+  /// sector's 5 x 5 samples and that triangle, widened by the sector's margin and the facets'
+  /// tolerance. It holds the straight segments from the fan triangle's points to the patch
+  /// points of the same domain point (the sector mapped linearly onto the triangle), so that
+  /// the base polygons deform into the patches inside the swept boxes.
+  double sweptDistance(int f, int k, const Eigen::Vector3d& q) const noexcept;
+  /// A domain point of cell i of face f to start refining towards q from: q's position along
+  /// the cell box's two tangent axes, as fractions of their ranges (clamped to 0.05..0.95), taken
+  /// as fractions of the cell's ray and edge ranges (cells(f) called before).
+  Eigen::Vector2d cellStart(int f, int i, const Eigen::Vector3d& q) const noexcept;
+
+  const PatchBox& aprioriBox(int f) const noexcept { return apriori_[f]; }
+  /// Every edge has a twin: the patch surface is closed where every face has a patch.
+  bool closed() const noexcept { return closed_; }
+  /// Faces whose cells have been computed.
+  int sampledFaces() const noexcept { return sampledCount_; }
+
+  struct Impl;  ///< Embree device and scene (opaque)
+
+ private:
+  const PatchCache& cache_;
+  bool closed_ = false;
+  std::vector<PatchBox> apriori_;
+  const PolygonFacets& facets_;
+  std::vector<float> cellBoxes_;        ///< #C x 4 oriented boxes of 18 floats (lazy_surface.cpp makeObb), by face slot
+  std::vector<float> sweptBoxes_;       ///< #C oriented boxes, one per corner sector (sweptDistance), by face slot
+  std::vector<double> facetTolerance_;  ///< #F: widening for the polygon facets, m
+  std::vector<int16_t> cellCount_;      ///< #F: -1 not computed yet
+  int sampledCount_ = 0;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace sf

@@ -1,0 +1,325 @@
+// A-priori boxes of the patches in an Embree BVH, and boxes of patch cells computed on demand: the
+// face selection of the lazy global query (lazy_surface.h).
+#include <smoothforce/query/lazy_surface.h>
+
+#include <embree3/rtcore.h>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+
+#include <smoothforce/patch/detail/gp_math.h>
+
+#include "embree_point_query.h"
+
+namespace sf {
+
+struct LazyPatchSurface::Impl {
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  const std::vector<PatchBox>* boxes = nullptr;
+  float pad = 0;  ///< m: float rounding of the BVH
+  char error[256] = {0};
+  ~Impl() {
+    if (scene) rtcReleaseScene(scene);
+    if (device) rtcReleaseDevice(device);
+  }
+};
+
+namespace {
+
+constexpr int kObb = 18;         ///< floats per oriented box (makeObb)
+constexpr int kCellSamples = 4;  ///< samples per cell side, less one: a sector has (2 kCellSamples + 1)^2
+
+void onError(void* user, RTCError code, const char* str) {
+  auto* impl = static_cast<LazyPatchSurface::Impl*>(user);
+  if (impl->error[0] == 0) std::snprintf(impl->error, sizeof impl->error, "Embree error %d: %s", int(code), str);
+}
+
+void boundsFn(const RTCBoundsFunctionArguments* args) {
+  const auto* impl = static_cast<const LazyPatchSurface::Impl*>(args->geometryUserPtr);
+  const PatchBox& b = (*impl->boxes)[args->primID];
+  RTCBounds* o = args->bounds_o;
+  if (!b.valid) {  // an empty box far away: never within a query
+    o->lower_x = o->lower_y = o->lower_z = 1e30f;
+    o->upper_x = o->upper_y = o->upper_z = 1e30f;
+    return;
+  }
+  o->lower_x = float(b.lo.x()) - impl->pad;
+  o->lower_y = float(b.lo.y()) - impl->pad;
+  o->lower_z = float(b.lo.z()) - impl->pad;
+  o->upper_x = float(b.hi.x()) + impl->pad;
+  o->upper_y = float(b.hi.y()) + impl->pad;
+  o->upper_z = float(b.hi.z()) + impl->pad;
+}
+
+struct Collect {
+  const std::vector<PatchBox>* boxes;
+  Eigen::Vector3d q;
+  double radius;
+  FaceDistance* out;
+  size_t cap, n, found;
+};
+
+bool pointQueryFn(RTCPointQueryFunctionArguments* args) {
+  auto* c = static_cast<Collect*>(args->userPtr);
+  const PatchBox& b = (*c->boxes)[args->primID];
+  if (!b.valid) return false;
+  const double d = b.distance(c->q);
+  if (!(d <= c->radius)) return false;
+  ++c->found;
+  if (c->cap == 0) return false;
+  size_t i = c->n;  // insertion into the sorted list, the farthest dropped when full
+  if (c->n == c->cap) {
+    if (d >= c->out[c->n - 1].distance) return false;
+    i = c->n - 1;
+  } else {
+    ++c->n;
+  }
+  for (; i > 0 && c->out[i - 1].distance > d; --i) c->out[i] = c->out[i - 1];
+  c->out[i] = FaceDistance{static_cast<int>(args->primID), d};
+  return false;
+}
+
+}  // namespace
+
+LazyPatchSurface::LazyPatchSurface(const PatchCache& cache, const PolygonFacets& facets)
+    : cache_(cache), facets_(facets), apriori_(patchBoxes(cache)), impl_(std::make_unique<Impl>()) {
+  cellBoxes_.assign(static_cast<size_t>(kCellsPerSector) * kObb * cache.numSlots(), 0.f);
+  cellCount_.assign(cache.numFaces(), -1);
+  sweptBoxes_.assign(static_cast<size_t>(kObb) * cache.numSlots(), 0.f);
+  closed_ =
+      cache.numFaces() > 0 && std::all_of(cache.slotTwin.begin(), cache.slotTwin.end(), [](int t) { return t >= 0; });
+  facetTolerance_.assign(cache.numFaces(), 0.0);
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
+  for (int f = 0; f < cache.numFaces(); ++f) {
+    PatchBox& b = apriori_[f];
+    if (!b.valid) continue;
+    // the polygon as PolygonScene sees it: a projected facet lies within its tolerance of the
+    // face's vertices' box (embree_scene.cpp)
+    if (f < facets.numFaces()) {
+      const double grow = facetTolerance_[f] = facets.facetTolerance[facets.faceFacetOffsets[f]];
+      b.lo.array() -= grow;
+      b.hi.array() += grow;
+    }
+    lo = lo.cwiseMin(b.lo);
+    hi = hi.cwiseMax(b.hi);
+  }
+  const double scale =
+      lo.allFinite() && hi.allFinite() ? (hi - lo).norm() + lo.cwiseAbs().cwiseMax(hi.cwiseAbs()).norm() : 1.0;
+  impl_->pad = float(1e-5 * scale) + 1e-30f;
+  impl_->boxes = &apriori_;
+  impl_->device = rtcNewDevice(nullptr);
+  if (!impl_->device)
+    throw std::runtime_error("rtcNewDevice failed: Embree error " + std::to_string(int(rtcGetDeviceError(nullptr))));
+  rtcSetDeviceErrorFunction(impl_->device, onError, impl_.get());
+  impl_->scene = rtcNewScene(impl_->device);
+  rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
+  if (cache.numFaces() > 0) {
+    RTCGeometry g = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_USER);
+    rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(cache.numFaces()));
+    rtcSetGeometryUserData(g, impl_.get());
+    rtcSetGeometryBoundsFunction(g, boundsFn, nullptr);
+    rtcSetGeometryPointQueryFunction(g, pointQueryFn);
+    rtcCommitGeometry(g);
+    rtcAttachGeometry(impl_->scene, g);
+    rtcReleaseGeometry(g);
+  }
+  rtcCommitScene(impl_->scene);
+  if (impl_->error[0]) throw std::runtime_error(std::string("building the patch-box BVH: ") + impl_->error);
+}
+
+LazyPatchSurface::~LazyPatchSurface() = default;
+
+size_t LazyPatchSurface::facesWithin(const Eigen::Vector3d& q, double radius, FaceDistance* out, size_t cap,
+                                     size_t* found) const noexcept {
+  Collect c{&apriori_, q, radius, out, std::min(cap, kMaxFaces), 0, 0};
+  if (cache_.numFaces() > 0 && q.allFinite() && radius >= 0)
+    embreePointQuery(
+        impl_->scene, q, &c,
+        std::isfinite(radius) ? float(radius) * (1.0f + 1e-6f) + impl_->pad : std::numeric_limits<float>::infinity());
+  if (found) *found = c.found;
+  return c.n;
+}
+
+bool LazyPatchSurface::inAnyBox(const Eigen::Vector3d& q) const noexcept {
+  size_t found = 0;
+  facesWithin(q, 0.0, nullptr, 0, &found);
+  return found > 0;
+}
+
+bool LazyPatchSurface::inAnySweptBox(const Eigen::Vector3d& q) noexcept {
+  FaceDistance in[kMaxFaces];
+  size_t found = 0;
+  const size_t n = facesWithin(q, 0.0, in, kMaxFaces, &found);
+  if (found > n) return true;  // more than kMaxFaces boxes hold q: not looked at, in doubt
+  for (size_t i = 0; i < n; ++i) {
+    const int f = in[i].face;
+    const int count = cells(f);
+    if (count == 0) return true;
+    for (int k = 0; k < count / kCellsPerSector; ++k)
+      if (sweptDistance(f, k, q) == 0) return true;
+  }
+  return false;
+}
+
+namespace {
+
+/// Domain point at fraction rho along the ray from the centre to the point at fraction t of
+/// domain edge k of the n-gon.
+Eigen::Vector2d sectorPoint(int n, int k, double rho, double t) {
+  // corner k + 1 by its own index (n - 1 + 1 is corner 0 exactly: (1, 0), not a hair outside)
+  const double a0 = 2 * M_PI * k / n, a1 = 2 * M_PI * ((k + 1) % n) / n;
+  const Eigen::Vector2d c0(std::cos(a0), std::sin(a0)), c1(std::cos(a1), std::sin(a1));
+  return rho * (c0 + t * (c1 - c0));
+}
+
+/// An oriented box of kObb floats: origin c, three axes (unit in exact arithmetic), and the range
+/// [lo, hi] of (x - c) . axis for the points x it holds, all as stored (the ranges are computed
+/// with the stored origin and axes, rounded outwards): kObb floats.
+
+/// The oriented box with orthonormal frame e of the points pts[0..count), every range widened
+/// by margin, into out.
+void makeObb(const Eigen::Vector3d* pts, int count, const Eigen::Vector3d* e, double margin, float* out) {
+  for (int d = 0; d < 3; ++d) out[d] = float(pts[0][d]);
+  for (int a = 0; a < 3; ++a)
+    for (int d = 0; d < 3; ++d) out[3 + 3 * a + d] = float(e[a][d]);
+  const Eigen::Vector3d c(out[0], out[1], out[2]);
+  for (int a = 0; a < 3; ++a) {
+    const Eigen::Vector3d ax(out[3 + 3 * a], out[4 + 3 * a], out[5 + 3 * a]);
+    double lo = 1e300, hi = -1e300;
+    for (int i = 0; i < count; ++i) {
+      const double t = (pts[i] - c).dot(ax);
+      lo = std::min(lo, t);
+      hi = std::max(hi, t);
+    }
+    out[12 + a] = std::nextafter(float(lo - margin), -INFINITY);
+    out[15 + a] = std::nextafter(float(hi + margin), INFINITY);
+  }
+}
+
+/// Distance (m) from q to the oriented box o; 0 inside. The stored axes are orthonormal up to
+/// float rounding: the result is shrunk by 1e-6 so that it stays a lower bound.
+double obbDistance(const float* o, const Eigen::Vector3d& q) {
+  const Eigen::Vector3d d = q - Eigen::Vector3d(o[0], o[1], o[2]);
+  double s = 0;
+  for (int a = 0; a < 3; ++a) {
+    const double t = d.dot(Eigen::Vector3d(o[3 + 3 * a], o[4 + 3 * a], o[5 + 3 * a]));
+    const double x = t < o[12 + a] ? o[12 + a] - t : t > o[15 + a] ? t - o[15 + a] : 0.0;
+    s += x * x;
+  }
+  return std::sqrt(s) * (1 - 1e-6);
+}
+
+/// An orthonormal frame whose third axis is along n (unit), first along u projected.
+bool frameFrom(const Eigen::Vector3d& u, const Eigen::Vector3d& v, Eigen::Vector3d* e) {
+  const Eigen::Vector3d n = u.cross(v);
+  if (!(n.norm() > 1e-12 * u.norm() * v.norm()) || !n.allFinite()) return false;
+  e[2] = n.normalized();
+  e[0] = (u - u.dot(e[2]) * e[2]).normalized();
+  e[1] = e[2].cross(e[0]);
+  return e[0].allFinite() && e[1].allFinite();
+}
+
+}  // namespace
+
+int LazyPatchSurface::cells(int f) noexcept {
+  if (cellCount_[f] >= 0) return cellCount_[f];
+  cellCount_[f] = 0;
+  ++sampledCount_;
+  const int n = cache_.faceSize(f);
+  double recs[GP_MAX_N * GP_E_NFIELDS];
+  if (!apriori_[f].valid || (buildPatchEdges(cache_, f, recs) & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE))) return 0;
+  const gpd::gp_domain* dom = gpd::gp_domain_of(n, nullptr, 1);
+  const int mode = static_cast<int>(cache_.options.crossTangent);
+  constexpr int H = kCellSamples,
+                L = 2 * H;  // samples i, j = 0..L per sector; cell (a, b): i in [aH, (a+1)H], j likewise
+  const Eigen::Vector3d faceFrame[3] = {facets_.faceU[f], facets_.faceV[f], facets_.faceNormal[f]};
+  const Eigen::Vector3d centroid = facets_.faceCentroid[f];
+  float* out = &cellBoxes_[static_cast<size_t>(kCellsPerSector) * kObb * cache_.faceOffsets[f]];
+  float* swept = &sweptBoxes_[static_cast<size_t>(kObb) * cache_.faceOffsets[f]];
+  for (int k = 0; k < n; ++k) {
+    Eigen::Vector3d p[L + 1][L + 1];
+    for (int j = 0; j <= L; ++j)
+      for (int i = 0; i <= L; ++i) {
+        const Eigen::Vector2d X = sectorPoint(n, k, double(i) / L, double(j) / L);
+        const gpd::gp_eval_result r = gpd::gp_patch_eval_dom(dom, recs, mode, X.x(), X.y());
+        p[i][j] = Eigen::Vector3d(r.pos.x, r.pos.y, r.pos.z);
+        if (!p[i][j].allFinite()) return 0;
+      }
+    // between its samples the patch leaves their bilinear interpolant by about
+    // (|second difference along i| + |along j|) / 8: 8 times that, the largest of the sector
+    double bend = 0;
+    for (int j = 0; j <= L; ++j)
+      for (int i = 0; i <= L; ++i) {
+        double b = 0;
+        if (i > 0 && i < L) b += (p[i + 1][j] - 2 * p[i][j] + p[i - 1][j]).norm();
+        if (j > 0 && j < L) b += (p[i][j + 1] - 2 * p[i][j] + p[i][j - 1]).norm();
+        bend = std::max(bend, 0.5 * b);
+      }
+    // plus 1e-6 of the sector's size (where the surface is flat the second differences vanish)
+    // and 1e-7 of the distance from the origin (the evaluation near a corner varies by ~1e-8 of it)
+    const double margin =
+        bend + 1e-6 * ((p[L][0] - p[0][0]).norm() + (p[L][L] - p[0][0]).norm()) + 1e-7 * p[0][0].norm();
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b) {
+        Eigen::Vector3d pts[(H + 1) * (H + 1)];
+        int m = 0;
+        for (int i = a * H; i <= (a + 1) * H; ++i)
+          for (int j = b * H; j <= (b + 1) * H; ++j) pts[m++] = p[i][j];
+        // the cell's own frame: along the ray and along the edge through its middle samples
+        const int im = a * H + H / 2, jm = b * H + H / 2;
+        Eigen::Vector3d e[3];
+        if (!frameFrom(p[(a + 1) * H][jm] - p[a * H][jm], p[im][(b + 1) * H] - p[im][b * H], e))
+          std::copy(faceFrame, faceFrame + 3, e);
+        makeObb(pts, m, e, margin, out + kObb * (kCellsPerSector * k + 2 * a + b));
+      }
+    // the swept box: the sector's samples and the polygon's fan triangle (centroid, V_k,
+    // V_k+1) as PolygonScene sees it (within the facets' tolerance), in the triangle's frame
+    const int first = cache_.faceOffsets[f];
+    Eigen::Vector3d pts[(L + 1) * (L + 1) + 3];
+    int m = 0;
+    for (int i = 0; i <= L; ++i)
+      for (int j = 0; j <= L; ++j) pts[m++] = p[i][j];
+    const Eigen::Vector3d v0 = Eigen::Map<const Eigen::Vector3d>(&cache_.positions[3 * cache_.faceVertices[first + k]]);
+    const Eigen::Vector3d v1 =
+        Eigen::Map<const Eigen::Vector3d>(&cache_.positions[3 * cache_.faceVertices[first + (k + 1) % n]]);
+    pts[m++] = centroid;
+    pts[m++] = v0;
+    pts[m++] = v1;
+    Eigen::Vector3d e[3];
+    if (!frameFrom(v1 - v0, centroid - v0, e)) std::copy(faceFrame, faceFrame + 3, e);
+    makeObb(pts, m, e, std::max(margin, facetTolerance_[f]), swept + kObb * k);
+  }
+  cellCount_[f] = static_cast<int16_t>(kCellsPerSector * n);
+  return cellCount_[f];
+}
+
+double LazyPatchSurface::cellDistance(int f, int i, const Eigen::Vector3d& q) const noexcept {
+  return obbDistance(&cellBoxes_[static_cast<size_t>(kCellsPerSector) * kObb * cache_.faceOffsets[f] + kObb * i], q);
+}
+
+double LazyPatchSurface::sweptDistance(int f, int k, const Eigen::Vector3d& q) const noexcept {
+  return obbDistance(&sweptBoxes_[static_cast<size_t>(kObb) * (cache_.faceOffsets[f] + k)], q);
+}
+
+Eigen::Vector2d LazyPatchSurface::cellStart(int f, int i, const Eigen::Vector3d& q) const noexcept {
+  // the cell's box spans its ray fraction [a/2, (a+1)/2] along its first axis and its edge
+  // fraction [b/2, (b+1)/2] along its second (to first order): q's clamped position on both
+  const float* o = &cellBoxes_[static_cast<size_t>(kCellsPerSector) * kObb * cache_.faceOffsets[f] + kObb * i];
+  const Eigen::Vector3d d = q - Eigen::Vector3d(o[0], o[1], o[2]);
+  double frac[2];
+  for (int a = 0; a < 2; ++a) {
+    const double t = d.dot(Eigen::Vector3d(o[3 + 3 * a], o[4 + 3 * a], o[5 + 3 * a]));
+    const double w = double(o[15 + a]) - o[12 + a];
+    frac[a] = w > 0 && std::isfinite(t) ? std::clamp((t - o[12 + a]) / w, 0.05, 0.95) : 0.5;
+  }
+  const int k = i / kCellsPerSector, a = (i % kCellsPerSector) / 2, b = i % 2;
+  return sectorPoint(cache_.faceSize(f), k, 0.5 * (a + frac[0]), 0.5 * (b + frac[1]));
+}
+
+}  // namespace sf

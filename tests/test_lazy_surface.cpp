@@ -1,0 +1,118 @@
+// LazyPatchSurface (lazy_surface.h): its cell boxes and swept boxes hold their patches (checked against dense
+// sampling of every patch of the smaller meshes in shared/meshes and 600 random patches of each
+// larger one), its a-priori box queries agree with brute force, and it needs no built patch.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <random>
+#include <vector>
+
+#include <smoothforce/query/lazy_surface.h>
+#include "patch_test_support.h"
+
+namespace sf {
+namespace {
+
+TEST(LazySurface, CellBoxesHoldTheirPatches) {
+  int meshes = 0;
+  long checked = 0;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(SF_SHARED_MESHES)) {
+    const std::string ext = entry.path().extension().string();
+    if (ext != ".obj" && ext != ".off" && ext != ".ply") continue;
+    if (entry.file_size() > 3'000'000) continue;  // as PatchMeshes.EveryBundledMeshBuilds
+    SCOPED_TRACE(entry.path().string());
+    const PatchCache c = test::cacheFromFile(entry.path().string());
+    const PolygonFacets facets = buildPolygonFacets(c);
+    LazyPatchSurface surface(c, facets);
+    std::vector<int> faces(c.numFaces());
+    for (int f = 0; f < c.numFaces(); ++f) faces[f] = f;
+    if (faces.size() > 600) {
+      std::shuffle(faces.begin(), faces.end(), std::mt19937(20261122));
+      faces.resize(600);
+    }
+    constexpr int kRings = 10, kPerEdge = 11;
+    long points = 0, outside = 0, faceOutside = 0;
+    double worst = 0;
+    for (int f : faces) {
+      const int n = c.faceSize(f);
+      if (n > GP_MAX_N) continue;
+      const int cells = surface.cells(f);
+      const double diameter = (surface.aprioriBox(f).hi - surface.aprioriBox(f).lo).norm();
+      ASSERT_EQ(cells, LazyPatchSurface::kCellsPerSector * n) << "face " << f;
+      for (int ring = 0; ring <= kRings; ++ring)
+        for (int k = 0; k < (ring == 0 ? 1 : n); ++k)
+          for (int j = 0; j < (ring == 0 ? 1 : kPerEdge); ++j) {
+            const Eigen::Vector2d x = (double(ring) / kRings) * test::edgePoint(n, k, double(j) / kPerEdge, 0.0);
+            const Eigen::Vector3d p = evaluatePatch(c, f, x.x(), x.y()).pos;
+            ++points;
+            double d = 1e300;  // to the nearest cell box: 0 when one holds p
+            for (int i = 0; i < cells; ++i) d = std::min(d, surface.cellDistance(f, i, p));
+            if (d > 0) {
+              ++outside;
+              worst = std::max(worst, d / diameter);
+            }
+            double swept = 1e300;  // to the nearest swept box of the face
+            for (int k = 0; k < n; ++k) swept = std::min(swept, surface.sweptDistance(f, k, p));
+            faceOutside += swept > 0;
+          }
+    }
+    std::printf("  %-50s %5zu patches, %8ld samples: %ld outside every cell box, %ld outside every swept box\n",
+                entry.path().lexically_relative(SF_SHARED_MESHES).string().c_str(), faces.size(), points, outside,
+                faceOutside);
+    EXPECT_EQ(outside, 0) << "worst " << worst << " of the a-priori box diagonal";
+    EXPECT_EQ(faceOutside, 0);
+    EXPECT_EQ(surface.sampledFaces(), static_cast<int>(faces.size()));
+    checked += points;
+    ++meshes;
+  }
+  EXPECT_GE(meshes, 20);
+  EXPECT_GT(checked, 2'000'000);
+}
+
+// facesWithin and inAnyBox against brute force over the a-priori boxes, at 2,000 points around
+// the spot cage and the quad-sphere; computed on a skeleton (nothing built).
+TEST(LazySurface, BoxQueriesAgreeWithBruteForce) {
+  for (const char* rel : {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/quad-sphere.off"}) {
+    const PatchCache skeleton = test::skeletonFromFile(test::sharedMesh(rel));
+    ASSERT_FALSE(hasPatchData(skeleton));
+    const PolygonFacets facets = buildPolygonFacets(skeleton);
+    const LazyPatchSurface surface(skeleton, facets);
+    EXPECT_TRUE(surface.closed());
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
+    for (int v = 0; v < skeleton.numVertices(); ++v) {
+      lo = lo.cwiseMin(Eigen::Vector3d::Map(&skeleton.positions[3 * v]));
+      hi = hi.cwiseMax(Eigen::Vector3d::Map(&skeleton.positions[3 * v]));
+    }
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(-0.2, 1.2);
+    int inside = 0, truncated = 0;
+    for (int i = 0; i < 2000; ++i) {
+      const Eigen::Vector3d q = lo + Eigen::Vector3d(u(rng), u(rng), u(rng)).cwiseProduct(hi - lo);
+      const double radius = 0.05 * (hi - lo).norm() * (i % 5);
+      std::vector<FaceDistance> brute;
+      bool any = false;
+      for (int f = 0; f < skeleton.numFaces(); ++f) {
+        const double d = surface.aprioriBox(f).distance(q);
+        any = any || d == 0;
+        if (d <= radius) brute.push_back({f, d});
+      }
+      std::sort(brute.begin(), brute.end(), [](auto& a, auto& b) { return a.distance < b.distance; });
+      FaceDistance out[LazyPatchSurface::kMaxFaces];
+      size_t found = 0;
+      const size_t n = surface.facesWithin(q, radius, out, 32, &found);
+      ASSERT_EQ(found, brute.size()) << rel << " point " << i;
+      ASSERT_EQ(n, std::min<size_t>(32, brute.size()));
+      truncated += found > n;
+      for (size_t k = 0; k < n; ++k) EXPECT_EQ(out[k].distance, brute[k].distance) << rel << " point " << i;
+      EXPECT_EQ(surface.inAnyBox(q), any) << rel << " point " << i;
+      inside += any;
+    }
+    EXPECT_GT(inside, 100) << rel;
+    EXPECT_GT(truncated, 10) << rel;
+  }
+}
+
+}  // namespace
+}  // namespace sf
