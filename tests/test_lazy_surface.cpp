@@ -1,4 +1,4 @@
-// LazyPatchSurface (lazy_surface.h): its cell boxes and swept boxes hold their patches (checked against dense
+// LazyPatchSurface (lazy_surface.h): its cell, sector and swept boxes hold their patches (checked against dense
 // sampling of every patch of the smaller meshes in shared/meshes and 600 random patches of each
 // larger one), its a-priori box queries agree with brute force, and it needs no built patch.
 #include <gtest/gtest.h>
@@ -33,12 +33,13 @@ TEST(LazySurface, CellBoxesHoldTheirPatches) {
       faces.resize(600);
     }
     constexpr int kRings = 10, kPerEdge = 11;
-    long points = 0, outside = 0, faceOutside = 0;
+    long points = 0, outside = 0, faceOutside = 0, sectorOutside = 0;
     double worst = 0;
     for (int f : faces) {
       const int n = c.faceSize(f);
       if (n > GP_MAX_N) continue;
       const int cells = surface.cells(f);
+      ASSERT_TRUE(surface.sectors(f)) << "face " << f;
       const double diameter = (surface.aprioriBox(f).hi - surface.aprioriBox(f).lo).norm();
       ASSERT_EQ(cells, LazyPatchSurface::kCellsPerSector * n) << "face " << f;
       for (int ring = 0; ring <= kRings; ++ring)
@@ -53,16 +54,22 @@ TEST(LazySurface, CellBoxesHoldTheirPatches) {
               ++outside;
               worst = std::max(worst, d / diameter);
             }
-            double swept = 1e300;  // to the nearest swept box of the face
-            for (int k = 0; k < n; ++k) swept = std::min(swept, surface.sweptDistance(f, k, p));
+            double swept = 1e300, sector = 1e300;  // to the nearest swept and sector box of the face
+            for (int k = 0; k < n; ++k) {
+              swept = std::min(swept, surface.sweptDistance(f, k, p));
+              sector = std::min(sector, surface.sectorDistance(f, k, p));
+            }
             faceOutside += swept > 0;
+            sectorOutside += sector > 0;
           }
     }
-    std::printf("  %-50s %5zu patches, %8ld samples: %ld outside every cell box, %ld outside every swept box\n",
-                entry.path().lexically_relative(SF_SHARED_MESHES).string().c_str(), faces.size(), points, outside,
-                faceOutside);
+    std::printf(
+        "  %-50s %5zu patches, %8ld samples: %ld outside every cell box, %ld every sector box, %ld every swept box\n",
+        entry.path().lexically_relative(SF_SHARED_MESHES).string().c_str(), faces.size(), points, outside,
+        sectorOutside, faceOutside);
     EXPECT_EQ(outside, 0) << "worst " << worst << " of the a-priori box diagonal";
     EXPECT_EQ(faceOutside, 0);
+    EXPECT_EQ(sectorOutside, 0);
     EXPECT_EQ(surface.sampledFaces(), static_cast<int>(faces.size()));
     checked += points;
     ++meshes;

@@ -50,6 +50,11 @@ void lazyGlobalStep(LazyPatchSurface& surface, const PolygonScene& scene, const 
   int n = 1;  // c[1..n): the cells below the upper bound, sorted by lower bound, the lowest kMaxCandidates kept
   for (size_t i = 0; i < m; ++i) {
     const int f = near[i].face;
+    // the sector boxes first (9 samples per sector): most faces whose a-priori box is near stop here
+    if (!surface.sectors(f)) continue;
+    double faceLower = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < cache.faceSize(f); ++k) faceLower = std::min(faceLower, surface.sectorDistance(f, k, hip));
+    if (!(std::max(near[i].distance, faceLower) < upper)) continue;
     const int cells = surface.cells(f);
     for (int j = 0; j < cells; ++j) {
       const double lower = std::max(near[i].distance, surface.cellDistance(f, j, hip));

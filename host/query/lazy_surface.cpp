@@ -12,6 +12,9 @@
 #include <stdexcept>
 #include <string>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <smoothforce/patch/detail/gp_math.h>
 
 #include "embree_point_query.h"
@@ -92,6 +95,8 @@ LazyPatchSurface::LazyPatchSurface(const PatchCache& cache, const PolygonFacets&
   cellBoxes_.assign(static_cast<size_t>(kCellsPerSector) * kObb * cache.numSlots(), 0.f);
   cellCount_.assign(cache.numFaces(), -1);
   sweptBoxes_.assign(static_cast<size_t>(kObb) * cache.numSlots(), 0.f);
+  sectorBoxes_.assign(static_cast<size_t>(kObb) * cache.numSlots(), 0.f);
+  sectorState_.assign(cache.numFaces(), -1);
   closed_ =
       cache.numFaces() > 0 && std::all_of(cache.slotTwin.begin(), cache.slotTwin.end(), [](int t) { return t >= 0; });
   facetTolerance_.assign(cache.numFaces(), 0.0);
@@ -131,6 +136,12 @@ LazyPatchSurface::LazyPatchSurface(const PatchCache& cache, const PolygonFacets&
   }
   rtcCommitScene(impl_->scene);
   if (impl_->error[0]) throw std::runtime_error(std::string("building the patch-box BVH: ") + impl_->error);
+  // every face's sector and swept boxes now, in parallel (each face writes only its own slots):
+  // 9 evaluations per corner sector, so that no servo step has to compute them for the ~100 faces
+  // whose a-priori boxes hold a HIP near the surface
+  tbb::parallel_for(tbb::blocked_range<int>(0, cache.numFaces(), 64), [&](const tbb::blocked_range<int>& r) {
+    for (int f = r.begin(); f < r.end(); ++f) sectors(f);
+  });
 }
 
 LazyPatchSurface::~LazyPatchSurface() = default;
@@ -159,9 +170,8 @@ bool LazyPatchSurface::inAnySweptBox(const Eigen::Vector3d& q) noexcept {
   if (found > n) return true;  // more than kMaxFaces boxes hold q: not looked at, in doubt
   for (size_t i = 0; i < n; ++i) {
     const int f = in[i].face;
-    const int count = cells(f);
-    if (count == 0) return true;
-    for (int k = 0; k < count / kCellsPerSector; ++k)
+    if (!sectors(f)) return true;
+    for (int k = 0; k < cache_.faceSize(f); ++k)
       if (sweptDistance(f, k, q) == 0) return true;
   }
   return false;
@@ -227,60 +237,71 @@ bool frameFrom(const Eigen::Vector3d& u, const Eigen::Vector3d& v, Eigen::Vector
 
 }  // namespace
 
-int LazyPatchSurface::cells(int f) noexcept {
-  if (cellCount_[f] >= 0) return cellCount_[f];
-  cellCount_[f] = 0;
-  ++sampledCount_;
+namespace {
+
+/// Samples corner sector k of a patch on an (L+1) x (L+1) grid (p[i][j] at ray fraction i/L and
+/// edge fraction j/L) and returns the margin of boxes around them: the sector's largest sum of
+/// second differences along both grid directions, times `factor` (the patch leaves the samples'
+/// bilinear interpolant by about an eighth of that sum), plus 1e-6 of the sector's size (where
+/// the surface is flat the second differences vanish) and 1e-7 of the distance from the origin
+/// (the evaluation near a corner varies by ~1e-8 of it); negative when a sample is not finite.
+template <int L>
+double sampleSector(const gpd::gp_domain* dom, const double* recs, int mode, int n, int k, double factor,
+                    Eigen::Vector3d (&p)[L + 1][L + 1]) {
+  for (int j = 0; j <= L; ++j)
+    for (int i = 0; i <= L; ++i) {
+      const Eigen::Vector2d X = sectorPoint(n, k, double(i) / L, double(j) / L);
+      const gpd::gp_eval_result r = gpd::gp_patch_eval_dom(dom, recs, mode, X.x(), X.y());
+      p[i][j] = Eigen::Vector3d(r.pos.x, r.pos.y, r.pos.z);
+      if (!p[i][j].allFinite()) return -1;
+    }
+  double bend = 0;
+  for (int j = 0; j <= L; ++j)
+    for (int i = 0; i <= L; ++i) {
+      double b = 0;
+      if (i > 0 && i < L) b += (p[i + 1][j] - 2 * p[i][j] + p[i - 1][j]).norm();
+      if (j > 0 && j < L) b += (p[i][j + 1] - 2 * p[i][j] + p[i][j - 1]).norm();
+      bend = std::max(bend, factor * b);
+    }
+  return bend + 1e-6 * ((p[L][0] - p[0][0]).norm() + (p[L][L] - p[0][0]).norm()) + 1e-7 * p[0][0].norm();
+}
+
+/// The oriented box of the samples p[i0..i0+h][j0..j0+h], in the frame along the ray and the edge
+/// through their middle (the fallback frame where those are parallel), widened by margin.
+template <int L>
+void gridObb(const Eigen::Vector3d (&p)[L + 1][L + 1], int i0, int j0, int h, const Eigen::Vector3d* fallback,
+             double margin, float* out) {
+  Eigen::Vector3d pts[(L + 1) * (L + 1)];
+  int m = 0;
+  for (int i = i0; i <= i0 + h; ++i)
+    for (int j = j0; j <= j0 + h; ++j) pts[m++] = p[i][j];
+  const int im = i0 + h / 2, jm = j0 + h / 2;
+  Eigen::Vector3d e[3];
+  if (!frameFrom(p[i0 + h][jm] - p[i0][jm], p[im][j0 + h] - p[im][j0], e)) std::copy(fallback, fallback + 3, e);
+  makeObb(pts, m, e, margin, out);
+}
+
+}  // namespace
+
+bool LazyPatchSurface::sectors(int f) noexcept {
+  if (sectorState_[f] >= 0) return sectorState_[f] > 0;
+  sectorState_[f] = 0;
   const int n = cache_.faceSize(f);
   double recs[GP_MAX_N * GP_E_NFIELDS];
-  if (!apriori_[f].valid || (buildPatchEdges(cache_, f, recs) & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE))) return 0;
+  if (!apriori_[f].valid || (buildPatchEdges(cache_, f, recs) & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE))) return false;
   const gpd::gp_domain* dom = gpd::gp_domain_of(n, nullptr, 1);
   const int mode = static_cast<int>(cache_.options.crossTangent);
-  constexpr int H = kCellSamples,
-                L = 2 * H;  // samples i, j = 0..L per sector; cell (a, b): i in [aH, (a+1)H], j likewise
   const Eigen::Vector3d faceFrame[3] = {facets_.faceU[f], facets_.faceV[f], facets_.faceNormal[f]};
   const Eigen::Vector3d centroid = facets_.faceCentroid[f];
-  float* out = &cellBoxes_[static_cast<size_t>(kCellsPerSector) * kObb * cache_.faceOffsets[f]];
-  float* swept = &sweptBoxes_[static_cast<size_t>(kObb) * cache_.faceOffsets[f]];
+  const int first = cache_.faceOffsets[f];
   for (int k = 0; k < n; ++k) {
+    constexpr int L = 2;  // 3 x 3 samples; twice the cells' margin factor: coarser
     Eigen::Vector3d p[L + 1][L + 1];
-    for (int j = 0; j <= L; ++j)
-      for (int i = 0; i <= L; ++i) {
-        const Eigen::Vector2d X = sectorPoint(n, k, double(i) / L, double(j) / L);
-        const gpd::gp_eval_result r = gpd::gp_patch_eval_dom(dom, recs, mode, X.x(), X.y());
-        p[i][j] = Eigen::Vector3d(r.pos.x, r.pos.y, r.pos.z);
-        if (!p[i][j].allFinite()) return 0;
-      }
-    // between its samples the patch leaves their bilinear interpolant by about
-    // (|second difference along i| + |along j|) / 8: 8 times that, the largest of the sector
-    double bend = 0;
-    for (int j = 0; j <= L; ++j)
-      for (int i = 0; i <= L; ++i) {
-        double b = 0;
-        if (i > 0 && i < L) b += (p[i + 1][j] - 2 * p[i][j] + p[i - 1][j]).norm();
-        if (j > 0 && j < L) b += (p[i][j + 1] - 2 * p[i][j] + p[i][j - 1]).norm();
-        bend = std::max(bend, 0.5 * b);
-      }
-    // plus 1e-6 of the sector's size (where the surface is flat the second differences vanish)
-    // and 1e-7 of the distance from the origin (the evaluation near a corner varies by ~1e-8 of it)
-    const double margin =
-        bend + 1e-6 * ((p[L][0] - p[0][0]).norm() + (p[L][L] - p[0][0]).norm()) + 1e-7 * p[0][0].norm();
-    for (int a = 0; a < 2; ++a)
-      for (int b = 0; b < 2; ++b) {
-        Eigen::Vector3d pts[(H + 1) * (H + 1)];
-        int m = 0;
-        for (int i = a * H; i <= (a + 1) * H; ++i)
-          for (int j = b * H; j <= (b + 1) * H; ++j) pts[m++] = p[i][j];
-        // the cell's own frame: along the ray and along the edge through its middle samples
-        const int im = a * H + H / 2, jm = b * H + H / 2;
-        Eigen::Vector3d e[3];
-        if (!frameFrom(p[(a + 1) * H][jm] - p[a * H][jm], p[im][(b + 1) * H] - p[im][b * H], e))
-          std::copy(faceFrame, faceFrame + 3, e);
-        makeObb(pts, m, e, margin, out + kObb * (kCellsPerSector * k + 2 * a + b));
-      }
+    const double margin = sampleSector<L>(dom, recs, mode, n, k, 1.0, p);
+    if (margin < 0) return false;
+    gridObb<L>(p, 0, 0, L, faceFrame, margin, &sectorBoxes_[static_cast<size_t>(kObb) * (first + k)]);
     // the swept box: the sector's samples and the polygon's fan triangle (centroid, V_k,
     // V_k+1) as PolygonScene sees it (within the facets' tolerance), in the triangle's frame
-    const int first = cache_.faceOffsets[f];
     Eigen::Vector3d pts[(L + 1) * (L + 1) + 3];
     int m = 0;
     for (int i = 0; i <= L; ++i)
@@ -293,10 +314,38 @@ int LazyPatchSurface::cells(int f) noexcept {
     pts[m++] = v1;
     Eigen::Vector3d e[3];
     if (!frameFrom(v1 - v0, centroid - v0, e)) std::copy(faceFrame, faceFrame + 3, e);
-    makeObb(pts, m, e, std::max(margin, facetTolerance_[f]), swept + kObb * k);
+    makeObb(pts, m, e, std::max(margin, facetTolerance_[f]), &sweptBoxes_[static_cast<size_t>(kObb) * (first + k)]);
+  }
+  sectorState_[f] = 1;
+  return true;
+}
+
+int LazyPatchSurface::cells(int f) noexcept {
+  if (cellCount_[f] >= 0) return cellCount_[f];
+  cellCount_[f] = 0;
+  ++sampledCount_;
+  const int n = cache_.faceSize(f);
+  double recs[GP_MAX_N * GP_E_NFIELDS];
+  if (!apriori_[f].valid || (buildPatchEdges(cache_, f, recs) & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE))) return 0;
+  const gpd::gp_domain* dom = gpd::gp_domain_of(n, nullptr, 1);
+  const int mode = static_cast<int>(cache_.options.crossTangent);
+  const Eigen::Vector3d faceFrame[3] = {facets_.faceU[f], facets_.faceV[f], facets_.faceNormal[f]};
+  float* out = &cellBoxes_[static_cast<size_t>(kCellsPerSector) * kObb * cache_.faceOffsets[f]];
+  for (int k = 0; k < n; ++k) {
+    constexpr int H = kCellSamples, L = 2 * H;  // cell (a, b): samples i in [aH, (a+1)H], j likewise
+    Eigen::Vector3d p[L + 1][L + 1];
+    const double margin = sampleSector<L>(dom, recs, mode, n, k, 0.5, p);
+    if (margin < 0) return 0;
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b)
+        gridObb<L>(p, a * H, b * H, H, faceFrame, margin, out + kObb * (kCellsPerSector * k + 2 * a + b));
   }
   cellCount_[f] = static_cast<int16_t>(kCellsPerSector * n);
   return cellCount_[f];
+}
+
+double LazyPatchSurface::sectorDistance(int f, int k, const Eigen::Vector3d& q) const noexcept {
+  return obbDistance(&sectorBoxes_[static_cast<size_t>(kObb) * (cache_.faceOffsets[f] + k)], q);
 }
 
 double LazyPatchSurface::cellDistance(int f, int i, const Eigen::Vector3d& q) const noexcept {

@@ -21,36 +21,43 @@ struct FaceDistance {
   double distance = 0;
 };
 
-/// Two kinds of boxes:
+/// Three kinds of boxes:
 /// - per face, the a-priori box (patchBoxes: from the face's vertices and normals, a proof that
 ///   the patch lies inside; about 5-10 times the patch's own box diagonal), widened by the
 ///   polygon facets' tolerance so that it holds the face's facets too; all of them in an Embree
 ///   BVH, built in the constructor;
-/// - per face, its cells, computed the first time the face is asked for (cells()) and kept: the
-///   domain of an n-gon split into 4 n cells (each corner sector, the triangle of the centre and
-///   domain edge k, in 2 x 2 along the ray from the centre and along the edge), each with an
-///   oriented box (axes along the cell and its normal) of the patch at its 3 x 3 of a 5 x 5
-///   sample grid per sector, widened by the sector's
-///   largest sum of second differences of the samples along both grid directions (8 times the
-///   deviation of a quadratic from its bilinear interpolant), 1e-6 of the sector's size and 1e-7 of
-///   the distance from the origin. An
-///   estimate, not a proof:
-///   tests/test_lazy_surface.cpp checks that every patch point lies in one of its face's cell
-///   boxes, 10 x 11 samples per edge of every patch of every mesh in ../shared/meshes (600
-///   random patches of the larger ones).
+/// - per corner sector (the domain triangle of the centre and domain edge k), computed in the
+///   constructor: the sector box, an oriented box of the patch at 3 x 3 samples, and the swept
+///   box, an oriented box of those samples and the polygon's fan triangle (sectorDistance,
+///   sweptDistance);
+/// - per face, its cells, computed the first time the face is asked for (cells()) and kept: each
+///   sector split 2 x 2 along the ray from the centre and along the edge, each cell with an
+///   oriented box (axes along the cell and its normal) of the patch at its 5 x 5 of a 9 x 9
+///   sample grid per sector.
+/// The sampled boxes are widened by the sector's largest sum of second differences of the
+/// samples along both grid directions (times 0.5 for cells, 1 for sectors: 4 and 8 times the
+/// deviation of a quadratic from its bilinear interpolant), 1e-6 of the sector's size and 1e-7
+/// of the distance from the origin. An estimate, not a proof: tests/test_lazy_surface.cpp
+/// checks that every patch point lies in one of its face's cell, sector and swept boxes, 10 x 11
+/// samples per edge of every patch of every mesh in ../shared/meshes (600 random patches of the
+/// larger ones).
 /// Outside every a-priori box, the winding number of the patch surface around a point equals
 /// that of the base polygons: the straight line from a polygon point to the patch point of the
 /// same domain point stays in the face's box, and neighbouring faces agree on their shared edge,
 /// so the polygons deform into the patches without crossing the point. The same holds outside
-/// the swept boxes of the faces whose a-priori box holds the point (sweptDistance), on the
-/// cells' estimate. For one renderer: not
-/// thread-safe (cells() caches); the cache and facets must outlive it. Memory: 90 floats per
+/// the swept boxes of the faces whose a-priori box holds the point (sweptDistance: the sector
+/// mapped linearly onto its fan triangle), on the samples' estimate. For one renderer: not
+/// thread-safe (cells() caches); the cache and facets must outlive it. Memory: 108 floats per
 /// corner, allocated in the constructor.
 class LazyPatchSurface {
  public:
   /// The most faces facesWithin() returns.
   static constexpr size_t kMaxFaces = 256;
-  /// Throws std::runtime_error with Embree's message when Embree fails.
+  /// Builds the a-priori boxes' BVH and every face's sector and swept boxes (9 patch evaluations
+  /// per corner sector, scalar: 6.5 ms for the spot cage's 180 faces, 0.36 s for the 23,062
+  /// triangles of odedstein/spot.obj on this project's 2-core machine, twice the time of building
+  /// every patch with its quality there). Throws std::runtime_error with Embree's
+  /// message when Embree fails.
   LazyPatchSurface(const PatchCache& cache, const PolygonFacets& facets);
   ~LazyPatchSurface();
   LazyPatchSurface(const LazyPatchSurface&) = delete;
@@ -69,6 +76,16 @@ class LazyPatchSurface {
   /// estimate). True when more than kMaxFaces a-priori boxes hold q. Does not allocate or throw.
   bool inAnySweptBox(const Eigen::Vector3d& q) noexcept;
 
+  /// Face f's sector and swept boxes (sectorDistance, sweptDistance), computed for every face in
+  /// the constructor (3 x 3 samples per corner sector, oneTBB); false for a face without a patch.
+  /// Does not allocate or throw.
+  bool sectors(int f) noexcept;
+  /// Distance (m) from q to the box of corner sector k of face f (sectors(f) called before): an
+  /// oriented box of the sector's 3 x 3 samples widened by their second differences (twice the
+  /// cells' factor); a lower bound of the distance to the sector's patch, cheaper and looser
+  /// than its cells'.
+  double sectorDistance(int f, int k, const Eigen::Vector3d& q) const noexcept;
+
   /// Cells per corner sector.
   static constexpr int kCellsPerSector = 4;
   /// Face f's cells: computes them on first use; returns how many (4 n; 0 for a face without a
@@ -77,9 +94,9 @@ class LazyPatchSurface {
   /// Distance (m) from q to the box of cell i of face f (0 inside; cells(f) called before): a
   /// lower bound of the distance from q to the part of the patch over the cell.
   double cellDistance(int f, int i, const Eigen::Vector3d& q) const noexcept;
-  /// Distance (m) from q to the swept box of corner sector k of face f (cells(f) called before):
-  /// an oriented box, in the frame of the polygon's fan triangle (centroid, V_k, V_k+1), of the
-  /// sector's 5 x 5 samples and that triangle, widened by the sector's margin and the facets'
+  /// Distance (m) from q to the swept box of corner sector k of face f (sectors(f) called
+  /// before): an oriented box, in the frame of the polygon's fan triangle (centroid, V_k, V_k+1),
+  /// of the sector's 3 x 3 samples and that triangle, widened by the sector's margin and the facets'
   /// tolerance. It holds the straight segments from the fan triangle's points to the patch
   /// points of the same domain point (the sector mapped linearly onto the triangle), so that
   /// the base polygons deform into the patches inside the swept boxes.
@@ -103,6 +120,8 @@ class LazyPatchSurface {
   std::vector<PatchBox> apriori_;
   const PolygonFacets& facets_;
   std::vector<float> cellBoxes_;        ///< #C x 4 oriented boxes of 18 floats (lazy_surface.cpp makeObb), by face slot
+  std::vector<float> sectorBoxes_;      ///< #C oriented boxes, one per corner sector (sectorDistance), by face slot
+  std::vector<int8_t> sectorState_;     ///< #F: -1 not computed yet, 0 no patch, 1 computed
   std::vector<float> sweptBoxes_;       ///< #C oriented boxes, one per corner sector (sweptDistance), by face slot
   std::vector<double> facetTolerance_;  ///< #F: widening for the polygon facets, m
   std::vector<int16_t> cellCount_;      ///< #F: -1 not computed yet
