@@ -67,12 +67,13 @@ TEST_F(SweepCli, GenerateKnotSphereTorus) {
 }
 
 // With --mesh and HIPs sampled on a reference that covers a small cap of a 1,536-quad sphere,
-// only the patches the probes touch are built, and the results equal a prebuilt cache's.
+// only the patches the probes touch are built, and the results equal a prebuilt cache's (byte
+// for byte with the polygon start; the same contacts and SCPs with the default surface query).
 TEST_F(SweepCli, MeshWithReferenceBuildsOnlyTouchedPatches) {
   ASSERT_EQ(run("generate sphere --segments 16 -o " + p("s.obj")).status, 0);
   std::ofstream(p("cap.obj")) << "v 0.2 0.2 0.98\nv -0.2 0.2 0.98\nv 0 -0.25 0.98\nf 1 2 3\n";
   ASSERT_EQ(run("cache build " + p("s.obj") + " --normals file -o " + p("s.sfcache")).status, 0);
-  // a skeleton's global query is the polygon start (lazy construction): the same on both sides
+  // with the polygon start, a skeleton and a prebuilt cache run the same global query: byte-identical
   const std::string common =
       " --sample-on reference --reference " + p("cap.obj") +
       " --depth 0.05 --samples 3000 --methods patch,direct --initial-guess polygon --no-plots -o ";
@@ -106,6 +107,32 @@ TEST_F(SweepCli, MeshWithReferenceBuildsOnlyTouchedPatches) {
   EXPECT_EQ(records, 3000u);
   EXPECT_GE(decided, records * 19 / 20);
   EXPECT_EQ(lazyPatch, fullPatch) << "results_patch.bin without the inside test's bits";
+  // the default global query (the patch surface; on a skeleton over patch boxes,
+  // lazy_surface.h): the same contacts, SCPs within float rounding of the prebuilt cache's
+  const std::string surface = " --sample-on reference --reference " + p("cap.obj") +
+                              " --depth 0.05 --samples 3000 --methods patch --no-plots -o ";
+  CliResult lazySurface = run("sweep --mesh " + p("s.obj") + " --normals file" + surface + p("lazy-s"));
+  ASSERT_EQ(lazySurface.status, 0) << lazySurface.out;
+  ASSERT_TRUE(std::regex_search(lazySurface.out, m, std::regex(R"(patch +([0-9]+) patch constructions)")))
+      << lazySurface.out;
+  EXPECT_LT(std::stoi(m[1]), 200) << "the cap touches a few dozen of the 1,536 faces per worker";
+  ASSERT_EQ(run("sweep --cache " + p("s.sfcache") + surface + p("full-s")).status, 0);
+  lazyPatch = slurp(dir / "lazy-s" / "results_patch.bin");
+  fullPatch = slurp(dir / "full-s" / "results_patch.bin");
+  ASSERT_EQ(lazyPatch.size(), fullPatch.size());
+  size_t contacts = 0;
+  double worst = 0;
+  for (size_t off = 32; off < lazyPatch.size(); off += sizeof(sf::HipResult)) {
+    sf::HipResult a, b;
+    std::memcpy(&a, lazyPatch.data() + off, sizeof a);
+    std::memcpy(&b, fullPatch.data() + off, sizeof b);
+    ASSERT_EQ(a.contact, b.contact) << "record " << (off - 32) / sizeof a;
+    contacts += a.contact;
+    if (a.contact)
+      for (int d = 0; d < 3; ++d) worst = std::max(worst, double(std::abs(a.scp[d] - b.scp[d])));
+  }
+  EXPECT_EQ(contacts, 3000u);
+  EXPECT_LE(worst, 1e-6) << "m, on a unit sphere";
   // a trajectory needs the whole patch surface: then every patch is built
   std::ofstream(p("path.csv")) << "x,y,z\n0,0,1\n0.3,0,0.95\n";
   CliResult all = run("sweep --mesh " + p("s.obj") + " --normals file --trajectory " + p("path.csv") + common + p("t"));
