@@ -1,11 +1,14 @@
-// Private to the query module: one Embree point query around a point (the user geometries'
-// point-query callbacks do the work and keep their state in `user`).
+// Private to the query module: setting up Embree devices and user-geometry scenes, and one
+// point query around a point (the user geometries' point-query callbacks do the work and keep
+// their state in `user`).
 #pragma once
 
 #include <embree3/rtcore.h>
 
 #include <Eigen/Core>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 namespace sf {
 
@@ -22,6 +25,49 @@ inline void embreePointQuery(RTCScene scene, const Eigen::Vector3d& p, void* use
   RTCPointQueryContext ctx;
   rtcInitPointQueryContext(&ctx);
   rtcPointQuery(scene, &q, &ctx, nullptr, user);
+}
+
+/// A new Embree device whose errors go to onError(user, ...); throws std::runtime_error with
+/// Embree's error code when it cannot be made.
+inline RTCDevice newEmbreeDevice(RTCErrorFunction onError, void* user) {
+  RTCDevice device = rtcNewDevice(nullptr);
+  if (!device)
+    throw std::runtime_error("rtcNewDevice failed: Embree error " + std::to_string(int(rtcGetDeviceError(nullptr))));
+  rtcSetDeviceErrorFunction(device, onError, user);
+  return device;
+}
+
+inline void embreeNoIntersect(const RTCIntersectFunctionNArguments*) {}
+inline void embreeNoOccluded(const RTCOccludedFunctionNArguments*) {}
+
+/// A committed user geometry of `count` primitives with these callbacks and `user` as its data
+/// (intersect and occluded: none when null, for point queries only).
+inline RTCGeometry userGeometry(RTCDevice device, size_t count, void* user, RTCBoundsFunction bounds,
+                                RTCPointQueryFunction query, RTCIntersectFunctionN intersect = nullptr,
+                                RTCOccludedFunctionN occluded = nullptr) {
+  RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
+  rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(count));
+  rtcSetGeometryUserData(g, user);
+  rtcSetGeometryBoundsFunction(g, bounds, nullptr);
+  rtcSetGeometryIntersectFunction(g, intersect ? intersect : embreeNoIntersect);
+  rtcSetGeometryOccludedFunction(g, occluded ? occluded : embreeNoOccluded);
+  rtcSetGeometryPointQueryFunction(g, query);
+  rtcCommitGeometry(g);
+  return g;
+}
+
+/// A committed scene holding g (taking it over; none when null); robust: RTC_SCENE_FLAG_ROBUST.
+inline RTCScene sceneOf(RTCDevice device, RTCGeometry g, bool robust,
+                        RTCBuildQuality quality = RTC_BUILD_QUALITY_MEDIUM) {
+  RTCScene s = rtcNewScene(device);
+  if (robust) rtcSetSceneFlags(s, RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(s, quality);
+  if (g) {
+    rtcAttachGeometry(s, g);
+    rtcReleaseGeometry(g);
+  }
+  rtcCommitScene(s);
+  return s;
 }
 
 }  // namespace sf

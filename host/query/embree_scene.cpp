@@ -130,26 +130,12 @@ PolygonScene::PolygonScene(const PatchCache& cache, double planarTolerance)
   const double scale =
       facets_.extent() + std::max(facets_.boxMax.cwiseAbs().maxCoeff(), facets_.boxMin.cwiseAbs().maxCoeff());
   impl_->pad = float(1e-5 * scale) + 1e-30f;
-  impl_->device = rtcNewDevice(nullptr);
-  if (!impl_->device)
-    throw std::runtime_error("rtcNewDevice failed: Embree error " + std::to_string(int(rtcGetDeviceError(nullptr))));
-  rtcSetDeviceErrorFunction(impl_->device, onError, impl_.get());
-  impl_->scene = rtcNewScene(impl_->device);
-  rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
-  rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
-  if (cache.numFaces() > 0) {
-    RTCGeometry g = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_USER);
-    rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(cache.numFaces()));
-    rtcSetGeometryUserData(g, impl_.get());
-    rtcSetGeometryBoundsFunction(g, boundsFn, nullptr);
-    rtcSetGeometryIntersectFunction(g, intersectFn);
-    rtcSetGeometryOccludedFunction(g, occludedFn);
-    rtcSetGeometryPointQueryFunction(g, pointQueryFn);
-    rtcCommitGeometry(g);
-    rtcAttachGeometry(impl_->scene, g);
-    rtcReleaseGeometry(g);
-  }
-  rtcCommitScene(impl_->scene);
+  impl_->device = newEmbreeDevice(onError, impl_.get());
+  impl_->scene = sceneOf(impl_->device,
+                         cache.numFaces() > 0 ? userGeometry(impl_->device, cache.numFaces(), impl_.get(), boundsFn,
+                                                             pointQueryFn, intersectFn, occludedFn)
+                                              : nullptr,
+                         true, RTC_BUILD_QUALITY_HIGH);
   if (impl_->error[0]) throw std::runtime_error(std::string("building the polygon BVH: ") + impl_->error);
   (void)nearest(0.5 * (facets_.boxMin + facets_.boxMax));  // warm-up: first-touch of the BVH
 }

@@ -118,23 +118,12 @@ LazyPatchSurface::LazyPatchSurface(const PatchCache& cache, const PolygonFacets&
       lo.allFinite() && hi.allFinite() ? (hi - lo).norm() + lo.cwiseAbs().cwiseMax(hi.cwiseAbs()).norm() : 1.0;
   impl_->pad = float(1e-5 * scale) + 1e-30f;
   impl_->boxes = &apriori_;
-  impl_->device = rtcNewDevice(nullptr);
-  if (!impl_->device)
-    throw std::runtime_error("rtcNewDevice failed: Embree error " + std::to_string(int(rtcGetDeviceError(nullptr))));
-  rtcSetDeviceErrorFunction(impl_->device, onError, impl_.get());
-  impl_->scene = rtcNewScene(impl_->device);
-  rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
-  if (cache.numFaces() > 0) {
-    RTCGeometry g = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_USER);
-    rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(cache.numFaces()));
-    rtcSetGeometryUserData(g, impl_.get());
-    rtcSetGeometryBoundsFunction(g, boundsFn, nullptr);
-    rtcSetGeometryPointQueryFunction(g, pointQueryFn);
-    rtcCommitGeometry(g);
-    rtcAttachGeometry(impl_->scene, g);
-    rtcReleaseGeometry(g);
-  }
-  rtcCommitScene(impl_->scene);
+  impl_->device = newEmbreeDevice(onError, impl_.get());
+  impl_->scene =
+      sceneOf(impl_->device,
+              cache.numFaces() > 0 ? userGeometry(impl_->device, cache.numFaces(), impl_.get(), boundsFn, pointQueryFn)
+                                   : nullptr,
+              true);
   if (impl_->error[0]) throw std::runtime_error(std::string("building the patch-box BVH: ") + impl_->error);
   // every face's sector and swept boxes now, in parallel (each face writes only its own slots):
   // 9 evaluations per corner sector, so that no servo step has to compute them for the ~100 faces

@@ -108,9 +108,6 @@ void bandBounds(const RTCBoundsFunctionArguments* args) {
   setBounds(args->bounds_o, a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c), u.error[args->primID], impl->pad);
 }
 
-void noIntersect(const RTCIntersectFunctionNArguments*) {}
-void noOccluded(const RTCOccludedFunctionNArguments*) {}
-
 // ---- candidates ----
 
 constexpr size_t kMaxCandidates = PatchSurface::kMaxCandidates;
@@ -200,30 +197,6 @@ void windingFilter(const RTCFilterFunctionNArguments* args) {
   args->valid[0] = 0;  // reject: keep traversing for the further crossings
 }
 
-RTCGeometry userGeometry(RTCDevice device, size_t count, void* user, RTCBoundsFunction bounds,
-                         RTCPointQueryFunction query) {
-  RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
-  rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(count));
-  rtcSetGeometryUserData(g, user);
-  rtcSetGeometryBoundsFunction(g, bounds, nullptr);
-  rtcSetGeometryIntersectFunction(g, noIntersect);
-  rtcSetGeometryOccludedFunction(g, noOccluded);
-  rtcSetGeometryPointQueryFunction(g, query);
-  rtcCommitGeometry(g);
-  return g;
-}
-
-RTCScene sceneOf(RTCDevice device, RTCGeometry g, bool robust) {
-  RTCScene s = rtcNewScene(device);
-  if (robust) rtcSetSceneFlags(s, RTC_SCENE_FLAG_ROBUST);
-  if (g) {
-    rtcAttachGeometry(s, g);
-    rtcReleaseGeometry(g);
-  }
-  rtcCommitScene(s);
-  return s;
-}
-
 }  // namespace
 
 int choosePatchSurfaceLevel(const PatchCache& cache, const PatchSurfaceOptions& o) {
@@ -272,10 +245,7 @@ PatchSurface::PatchSurface(const PatchCache& cache, const PatchSurfaceOptions& o
   for (const auto& p : uniform_->vertex) extent = std::max(extent, p.cwiseAbs().maxCoeff());
   impl_->surface = this;
   impl_->pad = float(1e-5 * extent) + 1e-30f;
-  impl_->device = rtcNewDevice(nullptr);
-  if (!impl_->device)
-    throw std::runtime_error("rtcNewDevice failed: Embree error " + std::to_string(int(rtcGetDeviceError(nullptr))));
-  rtcSetDeviceErrorFunction(impl_->device, onError, impl_.get());
+  impl_->device = newEmbreeDevice(onError, impl_.get());
   const UniformTessellation& u = *uniform_;
   RTCGeometry gp =
       points_.empty() ? nullptr : userGeometry(impl_->device, points_.size(), impl_.get(), pointBounds, candidateFn);

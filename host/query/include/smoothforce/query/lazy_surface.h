@@ -116,9 +116,9 @@ class LazyPatchSurface {
 
  private:
   const PatchCache& cache_;
+  const PolygonFacets& facets_;
   bool closed_ = false;
   std::vector<PatchBox> apriori_;
-  const PolygonFacets& facets_;
   std::vector<float> cellBoxes_;        ///< #C x 4 oriented boxes of 18 floats (lazy_surface.cpp makeObb), by face slot
   std::vector<float> sectorBoxes_;      ///< #C oriented boxes, one per corner sector (sectorDistance), by face slot
   std::vector<int8_t> sectorState_;     ///< #F: -1 not computed yet, 0 no patch, 1 computed
