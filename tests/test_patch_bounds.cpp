@@ -68,18 +68,15 @@ BoxCheck checkBoxes(const PatchCache& c, int rings, int perEdge) {
 TEST(PatchBounds, EveryPatchOfEverySharedMeshLiesInItsBox) {
   int meshes = 0;
   long points = 0;
-  for (const auto& entry : std::filesystem::recursive_directory_iterator(SF_SHARED_MESHES)) {
-    const std::string ext = entry.path().extension().string();
-    if (ext != ".obj" && ext != ".off" && ext != ".ply") continue;
-    if (entry.file_size() > 3'000'000) continue;  // as PatchMeshes.EveryBundledMeshBuilds
-    SCOPED_TRACE(entry.path().string());
-    const PatchCache c = test::cacheFromFile(entry.path().string());
+  for (const std::string& path : test::sharedMeshFiles()) {
+    SCOPED_TRACE(path);
+    const PatchCache c = test::cacheFromFile(path);
     // about 2 * 10^5 samples per mesh, at least 2 rings of 3 points per edge
     const int dense = c.numFaces() < 2000 ? 8 : c.numFaces() < 20000 ? 4 : 2;
     const BoxCheck b = checkBoxes(c, dense, dense + 1);
     std::printf("  %-50s %6d faces, %8ld samples: %ld outside; box / sampled patch box diagonal %.2f\n",
-                entry.path().lexically_relative(SF_SHARED_MESHES).string().c_str(), c.numFaces(), b.points, b.outside,
-                b.looseness / std::max<long>(b.faces, 1));
+                std::filesystem::path(path).lexically_relative(SF_SHARED_MESHES).string().c_str(), c.numFaces(),
+                b.points, b.outside, b.looseness / std::max<long>(b.faces, 1));
     EXPECT_EQ(b.outside, 0) << "worst: " << b.worst << " of the box diagonal outside";
     EXPECT_GT(b.faces, 0);
     points += b.points;
