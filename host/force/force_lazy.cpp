@@ -26,7 +26,7 @@ constexpr int kMaxCandidates = 512;
 void lazyGlobalStep(LazyPatchSurface& surface, const PolygonScene& scene, const PatchCache& cache,
                     PatchRefiner& refiner, const Eigen::Vector3d& hip, const ForceOptions& options, double* lambda,
                     PatchContactState& state, ForceSample& s) noexcept {
-  const bool far = !surface.inAnyBox(hip) || !surface.inAnySweptBox(hip);
+  const bool far = !surface.inAnySweptBox(hip);  // no a-priori box holds the HIP, or no swept box of those
   const bool closed = surface.closed();
   if (far && closed && !scene.contains(hip, Eigen::Vector3d::Zero())) {  // outside, beyond every patch: no patch work
     setContact(false, RefineResult{}, hip, options, state, s);
@@ -50,7 +50,7 @@ void lazyGlobalStep(LazyPatchSurface& surface, const PolygonScene& scene, const 
   int n = 1;  // c[1..n): the cells below the upper bound, sorted by lower bound, the lowest kMaxCandidates kept
   for (size_t i = 0; i < m; ++i) {
     const int f = near[i].face;
-    // the sector boxes first (9 samples per sector): most faces whose a-priori box is near stop here
+    // the sector boxes first: most faces whose a-priori box is near stop here
     if (!surface.sectors(f)) continue;
     double faceLower = std::numeric_limits<double>::infinity();
     for (int k = 0; k < cache.faceSize(f); ++k) faceLower = std::min(faceLower, surface.sectorDistance(f, k, hip));

@@ -96,7 +96,7 @@ LazyPatchSurface::LazyPatchSurface(const PatchCache& cache, const PolygonFacets&
   cellCount_.assign(cache.numFaces(), -1);
   sweptBoxes_.assign(static_cast<size_t>(kObb) * cache.numSlots(), 0.f);
   sectorBoxes_.assign(static_cast<size_t>(kObb) * cache.numSlots(), 0.f);
-  sectorState_.assign(cache.numFaces(), -1);
+  sectorState_.assign(cache.numFaces(), 0);
   closed_ =
       cache.numFaces() > 0 && std::all_of(cache.slotTwin.begin(), cache.slotTwin.end(), [](int t) { return t >= 0; });
   facetTolerance_.assign(cache.numFaces(), 0.0);
@@ -129,7 +129,7 @@ LazyPatchSurface::LazyPatchSurface(const PatchCache& cache, const PolygonFacets&
   // 9 evaluations per corner sector, so that no servo step has to compute them for the ~100 faces
   // whose a-priori boxes hold a HIP near the surface
   tbb::parallel_for(tbb::blocked_range<int>(0, cache.numFaces(), 64), [&](const tbb::blocked_range<int>& r) {
-    for (int f = r.begin(); f < r.end(); ++f) sectors(f);
+    for (int f = r.begin(); f < r.end(); ++f) computeSectors(f);
   });
 }
 
@@ -152,7 +152,7 @@ bool LazyPatchSurface::inAnyBox(const Eigen::Vector3d& q) const noexcept {
   return found > 0;
 }
 
-bool LazyPatchSurface::inAnySweptBox(const Eigen::Vector3d& q) noexcept {
+bool LazyPatchSurface::inAnySweptBox(const Eigen::Vector3d& q) const noexcept {
   FaceDistance in[kMaxFaces];
   size_t found = 0;
   const size_t n = facesWithin(q, 0.0, in, kMaxFaces, &found);
@@ -272,8 +272,7 @@ void gridObb(const Eigen::Vector3d (&p)[L + 1][L + 1], int i0, int j0, int h, co
 
 }  // namespace
 
-bool LazyPatchSurface::sectors(int f) noexcept {
-  if (sectorState_[f] >= 0) return sectorState_[f] > 0;
+bool LazyPatchSurface::computeSectors(int f) noexcept {
   sectorState_[f] = 0;
   const int n = cache_.faceSize(f);
   double recs[GP_MAX_N * GP_E_NFIELDS];

@@ -70,17 +70,18 @@ class LazyPatchSurface {
   /// how many qualified (more than cap: the rest were dropped). Does not allocate or throw.
   size_t facesWithin(const Eigen::Vector3d& q, double radius, FaceDistance* out, size_t cap,
                      size_t* found = nullptr) const noexcept;
-  /// Whether q lies in some swept box (sweptDistance) of a face whose a-priori box holds q
-  /// (computing their cells). Outside every swept box, the winding number of the patch surface
-  /// around q is that of the base polygons, as outside the a-priori boxes (on the cells'
-  /// estimate). True when more than kMaxFaces a-priori boxes hold q. Does not allocate or throw.
-  bool inAnySweptBox(const Eigen::Vector3d& q) noexcept;
+  /// Whether q lies in some swept box (sweptDistance) of a face whose a-priori box holds q (false
+  /// when no a-priori box holds q). Outside every swept box, the winding number of the patch
+  /// surface around q is that of the base polygons, as outside the a-priori boxes (on the
+  /// samples' estimate). True when more than kMaxFaces a-priori boxes hold q, or one of them
+  /// belongs to a face without a patch (in doubt). Does not allocate or throw.
+  bool inAnySweptBox(const Eigen::Vector3d& q) const noexcept;
 
-  /// Face f's sector and swept boxes (sectorDistance, sweptDistance), computed for every face in
-  /// the constructor (3 x 3 samples per corner sector, oneTBB); false for a face without a patch.
-  /// Does not allocate or throw.
-  bool sectors(int f) noexcept;
-  /// Distance (m) from q to the box of corner sector k of face f (sectors(f) called before): an
+  /// Whether face f has its sector and swept boxes (sectorDistance, sweptDistance: computed for
+  /// every face in the constructor, 3 x 3 samples per corner sector); false for a face without a
+  /// patch.
+  bool sectors(int f) const noexcept { return sectorState_[f] > 0; }
+  /// Distance (m) from q to the box of corner sector k of face f (sectors(f) true): an
   /// oriented box of the sector's 3 x 3 samples widened by their second differences (twice the
   /// cells' factor); a lower bound of the distance to the sector's patch, cheaper and looser
   /// than its cells'.
@@ -94,8 +95,8 @@ class LazyPatchSurface {
   /// Distance (m) from q to the box of cell i of face f (0 inside; cells(f) called before): a
   /// lower bound of the distance from q to the part of the patch over the cell.
   double cellDistance(int f, int i, const Eigen::Vector3d& q) const noexcept;
-  /// Distance (m) from q to the swept box of corner sector k of face f (sectors(f) called
-  /// before): an oriented box, in the frame of the polygon's fan triangle (centroid, V_k, V_k+1),
+  /// Distance (m) from q to the swept box of corner sector k of face f (sectors(f) true):
+  /// an oriented box, in the frame of the polygon's fan triangle (centroid, V_k, V_k+1),
   /// of the sector's 3 x 3 samples and that triangle, widened by the sector's margin and the facets'
   /// tolerance. It holds the straight segments from the fan triangle's points to the patch
   /// points of the same domain point (the sector mapped linearly onto the triangle), so that
@@ -115,13 +116,16 @@ class LazyPatchSurface {
   struct Impl;  ///< Embree device and scene (opaque)
 
  private:
+  /// Fills face f's sector and swept boxes and sectorState_[f].
+  bool computeSectors(int f) noexcept;
+
   const PatchCache& cache_;
   const PolygonFacets& facets_;
   bool closed_ = false;
   std::vector<PatchBox> apriori_;
   std::vector<float> cellBoxes_;        ///< #C x 4 oriented boxes of 18 floats (lazy_surface.cpp makeObb), by face slot
   std::vector<float> sectorBoxes_;      ///< #C oriented boxes, one per corner sector (sectorDistance), by face slot
-  std::vector<int8_t> sectorState_;     ///< #F: -1 not computed yet, 0 no patch, 1 computed
+  std::vector<int8_t> sectorState_;     ///< #F: 0 no patch, 1 sector and swept boxes computed
   std::vector<float> sweptBoxes_;       ///< #C oriented boxes, one per corner sector (sweptDistance), by face slot
   std::vector<double> facetTolerance_;  ///< #F: widening for the polygon facets, m
   std::vector<int16_t> cellCount_;      ///< #F: -1 not computed yet
