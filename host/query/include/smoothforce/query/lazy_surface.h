@@ -55,8 +55,8 @@ class LazyPatchSurface {
   static constexpr size_t kMaxFaces = 256;
   /// Builds the a-priori boxes' BVH and every face's sector and swept boxes (9 patch evaluations
   /// per corner sector, scalar: 6.5 ms for the spot cage's 180 faces, 0.36 s for the 23,062
-  /// triangles of odedstein/spot.obj on this project's 2-core machine, twice the time of building
-  /// every patch with its quality there). Throws std::runtime_error with Embree's
+  /// triangles of odedstein/spot.obj on this project's 2-core machine, about twice the time of
+  /// loading the mesh and building every patch with its quality there). Throws std::runtime_error with Embree's
   /// message when Embree fails.
   LazyPatchSurface(const PatchCache& cache, const PolygonFacets& facets);
   ~LazyPatchSurface();
