@@ -16,6 +16,7 @@
 #include <tbb/parallel_for.h>
 
 #include <smoothforce/patch/detail/gp_math.h>
+#include <smoothforce/patch/patch_eval.h>
 
 #include "embree_point_query.h"
 
@@ -172,8 +173,7 @@ namespace {
 /// domain edge k of the n-gon.
 Eigen::Vector2d sectorPoint(int n, int k, double rho, double t) {
   // corner k + 1 by its own index (n - 1 + 1 is corner 0 exactly: (1, 0), not a hair outside)
-  const double a0 = 2 * M_PI * k / n, a1 = 2 * M_PI * ((k + 1) % n) / n;
-  const Eigen::Vector2d c0(std::cos(a0), std::sin(a0)), c1(std::cos(a1), std::sin(a1));
+  const Eigen::Vector2d c0 = domainCorner(n, k), c1 = domainCorner(n, (k + 1) % n);
   return rho * (c0 + t * (c1 - c0));
 }
 
