@@ -42,6 +42,19 @@
 #define GP_RF_TINY GP_R(1.0e-37)
 #endif
 #define GP_RF_MAX_CROSS 8
+#undef GP_RF_D2_REUSE
+/* Second derivatives are taken again once the iterate is this far (domain units, per coordinate;
+ * the domain's circumradius is 1) from where they were taken, or on another face: lagged ones
+ * perturb the model by O(lag x |G - HIP|), which slows the local convergence only by a factor of
+ * that order (the Newton error is multiplied by it), while saving the two evaluations. */
+#define GP_RF_D2_REUSE GP_R(0.01)
+/* ... and after a step that reused them without the model predicting the decrease to within
+ * this fraction (|rho - 1|: a lagged model that is off slows the convergence by about that
+ * factor), after a rejected step, and after GP_RF_D2_MAX_USES steps in a row. */
+#undef GP_RF_D2_RHO
+#define GP_RF_D2_RHO GP_R(0.1)
+#undef GP_RF_D2_MAX_USES
+#define GP_RF_D2_MAX_USES 3
 #undef GP_RF_AT_ONCE
 #define GP_RF_AT_ONCE (GP_R(64.0) * GP_EPS) /* an exit this early in a step leaves from where it is */
 
@@ -67,11 +80,20 @@ typedef struct {
 #endif
 } gp_refine_mesh;
 
-/* Private scratch: the records of the face last loaded. */
+/* Private scratch: the records of the face last loaded; the second differences of the last
+ * finite-difference evaluation (reused within GP_RF_D2_REUSE of their point on the same face);
+ * the final point of the last refinement (a warm start from exactly there reuses it). */
 typedef struct {
   int loaded; /* face held in recs, -1 for none */
   gp_uint loadedStatus;
   GP_REAL recs[GP_MAX_N * GP_E_NFIELDS];
+  int d2Face;                /* face of the differences below, -1 for none */
+  int d2Uses;                /* steps that reused them since they were taken */
+  GP_REAL d2x, d2y;          /* their domain point */
+  gp_vec3 d2xx, d2yy, d2xy;  /* eps G_xx, eps G_yy, 2 eps G_xy: differences of exact first derivatives */
+  int lastFace;              /* face of the last refinement's final point, -1 for none */
+  GP_REAL lastX, lastY;
+  gp_eval_result lastP;
 } gp_refine_work;
 
 /* Stopping rules (see the file comment). */
@@ -167,13 +189,14 @@ GP_FN void gp_rf_eval_pair(const gp_refine_mesh* m, gp_refine_work* w, int f, co
   out[1] = gp_rf_eval(m, w, f, x[1], y[1]);
 }
 
-GP_FN gp_rf_iterate gp_rf_at(const gp_refine_mesh* m, gp_refine_work* w, int f, GP_REAL x, GP_REAL y, gp_vec3 hip) {
+/* The iterate at (f, x, y) whose evaluation there is p. */
+GP_FN gp_rf_iterate gp_rf_with(int f, GP_REAL x, GP_REAL y, gp_eval_result p, gp_vec3 hip) {
   gp_rf_iterate it;
   it.face = f;
   it.edge = -1;
   it.x = x;
   it.y = y;
-  it.p = gp_rf_eval(m, w, f, x, y);
+  it.p = p;
   it.r = gp_sub(it.p.pos, hip);
   it.f = GP_BIG;
   if (!(it.p.status & (GP_ST_OUTSIDE | GP_ST_TOO_MANY_SIDES)) && gp_finite3(it.p.pos)) {
@@ -181,6 +204,10 @@ GP_FN gp_rf_iterate gp_rf_at(const gp_refine_mesh* m, gp_refine_work* w, int f, 
     if (f2 < GP_BIG) it.f = f2;
   }
   return it;
+}
+
+GP_FN gp_rf_iterate gp_rf_at(const gp_refine_mesh* m, gp_refine_work* w, int f, GP_REAL x, GP_REAL y, gp_vec3 hip) {
+  return gp_rf_with(f, x, y, gp_rf_eval(m, w, f, x, y), hip);
 }
 
 /* Unit direction C_{k+1} - C_k of domain edge k, and its tangent J e on the surface. */
@@ -372,18 +399,33 @@ GP_FN int gp_rf_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* 
   const gp_vec3 r = cur->r, a = cur->p.dxi, b = cur->p.deta;
   const GP_REAL g0 = gp_dot(a, r), g1 = gp_dot(b, r);
   const GP_REAL m00 = gp_dot(a, a), m01 = gp_dot(a, b), m11 = gp_dot(b, b);
-  /* second-order part sum r_i d2G_i from forward differences of the exact first derivatives */
+  /* second-order part sum r_i d2G_i from forward differences of the exact first derivatives,
+   * taken again only GP_RF_D2_REUSE away from where they were last taken (or on another face) */
   GP_REAL xc = cur->x, yc = cur->y;
   gp_dom_interior(n, &xc, &yc, eps);
-  const gp_eval_result pc = (xc == cur->x && yc == cur->y) ? cur->p : gp_rf_eval(m, w, cur->face, xc, yc);
-  const GP_REAL fx[2] = {xc + eps, xc}, fy[2] = {yc, yc + eps};
-  gp_eval_result fd[2];
-  gp_rf_eval_pair(m, w, cur->face, fx, fy, fd);
-  const gp_eval_result p1 = fd[0], p2 = fd[1];
-  const GP_REAL s00 = gp_dot(r, gp_sub(p1.dxi, pc.dxi)) / eps, s11 = gp_dot(r, gp_sub(p2.deta, pc.deta)) / eps;
-  const GP_REAL s01 = GP_R(0.5) * gp_dot(r, gp_add(gp_sub(p1.deta, pc.deta), gp_sub(p2.dxi, pc.dxi))) / eps;
+  const int lagged = w->d2Face == cur->face && GP_FABS(xc - w->d2x) <= GP_RF_D2_REUSE &&
+                     GP_FABS(yc - w->d2y) <= GP_RF_D2_REUSE && w->d2Uses < GP_RF_D2_MAX_USES;
+  w->d2Uses += 1;
+  if (!lagged) {
+    const gp_eval_result pc = (xc == cur->x && yc == cur->y) ? cur->p : gp_rf_eval(m, w, cur->face, xc, yc);
+    const GP_REAL fx[2] = {xc + eps, xc}, fy[2] = {yc, yc + eps};
+    gp_eval_result fd[2];
+    gp_rf_eval_pair(m, w, cur->face, fx, fy, fd);
+    w->d2xx = gp_sub(fd[0].dxi, pc.dxi);
+    w->d2yy = gp_sub(fd[1].deta, pc.deta);
+    w->d2xy = gp_add(gp_sub(fd[0].deta, pc.deta), gp_sub(fd[1].dxi, pc.dxi));
+    w->d2Face = cur->face;
+    w->d2x = xc;
+    w->d2y = yc;
+    w->d2Uses = 0;
+  }
+  const GP_REAL s00 = gp_dot(r, w->d2xx) / eps, s11 = gp_dot(r, w->d2yy) / eps;
+  const GP_REAL s01 = GP_R(0.5) * gp_dot(r, w->d2xy) / eps;
   const GP_REAL b00 = m00 + s00, b01 = m01 + s01, b11 = m11 + s11;
-  if (!(GP_FABS(b00) + GP_FABS(b01) + GP_FABS(b11) <= GP_BIG)) return GP_RF_STEP_STALLED;
+  if (!(GP_FABS(b00) + GP_FABS(b01) + GP_FABS(b11) <= GP_BIG)) {
+    w->d2Face = -1; /* not evaluable there: nothing to reuse */
+    return GP_RF_STEP_STALLED;
+  }
 
   GP_REAL sx, sy, pred;
   int newton, face = cur->face, edge = -1, tr = 0;
@@ -443,7 +485,7 @@ GP_FN int gp_rf_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* 
       GP_SQRT(gp_max(sx * (m00 * sx + m01 * sy) + sy * (m01 * sx + m11 * sy), GP_R(0.0))); /* |J s|, m */
   gp_rf_iterate trial = gp_rf_at(m, w, face, x, y, hip);
   trial.edge = edge;
-  int accept = 0;
+  int accept = 0, atNoise = 0;
   GP_REAL rho = GP_R(0.0);
   if (trial.f < GP_BIG && pred > GP_R(0.0)) {
     const GP_REAL ared = GP_R(0.5) * gp_dot(gp_sub(cur->p.pos, trial.p.pos), gp_add(cur->r, trial.r));
@@ -452,8 +494,8 @@ GP_FN int gp_rf_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* 
     rho = ared / pred;
     accept = ared >= GP_R(0.01) * pred;
     if (!accept && pred <= GP_R(16.0) * noise && newton && ared >= -noise) {
-      accept = 1;      /* a full Newton step below the noise of f: the model knows better than f */
-      rho = GP_R(0.5); /* and says nothing about the radius */
+      accept = atNoise = 1; /* a full Newton step below the noise of f: the model knows better than f */
+      rho = GP_R(0.5);      /* and says nothing about the radius */
     }
     /* stopped by an edge it cannot cross (boundary, fold) after crossing others: the model of
      * the first face says nothing of the cut step; take it when it does not go uphill */
@@ -462,6 +504,8 @@ GP_FN int gp_rf_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* 
       rho = GP_R(0.5); /* keep the radius */
     }
   }
+  if (lagged && !(accept && (atNoise || GP_FABS(rho - GP_R(1.0)) <= GP_RF_D2_RHO)))
+    w->d2Face = -1; /* the lagged model was off: take the differences again */
   if (!accept || rho < GP_R(0.25)) {
     const GP_REAL shrink = GP_R(0.25) * len;
     *D = shrink < *D ? shrink : GP_R(0.25) * *D;
@@ -481,9 +525,15 @@ GP_FN int gp_rf_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* 
  * is held on, -1 for none) towards the patch point nearest `hip` (m). A start that is not
  * evaluable (bad face, non-finite input) returns GP_TRACK_DEGENERATE with zeros. The result is
  * the last accepted iterate: every accepted step decreased the distance, so a refinement that
- * stops early (GP_TRACK_MAX_ITER, GP_TRACK_STALLED) reports a point no farther than its start. */
-GP_FN gp_refine_result gp_refine_newton(const gp_refine_mesh* m, gp_refine_work* w, gp_vec3 hip, int face, GP_REAL xi,
-                                        GP_REAL eta, int startEdge, const gp_refine_options* o) {
+ * stops early (GP_TRACK_MAX_ITER, GP_TRACK_STALLED) reports a point no farther than its start.
+ * warm = 0: the result depends on the arguments only. warm = 1 (a tracker's next step): w's
+ * state from the previous refinement is used: its final evaluation when this start is exactly
+ * its final point (the same bits as evaluating again), its second differences when near (see
+ * GP_RF_D2_REUSE; the path, not the convergence test, depends on them). */
+GP_FN gp_refine_result gp_refine_newton_warm(const gp_refine_mesh* m, gp_refine_work* w, gp_vec3 hip, int face,
+                                             GP_REAL xi, GP_REAL eta, int startEdge, const gp_refine_options* o,
+                                             int warm) {
+  if (!warm) w->d2Face = w->lastFace = -1;
   gp_refine_result out;
   out.scp = out.normal = gp_zero3();
   out.xi = out.eta = out.distance = GP_R(0.0);
@@ -498,7 +548,10 @@ GP_FN gp_refine_result gp_refine_newton(const gp_refine_mesh* m, gp_refine_work*
   const int n0 = gp_rf_size(m, face);
   gp_dom_clamp(n0, &xi, &eta);
   gp_dom_off_corner(n0, &xi, &eta);
-  gp_rf_iterate cur = gp_rf_at(m, w, face, xi, eta, hip);
+  gp_rf_iterate cur = w->lastFace == face && w->lastX == xi && w->lastY == eta
+                          ? gp_rf_with(face, xi, eta, w->lastP, hip)
+                          : gp_rf_at(m, w, face, xi, eta, hip);
+  w->lastFace = -1;
   cur.edge = startEdge >= 0 && startEdge < n0 ? startEdge : -1;
   if (!(cur.f < GP_BIG)) {
     out.status = GP_TRACK_DEGENERATE | cur.p.status;
@@ -553,5 +606,16 @@ GP_FN gp_refine_result gp_refine_newton(const gp_refine_mesh* m, gp_refine_work*
   out.distance = gp_len(cur.r);
   out.iterations = it;
   out.status = status | cur.p.status;
+  w->lastFace = cur.face;
+  w->lastX = cur.x;
+  w->lastY = cur.y;
+  w->lastP = cur.p;
   return out;
+}
+
+/* gp_refine_newton_warm without the previous refinement's state: the same result for the same
+ * arguments, whatever ran before. */
+GP_FN gp_refine_result gp_refine_newton(const gp_refine_mesh* m, gp_refine_work* w, gp_vec3 hip, int face, GP_REAL xi,
+                                        GP_REAL eta, int startEdge, const gp_refine_options* o) {
+  return gp_refine_newton_warm(m, w, hip, face, xi, eta, startEdge, o, 0);
 }

@@ -77,6 +77,7 @@ TEST(RuntimeTransform, DeviceHipGivesTheWorldForceRotatedBack) {
     for (sf::ForceMethod m : {sf::ForceMethod::Patch, sf::ForceMethod::Direct, sf::ForceMethod::Shading}) {
       sf::ForceOptions fo;
       auto ra = sf::makeForceRenderer(cache, m, fo), rb = sf::makeForceRenderer(cache, m, fo);
+      const double forceTol = 1e-8 + 20 * fo.stiffness * fo.positionTolerance * sf::boundingDiagonal(*cache);
       SafetyFilter sa(transparent()), sb(transparent());
       StepOptions oa, ob;
       ob.device = DeviceTransform(poseOf(c));
@@ -93,7 +94,11 @@ TEST(RuntimeTransform, DeviceHipGivesTheWorldForceRotatedBack) {
         ASSERT_LT((wb.hip - world[k]).norm(), 1e-12) << k;
         ASSERT_EQ(wa.sample.contact, wb.sample.contact) << sf::toString(m) << " scale " << c.scale << " HIP " << k;
         contacts += wa.sample.contact;
-        // Converged refinements agree to rounding. One that stopped at the iteration cap
+        // Converged refinements agree within the stopping rule: each SCP's tangential residual
+        // is at most positionTolerance x diagonal (2.75e-10 m here), so two SCPs are about twice
+        // that apart, times 1 / (1 - depth x curvature) where the slide runs deep under a curved
+        // part (forceTol allows 20x in all, 2.8e-6 N of forces of ~5 N; a transform error
+        // shows as newtons). One that stopped at the iteration cap
         // (Newton crawling; README "Speed against accuracy") stops wherever the cap falls, and
         // rounding-level input differences move that point: counted, not compared, and both
         // trackers restart from a global query so that the difference does not carry on.
@@ -103,9 +108,9 @@ TEST(RuntimeTransform, DeviceHipGivesTheWorldForceRotatedBack) {
           ra->reset();
           rb->reset();
         } else {
-          ASSERT_LT((wb.worldForce - wa.worldForce).norm(), 1e-8)
+          ASSERT_LT((wb.worldForce - wa.worldForce).norm(), forceTol)
               << sf::toString(m) << " scale " << c.scale << " " << k;
-          ASSERT_LT((wb.force - r.transpose() * wa.worldForce).norm(), 1e-8) << k;
+          ASSERT_LT((wb.force - r.transpose() * wa.worldForce).norm(), forceTol) << k;
         }
         ASSERT_NEAR(wb.force.norm(), wb.worldForce.norm(), 1e-12) << "forces are not scaled";
       }

@@ -116,7 +116,9 @@ class PatchTracker final : public ForceRenderer {
       finishGlobalStep(*surface_, hip, q, options_, state_, s, start.windingVerdict);
       return s;
     }
-    const RefineResult r = refiner_.refine(hip, start.face, start.X.x(), start.X.y(), options_, start.edge);
+    // in contact: the next step from the SCP the refiner found last (its evaluation reused)
+    const RefineResult r = start.global ? refiner_.refine(hip, start.face, start.X.x(), start.X.y(), options_, start.edge)
+                                        : refiner_.refineNext(hip, start.face, start.X.x(), start.X.y(), options_, start.edge);
     finishPatchStep(*scene_, surface_.get(), refiner_, hip, start, r, options_, state_, s);
     return s;
   }

@@ -115,6 +115,7 @@ PatchRefiner::PatchRefiner(const PatchCache& cache, LazyPatches* lazy)
     m.load = [](void*, int, double*) noexcept -> gp_uint { return GP_ST_TOO_MANY_SIDES; };
   }
   ns.work.loaded = -1;
+  ns.work.d2Face = ns.work.lastFace = -1;
 }
 
 PatchRefiner::~PatchRefiner() = default;
@@ -281,18 +282,24 @@ void PatchRefiner::descentStep(Iterate& cur, const Eigen::Vector3d& hip, int& tr
 
 RefineResult PatchRefiner::refine(const Eigen::Vector3d& hip, int face, double xi, double eta,
                                   const RefineOptions& options, int edge) noexcept {
-  return options.refine == RefineMethod::Newton ? refineNewton(hip, face, xi, eta, options, edge)
+  return options.refine == RefineMethod::Newton ? refineNewton(hip, face, xi, eta, options, edge, false)
+                                                : refineDescent(hip, face, xi, eta, options, edge);
+}
+
+RefineResult PatchRefiner::refineNext(const Eigen::Vector3d& hip, int face, double xi, double eta,
+                                      const RefineOptions& options, int edge) noexcept {
+  return options.refine == RefineMethod::Newton ? refineNewton(hip, face, xi, eta, options, edge, true)
                                                 : refineDescent(hip, face, xi, eta, options, edge);
 }
 
 RefineResult PatchRefiner::refineNewton(const Eigen::Vector3d& hip, int face, double xi, double eta,
-                                        const RefineOptions& options, int edge) noexcept {
+                                        const RefineOptions& options, int edge, bool warm) noexcept {
   gpd::gp_refine_options o;
   o.maxIterations = options.maxIterations;
   o.angleTol = options.angleTolerance;
   o.positionTol = options.positionTolerance * scale_;
-  const gpd::gp_refine_result r = gpd::gp_refine_newton(&newton_->mesh, &newton_->work,
-                                                        gpd::gp_v3(hip.x(), hip.y(), hip.z()), face, xi, eta, edge, &o);
+  const gpd::gp_refine_result r = gpd::gp_refine_newton_warm(
+      &newton_->mesh, &newton_->work, gpd::gp_v3(hip.x(), hip.y(), hip.z()), face, xi, eta, edge, &o, warm ? 1 : 0);
   RefineResult out;
   out.scp = {r.scp.x, r.scp.y, r.scp.z};
   out.normal = {r.normal.x, r.normal.y, r.normal.z};
