@@ -280,13 +280,15 @@ TEST(SimdEvaluation, FewQueriesOnManyFaces) {
 // FacePointEvaluator (a few points of one face side by side: the refinement's finite
 // differences) gives evaluatePatch's bits for every count 1..16, on every face of every mesh,
 // both precisions, every cross-tangent mode; its points include corners and points outside.
+// evaluateRecords (the face's double records given field-major, as the lazy refinement does)
+// gives the same bits.
 TEST(SimdEvaluation, FacePointsBitIdenticalToScalar) {
-  long points = 0, faces = 0;
+  long points = 0, faces = 0, givenPoints = 0;
   for (const char* rel : kMeshes)
     for (Precision p : {Precision::Double, Precision::Float})
       for (CrossTangentMode mode : kModes) {
         const PatchCache c = test::cacheFromFile(test::sharedMesh(rel), mode, p);
-        FacePointEvaluator few(c);
+        FacePointEvaluator few(c), recordsGiven;
         std::mt19937 rng(5);
         std::uniform_real_distribution<double> u(-1, 1);
         for (int f = 0; f < c.numFaces(); ++f) {
@@ -299,17 +301,32 @@ TEST(SimdEvaluation, FacePointsBitIdenticalToScalar) {
               xi[i] = i % 3 == 0 ? a.x() : u(rng);  // corners and random points (some outside)
               eta[i] = i % 3 == 0 ? a.y() : u(rng);
             }
-            PatchPoint out[16];
+            PatchPoint out[16], given[16];
             few.evaluate(f, xi, eta, count, out);
-            for (int i = 0; i < count; ++i, ++points)
-              ASSERT_TRUE(sameBits(out[i], evaluatePatch(c, f, xi[i], eta[i])))
+            if (p == Precision::Double) {  // the same face's records given by the caller (a lazy store's)
+              std::vector<double> fieldMajor(size_t(n) * GP_E_NFIELDS);
+              for (int i = 0; i < GP_E_NFIELDS; ++i)
+                for (int k = 0; k < n; ++k)
+                  fieldMajor[size_t(i) * n + k] = c.edgeDataD[size_t(i) * c.numSlots() + c.faceOffsets[f] + k];
+              recordsGiven.evaluateRecords(n, static_cast<int>(mode), c.faceStatus[f], fieldMajor.data(), xi, eta,
+                                           count, given);
+            }
+            for (int i = 0; i < count; ++i, ++points) {
+              const PatchPoint scalar = evaluatePatch(c, f, xi[i], eta[i]);
+              ASSERT_TRUE(sameBits(out[i], scalar))
                   << rel << " " << toString(p) << " " << toString(mode) << " face " << f << " count " << count << " point " << i;
+              if (p == Precision::Double) {
+                ASSERT_TRUE(sameBits(given[i], scalar)) << rel << " evaluateRecords, face " << f << " point " << i;
+                ++givenPoints;
+              }
+            }
           }
           ++faces;
         }
       }
   EXPECT_GT(faces, 3000L);
   EXPECT_EQ(points, faces * 136);
+  EXPECT_EQ(givenPoints, points / 2);  // every double face, with its records given (evaluateRecords)
 }
 
 ref::CrossTangent refMode(CrossTangentMode m) {

@@ -130,7 +130,35 @@ FacePointEvaluator::FacePointEvaluator(const PatchCache& cache) : cache_(&cache)
   for (int k = 0; k <= 16; ++k) (void)fewPointsFn(true, k);  // the targets are chosen here, once per process
 }
 
+FacePointEvaluator::FacePointEvaluator() : cache_(nullptr), scratch_(std::make_unique<Scratch>()) {
+  for (int k = 0; k <= 16; ++k) (void)fewPointsFn(true, k);
+}
+
 FacePointEvaluator::~FacePointEvaluator() = default;
+
+void FacePointEvaluator::evaluateRecords(int n, int mode, uint32_t faceStatus, const double* recs, const double* xi,
+                                         const double* eta, int count, PatchPoint* out) noexcept {
+  count = std::clamp(count, 0, 16);
+  if (count == 0) return;
+  Scratch& s = *scratch_;
+  std::copy_n(xi, count, s.xs);
+  std::copy_n(eta, count, s.ys);
+  simd_detail::EvalGroup g;
+  g.n = n;
+  g.mode = mode;
+  g.data = recs;
+  g.numSlots = static_cast<size_t>(n);
+  g.first = 0;
+  g.faceStatus = faceStatus;
+  g.count = static_cast<size_t>(count);
+  g.xi = s.xs;
+  g.eta = s.ys;
+  g.xs = s.xs;
+  g.ys = s.ys;
+  g.sorted = out;
+  g.laneRecs = s.recs;
+  fewPointsFn(true, count)(g);
+}
 
 void FacePointEvaluator::evaluate(int f, const double* xi, const double* eta, int count, PatchPoint* out) noexcept {
   const PatchCache& c = *cache_;

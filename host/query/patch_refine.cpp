@@ -36,6 +36,12 @@ struct PatchRefiner::NewtonState {
   std::unique_ptr<FacePointEvaluator> pairs;  ///< the finite differences' point pairs (records read in place)
   const PatchCache* cache = nullptr;
   LazyPatches* lazy = nullptr;
+  std::vector<double> fieldMajor;  ///< a lazy face's double records, field-major, for `pairs`
+
+  /// gp_refine_mesh's evalPoints hook with a lazy store of double records: the face's records
+  /// (built when needed) transposed to field-major, then evaluated as evalPoints does.
+  static void lazyPoints(void* user, int f, const double* x, const double* y, int count,
+                         gpd::gp_eval_result* out) noexcept;
 
   /// gp_refine_mesh's loader hook: lazy construction and float records, widened to double.
   static gp_uint load(void* user, int f, double* recs) noexcept {
@@ -63,12 +69,9 @@ struct PatchRefiner::NewtonState {
 };
 
 namespace {
-/// gp_refine_mesh's evalPair hook: the two points of a step's finite differences side by side
-/// on SIMD lanes (FacePointEvaluator; the same bits as the refinement's own evaluation).
-void evalPair(void* user, int f, const double* x, const double* y, gpd::gp_eval_result* out) noexcept {
-  PatchPoint p[2];
-  static_cast<FacePointEvaluator*>(user)->evaluate(f, x, y, 2, p);
-  for (int k = 0; k < 2; ++k) {
+/// PatchPoints as the refinement's gp_eval_results.
+void toEvalResults(const PatchPoint* p, int count, gpd::gp_eval_result* out) noexcept {
+  for (int k = 0; k < count; ++k) {
     out[k].pos = gpd::gp_v3(p[k].pos.x(), p[k].pos.y(), p[k].pos.z());
     out[k].dxi = gpd::gp_v3(p[k].dxi.x(), p[k].dxi.y(), p[k].dxi.z());
     out[k].deta = gpd::gp_v3(p[k].deta.x(), p[k].deta.y(), p[k].deta.z());
@@ -76,7 +79,34 @@ void evalPair(void* user, int f, const double* x, const double* y, gpd::gp_eval_
     out[k].status = p[k].status;
   }
 }
+
+/// gp_refine_mesh's evalPoints hook: a point and its finite differences side by side on SIMD
+/// lanes (FacePointEvaluator; the same bits as the refinement's own evaluation).
+void evalPoints(void* user, int f, const double* x, const double* y, int count, gpd::gp_eval_result* out) noexcept {
+  PatchPoint p[4];
+  count = std::clamp(count, 0, 4);
+  static_cast<FacePointEvaluator*>(user)->evaluate(f, x, y, count, p);
+  toEvalResults(p, count, out);
+}
 }  // namespace
+
+void PatchRefiner::NewtonState::lazyPoints(void* user, int f, const double* x, const double* y, int count,
+                                           gpd::gp_eval_result* out) noexcept {
+  auto* st = static_cast<NewtonState*>(user);
+  uint32_t status = 0;
+  const double* r = st->lazy->recordsD(f, status);
+  const int n = st->cache->faceSize(f);
+  count = std::clamp(count, 0, 4);
+  if (!r) {  // not buildable: as gp_rf_eval reports it (the refinement evaluates only evaluable faces)
+    for (int k = 0; k < count; ++k) out[k] = gpd::gp_patch_eval(0, nullptr, 0, x[k], y[k]);
+    return;
+  }
+  for (int k = 0; k < n; ++k)
+    for (int i = 0; i < GP_E_NFIELDS; ++i) st->fieldMajor[size_t(i) * n + k] = r[size_t(k) * GP_E_NFIELDS + i];
+  PatchPoint p[4];
+  st->pairs->evaluateRecords(n, st->mesh.mode, status, st->fieldMajor.data(), x, y, count, p);
+  toEvalResults(p, count, out);
+}
 
 PatchRefiner::PatchRefiner(const PatchCache& cache, LazyPatches* lazy)
     : cache_(cache),
@@ -105,12 +135,18 @@ PatchRefiner::PatchRefiner(const PatchCache& cache, LazyPatches* lazy)
     m.edgeData = cache.edgeDataD.data();  // read in place
     m.faceStatus = cache.faceStatus.data();
     ns.pairs = std::make_unique<FacePointEvaluator>(cache);
-    m.evalPair = &evalPair;
-    m.pairUser = ns.pairs.get();
+    m.evalPoints = &evalPoints;
+    m.pointsUser = ns.pairs.get();
   } else if (lazy || hasPatchData(cache)) {
     ns.widen.resize(GP_MAX_N * GP_E_NFIELDS);
     m.load = &NewtonState::load;
     m.user = &ns;
+    if (lazy && cache.options.precision == Precision::Double) {
+      ns.pairs = std::make_unique<FacePointEvaluator>();
+      ns.fieldMajor.resize(GP_MAX_N * GP_E_NFIELDS);
+      m.evalPoints = &NewtonState::lazyPoints;
+      m.pointsUser = &ns;
+    }
   } else {  // a skeleton without a lazy store: no face is evaluable
     m.load = [](void*, int, double*) noexcept -> gp_uint { return GP_ST_TOO_MANY_SIDES; };
   }

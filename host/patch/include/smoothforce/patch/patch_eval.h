@@ -40,6 +40,8 @@ class FacePointEvaluator {
  public:
   /// Throws std::invalid_argument for a cache without patch data (a skeleton).
   explicit FacePointEvaluator(const PatchCache& cache);
+  /// Without a cache: evaluateRecords only (the records of a lazy store).
+  FacePointEvaluator();
   ~FacePointEvaluator();
   FacePointEvaluator(const FacePointEvaluator&) = delete;
   FacePointEvaluator& operator=(const FacePointEvaluator&) = delete;
@@ -47,6 +49,11 @@ class FacePointEvaluator {
   /// Evaluates face f at (xi[i], eta[i]), i < count (clamped to 0..16), into out[i]. f must
   /// index a face with 3..GP_MAX_N sides.
   void evaluate(int f, const double* xi, const double* eta, int count, PatchPoint* out) noexcept;
+  /// The same on double records given by the caller: n (3..GP_MAX_N) records of GP_E_NFIELDS,
+  /// field-major (field i of corner k at recs[i * n + k]); mode: the cross-tangent mode (GP_CT_*);
+  /// faceStatus: the face's GP_ST_* construction bits, added to every point's status.
+  void evaluateRecords(int n, int mode, uint32_t faceStatus, const double* recs, const double* xi, const double* eta,
+                       int count, PatchPoint* out) noexcept;
 
  private:
   struct Scratch;
