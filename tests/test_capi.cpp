@@ -154,7 +154,7 @@ TEST(CApi, StepEqualsServoStepOnEveryHip) {
   const size_t n = hips.size() / 3;
   sf_haptic_options o;
   sf_haptic_options_init(&o);
-  o.rate = 10;  // 100 ms deadlines: no missed deadline on a loaded machine
+  o.rate = 10;  // 100 ms deadlines
   sf_haptic* raw = nullptr;
   ASSERT_EQ(sf_haptic_create(c.get(), &o, &raw), SF_OK) << sf_last_error();
   HapticPtr h(raw);
@@ -166,7 +166,12 @@ TEST(CApi, StepEqualsServoStepOnEveryHip) {
   sf::rt::SafetyFilter safety;
   sf::rt::StepOptions so;
   so.rate = 10;
-  sf::rt::ServoStep step(scene, safety, so);
+  // The missed-deadline bit is wall-clock compute time, not the HIP: the reference step runs on
+  // a fake clock (never late) and the C API's bit is left out of the comparison (a starved VM
+  // has taken 100 ms over a step); every other flag, the force and the contact must agree.
+  sf::rt::FakeClock clock;
+  sf::rt::ServoStep step(scene, safety, so, nullptr, &clock);
+  const uint32_t timing = sf::rt::kSafetyMissedDeadline;
   size_t same = 0, limited = 0;
   for (size_t i = 0; i < n; ++i) {
     sf_step_result r;
@@ -177,7 +182,7 @@ TEST(CApi, StepEqualsServoStepOnEveryHip) {
     d.position = Eigen::Vector3d(hips[3 * i], hips[3 * i + 1], hips[3 * i + 2]);
     const sf::rt::StepOutput s = step.step(t, d);
     same += s.force == Eigen::Vector3d(r.force[0], r.force[1], r.force[2]) && s.sample.contact == r.contact &&
-            s.flags == r.flags;
+            s.flags == (r.flags & ~timing);
     limited += std::sqrt(r.force[0] * r.force[0] + r.force[1] * r.force[1] + r.force[2] * r.force[2]) <= 3.3 + 1e-12;
   }
   EXPECT_EQ(same, n);
