@@ -122,6 +122,18 @@ struct FacePointEvaluator::Scratch {
   void* recs = ::operator new(kBytes, std::align_val_t(kAlign));
   double xs[16 + simd_detail::kPointPad] = {}, ys[16 + simd_detail::kPointPad] = {};
   ~Scratch() { ::operator delete(recs, std::align_val_t(kAlign)); }
+
+  /// Evaluates the face g describes (n, mode, records, status) at count (1..16) points.
+  void run(simd_detail::EvalGroup& g, bool dbl, const double* xi, const double* eta, int count, PatchPoint* out) {
+    std::copy_n(xi, count, xs);
+    std::copy_n(eta, count, ys);
+    g.count = static_cast<size_t>(count);
+    g.xi = g.xs = xs;
+    g.eta = g.ys = ys;
+    g.sorted = out;
+    g.laneRecs = recs;
+    fewPointsFn(dbl, count)(g);
+  }
 };
 
 FacePointEvaluator::FacePointEvaluator(const PatchCache& cache) : cache_(&cache), scratch_(std::make_unique<Scratch>()) {
@@ -140,9 +152,6 @@ void FacePointEvaluator::evaluateRecords(int n, int mode, uint32_t faceStatus, c
                                          const double* eta, int count, PatchPoint* out) noexcept {
   count = std::clamp(count, 0, 16);
   if (count == 0) return;
-  Scratch& s = *scratch_;
-  std::copy_n(xi, count, s.xs);
-  std::copy_n(eta, count, s.ys);
   simd_detail::EvalGroup g;
   g.n = n;
   g.mode = mode;
@@ -150,23 +159,13 @@ void FacePointEvaluator::evaluateRecords(int n, int mode, uint32_t faceStatus, c
   g.numSlots = static_cast<size_t>(n);
   g.first = 0;
   g.faceStatus = faceStatus;
-  g.count = static_cast<size_t>(count);
-  g.xi = s.xs;
-  g.eta = s.ys;
-  g.xs = s.xs;
-  g.ys = s.ys;
-  g.sorted = out;
-  g.laneRecs = s.recs;
-  fewPointsFn(true, count)(g);
+  scratch_->run(g, true, xi, eta, count, out);
 }
 
 void FacePointEvaluator::evaluate(int f, const double* xi, const double* eta, int count, PatchPoint* out) noexcept {
   const PatchCache& c = *cache_;
   count = std::clamp(count, 0, 16);
   if (count == 0) return;
-  Scratch& s = *scratch_;
-  std::copy_n(xi, count, s.xs);
-  std::copy_n(eta, count, s.ys);
   const bool dbl = c.options.precision == Precision::Double;
   simd_detail::EvalGroup g;
   g.n = c.faceSize(f);
@@ -175,14 +174,7 @@ void FacePointEvaluator::evaluate(int f, const double* xi, const double* eta, in
   g.numSlots = static_cast<size_t>(c.numSlots());
   g.first = c.faceOffsets[f];
   g.faceStatus = c.faceStatus[f];
-  g.count = static_cast<size_t>(count);
-  g.xi = s.xs;
-  g.eta = s.ys;
-  g.xs = s.xs;
-  g.ys = s.ys;
-  g.sorted = out;
-  g.laneRecs = s.recs;
-  fewPointsFn(dbl, count)(g);
+  scratch_->run(g, dbl, xi, eta, count, out);
 }
 
 PatchEvaluator::PatchEvaluator(const PatchCache& cache, const EvalOptions& options)
