@@ -226,6 +226,17 @@ GP_FN void gp_rf_store_d2(gp_refine_work* w, int f, GP_REAL xc, GP_REAL yc, cons
   w->d2Uses = 0;
 }
 
+/* Takes the second differences of face f at (xc, yc), whose evaluation there is pc: the pair
+ * (xc + eps, yc), (xc, yc + eps), stored in w. */
+GP_FN void gp_rf_take_d2(const gp_refine_mesh* m, gp_refine_work* w, int f, GP_REAL xc, GP_REAL yc,
+                         const gp_eval_result* pc) {
+  const GP_REAL eps = GP_RF_FD_EPS;
+  const GP_REAL fx[2] = {xc + eps, xc}, fy[2] = {yc, yc + eps};
+  gp_eval_result fd[2];
+  gp_rf_eval_pair(m, w, f, fx, fy, fd);
+  gp_rf_store_d2(w, f, xc, yc, pc, &fd[0], &fd[1]);
+}
+
 /* gp_rf_at, and the second differences that the next step from this point takes (the same
  * values; w->d2*): with the host's evalPoints hook the point and its differences in one call of
  * 3 or 4 SIMD lanes (about 1.5 single evaluations instead of 2.5), else one by one. Every
@@ -236,20 +247,19 @@ GP_FN gp_rf_iterate gp_rf_at_d2(const gp_refine_mesh* m, gp_refine_work* w, int 
   GP_REAL xc = x, yc = y;
   gp_dom_interior(gp_rf_size(m, f), &xc, &yc, eps);
   const int shifted = !(xc == x && yc == y);
-  const GP_REAL px[4] = {x, xc + eps, xc, xc}, py[4] = {y, yc, yc + eps, yc};
-  gp_eval_result e[4];
 #ifndef GP_OPENCL
   if (m->evalPoints) {
+    const GP_REAL px[4] = {x, xc + eps, xc, xc}, py[4] = {y, yc, yc + eps, yc};
+    gp_eval_result e[4];
     m->evalPoints(m->pointsUser, f, px, py, shifted ? 4 : 3, e);
-  } else
-#endif
-  {
-    e[0] = gp_rf_eval(m, w, f, x, y);
-    gp_rf_eval_pair(m, w, f, px + 1, py + 1, e + 1);
-    if (shifted) e[3] = gp_rf_eval(m, w, f, xc, yc);
+    gp_rf_store_d2(w, f, xc, yc, shifted ? &e[3] : &e[0], &e[1], &e[2]);
+    return gp_rf_with(f, x, y, e[0], hip);
   }
-  gp_rf_store_d2(w, f, xc, yc, shifted ? &e[3] : &e[0], &e[1], &e[2]);
-  return gp_rf_with(f, x, y, e[0], hip);
+#endif
+  const gp_eval_result p = gp_rf_eval(m, w, f, x, y);
+  const gp_eval_result pc = shifted ? gp_rf_eval(m, w, f, xc, yc) : p;
+  gp_rf_take_d2(m, w, f, xc, yc, &pc);
+  return gp_rf_with(f, x, y, p, hip);
 }
 
 /* Unit direction C_{k+1} - C_k of domain edge k, and its tangent J e on the surface. */
@@ -451,10 +461,7 @@ GP_FN int gp_rf_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* 
   if (lagged) w->d2Uses += 1;
   if (!exact && !lagged) {
     const gp_eval_result pc = (xc == cur->x && yc == cur->y) ? cur->p : gp_rf_eval(m, w, cur->face, xc, yc);
-    const GP_REAL fx[2] = {xc + eps, xc}, fy[2] = {yc, yc + eps};
-    gp_eval_result fd[2];
-    gp_rf_eval_pair(m, w, cur->face, fx, fy, fd);
-    gp_rf_store_d2(w, cur->face, xc, yc, &pc, &fd[0], &fd[1]);
+    gp_rf_take_d2(m, w, cur->face, xc, yc, &pc);
   }
   const GP_REAL s00 = gp_dot(r, w->d2xx) / eps, s11 = gp_dot(r, w->d2yy) / eps;
   const GP_REAL s01 = GP_R(0.5) * gp_dot(r, w->d2xy) / eps;
