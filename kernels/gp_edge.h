@@ -30,24 +30,25 @@ GP_FN void gp_edge_curve(const GP_REAL* rec, GP_REAL t, gp_dvec3* c, gp_dvec3* c
   *cp = gp_dv(D, S);
 }
 
-/* Largest of the three lengths an edge record refers to: the scale for "tiny". */
-GP_FN GP_REAL gp_edge_scale(const GP_REAL* rec) {
-  const GP_REAL L = gp_len(gp_sub(gp_get3(rec, GP_E_V1), gp_get3(rec, GP_E_V0)));
-  return gp_max(L, gp_max(rec[GP_E_LP], rec[GP_E_LN]));
+/* Length of the edge's chord |V1 - V0|, computed once per edge and evaluation and passed to
+ * gp_edge_normal and gp_cross_tangent. */
+GP_FN GP_REAL gp_edge_length(const GP_REAL* rec) {
+  return gp_len(gp_sub(gp_get3(rec, GP_E_V1), gp_get3(rec, GP_E_V0)));
 }
 
 /* Unit surface normal along the edge, n_c(t) (Eq. 10, normalised), oriented so that
- * n_c . ((1-t) N_k + t N_{k+1}) >= 0, with its t-derivative. cp = (C', C''). */
-GP_FN gp_dvec3 gp_edge_normal(const GP_REAL* rec, GP_REAL t, gp_dvec3 cp, GP_STATUS* st) {
+ * n_c . ((1-t) N_k + t N_{k+1}) >= 0, with its t-derivative. cp = (C', C''); L = gp_edge_length. */
+GP_FN gp_dvec3 gp_edge_normal(const GP_REAL* rec, GP_REAL t, gp_dvec3 cp, GP_REAL L, GP_STATUS* st) {
   const gp_vec3 e = gp_sub(gp_get3(rec, GP_E_V1), gp_get3(rec, GP_E_V0));
-  const GP_REAL L = gp_len(e);
   const gp_dvec3 nt = gp_dlerp(gp_get3(rec, GP_E_N0), gp_get3(rec, GP_E_N1), t);
   const gp_dvec3 ce = gp_dv(e, gp_zero3());
   const gp_dvec3 raw = gp_dcross(cp, gp_dcross(nt, ce));
-  /* where |raw| > tiny, |raw| > 0: the unit vector's own fallback never applies there */
+  /* where |raw| > tiny L^2 >= 0, |raw| > 0 and the unit vector is defined; elsewhere the
+   * fallback below replaces it */
+  const GP_REAL lraw = gp_len(raw.v);
+  gp_dvec3 n = gp_dunit_len(raw, lraw);
   GP_STATUS sraw = 0u;
-  gp_dvec3 n = gp_dunit_or(raw, raw, GP_R(0.0), &sraw, GP_ST_EDGE_NORMAL);
-  const GP_MASK flat = !(gp_len(raw.v) > GP_TINY * L * L);
+  const GP_MASK flat = !(lraw > GP_TINY * L * L);
   if (GP_ANY(flat)) { /* normal along the edge or opposite normals: interpolated normal, else N_k */
     GP_STATUS sfb = GP_ST_EDGE_NORMAL;
     const gp_dvec3 fb = gp_dunit_or(nt, gp_dv(gp_get3(rec, GP_E_N0), gp_zero3()), GP_TINY, &sfb, GP_ST_EDGE_NORMAL);
@@ -58,18 +59,37 @@ GP_FN gp_dvec3 gp_edge_normal(const GP_REAL* rec, GP_REAL t, gp_dvec3 cp, GP_STA
   return gp_dsel(gp_dot(n.v, nt.v) < GP_R(0.0), gp_dneg(n), n);
 }
 
+/* Inward direction used where a cross-tangent construction step is undefined: unit
+ * n_c x C' (zero, with GP_ST_CROSS_TANGENT in *ist, where that too is undefined, e.g. on a
+ * zero-length edge). Computed only for the lanes that need it. */
+GP_FN gp_dvec3 gp_edge_inward(gp_dvec3 nc, gp_dvec3 cp, GP_REAL scale, GP_STATUS* ist) {
+  return gp_dunit_or(gp_dcross(nc, cp), gp_dv(gp_zero3(), gp_zero3()), GP_TINY * scale, ist, GP_ST_CROSS_TANGENT);
+}
+
+/* unit(a), or gp_edge_inward where |a| <= tiny (GP_ST_CROSS_TANGENT and the inward
+ * direction's own bits in *st there). */
+GP_FN gp_dvec3 gp_unit_or_inward(gp_dvec3 a, GP_REAL tiny, gp_dvec3 nc, gp_dvec3 cp, GP_REAL scale, GP_STATUS* st) {
+  const GP_REAL l = gp_len(a.v);
+  const GP_MASK ok = l > tiny;
+  gp_dvec3 u = gp_dunit_len(a, l);
+  if (GP_ANY(!ok)) {
+    GP_STATUS ist = 0u;
+    const gp_dvec3 in = gp_edge_inward(nc, cp, scale, &ist);
+    u = gp_dsel(ok, u, in);
+    *st |= GP_SEL(ok, (GP_STATUS)0u, (GP_STATUS)GP_ST_CROSS_TANGENT | ist);
+  }
+  return u;
+}
+
 /* Cross tangent T_k(t) with its t-derivative (Eq. 11-14 and the design page's variants).
- * c = (C, C'), cp = (C', C''), nc = n_c (dual). mode: GP_CT_*. */
+ * c = (C, C'), cp = (C', C''), nc = n_c (dual), L = gp_edge_length. mode: GP_CT_*. Where a
+ * step is undefined, the inward direction n_c x C' (gp_edge_inward) replaces it. */
 GP_FN gp_dvec3 gp_cross_tangent(const GP_REAL* rec, GP_REAL t, int mode, gp_dvec3 c, gp_dvec3 cp, gp_dvec3 nc,
-                                GP_STATUS* st) {
-  const GP_REAL scale = gp_edge_scale(rec);
+                                GP_REAL L, GP_STATUS* st) {
+  /* the largest of the three lengths the record refers to: the scale for "tiny" */
+  const GP_REAL scale = gp_max(L, gp_max(rec[GP_E_LP], rec[GP_E_LN]));
   const gp_dreal len = gp_dr((GP_R(1.0) - t) * rec[GP_E_LP] + t * rec[GP_E_LN], rec[GP_E_LN] - rec[GP_E_LP]);
   const gp_vec3 d0 = gp_get3(rec, GP_E_D0), d1 = gp_get3(rec, GP_E_D1);
-  /* Inward direction used when a construction step is undefined: n_c x C' (zero when
-   * that too is undefined, e.g. on a zero-length edge). */
-  GP_STATUS ist = 0u;
-  const gp_dvec3 inward =
-      gp_dunit_or(gp_dcross(nc, cp), gp_dv(gp_zero3(), gp_zero3()), GP_TINY * scale, &ist, GP_ST_CROSS_TANGENT);
   gp_dvec3 q;
   if (mode == GP_CT_BLEND) {
     q = gp_dlerp(d0, d1, t);
@@ -78,7 +98,7 @@ GP_FN gp_dvec3 gp_cross_tangent(const GP_REAL* rec, GP_REAL t, int mode, gp_dvec
     const gp_dvec3 vint = gp_dsub(gp_dlerp(gp_get3(rec, GP_E_VP), gp_get3(rec, GP_E_VN), t), c);
     const gp_dvec3 nint = gp_dscale(gp_dadd(gp_dlerp(gp_get3(rec, GP_E_NP), gp_get3(rec, GP_E_NN), t), nc), GP_R(0.5));
     const gp_dvec3 tc = gp_dcross(nc, gp_dcross(vint, nint));
-    const gp_dvec3 p = gp_dunit_or(tc, inward, GP_TINY * scale, st, GP_ST_CROSS_TANGENT | ist);
+    const gp_dvec3 p = gp_unit_or_inward(tc, GP_TINY * scale, nc, cp, scale, st);
     if (mode == GP_CT_PAPER) return gp_dmul(len, p); /* Eq. 14 as printed */
     /* correction: q(t) = p(t) + (1-t)(d0 - p(0)) + t(d1 - p(1)) */
     const gp_vec3 c0 = gp_sub(d0, gp_get3(rec, GP_E_P0)), c1 = gp_sub(d1, gp_get3(rec, GP_E_P1));
@@ -86,7 +106,7 @@ GP_FN gp_dvec3 gp_cross_tangent(const GP_REAL* rec, GP_REAL t, int mode, gp_dvec
   }
   /* project onto the tangent plane of n_c: q - (q.n_c) n_c */
   const gp_dvec3 proj = gp_dsub(q, gp_dmul(gp_ddot(q, nc), nc));
-  return gp_dmul(len, gp_dunit_or(proj, inward, GP_TINY, st, GP_ST_CROSS_TANGENT | ist));
+  return gp_dmul(len, gp_unit_or_inward(proj, GP_TINY, nc, cp, scale, st));
 }
 
 /* Unit end tangents (t_s, t_e) of the edge Va -> Vb (Eq. 8-9) with the design page's
@@ -127,12 +147,13 @@ GP_FN void gp_edge_tangents(gp_vec3 va, gp_vec3 vb, gp_vec3 na, gp_vec3 nb, gp_v
 GP_FN void gp_finish_edge_record(GP_REAL* rec, gp_vec3 d0, gp_vec3 d1, int mode, GP_STATUS* st) {
   gp_put3(rec, GP_E_D0, d0);
   gp_put3(rec, GP_E_D1, d1);
+  const GP_REAL L = gp_edge_length(rec);
   for (int end = 0; end < 2; ++end) { /* p(0), p(1): the printed direction */
     const GP_REAL t = end ? GP_R(1.0) : GP_R(0.0);
     gp_dvec3 c, cp;
     gp_edge_curve(rec, t, &c, &cp);
-    const gp_dvec3 nc = gp_edge_normal(rec, t, cp, st);
-    const gp_dvec3 T = gp_cross_tangent(rec, t, GP_CT_PAPER, c, cp, nc, st);
+    const gp_dvec3 nc = gp_edge_normal(rec, t, cp, L, st);
+    const gp_dvec3 T = gp_cross_tangent(rec, t, GP_CT_PAPER, c, cp, nc, L, st);
     const GP_REAL l = end ? rec[GP_E_LN] : rec[GP_E_LP];
     gp_put3(rec, end ? GP_E_P1 : GP_E_P0, gp_sel3(l > GP_R(0.0), gp_scale(T.v, GP_R(1.0) / l), gp_zero3()));
   }
@@ -140,8 +161,8 @@ GP_FN void gp_finish_edge_record(GP_REAL* rec, gp_vec3 d0, gp_vec3 d1, int mode,
     const GP_REAL t = end ? GP_R(1.0) : GP_R(0.0);
     gp_dvec3 c, cp;
     gp_edge_curve(rec, t, &c, &cp);
-    const gp_dvec3 nc = gp_edge_normal(rec, t, cp, st);
-    const gp_dvec3 T = gp_cross_tangent(rec, t, mode, c, cp, nc, st);
+    const gp_dvec3 nc = gp_edge_normal(rec, t, cp, L, st);
+    const gp_dvec3 T = gp_cross_tangent(rec, t, mode, c, cp, nc, L, st);
     gp_put3(rec, end ? GP_E_T1 : GP_E_T0, T.v);
     gp_put3(rec, end ? GP_E_DT1 : GP_E_DT0, T.d);
   }

@@ -86,8 +86,9 @@ GP_FN gp_eval_result gp_patch_eval_dom(const gp_domain* dom, const GP_REAL* recs
     GP_STATUS est = 0u;
     gp_dvec3 c, cp;
     gp_edge_curve(rec, t[k], &c, &cp);
-    const gp_dvec3 nc = gp_edge_normal(rec, t[k], cp, &est);
-    const gp_dvec3 tt = gp_cross_tangent(rec, t[k], mode, c, cp, nc, &est);
+    const GP_REAL L = gp_edge_length(rec);
+    const gp_dvec3 nc = gp_edge_normal(rec, t[k], cp, L, &est);
+    const gp_dvec3 tt = gp_cross_tangent(rec, t[k], mode, c, cp, nc, L, &est);
     C[k] = c.v;
     Cd[k] = c.d;
     T[k] = tt.v;
@@ -134,10 +135,15 @@ GP_FN gp_eval_result gp_patch_eval_dom(const gp_domain* dom, const GP_REAL* recs
   /* rank-deficient Jacobian (e.g. at a 180-degree corner): the normal is noise, flag it */
   const GP_REAL jmax = gp_max(gp_len(out.dxi), gp_len(out.deta));
   const GP_REAL scale = jmax * jmax;
-  GP_STATUS sst = 0u;
-  out.normal =
-      gp_unit_or(nn, gp_unit_or(nfb, gp_get3(recs, GP_E_N0), GP_TINY, &sst, 0u), GP_TINY * scale, &sst, GP_ST_SINGULAR);
-  out.status |= sst;
+  /* unit(nn); where |nn| <= tiny scale, the weighted vertex normals (computed only then) */
+  const GP_REAL lnn = gp_len(nn);
+  const GP_MASK regular = lnn > GP_TINY * scale;
+  out.normal = gp_scale(nn, GP_R(1.0) / lnn);
+  if (GP_ANY(!regular)) {
+    GP_STATUS ignore = 0u;
+    out.normal = gp_sel3(regular, out.normal, gp_unit_or(nfb, gp_get3(recs, GP_E_N0), GP_TINY, &ignore, 0u));
+    out.status |= GP_SEL(regular, (GP_STATUS)0u, (GP_STATUS)GP_ST_SINGULAR);
+  }
   if (GP_ANY(outside)) { /* lanes only: some lanes outside */
     out.pos = gp_sel3(outside, gp_zero3(), out.pos);
     out.dxi = gp_sel3(outside, gp_zero3(), out.dxi);
@@ -212,7 +218,8 @@ GP_FN GP_STATUS gp_patch_quality(int n, const GP_REAL* recs, int mode, GP_REAL* 
           gp_dvec3 c, cp;
           GP_STATUS ignore = 0u;
           gp_edge_curve(recs + k * GP_E_NFIELDS, s, &c, &cp);
-          const gp_dvec3 nc = gp_edge_normal(recs + k * GP_E_NFIELDS, s, cp, &ignore);
+          const gp_dvec3 nc =
+              gp_edge_normal(recs + k * GP_E_NFIELDS, s, cp, gp_edge_length(recs + k * GP_E_NFIELDS), &ignore);
           st |= GP_BITS(gp_dot(nc.v, g.normal) < GP_R(0.0), GP_ST_FOLD);
         }
       }

@@ -147,12 +147,17 @@ GP_FN gp_dvec3 gp_dcross(gp_dvec3 a, gp_dvec3 b) {
 }
 /* (1-t) a + t b for constant a, b: derivative b - a. */
 GP_FN gp_dvec3 gp_dlerp(gp_vec3 a, gp_vec3 b, GP_REAL t) { return gp_dv(gp_lerp(a, b, t), gp_sub(b, a)); }
-/* unit(a) with derivative (a' - u (u.a')) / |a|, or the fallback (bit set) when |a| <= tiny. */
+/* unit(a) with derivative (a' - u (u.a')) / |a|, given l = |a.v| (lanes with l = 0 get
+ * non-finite values: the caller selects them away). */
+GP_FN gp_dvec3 gp_dunit_len(gp_dvec3 a, GP_REAL l) {
+  const GP_REAL il = GP_R(1.0) / l;
+  const gp_vec3 u = gp_scale(a.v, il);
+  return gp_dv(u, gp_scale(gp_madd(a.d, u, -gp_dot(u, a.d)), il));
+}
+/* unit(a) with derivative, or the fallback (bit set) when |a| <= tiny. */
 GP_FN gp_dvec3 gp_dunit_or(gp_dvec3 a, gp_dvec3 fallback, GP_REAL tiny, GP_STATUS* st, GP_STATUS bit) {
   const GP_REAL l = gp_len(a.v);
   const GP_MASK ok = l > tiny;
   *st |= GP_SEL(ok, (GP_STATUS)0u, bit);
-  const GP_REAL il = GP_R(1.0) / l;
-  const gp_vec3 u = gp_scale(a.v, il);
-  return gp_dsel(ok, gp_dv(u, gp_scale(gp_madd(a.d, u, -gp_dot(u, a.d)), il)), fallback);
+  return gp_dsel(ok, gp_dunit_len(a, l), fallback);
 }
