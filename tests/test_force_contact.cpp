@@ -2,6 +2,11 @@
 // plate, the god-object on flat faces and across a convex edge, options and names.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
 #include <smoothforce/force/force_tracking.h>
 #include <smoothforce/force/god_object.h>
 #include <smoothforce/query/embree_scene.h>
@@ -149,6 +154,78 @@ TEST(ForceTracker, FarOutsideStepsDoNoPatchWork) {
     EXPECT_EQ(agree, hips) << rel;
     EXPECT_GT(far, hips / 4) << rel;
     EXPECT_GT(contacts, hips / 3) << rel;
+  }
+}
+
+// A known bound on the distance to the surface (reach: the distance to a patch point, or the
+// error band's) only shortens the candidate search: PatchSurface::candidates returns the same
+// candidates, bit for bit, as without it; and a tracker whose global query is bounded by the
+// point its last step ended at (an approach step just outside, then the HIP) renders the same
+// step as a fresh one. Every face of the spot cage and the quad-sphere, every 10th of the
+// triangulated spot (600 faces), 4 points each, pressed in and pulled out by 0.1%-6% of the
+// diagonal; reaches: the exact distance to the nearest point found, the distance to the
+// unpressed point, and the band's.
+TEST(ForceTracker, GlobalQueryReachKeepsTheCandidates) {
+  for (const char* rel : {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/quad-sphere.off",
+                          "keenan_crane/spot_triangulated.obj"}) {
+    auto cache = std::make_shared<const PatchCache>(test::cacheFromFile(test::sharedMesh(rel)));
+    const ForceOptions opt;
+    auto surface = std::make_shared<const PatchSurface>(*cache, patchSurfaceOptions(opt));
+    auto scene = std::make_shared<const PolygonScene>(*cache);
+    auto tracked = makeForceRenderer(cache, scene, ForceMethod::Patch, opt, surface);
+    auto fresh = makeForceRenderer(cache, scene, ForceMethod::Patch, opt, surface);
+    PatchRefiner refiner(*cache);
+    const double diag = boundingDiagonal(*cache);
+    auto same = [](const SurfaceCandidate* a, size_t na, const SurfaceCandidate* b, size_t nb) {
+      if (na != nb) return false;
+      for (size_t i = 0; i < na; ++i)
+        if (a[i].face != b[i].face || a[i].triangle != b[i].triangle || a[i].lower != b[i].lower || a[i].X != b[i].X)
+          return false;
+      return true;
+    };
+    size_t hips = 0, lists = 0, equalLists = 0, band = 0, steps = 0, equalSteps = 0;
+    SurfaceCandidate c0[PatchSurface::kMaxCandidates], c1[PatchSurface::kMaxCandidates];
+    const int stride = (cache->numFaces() + 599) / 600;  // at most 600 faces: every face of the coarse meshes
+    int faces = 0;
+    for (int f = 0; f < cache->numFaces(); f += stride, ++faces) {
+      const int n = cache->faceSize(f);
+      for (int k = 0; k < 4; ++k) {
+        const Eigen::Vector2d X = 0.4 * domainCorner(n, k) + 0.05 * domainCorner(n, k + 1);
+        const PatchPoint p = evaluatePatch(*cache, f, X.x(), X.y());
+        for (double d : {-0.06, -0.01, -0.005, -0.001, 0.001, 0.01, 0.06}) {
+          const Eigen::Vector3d hip = p.pos + d * diag * p.normal;
+          ++hips;
+          const size_t n0 = surface->candidates(hip, c0, PatchSurface::kMaxCandidates);
+          const double nearest = nearestOnPatches(*surface, refiner, hip, opt).nearest.distance;
+          double bandReach = std::numeric_limits<double>::infinity();
+          band += surface->inErrorBand(hip, &bandReach);
+          for (double reach : {nearest, (hip - p.pos).norm(), bandReach}) {
+            if (!std::isfinite(reach)) continue;
+            ++lists;
+            equalLists += same(c0, n0, c1, surface->candidates(hip, c1, PatchSurface::kMaxCandidates, reach));
+          }
+          // approach from just outside, then the HIP: the same step as from a reset
+          tracked->reset();
+          const ForceSample a = tracked->step(p.pos + 0.001 * std::abs(d) * diag * p.normal);
+          if (a.contact) continue;  // then the HIP step tracks instead of querying
+          const ForceSample s1 = tracked->step(hip);
+          fresh->reset();
+          const ForceSample s0 = fresh->step(hip);
+          ++steps;
+          equalSteps += s0.contact == s1.contact && s0.scp == s1.scp && s0.face == s1.face &&
+                        s0.iterations == s1.iterations && s0.status == s1.status;
+        }
+      }
+    }
+    EXPECT_EQ(hips, size_t(28) * faces) << rel;
+    EXPECT_GE(faces, std::min(cache->numFaces(), 580)) << rel;
+    EXPECT_EQ(equalLists, lists) << rel;
+    EXPECT_GE(lists, 2 * hips) << rel;  // the nearest and the unpressed point's reach for every HIP
+    EXPECT_GT(band, 0u) << rel;         // the band's reach was exercised
+    EXPECT_EQ(equalSteps, steps) << rel;
+    EXPECT_GT(steps, hips * 9 / 10) << rel;
+    std::printf("  %s: %zu HIPs, %zu candidate lists with a reach (%zu from a band) equal, %zu steps equal\n", rel,
+                hips, lists, band, steps);
   }
 }
 

@@ -2,6 +2,7 @@
 // PolygonScene (the paper's polygon start) and PatchRefiner (local refinement).
 #include <smoothforce/force/force_tracking.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -111,22 +112,34 @@ class PatchTracker final : public ForceRenderer {
     PatchStepStart start;
     if (!beginPatchStep(*scene_, surface_.get(), *cache_, hip, state_, lambda_.data(), start, s, false)) return s;
     if (start.global && surface_) {  // the whole global query here: every candidate it may need
-      const PatchNearest q = nearestOnPatches(*surface_, refiner_, hip, options_);
+      // the patch point the last step ended at bounds the distance (the candidates stay the same)
+      const double reach = lastPoint_.allFinite() ? std::min(start.reach, (hip - lastPoint_).norm()) : start.reach;
+      const PatchNearest q = nearestOnPatches(*surface_, refiner_, hip, options_, nullptr, reach);
       if (q.candidates == 0) s.status |= SF_TRACK_NO_POLYGON;
       finishGlobalStep(*surface_, hip, q, options_, state_, s, start.windingVerdict);
+      remember(q.nearest);
       return s;
     }
     // in contact: the next step from the SCP the refiner found last (its evaluation reused)
-    const RefineResult r = start.global ? refiner_.refine(hip, start.face, start.X.x(), start.X.y(), options_, start.edge)
-                                        : refiner_.refineNext(hip, start.face, start.X.x(), start.X.y(), options_, start.edge);
+    const RefineResult r = start.global
+                               ? refiner_.refine(hip, start.face, start.X.x(), start.X.y(), options_, start.edge)
+                               : refiner_.refineNext(hip, start.face, start.X.x(), start.X.y(), options_, start.edge);
     finishPatchStep(*scene_, surface_.get(), refiner_, hip, start, r, options_, state_, s);
+    remember(r);
     return s;
   }
 
-  void reset() noexcept override { state_.inContact = false; }
+  void reset() noexcept override {
+    state_.inContact = false;
+    lastPoint_.setConstant(std::numeric_limits<double>::quiet_NaN());
+  }
   int patchesBuilt() const noexcept override { return lazy_ ? lazy_->constructions() : cache_->numFaces(); }
 
  private:
+  void remember(const RefineResult& r) noexcept {
+    if (usable(r)) lastPoint_ = r.scp;
+  }
+
   std::shared_ptr<const PatchCache> cache_;
   std::shared_ptr<const PolygonScene> scene_;
   ForceOptions options_;
@@ -136,6 +149,9 @@ class PatchTracker final : public ForceRenderer {
   std::unique_ptr<LazyPatchSurface> lazySurface_;  ///< InitialGuess::Surface with lazy patches
   std::vector<double> lambda_;
   PatchContactState state_;
+  /// m, the patch point the last refining step ended at (NaN: none): bounds the next global
+  /// query's search radius
+  Eigen::Vector3d lastPoint_{Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN())};
 };
 
 }  // namespace
@@ -179,14 +195,14 @@ PatchNearest refineCandidates(const SurfaceCandidate* c, int n, double spacing, 
 }
 
 PatchNearest nearestOnPatches(const PatchSurface& surface, PatchRefiner& refiner, const Eigen::Vector3d& hip,
-                              const ForceOptions& options, const RefineResult* first) noexcept {
+                              const ForceOptions& options, const RefineResult* first, double reach) noexcept {
   SurfaceCandidate c[PatchSurface::kMaxCandidates];
-  const int n = static_cast<int>(surface.candidates(hip, c, PatchSurface::kMaxCandidates));
+  const int n = static_cast<int>(surface.candidates(hip, c, PatchSurface::kMaxCandidates, reach));
   return refineCandidates(c, n, surface.spacing(), refiner, hip, options, first);
 }
 
-int insideByWinding(const PatchSurface& surface, const Eigen::Vector3d& hip) noexcept {
-  if (!surface.closed() || surface.numTriangles() == 0 || surface.inErrorBand(hip)) return -1;
+int insideByWinding(const PatchSurface& surface, const Eigen::Vector3d& hip, double* reach) noexcept {
+  if (!surface.closed() || surface.numTriangles() == 0 || surface.inErrorBand(hip, reach)) return -1;
   return surface.winding(hip) >= 1 ? 1 : 0;
 }
 
@@ -228,14 +244,14 @@ bool beginPatchStep(const PolygonScene& scene, const PatchSurface* surface, cons
   }
   s.status |= SF_TRACK_GLOBAL;
   if (surface) {  // the global query on the patch surface
-    start.windingVerdict = insideByWinding(*surface, hip);
+    start.windingVerdict = insideByWinding(*surface, hip, &start.reach);
     if (start.windingVerdict == 0) {  // outside the closed surface beyond every error band: no patch work
       state.inContact = false;
       return false;
     }
     start.global = true;
-    if (!firstCandidate) return true;                          // the caller runs the whole global query
-    if (surface->candidates(hip, &start.candidate, 1) == 0) {  // its first candidate starts the refinement
+    if (!firstCandidate) return true;                                       // the caller runs the whole global query
+    if (surface->candidates(hip, &start.candidate, 1, start.reach) == 0) {  // its first candidate starts the refinement
       s.status |= SF_TRACK_NO_POLYGON;
       return false;
     }
@@ -260,7 +276,7 @@ void finishPatchStep(const PolygonScene& scene, const PatchSurface* surface, Pat
                      const Eigen::Vector3d& hip, const PatchStepStart& start, RefineResult r,
                      const ForceOptions& options, PatchContactState& state, ForceSample& s) noexcept {
   if (start.global && start.candidate.face >= 0 && surface) {  // the rest of the global query on the patches
-    const PatchNearest q = nearestOnPatches(*surface, refiner, hip, options, &r);
+    const PatchNearest q = nearestOnPatches(*surface, refiner, hip, options, &r, start.reach);
     finishGlobalStep(*surface, hip, q, options, state, s, start.windingVerdict);
     return;
   }

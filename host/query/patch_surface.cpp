@@ -131,11 +131,15 @@ bool candidateFn(RTCPointQueryFunctionArguments* args) {
   SurfaceCandidate* slot = nullptr;
   if (st->count < kMaxCandidates) {
     slot = &st->c[st->count++];
-  } else {  // full: replace the candidate with the largest lower bound, if worse than this one
+  } else {  // full: replace the last candidate in (lower bound, triangle) order, if after this one
+    // (a strict order: the candidates kept do not depend on the order Embree visits them in)
+    auto after = [](const SurfaceCandidate& a, double lower, int triangle) {
+      return a.lower > lower || (a.lower == lower && a.triangle > triangle);
+    };
     slot = &st->c[0];
     for (size_t i = 1; i < st->count; ++i)
-      if (st->c[i].lower > slot->lower) slot = &st->c[i];
-    if (slot->lower <= d - e) slot = nullptr;
+      if (after(st->c[i], slot->lower, slot->triangle)) slot = &st->c[i];
+    if (!after(*slot, d - e, static_cast<int>(args->primID))) slot = nullptr;
   }
   if (slot) {
     slot->face = t.face;
@@ -161,6 +165,7 @@ struct BandState {
   const UniformTessellation* u;
   Eigen::Vector3d q;
   bool inside;
+  double reach;  ///< m, distance + error bound of the triangle found
 };
 
 bool bandFn(RTCPointQueryFunctionArguments* args) {
@@ -172,6 +177,7 @@ bool bandFn(RTCPointQueryFunctionArguments* args) {
   const double d = std::sqrt(closestOnTriangle(st->q, u.vertex[tr[0]], u.vertex[tr[1]], u.vertex[tr[2]], a, b, c));
   if (!(d > u.error[args->primID])) {
     st->inside = true;
+    st->reach = d + u.error[args->primID];
     args->query->radius = 0;  // found one: stop looking
     return true;
   }
@@ -276,7 +282,8 @@ PatchSurface::~PatchSurface() = default;
 int PatchSurface::level() const noexcept { return uniform_->level; }
 size_t PatchSurface::numTriangles() const noexcept { return uniform_->tri.size(); }
 
-size_t PatchSurface::candidates(const Eigen::Vector3d& q, SurfaceCandidate* out, size_t cap) const noexcept {
+size_t PatchSurface::candidates(const Eigen::Vector3d& q, SurfaceCandidate* out, size_t cap,
+                                double reach) const noexcept {
   if (points_.empty() || !q.allFinite() || cap == 0) return 0;
   CandidateState st;
   st.tri = &points_;
@@ -284,7 +291,22 @@ size_t PatchSurface::candidates(const Eigen::Vector3d& q, SurfaceCandidate* out,
   st.bound = std::numeric_limits<double>::infinity();
   st.pad = impl_->pad;
   st.count = 0;
-  embreePointQuery(impl_->points, q, &st);
+  // The nearest patch point P lies within its triangle's error e of that triangle, whose
+  // distance + e is then at most |q - P| + 2e <= reach + 2 maxError =: r0, so the search can
+  // start at radius r0. Every triangle that can be a candidate (distance - error <= the final
+  // bound) is then visited as long as the final bound is <= r0; the error bounds are estimates,
+  // so where it is not, the search runs again without the radius: the same candidates always.
+  const double r0 = reach + 2 * maxError_;
+  if (r0 < 1e30) {
+    embreePointQuery(impl_->points, q, &st, float(r0) * (1.0f + 1e-6f) + st.pad);
+    if (!(st.bound <= r0)) {
+      st.bound = std::numeric_limits<double>::infinity();
+      st.count = 0;
+      embreePointQuery(impl_->points, q, &st);
+    }
+  } else {
+    embreePointQuery(impl_->points, q, &st);
+  }
   size_t n = 0;
   for (size_t i = 0; i < st.count; ++i)
     if (st.c[i].lower <= st.bound) st.c[n++] = st.c[i];
@@ -296,10 +318,11 @@ size_t PatchSurface::candidates(const Eigen::Vector3d& q, SurfaceCandidate* out,
   return n;
 }
 
-bool PatchSurface::inErrorBand(const Eigen::Vector3d& q) const noexcept {
+bool PatchSurface::inErrorBand(const Eigen::Vector3d& q, double* reach) const noexcept {
   if (uniform_->tri.empty() || !q.allFinite()) return false;
-  BandState st{uniform_.get(), q, false};
+  BandState st{uniform_.get(), q, false, std::numeric_limits<double>::infinity()};
   embreePointQuery(impl_->band, q, &st, impl_->pad);  // boxes are inflated by the errors: q must lie in one
+  if (st.inside && reach) *reach = st.reach;
   return st.inside;
 }
 

@@ -72,8 +72,11 @@ PatchNearest refineCandidates(const SurfaceCandidate* c, int n, double spacing, 
 /// The global nearest point of the patches to `hip` (m): PatchSurface::candidates, then
 /// refineCandidates. Never throws or allocates.
 /// first: as in refineCandidates (the refinement of the first candidate, already done).
+/// reach: an upper bound (m) of the HIP's distance to the patch surface when known (the
+/// distance to a patch point): PatchSurface::candidates searches less; the result is the same.
 PatchNearest nearestOnPatches(const PatchSurface& surface, PatchRefiner& refiner, const Eigen::Vector3d& hip,
-                              const ForceOptions& options, const RefineResult* first = nullptr) noexcept;
+                              const ForceOptions& options, const RefineResult* first = nullptr,
+                              double reach = std::numeric_limits<double>::infinity()) noexcept;
 
 /// Whether `hip` is inside the patch surface (Algorithm 1, line 3), from its global query, and
 /// the SCP to start contact at (*scp). Closed surface (PatchSurface::closed): the winding number
@@ -91,7 +94,9 @@ bool insidePatchSurface(const PatchSurface& surface, const Eigen::Vector3d& hip,
 /// outside every error band of the tessellation, the winding number decides alone (1 inside,
 /// 0 outside); -1 otherwise (within a band, an open or empty surface: the global query decides). An
 /// out-of-contact step with verdict 0 needs no patch work at all: no candidates, no refinement.
-int insideByWinding(const PatchSurface& surface, const Eigen::Vector3d& hip) noexcept;
+/// reach, when given and the HIP is within a band: an upper bound (m) of its distance to the
+/// patch surface (PatchSurface::inErrorBand); untouched otherwise.
+int insideByWinding(const PatchSurface& surface, const Eigen::Vector3d& hip, double* reach = nullptr) noexcept;
 
 /// Contact state of the patch method between steps (Algorithm 1).
 struct PatchContactState {
@@ -111,6 +116,9 @@ struct PatchStepStart {
   Eigen::Vector3d polygonPoint{0, 0, 0};  ///< m, nearest polygon point (polygon start only)
   SurfaceCandidate candidate;             ///< surface start: the first candidate, (face, X); face -1 otherwise
   int windingVerdict = -2;                ///< surface start: insideByWinding (-2: not computed)
+  /// m, surface start: an upper bound of the HIP's distance to the patch surface found on the way
+  /// (insideByWinding's error band; infinite: none), for PatchSurface::candidates
+  double reach = std::numeric_limits<double>::infinity();
 };
 
 /// First half of a patch-method step at `hip` (m), for callers that run the refinement elsewhere
