@@ -1,5 +1,6 @@
 #include "surface_tessellation.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -56,9 +57,9 @@ struct Batch {
     x.push_back(X.x());
     y.push_back(X.y());
   }
-  std::vector<PatchPoint> run(const PatchCache& cache) const {
+  std::vector<PatchPoint> run(const PatchCache& cache, Backend backend = Backend::Tbb) const {
     std::vector<PatchPoint> out(f.size());
-    evaluatePatches(cache, f.data(), x.data(), y.data(), f.size(), out.data(), Backend::Tbb);
+    evaluatePatches(cache, f.data(), x.data(), y.data(), f.size(), out.data(), backend);
     return out;
   }
 };
@@ -90,7 +91,10 @@ int64_t trianglesAtLevel(const PatchCache& cache, int L) {
 UniformTessellation tessellateUniform(const PatchCache& cache, int L) {
   UniformTessellation t;
   t.level = L;
-  Batch vb;
+  // layout: every built face's ring points and triangles, in face order; first[i]..first[i+1]:
+  // face faces[i]'s vertices, tfirst likewise its triangles
+  std::vector<int> faces;
+  std::vector<size_t> first{0}, tfirst{0};
   std::vector<Eigen::Vector2d> dom;
   std::vector<std::array<int32_t, 3>> local;
   for (int f = 0; f < cache.numFaces(); ++f) {
@@ -98,29 +102,37 @@ UniformTessellation tessellateUniform(const PatchCache& cache, int L) {
     const int n = cache.faceSize(f), base = static_cast<int>(t.domain.size());
     dom.clear();
     domainRingPoints(n, L, dom);
-    for (const Eigen::Vector2d& X : dom) {
-      t.domain.push_back(X);
-      vb.add(f, X);
-    }
+    t.domain.insert(t.domain.end(), dom.begin(), dom.end());
     local.clear();
     ringTriangles(n, L, local);
     for (const auto& tr : local) {
       t.tri.push_back({base + tr[0], base + tr[1], base + tr[2]});
       t.triFace.push_back(f);
     }
+    faces.push_back(f);
+    first.push_back(t.domain.size());
+    tfirst.push_back(t.tri.size());
   }
-  const std::vector<PatchPoint> pts = vb.run(cache);
-  t.vertex.resize(pts.size());
-  for (size_t i = 0; i < pts.size(); ++i) t.vertex[i] = pts[i].pos;
-  Batch sb;
-  for (size_t i = 0; i < t.tri.size(); ++i)
-    addSamples(sb, t.triFace[i], {t.domain[t.tri[i][0]], t.domain[t.tri[i][1]], t.domain[t.tri[i][2]]});
-  const std::vector<PatchPoint> sp = sb.run(cache);
+  t.vertex.resize(t.domain.size());
   t.error.resize(t.tri.size());
-  tbb::parallel_for(size_t(0), t.tri.size(), [&](size_t i) {
-    const auto& tr = t.tri[i];
-    const PatchPoint c[3] = {pts[tr[0]], pts[tr[1]], pts[tr[2]]};
-    t.error[i] = triangleError({t.domain[tr[0]], t.domain[tr[1]], t.domain[tr[2]]}, c, &sp[4 * i]);
+  // positions and error bounds a few faces at a time: the evaluations of a chunk (its vertices,
+  // then 4 samples per triangle) stay in cache instead of one array of every point; the values
+  // are the same (PatchEvaluator's results do not depend on how the points are grouped)
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, faces.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
+    const size_t v0 = first[r.begin()], v1 = first[r.end()], t0 = tfirst[r.begin()], t1 = tfirst[r.end()];
+    Batch b;
+    for (size_t i = r.begin(); i < r.end(); ++i)
+      for (size_t v = first[i]; v < first[i + 1]; ++v) b.add(faces[i], t.domain[v]);
+    for (size_t i = t0; i < t1; ++i)
+      addSamples(b, t.triFace[i], {t.domain[t.tri[i][0]], t.domain[t.tri[i][1]], t.domain[t.tri[i][2]]});
+    const std::vector<PatchPoint> pts = b.run(cache, Backend::Serial);
+    for (size_t v = v0; v < v1; ++v) t.vertex[v] = pts[v - v0].pos;
+    const PatchPoint* sp = pts.data() + (v1 - v0);
+    for (size_t i = t0; i < t1; ++i) {
+      const auto& tr = t.tri[i];
+      const PatchPoint c[3] = {pts[tr[0] - v0], pts[tr[1] - v0], pts[tr[2] - v0]};
+      t.error[i] = triangleError({t.domain[tr[0]], t.domain[tr[1]], t.domain[tr[2]]}, c, &sp[4 * (i - t0)]);
+    }
   });
   return t;
 }
@@ -140,36 +152,46 @@ std::vector<SurfaceTriangle> tessellateAdaptive(const PatchCache& cache, const U
   }
   for (int depth = 0; depth < maxDepth && !todo.empty(); ++depth) {
     // children at the edge midpoints: corners (a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca)
-    Batch mids;
-    for (const SurfaceTriangle& s : todo)
-      for (int a = 0; a < 3; ++a) mids.add(s.face, 0.5 * (s.X[a] + s.X[(a + 1) % 3]));
-    const std::vector<PatchPoint> mp = mids.run(cache);
     std::vector<SurfaceTriangle> kids(4 * todo.size());
-    for (size_t i = 0; i < todo.size(); ++i) {
-      const SurfaceTriangle& s = todo[i];
-      const PatchPoint* m = &mp[3 * i];  // ab, bc, ca
-      const std::array<Eigen::Vector2d, 3> mX = {0.5 * (s.X[0] + s.X[1]), 0.5 * (s.X[1] + s.X[2]),
-                                                 0.5 * (s.X[2] + s.X[0])};
+    // a chunk of parents at a time: per parent its 3 corners and 3 edge midpoints (the children's
+    // corners, with the Jacobians the error bound needs), then 4 samples per child; the same points
+    // (and so the same values) as evaluating every child's corners on their own
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, todo.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
       const int idx[4][3] = {{0, 3, 5}, {3, 1, 4}, {5, 4, 2}, {3, 4, 5}};  // 0..2 corners, 3..5 mids
-      for (int k = 0; k < 4; ++k) {
-        SurfaceTriangle& c = kids[4 * i + k];
-        c.face = s.face;
-        for (int a = 0; a < 3; ++a) {
-          const int j = idx[k][a];
-          c.X[a] = j < 3 ? s.X[j] : mX[j - 3];
-          c.P[a] = j < 3 ? s.P[j] : m[j - 3].pos;
+      Batch b;
+      for (size_t i = r.begin(); i < r.end(); ++i) {
+        const SurfaceTriangle& s = todo[i];
+        for (int a = 0; a < 3; ++a) b.add(s.face, s.X[a]);
+        for (int a = 0; a < 3; ++a) b.add(s.face, 0.5 * (s.X[a] + s.X[(a + 1) % 3]));  // ab, bc, ca
+      }
+      for (size_t i = r.begin(); i < r.end(); ++i) {
+        const SurfaceTriangle& s = todo[i];
+        const std::array<Eigen::Vector2d, 3> mX = {0.5 * (s.X[0] + s.X[1]), 0.5 * (s.X[1] + s.X[2]),
+                                                   0.5 * (s.X[2] + s.X[0])};
+        for (int k = 0; k < 4; ++k) {
+          SurfaceTriangle& c = kids[4 * i + k];
+          c.face = s.face;
+          for (int a = 0; a < 3; ++a) c.X[a] = idx[k][a] < 3 ? s.X[idx[k][a]] : mX[idx[k][a] - 3];
+          addSamples(b, c.face, c.X);
         }
       }
-    }
-    // the error bound needs the Jacobians at the corners too: evaluate the children's corners
-    Batch cb, sb;
-    for (size_t i = 0; i < kids.size(); ++i) {
-      for (int a = 0; a < 3; ++a) cb.add(kids[i].face, kids[i].X[a]);
-      addSamples(sb, kids[i].face, kids[i].X);
-    }
-    const std::vector<PatchPoint> cp = cb.run(cache), sp = sb.run(cache);
-    tbb::parallel_for(size_t(0), kids.size(),
-                      [&](size_t i) { kids[i].error = triangleError(kids[i].X, &cp[3 * i], &sp[4 * i]); });
+      const std::vector<PatchPoint> pts = b.run(cache, Backend::Serial);
+      const PatchPoint* samples = pts.data() + 6 * r.size();
+      for (size_t i = r.begin(); i < r.end(); ++i) {
+        const SurfaceTriangle& s = todo[i];
+        const PatchPoint* q = &pts[6 * (i - r.begin())];  // corners a, b, c, then mids ab, bc, ca
+        for (int k = 0; k < 4; ++k) {
+          SurfaceTriangle& c = kids[4 * i + k];
+          PatchPoint corner[3];
+          for (int a = 0; a < 3; ++a) {
+            const int j = idx[k][a];
+            c.P[a] = j < 3 ? s.P[j] : q[j].pos;
+            corner[a] = q[j];
+          }
+          c.error = triangleError(c.X, corner, &samples[4 * (4 * (i - r.begin()) + k)]);
+        }
+      }
+    });
     todo.clear();
     for (const SurfaceTriangle& c : kids) (c.error > maxError && depth + 1 < maxDepth ? todo : done).push_back(c);
   }
