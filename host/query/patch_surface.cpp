@@ -231,7 +231,8 @@ PatchSurface::PatchSurface(const PatchCache& cache, const PatchSurfaceOptions& o
   const double noise = (cache.options.precision == Precision::Double ? 1e-13 : 2e-6) * diag;
   uniform_ = std::make_unique<UniformTessellation>(tessellateUniform(cache, choosePatchSurfaceLevel(cache, options)));
   for (double& e : uniform_->error) e += noise;
-  points_ = tessellateAdaptive(cache, *uniform_, options.targetError * diag, options.subdivision);
+  if (options.candidates)
+    points_ = tessellateAdaptive(cache, *uniform_, options.targetError * diag, options.subdivision);
   for (SurfaceTriangle& t : points_) t.error += noise;
   error_.assign(cache.numFaces(), 0.0);
   for (const SurfaceTriangle& t : points_) {

@@ -41,7 +41,7 @@ ProbeInsideTest::ProbeInsideTest(const PatchCache& cache, ForceMethod method) {
       throw InputError("inside test: the patch method's surface needs built patches (a prebuilt cache)");
     PatchSurfaceOptions o;
     o.level = oracleLevel(cache);
-    o.subdivision = 0;  // only the uniform tessellation's rays are used
+    o.candidates = false;  // only the uniform tessellation's rays and error bands are used
     surface_ = std::make_unique<const PatchSurface>(cache, o);
     closed_ = surface_->closed();
   } else {

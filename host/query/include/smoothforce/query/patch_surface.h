@@ -35,6 +35,9 @@ struct PatchSurfaceOptions {
   double targetError = 1e-3;
   int64_t triangleBudget = 1'000'000;
   int subdivision = 6;  ///< at most this many halvings of a triangle, 0..8
+  /// false: only what winding() and inErrorBand() need (an inside test, as the sweep's): no
+  /// adaptive tessellation and no BVH over it; candidates() then finds none
+  bool candidates = true;
 };
 
 /// The patch surface for queries, from a prebuilt cache.
@@ -93,7 +96,7 @@ class PatchSurface {
   /// Spacing of the uniform tessellation's vertices in the domain (1 / level): refinements that
   /// start closer than this on one face fall into the same basin.
   double spacing() const noexcept { return 1.0 / level(); }
-  /// The largest error bound of face f's adaptive triangles, and of all, m.
+  /// The largest error bound of face f's adaptive triangles, and of all, m (0 without candidates).
   double error(int f) const noexcept { return error_[f]; }
   double maxError() const noexcept { return maxError_; }
   /// True when every face is built and every edge has a twin: the patch surface is closed.
