@@ -158,25 +158,21 @@ std::vector<SurfaceTriangle> tessellateAdaptive(const PatchCache& cache, const U
     // (and so the same values) as evaluating every child's corners on their own
     tbb::parallel_for(tbb::blocked_range<size_t>(0, todo.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
       const int idx[4][3] = {{0, 3, 5}, {3, 1, 4}, {5, 4, 2}, {3, 4, 5}};  // 0..2 corners, 3..5 mids
-      Batch b;
-      for (size_t i = r.begin(); i < r.end(); ++i) {
-        const SurfaceTriangle& s = todo[i];
-        for (int a = 0; a < 3; ++a) b.add(s.face, s.X[a]);
-        for (int a = 0; a < 3; ++a) b.add(s.face, 0.5 * (s.X[a] + s.X[(a + 1) % 3]));  // ab, bc, ca
-      }
+      Batch b, sb;
       for (size_t i = r.begin(); i < r.end(); ++i) {
         const SurfaceTriangle& s = todo[i];
         const std::array<Eigen::Vector2d, 3> mX = {0.5 * (s.X[0] + s.X[1]), 0.5 * (s.X[1] + s.X[2]),
                                                    0.5 * (s.X[2] + s.X[0])};
+        for (int a = 0; a < 3; ++a) b.add(s.face, s.X[a]);
+        for (int a = 0; a < 3; ++a) b.add(s.face, mX[a]);  // ab, bc, ca
         for (int k = 0; k < 4; ++k) {
           SurfaceTriangle& c = kids[4 * i + k];
           c.face = s.face;
           for (int a = 0; a < 3; ++a) c.X[a] = idx[k][a] < 3 ? s.X[idx[k][a]] : mX[idx[k][a] - 3];
-          addSamples(b, c.face, c.X);
+          addSamples(sb, c.face, c.X);
         }
       }
-      const std::vector<PatchPoint> pts = b.run(cache, Backend::Serial);
-      const PatchPoint* samples = pts.data() + 6 * r.size();
+      const std::vector<PatchPoint> pts = b.run(cache, Backend::Serial), sp = sb.run(cache, Backend::Serial);
       for (size_t i = r.begin(); i < r.end(); ++i) {
         const SurfaceTriangle& s = todo[i];
         const PatchPoint* q = &pts[6 * (i - r.begin())];  // corners a, b, c, then mids ab, bc, ca
@@ -188,7 +184,7 @@ std::vector<SurfaceTriangle> tessellateAdaptive(const PatchCache& cache, const U
             c.P[a] = j < 3 ? s.P[j] : q[j].pos;
             corner[a] = q[j];
           }
-          c.error = triangleError(c.X, corner, &samples[4 * (4 * (i - r.begin()) + k)]);
+          c.error = triangleError(c.X, corner, &sp[4 * (4 * (i - r.begin()) + k)]);
         }
       }
     });
