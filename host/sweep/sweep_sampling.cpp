@@ -1,6 +1,8 @@
 #include <smoothforce/sweep/sweep_sampling.h>
 
+#include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
@@ -104,30 +106,59 @@ std::string depthTag(const std::string& label) {
 
 PatchSurfaceSampler::PatchSurfaceSampler(const PatchCache& cache, int level) : cache_(cache) {
   if (level < 1 || level > 64) throw InputError("sampling level must be in [1, 64], got " + std::to_string(level));
-  std::vector<int32_t> qf;
-  std::vector<double> qx, qy;
   std::vector<Eigen::Vector2d> tri;
+  std::vector<int> faces;
+  std::vector<size_t> tfirst{0};  // faces[i]'s triangles: tfirst[i]..tfirst[i + 1]
   for (int f = 0; f < cache.numFaces(); ++f) {
     if (!evaluable(cache, f)) continue;
     tri.clear();
     domainTriangles(cache.faceSize(f), level, tri);
-    for (const auto& X : tri) {
-      qf.push_back(f);
-      qx.push_back(X.x());
-      qy.push_back(X.y());
-      dom_.push_back(X);
-    }
+    dom_.insert(dom_.end(), tri.begin(), tri.end());
     face_.insert(face_.end(), tri.size() / 3, f);
+    faces.push_back(f);
+    tfirst.push_back(face_.size());
   }
   if (face_.empty()) throw InputError("sampling: no patch can be evaluated");
-  std::vector<PatchPoint> pts(qf.size());
-  evaluatePatches(cache, qf.data(), qx.data(), qy.data(), qf.size(), pts.data(), Backend::Tbb);
+  // the triangles' areas a few faces at a time: each distinct corner of the chunk's triangles
+  // evaluated once (a ring point is a corner of up to 6 triangles), not one array of every corner
+  // of the mesh; the same points, so the same values
+  std::vector<double> area(face_.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, faces.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
+    const size_t t0 = tfirst[r.begin()], t1 = tfirst[r.end()], m = 3 * (t1 - t0);
+    auto same = [&](size_t i, size_t j) {  // corners i, j of the chunk: the same face and point
+      return face_[t0 + i / 3] == face_[t0 + j / 3] && dom_[3 * t0 + i] == dom_[3 * t0 + j];
+    };
+    auto before = [&](size_t i, size_t j) {
+      const int fi = face_[t0 + i / 3], fj = face_[t0 + j / 3];
+      const Eigen::Vector2d &a = dom_[3 * t0 + i], &b = dom_[3 * t0 + j];
+      return fi < fj || (fi == fj && (a.x() < b.x() || (a.x() == b.x() && a.y() < b.y())));
+    };
+    std::vector<size_t> order(m), slot(m);
+    for (size_t i = 0; i < m; ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), before);
+    std::vector<int32_t> qf;
+    std::vector<double> qx, qy;
+    for (size_t k = 0; k < m; ++k) {
+      const size_t i = order[k];
+      if (k == 0 || !same(order[k - 1], i)) {
+        qf.push_back(face_[t0 + i / 3]);
+        qx.push_back(dom_[3 * t0 + i].x());
+        qy.push_back(dom_[3 * t0 + i].y());
+      }
+      slot[i] = qf.size() - 1;
+    }
+    std::vector<PatchPoint> pts(qf.size());
+    evaluatePatches(cache, qf.data(), qx.data(), qy.data(), qf.size(), pts.data(), Backend::Serial);
+    for (size_t t = t0; t < t1; ++t) {
+      const size_t j = 3 * (t - t0);
+      const Eigen::Vector3d &a = pts[slot[j]].pos, &b = pts[slot[j + 1]].pos, &c = pts[slot[j + 2]].pos;
+      area[t] = 0.5 * (b - a).cross(c - a).norm();
+    }
+  });
   cdf_.resize(face_.size());
   double acc = 0;
   for (size_t t = 0; t < face_.size(); ++t) {
-    const Eigen::Vector3d &a = pts[3 * t].pos, &b = pts[3 * t + 1].pos, &c = pts[3 * t + 2].pos;
-    const double area = 0.5 * (b - a).cross(c - a).norm();
-    acc += std::isfinite(area) ? area : 0.0;
+    acc += std::isfinite(area[t]) ? area[t] : 0.0;
     cdf_[t] = acc;
   }
   area_ = acc;
