@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdint>
 #include <cstdio>
 #include <unordered_map>
 
 #include <smoothforce/base/csv_reader.h>
+#include <smoothforce/base/hash.h>
 #include <smoothforce/patch/patch_eval.h>
 #include <smoothforce/patch/tessellate.h>
 #include <smoothforce/sweep/sweep_sampling.h>
@@ -61,16 +61,9 @@ std::vector<Eigen::Vector3d> defaultTrajectory(const PatchCache& cache, int leve
   }
   // Weld the patches' shared boundary vertices (each patch has its own copies).
   const double tol = 1e-7 * std::max((hi - lo).norm(), 1e-300);
-  struct KeyHash {  // splitmix64 of the three grid coordinates
+  struct KeyHash {  // XXH64 of the three grid coordinates
     size_t operator()(const std::array<long long, 3>& k) const noexcept {
-      uint64_t h = 0x9E3779B97F4A7C15ull;
-      for (long long c : k) {
-        uint64_t z = (h ^ static_cast<uint64_t>(c)) + 0x9E3779B97F4A7C15ull;
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-        h = z ^ (z >> 31);
-      }
-      return static_cast<size_t>(h);
+      return static_cast<size_t>(hashBytes(k.data(), sizeof k));
     }
   };
   std::unordered_map<std::array<long long, 3>, int, KeyHash> weld;
