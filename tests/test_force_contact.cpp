@@ -162,7 +162,7 @@ TEST(ForceTracker, FarOutsideStepsDoNoPatchWork) {
 // candidates, bit for bit, as without it; and a tracker whose global query is bounded by the
 // point its last step ended at (an approach step just outside, then the HIP) renders the same
 // step as a fresh one. Every face of the spot cage and the quad-sphere, every 10th of the
-// triangulated spot (600 faces), 4 points each, pressed in and pulled out by 0.1%-6% of the
+// triangulated spot (586 faces), 4 points each, pressed in and pulled out by 0.1%-6% of the
 // diagonal; reaches: the exact distance to the nearest point found, the distance to the
 // unpressed point, and the band's.
 TEST(ForceTracker, GlobalQueryReachKeepsTheCandidates) {
