@@ -202,6 +202,7 @@ GP_FN GP_STATUS gp_patch_quality(int n, const GP_REAL* recs, int mode, GP_REAL* 
   }
   GP_REAL worst = GP_R(0.0);
   for (int k = 0; k < n; ++k) {
+    const GP_REAL Lk = gp_edge_length(recs + k * GP_E_NFIELDS);
     for (int i = 0; i <= GP_Q_STEPS; ++i) {
       for (int ring = 0; ring < 3; ++ring) {
         /* points on the segment from the centre towards the edge: near the edge and inside */
@@ -218,8 +219,7 @@ GP_FN GP_STATUS gp_patch_quality(int n, const GP_REAL* recs, int mode, GP_REAL* 
           gp_dvec3 c, cp;
           GP_STATUS ignore = 0u;
           gp_edge_curve(recs + k * GP_E_NFIELDS, s, &c, &cp);
-          const gp_dvec3 nc =
-              gp_edge_normal(recs + k * GP_E_NFIELDS, s, cp, gp_edge_length(recs + k * GP_E_NFIELDS), &ignore);
+          const gp_dvec3 nc = gp_edge_normal(recs + k * GP_E_NFIELDS, s, cp, Lk, &ignore);
           st |= GP_BITS(gp_dot(nc.v, g.normal) < GP_R(0.0), GP_ST_FOLD);
         }
       }
