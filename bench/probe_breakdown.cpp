@@ -1,7 +1,9 @@
 // Where a sweep probe of the patch method spends its time (issue 11 part 4): the parts of the
 // two out-of-contact steps a probe runs (runProbes: reset, a step 0.1% of the depth outside the
 // surface, then the step at the HIP), each timed alone on one thread with steady_clock:
-//   candidates  PatchSurface::candidates (Embree point query over the adaptive triangles)
+//   candidates  PatchSurface::candidates (Embree point query over the adaptive triangles),
+//               bounded as the tracker bounds it: by the band's triangle, and at the HIP by the
+//               approach step's nearest point
 //   refine      refineCandidates (Newton from each candidate in another basin)
 //   band        PatchSurface::inErrorBand (Embree point query over the uniform triangles)
 //   winding     PatchSurface::winding, where the HIP is outside every band (2-3 Embree rays)
@@ -11,9 +13,12 @@
 //   build/bench/probe_breakdown [MESH] [--depth 0.005] [--samples 20000]
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <string>
+#include <vector>
 
 #include <smoothforce/force/force_tracking.h>
 #include <smoothforce/patch/mesh_pipeline.h>
@@ -58,26 +63,35 @@ int main(int argc, char** argv) {
               mesh.c_str(), cache.numFaces(), surface.level(), surface.numTriangles(), samples, depth);
   PatchRefiner refiner(cache);
   const ForceOptions opt;
+  // the approach step's nearest point: the tracker bounds the HIP step's search by it
+  std::vector<Eigen::Vector3d> approachNearest(s.size(), Eigen::Vector3d::Constant(NAN));
   for (int pass = 0; pass < 2; ++pass) {
     double tc = 0, tr = 0, tb = 0, tw = 0;
     long candidates = 0, refined = 0, iterations = 0, inBand = 0, rays = 0;
-    for (const SurfaceSample& x : s) {
-      const Eigen::Vector3d hip =
-          pass == 0 ? Eigen::Vector3d(x.point + 0.001 * depth * diag * x.normal) : Eigen::Vector3d(x.point - depth * diag * x.normal);
+    for (size_t i = 0; i < s.size(); ++i) {
+      const SurfaceSample& x = s[i];
+      const Eigen::Vector3d hip = pass == 0 ? Eigen::Vector3d(x.point + 0.001 * depth * diag * x.normal)
+                                            : Eigen::Vector3d(x.point - depth * diag * x.normal);
       SurfaceCandidate c[PatchSurface::kMaxCandidates];
+      // as the tracker's step: the band (and the winding number outside every band) first, then
+      // the candidates within the bound on the distance known so far, then their refinement
+      double reach = std::numeric_limits<double>::infinity();
       const auto t0 = Clock::now();
-      const int n = static_cast<int>(surface.candidates(hip, c, PatchSurface::kMaxCandidates));
+      const bool band = surface.inErrorBand(hip, &reach);
       const auto t1 = Clock::now();
-      const PatchNearest q = refineCandidates(c, n, surface.spacing(), refiner, hip, opt);
-      const auto t2 = Clock::now();
-      const bool band = surface.inErrorBand(hip);
-      const auto t3 = Clock::now();
       if (!band) (void)surface.winding(hip);
+      const auto t2 = Clock::now();
+      if (pass == 1 && approachNearest[i].allFinite()) reach = std::min(reach, (hip - approachNearest[i]).norm());
+      const int n = static_cast<int>(surface.candidates(hip, c, PatchSurface::kMaxCandidates, reach));
+      const auto t3 = Clock::now();
+      const PatchNearest q = refineCandidates(c, n, surface.spacing(), refiner, hip, opt);
       const auto t4 = Clock::now();
-      tc += us(t0, t1);
-      tr += us(t1, t2);
-      tb += us(t2, t3);
-      tw += us(t3, t4);
+      if (pass == 0 && q.nearest.scp.allFinite() && !(q.nearest.status & SF_TRACK_DEGENERATE))
+        approachNearest[i] = q.nearest.scp;
+      tb += us(t0, t1);
+      tw += us(t1, t2);
+      tc += us(t2, t3);
+      tr += us(t3, t4);
       candidates += n;
       refined += q.refined;
       iterations += q.nearest.iterations;
