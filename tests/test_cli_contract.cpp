@@ -3,6 +3,7 @@
 // input and output, one CSV reader (NumPy `# x,y,z` headers), --cl-device.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -184,6 +185,42 @@ TEST_F(CliContract, ResultsOnStdoutDiagnosticsOnStderr) {
   EXPECT_EQ(r.out.find("built all"), std::string::npos) << r.out;
 }
 
+TEST_F(CliContract, CacheInfoFaultsMeasuresFoldedAndOverlappingSurface) {
+  CliStreams r = run("cache info " + cache() + " --faults --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const json j = json::parse(r.out);
+  const json& f = j["surface_faults"];
+  ASSERT_TRUE(f.is_object()) << r.out;
+  EXPECT_EQ(f["closed"], true);
+  EXPECT_EQ(f["level"], 12);  // the global query's uniform tessellation of the spot cage
+  EXPECT_EQ(f["triangles"], 105408);
+  const double fault = f["fault_area_m2"], total = f["area_m2"];
+  EXPECT_NEAR(double(f["folded"]["area_m2"]) + double(f["overlapping"]["area_m2"]) + double(f["thin"]["area_m2"]),
+              fault, 1e-12 * total);
+  EXPECT_NEAR(double(f["fault_fraction"]), fault / total, 1e-15);
+  // the cage's folded patches overlap their neighbours: 1.6% of its area, on and around the 16 fold faces
+  EXPECT_GT(fault, 0.01 * total);
+  EXPECT_LT(fault, 0.03 * total);
+  const std::vector<int> faulty = f["fault_faces"], folds = j["patches"]["fold_faces"];
+  EXPECT_EQ(folds.size(), 16u);
+  for (int face : folds) EXPECT_NE(std::find(faulty.begin(), faulty.end(), face), faulty.end()) << face;
+
+  r = run("cache info " + cache() + " --faults");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("surface faults (uniform tessellation level 12, 105408 triangles"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("fault faces (largest area first):"), std::string::npos) << r.out;
+
+  // an open mesh has no inside: nothing measured, said so
+  const std::string open = (dir / "L-plane.sfcache").string();
+  r = run("cache build " + std::string(SF_SHARED_MESHES) + "/polygon_laplacian/L-plane.obj -o " + open);
+  ASSERT_EQ(r.status, 0) << r.err;
+  r = run("cache info " + open + " --faults --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(json::parse(r.out)["surface_faults"], json::parse(R"({"closed": false})"));
+  r = run("cache info " + open + " --faults");
+  EXPECT_NE(r.out.find("surface faults: not measured (open surface: no inside)"), std::string::npos) << r.out;
+}
+
 TEST_F(CliContract, JsonOutputsParseWithTheDocumentedKeys) {
   auto keys = [](const json& j) {
     std::vector<std::string> k;
@@ -195,7 +232,8 @@ TEST_F(CliContract, JsonOutputsParseWithTheDocumentedKeys) {
   ASSERT_EQ(r.status, 0) << r.err;
   json j = json::parse(r.out);
   EXPECT_EQ(keys(j), (V{"boundary_slots", "bytes", "cache", "edge_slots", "face_sizes", "faces", "format", "mesh_hash",
-                        "non_manifold_slots", "options", "options_hash", "patches", "vertices"}));
+                        "non_manifold_slots", "options", "options_hash", "patches", "surface_faults", "vertices"}));
+  EXPECT_TRUE(j["surface_faults"].is_null());  // measured only with --faults
   EXPECT_EQ(j["faces"], 180);
   EXPECT_EQ(j["vertices"], 188);
   EXPECT_EQ(j["face_sizes"], json::parse(R"({"3": 4, "4": 160, "5": 16})"));

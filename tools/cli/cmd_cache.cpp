@@ -4,6 +4,8 @@
 
 #include <smoothforce/base/hash.h>
 #include <smoothforce/patch/cache_file.h>
+#include <smoothforce/query/patch_surface.h>
+#include <smoothforce/query/surface_faults.h>
 #include "cli_common.h"
 #include "cli_exit.h"
 #include "cli_output.h"
@@ -82,7 +84,56 @@ nlohmann::ordered_json patchSummaryJson(const PatchCache& c) {
           {"degenerate_faces", s.degenerateFaces}};
 }
 
-void info(const std::string& path, bool json) {
+/// The surface faults of c's patch surface (measureSurfaceFaults on the uniform tessellation the
+/// patch method's global query uses), as `cache info --faults` reports them.
+SurfaceFaults cacheSurfaceFaults(const PatchCache& c) {
+  if (!hasPatchData(c)) throw InputError("--faults: the cache holds no built patches");
+  PatchSurfaceOptions o;
+  o.candidates = false;  // only the uniform tessellation's rays are probed
+  const PatchSurface surface(c, o);
+  return measureSurfaceFaults(surface);
+}
+
+nlohmann::ordered_json faultsJson(const SurfaceFaults& f) {
+  if (!f.closed) return {{"closed", false}};
+  auto part = [&](SurfaceVerdict v) {
+    const auto i = static_cast<size_t>(v);
+    return nlohmann::ordered_json{{"triangles", f.count[i]}, {"area_m2", f.area[i]}};
+  };
+  return {{"closed", true},
+          {"level", f.level},
+          {"offset_m", f.offset},
+          {"triangles", f.triangles},
+          {"degenerate_triangles", f.count[static_cast<size_t>(SurfaceVerdict::Degenerate)]},
+          {"area_m2", f.totalArea},
+          {"fault_area_m2", f.faultArea()},
+          {"fault_fraction", f.totalArea > 0 ? f.faultArea() / f.totalArea : 0.0},
+          {"folded", part(SurfaceVerdict::Folded)},
+          {"overlapping", part(SurfaceVerdict::Overlapping)},
+          {"thin", part(SurfaceVerdict::Thin)},
+          {"fault_faces", f.faultFaces()}};
+}
+
+void printFaults(const SurfaceFaults& f) {
+  if (!f.closed) {
+    std::printf("surface faults: not measured (open surface: no inside)\n");
+    return;
+  }
+  auto at = [&](SurfaceVerdict v) { return f.area[static_cast<size_t>(v)]; };
+  const std::vector<int> faces = f.faultFaces();
+  std::printf(
+      "surface faults (uniform tessellation level %d, %lld triangles probed %.3g m either side): fault area %.6g "
+      "m^2 of %.6g (%.4f%%): folded %.6g, overlapping %.6g, thin %.6g; %zu faces\n",
+      f.level, static_cast<long long>(f.triangles), f.offset, f.faultArea(), f.totalArea,
+      f.totalArea > 0 ? 100.0 * f.faultArea() / f.totalArea : 0.0, at(SurfaceVerdict::Folded),
+      at(SurfaceVerdict::Overlapping), at(SurfaceVerdict::Thin), faces.size());
+  if (faces.empty()) return;
+  std::printf("  fault faces (largest area first):");
+  for (size_t i = 0; i < faces.size() && i < 10; ++i) std::printf(" %d", faces[i]);
+  std::printf(faces.size() > 10 ? " ...\n" : "\n");
+}
+
+void info(const std::string& path, bool json, bool faults) {
   const PatchCache c = readPatchCache(path);
   const auto bytes = static_cast<unsigned long long>(std::filesystem::file_size(path));
   int boundary = 0, nonManifold = 0;
@@ -108,7 +159,8 @@ void info(const std::string& path, bool json) {
                          {"cross_tangent", toString(c.options.crossTangent)},
                          {"normals", toString(c.options.normals)},
                          {"orient", c.options.keepOrientation ? "keep" : "outward"}}},
-                       {"patches", patchSummaryJson(c)}});
+                       {"patches", patchSummaryJson(c)},
+                       {"surface_faults", faults ? faultsJson(cacheSurfaceFaults(c)) : nlohmann::ordered_json(nullptr)}});
     return;
   }
   std::printf("cache: %s, format %u, %llu bytes\n", path.c_str(), kCacheFormatVersion, bytes);
@@ -121,6 +173,7 @@ void info(const std::string& path, bool json) {
               toString(c.options.crossTangent), toString(c.options.normals),
               c.options.keepOrientation ? "keep" : "outward");
   printPatchSummary(c);
+  if (faults) printFaults(cacheSurfaceFaults(c));
 }
 
 }  // namespace
@@ -144,8 +197,13 @@ void addCacheCommands(CLI::App& app) {
   i->add_option("CACHE", *path, "cache file")->required();
   i->add_flag("--json", *json,
               "print one JSON object instead of text: cache, format, bytes, mesh_hash, options_hash, vertices, "
-              "faces, face_sizes, edge_slots, boundary_slots, non_manifold_slots, options, patches");
-  i->callback([=] { info(*path, *json); });
+              "faces, face_sizes, edge_slots, boundary_slots, non_manifold_slots, options, patches, surface_faults");
+  auto faults = std::make_shared<bool>(false);
+  i->add_flag("--faults", *faults,
+              "also measure where the closed patch surface is at fault: the area of folded and overlapping patch "
+              "surface (each triangle of the global query's tessellation probed on both sides by the winding "
+              "number; the faces it lies on); null in --json without it");
+  i->callback([=] { info(*path, *json, *faults); });
 }
 
 }  // namespace sf::cli
