@@ -6,7 +6,13 @@
 //                 point outside (their contact starts at a segment crossing), so this is a
 //                 free step plus the contact-start step - subtract FreeStep.
 //   FreeStep      a step out of contact (patch: global query + refinement; god-object: a
-//                 segment query).
+//                 segment query) at HIPs 5 cm outside random patch points, one after another;
+//                 on the spot cage some of them lie inside another part of the cow (contact
+//                 starts: counter contact_fraction) or within an error band of the folded
+//                 patches (the whole global query runs).
+//   OutsideStep   the same over the HIPs a patch step from out of contact decides without any
+//                 patch work (outside every error band, winding number 0; counter clear_hips):
+//                 what an out-of-contact step costs where the surface is well-behaved.
 //   TrackingStep  a step in contact along a slide across edges at constant depth.
 // Run: build/bench/bench_force [--benchmark_format=json]. Warm-up and construction excluded
 // (the lazy renderer builds each patch the first time it needs it, in the first repetitions;
@@ -30,6 +36,7 @@ struct Scene {
   std::shared_ptr<const PatchCache> cache, skeleton;  ///< skeleton: the same mesh, no patch built
   std::shared_ptr<const PolygonScene> scene, skeletonScene;
   std::vector<Eigen::Vector3d> inside, outside, slide;
+  std::vector<Eigen::Vector3d> clear;  ///< the outside HIPs a patch step decides without patch work
   Eigen::Vector3d slideEntry;  ///< outside the start of the slide, for the god-object's first crossing
 };
 
@@ -80,6 +87,14 @@ const Scene& scene(int which) {
       sc.inside.push_back(p.pos - 0.03 * p.normal);
       sc.outside.push_back(p.pos + 0.05 * p.normal);
     }
+    {  // the outside HIPs a step from out of contact leaves out of contact without refining
+      auto r = makeForceRenderer(sc.cache, sc.scene, ForceMethod::Patch, ForceOptions{});
+      for (const Eigen::Vector3d& h : sc.outside) {
+        r->reset();
+        const ForceSample s = r->step(h);
+        if (!s.contact && s.iterations == 0) sc.clear.push_back(h);
+      }
+    }
     const int f0 = which == 0 ? 11 : 0;
     sc.slide = slidePath(*sc.cache, f0, 0, 6, 40, which == 0 ? 0.03 : 0.05);
     const PatchPoint p0 = evaluatePatch(*sc.cache, f0, 0, 0);
@@ -123,16 +138,27 @@ void BM_ContactStart(benchmark::State& state) {
   state.counters["contact_fraction"] = double(contacts) / double(state.iterations());
 }
 
-void BM_FreeStep(benchmark::State& state) {
+void freeSteps(benchmark::State& state, const std::vector<Eigen::Vector3d>& hips) {
   const Scene& sc = scene(static_cast<int>(state.range(0)));
   const int method = static_cast<int>(state.range(1));
   auto r = renderer(sc, method);
-  size_t i = 0;
+  size_t i = 0, contacts = 0;
   for (auto _ : state) {
-    benchmark::DoNotOptimize(r->step(sc.outside[i]).force.data());
-    i = (i + 1) % sc.outside.size();
+    const ForceSample s = r->step(hips[i]);
+    contacts += s.contact;
+    benchmark::DoNotOptimize(s.force.data());
+    i = (i + 1) % hips.size();
   }
   state.SetLabel(label(static_cast<int>(state.range(0)), method));
+  state.counters["contact_fraction"] = double(contacts) / double(state.iterations());
+}
+
+void BM_FreeStep(benchmark::State& state) { freeSteps(state, scene(static_cast<int>(state.range(0))).outside); }
+
+void BM_OutsideStep(benchmark::State& state) {
+  const Scene& sc = scene(static_cast<int>(state.range(0)));
+  state.counters["clear_hips"] = double(sc.clear.size());
+  freeSteps(state, sc.clear);
 }
 
 void BM_TrackingStep(benchmark::State& state) {
@@ -157,6 +183,7 @@ void BM_TrackingStep(benchmark::State& state) {
 #define SF_FORCE_ARGS ArgsProduct({{0, 1}, {0, 4, 3, 1, 2}})->Unit(benchmark::kMicrosecond)
 BENCHMARK(BM_ContactStart)->SF_FORCE_ARGS;
 BENCHMARK(BM_FreeStep)->SF_FORCE_ARGS;
+BENCHMARK(BM_OutsideStep)->SF_FORCE_ARGS;
 BENCHMARK(BM_TrackingStep)->SF_FORCE_ARGS;
 
 }  // namespace
