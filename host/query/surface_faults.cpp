@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 
 #include <smoothforce/query/patch_surface.h>
 
@@ -32,6 +31,44 @@ const char* toString(SurfaceVerdict v) {
   return "?";
 }
 
+namespace {
+/// Twice the area of triangle t and its unit normal (zero for a degenerate triangle).
+double doubleArea(const UniformTessellation& u, size_t t, Eigen::Vector3d* normal, Eigen::Vector3d* centroid) {
+  const Eigen::Vector3d& a = u.vertex[u.tri[t][0]];
+  const Eigen::Vector3d& b = u.vertex[u.tri[t][1]];
+  const Eigen::Vector3d& c = u.vertex[u.tri[t][2]];
+  const Eigen::Vector3d x = (b - a).cross(c - a);
+  const double len = x.norm();
+  if (!(len > 0) || !std::isfinite(len)) return 0;
+  *normal = x / len;
+  *centroid = (a + b + c) / 3.0;
+  return len;
+}
+
+/// The probe distance either side of a triangle, m.
+double probeOffset(const PatchSurface& surface) { return 1e-5 * boundingDiagonal(surface.cache()); }
+}  // namespace
+
+SurfaceVerdict surfaceVerdict(const PatchSurface& surface, size_t t) noexcept {
+  Eigen::Vector3d n, mid;
+  if (doubleArea(surface.uniform(), t, &n, &mid) == 0) return SurfaceVerdict::Degenerate;
+  const double h = probeOffset(surface);
+  const int front = surface.winding(mid + h * n), back = surface.winding(mid - h * n);
+  return front == 0 && back == 1 ? SurfaceVerdict::Consistent
+         : front > back          ? SurfaceVerdict::Folded
+         : front < back          ? SurfaceVerdict::Overlapping
+                                 : SurfaceVerdict::Thin;
+}
+
+std::vector<std::array<Eigen::Vector3d, 3>> faultTriangles(const PatchSurface& surface, const SurfaceFaults& faults) {
+  const UniformTessellation& u = surface.uniform();
+  std::vector<std::array<Eigen::Vector3d, 3>> out;
+  for (size_t t = 0; t < faults.verdict.size() && t < u.tri.size(); ++t)
+    if (faults.verdict[t] != SurfaceVerdict::Consistent && faults.verdict[t] != SurfaceVerdict::Degenerate)
+      out.push_back({u.vertex[u.tri[t][0]], u.vertex[u.tri[t][1]], u.vertex[u.tri[t][2]]});
+  return out;
+}
+
 SurfaceFaults measureSurfaceFaults(const PatchSurface& surface) {
   SurfaceFaults r;
   const UniformTessellation& u = surface.uniform();
@@ -39,32 +76,19 @@ SurfaceFaults measureSurfaceFaults(const PatchSurface& surface) {
   r.closed = surface.closed();
   r.faceFault.assign(surface.cache().numFaces(), 0.0);
   if (!r.closed) return r;
-  r.offset = 1e-5 * boundingDiagonal(surface.cache());
+  r.offset = probeOffset(surface);
   r.verdict.assign(u.tri.size(), SurfaceVerdict::Degenerate);
-  std::vector<double> area(u.tri.size(), 0.0);
-  tbb::parallel_for(size_t(0), u.tri.size(), [&](size_t t) {
-    const Eigen::Vector3d& a = u.vertex[u.tri[t][0]];
-    const Eigen::Vector3d& b = u.vertex[u.tri[t][1]];
-    const Eigen::Vector3d& c = u.vertex[u.tri[t][2]];
-    const Eigen::Vector3d x = (b - a).cross(c - a);
-    const double len = x.norm();
-    if (!(len > 0) || !std::isfinite(len)) return;
-    area[t] = 0.5 * len;
-    const Eigen::Vector3d mid = (a + b + c) / 3.0, n = x / len;
-    const int front = surface.winding(mid + r.offset * n), back = surface.winding(mid - r.offset * n);
-    r.verdict[t] = front == 0 && back == 1 ? SurfaceVerdict::Consistent
-                   : front > back          ? SurfaceVerdict::Folded
-                   : front < back          ? SurfaceVerdict::Overlapping
-                                           : SurfaceVerdict::Thin;
-  });
+  tbb::parallel_for(size_t(0), u.tri.size(), [&](size_t t) { r.verdict[t] = surfaceVerdict(surface, t); });
   for (size_t t = 0; t < u.tri.size(); ++t) {
     const auto v = static_cast<size_t>(r.verdict[t]);
     ++r.count[v];
     if (r.verdict[t] == SurfaceVerdict::Degenerate) continue;
+    Eigen::Vector3d n, mid;
+    const double area = 0.5 * doubleArea(u, t, &n, &mid);
     ++r.triangles;
-    r.area[v] += area[t];
-    r.totalArea += area[t];
-    if (r.verdict[t] != SurfaceVerdict::Consistent) r.faceFault[u.triFace[t]] += area[t];
+    r.area[v] += area;
+    r.totalArea += area;
+    if (r.verdict[t] != SurfaceVerdict::Consistent) r.faceFault[u.triFace[t]] += area;
   }
   return r;
 }

@@ -4,12 +4,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <smoothforce/base/error.h>
 #include <smoothforce/base/status.h>
 #include <smoothforce/query/embree_scene.h>
 #include <smoothforce/query/patch_surface.h>
 #include <smoothforce/query/polygon_facets.h>
+#include <smoothforce/query/surface_faults.h>
+#include <smoothforce/sweep/sweep_reference.h>
 
 namespace sf {
 
@@ -68,5 +71,13 @@ std::vector<uint32_t> ProbeInsideTest::classify(const std::vector<Eigen::Vector3
 }
 
 int ProbeInsideTest::level() const noexcept { return surface_ ? surface_->level() : 0; }
+
+double ProbeInsideTest::surfaceFaultDistance(const Eigen::Vector3d& q) const {
+  if (!surface_ || !closed_) return std::numeric_limits<double>::infinity();
+  std::call_once(faultsOnce_, [this] { faults_ = faultTriangles(*surface_, measureSurfaceFaults(*surface_)); });
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& t : faults_) best = std::min(best, (closestPointOnTriangle(q, t[0], t[1], t[2]) - q).norm());
+  return best;
+}
 
 }  // namespace sf

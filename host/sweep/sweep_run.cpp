@@ -16,6 +16,7 @@
 #include <smoothforce/query/embree_scene.h>
 #include <smoothforce/sweep/probe_inside.h>
 #include <smoothforce/sweep/sweep_opencl.h>
+#include <smoothforce/sweep/sweep_outputs.h>
 
 namespace sf {
 
@@ -118,9 +119,11 @@ struct BlockSizer {
 };
 
 /// The sweep's inside test of every HIP of d, per method (SF_PROBE_* bits, probe_inside.h): one
-/// test of the patch surface, one of the polygons shared by direct and shading. A method the
-/// test cannot serve (patches built lazily, a name of a custom renderer) gets UNDECIDED.
-std::vector<std::vector<uint32_t>> insideBits(const SweepData& d, const PatchCache& cache, bool lazy) {
+/// test of the patch surface (kept in *patchTest, for the surface faults of missed contacts),
+/// one of the polygons shared by direct and shading. A method the test cannot serve (patches
+/// built lazily, a name of a custom renderer) gets UNDECIDED.
+std::vector<std::vector<uint32_t>> insideBits(const SweepData& d, const PatchCache& cache, bool lazy,
+                                              std::unique_ptr<ProbeInsideTest>* patchTest) {
   std::vector<uint32_t> patch, polygon;
   std::vector<std::vector<uint32_t>> bits;
   for (const std::string& name : d.config.methods) {
@@ -136,7 +139,11 @@ std::vector<std::vector<uint32_t>> insideBits(const SweepData& d, const PatchCac
       continue;
     }
     std::vector<uint32_t>& v = method == ForceMethod::Patch ? patch : polygon;
-    if (v.empty() && !d.hips.empty()) v = ProbeInsideTest(cache, method).classify(d.hips);
+    if (v.empty() && !d.hips.empty()) {
+      auto test = std::make_unique<ProbeInsideTest>(cache, method);
+      v = test->classify(d.hips);
+      if (method == ForceMethod::Patch) *patchTest = std::move(test);
+    }
     bits.push_back(v);
   }
   return bits;
@@ -195,7 +202,8 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
     d.normals.push_back(set.samples[g % set.perGroup()].normal);
   }
   const size_t n = d.end - d.begin, M = d.config.methods.size(), G = set.groups.size();
-  const std::vector<std::vector<uint32_t>> probeBits = insideBits(d, *in.cache, lazy);
+  std::unique_ptr<ProbeInsideTest> patchTest;
+  const std::vector<std::vector<uint32_t>> probeBits = insideBits(d, *in.cache, lazy, &patchTest);
   d.results.assign(M, std::vector<HipResult>(n));
   // Trajectory series (trajectory, method, depth, step), spread over the shards like the HIPs.
   const std::vector<Path> paths =
@@ -239,8 +247,16 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
                                                        out.data() + i, control, in.opencl)
                                 : runProbes(set, d.begin + i, d.begin + j, pool, ref.get(), out.data() + i, control);
       computed += got;
-      for (size_t k = i; k < j; ++k)
-        if (out[k].done) out[k].status |= probeBits[m][k];
+      for (size_t k = i; k < j; ++k) {
+        if (!out[k].done) continue;
+        out[k].status |= probeBits[m][k];
+        // a missed contact of the patch method within reach of a surface fault: a sheet that folds
+        // or overlaps lies no farther from the HIP than the surface point it was pressed in from
+        if (method == "patch" && patchTest && hipMissed(out[k])) {
+          const double reach = (d.hips[k] - set.samples[(d.begin + k) % set.samples.size()].point).norm();
+          if (patchTest->surfaceFaultDistance(d.hips[k]) <= reach) out[k].status |= SF_PROBE_ON_FAULT;
+        }
+      }
       blocks.update(j - i, since(tb));
       i = j;
       maybeCheckpoint();

@@ -64,6 +64,7 @@ std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
                 "p99", "max", "traj|dF|", "ratio");
   table += line;
   std::vector<CloudJob> clouds;
+  std::string faultRows;  // per row with missed contacts: how many were pressed in from surface faults
   // Per method, per HIP of the whole run: the discontinuity for the .npy files (NaN: none).
   std::vector<std::vector<double>> hipDisc(c.methods.size(), std::vector<double>(d.hips.size(), NAN));
   std::vector<double> colourRef(c.groupLabels.size(), 0.0);
@@ -72,6 +73,7 @@ std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
       std::vector<Eigen::Vector3d> pos, fdir, nrm;
       std::vector<char> valid;
       size_t missed = 0, spurious = 0, undecided = 0;  // by the sweep's inside test (SF_PROBE_*)
+      size_t missedOnFaults = 0;                       // of them within reach of a surface fault
       std::vector<uint64_t> index;
       std::vector<double> acc, fmag, iters;
       std::map<uint32_t, size_t> bits;
@@ -86,7 +88,7 @@ std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
         if (r.status & SF_PROBE_UNDECIDED)
           ++undecided;
         else if ((r.status & SF_PROBE_INSIDE) && !r.contact)
-          ++missed;
+          ++missed, missedOnFaults += (r.status & SF_PROBE_ON_FAULT) != 0;
         else if (!(r.status & SF_PROBE_INSIDE) && r.contact)
           ++spurious;
         index.push_back(g * N + s);
@@ -132,11 +134,14 @@ std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
               {"contact", contact},
               {"inside_test",
                {{"missed", missed},
+                {"missed_on_surface_faults", missedOnFaults},
                 {"spurious", spurious},
                 {"undecided", undecided},
                 {"of",
                  "HIPs inside (outside) the method's surface by the sweep's inside test, without (with) "
-                 "contact; undecided: open surface or within the test's error band"}}},
+                 "contact; missed_on_surface_faults: of the missed, those with patch surface that folds or "
+                 "overlaps itself (cache info --faults) no farther from the HIP than its depth; undecided: open "
+                 "surface or within the test's error band"}}},
               {"discontinuity",
                {{"unit", "rad/m"},
                 {"count", disc.stats.count},
@@ -178,6 +183,9 @@ std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
         }
       }
       results.push_back(r);
+      if (missed > 0)
+        faultRows += (faultRows.empty() ? "" : ", ") + c.methods[m] + " " + c.groupLabels[g] + " " +
+                     std::to_string(missedOnFaults) + " of " + std::to_string(missed);
       std::snprintf(line, sizeof line, "%-8s %-8s %8zu %8zu %7zu | %9s %9s %9s %9s %7zu | %9s %9s %9s | %9s %6s\n",
                     c.methods[m].c_str(), c.groupLabels[g].c_str(), done, contact, missed,
                     fmt("%.3g", disc.stats.p50).c_str(), fmt("%.3g", disc.stats.p99).c_str(),
@@ -259,6 +267,9 @@ std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
   table +=
       "missed: HIPs inside the method's surface (the sweep's inside test: patch tessellation at twice the "
       "query's level, or the polygons) without contact\n";
+  if (!faultRows.empty())
+    table += "missed within reach of surface faults (patch surface that folds or overlaps itself no farther from "
+             "the HIP than its depth; cache info --faults): " + faultRows + "\n";
   table += "discontinuity: max over the " + std::to_string(c.knn) +
            " nearest HIPs of (angle between force directions) / distance, rad/m; flagged: pairs with angle > " +
            fmt("%g", c.thresholdDeg) + " deg closer than the spacing " + fmt("%.3g", spacing) +

@@ -50,6 +50,11 @@ inline constexpr uint32_t SF_TRACK_MASK = 0x1FFF0000u;
 inline constexpr uint32_t SF_PROBE_INSIDE = 0x20000000u;  ///< the HIP is inside the method's surface
 inline constexpr uint32_t SF_PROBE_UNDECIDED =
     0x40000000u;  ///< the inside test cannot decide (open surface, error band)
-inline constexpr uint32_t SF_PROBE_MASK = 0x60000000u;
+/// a missed contact within reach of a surface fault of the method's surface: patch surface that
+/// folds or overlaps itself (surface_faults.h) lies no farther from the HIP than its depth (its
+/// distance to the surface point it was pressed in from), where no nearest-point rule renders a
+/// consistent force; set on missed contacts of the patch method only
+inline constexpr uint32_t SF_PROBE_ON_FAULT = 0x80000000u;
+inline constexpr uint32_t SF_PROBE_MASK = 0xE0000000u;
 
 }  // namespace sf

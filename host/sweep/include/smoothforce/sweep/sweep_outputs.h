@@ -19,7 +19,7 @@ struct SweepData;  // sweep_io.h
 /// lies inside the method's surface (SF_PROBE_INSIDE, not SF_PROBE_UNDECIDED) but the method
 /// reported no contact. The single place every output reads it from.
 inline uint8_t hipMissed(const HipResult& r) {
-  return (r.status & SF_PROBE_MASK) == SF_PROBE_INSIDE && !r.contact ? 1 : 0;
+  return (r.status & (SF_PROBE_INSIDE | SF_PROBE_UNDECIDED)) == SF_PROBE_INSIDE && !r.contact ? 1 : 0;
 }
 
 /// The HIPs of one method and one depth (group) that were computed (done = 1), in HIP order,
