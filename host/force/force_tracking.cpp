@@ -110,11 +110,13 @@ class PatchTracker final : public ForceRenderer {
       return s;
     }
     PatchStepStart start;
-    if (!beginPatchStep(*scene_, surface_.get(), *cache_, hip, state_, lambda_.data(), start, s, false)) return s;
+    // the patch point the last step ended at bounds the distance (the candidates stay the same)
+    const double reach =
+        lastPoint_.allFinite() ? (hip - lastPoint_).norm() : std::numeric_limits<double>::infinity();
+    if (!beginPatchStep(*scene_, surface_.get(), *cache_, hip, state_, lambda_.data(), start, s, false, reach))
+      return s;
     if (start.global && surface_) {  // the whole global query here: every candidate it may need
-      // the patch point the last step ended at bounds the distance (the candidates stay the same)
-      const double reach = lastPoint_.allFinite() ? std::min(start.reach, (hip - lastPoint_).norm()) : start.reach;
-      const PatchNearest q = nearestOnPatches(*surface_, refiner_, hip, options_, nullptr, reach);
+      const PatchNearest q = nearestOnPatches(*surface_, refiner_, hip, options_, nullptr, start.reach);
       if (q.candidates == 0) s.status |= SF_TRACK_NO_POLYGON;
       finishGlobalStep(*surface_, hip, q, options_, state_, s, start.windingVerdict);
       remember(q.nearest);
@@ -227,7 +229,7 @@ bool insidePatchSurface(const PatchSurface& surface, const Eigen::Vector3d& hip,
 
 bool beginPatchStep(const PolygonScene& scene, const PatchSurface* surface, const PatchCache& cache,
                     const Eigen::Vector3d& hip, PatchContactState& state, double* lambda, PatchStepStart& start,
-                    ForceSample& s, bool firstCandidate) noexcept {
+                    ForceSample& s, bool firstCandidate, double reach) noexcept {
   s = ForceSample{};
   s.scp = hip;
   start = PatchStepStart{};
@@ -249,6 +251,7 @@ bool beginPatchStep(const PolygonScene& scene, const PatchSurface* surface, cons
       state.inContact = false;
       return false;
     }
+    start.reach = std::min(start.reach, reach);
     start.global = true;
     if (!firstCandidate) return true;                                       // the caller runs the whole global query
     if (surface->candidates(hip, &start.candidate, 1, start.reach) == 0) {  // its first candidate starts the refinement
@@ -274,12 +277,15 @@ bool beginPatchStep(const PolygonScene& scene, const PatchSurface* surface, cons
 
 void finishPatchStep(const PolygonScene& scene, const PatchSurface* surface, PatchRefiner& refiner,
                      const Eigen::Vector3d& hip, const PatchStepStart& start, RefineResult r,
-                     const ForceOptions& options, PatchContactState& state, ForceSample& s) noexcept {
+                     const ForceOptions& options, PatchContactState& state, ForceSample& s,
+                     Eigen::Vector3d* nearest) noexcept {
   if (start.global && start.candidate.face >= 0 && surface) {  // the rest of the global query on the patches
     const PatchNearest q = nearestOnPatches(*surface, refiner, hip, options, &r, start.reach);
     finishGlobalStep(*surface, hip, q, options, state, s, start.windingVerdict);
+    if (nearest && usable(q.nearest)) *nearest = q.nearest.scp;
     return;
   }
+  if (nearest && usable(r)) *nearest = r.scp;
   if (start.global && start.facet >= 0 && (r.status & SF_TRACK_DEGENERATE)) {  // no patch here: the polygon
     r.scp = start.polygonPoint;
     r.normal = scene.facets().facetNormal[start.facet];

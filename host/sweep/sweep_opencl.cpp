@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -13,61 +14,112 @@
 
 namespace sf {
 
-size_t runPatchProbesOpenCL(const HipSet& set, size_t begin, size_t end, std::shared_ptr<const PatchCache> cache,
-                            const ForceOptions& options, const ReferenceSurface* ref, HipResult* out,
-                            const SweepControl& control, const OpenCLOptions& opencl, size_t chunk) {
+struct OpenCLPatchProber::Impl {
+  Impl(std::shared_ptr<const PatchCache> c, const ForceOptions& o, const OpenCLOptions& cl)
+      : cache(std::move(c)),
+        options(o),
+        scene(*cache),
+        surface(o.initialGuess == InitialGuess::Surface
+                    ? std::make_unique<const PatchSurface>(*cache, patchSurfaceOptions(o))
+                    : nullptr),
+        refiner(*cache, cl),
+        cpu([this] { return std::make_unique<PatchRefiner>(*cache); }) {
+    for (int f = 0; f < cache->numFaces(); ++f) maxN = std::max(maxN, cache->faceSize(f));
+  }
+
+  std::shared_ptr<const PatchCache> cache;
+  ForceOptions options;
+  PolygonScene scene;
+  std::unique_ptr<const PatchSurface> surface;
+  OpenCLRefiner refiner;
+  /// the CPU refines the global query's further candidates, where they could be nearer (rare)
+  tbb::enumerable_thread_specific<std::unique_ptr<PatchRefiner>> cpu;
+  int maxN = 3;
+  // per HIP of a chunk: contact state, the step's sample and start, the refinement, and the
+  // patch point the last step ended at (the next step's reach)
+  std::vector<PatchContactState> state;
+  std::vector<ForceSample> sample;
+  std::vector<PatchStepStart> start;
+  std::vector<uint8_t> refine;
+  std::vector<RefineQuery> query;
+  std::vector<RefineResult> result;
+  std::vector<Eigen::Vector3d> nearest;
+};
+
+namespace {
+void validateProbeOptions(const ForceOptions& options) {
   validateForceOptions(options);
   if (options.refine != RefineMethod::Newton)
     throw InputError("--backend opencl refines with --refine newton only (the paper's descent runs on the CPU)");
+}
+}  // namespace
+
+OpenCLPatchProber::OpenCLPatchProber(std::shared_ptr<const PatchCache> cache, const ForceOptions& options,
+                                     const OpenCLOptions& opencl) {
+  validateProbeOptions(options);
+  impl_ = std::make_unique<Impl>(std::move(cache), options, opencl);
+}
+
+OpenCLPatchProber::~OpenCLPatchProber() = default;
+
+size_t OpenCLPatchProber::run(const HipSet& set, size_t begin, size_t end, const ReferenceSurface* ref,
+                              HipResult* out, const SweepControl& control, size_t chunk) {
   if (begin >= end) return 0;
-  const PolygonScene scene(*cache);
-  std::unique_ptr<const PatchSurface> surface;
-  if (options.initialGuess == InitialGuess::Surface)
-    surface = std::make_unique<const PatchSurface>(*cache, patchSurfaceOptions(options));
-  OpenCLRefiner refiner(*cache, opencl);
-  // the CPU refines the global query's further candidates, where they could be nearer (rare)
-  tbb::enumerable_thread_specific<std::unique_ptr<PatchRefiner>> cpu([&] { return std::make_unique<PatchRefiner>(*cache); });
-  int maxN = 3;
-  for (int f = 0; f < cache->numFaces(); ++f) maxN = std::max(maxN, cache->faceSize(f));
+  Impl& I = *impl_;
   chunk = std::max<size_t>(1, std::min(chunk, end - begin));
-  // per HIP of a chunk: contact state, the step's sample and start, and the refinement
-  std::vector<PatchContactState> state(chunk);
-  std::vector<ForceSample> sample(chunk);
-  std::vector<PatchStepStart> start(chunk);
-  std::vector<uint8_t> refine(chunk);
-  std::vector<RefineQuery> query(chunk);
-  std::vector<RefineResult> result(chunk);
+  I.state.resize(chunk);
+  I.sample.resize(chunk);
+  I.start.resize(chunk);
+  I.refine.resize(chunk);
+  I.query.resize(chunk);
+  I.result.resize(chunk);
+  I.nearest.resize(chunk);
+  const std::vector<uint32_t> order = probeOrder(set, begin, end);  // as runProbes: neighbours in turn
+  constexpr double kInf = std::numeric_limits<double>::infinity();
   auto body = [&](size_t c0, size_t m, auto&& hipOf, auto&& finish) {
     // begin (CPU, parallel) -> refine (device, whole chunk) -> finish (CPU, parallel)
     tbb::parallel_for(size_t(0), m, [&](size_t i) {
       thread_local std::vector<double> lambda;
-      lambda.resize(maxN);
-      const Eigen::Vector3d hip = hipOf(c0 + i);
-      refine[i] = beginPatchStep(scene, surface.get(), *cache, hip, state[i], lambda.data(), start[i], sample[i]);
-      query[i] = RefineQuery{hip, refine[i] ? start[i].face : -1, start[i].X.x(), start[i].X.y(), start[i].edge};
+      lambda.resize(I.maxN);
+      const Eigen::Vector3d hip = hipOf(begin + order[c0 + i]);
+      const double reach = I.nearest[i].allFinite() ? (hip - I.nearest[i]).norm() : kInf;
+      I.refine[i] = beginPatchStep(I.scene, I.surface.get(), *I.cache, hip, I.state[i], lambda.data(), I.start[i],
+                                   I.sample[i], true, reach);
+      I.query[i] = RefineQuery{hip, I.refine[i] ? I.start[i].face : -1, I.start[i].X.x(), I.start[i].X.y(),
+                               I.start[i].edge};
     });
-    refiner.refine(query.data(), m, options, result.data());
+    I.refiner.refine(I.query.data(), m, I.options, I.result.data());
     tbb::parallel_for(size_t(0), m, [&](size_t i) {
-      if (refine[i])
-        finishPatchStep(scene, surface.get(), *cpu.local(), query[i].hip, start[i], result[i], options, state[i],
-                        sample[i]);
-      finish(c0 + i, i);
+      if (I.refine[i])
+        finishPatchStep(I.scene, I.surface.get(), *I.cpu.local(), I.query[i].hip, I.start[i], I.result[i], I.options,
+                        I.state[i], I.sample[i], &I.nearest[i]);
+      finish(begin + order[c0 + i], i);
     });
   };
   size_t done = 0;
-  for (size_t c0 = begin; c0 < end; c0 += chunk) {
+  for (size_t c0 = 0; c0 < end - begin; c0 += chunk) {
     if (control.stop && control.stop->load(std::memory_order_relaxed)) break;
-    const size_t m = std::min(chunk, end - c0);
-    std::fill(state.begin(), state.begin() + m, PatchContactState{});  // reset()
+    const size_t m = std::min(chunk, end - begin - c0);
+    std::fill(I.state.begin(), I.state.begin() + m, PatchContactState{});  // reset()
+    std::fill(I.nearest.begin(), I.nearest.begin() + m, Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()));
     body(
         c0, m, [&](size_t g) { return set.approach(g); }, [](size_t, size_t) {});
     body(
         c0, m, [&](size_t g) { return set.hip(g); },
-        [&](size_t g, size_t i) { fillHipResult(out[g - begin], sample[i], ref); });
+        [&](size_t g, size_t i) { fillHipResult(out[g - begin], I.sample[i], ref); });
     done += m;
     if (control.progress) control.progress(m);
   }
   return done;
+}
+
+size_t runPatchProbesOpenCL(const HipSet& set, size_t begin, size_t end, std::shared_ptr<const PatchCache> cache,
+                            const ForceOptions& options, const ReferenceSurface* ref, HipResult* out,
+                            const SweepControl& control, const OpenCLOptions& opencl, size_t chunk) {
+  validateProbeOptions(options);
+  if (begin >= end) return 0;
+  OpenCLPatchProber prober(std::move(cache), options, opencl);
+  return prober.run(set, begin, end, ref, out, control, chunk);
 }
 
 }  // namespace sf

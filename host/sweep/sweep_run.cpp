@@ -234,6 +234,9 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
     // --backend opencl: the patch method's refinements run on the device (sweep_opencl.h)
     const bool opencl = method == "patch" && in.config.backend == "opencl";
     RendererPool pool([&in, method] { return in.makeRenderer(method); });
+    // set up once per sweep, before the first block that has work: the device program, the cache
+    // upload and the patch surface
+    std::unique_ptr<OpenCLPatchProber> prober;
     size_t computed = 0;
     for (size_t i = 0; i < n && !stopRequested();) {
       if (out[i].done) {
@@ -243,8 +246,8 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
       size_t j = i;
       while (j < n && !out[j].done && j - i < blocks.next) ++j;
       const auto tb = std::chrono::steady_clock::now();
-      const size_t got = opencl ? runPatchProbesOpenCL(set, d.begin + i, d.begin + j, in.cache, opt, ref.get(),
-                                                       out.data() + i, control, in.opencl)
+      if (opencl && !prober) prober = std::make_unique<OpenCLPatchProber>(in.cache, opt, in.opencl);
+      const size_t got = opencl ? prober->run(set, d.begin + i, d.begin + j, ref.get(), out.data() + i, control)
                                 : runProbes(set, d.begin + i, d.begin + j, pool, ref.get(), out.data() + i, control);
       computed += got;
       for (size_t k = i; k < j; ++k) {

@@ -129,11 +129,15 @@ struct PatchStepStart {
 /// fills start, and s with the status bits so far. surface: the global query on the patches
 /// (null: the polygon start). lambda: scratch for the largest face's size. firstCandidate: a
 /// surface step looks up its first candidate (start.candidate); false leaves the whole global
-/// query to the caller (nearestOnPatches: one candidate search per step, not two). Never throws
-/// or allocates; the scene and surface must belong to the cache.
+/// query to the caller (nearestOnPatches: one candidate search per step, not two). reach: an
+/// upper bound (m) of the HIP's distance to the patch surface the caller knows (its distance to
+/// the patch point its last step ended at: finishPatchStep's `nearest`), combined into
+/// start.reach (the candidates stay the same, PatchSurface::candidates). Never throws or
+/// allocates; the scene and surface must belong to the cache.
 bool beginPatchStep(const PolygonScene& scene, const PatchSurface* surface, const PatchCache& cache,
                     const Eigen::Vector3d& hip, PatchContactState& state, double* lambda, PatchStepStart& start,
-                    ForceSample& s, bool firstCandidate = true) noexcept;
+                    ForceSample& s, bool firstCandidate = true,
+                    double reach = std::numeric_limits<double>::infinity()) noexcept;
 
 /// Second half: r = the refinement from `start` (PatchRefiner::refine or OpenCLRefiner). A
 /// global surface step runs the rest of the global query with `refiner` (nearestOnPatches, r as
@@ -142,9 +146,13 @@ bool beginPatchStep(const PolygonScene& scene, const PatchSurface* surface, cons
 /// patch is degenerate and decides by (HIP - SCP) . n < 0; a tracking step continues contact
 /// while (HIP - SCP) . n < 0. F = stiffness (SCP - HIP) (N/m, m). Updates state and s. Never
 /// throws or allocates.
+/// nearest, when given: set to the patch point the step ended at (a global step: its query's
+/// nearest point; else the refinement's), where that point is usable (finite, not degenerate),
+/// for the next step's `reach`; untouched otherwise.
 void finishPatchStep(const PolygonScene& scene, const PatchSurface* surface, PatchRefiner& refiner,
                      const Eigen::Vector3d& hip, const PatchStepStart& start, RefineResult r,
-                     const ForceOptions& options, PatchContactState& state, ForceSample& s) noexcept;
+                     const ForceOptions& options, PatchContactState& state, ForceSample& s,
+                     Eigen::Vector3d* nearest = nullptr) noexcept;
 
 /// makeForceRenderer with a scene (and, for the patch method, a patch surface) built once and
 /// shared by several renderers (they must belong to `cache`; surface may be null).

@@ -9,14 +9,37 @@
 
 namespace sf {
 
-/// runProbes for the patch method with every refinement of a chunk of HIPs in one kernel run
-/// (OpenCLRefiner); the global queries (Embree nearest polygon point + mean value
-/// coordinates) and the contact decisions run on the CPU in oneTBB tasks, through the same
-/// beginPatchStep / finishPatchStep as the CPU tracker. Per HIP, as runProbes: reset,
-/// step(approach), step(hip); out[g - begin] gets the second step. Chunks of `chunk` HIPs;
-/// control.stop is checked and control.progress called per chunk. Returns the HIPs done.
-/// Throws InputError for invalid options or RefineMethod::PaperDescent (Newton only on the
-/// device), OpenCLError for device failures.
+/// runProbes for the patch method with the first refinement of every step of a chunk of HIPs in
+/// one kernel run (OpenCLRefiner); the global queries (the error band, winding number and
+/// candidates of the patch surface, or the polygon start) and the contact decisions run on the
+/// CPU in oneTBB tasks, through the same beginPatchStep / finishPatchStep as the CPU tracker.
+/// Per HIP, as runProbes: reset, step(approach), step(hip), in the same Morton order of the
+/// HIPs (probeOrder), the step at the HIP bounding its candidate search by the approach step's
+/// nearest point as the tracker does; out[g - begin] gets the second step. Set up once (the
+/// polygon scene, the patch surface, the device program and the cache upload), then run over
+/// any number of HIP ranges. Not thread-safe (one run at a time).
+class OpenCLPatchProber {
+ public:
+  /// Throws InputError for invalid options or RefineMethod::PaperDescent (Newton only on the
+  /// device), OpenCLError for device failures.
+  OpenCLPatchProber(std::shared_ptr<const PatchCache> cache, const ForceOptions& options,
+                    const OpenCLOptions& opencl = {});
+  ~OpenCLPatchProber();
+  OpenCLPatchProber(const OpenCLPatchProber&) = delete;
+  OpenCLPatchProber& operator=(const OpenCLPatchProber&) = delete;
+
+  /// Probes HIPs [begin, end) of `set` into out[0, end - begin), chunks of `chunk` HIPs;
+  /// control.stop is checked and control.progress called per chunk. Returns the HIPs done.
+  /// Throws OpenCLError for device failures.
+  size_t run(const HipSet& set, size_t begin, size_t end, const ReferenceSurface* ref, HipResult* out,
+             const SweepControl& control, size_t chunk = 1 << 16);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// OpenCLPatchProber set up for one run over [begin, end).
 size_t runPatchProbesOpenCL(const HipSet& set, size_t begin, size_t end, std::shared_ptr<const PatchCache> cache,
                             const ForceOptions& options, const ReferenceSurface* ref, HipResult* out,
                             const SweepControl& control, const OpenCLOptions& opencl = {}, size_t chunk = 1 << 16);
