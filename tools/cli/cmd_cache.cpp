@@ -116,7 +116,9 @@ nlohmann::ordered_json faultsJson(const SurfaceFaults& f) {
 
 void printFaults(const SurfaceFaults& f) {
   if (!f.closed) {
-    std::printf("surface faults: not measured (open surface: no inside)\n");
+    std::printf(
+        "surface faults: not measured (the patch surface is not closed: a boundary edge, or a face without "
+        "patch; no inside)\n");
     return;
   }
   auto at = [&](SurfaceVerdict v) { return f.area[static_cast<size_t>(v)]; };

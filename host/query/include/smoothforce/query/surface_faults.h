@@ -25,7 +25,7 @@ enum class SurfaceVerdict : uint8_t {
 /// Surface faults of a closed patch surface, measured on PatchSurface's uniform tessellation.
 /// Areas in m^2 (of tessellation triangles), per verdict; the faces' arrays are #F.
 struct SurfaceFaults {
-  bool closed = false;    ///< false: an open surface has no inside, nothing was measured
+  bool closed = false;    ///< false: not closed (a boundary edge or a face without patch): no inside, nothing measured
   int level = 0;          ///< level of the uniform tessellation probed
   double offset = 0;      ///< m: probe distance either side of a triangle (1e-5 x the diagonal)
   int64_t triangles = 0;  ///< probed (non-degenerate) triangles
