@@ -229,7 +229,7 @@ bool insidePatchSurface(const PatchSurface& surface, const Eigen::Vector3d& hip,
 
 bool beginPatchStep(const PolygonScene& scene, const PatchSurface* surface, const PatchCache& cache,
                     const Eigen::Vector3d& hip, PatchContactState& state, double* lambda, PatchStepStart& start,
-                    ForceSample& s, bool firstCandidate, double reach) noexcept {
+                    ForceSample& s, bool firstCandidate, double reach, CandidateList* list) noexcept {
   s = ForceSample{};
   s.scp = hip;
   start = PatchStepStart{};
@@ -253,11 +253,17 @@ bool beginPatchStep(const PolygonScene& scene, const PatchSurface* surface, cons
     }
     start.reach = std::min(start.reach, reach);
     start.global = true;
-    if (!firstCandidate) return true;                                       // the caller runs the whole global query
-    if (surface->candidates(hip, &start.candidate, 1, start.reach) == 0) {  // its first candidate starts the refinement
+    if (!firstCandidate) return true;  // the caller runs the whole global query
+    // its first candidate starts the refinement (with a list: every candidate, kept for the finish)
+    const bool keep = list && list->c && list->capacity >= 2;
+    const size_t found = keep ? surface->candidates(hip, list->c, static_cast<size_t>(list->capacity), start.reach)
+                              : surface->candidates(hip, &start.candidate, 1, start.reach);
+    if (keep) list->count = static_cast<int>(found);
+    if (found == 0) {
       s.status |= SF_TRACK_NO_POLYGON;
       return false;
     }
+    if (keep) start.candidate = list->c[0];
     start.face = start.candidate.face;
     start.X = start.candidate.X;
     return true;
@@ -278,9 +284,11 @@ bool beginPatchStep(const PolygonScene& scene, const PatchSurface* surface, cons
 void finishPatchStep(const PolygonScene& scene, const PatchSurface* surface, PatchRefiner& refiner,
                      const Eigen::Vector3d& hip, const PatchStepStart& start, RefineResult r,
                      const ForceOptions& options, PatchContactState& state, ForceSample& s,
-                     Eigen::Vector3d* nearest) noexcept {
+                     Eigen::Vector3d* nearest, const CandidateList* list) noexcept {
   if (start.global && start.candidate.face >= 0 && surface) {  // the rest of the global query on the patches
-    const PatchNearest q = nearestOnPatches(*surface, refiner, hip, options, &r, start.reach);
+    const bool whole = list && list->c && list->count > 0 && list->count < list->capacity;
+    const PatchNearest q = whole ? refineCandidates(list->c, list->count, surface->spacing(), refiner, hip, options, &r)
+                                 : nearestOnPatches(*surface, refiner, hip, options, &r, start.reach);
     finishGlobalStep(*surface, hip, q, options, state, s, start.windingVerdict);
     if (nearest && usable(q.nearest)) *nearest = q.nearest.scp;
     return;

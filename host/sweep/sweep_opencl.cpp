@@ -44,6 +44,11 @@ struct OpenCLPatchProber::Impl {
   std::vector<RefineQuery> query;
   std::vector<RefineResult> result;
   std::vector<Eigen::Vector3d> nearest;
+  /// per HIP of a chunk: its step's candidates (kCandidates of storage; a step with more
+  /// searches again when it finishes)
+  static constexpr int kCandidates = 16;
+  std::vector<SurfaceCandidate> candidateStore;
+  std::vector<CandidateList> candidates;
 };
 
 namespace {
@@ -74,6 +79,10 @@ size_t OpenCLPatchProber::run(const HipSet& set, size_t begin, size_t end, const
   I.query.resize(chunk);
   I.result.resize(chunk);
   I.nearest.resize(chunk);
+  I.candidateStore.resize(chunk * Impl::kCandidates);
+  I.candidates.resize(chunk);
+  for (size_t i = 0; i < chunk; ++i)
+    I.candidates[i] = CandidateList{I.candidateStore.data() + i * Impl::kCandidates, Impl::kCandidates, 0};
   const std::vector<uint32_t> order = probeOrder(set, begin, end);  // as runProbes: neighbours in turn
   constexpr double kInf = std::numeric_limits<double>::infinity();
   auto body = [&](size_t c0, size_t m, auto&& hipOf, auto&& finish) {
@@ -83,8 +92,9 @@ size_t OpenCLPatchProber::run(const HipSet& set, size_t begin, size_t end, const
       lambda.resize(I.maxN);
       const Eigen::Vector3d hip = hipOf(begin + order[c0 + i]);
       const double reach = I.nearest[i].allFinite() ? (hip - I.nearest[i]).norm() : kInf;
+      I.candidates[i].count = 0;
       I.refine[i] = beginPatchStep(I.scene, I.surface.get(), *I.cache, hip, I.state[i], lambda.data(), I.start[i],
-                                   I.sample[i], true, reach);
+                                   I.sample[i], true, reach, &I.candidates[i]);
       I.query[i] = RefineQuery{hip, I.refine[i] ? I.start[i].face : -1, I.start[i].X.x(), I.start[i].X.y(),
                                I.start[i].edge};
     });
@@ -92,7 +102,7 @@ size_t OpenCLPatchProber::run(const HipSet& set, size_t begin, size_t end, const
     tbb::parallel_for(size_t(0), m, [&](size_t i) {
       if (I.refine[i])
         finishPatchStep(I.scene, I.surface.get(), *I.cpu.local(), I.query[i].hip, I.start[i], I.result[i], I.options,
-                        I.state[i], I.sample[i], &I.nearest[i]);
+                        I.state[i], I.sample[i], &I.nearest[i], &I.candidates[i]);
       finish(begin + order[c0 + i], i);
     });
   };

@@ -121,6 +121,16 @@ struct PatchStepStart {
   double reach = std::numeric_limits<double>::infinity();
 };
 
+/// A global surface step's candidates, kept from beginPatchStep for finishPatchStep so that one
+/// PatchSurface::candidates search serves both (the OpenCL sweep): c[0, capacity) is the
+/// caller's storage; count = the candidates found, at most capacity. The list is the whole
+/// search's when count < capacity; a full one is searched again in finishPatchStep.
+struct CandidateList {
+  SurfaceCandidate* c = nullptr;
+  int capacity = 0;
+  int count = 0;
+};
+
 /// First half of a patch-method step at `hip` (m), for callers that run the refinement elsewhere
 /// (the OpenCL sweep): returns false when the step ends without a refinement (non-finite HIP,
 /// no polygon or no candidate, or out of contact on the surface with insideByWinding 0: outside
@@ -132,12 +142,14 @@ struct PatchStepStart {
 /// query to the caller (nearestOnPatches: one candidate search per step, not two). reach: an
 /// upper bound (m) of the HIP's distance to the patch surface the caller knows (its distance to
 /// the patch point its last step ended at: finishPatchStep's `nearest`), combined into
-/// start.reach (the candidates stay the same, PatchSurface::candidates). Never throws or
-/// allocates; the scene and surface must belong to the cache.
+/// start.reach (the candidates stay the same, PatchSurface::candidates). list (with
+/// firstCandidate, capacity >= 2): the step's candidates are collected there (its first is the
+/// start) for finishPatchStep. Never throws or allocates; the scene and surface must belong to
+/// the cache.
 bool beginPatchStep(const PolygonScene& scene, const PatchSurface* surface, const PatchCache& cache,
                     const Eigen::Vector3d& hip, PatchContactState& state, double* lambda, PatchStepStart& start,
                     ForceSample& s, bool firstCandidate = true,
-                    double reach = std::numeric_limits<double>::infinity()) noexcept;
+                    double reach = std::numeric_limits<double>::infinity(), CandidateList* list = nullptr) noexcept;
 
 /// Second half: r = the refinement from `start` (PatchRefiner::refine or OpenCLRefiner). A
 /// global surface step runs the rest of the global query with `refiner` (nearestOnPatches, r as
@@ -148,11 +160,12 @@ bool beginPatchStep(const PolygonScene& scene, const PatchSurface* surface, cons
 /// throws or allocates.
 /// nearest, when given: set to the patch point the step ended at (a global step: its query's
 /// nearest point; else the refinement's), where that point is usable (finite, not degenerate),
-/// for the next step's `reach`; untouched otherwise.
+/// for the next step's `reach`; untouched otherwise. list: beginPatchStep's, when it collected
+/// the candidates (a whole list is refined without searching again; the same result).
 void finishPatchStep(const PolygonScene& scene, const PatchSurface* surface, PatchRefiner& refiner,
                      const Eigen::Vector3d& hip, const PatchStepStart& start, RefineResult r,
                      const ForceOptions& options, PatchContactState& state, ForceSample& s,
-                     Eigen::Vector3d* nearest = nullptr) noexcept;
+                     Eigen::Vector3d* nearest = nullptr, const CandidateList* list = nullptr) noexcept;
 
 /// makeForceRenderer with a scene (and, for the patch method, a patch surface) built once and
 /// shared by several renderers (they must belong to `cache`; surface may be null).
