@@ -197,4 +197,14 @@ void runTrajectory(const std::vector<SurfaceSample>& path, double depth, double 
   }
 }
 
+void markPastMedialAxis(const std::vector<SurfaceSample>& path, double depth, const PatchProjector& projector,
+                        TrajectorySeries& out) {
+  out.pastMedialAxis.assign(path.size(), 0);
+  for (size_t i = 0; i < path.size(); ++i) {
+    const Eigen::Vector3d hip = path[i].point - depth * path[i].normal;
+    const SurfaceSample q = projector.project(hip);
+    out.pastMedialAxis[i] = q.face >= 0 && (hip - q.point).norm() < 0.999 * depth ? 1 : 0;
+  }
+}
+
 }  // namespace sf

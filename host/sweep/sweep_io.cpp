@@ -186,7 +186,8 @@ std::string trajectoriesJson(const SweepData& d) {
                        {"step", t.step},
                        {"half", t.half},
                        {"force", t.force},
-                       {"contact", t.contact}});
+                       {"contact", t.contact},
+                       {"past_medial_axis", t.pastMedialAxis}});
   return ojson{{"config_hash", hexHash(sweepConfigHash(d.config))}, {"series", tr}}.dump() + "\n";
 }
 
@@ -307,6 +308,7 @@ SweepData readSweepData(const std::string& dir) {
       s.half = t.at("half");
       s.force = t.at("force").get<std::vector<float>>();
       s.contact = t.at("contact").get<std::vector<uint8_t>>();
+      if (t.contains("past_medial_axis")) s.pastMedialAxis = t.at("past_medial_axis").get<std::vector<uint8_t>>();
       d.trajectories.push_back(std::move(s));
     }
     if (j.contains("trajectory_series")) {

@@ -65,6 +65,7 @@ std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
   table += line;
   std::vector<CloudJob> clouds;
   std::string faultRows;  // per row with missed contacts: how many were pressed in from surface faults
+  std::string medialRows;  // per trajectory series with points past the medial axis
   // Per method, per HIP of the whole run: the discontinuity for the .npy files (NaN: none).
   std::vector<std::vector<double>> hipDisc(c.methods.size(), std::vector<double>(d.hips.size(), NAN));
   std::vector<double> colourRef(c.groupLabels.size(), 0.0);
@@ -219,6 +220,11 @@ std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
       }
     size_t inContact = 0;
     for (auto x : t.contact) inContact += x;
+    size_t past = 0;
+    for (auto x : t.pastMedialAxis) past += x;
+    if (past > 0)
+      medialRows += (medialRows.empty() ? "" : ", ") + t.method + " " + t.depthLabel + " " + std::to_string(past) +
+                    " of " + std::to_string(t.contact.size());
     trajs.push_back(ojson{{"trajectory", t.trajectory},
                           {"method", t.method},
                           {"depth", t.depthLabel},
@@ -228,7 +234,8 @@ std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
                           {"max_diff_N", mx},
                           {"mean_diff_N", mean},
                           {"max_diff_half_step_N", num(mh)},
-                          {"half_to_full_ratio", num(mh / mx)}});
+                          {"half_to_full_ratio", num(mh / mx)},
+                          {"past_medial_axis", t.pastMedialAxis.empty() ? ojson(nullptr) : ojson(past)}});
   }
   ojson s{{"smoothforce_sweep_summary", 1},
           {"complete", complete},
@@ -267,6 +274,10 @@ std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
   table +=
       "missed: HIPs inside the method's surface (the sweep's inside test: patch tessellation at twice the "
       "query's level, or the polygons) without contact\n";
+  if (!medialRows.empty())
+    table += "trajectory points past the medial axis (nearer to another part of the surface than the depth: the "
+             "depth exceeds the local feature size there, and |F|, traj|dF| and ratio measure the loop, not the "
+             "method): " + medialRows + "\n";
   if (!faultRows.empty())
     table += "missed within reach of surface faults (patch surface that folds or overlaps itself no farther from "
              "the HIP than its depth; cache info --faults): " + faultRows + "\n";

@@ -139,6 +139,10 @@ struct TrajectorySeries {
   bool half = false;         ///< the same path at half the step
   std::vector<float> force;  ///< 3 * #points, N
   std::vector<uint8_t> contact;
+  /// per point: 1 where its HIP lies past the medial axis: nearer to the patch surface than 0.999
+  /// x depth (PatchProjector), so another part of the surface is nearer than the point it was
+  /// pressed in from (the depth exceeds the local feature size there); empty: not computed
+  std::vector<uint8_t> pastMedialAxis;
 };
 
 /// The path resampled at `step` and projected on the patches (nearest patch point).
@@ -148,5 +152,10 @@ std::vector<SurfaceSample> trajectorySamples(const std::vector<Eigen::Vector3d>&
 /// between steps.
 void runTrajectory(const std::vector<SurfaceSample>& path, double depth, double approach, ForceRenderer& renderer,
                    TrajectorySeries& out);
+/// Fills out.pastMedialAxis for the HIPs p_i - depth n_i of `path` (m): projector.project finds
+/// a patch point nearer than 0.999 x depth. A projection is a patch point, so every flag is real
+/// (a nearer part the projector misses leaves its point unflagged).
+void markPastMedialAxis(const std::vector<SurfaceSample>& path, double depth, const PatchProjector& projector,
+                        TrajectorySeries& out);
 
 }  // namespace sf
