@@ -9,6 +9,7 @@
 #include <smoothforce/base/error.h>
 #include <smoothforce/base/status.h>
 #include <smoothforce/query/embree_scene.h>
+#include <smoothforce/query/point_index.h>
 #include <smoothforce/query/patch_surface.h>
 #include <smoothforce/query/polygon_facets.h>
 #include <smoothforce/query/surface_faults.h>
@@ -74,10 +75,32 @@ int ProbeInsideTest::level() const noexcept { return surface_ ? surface_->level(
 
 double ProbeInsideTest::surfaceFaultDistance(const Eigen::Vector3d& q) const {
   if (!surface_ || !closed_) return std::numeric_limits<double>::infinity();
-  std::call_once(faultsOnce_, [this] { faults_ = faultTriangles(*surface_, measureSurfaceFaults(*surface_)); });
+  std::call_once(faultsOnce_, [this] {
+    faults_ = faultTriangles(*surface_, measureSurfaceFaults(*surface_));
+    std::vector<Eigen::Vector3d> centroids;
+    for (const auto& t : faults_) {
+      const Eigen::Vector3d c = (t[0] + t[1] + t[2]) / 3.0;
+      for (const Eigen::Vector3d& v : t) faultRadius_ = std::max(faultRadius_, (v - c).norm());
+      centroids.push_back(c);
+    }
+    faultCentroids_ = std::make_unique<const PointIndex>(std::move(centroids));
+  });
+  // the triangles in order of their centroids' distance, until that distance minus the largest
+  // centroid-to-corner distance cannot beat the nearest found
   double best = std::numeric_limits<double>::infinity();
-  for (const auto& t : faults_) best = std::min(best, (closestPointOnTriangle(q, t[0], t[1], t[2]) - q).norm());
-  return best;
+  std::vector<uint32_t> idx;
+  std::vector<double> d2;
+  for (size_t k = 16;; k *= 4) {
+    idx.resize(k);
+    d2.resize(k);
+    const size_t n = faultCentroids_->knn(q, k, idx.data(), d2.data());
+    for (size_t i = 0; i < n; ++i) {
+      if (std::sqrt(d2[i]) - faultRadius_ >= best) return best;
+      const auto& t = faults_[idx[i]];
+      best = std::min(best, (closestPointOnTriangle(q, t[0], t[1], t[2]) - q).norm());
+    }
+    if (n < k) return best;
+  }
 }
 
 }  // namespace sf

@@ -15,6 +15,7 @@
 namespace sf {
 
 class PatchSurface;
+class PointIndex;
 class PolygonScene;
 
 /// Whether HIPs lie inside the surface a force method renders.
@@ -45,7 +46,8 @@ class ProbeInsideTest {
   /// a folded, overlapping or thin triangle); infinite where there is none: the polygon methods,
   /// an open surface, a surface without faults. The faults are measured on the first call
   /// (measureSurfaceFaults over the test's triangles, in parallel: about a second for 10^6
-  /// triangles on 2 cores), then reused; thread-safe.
+  /// triangles on 2 cores) and indexed (a k-d tree over their centroids), then reused;
+  /// thread-safe.
   double surfaceFaultDistance(const Eigen::Vector3d& q) const;
 
  private:
@@ -53,6 +55,8 @@ class ProbeInsideTest {
   std::unique_ptr<const PatchSurface> surface_;
   mutable std::once_flag faultsOnce_;
   mutable std::vector<std::array<Eigen::Vector3d, 3>> faults_;  ///< the fault triangles' corners
+  mutable std::unique_ptr<const PointIndex> faultCentroids_;     ///< over faults_' centroids
+  mutable double faultRadius_ = 0;  ///< m, the largest centroid-to-corner distance of faults_
   std::unique_ptr<const PolygonScene> polygons_;
 };
 
