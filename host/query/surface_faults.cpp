@@ -49,15 +49,24 @@ double doubleArea(const UniformTessellation& u, size_t t, Eigen::Vector3d* norma
 double probeOffset(const PatchSurface& surface) { return 1e-5 * boundingDiagonal(surface.cache()); }
 }  // namespace
 
-SurfaceVerdict surfaceVerdict(const PatchSurface& surface, size_t t) noexcept {
+namespace {
+/// surfaceVerdict, and twice the triangle's area in *area2.
+SurfaceVerdict verdictAndArea(const PatchSurface& surface, size_t t, double* area2) noexcept {
   Eigen::Vector3d n, mid;
-  if (doubleArea(surface.uniform(), t, &n, &mid) == 0) return SurfaceVerdict::Degenerate;
+  *area2 = doubleArea(surface.uniform(), t, &n, &mid);
+  if (*area2 == 0) return SurfaceVerdict::Degenerate;
   const double h = probeOffset(surface);
   const int front = surface.winding(mid + h * n), back = surface.winding(mid - h * n);
   return front == 0 && back == 1 ? SurfaceVerdict::Consistent
          : front > back          ? SurfaceVerdict::Folded
          : front < back          ? SurfaceVerdict::Overlapping
                                  : SurfaceVerdict::Thin;
+}
+}  // namespace
+
+SurfaceVerdict surfaceVerdict(const PatchSurface& surface, size_t t) noexcept {
+  double area2;
+  return verdictAndArea(surface, t, &area2);
 }
 
 std::vector<std::array<Eigen::Vector3d, 3>> faultTriangles(const PatchSurface& surface, const SurfaceFaults& faults) {
@@ -78,13 +87,14 @@ SurfaceFaults measureSurfaceFaults(const PatchSurface& surface) {
   if (!r.closed) return r;
   r.offset = probeOffset(surface);
   r.verdict.assign(u.tri.size(), SurfaceVerdict::Degenerate);
-  tbb::parallel_for(size_t(0), u.tri.size(), [&](size_t t) { r.verdict[t] = surfaceVerdict(surface, t); });
+  std::vector<double> area2(u.tri.size(), 0.0);
+  tbb::parallel_for(size_t(0), u.tri.size(),
+                    [&](size_t t) { r.verdict[t] = verdictAndArea(surface, t, &area2[t]); });
   for (size_t t = 0; t < u.tri.size(); ++t) {
     const auto v = static_cast<size_t>(r.verdict[t]);
     ++r.count[v];
     if (r.verdict[t] == SurfaceVerdict::Degenerate) continue;
-    Eigen::Vector3d n, mid;
-    const double area = 0.5 * doubleArea(u, t, &n, &mid);
+    const double area = 0.5 * area2[t];
     ++r.triangles;
     r.area[v] += area;
     r.totalArea += area;
