@@ -1,5 +1,8 @@
 #include <smoothforce/opencl/opencl_backend.h>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <chrono>
 #include <stdexcept>
@@ -187,14 +190,18 @@ struct OpenCLEvaluator::Impl {
     q.enqueueReadBuffer(out, CL_FALSE, 0, 12 * n * sizeof(Real), o.data(), nullptr, &ev[3]);
     q.enqueueReadBuffer(ost, CL_TRUE, 0, n * sizeof(uint32_t), outSt.data(), nullptr, &ev[4]);
     auto t2 = Clock::now();
-    for (size_t i = 0; i < n; ++i) {
-      PatchPoint& p = res[i];
-      p.pos = {o[i], o[n + i], o[2 * n + i]};
-      p.dxi = {o[3 * n + i], o[4 * n + i], o[5 * n + i]};
-      p.deta = {o[6 * n + i], o[7 * n + i], o[8 * n + i]};
-      p.normal = {o[9 * n + i], o[10 * n + i], o[11 * n + i]};
-      p.status = outSt[i];
-    }
+    // the device's field-major results into PatchPoints, in blocks on the worker threads (a
+    // memory-bound copy: 104 bytes read and written per double point)
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 16384), [&](const tbb::blocked_range<size_t>& b) {
+      for (size_t i = b.begin(); i < b.end(); ++i) {
+        PatchPoint& p = res[i];
+        p.pos = {o[i], o[n + i], o[2 * n + i]};
+        p.dxi = {o[3 * n + i], o[4 * n + i], o[5 * n + i]};
+        p.deta = {o[6 * n + i], o[7 * n + i], o[8 * n + i]};
+        p.normal = {o[9 * n + i], o[10 * n + i], o[11 * n + i]};
+        p.status = outSt[i];
+      }
+    });
     auto t3 = Clock::now();
     kernel = eventSeconds(kev);
     for (const auto& e : ev) transfer += eventSeconds(e);
