@@ -166,6 +166,7 @@ struct BandState {
   Eigen::Vector3d q;
   bool inside;
   double reach;  ///< m, distance + error bound of the triangle found
+  int face;      ///< its face
 };
 
 bool bandFn(RTCPointQueryFunctionArguments* args) {
@@ -178,6 +179,7 @@ bool bandFn(RTCPointQueryFunctionArguments* args) {
   if (!(d > u.error[args->primID])) {
     st->inside = true;
     st->reach = d + u.error[args->primID];
+    st->face = u.triFace[args->primID];
     args->query->radius = 0;  // found one: stop looking
     return true;
   }
@@ -283,8 +285,8 @@ PatchSurface::~PatchSurface() = default;
 int PatchSurface::level() const noexcept { return uniform_->level; }
 size_t PatchSurface::numTriangles() const noexcept { return uniform_->tri.size(); }
 
-size_t PatchSurface::candidates(const Eigen::Vector3d& q, SurfaceCandidate* out, size_t cap,
-                                double reach) const noexcept {
+size_t PatchSurface::candidates(const Eigen::Vector3d& q, SurfaceCandidate* out, size_t cap, double reach,
+                                int reachFace) const noexcept {
   if (points_.empty() || !q.allFinite() || cap == 0) return 0;
   CandidateState st;
   st.tri = &points_;
@@ -292,12 +294,14 @@ size_t PatchSurface::candidates(const Eigen::Vector3d& q, SurfaceCandidate* out,
   st.bound = std::numeric_limits<double>::infinity();
   st.pad = impl_->pad;
   st.count = 0;
-  // The nearest patch point P lies within its triangle's error e of that triangle, whose
-  // distance + e is then at most |q - P| + 2e <= reach + 2 maxError =: r0, so the search can
-  // start at radius r0. Every triangle that can be a candidate (distance - error <= the final
-  // bound) is then visited as long as the final bound is <= r0; the error bounds are estimates,
-  // so where it is not, the search runs again without the radius: the same candidates always.
-  const double r0 = reach + 2 * maxError_;
+  // The patch point P that gives reach (|q - P| <= reach) lies within its triangle's error e of
+  // that triangle, whose distance + e is then at most |q - P| + 2e <= reach + 2 e =: r0, with e
+  // at most the largest error of P's face (or of all), so the search can start at radius r0.
+  // Every triangle that can be a candidate (distance - error <= the final bound) is then visited
+  // as long as the final bound is <= r0; the error bounds are estimates, so where it is not, the
+  // search runs again without the radius: the same candidates always.
+  const bool onFace = reachFace >= 0 && static_cast<size_t>(reachFace) < error_.size();
+  const double r0 = reach + 2 * (onFace ? error_[reachFace] : maxError_);
   if (r0 < 1e30) {
     embreePointQuery(impl_->points, q, &st, float(r0) * (1.0f + 1e-6f) + st.pad);
     if (!(st.bound <= r0)) {
@@ -319,11 +323,24 @@ size_t PatchSurface::candidates(const Eigen::Vector3d& q, SurfaceCandidate* out,
   return n;
 }
 
-bool PatchSurface::inErrorBand(const Eigen::Vector3d& q, double* reach) const noexcept {
+bool PatchSurface::overTriangle(int t, int f, const Eigen::Vector2d& X) const noexcept {
+  if (t < 0 || static_cast<size_t>(t) >= points_.size() || points_[t].face != f || !X.allFinite()) return false;
+  const auto& c = points_[t].X;
+  auto side = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    const Eigen::Vector2d e = b - a, p = X - a;
+    return e.x() * p.y() - e.y() * p.x();
+  };
+  const double s0 = side(c[0], c[1]), s1 = side(c[1], c[2]), s2 = side(c[2], c[0]);
+  const double tol = 1e-12;
+  return (s0 >= -tol && s1 >= -tol && s2 >= -tol) || (s0 <= tol && s1 <= tol && s2 <= tol);
+}
+
+bool PatchSurface::inErrorBand(const Eigen::Vector3d& q, double* reach, int* reachFace) const noexcept {
   if (uniform_->tri.empty() || !q.allFinite()) return false;
-  BandState st{uniform_.get(), q, false, std::numeric_limits<double>::infinity()};
+  BandState st{uniform_.get(), q, false, std::numeric_limits<double>::infinity(), -1};
   embreePointQuery(impl_->band, q, &st, impl_->pad);  // boxes are inflated by the errors: q must lie in one
   if (st.inside && reach) *reach = st.reach;
+  if (st.inside && reachFace) *reachFace = st.face;
   return st.inside;
 }
 

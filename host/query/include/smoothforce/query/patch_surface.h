@@ -73,17 +73,21 @@ class PatchSurface {
   /// collected). Returns how many.
   /// reach: an upper bound (m) of the distance from q to the patch surface, when the caller knows
   /// one (its distance to a patch point, or inErrorBand's); the BVH traversal then starts at
-  /// radius reach + 2 maxError() instead of infinity (the nearest point's triangle is within its
-  /// error of it, so its distance + error is below that): the same candidates, fewer BVH nodes
-  /// visited. Infinite: none known.
+  /// radius reach + 2 maxError() instead of infinity (that patch point lies within its
+  /// triangle's error of the triangle, so the triangle's distance + error is below that): the same
+  /// candidates, fewer BVH nodes visited. Infinite: none known.
+  /// reachFace: the face of the patch point that gives reach, when known (-1: not known): the
+  /// radius is then reach + 2 error(reachFace), which a face far from the patch surface's worst
+  /// error bounds keeps near reach.
   size_t candidates(const Eigen::Vector3d& q, SurfaceCandidate* out, size_t cap,
-                    double reach = std::numeric_limits<double>::infinity()) const noexcept;
+                    double reach = std::numeric_limits<double>::infinity(), int reachFace = -1) const noexcept;
 
   /// Whether q lies within the error bound of a uniform triangle: then winding() may differ from
   /// the patch surface's own winding number around q. reach, when given and q is in a band: set to
   /// an upper bound (m) of q's distance to the patch surface (that triangle's distance plus its
-  /// error bound); untouched otherwise.
-  bool inErrorBand(const Eigen::Vector3d& q, double* reach = nullptr) const noexcept;
+  /// error bound), and *reachFace (when given) to that triangle's face, the face of the patch
+  /// point that bound is measured to; untouched otherwise.
+  bool inErrorBand(const Eigen::Vector3d& q, double* reach = nullptr, int* reachFace = nullptr) const noexcept;
 
   /// Winding number of the uniform tessellation around q: signed crossings of a ray from q (+1
   /// leaving through a triangle's front), the majority of three rays in fixed skew directions (a
@@ -96,6 +100,10 @@ class PatchSurface {
   /// Spacing of the uniform tessellation's vertices in the domain (1 / level): refinements that
   /// start closer than this on one face fall into the same basin.
   double spacing() const noexcept { return 1.0 / level(); }
+  /// Whether domain point X of face f lies in the domain triangle of adaptive triangle t
+  /// (SurfaceCandidate::triangle; its edges included, to 1e-12 of the domain): false for an
+  /// out-of-range t or another face.
+  bool overTriangle(int t, int f, const Eigen::Vector2d& X) const noexcept;
   /// The largest error bound of face f's adaptive triangles, and of all, m (0 without candidates).
   double error(int f) const noexcept { return error_[f]; }
   double maxError() const noexcept { return maxError_; }
