@@ -101,7 +101,7 @@ typedef struct {
 
 /* Stopping rules (see the file comment). */
 typedef struct {
-  int maxIterations;   /* >= 1 */
+  int maxIterations;   /* >= 0 (0: the start is evaluated and tested only) */
   GP_REAL angleTol;    /* rad */
   GP_REAL positionTol; /* m: tangential residual allowed */
 } gp_refine_options;
@@ -114,6 +114,10 @@ typedef struct {
   int face, edge;      /* edge: domain edge the SCP is held on (boundary), else -1 */
   int iterations, transitions;
   gp_uint status; /* GP_TRACK_* | GP_ST_* of the final point */
+  /* 1: converged at its start, not held on an edge, and a strict local minimum there (the
+   * model Hessian J^T J + sum r_i d2G_i, second differences taken at the start, positive
+   * definite): a start on the HIP's normal line that is no saddle or maximum of the distance */
+  int startMinimum;
 } gp_refine_result;
 
 typedef struct {
@@ -292,6 +296,19 @@ GP_FN int gp_rf_converged(const gp_refine_mesh* m, const gp_rf_iterate* it, gp_v
   if (o->positionTol < tol) tol = o->positionTol;
   const GP_REAL noise = GP_R(64.0) * GP_EPS * (gp_rf_mag(hip) + m->scale);
   return gp_rf_residual(m, it) <= gp_max(tol, noise);
+}
+
+/* Whether iterate it is a strict local minimum of f by the model there: B = J^T J + sum r_i d2G_i
+ * positive definite, with the second differences w->d2* taken at its point (else 0). */
+GP_FN int gp_rf_minimum(const gp_refine_mesh* m, const gp_refine_work* w, const gp_rf_iterate* it) {
+  const GP_REAL eps = GP_RF_FD_EPS;
+  GP_REAL xc = it->x, yc = it->y;
+  gp_dom_interior(gp_rf_size(m, it->face), &xc, &yc, eps);
+  if (!(w->d2Face == it->face && w->d2x == xc && w->d2y == yc)) return 0;
+  const gp_vec3 r = it->r, a = it->p.dxi, b = it->p.deta;
+  const GP_REAL b00 = gp_dot(a, a) + gp_dot(r, w->d2xx) / eps, b11 = gp_dot(b, b) + gp_dot(r, w->d2yy) / eps;
+  const GP_REAL b01 = gp_dot(a, b) + GP_R(0.5) * gp_dot(r, w->d2xy) / eps;
+  return b00 > GP_R(0.0) && b00 * b11 - b01 * b01 > GP_R(0.0);
 }
 
 /* Minimises g.s + s^T B s / 2 subject to s^T M s <= D^2 (2x2; M positive definite up to a
@@ -591,6 +608,7 @@ GP_FN gp_refine_result gp_refine_newton_warm(const gp_refine_mesh* m, gp_refine_
   out.edge = -1;
   out.iterations = out.transitions = 0;
   out.status = 0u;
+  out.startMinimum = 0;
   if (!gp_finite3(hip) || !gp_rf_evaluable(m, face) || !(GP_FABS(xi) <= GP_BIG) || !(GP_FABS(eta) <= GP_BIG)) {
     out.status = GP_TRACK_DEGENERATE;
     return out;
@@ -656,6 +674,7 @@ GP_FN gp_refine_result gp_refine_newton_warm(const gp_refine_mesh* m, gp_refine_
   out.distance = gp_len(cur.r);
   out.iterations = it;
   out.status = status | cur.p.status;
+  out.startMinimum = it == 0 && conv && cur.edge < 0 && gp_rf_minimum(m, w, &cur);
   w->lastFace = cur.face;
   w->lastX = cur.x;
   w->lastY = cur.y;

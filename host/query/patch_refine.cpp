@@ -347,6 +347,7 @@ RefineResult PatchRefiner::refineNewton(const Eigen::Vector3d& hip, int face, do
   out.iterations = r.iterations;
   out.transitions = r.transitions;
   out.status = r.status;
+  out.startMinimum = r.startMinimum != 0;
   return out;
 }
 

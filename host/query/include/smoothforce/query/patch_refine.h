@@ -26,6 +26,10 @@ struct RefineResult {
   double distance = 0;                  ///< |SCP - HIP|, m
   int iterations = 0, transitions = 0;  ///< iterations run; Eq. 15 face changes
   uint32_t status = 0;
+  /// Newton only: converged at its start (no iteration), not held on an edge, and a strict local
+  /// minimum of the distance there (positive definite model Hessian): a start on the HIP's
+  /// normal line that is no saddle or maximum (a HIP beyond the centre of curvature)
+  bool startMinimum = false;
 };
 
 /// A reusable refiner: all memory is allocated in the constructor, refine() does not allocate,
