@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <limits>
 
@@ -11,6 +12,7 @@
 #include <smoothforce/force/god_object.h>
 #include <smoothforce/query/embree_scene.h>
 #include <smoothforce/query/patch_refine.h>
+#include <smoothforce/query/surface_faults.h>
 #include <smoothforce/query/patch_surface.h>
 #include "patch_test_support.h"
 
@@ -158,13 +160,21 @@ TEST(ForceTracker, FarOutsideStepsDoNoPatchWork) {
 }
 
 // A known bound on the distance to the surface (reach: the distance to a patch point, or the
-// error band's) only shortens the candidate search: PatchSurface::candidates returns the same
-// candidates, bit for bit, as without it; and a tracker whose global query is bounded by the
-// point its last step ended at (an approach step just outside, then the HIP) renders the same
-// step as a fresh one. Every face of the spot cage and the quad-sphere, every 10th of the
-// triangulated spot (586 faces), 4 points each, pressed in and pulled out by 0.1%-6% of the
-// diagonal; reaches: the exact distance to the nearest point found, the distance to the
-// unpressed point, and the band's.
+// error band's; with or without that point's face) only shortens the candidate search:
+// PatchSurface::candidates returns the same candidates, bit for bit, as without it. And a
+// tracker whose global query is seeded and bounded by the point its last step ended at (an
+// approach step just outside, then the HIP) renders the step a fresh one renders: the same
+// contact verdict for every HIP; the same SCP up to the refinement's stopping rule (4 tau, tau =
+// min(sin(angleTolerance) |HIP - SCP|, positionTolerance x diagonal): both ends are within the
+// tolerance of the stationary point) for all but 1 in 1,000 steps, and for those a stationary
+// point as near (1e-6 of the diagonal: near a centre of curvature the stopping rule bounds the
+// residual, not the position) or a face with surface faults (measureSurfaceFaults: where the
+// patch surface folds over itself the seed's basin and the first candidate's differ, and
+// neither verdict is wrong). Every
+// face of the spot cage and the quad-sphere, every 10th of the triangulated spot (586 faces), 4
+// points each, pressed in and pulled out by 0.1%-6% of the diagonal; reaches: the exact distance
+// to the nearest point found, the distance to the unpressed point (with and without its face),
+// and the band's (with and without its face).
 TEST(ForceTracker, GlobalQueryReachKeepsTheCandidates) {
   for (const char* rel : {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/quad-sphere.off",
                           "keenan_crane/spot_triangulated.obj"}) {
@@ -183,7 +193,9 @@ TEST(ForceTracker, GlobalQueryReachKeepsTheCandidates) {
           return false;
       return true;
     };
-    size_t hips = 0, lists = 0, equalLists = 0, band = 0, steps = 0, equalSteps = 0;
+    size_t hips = 0, lists = 0, equalLists = 0, band = 0, steps = 0, sameScp = 0, agree = 0, onFaults = 0;
+    const SurfaceFaults faults = measureSurfaceFaults(*surface);
+    auto faulty = [&](int face) { return face >= 0 && faults.faceFault[face] > 0; };
     SurfaceCandidate c0[PatchSurface::kMaxCandidates], c1[PatchSurface::kMaxCandidates];
     const int stride = (cache->numFaces() + 599) / 600;  // at most 600 faces: every face of the coarse meshes
     int faces = 0;
@@ -198,13 +210,19 @@ TEST(ForceTracker, GlobalQueryReachKeepsTheCandidates) {
           const size_t n0 = surface->candidates(hip, c0, PatchSurface::kMaxCandidates);
           const double nearest = nearestOnPatches(*surface, refiner, hip, opt).nearest.distance;
           double bandReach = std::numeric_limits<double>::infinity();
-          band += surface->inErrorBand(hip, &bandReach);
-          for (double reach : {nearest, (hip - p.pos).norm(), bandReach}) {
+          int bandFace = -1;
+          band += surface->inErrorBand(hip, &bandReach, &bandFace);
+          const std::pair<double, int> reaches[] = {{nearest, -1},
+                                                    {(hip - p.pos).norm(), -1},
+                                                    {(hip - p.pos).norm(), f},
+                                                    {bandReach, -1},
+                                                    {bandReach, bandFace}};
+          for (const auto& [reach, face] : reaches) {
             if (!std::isfinite(reach)) continue;
             ++lists;
-            equalLists += same(c0, n0, c1, surface->candidates(hip, c1, PatchSurface::kMaxCandidates, reach));
+            equalLists += same(c0, n0, c1, surface->candidates(hip, c1, PatchSurface::kMaxCandidates, reach, face));
           }
-          // approach from just outside, then the HIP: the same step as from a reset
+          // approach from just outside, then the HIP: the step from a reset
           tracked->reset();
           const ForceSample a = tracked->step(p.pos + 0.001 * std::abs(d) * diag * p.normal);
           if (a.contact) continue;  // then the HIP step tracks instead of querying
@@ -212,20 +230,34 @@ TEST(ForceTracker, GlobalQueryReachKeepsTheCandidates) {
           fresh->reset();
           const ForceSample s0 = fresh->step(hip);
           ++steps;
-          equalSteps += s0.contact == s1.contact && s0.scp == s1.scp && s0.face == s1.face &&
-                        s0.iterations == s1.iterations && s0.status == s1.status;
+          const double d0 = (hip - s0.scp).norm(), d1 = (hip - s1.scp).norm();
+          const double tau = std::min(std::sin(opt.angleTolerance) * d0, opt.positionTolerance * diag);
+          const bool same = s0.contact == s1.contact && (!s0.contact || (s0.scp - s1.scp).norm() <= 4 * tau);
+          const bool ok = same || (s0.contact == s1.contact && std::abs(d0 - d1) <= 1e-6 * diag);
+          sameScp += same;
+          agree += ok;
+          const bool onFault = faulty(f) || faulty(s0.face) || faulty(s1.face);
+          onFaults += !ok && onFault;
+          if (!ok && std::getenv("SF_VERBOSE"))
+            std::printf("    face %d, %g x diag: fresh contact %d face %d status %x, seeded contact %d face %d status %x, "
+                        "distances %.9g / %.9g x diag, surface faults %d\n",
+                        f, d, s0.contact, s0.face, s0.status, s1.contact, s1.face, s1.status, d0 / diag, d1 / diag,
+                        int(onFault));
         }
       }
     }
     EXPECT_EQ(hips, size_t(28) * faces) << rel;
     EXPECT_GE(faces, std::min(cache->numFaces(), 580)) << rel;
     EXPECT_EQ(equalLists, lists) << rel;
-    EXPECT_GE(lists, 2 * hips) << rel;  // the nearest and the unpressed point's reach for every HIP
+    EXPECT_GE(lists, 3 * hips) << rel;  // the nearest and the unpressed point's reaches for every HIP
     EXPECT_GT(band, 0u) << rel;         // the band's reach was exercised
-    EXPECT_EQ(equalSteps, steps) << rel;
+    EXPECT_EQ(agree + onFaults, steps) << rel;  // every other step on a face with surface faults
+    EXPECT_GE(sameScp, steps - steps / 1000) << rel;
     EXPECT_GT(steps, hips * 9 / 10) << rel;
-    std::printf("  %s: %zu HIPs, %zu candidate lists with a reach (%zu from a band) equal, %zu steps equal\n", rel,
-                hips, lists, band, steps);
+    std::printf(
+        "  %s: %zu HIPs, %zu candidate lists with a reach (%zu from a band) equal; %zu seeded steps: the same "
+        "verdict and SCP %zu, a point as near %zu, on surface faults %zu\n",
+        rel, hips, lists, band, steps, sameScp, agree - sameScp, onFaults);
   }
 }
 

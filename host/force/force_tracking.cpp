@@ -69,6 +69,19 @@ namespace {
 /// makes the side of the nearest point doubtful (overlapping or folded patches).
 constexpr double kConflict = 3.0;
 
+/// Keeps the tighter of two bounds on the HIP's distance to the patch surface (m; each with the
+/// face of the patch point it is measured to, -1: unknown): the one whose candidate search
+/// starts at the smaller radius (PatchSurface::candidates: reach + 2 x that face's error bound).
+void tighterReach(const PatchSurface& surface, double r, int face, double& reach, int& reachFace) noexcept {
+  auto radius = [&](double x, int f) {
+    return x + 2 * (f >= 0 && f < surface.cache().numFaces() ? surface.error(f) : surface.maxError());
+  };
+  if (radius(r, face) < radius(reach, reachFace)) {
+    reach = r;
+    reachFace = face;
+  }
+}
+
 /// Ends a global step on the patch surface: contact when the HIP is inside it.
 void finishGlobalStep(const PatchSurface& surface, const Eigen::Vector3d& hip, const PatchNearest& q,
                       const ForceOptions& options, PatchContactState& state, ForceSample& s,
@@ -86,8 +99,10 @@ class PatchTracker final : public ForceRenderer {
       : cache_(std::move(cache)),
         scene_(std::move(scene)),
         options_(options),
+        seedOptions_(options),
         lazy_(hasPatchData(*cache_) ? nullptr : std::make_unique<LazyPatches>(cache_, options.patchCapacity)),
         refiner_(*cache_, lazy_.get()) {
+    seedOptions_.maxIterations = 0;  // a seed is evaluated, not refined
     int maxN = 3;
     for (int f = 0; f < cache_->numFaces(); ++f) maxN = std::max(maxN, cache_->faceSize(f));
     lambda_.resize(maxN);
@@ -110,57 +125,69 @@ class PatchTracker final : public ForceRenderer {
       return s;
     }
     PatchStepStart start;
-    // the patch point the last step ended at bounds the distance (the candidates stay the same)
-    const double reach =
-        lastPoint_.allFinite() ? (hip - lastPoint_).norm() : std::numeric_limits<double>::infinity();
-    if (!beginPatchStep(*scene_, surface_.get(), *cache_, hip, state_, lambda_.data(), start, s, false, reach))
+    // the patch point the last step ended at (or resetNear's) seeds the global query on the
+    // surface and bounds its candidate search; without one the query runs whole here
+    const bool seeded = surface_ && hint_.face >= 0 && hint_.seed && options_.refine == RefineMethod::Newton;
+    if (!beginPatchStep(*scene_, surface_.get(), *cache_, hip, state_, lambda_.data(), start, s, seeded, hint_))
       return s;
-    if (start.global && surface_) {  // the whole global query here: every candidate it may need
-      const PatchNearest q = nearestOnPatches(*surface_, refiner_, hip, options_, nullptr, start.reach);
+    if (start.global && surface_ && !start.seeded) {  // the whole global query: every candidate it may need
+      const PatchNearest q =
+          nearestOnPatches(*surface_, refiner_, hip, options_, nullptr, start.reach, nullptr, start.reachFace);
       if (q.candidates == 0) s.status |= SF_TRACK_NO_POLYGON;
       finishGlobalStep(*surface_, hip, q, options_, state_, s, start.windingVerdict);
       remember(q.nearest);
       return s;
     }
-    // in contact: the next step from the SCP the refiner found last (its evaluation reused)
+    // in contact: the next step from the SCP the refiner found last (its evaluation reused); a
+    // seed is only evaluated (no iteration): it stands in for a candidate only where it is a
+    // minimum already (refineCandidates), and bounds the candidate search in any case
     const RefineResult r = start.global
-                               ? refiner_.refine(hip, start.face, start.X.x(), start.X.y(), options_, start.edge)
+                               ? refiner_.refine(hip, start.face, start.X.x(), start.X.y(),
+                                                 start.seeded ? seedOptions_ : options_, start.edge)
                                : refiner_.refineNext(hip, start.face, start.X.x(), start.X.y(), options_, start.edge);
-    finishPatchStep(*scene_, surface_.get(), refiner_, hip, start, r, options_, state_, s);
-    remember(r);
+    finishPatchStep(*scene_, surface_.get(), refiner_, hip, start, r, options_, state_, s, &hint_);
     return s;
   }
 
   void reset() noexcept override {
     state_.inContact = false;
-    lastPoint_.setConstant(std::numeric_limits<double>::quiet_NaN());
+    hint_ = PatchStepHint{};
+  }
+  void resetNear(int face, double xi, double eta) noexcept override {
+    reset();
+    if (face >= 0 && face < cache_->numFaces() && std::isfinite(xi) && std::isfinite(eta)) {
+      hint_.face = face;
+      hint_.X = Eigen::Vector2d(xi, eta);
+    }
   }
   int patchesBuilt() const noexcept override { return lazy_ ? lazy_->constructions() : cache_->numFaces(); }
 
  private:
   void remember(const RefineResult& r) noexcept {
-    if (usable(r)) lastPoint_ = r.scp;
+    if (usable(r)) hint_ = PatchStepHint{r.face, Eigen::Vector2d(r.xi, r.eta), r.scp};
   }
 
   std::shared_ptr<const PatchCache> cache_;
   std::shared_ptr<const PolygonScene> scene_;
   ForceOptions options_;
+  ForceOptions seedOptions_;  ///< options_ with no iteration: a seed's evaluation and tests only
   std::unique_ptr<LazyPatches> lazy_;  ///< patches built on demand when the cache is a skeleton
   PatchRefiner refiner_;
   std::shared_ptr<const PatchSurface> surface_;    ///< InitialGuess::Surface with prebuilt patches
   std::unique_ptr<LazyPatchSurface> lazySurface_;  ///< InitialGuess::Surface with lazy patches
   std::vector<double> lambda_;
   PatchContactState state_;
-  /// m, the patch point the last refining step ended at (NaN: none): bounds the next global
-  /// query's search radius
-  Eigen::Vector3d lastPoint_{Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN())};
+  /// the patch point the last refining step ended at (or resetNear's; face -1: none): seeds the
+  /// next global query and bounds its candidate search
+  PatchStepHint hint_;
 };
 
 }  // namespace
 
 PatchNearest refineCandidates(const SurfaceCandidate* c, int n, double spacing, PatchRefiner& refiner,
                               const Eigen::Vector3d& hip, const ForceOptions& options,
-                              const RefineResult* first) noexcept {
+                              const RefineResult* first, const SurfaceCandidate* firstStart,
+                              const PatchSurface* surface) noexcept {
   PatchNearest q;
   q.nearest.status = q.nearestBelow.status = SF_TRACK_DEGENERATE;
   q.nearest.distance = q.nearestBelow.distance = std::numeric_limits<double>::infinity();
@@ -175,36 +202,60 @@ PatchNearest refineCandidates(const SurfaceCandidate* c, int n, double spacing, 
       if (seenFace[j] == f && (seenX[j] - X).norm() < spacing) return true;
     return false;
   };
-  for (int i = 0; i < n; ++i) {
-    if (c[i].lower >= q.nearest.distance) break;
-    if (near(c[i].face, c[i].X)) continue;
-    const RefineResult r = i == 0 && first ? *first : refiner.refine(hip, c[i].face, c[i].X.x(), c[i].X.y(), options);
+  auto take = [&](int f, const Eigen::Vector2d& X, const RefineResult& r) {
     ++q.refined;
     if (seen + 2 <= 2 * kSeen) {
-      seenFace[seen] = c[i].face;
-      seenX[seen++] = c[i].X;
+      seenFace[seen] = f;
+      seenX[seen++] = X;
       seenFace[seen] = r.face;
       seenX[seen++] = Eigen::Vector2d(r.xi, r.eta);
     }
-    if (!usable(r)) continue;
+    if (!usable(r)) return;
     const bool below = (hip - r.scp).dot(r.normal) < 0;
     (below ? q.anyBelow : q.anyAbove) = true;
     if (!below) q.nearestAbove = std::min(q.nearestAbove, r.distance);
     if (r.distance < q.nearest.distance) q.nearest = r;
     if (below && r.distance < q.nearestBelow.distance) q.nearestBelow = r;
+  };
+  // the refinement already done: from c[0]; or from a seed, which stands in for the first
+  // candidate refined whose start lies within `spacing` of the seed's on the same face, only
+  // where it converged at its start to a strict local minimum (RefineResult::startMinimum: a
+  // seed that had to move, or sits at a saddle or maximum of the distance, may have left the
+  // candidate's basin) over that candidate's own triangle (two minima within one small, nearly
+  // flat triangle's region are what the error bounds exclude; within `spacing` they are not)
+  // no farther than the patch can be there (its distance + error bound); otherwise the
+  // candidate's own refinement runs: the candidates refined are those of the query without it.
+  bool pending = first != nullptr;
+  auto matches = [&](int i) {
+    return firstStart ? c[i].face == firstStart->face && (c[i].X - firstStart->X).norm() < spacing : i == 0;
+  };
+  for (int i = 0; i < n; ++i) {
+    if (c[i].lower >= q.nearest.distance) break;
+    if (near(c[i].face, c[i].X)) continue;
+    if (pending && matches(i)) {
+      pending = false;
+      if (!firstStart || (surface && first->startMinimum && first->distance <= 2 * c[i].distance - c[i].lower &&
+                          surface->overTriangle(c[i].triangle, first->face, Eigen::Vector2d(first->xi, first->eta)))) {
+        take(c[i].face, c[i].X, *first);
+        continue;
+      }
+    }
+    take(c[i].face, c[i].X, refiner.refine(hip, c[i].face, c[i].X.x(), c[i].X.y(), options));
   }
   return q;
 }
 
 PatchNearest nearestOnPatches(const PatchSurface& surface, PatchRefiner& refiner, const Eigen::Vector3d& hip,
-                              const ForceOptions& options, const RefineResult* first, double reach) noexcept {
+                              const ForceOptions& options, const RefineResult* first, double reach,
+                              const SurfaceCandidate* firstStart, int reachFace) noexcept {
+  if (first && firstStart && usable(*first)) tighterReach(surface, first->distance, first->face, reach, reachFace);
   SurfaceCandidate c[PatchSurface::kMaxCandidates];
-  const int n = static_cast<int>(surface.candidates(hip, c, PatchSurface::kMaxCandidates, reach));
-  return refineCandidates(c, n, surface.spacing(), refiner, hip, options, first);
+  const int n = static_cast<int>(surface.candidates(hip, c, PatchSurface::kMaxCandidates, reach, reachFace));
+  return refineCandidates(c, n, surface.spacing(), refiner, hip, options, first, firstStart, &surface);
 }
 
-int insideByWinding(const PatchSurface& surface, const Eigen::Vector3d& hip, double* reach) noexcept {
-  if (!surface.closed() || surface.numTriangles() == 0 || surface.inErrorBand(hip, reach)) return -1;
+int insideByWinding(const PatchSurface& surface, const Eigen::Vector3d& hip, double* reach, int* reachFace) noexcept {
+  if (!surface.closed() || surface.numTriangles() == 0 || surface.inErrorBand(hip, reach, reachFace)) return -1;
   return surface.winding(hip) >= 1 ? 1 : 0;
 }
 
@@ -229,7 +280,7 @@ bool insidePatchSurface(const PatchSurface& surface, const Eigen::Vector3d& hip,
 
 bool beginPatchStep(const PolygonScene& scene, const PatchSurface* surface, const PatchCache& cache,
                     const Eigen::Vector3d& hip, PatchContactState& state, double* lambda, PatchStepStart& start,
-                    ForceSample& s, bool firstCandidate, double reach, CandidateList* list) noexcept {
+                    ForceSample& s, bool firstCandidate, const PatchStepHint& hint, CandidateList* list) noexcept {
   s = ForceSample{};
   s.scp = hip;
   start = PatchStepStart{};
@@ -246,18 +297,34 @@ bool beginPatchStep(const PolygonScene& scene, const PatchSurface* surface, cons
   }
   s.status |= SF_TRACK_GLOBAL;
   if (surface) {  // the global query on the patch surface
-    start.windingVerdict = insideByWinding(*surface, hip, &start.reach);
+    start.windingVerdict = insideByWinding(*surface, hip, &start.reach, &start.reachFace);
     if (start.windingVerdict == 0) {  // outside the closed surface beyond every error band: no patch work
       state.inContact = false;
       return false;
     }
-    start.reach = std::min(start.reach, reach);
+    const bool onFace = hint.face >= 0 && hint.face < cache.numFaces();
+    const bool hinted = onFace && hint.seed;
+    if (hint.point.allFinite())
+      tighterReach(*surface, (hip - hint.point).norm(), onFace ? hint.face : -1, start.reach, start.reachFace);
     start.global = true;
     if (!firstCandidate) return true;  // the caller runs the whole global query
-    // its first candidate starts the refinement (with a list: every candidate, kept for the finish)
+    // the hint or the first candidate starts the refinement (with a list: every candidate, kept
+    // for the finish; seeded without one, the finish searches, bounded by the seed's refinement)
     const bool keep = list && list->c && list->capacity >= 2;
-    const size_t found = keep ? surface->candidates(hip, list->c, static_cast<size_t>(list->capacity), start.reach)
-                              : surface->candidates(hip, &start.candidate, 1, start.reach);
+    if (hinted) {
+      start.seeded = true;
+      start.face = hint.face;
+      start.X = hint.X;
+      start.candidate.face = hint.face;
+      start.candidate.X = hint.X;
+      if (keep)
+        list->count = static_cast<int>(surface->candidates(hip, list->c, static_cast<size_t>(list->capacity),
+                                                           start.reach, start.reachFace));
+      return true;
+    }
+    const size_t found = keep ? surface->candidates(hip, list->c, static_cast<size_t>(list->capacity), start.reach,
+                                                    start.reachFace)
+                              : surface->candidates(hip, &start.candidate, 1, start.reach, start.reachFace);
     if (keep) list->count = static_cast<int>(found);
     if (found == 0) {
       s.status |= SF_TRACK_NO_POLYGON;
@@ -284,16 +351,23 @@ bool beginPatchStep(const PolygonScene& scene, const PatchSurface* surface, cons
 void finishPatchStep(const PolygonScene& scene, const PatchSurface* surface, PatchRefiner& refiner,
                      const Eigen::Vector3d& hip, const PatchStepStart& start, RefineResult r,
                      const ForceOptions& options, PatchContactState& state, ForceSample& s,
-                     Eigen::Vector3d* nearest, const CandidateList* list) noexcept {
+                     PatchStepHint* next, const CandidateList* list) noexcept {
+  auto remember = [next](const RefineResult& x) {
+    if (next && usable(x)) *next = PatchStepHint{x.face, Eigen::Vector2d(x.xi, x.eta), x.scp};
+  };
   if (start.global && start.candidate.face >= 0 && surface) {  // the rest of the global query on the patches
+    // r started at the first candidate, or at the hint (its start is then not among the candidates)
+    const SurfaceCandidate* from = start.seeded ? &start.candidate : nullptr;
     const bool whole = list && list->c && list->count > 0 && list->count < list->capacity;
-    const PatchNearest q = whole ? refineCandidates(list->c, list->count, surface->spacing(), refiner, hip, options, &r)
-                                 : nearestOnPatches(*surface, refiner, hip, options, &r, start.reach);
+    const PatchNearest q =
+        whole ? refineCandidates(list->c, list->count, surface->spacing(), refiner, hip, options, &r, from, surface)
+              : nearestOnPatches(*surface, refiner, hip, options, &r, start.reach, from, start.reachFace);
+    if (start.seeded && q.candidates == 0) s.status |= SF_TRACK_NO_POLYGON;
     finishGlobalStep(*surface, hip, q, options, state, s, start.windingVerdict);
-    if (nearest && usable(q.nearest)) *nearest = q.nearest.scp;
+    remember(q.nearest);
     return;
   }
-  if (nearest && usable(r)) *nearest = r.scp;
+  remember(r);
   if (start.global && start.facet >= 0 && (r.status & SF_TRACK_DEGENERATE)) {  // no patch here: the polygon
     r.scp = start.polygonPoint;
     r.normal = scene.facets().facetNormal[start.facet];

@@ -156,7 +156,8 @@ size_t runProbes(const HipSet& set, size_t begin, size_t end, RendererPool& pool
       ForceRenderer& R = pool.local();
       for (size_t i = r.begin(); i < r.end(); ++i) {
         const size_t g = begin + order[i];
-        R.reset();
+        const SurfaceSample& from = set.samples[g % set.samples.size()];
+        R.resetNear(from.face, from.xi, from.eta);  // the HIP's surface sample seeds the approach step
         R.step(set.approach(g));
         fillHipResult(out[g - begin], R.step(set.hip(g)), ref);
       }
@@ -188,7 +189,7 @@ void runTrajectory(const std::vector<SurfaceSample>& path, double depth, double 
   out.force.assign(3 * path.size(), 0.f);
   out.contact.assign(path.size(), 0);
   if (path.empty()) return;
-  renderer.reset();
+  renderer.resetNear(path[0].face, path[0].xi, path[0].eta);  // the approach step from the first point's patch point
   renderer.step(path[0].point + approach * depth * path[0].normal);
   for (size_t i = 0; i < path.size(); ++i) {
     const ForceSample s = renderer.step(path[i].point - depth * path[i].normal);

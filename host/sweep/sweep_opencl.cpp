@@ -36,14 +36,14 @@ struct OpenCLPatchProber::Impl {
   tbb::enumerable_thread_specific<std::unique_ptr<PatchRefiner>> cpu;
   int maxN = 3;
   // per HIP of a chunk: contact state, the step's sample and start, the refinement, and the
-  // patch point the last step ended at (the next step's reach)
+  // patch point the last step ended at (the next step's hint: seed and reach)
   std::vector<PatchContactState> state;
   std::vector<ForceSample> sample;
   std::vector<PatchStepStart> start;
   std::vector<uint8_t> refine;
   std::vector<RefineQuery> query;
   std::vector<RefineResult> result;
-  std::vector<Eigen::Vector3d> nearest;
+  std::vector<PatchStepHint> hint;
   /// per HIP of a chunk: its step's candidates (kCandidates of storage; a step with more
   /// searches again when it finishes)
   static constexpr int kCandidates = 16;
@@ -78,23 +78,21 @@ size_t OpenCLPatchProber::run(const HipSet& set, size_t begin, size_t end, const
   I.refine.resize(chunk);
   I.query.resize(chunk);
   I.result.resize(chunk);
-  I.nearest.resize(chunk);
+  I.hint.resize(chunk);
   I.candidateStore.resize(chunk * Impl::kCandidates);
   I.candidates.resize(chunk);
   for (size_t i = 0; i < chunk; ++i)
     I.candidates[i] = CandidateList{I.candidateStore.data() + i * Impl::kCandidates, Impl::kCandidates, 0};
   const std::vector<uint32_t> order = probeOrder(set, begin, end);  // as runProbes: neighbours in turn
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   auto body = [&](size_t c0, size_t m, auto&& hipOf, auto&& finish) {
     // begin (CPU, parallel) -> refine (device, whole chunk) -> finish (CPU, parallel)
     tbb::parallel_for(size_t(0), m, [&](size_t i) {
       thread_local std::vector<double> lambda;
       lambda.resize(I.maxN);
       const Eigen::Vector3d hip = hipOf(begin + order[c0 + i]);
-      const double reach = I.nearest[i].allFinite() ? (hip - I.nearest[i]).norm() : kInf;
       I.candidates[i].count = 0;
       I.refine[i] = beginPatchStep(I.scene, I.surface.get(), *I.cache, hip, I.state[i], lambda.data(), I.start[i],
-                                   I.sample[i], true, reach, &I.candidates[i]);
+                                   I.sample[i], true, I.hint[i], &I.candidates[i]);
       I.query[i] = RefineQuery{hip, I.refine[i] ? I.start[i].face : -1, I.start[i].X.x(), I.start[i].X.y(),
                                I.start[i].edge};
     });
@@ -102,7 +100,8 @@ size_t OpenCLPatchProber::run(const HipSet& set, size_t begin, size_t end, const
     tbb::parallel_for(size_t(0), m, [&](size_t i) {
       if (I.refine[i])
         finishPatchStep(I.scene, I.surface.get(), *I.cpu.local(), I.query[i].hip, I.start[i], I.result[i], I.options,
-                        I.state[i], I.sample[i], &I.nearest[i], &I.candidates[i]);
+                        I.state[i], I.sample[i], &I.hint[i], &I.candidates[i]);
+      I.hint[i].seed = false;  // the next step's hint bounds its search only
       finish(begin + order[c0 + i], i);
     });
   };
@@ -111,7 +110,10 @@ size_t OpenCLPatchProber::run(const HipSet& set, size_t begin, size_t end, const
     if (control.stop && control.stop->load(std::memory_order_relaxed)) break;
     const size_t m = std::min(chunk, end - begin - c0);
     std::fill(I.state.begin(), I.state.begin() + m, PatchContactState{});  // reset()
-    std::fill(I.nearest.begin(), I.nearest.begin() + m, Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()));
+    for (size_t i = 0; i < m; ++i) {  // the HIP's surface sample bounds the approach step's search
+      const SurfaceSample& from = set.samples[(begin + order[c0 + i]) % set.samples.size()];
+      I.hint[i] = PatchStepHint{from.face, Eigen::Vector2d(from.xi, from.eta), from.point, false};
+    }
     body(
         c0, m, [&](size_t g) { return set.approach(g); }, [](size_t, size_t) {});
     body(

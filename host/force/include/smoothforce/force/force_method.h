@@ -53,6 +53,16 @@ class ForceRenderer {
   virtual ForceSample step(const Eigen::Vector3d& hip) noexcept = 0;
   /// Forget the contact state (next step starts out of contact).
   virtual void reset() noexcept = 0;
+  /// reset(), with a hint for the next global query: patch point (face, xi, eta) of the cache
+  /// (domain coordinates, Eq. 3) lies near the next HIP's nearest surface point (a sweep's
+  /// surface sample, whose HIP is pressed in along its normal). The patch method refines from
+  /// there first, which bounds the candidates it must refine; the nearest point found is the
+  /// same up to the refinement's tolerance. Other methods ignore the hint. An out-of-range face
+  /// is ignored.
+  virtual void resetNear(int face, double xi, double eta) noexcept {
+    (void)face, (void)xi, (void)eta;
+    reset();
+  }
   /// Patch constructions so far with lazy construction (a face evicted and needed again counts
   /// again); the cache's face count when prebuilt; 0 for methods that need no patch.
   virtual int patchesBuilt() const noexcept = 0;

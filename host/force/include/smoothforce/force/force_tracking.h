@@ -63,20 +63,31 @@ struct PatchNearest {
 /// Refines the candidates c[0..n) (sorted by lower bound, PatchSurface::candidates) in order until
 /// the next lower bound is not below the nearest distance found, skipping a start within
 /// `spacing` (domain units) of an earlier start or result on the same face; first, when given, is
-/// c[0]'s refinement already done (the OpenCL sweep). Refinements that end degenerate are
-/// skipped. Never throws or allocates.
+/// a refinement already done: from c[0] when firstStart is null (the OpenCL sweep), else from
+/// firstStart's (face, X) (a seed: PatchStepHint); a seed stands in for the first candidate
+/// refined whose start lies within `spacing` of the seed's on the same face, when it converged
+/// at its start to a strict local minimum (RefineResult::startMinimum) over that candidate's
+/// own triangle (surface->overTriangle) no farther than the patch can be there (the
+/// candidate's distance plus error bound); otherwise that candidate's refinement runs and the
+/// seed is unused: the candidates refined are those of the query without a seed. surface: the
+/// candidates' (null: a seed never stands in). Refinements that end degenerate are skipped.
+/// Never throws or allocates.
 PatchNearest refineCandidates(const SurfaceCandidate* c, int n, double spacing, PatchRefiner& refiner,
                               const Eigen::Vector3d& hip, const ForceOptions& options,
-                              const RefineResult* first = nullptr) noexcept;
+                              const RefineResult* first = nullptr, const SurfaceCandidate* firstStart = nullptr,
+                              const PatchSurface* surface = nullptr) noexcept;
 
 /// The global nearest point of the patches to `hip` (m): PatchSurface::candidates, then
 /// refineCandidates. Never throws or allocates.
-/// first: as in refineCandidates (the refinement of the first candidate, already done).
-/// reach: an upper bound (m) of the HIP's distance to the patch surface when known (the
-/// distance to a patch point): PatchSurface::candidates searches less; the result is the same.
+/// first, firstStart: as in refineCandidates (a refinement already done; with firstStart, its
+/// distance also bounds the candidate search).
+/// reach, reachFace: an upper bound (m) of the HIP's distance to the patch surface when known
+/// (the distance to a patch point, and that point's face or -1): PatchSurface::candidates
+/// searches less; the candidates are the same.
 PatchNearest nearestOnPatches(const PatchSurface& surface, PatchRefiner& refiner, const Eigen::Vector3d& hip,
                               const ForceOptions& options, const RefineResult* first = nullptr,
-                              double reach = std::numeric_limits<double>::infinity()) noexcept;
+                              double reach = std::numeric_limits<double>::infinity(),
+                              const SurfaceCandidate* firstStart = nullptr, int reachFace = -1) noexcept;
 
 /// Whether `hip` is inside the patch surface (Algorithm 1, line 3), from its global query, and
 /// the SCP to start contact at (*scp). Closed surface (PatchSurface::closed): the winding number
@@ -94,9 +105,11 @@ bool insidePatchSurface(const PatchSurface& surface, const Eigen::Vector3d& hip,
 /// outside every error band of the tessellation, the winding number decides alone (1 inside,
 /// 0 outside); -1 otherwise (within a band, an open or empty surface: the global query decides). An
 /// out-of-contact step with verdict 0 needs no patch work at all: no candidates, no refinement.
-/// reach, when given and the HIP is within a band: an upper bound (m) of its distance to the
-/// patch surface (PatchSurface::inErrorBand); untouched otherwise.
-int insideByWinding(const PatchSurface& surface, const Eigen::Vector3d& hip, double* reach = nullptr) noexcept;
+/// reach, reachFace, when given and the HIP is within a band: an upper bound (m) of its distance
+/// to the patch surface and the face it is measured to (PatchSurface::inErrorBand); untouched
+/// otherwise.
+int insideByWinding(const PatchSurface& surface, const Eigen::Vector3d& hip, double* reach = nullptr,
+                    int* reachFace = nullptr) noexcept;
 
 /// Contact state of the patch method between steps (Algorithm 1).
 struct PatchContactState {
@@ -117,8 +130,27 @@ struct PatchStepStart {
   SurfaceCandidate candidate;             ///< surface start: the first candidate, (face, X); face -1 otherwise
   int windingVerdict = -2;                ///< surface start: insideByWinding (-2: not computed)
   /// m, surface start: an upper bound of the HIP's distance to the patch surface found on the way
-  /// (insideByWinding's error band; infinite: none), for PatchSurface::candidates
+  /// (insideByWinding's error band, or the hint's point; infinite: none), for
+  /// PatchSurface::candidates, and the face of the patch point it is measured to (-1: unknown)
   double reach = std::numeric_limits<double>::infinity();
+  int reachFace = -1;
+  bool seeded = false;  ///< surface start: (face, X) is the hint's seed, not the first candidate
+};
+
+/// What a caller knows before a patch-method step out of contact (beginPatchStep): a patch
+/// point near the HIP's nearest surface point, typically the point the last step ended at
+/// (finishPatchStep's `next`) or a sweep's surface sample the HIP was pressed in from. The
+/// global query refines from (face, X) first (a seed), and that refinement stands in for a
+/// candidate's where refineCandidates allows it: the candidates refined, and so the nearest
+/// point, are the same up to the refinement's tolerance. point, when finite: that patch point's
+/// position (m), whose distance from the HIP bounds the candidate search before any refinement.
+struct PatchStepHint {
+  int face = -1;            ///< -1: no hint
+  Eigen::Vector2d X{0, 0};  ///< domain point of `face`
+  Eigen::Vector3d point{Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN())};
+  /// false: the point only bounds the search, no seed (the OpenCL sweep: its device refinement
+  /// does not report RefineResult::startMinimum)
+  bool seed = true;
 };
 
 /// A global surface step's candidates, kept from beginPatchStep for finishPatchStep so that one
@@ -139,33 +171,35 @@ struct CandidateList {
 /// fills start, and s with the status bits so far. surface: the global query on the patches
 /// (null: the polygon start). lambda: scratch for the largest face's size. firstCandidate: a
 /// surface step looks up its first candidate (start.candidate); false leaves the whole global
-/// query to the caller (nearestOnPatches: one candidate search per step, not two). reach: an
-/// upper bound (m) of the HIP's distance to the patch surface the caller knows (its distance to
-/// the patch point its last step ended at: finishPatchStep's `nearest`), combined into
-/// start.reach (the candidates stay the same, PatchSurface::candidates). list (with
+/// query to the caller (nearestOnPatches: one candidate search per step, not two). hint: what
+/// the caller knows from its last step (PatchStepHint); with firstCandidate and a hint face in
+/// range, a surface step starts at the hint (start.seeded) instead of the first candidate, and
+/// searches its candidates only to fill `list`; the hint's point bounds that search (combined
+/// into start.reach; the candidates stay the same, PatchSurface::candidates). list (with
 /// firstCandidate, capacity >= 2): the step's candidates are collected there (its first is the
-/// start) for finishPatchStep. Never throws or allocates; the scene and surface must belong to
-/// the cache.
+/// start unless seeded) for finishPatchStep. Never throws or allocates; the scene and surface
+/// must belong to the cache.
 bool beginPatchStep(const PolygonScene& scene, const PatchSurface* surface, const PatchCache& cache,
                     const Eigen::Vector3d& hip, PatchContactState& state, double* lambda, PatchStepStart& start,
-                    ForceSample& s, bool firstCandidate = true,
-                    double reach = std::numeric_limits<double>::infinity(), CandidateList* list = nullptr) noexcept;
+                    ForceSample& s, bool firstCandidate = true, const PatchStepHint& hint = {},
+                    CandidateList* list = nullptr) noexcept;
 
 /// Second half: r = the refinement from `start` (PatchRefiner::refine or OpenCLRefiner). A
 /// global surface step runs the rest of the global query with `refiner` (nearestOnPatches, r as
-/// its first candidate's refinement: the candidates are deterministic),
-/// then decides contact by insidePatchSurface; a polygon step uses the polygon itself where the
-/// patch is degenerate and decides by (HIP - SCP) . n < 0; a tracking step continues contact
-/// while (HIP - SCP) . n < 0. F = stiffness (SCP - HIP) (N/m, m). Updates state and s. Never
-/// throws or allocates.
-/// nearest, when given: set to the patch point the step ended at (a global step: its query's
-/// nearest point; else the refinement's), where that point is usable (finite, not degenerate),
-/// for the next step's `reach`; untouched otherwise. list: beginPatchStep's, when it collected
-/// the candidates (a whole list is refined without searching again; the same result).
+/// its first refinement, from the first candidate or the hint's seed: the candidates are
+/// deterministic), then decides contact by insidePatchSurface; a polygon step uses the polygon
+/// itself where the patch is degenerate and decides by (HIP - SCP) . n < 0; a tracking step
+/// continues contact while (HIP - SCP) . n < 0. F = stiffness (SCP - HIP) (N/m, m). Updates
+/// state and s. Never throws or allocates.
+/// next, when given: set to the patch point the step ended at (a global step: its query's
+/// nearest point; else the refinement's: face, X and position), where that point is usable
+/// (finite, not degenerate), the next step's hint; untouched otherwise. list: beginPatchStep's,
+/// when it collected the candidates (a whole list is refined without searching again; the same
+/// result).
 void finishPatchStep(const PolygonScene& scene, const PatchSurface* surface, PatchRefiner& refiner,
                      const Eigen::Vector3d& hip, const PatchStepStart& start, RefineResult r,
                      const ForceOptions& options, PatchContactState& state, ForceSample& s,
-                     Eigen::Vector3d* nearest = nullptr, const CandidateList* list = nullptr) noexcept;
+                     PatchStepHint* next = nullptr, const CandidateList* list = nullptr) noexcept;
 
 /// makeForceRenderer with a scene (and, for the patch method, a patch surface) built once and
 /// shared by several renderers (they must belong to `cache`; surface may be null).
