@@ -6,6 +6,7 @@
 // (renderers made and warmed up before, as the sweep's shared surface and scenes are); prints the
 // rates per round, their medians and the ratios of the medians.
 //   build/bench/probe_ratio [--samples 100000] [--depth 0.005] [--rounds 5] [--threads 2]
+//                           [--only patch|direct]   (one kind of case, e.g. under perf record)
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -46,6 +47,7 @@ double median(std::vector<double> v) {
 int main(int argc, char** argv) {
   int samples = 100000, rounds = 5, threads = 2;
   double depth = 0.005;
+  std::string only;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
     if (a == "--samples")
@@ -56,19 +58,25 @@ int main(int argc, char** argv) {
       rounds = std::atoi(argv[i + 1]);
     else if (a == "--threads")
       threads = std::atoi(argv[i + 1]);
+    else if (a == "--only")
+      only = argv[i + 1];
     else {
       std::fprintf(stderr, "probe_ratio: unknown option %s\n", a.c_str());
       return 2;
     }
   }
-  if (samples < 1 || rounds < 1 || threads < 1 || !(depth > 0 && depth < 0.5)) {
-    std::fprintf(stderr, "probe_ratio: --samples, --rounds, --threads must be >= 1 and --depth in (0, 0.5)\n");
+  if (samples < 1 || rounds < 1 || threads < 1 || !(depth > 0 && depth < 0.5) ||
+      !(only.empty() || only == "patch" || only == "direct")) {
+    std::fprintf(stderr,
+                 "probe_ratio: --samples, --rounds, --threads must be >= 1, --depth in (0, 0.5), --only patch or "
+                 "direct\n");
     return 2;
   }
   const std::string shared = SF_SHARED_MESHES;
   const std::string cage = std::string(SF_DATA_DIR) + "/spot_control_mesh.obj";
   std::vector<Case> cases;
   auto add = [&](const char* label, const std::string& path, ForceMethod method) {
+    if (!only.empty() && (only == "patch") != (method == ForceMethod::Patch)) return;
     cases.emplace_back();
     cases.back().label = label;
     cases.back().path = path;
