@@ -326,13 +326,13 @@ size_t PatchSurface::candidates(const Eigen::Vector3d& q, SurfaceCandidate* out,
 bool PatchSurface::overTriangle(int t, int f, const Eigen::Vector2d& X) const noexcept {
   if (t < 0 || static_cast<size_t>(t) >= points_.size() || points_[t].face != f || !X.allFinite()) return false;
   const auto& c = points_[t].X;
-  auto side = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    const Eigen::Vector2d e = b - a, p = X - a;
-    return e.x() * p.y() - e.y() * p.x();
-  };
-  const double s0 = side(c[0], c[1]), s1 = side(c[1], c[2]), s2 = side(c[2], c[0]);
-  const double tol = 1e-12;
-  return (s0 >= -tol && s1 >= -tol && s2 >= -tol) || (s0 <= tol && s1 <= tol && s2 <= tol);
+  auto cross = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); };
+  const double area = cross(c[1] - c[0], c[2] - c[0]);  // twice the signed area
+  if (!(std::abs(area) > 0)) return false;
+  // barycentric coordinates of X: the signed areas of the sub-triangles over the whole
+  const double l0 = cross(c[1] - X, c[2] - X) / area, l1 = cross(c[2] - X, c[0] - X) / area;
+  const double l2 = 1 - l0 - l1, low = -1e-12;
+  return l0 >= low && l1 >= low && l2 >= low;
 }
 
 bool PatchSurface::inErrorBand(const Eigen::Vector3d& q, double* reach, int* reachFace) const noexcept {

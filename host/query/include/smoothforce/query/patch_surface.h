@@ -101,8 +101,8 @@ class PatchSurface {
   /// start closer than this on one face fall into the same basin.
   double spacing() const noexcept { return 1.0 / level(); }
   /// Whether domain point X of face f lies in the domain triangle of adaptive triangle t
-  /// (SurfaceCandidate::triangle; its edges included, to 1e-12 of the domain): false for an
-  /// out-of-range t or another face.
+  /// (SurfaceCandidate::triangle; every barycentric coordinate >= -1e-12). False for an
+  /// out-of-range t, another face or a degenerate domain triangle.
   bool overTriangle(int t, int f, const Eigen::Vector2d& X) const noexcept;
   /// The largest error bound of face f's adaptive triangles, and of all, m (0 without candidates).
   double error(int f) const noexcept { return error_[f]; }
