@@ -26,11 +26,15 @@ typedef struct {
   GP_STATUS status;               /* GP_ST_* bits */
 } gp_eval_result;
 
-/* Evaluates G(X) = sum_k w_k(X) r_k(u_k(X), v_k(X)) (Eq. 2-5) and its exact first
- * derivatives at X = (xi, eta) in the domain dom of an n-gon (gp_domain_of). recs: the
- * patch's n edge records (record-major, private memory). Points outside the domain return
+/* Evaluates G(X) = sum_k w_k(X) r_k(u_k(X), v_k(X)) (Eq. 2-5) and, when deriv is non-zero, its
+ * exact first derivatives and the unit normal at X = (xi, eta) in the domain dom of an n-gon
+ * (gp_domain_of). recs: the patch's n edge records (record-major, private memory). deriv 0:
+ * the position only (dxi, deta and normal zero; the same position bits: the same operations),
+ * for callers that need no derivatives (the quality check's bulge samples); pass a constant,
+ * so that the inlined derivative code drops out. Points outside the domain return
  * GP_ST_OUTSIDE and zeros. */
-GP_FN gp_eval_result gp_patch_eval_dom(const gp_domain* dom, const GP_REAL* recs, int mode, GP_REAL xi, GP_REAL eta) {
+GP_FN gp_eval_result gp_patch_eval_dom_d(const gp_domain* dom, const GP_REAL* recs, int mode, GP_REAL xi, GP_REAL eta,
+                                         int deriv) {
   const int n = dom->n;
   gp_eval_result out;
   out.pos = out.dxi = out.deta = out.normal = gp_zero3();
@@ -51,8 +55,9 @@ GP_FN gp_eval_result gp_patch_eval_dom(const gp_domain* dom, const GP_REAL* recs
     const GP_REAL den = d[km] + d[kp];
     /* den = 0 only where both corners using this edge have zero weight: t = 0 there */
     const GP_MASK pos = den > GP_R(0.0);
-    const GP_REAL id2 = GP_R(1.0) / (den * den);
     t[k] = GP_SEL(pos, d[km] / den, GP_R(0.0));
+    if (!deriv) continue;
+    const GP_REAL id2 = GP_R(1.0) / (den * den);
     /* d(a/(a+b)) = (b da - a db) / (a+b)^2 */
     tx[k] = GP_SEL(pos, (d[kp] * -dom->mx[km] - d[km] * -dom->mx[kp]) * id2, GP_R(0.0));
     ty[k] = GP_SEL(pos, (d[kp] * -dom->my[km] - d[km] * -dom->my[kp]) * id2, GP_R(0.0));
@@ -66,8 +71,10 @@ GP_FN gp_eval_result gp_patch_eval_dom(const gp_domain* dom, const GP_REAL* recs
     for (int i = 1; i <= n - 2; ++i) {
       j = j + 1 == n ? 0 : j + 1; /* (k + i) mod n */
       const GP_REAL f = d[j] * d[j];
-      wx = wx * f + w * GP_R(2.0) * d[j] * -dom->mx[j];
-      wy = wy * f + w * GP_R(2.0) * d[j] * -dom->my[j];
+      if (deriv) {
+        wx = wx * f + w * GP_R(2.0) * d[j] * -dom->mx[j];
+        wy = wy * f + w * GP_R(2.0) * d[j] * -dom->my[j];
+      }
       w = w * f;
     }
     W[k] = w;
@@ -105,31 +112,41 @@ GP_FN gp_eval_result gp_patch_eval_dom(const gp_domain* dom, const GP_REAL* recs
     const GP_REAL* rm = recs + km * GP_E_NFIELDS;
     /* corner interpolator r_k(u, v) (Eq. 2): P(u) = C_k(u), Q(v) = C_{k-1}(1 - v) */
     const GP_REAL u = t[k], v = GP_R(1.0) - t[km];
-    const GP_REAL ux = tx[k], uy = ty[k], vx = -tx[km], vy = -ty[km];
     const gp_vec3 tp0 = gp_get3(rk, GP_E_T0), tq0 = gp_get3(rm, GP_E_T1);
     const gp_vec3 a = gp_get3(rk, GP_E_DT0);         /* T_P'(0) = dT_k/dt(0) */
     const gp_vec3 b = gp_neg(gp_get3(rm, GP_E_DT1)); /* T_Q'(0) = -dT_{k-1}/dt(1) */
     const gp_vec3 dTP = gp_sub(T[k], tp0), dTQ = gp_sub(T[km], tq0);
     gp_vec3 r = gp_sub(gp_add(C[k], C[km]), gp_get3(rk, GP_E_V0));
     r = gp_madd(gp_madd(r, dTP, v), dTQ, u);
+    const GP_REAL s = u + v;
+    const GP_MASK sp = s > GP_R(0.0);
+    const GP_REAL is = GP_R(1.0) / s;
+    /* - u v (v a + u b) / (u + v) where u + v > 0 */
+    r = gp_sel3(sp, gp_sub(r, gp_scale(gp_add(gp_scale(a, u * v * v), gp_scale(b, u * u * v)), is)), r);
+    const GP_REAL w = W[k] * iS;
+    out.pos = gp_sel3(has, gp_madd(out.pos, r, w), out.pos);
+    if (!deriv) continue;
+    const GP_REAL ux = tx[k], uy = ty[k], vx = -tx[km], vy = -ty[km];
     gp_vec3 ru = gp_madd(gp_add(Cd[k], dTQ), Td[k], v);    /* P' + v T_P' + (T_Q - T_Q(0)) */
     gp_vec3 rv = gp_madd(gp_sub(dTP, Cd[km]), Td[km], -u); /* Q' + (T_P - T_P(0)) + u T_Q' */
-    const GP_REAL s = u + v;
-    { /* - u v (v a + u b) / (u + v), and its partials, where u + v > 0 */
-      const GP_MASK sp = s > GP_R(0.0);
-      const GP_REAL is = GP_R(1.0) / s, is2 = is * is;
-      r = gp_sel3(sp, gp_sub(r, gp_scale(gp_add(gp_scale(a, u * v * v), gp_scale(b, u * u * v)), is)), r);
+    { /* the partials of the term above, where u + v > 0 */
+      const GP_REAL is2 = is * is;
       ru = gp_sel3(
           sp, gp_sub(ru, gp_scale(gp_add(gp_scale(a, v * v * v), gp_scale(b, u * v * (u + GP_R(2.0) * v))), is2)), ru);
       rv = gp_sel3(
           sp, gp_sub(rv, gp_scale(gp_add(gp_scale(a, u * v * (GP_R(2.0) * u + v)), gp_scale(b, u * u * u)), is2)), rv);
     }
-    const GP_REAL w = W[k] * iS;
     const GP_REAL wx = (Wx[k] - w * Sx) * iS, wy = (Wy[k] - w * Sy) * iS;
-    out.pos = gp_sel3(has, gp_madd(out.pos, r, w), out.pos);
     out.dxi = gp_sel3(has, gp_madd(gp_madd(out.dxi, r, wx), gp_add(gp_scale(ru, ux), gp_scale(rv, vx)), w), out.dxi);
     out.deta = gp_sel3(has, gp_madd(gp_madd(out.deta, r, wy), gp_add(gp_scale(ru, uy), gp_scale(rv, vy)), w), out.deta);
     nfb = gp_sel3(has, gp_madd(nfb, gp_get3(rk, GP_E_N0), w), nfb);
+  }
+  if (!deriv) {
+    if (GP_ANY(outside)) { /* lanes only: some lanes outside */
+      out.pos = gp_sel3(outside, gp_zero3(), out.pos);
+      out.status = GP_SEL(outside, (GP_STATUS)GP_ST_OUTSIDE, out.status);
+    }
+    return out;
   }
   const gp_vec3 nn = gp_cross(out.dxi, out.deta);
   /* rank-deficient Jacobian (e.g. at a 180-degree corner): the normal is noise, flag it */
@@ -152,6 +169,11 @@ GP_FN gp_eval_result gp_patch_eval_dom(const gp_domain* dom, const GP_REAL* recs
     out.status = GP_SEL(outside, (GP_STATUS)GP_ST_OUTSIDE, out.status);
   }
   return out;
+}
+
+/* gp_patch_eval_dom_d with the derivatives and the normal. */
+GP_FN gp_eval_result gp_patch_eval_dom(const gp_domain* dom, const GP_REAL* recs, int mode, GP_REAL xi, GP_REAL eta) {
+  return gp_patch_eval_dom_d(dom, recs, mode, xi, eta, 1);
 }
 
 /* gp_patch_eval_dom on the domain of the n-gon; n outside 3..GP_MAX_N gives
@@ -208,7 +230,10 @@ GP_FN GP_STATUS gp_patch_quality(int n, const GP_REAL* recs, int mode, GP_REAL* 
         /* points on the segment from the centre towards the edge: near the edge and inside */
         GP_SREAL s, px, py;
         gp_quality_sample(dom, k, i, ring, &s, &px, &py);
-        const gp_eval_result g = gp_patch_eval_dom(dom, recs, mode, px, py);
+        /* the fold test needs the normal (ring 0 inside the edge); the bulge, positions only */
+        const int normal = ring == 0 && i > 0 && i < GP_Q_STEPS;
+        const gp_eval_result g =
+            normal ? gp_patch_eval_dom_d(dom, recs, mode, px, py, 1) : gp_patch_eval_dom_d(dom, recs, mode, px, py, 0);
         const gp_vec3 q = g.pos;
         GP_REAL out = GP_R(0.0);
         out = gp_max(out, gp_max(lo.x - q.x, q.x - hi.x));

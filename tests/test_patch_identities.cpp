@@ -2,6 +2,10 @@
 // corner interpolation, boundary = edge curve, cross-tangent end identities, derivatives.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <random>
+#include <vector>
+
 #include <smoothforce/patch/detail/gp_math.h>
 #include "patch_test_support.h"
 
@@ -112,6 +116,71 @@ TEST(PatchIdentities, PlatonicSolidsOnTheUnitSphere) {
     }
     EXPECT_NEAR(worst, cs.expect, 0.0015);
   }
+}
+
+// The position-only evaluation (gp_patch_eval_dom_d with deriv 0, which the quality check's
+// bulge samples use) gives the full evaluation's position bit for bit, and its status but for
+// GP_ST_SINGULAR (a normal's flag): so the fold and bulge every cache reports are unchanged.
+// Every face of the reference shapes and of three shared meshes (triangles to hexagons), double
+// and float records, at every quality sample (3 rings x 5 steps per edge) and 16 random points.
+template <class R, class Eval, class EvalD>
+void checkPositionOnly(const PatchCache& c, Eval full, EvalD posOnly, size_t& points) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int f = 0; f < c.numFaces(); ++f) {
+    const int n = c.faceSize(f);
+    R recs[GP_MAX_N * GP_E_NFIELDS];
+    gatherRecords(c, f, recs);
+    std::vector<Eigen::Vector2d> X;
+    for (int k = 0; k < n; ++k)
+      for (int i = 0; i <= 4; ++i)
+        for (double ring : {1.0 - 1e-3, 0.66, 0.33}) {
+          const Eigen::Vector2d a = domainCorner(n, k), b = domainCorner(n, k + 1);
+          X.push_back(ring * ((1 - i / 4.0) * a + (i / 4.0) * b));
+        }
+    for (int j = 0; j < 16; ++j) X.push_back(0.7 * Eigen::Vector2d(u(rng), u(rng)));
+    for (const Eigen::Vector2d& x : X) {
+      const auto g = full(n, recs, R(x.x()), R(x.y()));
+      const auto p = posOnly(n, recs, R(x.x()), R(x.y()));
+      ++points;
+      ASSERT_TRUE(g.pos.x == p.pos.x && g.pos.y == p.pos.y && g.pos.z == p.pos.z) << "face " << f << " at " << x.transpose();
+      ASSERT_EQ(g.status & ~GP_ST_SINGULAR, p.status) << "face " << f;
+    }
+  }
+}
+
+TEST(PatchIdentities, PositionOnlyEvaluationIsTheFullEvaluationsPosition) {
+  std::vector<PatchCache> caches;
+  for (const auto& shape : shapes()) caches.push_back(cacheFromShape(shape));
+  for (const char* rel : {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/hexaSphere.off",
+                          "keenan_crane/spot_quadrangulated.obj"})
+    for (Precision p : {Precision::Double, Precision::Float})
+      caches.push_back(test::cacheFromFile(test::sharedMesh(rel), CrossTangentMode::Corrected, p));
+  size_t points = 0, faces = 0;
+  for (const PatchCache& c : caches) {
+    faces += c.numFaces();
+    const int mode = static_cast<int>(c.options.crossTangent);
+    if (c.options.precision == Precision::Float) {
+      checkPositionOnly<float>(
+          c, [&](int n, const float* r, float x, float y) { return gpf::gp_patch_eval(n, r, mode, x, y); },
+          [&](int n, const float* r, float x, float y) {
+            gpf::gp_domain scratch;
+            return gpf::gp_patch_eval_dom_d(gpf::gp_domain_of(n, &scratch, 0), r, mode, x, y, 0);
+          },
+          points);
+    } else {
+      checkPositionOnly<double>(
+          c, [&](int n, const double* r, double x, double y) { return gpd::gp_patch_eval(n, r, mode, x, y); },
+          [&](int n, const double* r, double x, double y) {
+            gpd::gp_domain scratch;
+            return gpd::gp_patch_eval_dom_d(gpd::gp_domain_of(n, &scratch, 0), r, mode, x, y, 0);
+          },
+          points);
+    }
+  }
+  EXPECT_GT(faces, 6000u);
+  EXPECT_GT(points, 20u * faces);
+  std::printf("  %zu faces, %zu points: the position-only evaluation's positions are the full one's\n", faces, points);
 }
 
 }  // namespace
