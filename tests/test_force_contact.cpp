@@ -7,13 +7,14 @@
 #include <cstdlib>
 #include <cstdio>
 #include <limits>
+#include <vector>
 
 #include <smoothforce/force/force_tracking.h>
 #include <smoothforce/force/god_object.h>
 #include <smoothforce/query/embree_scene.h>
 #include <smoothforce/query/patch_refine.h>
-#include <smoothforce/query/surface_faults.h>
 #include <smoothforce/query/patch_surface.h>
+#include <smoothforce/sweep/sweep_sampling.h>
 #include "patch_test_support.h"
 
 namespace sf {
@@ -168,9 +169,7 @@ TEST(ForceTracker, FarOutsideStepsDoNoPatchWork) {
 // min(sin(angleTolerance) |HIP - SCP|, positionTolerance x diagonal): both ends are within the
 // tolerance of the stationary point) for all but 1 in 1,000 steps, and for those a stationary
 // point as near (1e-6 of the diagonal: near a centre of curvature the stopping rule bounds the
-// residual, not the position) or a face with surface faults (measureSurfaceFaults: where the
-// patch surface folds over itself the seed's basin and the first candidate's differ, and
-// neither verdict is wrong). Every
+// residual, not the position). Every
 // face of the spot cage and the quad-sphere, every 10th of the triangulated spot (586 faces), 4
 // points each, pressed in and pulled out by 0.1%-6% of the diagonal; reaches: the exact distance
 // to the nearest point found, the distance to the unpressed point (with and without its face),
@@ -193,9 +192,7 @@ TEST(ForceTracker, GlobalQueryReachKeepsTheCandidates) {
           return false;
       return true;
     };
-    size_t hips = 0, lists = 0, equalLists = 0, band = 0, steps = 0, sameScp = 0, agree = 0, onFaults = 0;
-    const SurfaceFaults faults = measureSurfaceFaults(*surface);
-    auto faulty = [&](int face) { return face >= 0 && faults.faceFault[face] > 0; };
+    size_t hips = 0, lists = 0, equalLists = 0, band = 0, steps = 0, sameScp = 0, agree = 0;
     SurfaceCandidate c0[PatchSurface::kMaxCandidates], c1[PatchSurface::kMaxCandidates];
     const int stride = (cache->numFaces() + 599) / 600;  // at most 600 faces: every face of the coarse meshes
     int faces = 0;
@@ -236,13 +233,10 @@ TEST(ForceTracker, GlobalQueryReachKeepsTheCandidates) {
           const bool ok = same || (s0.contact == s1.contact && std::abs(d0 - d1) <= 1e-6 * diag);
           sameScp += same;
           agree += ok;
-          const bool onFault = faulty(f) || faulty(s0.face) || faulty(s1.face);
-          onFaults += !ok && onFault;
           if (!ok && std::getenv("SF_VERBOSE"))
             std::printf("    face %d, %g x diag: fresh contact %d face %d status %x, seeded contact %d face %d status %x, "
-                        "distances %.9g / %.9g x diag, surface faults %d\n",
-                        f, d, s0.contact, s0.face, s0.status, s1.contact, s1.face, s1.status, d0 / diag, d1 / diag,
-                        int(onFault));
+                        "distances %.9g / %.9g x diag\n",
+                        f, d, s0.contact, s0.face, s0.status, s1.contact, s1.face, s1.status, d0 / diag, d1 / diag);
         }
       }
     }
@@ -251,13 +245,68 @@ TEST(ForceTracker, GlobalQueryReachKeepsTheCandidates) {
     EXPECT_EQ(equalLists, lists) << rel;
     EXPECT_GE(lists, 3 * hips) << rel;  // the nearest and the unpressed point's reaches for every HIP
     EXPECT_GT(band, 0u) << rel;         // the band's reach was exercised
-    EXPECT_EQ(agree + onFaults, steps) << rel;  // every other step on a face with surface faults
+    EXPECT_EQ(agree, steps) << rel;
     EXPECT_GE(sameScp, steps - steps / 1000) << rel;
     EXPECT_GT(steps, hips * 9 / 10) << rel;
     std::printf(
         "  %s: %zu HIPs, %zu candidate lists with a reach (%zu from a band) equal; %zu seeded steps: the same "
-        "verdict and SCP %zu, a point as near %zu, on surface faults %zu\n",
-        rel, hips, lists, band, steps, sameScp, agree - sameScp, onFaults);
+        "verdict and SCP %zu, a point as near %zu\n",
+        rel, hips, lists, band, steps, sameScp, agree - sameScp);
+  }
+}
+
+// A sweep's probe (ForceRenderer::resetNear at the HIP's surface sample, the approach step, the
+// step at the HIP) renders what a plain reset() renders: the same verdict for every HIP, the SCP
+// within the refinement's tolerance (4 tau as above); and the seed serves (its steps report 0
+// iterations) on every mesh (where the first candidate refined is a neighbour of the triangle
+// under the seed, it does not: on the triangulated spot most probes). resetNear with a face out of range or a non-finite domain point
+// is reset(): the same bits. 1,000 samples of each of three meshes at 0.1%, 0.5%, 1% and 3% of
+// the diagonal.
+TEST(ForceTracker, ResetNearASampleRendersThePlainProbe) {
+  for (const char* rel : {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/quad-sphere.off",
+                          "keenan_crane/spot_triangulated.obj"}) {
+    auto cache = std::make_shared<const PatchCache>(test::cacheFromFile(test::sharedMesh(rel)));
+    const ForceOptions opt;
+    auto surface = std::make_shared<const PatchSurface>(*cache, patchSurfaceOptions(opt));
+    auto scene = std::make_shared<const PolygonScene>(*cache);
+    auto seeded = makeForceRenderer(cache, scene, ForceMethod::Patch, opt, surface);
+    auto plain = makeForceRenderer(cache, scene, ForceMethod::Patch, opt, surface);
+    const double diag = boundingDiagonal(*cache);
+    const std::vector<SurfaceSample> samples = PatchSurfaceSampler(*cache, 4).sample(1000, 11);
+    size_t probes = 0, same = 0, zeroIterations = 0, badHints = 0;
+    for (double depth : {0.001, 0.005, 0.01, 0.03})
+      for (const SurfaceSample& p : samples) {
+        const Eigen::Vector3d approach = p.point + 1e-3 * depth * diag * p.normal;
+        const Eigen::Vector3d hip = p.point - depth * diag * p.normal;
+        seeded->resetNear(p.face, p.xi, p.eta);
+        seeded->step(approach);
+        const ForceSample s1 = seeded->step(hip);
+        plain->reset();
+        plain->step(approach);
+        const ForceSample s0 = plain->step(hip);
+        ++probes;
+        const double tau =
+            std::min(std::sin(opt.angleTolerance) * (hip - s0.scp).norm(), opt.positionTolerance * diag);
+        same += s0.contact == s1.contact && (!s0.contact || (s0.scp - s1.scp).norm() <= 4 * tau);
+        zeroIterations += s1.contact && s1.iterations == 0;
+        // a bad hint is no hint: the same bits as reset()
+        const int badFace = p.face % 2 ? -1 : cache->numFaces();
+        seeded->resetNear(badFace, p.xi, p.eta);
+        seeded->step(approach);
+        const ForceSample b1 = seeded->step(hip);
+        seeded->resetNear(p.face, std::numeric_limits<double>::quiet_NaN(), p.eta);
+        seeded->step(approach);
+        const ForceSample b2 = seeded->step(hip);
+        for (const ForceSample* b : {&b1, &b2})
+          badHints += b->contact == s0.contact && b->scp == s0.scp && b->face == s0.face &&
+                      b->iterations == s0.iterations && b->status == s0.status;
+      }
+    EXPECT_EQ(probes, 4u * samples.size()) << rel;
+    EXPECT_EQ(same, probes) << rel;
+    EXPECT_EQ(badHints, 2 * probes) << rel;
+    EXPECT_GT(zeroIterations, 0u) << rel;
+    std::printf("  %s: %zu probes, the same as from reset() %zu, seed used %zu, bad hints ignored %zu\n", rel, probes,
+                same, zeroIterations, badHints);
   }
 }
 
