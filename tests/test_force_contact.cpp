@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <cstdio>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include <smoothforce/force/force_tracking.h>
@@ -169,20 +170,36 @@ TEST(ForceTracker, FarOutsideStepsDoNoPatchWork) {
 // min(sin(angleTolerance) |HIP - SCP|, positionTolerance x diagonal): both ends are within the
 // tolerance of the stationary point) for all but 1 in 1,000 steps, and for those a stationary
 // point as near (1e-6 of the diagonal: near a centre of curvature the stopping rule bounds the
-// residual, not the position). Every
-// face of the spot cage and the quad-sphere, every 10th of the triangulated spot (586 faces), 4
-// points each, pressed in and pulled out by 0.1%-6% of the diagonal; reaches: the exact distance
-// to the nearest point found, the distance to the unpressed point (with and without its face),
-// and the band's (with and without its face).
+// residual, not the position). Every face of the spot cage and the quad-sphere, every 10th of the
+// triangulated spot (586 faces), 4 points each, pressed in and pulled out by 0.1%-6% of the
+// diagonal; reaches: the exact distance to the nearest point found, the distance to the unpressed
+// point (with and without its face), and the band's (with and without its face).
+
+/// The meshes of the seeded-query tests, and a cache, patch surface and two patch renderers on it.
+const char* const kSeedMeshes[] = {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/quad-sphere.off",
+                                   "keenan_crane/spot_triangulated.obj"};
+struct TwoTrackers {
+  explicit TwoTrackers(const char* rel)
+      : cache(std::make_shared<const PatchCache>(test::cacheFromFile(test::sharedMesh(rel)))),
+        surface(std::make_shared<const PatchSurface>(*cache, patchSurfaceOptions(opt))),
+        scene(std::make_shared<const PolygonScene>(*cache)),
+        a(makeForceRenderer(cache, scene, ForceMethod::Patch, opt, surface)),
+        b(makeForceRenderer(cache, scene, ForceMethod::Patch, opt, surface)) {}
+  const ForceOptions opt;
+  std::shared_ptr<const PatchCache> cache;
+  std::shared_ptr<const PatchSurface> surface;
+  std::shared_ptr<const PolygonScene> scene;
+  std::unique_ptr<ForceRenderer> a, b;
+};
+
 TEST(ForceTracker, GlobalQueryReachKeepsTheCandidates) {
-  for (const char* rel : {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/quad-sphere.off",
-                          "keenan_crane/spot_triangulated.obj"}) {
-    auto cache = std::make_shared<const PatchCache>(test::cacheFromFile(test::sharedMesh(rel)));
-    const ForceOptions opt;
-    auto surface = std::make_shared<const PatchSurface>(*cache, patchSurfaceOptions(opt));
-    auto scene = std::make_shared<const PolygonScene>(*cache);
-    auto tracked = makeForceRenderer(cache, scene, ForceMethod::Patch, opt, surface);
-    auto fresh = makeForceRenderer(cache, scene, ForceMethod::Patch, opt, surface);
+  for (const char* rel : kSeedMeshes) {
+    TwoTrackers T(rel);
+    const auto& cache = T.cache;
+    const auto& surface = T.surface;
+    const ForceOptions& opt = T.opt;
+    ForceRenderer* tracked = T.a.get();
+    ForceRenderer* fresh = T.b.get();
     PatchRefiner refiner(*cache);
     const double diag = boundingDiagonal(*cache);
     auto same = [](const SurfaceCandidate* a, size_t na, const SurfaceCandidate* b, size_t nb) {
@@ -259,18 +276,16 @@ TEST(ForceTracker, GlobalQueryReachKeepsTheCandidates) {
 // step at the HIP) renders what a plain reset() renders: the same verdict for every HIP, the SCP
 // within the refinement's tolerance (4 tau as above); and the seed serves (its steps report 0
 // iterations) on every mesh (where the first candidate refined is a neighbour of the triangle
-// under the seed, it does not: on the triangulated spot most probes). resetNear with a face out of range or a non-finite domain point
-// is reset(): the same bits. 1,000 samples of each of three meshes at 0.1%, 0.5%, 1% and 3% of
-// the diagonal.
+// under the seed, it does not: on the triangulated spot most probes). resetNear with a face out
+// of range or a non-finite domain point is reset(): the same bits. 1,000 samples of each of three
+// meshes at 0.1%, 0.5%, 1% and 3% of the diagonal.
 TEST(ForceTracker, ResetNearASampleRendersThePlainProbe) {
-  for (const char* rel : {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/quad-sphere.off",
-                          "keenan_crane/spot_triangulated.obj"}) {
-    auto cache = std::make_shared<const PatchCache>(test::cacheFromFile(test::sharedMesh(rel)));
-    const ForceOptions opt;
-    auto surface = std::make_shared<const PatchSurface>(*cache, patchSurfaceOptions(opt));
-    auto scene = std::make_shared<const PolygonScene>(*cache);
-    auto seeded = makeForceRenderer(cache, scene, ForceMethod::Patch, opt, surface);
-    auto plain = makeForceRenderer(cache, scene, ForceMethod::Patch, opt, surface);
+  for (const char* rel : kSeedMeshes) {
+    TwoTrackers T(rel);
+    const auto& cache = T.cache;
+    const ForceOptions& opt = T.opt;
+    ForceRenderer* seeded = T.a.get();
+    ForceRenderer* plain = T.b.get();
     const double diag = boundingDiagonal(*cache);
     const std::vector<SurfaceSample> samples = PatchSurfaceSampler(*cache, 4).sample(1000, 11);
     size_t probes = 0, same = 0, zeroIterations = 0, badHints = 0;
