@@ -1,10 +1,13 @@
 // Where a sweep probe of the patch method spends its time (issue 11 part 4): the parts of the
 // two out-of-contact steps a probe runs (runProbes: reset, a step 0.1% of the depth outside the
 // surface, then the step at the HIP), each timed alone on one thread with steady_clock:
+//   seed        the seed's evaluation (PatchRefiner::refine with no iteration), as the tracker
+//               seeds its global query: the approach step at the HIP's surface sample
+//               (ForceRenderer::resetNear), the step at the HIP at the approach step's nearest point
 //   candidates  PatchSurface::candidates (Embree point query over the adaptive triangles),
-//               bounded as the tracker bounds it: by the band's triangle, and at the HIP by the
-//               approach step's nearest point
-//   refine      refineCandidates (Newton from each candidate in another basin)
+//               bounded as the tracker bounds it: by the band's triangle and the seed
+//   refine      refineCandidates (Newton from each candidate in another basin; the seed stands
+//               in for one where it may)
 //   band        PatchSurface::inErrorBand (Embree point query over the uniform triangles)
 //   winding     PatchSurface::winding, where the HIP is outside every band (2-3 Embree rays)
 // and the evaluations per step (the patch records read in place, double). The HIPs are patch
@@ -63,11 +66,13 @@ int main(int argc, char** argv) {
               mesh.c_str(), cache.numFaces(), surface.level(), surface.numTriangles(), samples, depth);
   PatchRefiner refiner(cache);
   const ForceOptions opt;
-  // the approach step's nearest point: the tracker bounds the HIP step's search by it
-  std::vector<Eigen::Vector3d> approachNearest(s.size(), Eigen::Vector3d::Constant(NAN));
+  // the approach step's nearest point (face, X): the tracker seeds the HIP step with it
+  std::vector<RefineResult> approachNearest(s.size());
+  ForceOptions seedOpt = opt;
+  seedOpt.maxIterations = 0;  // a seed is evaluated, not refined
   for (int pass = 0; pass < 2; ++pass) {
-    double tc = 0, tr = 0, tb = 0, tw = 0;
-    long candidates = 0, refined = 0, iterations = 0, inBand = 0, rays = 0;
+    double tc = 0, tr = 0, tb = 0, tw = 0, ts = 0;
+    long candidates = 0, refined = 0, iterations = 0, inBand = 0, rays = 0, seedsUsed = 0;
     for (size_t i = 0; i < s.size(); ++i) {
       const SurfaceSample& x = s[i];
       const Eigen::Vector3d hip = pass == 0 ? Eigen::Vector3d(x.point + 0.001 * depth * diag * x.normal)
@@ -77,21 +82,38 @@ int main(int argc, char** argv) {
       // the candidates within the bound on the distance known so far, then their refinement
       double reach = std::numeric_limits<double>::infinity();
       const auto t0 = Clock::now();
-      const bool band = surface.inErrorBand(hip, &reach);
+      int reachFace = -1;
+      const bool band = surface.inErrorBand(hip, &reach, &reachFace);
       const auto t1 = Clock::now();
       if (!band) (void)surface.winding(hip);
       const auto t2 = Clock::now();
-      if (pass == 1 && approachNearest[i].allFinite()) reach = std::min(reach, (hip - approachNearest[i]).norm());
-      const int n = static_cast<int>(surface.candidates(hip, c, PatchSurface::kMaxCandidates, reach));
+      SurfaceCandidate from;
+      from.face = pass == 0 ? x.face : approachNearest[i].face;
+      from.X = pass == 0 ? Eigen::Vector2d(x.xi, x.eta) : Eigen::Vector2d(approachNearest[i].xi, approachNearest[i].eta);
+      const RefineResult seed = from.face >= 0 ? refiner.refine(hip, from.face, from.X.x(), from.X.y(), seedOpt)
+                                               : RefineResult{};
       const auto t3 = Clock::now();
-      const PatchNearest q = refineCandidates(c, n, surface.spacing(), refiner, hip, opt);
+      const bool seeded = from.face >= 0 && seed.scp.allFinite() && !(seed.status & SF_TRACK_DEGENERATE);
+      // the tighter bound by the search radius it gives (reach + 2 x the face's error bound)
+      if (seeded && seed.distance + 2 * surface.error(seed.face) <
+                        reach + 2 * (reachFace >= 0 ? surface.error(reachFace) : surface.maxError())) {
+        reach = seed.distance;
+        reachFace = seed.face;
+      }
+      const int n = static_cast<int>(surface.candidates(hip, c, PatchSurface::kMaxCandidates, reach, reachFace));
       const auto t4 = Clock::now();
+      const PatchNearest q = refineCandidates(c, n, surface.spacing(), refiner, hip, opt, seeded ? &seed : nullptr,
+                                              seeded ? &from : nullptr, &surface);
+      const auto t5 = Clock::now();
       if (pass == 0 && q.nearest.scp.allFinite() && !(q.nearest.status & SF_TRACK_DEGENERATE))
-        approachNearest[i] = q.nearest.scp;
+        approachNearest[i] = q.nearest;
+      seedsUsed += seeded && q.nearest.face == seed.face && q.nearest.xi == seed.xi && q.nearest.eta == seed.eta &&
+                   q.nearest.iterations == 0;
       tb += us(t0, t1);
       tw += us(t1, t2);
-      tc += us(t2, t3);
-      tr += us(t3, t4);
+      ts += us(t2, t3);
+      tc += us(t3, t4);
+      tr += us(t4, t5);
       candidates += n;
       refined += q.refined;
       iterations += q.nearest.iterations;
@@ -100,10 +122,11 @@ int main(int argc, char** argv) {
     }
     const double N = static_cast<double>(s.size());
     std::printf(
-        "%-9s step: candidates %.2f us (%.1f of them), refine %.2f us (%.2f refinements, %.2f iterations to the "
-        "nearest), band %.2f us (%.0f%% in a band), winding %.2f us (%.0f%% of the steps)\n",
-        pass == 0 ? "approach" : "HIP", tc / N, candidates / N, tr / N, refined / N, iterations / N, tb / N,
-        100.0 * inBand / N, tw / N, 100.0 * rays / N);
+        "%-9s step: seed %.2f us (the nearest point in %.0f%%), candidates %.2f us (%.1f of them), refine %.2f us "
+        "(%.2f refinements, %.2f iterations to the nearest), band %.2f us (%.0f%% in a band), winding %.2f us "
+        "(%.0f%% of the steps)\n",
+        pass == 0 ? "approach" : "HIP", ts / N, 100.0 * seedsUsed / N, tc / N, candidates / N, tr / N, refined / N,
+        iterations / N, tb / N, 100.0 * inBand / N, tw / N, 100.0 * rays / N);
   }
   return 0;
 }
