@@ -17,9 +17,11 @@
  * angleTolerance: rad. positionTolerance: m. scale: bounding-box diagonal, m.
  * faceOffsets: #F+1. edgeData: GP_E_NFIELDS*#C, field-major. faceStatus: #F. slotTwin: #C.
  * hips: 3*N component-major (hips[c * N + q], m). qFace, qXi, qEta, qEdge: N (start; qEdge
- * the domain edge the start is held on, -1 for none).
+ * the domain edge the start is held on, -1 for none). qIterations: N, the query's iteration
+ * limit (>= 0; 0: the start evaluated and tested only, a seed), or -1: maxIterations.
  * outReal: 8*N component-major: 0..2 SCP (m), 3..5 unit normal, 6 xi, 7 eta.
- * outInt: 4*N component-major: 0 face, 1 held edge (-1: none), 2 iterations, 3 transitions.
+ * outInt: 5*N component-major: 0 face, 1 held edge (-1: none), 2 iterations, 3 transitions,
+ * 4 startMinimum.
  * outStatus: N, GP_TRACK_* | GP_ST_*. */
 __kernel void gp_refine(const int numFaces, const int numSlots, const int mode, const int count,
                         const int maxIterations, const GP_REAL angleTolerance, const GP_REAL positionTolerance,
@@ -27,7 +29,8 @@ __kernel void gp_refine(const int numFaces, const int numSlots, const int mode, 
                         __global const int* faceOffsets, __global const GP_REAL* edgeData,
                         __global const uint* faceStatus, __global const int* slotTwin, __global const GP_REAL* hips,
                         __global const int* qFace, __global const GP_REAL* qXi, __global const GP_REAL* qEta,
-                        __global const int* qEdge, __global GP_REAL* outReal, __global int* outInt,
+                        __global const int* qEdge, __global const int* qIterations, __global GP_REAL* outReal,
+                        __global int* outInt,
                         __global uint* outStatus) {
   const int q = (int)get_global_id(0);
   if (q >= count) return;
@@ -46,7 +49,7 @@ __kernel void gp_refine(const int numFaces, const int numSlots, const int mode, 
   work.loaded = -1;
   const gp_vec3 hip = gp_v3(hips[q], hips[m + q], hips[2 * m + q]);
   gp_refine_options opt;
-  opt.maxIterations = maxIterations;
+  opt.maxIterations = qIterations[q] >= 0 ? qIterations[q] : maxIterations;
   opt.angleTol = angleTolerance;
   opt.positionTol = positionTolerance;
   const gp_refine_result r = gp_refine_newton(&mesh, &work, hip, qFace[q], qXi[q], qEta[q], qEdge[q], &opt);
@@ -62,5 +65,6 @@ __kernel void gp_refine(const int numFaces, const int numSlots, const int mode, 
   outInt[m + q] = r.edge;
   outInt[2 * m + q] = r.iterations;
   outInt[3 * m + q] = r.transitions;
+  outInt[4 * m + q] = r.startMinimum;
   outStatus[q] = r.status;
 }

@@ -21,9 +21,9 @@ struct OpenCLRefiner::Impl {
   Precision precision = Precision::Double;
   double scale = 1;
   cl::Buffer offs, rec, fst, twin;                     // the cache
-  cl::Buffer hips, qf, qx, qy, qe, outR, outI, outSt;  // the batch, `cap` HIPs
+  cl::Buffer hips, qf, qx, qy, qe, qi, outR, outI, outSt;  // the batch, `cap` HIPs
   size_t cap = 0;
-  std::vector<int32_t> face, edge, outInt;  // staging
+  std::vector<int32_t> face, edge, iters, outInt;  // staging
   std::vector<uint32_t> status;
   std::vector<double> realD;  // 3N HIPs, then 2N start points; 8N results
   std::vector<float> realF;
@@ -59,8 +59,9 @@ struct OpenCLRefiner::Impl {
     qx = cl::Buffer(c, CL_MEM_READ_ONLY, n * realSize());
     qy = cl::Buffer(c, CL_MEM_READ_ONLY, n * realSize());
     qe = cl::Buffer(c, CL_MEM_READ_ONLY, n * sizeof(int32_t));
+    qi = cl::Buffer(c, CL_MEM_READ_ONLY, n * sizeof(int32_t));
     outR = cl::Buffer(c, CL_MEM_WRITE_ONLY, 8 * n * realSize());
-    outI = cl::Buffer(c, CL_MEM_WRITE_ONLY, 4 * n * sizeof(int32_t));
+    outI = cl::Buffer(c, CL_MEM_WRITE_ONLY, 5 * n * sizeof(int32_t));
     outSt = cl::Buffer(c, CL_MEM_WRITE_ONLY, n * sizeof(uint32_t));
     cap = n;
   }
@@ -76,7 +77,8 @@ struct OpenCLRefiner::Impl {
     real.resize(8 * n);  // inputs use 5n
     face.resize(n);
     edge.resize(n);
-    outInt.resize(4 * n);
+    iters.resize(n);
+    outInt.resize(5 * n);
     status.resize(n);
     for (size_t i = 0; i < n; ++i) {  // component-major: HIP x, y, z, then xi, eta
       for (int c = 0; c < 3; ++c) real[c * n + i] = static_cast<Real>(q[i].hip[c]);
@@ -84,15 +86,17 @@ struct OpenCLRefiner::Impl {
       real[4 * n + i] = static_cast<Real>(q[i].eta);
       face[i] = q[i].face;
       edge[i] = q[i].edge;
+      iters[i] = q[i].maxIterations < 0 ? -1 : q[i].maxIterations;
     }
     cl::Kernel& k = dev.get(precision);
     cl::CommandQueue& cq = dev.ctx.queue();
-    cl::Event ev[8], kev;
+    cl::Event ev[9], kev;
     cq.enqueueWriteBuffer(hips, CL_FALSE, 0, 3 * n * sizeof(Real), real.data(), nullptr, &ev[0]);
     cq.enqueueWriteBuffer(qx, CL_FALSE, 0, n * sizeof(Real), real.data() + 3 * n, nullptr, &ev[1]);
     cq.enqueueWriteBuffer(qy, CL_FALSE, 0, n * sizeof(Real), real.data() + 4 * n, nullptr, &ev[2]);
     cq.enqueueWriteBuffer(qf, CL_FALSE, 0, n * sizeof(int32_t), face.data(), nullptr, &ev[3]);
     cq.enqueueWriteBuffer(qe, CL_FALSE, 0, n * sizeof(int32_t), edge.data(), nullptr, &ev[4]);
+    cq.enqueueWriteBuffer(qi, CL_FALSE, 0, n * sizeof(int32_t), iters.data(), nullptr, &ev[8]);
     int a = 0;
     k.setArg(a++, static_cast<cl_int>(cache.numFaces()));
     k.setArg(a++, static_cast<cl_int>(cache.numSlots()));
@@ -102,13 +106,14 @@ struct OpenCLRefiner::Impl {
     k.setArg(a++, static_cast<Real>(o.angleTolerance));
     k.setArg(a++, static_cast<Real>(o.positionTolerance * scale));
     k.setArg(a++, static_cast<Real>(scale));
-    for (cl::Buffer* b : {&offs, &rec, &fst, &twin, &hips, &qf, &qx, &qy, &qe, &outR, &outI, &outSt}) k.setArg(a++, *b);
+    for (cl::Buffer* b : {&offs, &rec, &fst, &twin, &hips, &qf, &qx, &qy, &qe, &qi, &outR, &outI, &outSt})
+      k.setArg(a++, *b);
     const size_t g = dev.groupSize();
     // the writes above read `real` asynchronously: finish them before it is overwritten
     cq.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(roundUp(n, g)), cl::NDRange(g), nullptr, &kev);
     cq.finish();
     cq.enqueueReadBuffer(outR, CL_FALSE, 0, 8 * n * sizeof(Real), real.data(), nullptr, &ev[5]);
-    cq.enqueueReadBuffer(outI, CL_FALSE, 0, 4 * n * sizeof(int32_t), outInt.data(), nullptr, &ev[6]);
+    cq.enqueueReadBuffer(outI, CL_FALSE, 0, 5 * n * sizeof(int32_t), outInt.data(), nullptr, &ev[6]);
     cq.enqueueReadBuffer(outSt, CL_TRUE, 0, n * sizeof(uint32_t), status.data(), nullptr, &ev[7]);
     for (size_t i = 0; i < n; ++i) {
       RefineResult& r = res[i];
@@ -120,6 +125,7 @@ struct OpenCLRefiner::Impl {
       r.edge = outInt[n + i];
       r.iterations = outInt[2 * n + i];
       r.transitions = outInt[3 * n + i];
+      r.startMinimum = outInt[4 * n + i] != 0;
       r.status = status[i];
       r.distance = (r.status & SF_TRACK_DEGENERATE) ? 0.0 : (r.scp - q[i].hip).norm();
     }

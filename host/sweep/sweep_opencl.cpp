@@ -93,15 +93,15 @@ size_t OpenCLPatchProber::run(const HipSet& set, size_t begin, size_t end, const
       I.candidates[i].count = 0;
       I.refine[i] = beginPatchStep(I.scene, I.surface.get(), *I.cache, hip, I.state[i], lambda.data(), I.start[i],
                                    I.sample[i], true, I.hint[i], &I.candidates[i]);
+      // a seeded start (the tracker's PatchStepHint) is evaluated and tested, not refined
       I.query[i] = RefineQuery{hip, I.refine[i] ? I.start[i].face : -1, I.start[i].X.x(), I.start[i].X.y(),
-                               I.start[i].edge};
+                               I.start[i].edge, I.start[i].seeded ? 0 : -1};
     });
     I.refiner.refine(I.query.data(), m, I.options, I.result.data());
     tbb::parallel_for(size_t(0), m, [&](size_t i) {
       if (I.refine[i])
         finishPatchStep(I.scene, I.surface.get(), *I.cpu.local(), I.query[i].hip, I.start[i], I.result[i], I.options,
                         I.state[i], I.sample[i], &I.hint[i], &I.candidates[i]);
-      I.hint[i].seed = false;  // the next step's hint bounds its search only
       finish(begin + order[c0 + i], i);
     });
   };
@@ -110,9 +110,9 @@ size_t OpenCLPatchProber::run(const HipSet& set, size_t begin, size_t end, const
     if (control.stop && control.stop->load(std::memory_order_relaxed)) break;
     const size_t m = std::min(chunk, end - begin - c0);
     std::fill(I.state.begin(), I.state.begin() + m, PatchContactState{});  // reset()
-    for (size_t i = 0; i < m; ++i) {  // the HIP's surface sample bounds the approach step's search
+    for (size_t i = 0; i < m; ++i) {  // resetNear: the HIP's surface sample seeds the approach step
       const SurfaceSample& from = set.samples[(begin + order[c0 + i]) % set.samples.size()];
-      I.hint[i] = PatchStepHint{from.face, Eigen::Vector2d(from.xi, from.eta), from.point, false};
+      I.hint[i] = PatchStepHint{from.face, Eigen::Vector2d(from.xi, from.eta), from.point};
     }
     body(
         c0, m, [&](size_t g) { return set.approach(g); }, [](size_t, size_t) {});

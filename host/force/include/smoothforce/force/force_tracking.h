@@ -148,8 +148,7 @@ struct PatchStepHint {
   int face = -1;            ///< -1: no hint
   Eigen::Vector2d X{0, 0};  ///< domain point of `face`
   Eigen::Vector3d point{Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN())};
-  /// false: the point only bounds the search, no seed (the OpenCL sweep: its device refinement
-  /// does not report RefineResult::startMinimum)
+  /// false: the point only bounds the search, no seed
   bool seed = true;
 };
 

@@ -29,6 +29,9 @@ struct RefineQuery {
   double xi = 0, eta = 0;        ///< start point in its domain (clamped into it)
   int edge = -1;                 ///< domain edge the start is held on (RefineResult::edge of the
                                  ///< refinement that ended there), -1 for none
+  /// this query's iteration limit: -1 the options' maxIterations; 0 the start is evaluated and
+  /// tested only (a seed: RefineResult::startMinimum); else >= 1
+  int maxIterations = -1;
 };
 
 /// Reusable batch refiner over one cache: uploads the cache (face offsets, records, face
