@@ -270,6 +270,47 @@ TEST_F(OpenCLRefine, SharedCodeMatchesOnHostAndDevice) {
   }
 }
 
+// Seeds (RefineQuery::maxIterations 0: the start evaluated and tested, not refined) on the
+// device as on the host (PatchRefiner with maxIterations 0): the same point and the same
+// RefineResult::startMinimum for every query, at converged starts (each query's own nearest
+// point) and at unconverged ones (its first start), with both verdicts present.
+TEST_F(OpenCLRefine, SeedsMatchOnHostAndDevice) {
+  const PatchCache c = test::cacheFromFile(test::sharedMesh("keenan_crane/spot_control_mesh.obj"));
+  const double diag = boundingDiagonal(c);
+  std::vector<RefineQuery> q = globalQueries(c, 100, 0.05 * diag, 3);
+  std::vector<RefineResult> full(q.size());
+  refineNearestPointsOpenCL(c, q.data(), q.size(), {}, full.data());
+  std::vector<RefineQuery> seeds;
+  for (size_t i = 0; i < q.size(); ++i) {
+    RefineQuery s = q[i];
+    s.maxIterations = 0;
+    seeds.push_back(s);  // the first start: mostly not converged
+    if (full[i].status & SF_TRACK_DEGENERATE) continue;
+    s.face = full[i].face;
+    s.xi = full[i].xi;
+    s.eta = full[i].eta;
+    s.edge = full[i].edge;
+    seeds.push_back(s);  // the nearest point found: converged
+  }
+  std::vector<RefineResult> device(seeds.size());
+  refineNearestPointsOpenCL(c, seeds.data(), seeds.size(), {}, device.data());
+  PatchRefiner host(c);
+  RefineOptions o = ForceOptions{};
+  o.maxIterations = 0;
+  size_t same = 0, minima = 0;
+  for (size_t i = 0; i < seeds.size(); ++i) {
+    const RefineResult h = host.refine(seeds[i].hip, seeds[i].face, seeds[i].xi, seeds[i].eta, o, seeds[i].edge);
+    EXPECT_EQ(device[i].iterations, 0) << i;
+    EXPECT_LE((h.scp - device[i].scp).norm(), kTolD * diag) << i;
+    same += h.startMinimum == device[i].startMinimum;
+    minima += h.startMinimum;
+  }
+  EXPECT_EQ(same, seeds.size());
+  EXPECT_GT(minima, 0u);
+  EXPECT_LT(minima, seeds.size());
+  std::printf("  %zu seeds: the same startMinimum on host and device %zu, minima %zu\n", seeds.size(), same, minima);
+}
+
 /// Every number in a and b (same structure) equal within rel x max(|a|, |b|, 1e-3).
 void expectJsonNear(const nlohmann::json& a, const nlohmann::json& b, double rel, const std::string& path,
                     int* compared) {
