@@ -69,6 +69,11 @@ namespace {
 /// makes the side of the nearest point doubtful (overlapping or folded patches).
 constexpr double kConflict = 3.0;
 
+/// *hint = the patch point r ended at, where r is usable; untouched otherwise (or hint null).
+void rememberIn(PatchStepHint* hint, const RefineResult& r) noexcept {
+  if (hint && usable(r)) *hint = PatchStepHint{r.face, Eigen::Vector2d(r.xi, r.eta), r.scp};
+}
+
 /// Keeps the tighter of two bounds on the HIP's distance to the patch surface (m; each with the
 /// face of the patch point it is measured to, -1: unknown): the one whose candidate search
 /// starts at the smaller radius (PatchSurface::candidates: reach + 2 x that face's error bound).
@@ -163,9 +168,7 @@ class PatchTracker final : public ForceRenderer {
   int patchesBuilt() const noexcept override { return lazy_ ? lazy_->constructions() : cache_->numFaces(); }
 
  private:
-  void remember(const RefineResult& r) noexcept {
-    if (usable(r)) hint_ = PatchStepHint{r.face, Eigen::Vector2d(r.xi, r.eta), r.scp};
-  }
+  void remember(const RefineResult& r) noexcept { rememberIn(&hint_, r); }
 
   std::shared_ptr<const PatchCache> cache_;
   std::shared_ptr<const PolygonScene> scene_;
@@ -352,9 +355,6 @@ void finishPatchStep(const PolygonScene& scene, const PatchSurface* surface, Pat
                      const Eigen::Vector3d& hip, const PatchStepStart& start, RefineResult r,
                      const ForceOptions& options, PatchContactState& state, ForceSample& s,
                      PatchStepHint* next, const CandidateList* list) noexcept {
-  auto remember = [next](const RefineResult& x) {
-    if (next && usable(x)) *next = PatchStepHint{x.face, Eigen::Vector2d(x.xi, x.eta), x.scp};
-  };
   if (start.global && start.candidate.face >= 0 && surface) {  // the rest of the global query on the patches
     // r started at the first candidate, or at the hint (its start is then not among the candidates)
     const SurfaceCandidate* from = start.seeded ? &start.candidate : nullptr;
@@ -364,10 +364,10 @@ void finishPatchStep(const PolygonScene& scene, const PatchSurface* surface, Pat
               : nearestOnPatches(*surface, refiner, hip, options, &r, start.reach, from, start.reachFace);
     if (start.seeded && q.candidates == 0) s.status |= SF_TRACK_NO_POLYGON;
     finishGlobalStep(*surface, hip, q, options, state, s, start.windingVerdict);
-    remember(q.nearest);
+    rememberIn(next, q.nearest);
     return;
   }
-  remember(r);
+  rememberIn(next, r);
   if (start.global && start.facet >= 0 && (r.status & SF_TRACK_DEGENERATE)) {  // no patch here: the polygon
     r.scp = start.polygonPoint;
     r.normal = scene.facets().facetNormal[start.facet];

@@ -156,7 +156,7 @@ size_t runProbes(const HipSet& set, size_t begin, size_t end, RendererPool& pool
       ForceRenderer& R = pool.local();
       for (size_t i = r.begin(); i < r.end(); ++i) {
         const size_t g = begin + order[i];
-        const SurfaceSample& from = set.samples[g % set.samples.size()];
+        const SurfaceSample& from = set.sample(g);
         R.resetNear(from.face, from.xi, from.eta);  // the HIP's surface sample seeds the approach step
         R.step(set.approach(g));
         fillHipResult(out[g - begin], R.step(set.hip(g)), ref);

@@ -111,7 +111,7 @@ size_t OpenCLPatchProber::run(const HipSet& set, size_t begin, size_t end, const
     const size_t m = std::min(chunk, end - begin - c0);
     std::fill(I.state.begin(), I.state.begin() + m, PatchContactState{});  // reset()
     for (size_t i = 0; i < m; ++i) {  // resetNear: the HIP's surface sample seeds the approach step
-      const SurfaceSample& from = set.samples[(begin + order[c0 + i]) % set.samples.size()];
+      const SurfaceSample& from = set.sample(begin + order[c0 + i]);
       I.hint[i] = PatchStepHint{from.face, Eigen::Vector2d(from.xi, from.eta), from.point};
     }
     body(

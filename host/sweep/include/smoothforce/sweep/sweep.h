@@ -51,6 +51,8 @@ struct HipSet {
   size_t perGroup() const { return samples.size(); }
   size_t size() const { return groups.size() * samples.size(); }
   Eigen::Vector3d hip(size_t g) const;
+  /// The surface sample HIP g was pressed in from (or, for explicit HIPs, projected onto).
+  const SurfaceSample& sample(size_t g) const { return samples[g % samples.size()]; }
   double approachFactor = 1e-3;  ///< eps / depth of the approach point
   /// The out-of-contact point stepped first: p + eps n, eps = approachFactor * depth (depth of an explicit
   /// HIP: |HIP - p|, at least 1e-9 of the diagonal).
