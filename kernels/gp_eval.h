@@ -141,25 +141,20 @@ GP_FN gp_eval_result gp_patch_eval_dom_d(const gp_domain* dom, const GP_REAL* re
     out.deta = gp_sel3(has, gp_madd(gp_madd(out.deta, r, wy), gp_add(gp_scale(ru, uy), gp_scale(rv, vy)), w), out.deta);
     nfb = gp_sel3(has, gp_madd(nfb, gp_get3(rk, GP_E_N0), w), nfb);
   }
-  if (!deriv) {
-    if (GP_ANY(outside)) { /* lanes only: some lanes outside */
-      out.pos = gp_sel3(outside, gp_zero3(), out.pos);
-      out.status = GP_SEL(outside, (GP_STATUS)GP_ST_OUTSIDE, out.status);
+  if (deriv) {
+    const gp_vec3 nn = gp_cross(out.dxi, out.deta);
+    /* rank-deficient Jacobian (e.g. at a 180-degree corner): the normal is noise, flag it */
+    const GP_REAL jmax = gp_max(gp_len(out.dxi), gp_len(out.deta));
+    const GP_REAL scale = jmax * jmax;
+    /* unit(nn); where |nn| <= tiny scale, the weighted vertex normals (computed only then) */
+    const GP_REAL lnn = gp_len(nn);
+    const GP_MASK regular = lnn > GP_TINY * scale;
+    out.normal = gp_scale(nn, GP_R(1.0) / lnn);
+    if (GP_ANY(!regular)) {
+      GP_STATUS ignore = 0u;
+      out.normal = gp_sel3(regular, out.normal, gp_unit_or(nfb, gp_get3(recs, GP_E_N0), GP_TINY, &ignore, 0u));
+      out.status |= GP_SEL(regular, (GP_STATUS)0u, (GP_STATUS)GP_ST_SINGULAR);
     }
-    return out;
-  }
-  const gp_vec3 nn = gp_cross(out.dxi, out.deta);
-  /* rank-deficient Jacobian (e.g. at a 180-degree corner): the normal is noise, flag it */
-  const GP_REAL jmax = gp_max(gp_len(out.dxi), gp_len(out.deta));
-  const GP_REAL scale = jmax * jmax;
-  /* unit(nn); where |nn| <= tiny scale, the weighted vertex normals (computed only then) */
-  const GP_REAL lnn = gp_len(nn);
-  const GP_MASK regular = lnn > GP_TINY * scale;
-  out.normal = gp_scale(nn, GP_R(1.0) / lnn);
-  if (GP_ANY(!regular)) {
-    GP_STATUS ignore = 0u;
-    out.normal = gp_sel3(regular, out.normal, gp_unit_or(nfb, gp_get3(recs, GP_E_N0), GP_TINY, &ignore, 0u));
-    out.status |= GP_SEL(regular, (GP_STATUS)0u, (GP_STATUS)GP_ST_SINGULAR);
   }
   if (GP_ANY(outside)) { /* lanes only: some lanes outside */
     out.pos = gp_sel3(outside, gp_zero3(), out.pos);
