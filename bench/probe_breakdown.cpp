@@ -95,8 +95,7 @@ int main(int argc, char** argv) {
       const auto t3 = Clock::now();
       const bool seeded = from.face >= 0 && seed.scp.allFinite() && !(seed.status & SF_TRACK_DEGENERATE);
       // the tighter bound by the search radius it gives (reach + 2 x the face's error bound)
-      if (seeded && seed.distance + 2 * surface.error(seed.face) <
-                        reach + 2 * (reachFace >= 0 ? surface.error(reachFace) : surface.maxError())) {
+      if (seeded && surface.searchRadius(seed.distance, seed.face) < surface.searchRadius(reach, reachFace)) {
         reach = seed.distance;
         reachFace = seed.face;
       }

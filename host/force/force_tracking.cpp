@@ -76,12 +76,9 @@ void rememberIn(PatchStepHint* hint, const RefineResult& r) noexcept {
 
 /// Keeps the tighter of two bounds on the HIP's distance to the patch surface (m; each with the
 /// face of the patch point it is measured to, -1: unknown): the one whose candidate search
-/// starts at the smaller radius (PatchSurface::candidates: reach + 2 x that face's error bound).
+/// starts at the smaller radius (PatchSurface::searchRadius).
 void tighterReach(const PatchSurface& surface, double r, int face, double& reach, int& reachFace) noexcept {
-  auto radius = [&](double x, int f) {
-    return x + 2 * (f >= 0 && f < surface.cache().numFaces() ? surface.error(f) : surface.maxError());
-  };
-  if (radius(r, face) < radius(reach, reachFace)) {
+  if (surface.searchRadius(r, face) < surface.searchRadius(reach, reachFace)) {
     reach = r;
     reachFace = face;
   }

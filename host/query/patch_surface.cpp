@@ -300,8 +300,7 @@ size_t PatchSurface::candidates(const Eigen::Vector3d& q, SurfaceCandidate* out,
   // Every triangle that can be a candidate (distance - error <= the final bound) is then visited
   // as long as the final bound is <= r0; the error bounds are estimates, so where it is not, the
   // search runs again without the radius: the same candidates always.
-  const bool onFace = reachFace >= 0 && static_cast<size_t>(reachFace) < error_.size();
-  const double r0 = reach + 2 * (onFace ? error_[reachFace] : maxError_);
+  const double r0 = searchRadius(reach, reachFace);
   if (r0 < 1e30) {
     embreePointQuery(impl_->points, q, &st, float(r0) * (1.0f + 1e-6f) + st.pad);
     if (!(st.bound <= r0)) {

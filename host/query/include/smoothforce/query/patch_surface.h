@@ -81,6 +81,12 @@ class PatchSurface {
   /// error bounds keeps near reach.
   size_t candidates(const Eigen::Vector3d& q, SurfaceCandidate* out, size_t cap,
                     double reach = std::numeric_limits<double>::infinity(), int reachFace = -1) const noexcept;
+  /// The radius candidates() starts its search at for (reach, reachFace): reach + 2 error(reachFace),
+  /// or reach + 2 maxError() where reachFace is -1 or out of range (m; infinite without a reach).
+  double searchRadius(double reach, int reachFace = -1) const noexcept {
+    const bool onFace = reachFace >= 0 && static_cast<size_t>(reachFace) < error_.size();
+    return reach + 2 * (onFace ? error_[reachFace] : maxError_);
+  }
 
   /// Whether q lies within the error bound of a uniform triangle: then winding() may differ from
   /// the patch surface's own winding number around q. reach, when given and q is in a band: set to
