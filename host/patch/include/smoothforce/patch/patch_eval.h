@@ -99,8 +99,6 @@ class PatchEvaluator {
   SimdTarget target_;
   std::vector<uint32_t> order_, start_;
   std::vector<double> xs_, ys_;     // the points in order_'s order, padded
-  std::vector<PatchPoint> sorted_;  // threaded: results in order_'s order
-  std::vector<uint32_t> inv_;       // threaded: query -> its index in sorted_
   std::vector<Chunk> chunks_;
 };
 
