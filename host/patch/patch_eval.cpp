@@ -189,7 +189,7 @@ void PatchEvaluator::evaluate(const int32_t* faces, const double* xi, const doub
                               PatchPoint* out) noexcept {
   const PatchCache& c = *cache_;
   const int nf = c.numFaces();
-  // group the queries by face: order_ lists them face by face
+  // group the queries by face: order_ lists them face by face, chunks_ cuts it into groups
   order_.resize(count);
   size_t valid = 0;
   auto usable = [&](int f) { return f >= 0 && f < nf && c.faceSize(f) >= 3 && c.faceSize(f) <= GP_MAX_N; };
@@ -201,11 +201,16 @@ void PatchEvaluator::evaluate(const int32_t* faces, const double* xi, const doub
     out[i] = PatchPoint{};
     out[i].status = faces[i] >= 0 && faces[i] < nf ? GP_ST_TOO_MANY_SIDES : GP_ST_OUTSIDE;
   }
+  chunks_.clear();
+  auto addChunks = [&](int32_t f, uint32_t b, uint32_t e) {
+    for (; b < e; b += kChunk) chunks_.push_back({f, b, std::min(e, b + kChunk)});
+  };
   if (count >= static_cast<size_t>(nf) / 4) {  // counting sort
     start_.assign(static_cast<size_t>(nf) + 1, 0);
     for (size_t i = 0; i < count; ++i)
       if (usable(faces[i])) ++start_[faces[i] + 1];
     for (int f = 0; f < nf; ++f) start_[f + 1] += start_[f];
+    for (int f = 0; f < nf; ++f) addChunks(f, start_[f], start_[f + 1]);
     for (size_t i = 0; i < count; ++i)
       if (usable(faces[i])) order_[start_[faces[i]]++] = static_cast<uint32_t>(i);
   } else {  // few queries on many faces
@@ -213,22 +218,13 @@ void PatchEvaluator::evaluate(const int32_t* faces, const double* xi, const doub
     for (size_t i = 0; i < count; ++i)
       if (usable(faces[i])) order_[m++] = static_cast<uint32_t>(i);
     std::sort(order_.begin(), order_.begin() + valid, [&](uint32_t a, uint32_t b) { return faces[a] < faces[b]; });
-  }
-  xs_.resize(valid + simd_detail::kPointPad);
-  ys_.resize(valid + simd_detail::kPointPad);
-  for (size_t i = 0; i < valid; ++i) {
-    xs_[i] = xi[order_[i]];
-    ys_[i] = eta[order_[i]];
-  }
-  std::fill(xs_.begin() + valid, xs_.end(), 0.0);
-  std::fill(ys_.begin() + valid, ys_.end(), 0.0);
-  chunks_.clear();
-  for (uint32_t b = 0; b < valid;) {
-    const int32_t f = faces[order_[b]];
-    uint32_t e = b + 1;
-    while (e < valid && faces[order_[e]] == f && e - b < kChunk) ++e;
-    chunks_.push_back({f, b, e});
-    b = e;
+    for (uint32_t b = 0; b < valid;) {
+      const int32_t f = faces[order_[b]];
+      uint32_t e = b + 1;
+      while (e < valid && faces[order_[e]] == f) ++e;
+      addChunks(f, b, e);
+      b = e;
+    }
   }
   const bool dbl = c.options.precision == Precision::Double;
   simd_detail::EvalFn fn = dbl ? evalGroupScalar<double> : evalGroupScalar<float>;
@@ -250,8 +246,16 @@ void PatchEvaluator::evaluate(const int32_t* faces, const double* xi, const doub
     g.count = ch.end - ch.begin;
     g.xi = xi;
     g.eta = eta;
-    g.xs = xs_.data() + ch.begin;
-    g.ys = ys_.data() + ch.begin;
+    // the chunk's points in its order, gathered by the thread that evaluates them
+    thread_local std::vector<double> xs(kChunk + simd_detail::kPointPad), ys(kChunk + simd_detail::kPointPad);
+    for (size_t j = 0; j < g.count; ++j) {
+      xs[j] = xi[g.idx[j]];
+      ys[j] = eta[g.idx[j]];
+    }
+    std::fill_n(xs.begin() + g.count, simd_detail::kPointPad, 0.0);
+    std::fill_n(ys.begin() + g.count, simd_detail::kPointPad, 0.0);
+    g.xs = xs.data();
+    g.ys = ys.data();
     g.out = out;
     fn(g);
   };

@@ -98,7 +98,6 @@ class PatchEvaluator {
   EvalOptions options_;
   SimdTarget target_;
   std::vector<uint32_t> order_, start_;
-  std::vector<double> xs_, ys_;     // the points in order_'s order, padded
   std::vector<Chunk> chunks_;
 };
 
