@@ -19,6 +19,7 @@
 #define GP_OPENCL 1
 #pragma OPENCL FP_CONTRACT OFF
 #define GP_FN static inline
+#define GP_FN_INLINE static inline
 #define GP_SQRT(x) sqrt(x)
 #define GP_COS(x) cos(x)
 #define GP_SIN(x) sin(x)
@@ -30,6 +31,9 @@ typedef uint gp_uint;
 #else
 #include <cmath>
 #define GP_FN static inline
+/* the edge functions of the evaluation: inlined into it, so that a position-only evaluation
+ * (gp_patch_eval_dom_d, deriv 0) drops their derivative parts and lanes stay in registers */
+#define GP_FN_INLINE static inline __attribute__((always_inline))
 /* C++: overloadable names, so that a lane type (host/gp_lanes-inl.h) or a counting type (bench/)
  * can stand in for GP_REAL and bring its own sqrt, fabs, cos, sin, found by argument-dependent
  * lookup. For float and double they are std::sqrt etc. */

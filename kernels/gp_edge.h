@@ -6,7 +6,7 @@
 
 /* Cubic Hermite edge curve C_k(t) (Eq. 6) with its first and second t-derivatives.
  * Returned as two duals: c = (C, C'), cp = (C', C''). */
-GP_FN void gp_edge_curve(const GP_REAL* rec, GP_REAL t, gp_dvec3* c, gp_dvec3* cp) {
+GP_FN_INLINE void gp_edge_curve(const GP_REAL* rec, GP_REAL t, gp_dvec3* c, gp_dvec3* cp) {
   const GP_REAL t2 = t * t, t3 = t2 * t;
   const GP_REAL h00 = GP_R(2.0) * t3 - GP_R(3.0) * t2 + GP_R(1.0);
   const GP_REAL h10 = t3 - GP_R(2.0) * t2 + t;
@@ -32,13 +32,13 @@ GP_FN void gp_edge_curve(const GP_REAL* rec, GP_REAL t, gp_dvec3* c, gp_dvec3* c
 
 /* Length of the edge's chord |V1 - V0|, computed once per edge and evaluation and passed to
  * gp_edge_normal and gp_cross_tangent. */
-GP_FN GP_REAL gp_edge_length(const GP_REAL* rec) {
+GP_FN_INLINE GP_REAL gp_edge_length(const GP_REAL* rec) {
   return gp_len(gp_sub(gp_get3(rec, GP_E_V1), gp_get3(rec, GP_E_V0)));
 }
 
 /* Unit surface normal along the edge, n_c(t) (Eq. 10, normalised), oriented so that
  * n_c . ((1-t) N_k + t N_{k+1}) >= 0, with its t-derivative. cp = (C', C''); L = gp_edge_length. */
-GP_FN gp_dvec3 gp_edge_normal(const GP_REAL* rec, GP_REAL t, gp_dvec3 cp, GP_REAL L, GP_STATUS* st) {
+GP_FN_INLINE gp_dvec3 gp_edge_normal(const GP_REAL* rec, GP_REAL t, gp_dvec3 cp, GP_REAL L, GP_STATUS* st) {
   const gp_vec3 e = gp_sub(gp_get3(rec, GP_E_V1), gp_get3(rec, GP_E_V0));
   const gp_dvec3 nt = gp_dlerp(gp_get3(rec, GP_E_N0), gp_get3(rec, GP_E_N1), t);
   const gp_dvec3 ce = gp_dv(e, gp_zero3());
@@ -68,7 +68,7 @@ GP_FN gp_dvec3 gp_edge_inward(gp_dvec3 nc, gp_dvec3 cp, GP_REAL scale, GP_STATUS
 
 /* unit(a), or gp_edge_inward where |a| <= tiny (GP_ST_CROSS_TANGENT and the inward
  * direction's own bits in *st there). */
-GP_FN gp_dvec3 gp_unit_or_inward(gp_dvec3 a, GP_REAL tiny, gp_dvec3 nc, gp_dvec3 cp, GP_REAL scale, GP_STATUS* st) {
+GP_FN_INLINE gp_dvec3 gp_unit_or_inward(gp_dvec3 a, GP_REAL tiny, gp_dvec3 nc, gp_dvec3 cp, GP_REAL scale, GP_STATUS* st) {
   const GP_REAL l = gp_len(a.v);
   const GP_MASK ok = l > tiny;
   gp_dvec3 u = gp_dunit_len(a, l);
@@ -84,7 +84,7 @@ GP_FN gp_dvec3 gp_unit_or_inward(gp_dvec3 a, GP_REAL tiny, gp_dvec3 nc, gp_dvec3
 /* Cross tangent T_k(t) with its t-derivative (Eq. 11-14 and the design page's variants).
  * c = (C, C'), cp = (C', C''), nc = n_c (dual), L = gp_edge_length. mode: GP_CT_*. Where a
  * step is undefined, the inward direction n_c x C' (gp_edge_inward) replaces it. */
-GP_FN gp_dvec3 gp_cross_tangent(const GP_REAL* rec, GP_REAL t, int mode, gp_dvec3 c, gp_dvec3 cp, gp_dvec3 nc,
+GP_FN_INLINE gp_dvec3 gp_cross_tangent(const GP_REAL* rec, GP_REAL t, int mode, gp_dvec3 c, gp_dvec3 cp, gp_dvec3 nc,
                                 GP_REAL L, GP_STATUS* st) {
   /* the largest of the three lengths the record refers to: the scale for "tiny" */
   const GP_REAL scale = gp_max(L, gp_max(rec[GP_E_LP], rec[GP_E_LN]));
