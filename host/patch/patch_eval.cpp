@@ -121,10 +121,17 @@ struct FacePointEvaluator::Scratch {
   static constexpr size_t kAlign = 64, kBytes = size_t(GP_MAX_N) * GP_E_NFIELDS * kAlign;
   void* recs = ::operator new(kBytes, std::align_val_t(kAlign));
   double xs[16 + simd_detail::kPointPad] = {}, ys[16 + simd_detail::kPointPad] = {};
+  /// what recs holds: face `face`'s records of the cache data `data` as `fn`'s vectors (face -1:
+  /// nothing reusable; evaluateRecords' records, which a lazy store may rewrite in place, never are)
+  const void* data = nullptr;
+  int face = -1;
+  simd_detail::EvalFn fn = nullptr;
   ~Scratch() { ::operator delete(recs, std::align_val_t(kAlign)); }
 
-  /// Evaluates the face g describes (n, mode, records, status) at count (1..16) points.
-  void run(simd_detail::EvalGroup& g, bool dbl, const double* xi, const double* eta, int count, PatchPoint* out) {
+  /// Evaluates the face g describes (n, mode, records, status) at count (1..16) points; face >= 0:
+  /// g holds that face's records from the cache, kept as vectors for its next call.
+  void run(simd_detail::EvalGroup& g, bool dbl, int f, const double* xi, const double* eta, int count,
+           PatchPoint* out) {
     std::copy_n(xi, count, xs);
     std::copy_n(eta, count, ys);
     g.count = static_cast<size_t>(count);
@@ -132,7 +139,12 @@ struct FacePointEvaluator::Scratch {
     g.eta = g.ys = ys;
     g.sorted = out;
     g.laneRecs = recs;
-    fewPointsFn(dbl, count)(g);
+    const simd_detail::EvalFn use = fewPointsFn(dbl, count);
+    g.laneRecsReady = f >= 0 && f == face && g.data == data && use == fn;
+    face = f;
+    data = g.data;
+    fn = use;
+    use(g);
   }
 };
 
@@ -159,7 +171,7 @@ void FacePointEvaluator::evaluateRecords(int n, int mode, uint32_t faceStatus, c
   g.numSlots = static_cast<size_t>(n);
   g.first = 0;
   g.faceStatus = faceStatus;
-  scratch_->run(g, true, xi, eta, count, out);
+  scratch_->run(g, true, -1, xi, eta, count, out);
 }
 
 void FacePointEvaluator::evaluate(int f, const double* xi, const double* eta, int count, PatchPoint* out) noexcept {
@@ -174,7 +186,7 @@ void FacePointEvaluator::evaluate(int f, const double* xi, const double* eta, in
   g.numSlots = static_cast<size_t>(c.numSlots());
   g.first = c.faceOffsets[f];
   g.faceStatus = c.faceStatus[f];
-  scratch_->run(g, dbl, xi, eta, count, out);
+  scratch_->run(g, dbl, f, xi, eta, count, out);
 }
 
 PatchEvaluator::PatchEvaluator(const PatchCache& cache, const EvalOptions& options)

@@ -30,6 +30,9 @@ struct EvalGroup {
   /// scratch for the face's records as vectors: GP_MAX_N * GP_E_NFIELDS vectors of 64 bytes,
   /// 64-byte aligned; null: a buffer of the calling thread (allocated on its first use)
   void* laneRecs = nullptr;
+  /// laneRecs already holds this face's records as this target's vectors (the caller's last
+  /// group was the same face, target and cache): they are not broadcast again
+  bool laneRecsReady = false;
 };
 using EvalFn = void (*)(const EvalGroup&);
 

@@ -79,10 +79,11 @@ void EvalGroupT(const simd_detail::EvalGroup& g) {
     recs = mine.get();
   }
   const T* data = static_cast<const T*>(g.data);
-  for (int i = 0; i < GP_E_NFIELDS; ++i) {
-    const T* field = data + static_cast<size_t>(i) * g.numSlots + g.first;
-    for (int k = 0; k < g.n; ++k) recs[k * GP_E_NFIELDS + i] = Lane(hn::Set(d, field[k]));
-  }
+  if (!(g.laneRecs && g.laneRecsReady))
+    for (int i = 0; i < GP_E_NFIELDS; ++i) {
+      const T* field = data + static_cast<size_t>(i) * g.numSlots + g.first;
+      for (int k = 0; k < g.n; ++k) recs[k * GP_E_NFIELDS + i] = Lane(hn::Set(d, field[k]));
+    }
   const typename M::Dom* dom = M::domain(g.n);
   HWY_ALIGN T res[12][kMax];
   HWY_ALIGN U st[kMax];

@@ -47,7 +47,9 @@ class FacePointEvaluator {
   FacePointEvaluator& operator=(const FacePointEvaluator&) = delete;
 
   /// Evaluates face f at (xi[i], eta[i]), i < count (clamped to 0..16), into out[i]. f must
-  /// index a face with 3..GP_MAX_N sides.
+  /// index a face with 3..GP_MAX_N sides. The last face's records are kept as SIMD vectors for
+  /// the next call on it (as the refiner keeps its loaded face): the cache's records must not
+  /// change while the evaluator lives.
   void evaluate(int f, const double* xi, const double* eta, int count, PatchPoint* out) noexcept;
   /// The same on double records given by the caller: n (3..GP_MAX_N) records of GP_E_NFIELDS,
   /// field-major (field i of corner k at recs[i * n + k]); mode: the cross-tangent mode (GP_CT_*);
