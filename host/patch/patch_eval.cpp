@@ -69,9 +69,7 @@ void evalGroupScalar(const simd_detail::EvalGroup& g) {
   for (int i = 0; i < GP_E_NFIELDS; ++i)
     for (int k = 0; k < g.n; ++k) recs[k * GP_E_NFIELDS + i] = data[static_cast<size_t>(i) * g.numSlots + g.first + k];
   const auto* dom = Gp<Real>::domain(g.n);
-  simd_detail::prefetchSlots(g, 0, 2);
   for (size_t j = 0; j < g.count; ++j) {
-    simd_detail::prefetchSlots(g, j + 2, j + 3);
     fill<Real>(g.sorted ? g.sorted[j] : g.out[g.idx[j]], Gp<Real>::evalDom(dom, recs, g.mode, g.xs[j], g.ys[j]),
                g.faceStatus);
   }
@@ -275,9 +273,9 @@ void PatchEvaluator::evaluate(const int32_t* faces, const double* xi, const doub
     for (size_t i = 0; i < chunks_.size(); ++i) run(i);
     return;
   }
-  // Threads scatter into `out` directly, each prefetching the slots of its next points while it
-  // computes: measured faster than results in face order and a second, permuting pass (the
-  // lines two threads share, neighbouring queries of other faces, are rarely written at once).
+  // Threads scatter into `out` directly, as the serial path does: measured faster than results
+  // in face order and a second, permuting pass (the lines two threads share, neighbouring
+  // queries of other faces, are rarely written at once).
   auto all = [&] {
     tbb::parallel_for(tbb::blocked_range<size_t>(0, chunks_.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t i = r.begin(); i != r.end(); ++i) run(i);

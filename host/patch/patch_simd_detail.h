@@ -35,18 +35,6 @@ struct EvalGroup {
   bool laneRecsReady = false;
 };
 using EvalFn = void (*)(const EvalGroup&);
-
-/// Prefetches (for writing) the result slots out[idx[j]] for j in [from, to) ∩ [0, count) of a
-/// group that scatters into `out` (none with `sorted`): issued a vector (or a point) ahead, the
-/// slots, scattered over an array larger than the caches, are there when the results are stored.
-inline void prefetchSlots(const EvalGroup& g, size_t from, size_t to) {
-  if (g.sorted) return;
-  for (size_t j = from; j < to && j < g.count; ++j) {
-    const char* p = reinterpret_cast<const char*>(g.out + g.idx[j]);
-    __builtin_prefetch(p, 1);
-    __builtin_prefetch(p + sizeof(PatchPoint) - 1, 1);
-  }
-}
 /// Readable values after the last point of EvalGroup::xs, ys (the widest vector's lanes).
 constexpr size_t kPointPad = 64;
 

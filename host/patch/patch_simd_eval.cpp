@@ -89,7 +89,6 @@ void EvalGroupT(const simd_detail::EvalGroup& g) {
   HWY_ALIGN U st[kMax];
   for (size_t base = 0; base < g.count; base += L) {
     const size_t valid = g.count - base < L ? g.count - base : L;
-    simd_detail::prefetchSlots(g, base + L, base + 2 * L);  // the next vector's, while this one computes
     // the spare lanes of the last vector compute the points after the group (never stored)
     const auto r = M::eval(dom, recs, g.mode, Lane(LoadPoints(d, g.xs + base)), Lane(LoadPoints(d, g.ys + base)));
     const Lane* comp[12] = {&r.pos.x,  &r.pos.y,  &r.pos.z,  &r.dxi.x,    &r.dxi.y,    &r.dxi.z,
