@@ -329,6 +329,52 @@ TEST(SimdEvaluation, FacePointsBitIdenticalToScalar) {
   EXPECT_EQ(givenPoints, points / 2);  // every double face, with its records given (evaluateRecords)
 }
 
+// FacePointEvaluator keeps the last face's records as vectors: over a random sequence of
+// (face, count) calls, where the same face comes back after other faces, after other counts
+// (other targets: SSE4, AVX2, AVX-512, scalar) and after records given by the caller
+// (evaluateRecords on the same evaluator), every point has evaluatePatch's bits.
+TEST(SimdEvaluation, FacePointsKeptRecordsFollowFaceAndTarget) {
+  long points = 0, calls = 0, repeats = 0;
+  for (const char* rel : kMeshes)
+    for (Precision p : {Precision::Double, Precision::Float}) {
+      const PatchCache c = test::cacheFromFile(test::sharedMesh(rel), CrossTangentMode::Corrected, p);
+      FacePointEvaluator few(c);
+      std::mt19937 rng(11);
+      std::uniform_real_distribution<double> u(-0.8, 0.8);
+      std::uniform_int_distribution<int> pickFace(0, std::min(c.numFaces(), 6) - 1), pickCount(1, 16), pick(0, 9);
+      int last = -1;
+      for (int call = 0; call < 4000; ++call, ++calls) {
+        const int f = pickFace(rng), count = pickCount(rng);  // a few faces: each comes back often
+        if (c.faceSize(f) > GP_MAX_N) continue;
+        repeats += f == last;
+        last = f;
+        double xi[16], eta[16];
+        for (int i = 0; i < count; ++i) xi[i] = u(rng), eta[i] = u(rng);
+        PatchPoint out[16];
+        if (p == Precision::Double && pick(rng) == 0) {  // now and then another face's records, given
+          const int g = (f + 1) % c.numFaces(), n = c.faceSize(g);
+          std::vector<double> fieldMajor(size_t(n) * GP_E_NFIELDS);
+          for (int i = 0; i < GP_E_NFIELDS; ++i)
+            for (int k = 0; k < n; ++k)
+              fieldMajor[size_t(i) * n + k] = c.edgeDataD[size_t(i) * c.numSlots() + c.faceOffsets[g] + k];
+          few.evaluateRecords(n, static_cast<int>(c.options.crossTangent), c.faceStatus[g], fieldMajor.data(), xi,
+                              eta, count, out);
+          for (int i = 0; i < count; ++i, ++points)
+            ASSERT_TRUE(sameBits(out[i], evaluatePatch(c, g, xi[i], eta[i]))) << rel << " records of face " << g;
+          last = -1;
+          continue;
+        }
+        few.evaluate(f, xi, eta, count, out);
+        for (int i = 0; i < count; ++i, ++points)
+          ASSERT_TRUE(sameBits(out[i], evaluatePatch(c, f, xi[i], eta[i])))
+              << rel << " " << toString(p) << " call " << call << " face " << f << " count " << count << " point " << i;
+      }
+    }
+  EXPECT_EQ(calls, 4000L * 2 * long(std::size(kMeshes)));
+  EXPECT_GT(points, calls * 7);   // about 8.5 points per call
+  EXPECT_GT(repeats, calls / 8);  // the same face again, right after itself
+}
+
 ref::CrossTangent refMode(CrossTangentMode m) {
   return m == CrossTangentMode::Paper   ? ref::CrossTangent::Paper
          : m == CrossTangentMode::Blend ? ref::CrossTangent::Blend
