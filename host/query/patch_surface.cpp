@@ -193,15 +193,26 @@ struct WindingContext {
   const UniformTessellation* u;
   Eigen::Vector3d dir;
   int winding;
+  bool clean;  ///< every crossing so far transversal and inside its triangle, away from its edges
 };
+
+/// A crossing counts as clean when its barycentric coordinates are all at least this (Embree
+/// computes them in float: far above their rounding) ...
+constexpr float kWindingEdgeMargin = 1e-4f;
+/// ... and the ray meets the triangle's plane at a sine of at least this.
+constexpr double kWindingMinSine = 1e-3;
 
 void windingFilter(const RTCFilterFunctionNArguments* args) {
   if (args->N != 1 || !args->valid[0]) return;
   auto* wc = reinterpret_cast<WindingContext*>(const_cast<RTCIntersectContext*>(args->context));
   const auto& tr = wc->u->tri[RTCHitN_primID(args->hit, args->N, 0)];
   const Eigen::Vector3d& a = wc->u->vertex[tr[0]];
-  const double s = ((wc->u->vertex[tr[1]] - a).cross(wc->u->vertex[tr[2]] - a)).dot(wc->dir);
+  const Eigen::Vector3d n = (wc->u->vertex[tr[1]] - a).cross(wc->u->vertex[tr[2]] - a);
+  const double s = n.dot(wc->dir);
   wc->winding += s > 0 ? 1 : (s < 0 ? -1 : 0);
+  const float bu = RTCHitN_u(args->hit, args->N, 0), bv = RTCHitN_v(args->hit, args->N, 0);
+  if (!(std::min({bu, bv, 1.0f - bu - bv}) >= kWindingEdgeMargin && std::abs(s) >= kWindingMinSine * n.norm()))
+    wc->clean = false;
   args->valid[0] = 0;  // reject: keep traversing for the further crossings
 }
 
@@ -355,6 +366,7 @@ int PatchSurface::winding(const Eigen::Vector3d& q) const noexcept {
     wc.u = uniform_.get();
     wc.dir = kDir[k];
     wc.winding = 0;
+    wc.clean = true;
     RTCRayHit rh;
     rh.ray.org_x = float(q.x());
     rh.ray.org_y = float(q.y());
@@ -373,6 +385,9 @@ int PatchSurface::winding(const Eigen::Vector3d& q) const noexcept {
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(impl_->rays, &wc.base, &rh);
     w[k] = wc.winding;
+    // the scene is watertight (robust mode): a ray whose every crossing is transversal and inside
+    // its triangle counts each crossing once, so its count is the winding number
+    if (k == 0 && wc.clean) return w[0];
     if (k == 1 && w[0] == w[1]) return w[0];  // two rays agree: the third cannot change the majority
   }
   if (w[0] == w[2]) return w[0];
