@@ -357,8 +357,8 @@ TEST(SimdEvaluation, FacePointsKeptRecordsFollowFaceAndTarget) {
           for (int i = 0; i < GP_E_NFIELDS; ++i)
             for (int k = 0; k < n; ++k)
               fieldMajor[size_t(i) * n + k] = c.edgeDataD[size_t(i) * c.numSlots() + c.faceOffsets[g] + k];
-          few.evaluateRecords(n, static_cast<int>(c.options.crossTangent), c.faceStatus[g], fieldMajor.data(), xi,
-                              eta, count, out);
+          few.evaluateRecords(n, static_cast<int>(c.options.crossTangent), c.faceStatus[g], fieldMajor.data(), xi, eta,
+                              count, out);
           for (int i = 0; i < count; ++i, ++points)
             ASSERT_TRUE(sameBits(out[i], evaluatePatch(c, g, xi[i], eta[i]))) << rel << " records of face " << g;
           last = -1;

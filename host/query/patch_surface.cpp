@@ -193,14 +193,17 @@ struct WindingContext {
   const UniformTessellation* u;
   Eigen::Vector3d dir;
   int winding;
-  bool clean;  ///< every crossing so far transversal and inside its triangle, away from its edges
+  bool clean;      ///< every crossing so far transversal and inside its triangle, away from its edges
+  float minDepth;  ///< ... and at least this far along the ray (its float origin's rounding, many times)
 };
 
 /// A crossing counts as clean when its barycentric coordinates are all at least this (Embree
 /// computes them in float: far above their rounding) ...
 constexpr float kWindingEdgeMargin = 1e-4f;
-/// ... and the ray meets the triangle's plane at a sine of at least this.
+/// ... and the ray meets the triangle's plane at a sine of at least this, at a distance of at least
+/// this times the origin's largest coordinate (about 80 float roundings of it).
 constexpr double kWindingMinSine = 1e-3;
+constexpr float kWindingMinDepth = 1e-5f;
 
 void windingFilter(const RTCFilterFunctionNArguments* args) {
   if (args->N != 1 || !args->valid[0]) return;
@@ -211,7 +214,8 @@ void windingFilter(const RTCFilterFunctionNArguments* args) {
   const double s = n.dot(wc->dir);
   wc->winding += s > 0 ? 1 : (s < 0 ? -1 : 0);
   const float bu = RTCHitN_u(args->hit, args->N, 0), bv = RTCHitN_v(args->hit, args->N, 0);
-  if (!(std::min({bu, bv, 1.0f - bu - bv}) >= kWindingEdgeMargin && std::abs(s) >= kWindingMinSine * n.norm()))
+  if (!(std::min({bu, bv, 1.0f - bu - bv}) >= kWindingEdgeMargin && std::abs(s) >= kWindingMinSine * n.norm() &&
+        RTCRayN_tfar(args->ray, args->N, 0) >= wc->minDepth))
     wc->clean = false;
   args->valid[0] = 0;  // reject: keep traversing for the further crossings
 }
@@ -367,6 +371,7 @@ int PatchSurface::winding(const Eigen::Vector3d& q) const noexcept {
     wc.dir = kDir[k];
     wc.winding = 0;
     wc.clean = true;
+    wc.minDepth = kWindingMinDepth * float(q.cwiseAbs().maxCoeff());
     RTCRayHit rh;
     rh.ray.org_x = float(q.x());
     rh.ray.org_y = float(q.y());

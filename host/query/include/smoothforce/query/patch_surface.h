@@ -97,9 +97,10 @@ class PatchSurface {
 
   /// Winding number of the uniform tessellation around q: signed crossings of a ray from q (+1
   /// leaving through a triangle's front). The first of three rays in fixed skew directions decides
-  /// where every crossing it makes is clean (transversal, barycentric coordinates >= 1e-4: the
-  /// watertight scene counts each once); otherwise the majority of the three (a ray that grazes
-  /// an edge or vertex can miscount). 1 inside a closed outward surface, 0 outside.
+  /// where every crossing it makes is clean (transversal, barycentric coordinates >= 1e-4, not at
+  /// the ray's start: the watertight scene counts each once); otherwise the majority of the three
+  /// (a ray that grazes an edge or vertex can miscount). 1 inside a closed outward surface, 0
+  /// outside.
   int winding(const Eigen::Vector3d& q) const noexcept;
 
   /// Level of the uniform tessellation, and its triangle count.
