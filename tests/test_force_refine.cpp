@@ -169,5 +169,52 @@ TEST(Refine, RefusesUnusableInput) {
   EXPECT_TRUE(std::isfinite(r.distance));
 }
 
+// A seed (a start evaluated, not refined: maxIterations 0) at the point of the refiner's last
+// seed takes that seed's evaluation and second differences: over random sequences of seeds that
+// repeat their point with other HIPs, full refinements in between and other faces' seeds, every
+// seed equals a fresh refiner's bit for bit (point, normal, distance, status, startMinimum).
+TEST(Refine, RepeatedSeedEqualsAFreshOne) {
+  long seeds = 0, repeats = 0, minima = 0;
+  for (const char* rel : {"keenan_crane/spot_control_mesh.obj", "odedstein/bunny.obj"}) {
+    const PatchCache c = test::cacheFromFile(test::sharedMesh(rel));
+    const double diag = boundingDiagonal(c);
+    PatchRefiner kept(c);
+    RefineOptions seedOpt, full;
+    seedOpt.maxIterations = 0;
+    std::mt19937 rng(3);
+    std::uniform_int_distribution<int> pf(0, c.numFaces() - 1), pick(0, 3);
+    std::uniform_real_distribution<double> u(-0.9, 0.9), off(-0.02, 0.02);
+    int f = 0;
+    Eigen::Vector2d X(0, 0);
+    for (int i = 0; i < 3000; ++i) {
+      const int what = pick(rng);
+      if (what == 0 || i == 0) {  // a new seed point
+        do {
+          f = pf(rng);
+          X = Eigen::Vector2d(u(rng), u(rng));
+        } while (!insideDomain(c.faceSize(f), X.x(), X.y()));
+      } else {
+        ++repeats;
+      }
+      const PatchPoint p = evaluatePatch(c, f, X.x(), X.y());
+      // along the normal (the seed is the nearest point there: startMinimum decided), or anywhere
+      const Eigen::Vector3d hip = i % 2 ? Eigen::Vector3d(p.pos + diag * off(rng) * p.normal)
+                                        : Eigen::Vector3d(p.pos + diag * Eigen::Vector3d(off(rng), off(rng), off(rng)));
+      if (what == 3) (void)kept.refine(hip, pf(rng), 0.1, 0.1, full);  // a full refinement in between
+      const RefineResult a = kept.refine(hip, f, X.x(), X.y(), seedOpt);
+      PatchRefiner fresh(c);
+      const RefineResult b = fresh.refine(hip, f, X.x(), X.y(), seedOpt);
+      ASSERT_TRUE(a.scp == b.scp && a.normal == b.normal && a.distance == b.distance && a.status == b.status &&
+                  a.startMinimum == b.startMinimum && a.face == b.face && a.xi == b.xi && a.eta == b.eta)
+          << rel << " seed " << i << " face " << f;
+      ++seeds;
+      minima += a.startMinimum;
+    }
+  }
+  EXPECT_EQ(seeds, 6000);
+  EXPECT_GT(repeats, 4000);  // three in four seeds repeat the last point
+  EXPECT_GT(minima, 2000);   // most seeds under a HIP along the normal are minima
+}
+
 }  // namespace
 }  // namespace sf
