@@ -32,7 +32,7 @@ constexpr double kInitialRadius = 0.5;  // domain units (circumradius 1)
 struct PatchRefiner::NewtonState {
   gpd::gp_refine_mesh mesh{};
   gpd::gp_refine_work work{};
-  std::vector<float> widen;  ///< float records of one face before widening
+  std::vector<float> widen;                   ///< float records of one face before widening
   std::unique_ptr<FacePointEvaluator> pairs;  ///< the finite differences' point pairs (records read in place)
   const PatchCache* cache = nullptr;
   LazyPatches* lazy = nullptr;
