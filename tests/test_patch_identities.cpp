@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <smoothforce/patch/detail/gp_math.h>
+#include <smoothforce/patch/detail/gp_traits.h>
 #include "patch_test_support.h"
 
 namespace sf {
@@ -123,8 +124,9 @@ TEST(PatchIdentities, PlatonicSolidsOnTheUnitSphere) {
 // GP_ST_SINGULAR (a normal's flag): so the fold and bulge every cache reports are unchanged.
 // Every face of the reference shapes and of three shared meshes (triangles to hexagons), double
 // and float records, at every quality sample (3 rings x 5 steps per edge) and 16 random points.
-template <class R, class Eval, class EvalD>
-void checkPositionOnly(const PatchCache& c, Eval full, EvalD posOnly, size_t& points) {
+template <class R>
+void checkPositionOnly(const PatchCache& c, size_t& points) {
+  const int mode = static_cast<int>(c.options.crossTangent);
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int f = 0; f < c.numFaces(); ++f) {
@@ -140,8 +142,8 @@ void checkPositionOnly(const PatchCache& c, Eval full, EvalD posOnly, size_t& po
         }
     for (int j = 0; j < 16; ++j) X.push_back(0.7 * Eigen::Vector2d(u(rng), u(rng)));
     for (const Eigen::Vector2d& x : X) {
-      const auto g = full(n, recs, R(x.x()), R(x.y()));
-      const auto p = posOnly(n, recs, R(x.x()), R(x.y()));
+      const auto g = Gp<R>::evalDom(Gp<R>::domain(n), recs, mode, R(x.x()), R(x.y()));
+      const auto p = Gp<R>::evalDomPosition(Gp<R>::domain(n), recs, mode, R(x.x()), R(x.y()));
       ++points;
       ASSERT_TRUE(g.pos.x == p.pos.x && g.pos.y == p.pos.y && g.pos.z == p.pos.z) << "face " << f << " at " << x.transpose();
       ASSERT_EQ(g.status & ~GP_ST_SINGULAR, p.status) << "face " << f;
@@ -159,24 +161,10 @@ TEST(PatchIdentities, PositionOnlyEvaluationIsTheFullEvaluationsPosition) {
   size_t points = 0, faces = 0;
   for (const PatchCache& c : caches) {
     faces += c.numFaces();
-    const int mode = static_cast<int>(c.options.crossTangent);
-    if (c.options.precision == Precision::Float) {
-      checkPositionOnly<float>(
-          c, [&](int n, const float* r, float x, float y) { return gpf::gp_patch_eval(n, r, mode, x, y); },
-          [&](int n, const float* r, float x, float y) {
-            gpf::gp_domain scratch;
-            return gpf::gp_patch_eval_dom_d(gpf::gp_domain_of(n, &scratch, 0), r, mode, x, y, 0);
-          },
-          points);
-    } else {
-      checkPositionOnly<double>(
-          c, [&](int n, const double* r, double x, double y) { return gpd::gp_patch_eval(n, r, mode, x, y); },
-          [&](int n, const double* r, double x, double y) {
-            gpd::gp_domain scratch;
-            return gpd::gp_patch_eval_dom_d(gpd::gp_domain_of(n, &scratch, 0), r, mode, x, y, 0);
-          },
-          points);
-    }
+    if (c.options.precision == Precision::Float)
+      checkPositionOnly<float>(c, points);
+    else
+      checkPositionOnly<double>(c, points);
   }
   EXPECT_GT(faces, 6000u);
   EXPECT_GT(points, 20u * faces);

@@ -27,6 +27,10 @@ struct Gp<float> {
   static result evalDom(const gpf::gp_domain* dom, const float* recs, int mode, double xi, double eta) {
     return gpf::gp_patch_eval_dom(dom, recs, mode, float(xi), float(eta));
   }
+  /// The position only (gp_patch_eval_dom_d, deriv 0: the quality check's bulge samples).
+  static result evalDomPosition(const gpf::gp_domain* dom, const float* recs, int mode, double xi, double eta) {
+    return gpf::gp_patch_eval_dom_d(dom, recs, mode, float(xi), float(eta), 0);
+  }
 };
 
 template <>
@@ -46,6 +50,9 @@ struct Gp<double> {
   static const gpd::gp_domain* domain(int n) { return gpd::gp_domain_of(n, nullptr, 1); }
   static result evalDom(const gpd::gp_domain* dom, const double* recs, int mode, double xi, double eta) {
     return gpd::gp_patch_eval_dom(dom, recs, mode, xi, eta);
+  }
+  static result evalDomPosition(const gpd::gp_domain* dom, const double* recs, int mode, double xi, double eta) {
+    return gpd::gp_patch_eval_dom_d(dom, recs, mode, xi, eta, 0);
   }
 };
 
