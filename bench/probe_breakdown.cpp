@@ -77,7 +77,7 @@ int main(int argc, char** argv) {
       const SurfaceSample& x = s[i];
       const Eigen::Vector3d hip = pass == 0 ? Eigen::Vector3d(x.point + 0.001 * depth * diag * x.normal)
                                             : Eigen::Vector3d(x.point - depth * diag * x.normal);
-      SurfaceCandidate c[PatchSurface::kMaxCandidates];
+      CandidateBuffer<> c;
       // as the tracker's step: the band (and the winding number outside every band) first, then
       // the candidates within the bound on the distance known so far, then their refinement
       double reach = std::numeric_limits<double>::infinity();
@@ -99,9 +99,9 @@ int main(int argc, char** argv) {
         reach = seed.distance;
         reachFace = seed.face;
       }
-      const int n = static_cast<int>(surface.candidates(hip, c, PatchSurface::kMaxCandidates, reach, reachFace));
+      const int n = static_cast<int>(surface.candidates(hip, c.data(), c.size(), reach, reachFace));
       const auto t4 = Clock::now();
-      const PatchNearest q = refineCandidates(c, n, surface.spacing(), refiner, hip, opt, seeded ? &seed : nullptr,
+      const PatchNearest q = refineCandidates(c.data(), n, surface.spacing(), refiner, hip, opt, seeded ? &seed : nullptr,
                                               seeded ? &from : nullptr, &surface);
       const auto t5 = Clock::now();
       if (pass == 0 && q.nearest.scp.allFinite() && !(q.nearest.status & SF_TRACK_DEGENERATE))

@@ -39,7 +39,8 @@ void lazyGlobalStep(LazyPatchSurface& surface, const PolygonScene& scene, const 
     return;
   }
   // the polygon start first: its refined point bounds the nearest distance from above
-  SurfaceCandidate c[kMaxCandidates];
+  CandidateBuffer<kMaxCandidates> c;
+  c[0] = SurfaceCandidate{};
   c[0].face = np.face;
   c[0].X = polygonToDomain(scene.facets(), cache, np.face, np.point, lambda);
   c[0].lower = -1;
@@ -61,12 +62,13 @@ void lazyGlobalStep(LazyPatchSurface& surface, const PolygonScene& scene, const 
       if (!(lower < upper) || (n == kMaxCandidates && lower >= c[n - 1].lower)) continue;
       int at = n < kMaxCandidates ? n++ : n - 1;
       for (; at > 1 && c[at - 1].lower > lower; --at) c[at] = c[at - 1];
+      c[at] = SurfaceCandidate{};
       c[at].face = f;
       c[at].X = surface.cellStart(f, j, hip);
       c[at].lower = lower;
     }
   }
-  const PatchNearest q = refineCandidates(c, n, kStartSpacing, refiner, hip, options, &first);
+  const PatchNearest q = refineCandidates(c.data(), n, kStartSpacing, refiner, hip, options, &first);
   bool inside = false;
   RefineResult scp = q.nearest;
   if (usable(q.nearest)) {

@@ -249,9 +249,9 @@ PatchNearest nearestOnPatches(const PatchSurface& surface, PatchRefiner& refiner
                               const ForceOptions& options, const RefineResult* first, double reach,
                               const SurfaceCandidate* firstStart, int reachFace) noexcept {
   if (first && firstStart && usable(*first)) tighterReach(surface, first->distance, first->face, reach, reachFace);
-  SurfaceCandidate c[PatchSurface::kMaxCandidates];
-  const int n = static_cast<int>(surface.candidates(hip, c, PatchSurface::kMaxCandidates, reach, reachFace));
-  return refineCandidates(c, n, surface.spacing(), refiner, hip, options, first, firstStart, &surface);
+  CandidateBuffer<> c;
+  const int n = static_cast<int>(surface.candidates(hip, c.data(), c.size(), reach, reachFace));
+  return refineCandidates(c.data(), n, surface.spacing(), refiner, hip, options, first, firstStart, &surface);
 }
 
 int insideByWinding(const PatchSurface& surface, const Eigen::Vector3d& hip, double* reach, int* reachFace) noexcept {

@@ -118,7 +118,7 @@ struct CandidateState {
   double bound;  ///< min over the triangles seen of (distance + error)
   float pad;
   size_t count;
-  SurfaceCandidate c[kMaxCandidates];
+  CandidateBuffer<kMaxCandidates> c;  ///< c[0..count) written
 };
 
 bool candidateFn(RTCPointQueryFunctionArguments* args) {
@@ -329,11 +329,11 @@ size_t PatchSurface::candidates(const Eigen::Vector3d& q, SurfaceCandidate* out,
   size_t n = 0;
   for (size_t i = 0; i < st.count; ++i)
     if (st.c[i].lower <= st.bound) st.c[n++] = st.c[i];
-  std::sort(st.c, st.c + n, [](const SurfaceCandidate& a, const SurfaceCandidate& b) {
+  std::sort(st.c.data(), st.c.data() + n, [](const SurfaceCandidate& a, const SurfaceCandidate& b) {
     return a.lower < b.lower || (a.lower == b.lower && a.triangle < b.triangle);
   });
   n = std::min(n, cap);
-  std::copy_n(st.c, n, out);
+  std::copy_n(st.c.data(), n, out);
   return n;
 }
 

@@ -135,6 +135,22 @@ class PatchSurface {
   std::unique_ptr<Impl> impl_;
 };
 
+/// Stack room for N candidates, left uninitialised: the writer fills the entries it reports
+/// (PatchSurface::candidates writes out[0..count)). A plain SurfaceCandidate[256] constructs
+/// every element, about as many stores per query as the whole candidate search otherwise makes.
+template <size_t N = PatchSurface::kMaxCandidates>
+struct CandidateBuffer {
+  CandidateBuffer() noexcept {}  // leaves c uninitialised on purpose
+  union {
+    SurfaceCandidate c[N];
+  };
+  SurfaceCandidate* data() noexcept { return c; }
+  const SurfaceCandidate* data() const noexcept { return c; }
+  SurfaceCandidate& operator[](size_t i) noexcept { return c[i]; }
+  const SurfaceCandidate& operator[](size_t i) const noexcept { return c[i]; }
+  static constexpr size_t size() noexcept { return N; }
+};
+
 /// The uniform tessellation level PatchSurface uses for `cache` with these options.
 int choosePatchSurfaceLevel(const PatchCache& cache, const PatchSurfaceOptions& options);
 
