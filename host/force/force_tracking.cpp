@@ -254,8 +254,10 @@ PatchNearest nearestOnPatches(const PatchSurface& surface, PatchRefiner& refiner
   return refineCandidates(c.data(), n, surface.spacing(), refiner, hip, options, first, firstStart, &surface);
 }
 
-int insideByWinding(const PatchSurface& surface, const Eigen::Vector3d& hip, double* reach, int* reachFace) noexcept {
-  if (!surface.closed() || surface.numTriangles() == 0 || surface.inErrorBand(hip, reach, reachFace)) return -1;
+int insideByWinding(const PatchSurface& surface, const Eigen::Vector3d& hip, double* reach, int* reachFace,
+                    int hintFace, const Eigen::Vector2d& hintX) noexcept {
+  if (!surface.closed() || surface.numTriangles() == 0 || surface.inErrorBand(hip, reach, reachFace, hintFace, hintX))
+    return -1;
   return surface.winding(hip) >= 1 ? 1 : 0;
 }
 
@@ -297,12 +299,17 @@ bool beginPatchStep(const PolygonScene& scene, const PatchSurface* surface, cons
   }
   s.status |= SF_TRACK_GLOBAL;
   if (surface) {  // the global query on the patch surface
-    start.windingVerdict = insideByWinding(*surface, hip, &start.reach, &start.reachFace);
+    const bool onFace = hint.face >= 0 && hint.face < cache.numFaces();
+    // the band test tries the uniform triangle over the hint first, unless the hint's point is too
+    // far from the HIP for it to lie in that triangle's band (|HIP - P| > 2 x the face's widest band)
+    const bool bandHint =
+        onFace && !(hint.point.allFinite() && (hip - hint.point).norm() > 2 * surface->bandError(hint.face));
+    start.windingVerdict =
+        insideByWinding(*surface, hip, &start.reach, &start.reachFace, bandHint ? hint.face : -1, hint.X);
     if (start.windingVerdict == 0) {  // outside the closed surface beyond every error band: no patch work
       state.inContact = false;
       return false;
     }
-    const bool onFace = hint.face >= 0 && hint.face < cache.numFaces();
     const bool hinted = onFace && hint.seed;
     if (hint.point.allFinite())
       tighterReach(*surface, (hip - hint.point).norm(), onFace ? hint.face : -1, start.reach, start.reachFace);

@@ -169,21 +169,25 @@ struct BandState {
   int face;      ///< its face
 };
 
+/// Whether st.q lies in the error band of uniform triangle t (then st records it).
+bool testBand(BandState& st, int64_t t) {
+  const UniformTessellation& u = *st.u;
+  const auto& tr = u.tri[t];
+  double a, b, c;
+  const double d = std::sqrt(closestOnTriangle(st.q, u.vertex[tr[0]], u.vertex[tr[1]], u.vertex[tr[2]], a, b, c));
+  if (d > u.error[t]) return false;
+  st.inside = true;
+  st.reach = d + u.error[t];
+  st.face = u.triFace[t];
+  return true;
+}
+
 bool bandFn(RTCPointQueryFunctionArguments* args) {
   auto* st = static_cast<BandState*>(args->userPtr);
   if (st->inside) return false;
-  const UniformTessellation& u = *st->u;
-  const auto& tr = u.tri[args->primID];
-  double a, b, c;
-  const double d = std::sqrt(closestOnTriangle(st->q, u.vertex[tr[0]], u.vertex[tr[1]], u.vertex[tr[2]], a, b, c));
-  if (!(d > u.error[args->primID])) {
-    st->inside = true;
-    st->reach = d + u.error[args->primID];
-    st->face = u.triFace[args->primID];
-    args->query->radius = 0;  // found one: stop looking
-    return true;
-  }
-  return false;
+  if (!testBand(*st, args->primID)) return false;
+  args->query->radius = 0;  // found one: stop looking
+  return true;
 }
 
 // ---- rays: winding number ----
@@ -248,6 +252,9 @@ PatchSurface::PatchSurface(const PatchCache& cache, const PatchSurfaceOptions& o
   const double noise = (cache.options.precision == Precision::Double ? 1e-13 : 2e-6) * diag;
   uniform_ = std::make_unique<UniformTessellation>(tessellateUniform(cache, choosePatchSurfaceLevel(cache, options)));
   for (double& e : uniform_->error) e += noise;
+  bandError_.assign(cache.numFaces(), 0.0);
+  for (size_t t = 0; t < uniform_->tri.size(); ++t)
+    bandError_[uniform_->triFace[t]] = std::max(bandError_[uniform_->triFace[t]], uniform_->error[t]);
   if (options.candidates)
     points_ = tessellateAdaptive(cache, *uniform_, options.targetError * diag, options.subdivision);
   for (SurfaceTriangle& t : points_) t.error += noise;
@@ -349,10 +356,14 @@ bool PatchSurface::overTriangle(int t, int f, const Eigen::Vector2d& X) const no
   return l0 >= low && l1 >= low && l2 >= low;
 }
 
-bool PatchSurface::inErrorBand(const Eigen::Vector3d& q, double* reach, int* reachFace) const noexcept {
+bool PatchSurface::inErrorBand(const Eigen::Vector3d& q, double* reach, int* reachFace, int hintFace,
+                               const Eigen::Vector2d& hintX) const noexcept {
   if (uniform_->tri.empty() || !q.allFinite()) return false;
   BandState st{uniform_.get(), q, false, std::numeric_limits<double>::infinity(), -1};
-  embreePointQuery(impl_->band, q, &st, impl_->pad);  // boxes are inflated by the errors: q must lie in one
+  // the triangle over the hint first: in its band, q is in a band (any triangle's band will do)
+  if (const int64_t t = uniformTriangleAt(*uniform_, cache_, hintFace, hintX); t >= 0) testBand(st, t);
+  if (!st.inside)
+    embreePointQuery(impl_->band, q, &st, impl_->pad);  // boxes are inflated by the errors: q must lie in one
   if (st.inside && reach) *reach = st.reach;
   if (st.inside && reachFace) *reachFace = st.face;
   return st.inside;

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include <smoothforce/patch/detail/gp_traits.h>
 #include <smoothforce/patch/patch_eval.h>
 #include <smoothforce/patch/tessellate.h>
 #include "gp_config.h"
@@ -97,8 +98,10 @@ UniformTessellation tessellateUniform(const PatchCache& cache, int L) {
   std::vector<size_t> first{0}, tfirst{0};
   std::vector<Eigen::Vector2d> dom;
   std::vector<std::array<int32_t, 3>> local;
+  t.faceFirstTri.assign(cache.numFaces(), -1);
   for (int f = 0; f < cache.numFaces(); ++f) {
     if (cache.faceStatus[f] & kNotBuilt) continue;
+    t.faceFirstTri[f] = static_cast<int64_t>(t.tri.size());
     const int n = cache.faceSize(f), base = static_cast<int>(t.domain.size());
     dom.clear();
     domainRingPoints(n, L, dom);
@@ -135,6 +138,47 @@ UniformTessellation tessellateUniform(const PatchCache& cache, int L) {
     }
   });
   return t;
+}
+
+int64_t uniformTriangleAt(const UniformTessellation& u, const PatchCache& cache, int f, const Eigen::Vector2d& X) {
+  if (f < 0 || f >= cache.numFaces() || static_cast<size_t>(f) >= u.faceFirstTri.size() || u.faceFirstTri[f] < 0 ||
+      !X.allFinite())
+    return -1;
+  const int n = cache.faceSize(f), L = u.level;
+  const gpd::gp_domain* dom = Gp<double>::domain(n);
+  // sector k: the domain triangle (0, C_k, C_k+1) with X = a C_k + b C_k+1, a, b >= 0 (the
+  // first such k; where none is, the one X is least outside of)
+  auto cross = [](double ax, double ay, double bx, double by) { return ax * by - ay * bx; };
+  const double det = cross(dom->cx[0], dom->cy[0], dom->cx[1 % n], dom->cy[1 % n]);  // sin(2 pi / n)
+  int k = 0;
+  double a = 0, b = 0, worst = -std::numeric_limits<double>::infinity();
+  for (int s = 0; s < n; ++s) {
+    const int s1 = s + 1 == n ? 0 : s + 1;
+    const double as = cross(X.x(), X.y(), dom->cx[s1], dom->cy[s1]) / det;
+    const double bs = cross(dom->cx[s], dom->cy[s], X.x(), X.y()) / det;
+    const double m = std::min(as, bs);
+    if (m > worst) {
+      worst = m;
+      k = s;
+      a = as;
+      b = bs;
+    }
+    if (m >= 0) break;
+  }
+  // lattice coordinates of the sector (vertex (r, k, j) of the ring layout is (r - j, j)): cell
+  // (i, j) holds the up triangle j of ring i + j + 1 and, above its diagonal, the down triangle j
+  // of ring i + j + 2
+  const double uu = std::max(a, 0.0) * L, vv = std::max(b, 0.0) * L;
+  int i = static_cast<int>(std::min(std::floor(uu), double(L - 1)));
+  int j = static_cast<int>(std::min(std::floor(vv), double(L - 1)));
+  if (const int over = i + j - (L - 1); over > 0) {  // beyond the outer ring (rounding, X outside): its cells
+    const int di = std::min(i, over);
+    i -= di;
+    j -= over - di;
+  }
+  const bool down = i + j < L - 1 && (uu - i) + (vv - j) > 1;
+  const int r = i + j + (down ? 2 : 1);
+  return u.faceFirstTri[f] + int64_t(n) * (r - 1) * (r - 1) + int64_t(k) * (2 * r - 1) + (down ? r + j : j);
 }
 
 std::vector<SurfaceTriangle> tessellateAdaptive(const PatchCache& cache, const UniformTessellation& u, double maxError,

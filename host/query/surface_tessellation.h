@@ -21,8 +21,14 @@ struct UniformTessellation {
   std::vector<Eigen::Vector2d> domain;  ///< the vertices' domain points
   std::vector<std::array<int32_t, 3>> tri;
   std::vector<int32_t> triFace;
-  std::vector<double> error;  ///< m, per triangle
+  std::vector<double> error;          ///< m, per triangle
+  std::vector<int64_t> faceFirstTri;  ///< #F: index of each face's first triangle, -1 for a face not built
 };
+
+/// The triangle of `u` on face f whose domain triangle holds X (found from the ring layout, no
+/// search: sector, then lattice cell; X outside the domain is clamped onto it), or -1 where the
+/// face is not built or X is not finite. Points on a shared edge go to either triangle.
+int64_t uniformTriangleAt(const UniformTessellation& u, const PatchCache& cache, int f, const Eigen::Vector2d& X);
 
 /// One triangle of the adaptive tessellation (its own corners).
 struct SurfaceTriangle {
