@@ -81,22 +81,29 @@ typedef struct {
 #endif
 } gp_refine_mesh;
 
-/* Private scratch: the records of the face last loaded; the second differences of the last
- * finite-difference evaluation (reused within GP_RF_D2_REUSE of their point on the same face);
- * the final point of the last refinement (a warm start from exactly there reuses it). */
+/* What one refinement leaves for the next (a warm start): the second differences of the last
+ * finite-difference evaluation (reused within GP_RF_D2_REUSE of their point on the same face)
+ * and the final point with its evaluation (a start from exactly there reuses it). A copy of it
+ * restores that state (the host keeps a seed's this way). */
+typedef struct {
+  int d2Face;               /* face of the differences below, -1 for none */
+  int d2Uses;               /* steps that reused them since they were taken */
+  GP_REAL d2x, d2y;         /* their domain point */
+  gp_vec3 d2xx, d2yy, d2xy; /* eps G_xx, eps G_yy, 2 eps G_xy: differences of exact first derivatives */
+  int lastFace;             /* face of the last refinement's final point, -1 for none */
+  GP_REAL lastX, lastY;
+  gp_eval_result lastP;
+} gp_refine_kept;
+
+/* Private scratch: the records of the face last loaded, what the last refinement left (kept),
+ * and this refinement's step bookkeeping. */
 typedef struct {
   int loaded; /* face held in recs, -1 for none */
   gp_uint loadedStatus;
   GP_REAL recs[GP_MAX_N * GP_E_NFIELDS];
-  int d2Face;                /* face of the differences below, -1 for none */
-  int d2Uses;                /* steps that reused them since they were taken */
-  GP_REAL d2x, d2y;          /* their domain point */
-  gp_vec3 d2xx, d2yy, d2xy;  /* eps G_xx, eps G_yy, 2 eps G_xy: differences of exact first derivatives */
-  GP_REAL lastLen;           /* m: |J s| of the last accepted step of this refinement, 0 for none */
-  GP_REAL tol;               /* m: this refinement's position tolerance */
-  int lastFace;              /* face of the last refinement's final point, -1 for none */
-  GP_REAL lastX, lastY;
-  gp_eval_result lastP;
+  gp_refine_kept kept;
+  GP_REAL lastLen; /* m: |J s| of the last accepted step of this refinement, 0 for none */
+  GP_REAL tol;     /* m: this refinement's position tolerance */
 } gp_refine_work;
 
 /* Stopping rules (see the file comment). */
@@ -221,13 +228,13 @@ GP_FN gp_rf_iterate gp_rf_at(const gp_refine_mesh* m, gp_refine_work* w, int f, 
  * (xc + eps, yc), (xc, yc + eps) (p1, p2). */
 GP_FN void gp_rf_store_d2(gp_refine_work* w, int f, GP_REAL xc, GP_REAL yc, const gp_eval_result* pc,
                           const gp_eval_result* p1, const gp_eval_result* p2) {
-  w->d2xx = gp_sub(p1->dxi, pc->dxi);
-  w->d2yy = gp_sub(p2->deta, pc->deta);
-  w->d2xy = gp_add(gp_sub(p1->deta, pc->deta), gp_sub(p2->dxi, pc->dxi));
-  w->d2Face = f;
-  w->d2x = xc;
-  w->d2y = yc;
-  w->d2Uses = 0;
+  w->kept.d2xx = gp_sub(p1->dxi, pc->dxi);
+  w->kept.d2yy = gp_sub(p2->deta, pc->deta);
+  w->kept.d2xy = gp_add(gp_sub(p1->deta, pc->deta), gp_sub(p2->dxi, pc->dxi));
+  w->kept.d2Face = f;
+  w->kept.d2x = xc;
+  w->kept.d2y = yc;
+  w->kept.d2Uses = 0;
 }
 
 /* Takes the second differences of face f at (xc, yc), whose evaluation there is pc: the pair
@@ -304,10 +311,10 @@ GP_FN int gp_rf_minimum(const gp_refine_mesh* m, const gp_refine_work* w, const 
   const GP_REAL eps = GP_RF_FD_EPS;
   GP_REAL xc = it->x, yc = it->y;
   gp_dom_interior(gp_rf_size(m, it->face), &xc, &yc, eps);
-  if (!(w->d2Face == it->face && w->d2x == xc && w->d2y == yc)) return 0;
+  if (!(w->kept.d2Face == it->face && w->kept.d2x == xc && w->kept.d2y == yc)) return 0;
   const gp_vec3 r = it->r, a = it->p.dxi, b = it->p.deta;
-  const GP_REAL b00 = gp_dot(a, a) + gp_dot(r, w->d2xx) / eps, b11 = gp_dot(b, b) + gp_dot(r, w->d2yy) / eps;
-  const GP_REAL b01 = gp_dot(a, b) + GP_R(0.5) * gp_dot(r, w->d2xy) / eps;
+  const GP_REAL b00 = gp_dot(a, a) + gp_dot(r, w->kept.d2xx) / eps, b11 = gp_dot(b, b) + gp_dot(r, w->kept.d2yy) / eps;
+  const GP_REAL b01 = gp_dot(a, b) + GP_R(0.5) * gp_dot(r, w->kept.d2xy) / eps;
   return b00 > GP_R(0.0) && b00 * b11 - b01 * b01 > GP_R(0.0);
 }
 
@@ -472,19 +479,19 @@ GP_FN int gp_rf_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* 
    * taken again only GP_RF_D2_REUSE away from where they were last taken (or on another face) */
   GP_REAL xc = cur->x, yc = cur->y;
   gp_dom_interior(n, &xc, &yc, eps);
-  const int exact = w->d2Face == cur->face && w->d2x == xc && w->d2y == yc; /* taken here already */
-  const int lagged = !exact && w->d2Face == cur->face && GP_FABS(xc - w->d2x) <= GP_RF_D2_REUSE &&
-                     GP_FABS(yc - w->d2y) <= GP_RF_D2_REUSE && w->d2Uses < GP_RF_D2_MAX_USES;
-  if (lagged) w->d2Uses += 1;
+  const int exact = w->kept.d2Face == cur->face && w->kept.d2x == xc && w->kept.d2y == yc; /* taken here already */
+  const int lagged = !exact && w->kept.d2Face == cur->face && GP_FABS(xc - w->kept.d2x) <= GP_RF_D2_REUSE &&
+                     GP_FABS(yc - w->kept.d2y) <= GP_RF_D2_REUSE && w->kept.d2Uses < GP_RF_D2_MAX_USES;
+  if (lagged) w->kept.d2Uses += 1;
   if (!exact && !lagged) {
     const gp_eval_result pc = (xc == cur->x && yc == cur->y) ? cur->p : gp_rf_eval(m, w, cur->face, xc, yc);
     gp_rf_take_d2(m, w, cur->face, xc, yc, &pc);
   }
-  const GP_REAL s00 = gp_dot(r, w->d2xx) / eps, s11 = gp_dot(r, w->d2yy) / eps;
-  const GP_REAL s01 = GP_R(0.5) * gp_dot(r, w->d2xy) / eps;
+  const GP_REAL s00 = gp_dot(r, w->kept.d2xx) / eps, s11 = gp_dot(r, w->kept.d2yy) / eps;
+  const GP_REAL s01 = GP_R(0.5) * gp_dot(r, w->kept.d2xy) / eps;
   const GP_REAL b00 = m00 + s00, b01 = m01 + s01, b11 = m11 + s11;
   if (!(GP_FABS(b00) + GP_FABS(b01) + GP_FABS(b11) <= GP_BIG)) {
-    w->d2Face = -1; /* not evaluable there: nothing to reuse */
+    w->kept.d2Face = -1; /* not evaluable there: nothing to reuse */
     return GP_RF_STEP_STALLED;
   }
 
@@ -569,7 +576,7 @@ GP_FN int gp_rf_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* 
     }
   }
   if (lagged && !(accept && (atNoise || GP_FABS(rho - GP_R(1.0)) <= GP_RF_D2_RHO)))
-    w->d2Face = -1; /* the lagged model was off: take the differences again */
+    w->kept.d2Face = -1; /* the lagged model was off: take the differences again */
   if (!accept || rho < GP_R(0.25)) {
     const GP_REAL shrink = GP_R(0.25) * len;
     *D = shrink < *D ? shrink : GP_R(0.25) * *D;
@@ -598,7 +605,7 @@ GP_FN int gp_rf_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* 
 GP_FN gp_refine_result gp_refine_newton_warm(const gp_refine_mesh* m, gp_refine_work* w, gp_vec3 hip, int face,
                                              GP_REAL xi, GP_REAL eta, int startEdge, const gp_refine_options* o,
                                              int warm) {
-  if (!warm) w->d2Face = w->lastFace = -1;
+  if (!warm) w->kept.d2Face = w->kept.lastFace = -1;
   w->lastLen = GP_R(0.0);
   w->tol = o->positionTol; /* the residual allowed, at most (it only decides what to evaluate ahead) */
   gp_refine_result out;
@@ -616,10 +623,10 @@ GP_FN gp_refine_result gp_refine_newton_warm(const gp_refine_mesh* m, gp_refine_
   const int n0 = gp_rf_size(m, face);
   gp_dom_clamp(n0, &xi, &eta);
   gp_dom_off_corner(n0, &xi, &eta);
-  gp_rf_iterate cur = w->lastFace == face && w->lastX == xi && w->lastY == eta
-                          ? gp_rf_with(face, xi, eta, w->lastP, hip)
+  gp_rf_iterate cur = w->kept.lastFace == face && w->kept.lastX == xi && w->kept.lastY == eta
+                          ? gp_rf_with(face, xi, eta, w->kept.lastP, hip)
                           : gp_rf_at_d2(m, w, face, xi, eta, hip);
-  w->lastFace = -1;
+  w->kept.lastFace = -1;
   cur.edge = startEdge >= 0 && startEdge < n0 ? startEdge : -1;
   if (!(cur.f < GP_BIG)) {
     out.status = GP_TRACK_DEGENERATE | cur.p.status;
@@ -675,10 +682,10 @@ GP_FN gp_refine_result gp_refine_newton_warm(const gp_refine_mesh* m, gp_refine_
   out.iterations = it;
   out.status = status | cur.p.status;
   out.startMinimum = it == 0 && conv && cur.edge < 0 && gp_rf_minimum(m, w, &cur);
-  w->lastFace = cur.face;
-  w->lastX = cur.x;
-  w->lastY = cur.y;
-  w->lastP = cur.p;
+  w->kept.lastFace = cur.face;
+  w->kept.lastX = cur.x;
+  w->kept.lastY = cur.y;
+  w->kept.lastP = cur.p;
   return out;
 }
 

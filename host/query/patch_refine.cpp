@@ -38,34 +38,12 @@ struct PatchRefiner::NewtonState {
   LazyPatches* lazy = nullptr;
   std::vector<double> fieldMajor;  ///< a lazy face's double records, field-major, for `pairs`
 
-  /// The work state a seed (a start evaluated, not refined: maxIterations 0) left: its point's
+  /// The state a seed (a start evaluated, not refined: maxIterations 0) left: its point's
   /// evaluation and second differences. A later seed at exactly that point (the sweep's HIP step
   /// after its approach step, a tracker out of contact) takes them instead of evaluating again.
-  struct Seed {
-    int face = -1;
-    double x = 0, y = 0;
-    gpd::gp_eval_result p{};
-    int d2Face = -1, d2Uses = 0;
-    double d2x = 0, d2y = 0;
-    gpd::gp_vec3 d2xx{}, d2yy{}, d2xy{};
-  } seed;
-  void keepSeed() noexcept {
-    seed = Seed{work.lastFace, work.lastX, work.lastY, work.lastP, work.d2Face, work.d2Uses,
-                work.d2x,      work.d2y,   work.d2xx,  work.d2yy,  work.d2xy};
-  }
-  void takeSeed() noexcept {
-    work.lastFace = seed.face;
-    work.lastX = seed.x;
-    work.lastY = seed.y;
-    work.lastP = seed.p;
-    work.d2Face = seed.d2Face;
-    work.d2Uses = seed.d2Uses;
-    work.d2x = seed.d2x;
-    work.d2y = seed.d2y;
-    work.d2xx = seed.d2xx;
-    work.d2yy = seed.d2yy;
-    work.d2xy = seed.d2xy;
-  }
+  gpd::gp_refine_kept seed{};
+  void keepSeed() noexcept { seed = work.kept; }
+  void takeSeed() noexcept { work.kept = seed; }
 
   /// gp_refine_mesh's evalPoints hook with a lazy store of double records: the face's records
   /// (built when needed) transposed to field-major, then evaluated as evalPoints does.
@@ -180,7 +158,8 @@ PatchRefiner::PatchRefiner(const PatchCache& cache, LazyPatches* lazy)
     m.load = [](void*, int, double*) noexcept -> gp_uint { return GP_ST_TOO_MANY_SIDES; };
   }
   ns.work.loaded = -1;
-  ns.work.d2Face = ns.work.lastFace = -1;
+  ns.work.kept.d2Face = ns.work.kept.lastFace = -1;
+  ns.seed.d2Face = ns.seed.lastFace = -1;
 }
 
 PatchRefiner::~PatchRefiner() = default;
@@ -367,7 +346,7 @@ RefineResult PatchRefiner::refineNewton(const Eigen::Vector3d& hip, int face, do
   // where this start is exactly its point (its evaluation and second differences there: the same
   // bits as evaluating again), and a seed takes no step, so the result is a cold start's
   const bool seed = options.maxIterations == 0 && !warm;
-  if (seed && newton_->seed.face == face && face >= 0) {
+  if (seed && newton_->seed.lastFace == face && face >= 0) {
     newton_->takeSeed();
     warm = true;
   }
