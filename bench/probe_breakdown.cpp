@@ -8,7 +8,8 @@
 //               bounded as the tracker bounds it: by the band's triangle and the seed
 //   refine      refineCandidates (Newton from each candidate in another basin; the seed stands
 //               in for one where it may)
-//   band        PatchSurface::inErrorBand (Embree point query over the uniform triangles)
+//   band        PatchSurface::inErrorBand (the uniform triangle under the seed's point first, as
+//               the tracker's hint; else an Embree point query over the uniform triangles)
 //   winding     PatchSurface::winding, where the HIP is outside every band (2-3 Embree rays)
 // and the evaluations per step (the patch records read in place, double). The HIPs are patch
 // samples pressed in along the normal by --depth (fraction of the diagonal), visited in face
