@@ -35,9 +35,9 @@ double minBarycentric(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const 
 // domain map to a triangle of their face holding them (outside: the nearest one's edge, within
 // the overshoot): triangles, pentagons, hexagons, open meshes, levels 1 to 12.
 TEST(UniformTriangleAt, HoldsEveryPointOfEveryFace) {
-  const char* meshes[] = {"geomview/dodecahedron.off", "geomview/snub_dodecahedron.off",
+  const char* meshes[] = {"geomview/dodecahedron.off",        "geomview/snub_dodecahedron.off",
                           "polygon_laplacian/hexaSphere.off", "keenan_crane/spot_control_mesh.obj",
-                          "polygon_laplacian/L-plane.obj", "pmp/hole_capsule.off"};
+                          "polygon_laplacian/L-plane.obj",    "pmp/hole_capsule.off"};
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> U(-1, 1);
   for (const char* rel : meshes) {
@@ -114,7 +114,8 @@ TEST(PatchSurfaceBand, HintKeepsTheVerdict) {
     for (int f = 0; f < c.numFaces(); ++f) {
       const int n = c.faceSize(f);
       const Eigen::Vector2d Xs[] = {Eigen::Vector2d::Zero(), 0.5 * domainCorner(n, 0),
-                                    0.3 * domainCorner(n, 1) + 0.6 * domainCorner(n, 2), 0.999 * domainCorner(n, n - 1)};
+                                    0.3 * domainCorner(n, 1) + 0.6 * domainCorner(n, 2),
+                                    0.999 * domainCorner(n, n - 1)};
       for (const Eigen::Vector2d& X : Xs) {
         const PatchPoint p = evaluatePatch(c, f, X.x(), X.y());
         for (double d : {-1e-2, -1e-3, -1e-4, -1e-5, -1e-7, 0.0, 1e-7, 1e-5, 1e-4, 1e-3, 1e-2}) {
@@ -139,11 +140,11 @@ TEST(PatchSurfaceBand, HintKeepsTheVerdict) {
     EXPECT_EQ(same, hips) << rel;
     EXPECT_EQ(reachOk, inBand) << rel;
     EXPECT_EQ(hips, size_t(44) * c.numFaces()) << rel;
-    EXPECT_GT(inBand, hips / 4) << rel;   // both verdicts well represented
+    EXPECT_GT(inBand, hips / 4) << rel;  // both verdicts well represented
     EXPECT_LT(inBand, hips * 9 / 10) << rel;
     EXPECT_GT(hintedBand, inBand / 2) << rel;  // most bands found on the hint's face
-    std::printf("  %s: %zu HIPs, %zu in a band (%zu on the hint's face), the same verdict for all\n", rel, hips,
-                inBand, hintedBand);
+    std::printf("  %s: %zu HIPs, %zu in a band (%zu on the hint's face), the same verdict for all\n", rel, hips, inBand,
+                hintedBand);
   }
 }
 
