@@ -66,7 +66,7 @@ std::string cacheBytes(const LoadedMesh& lm, const PatchOptions& o, const std::s
 /// count), data/, and ../shared/meshes up to 1 MB.
 std::vector<std::string> meshFiles() {
   std::vector<std::string> out;
-  for (const std::string root : {std::string(SF_TEST_DATA), std::string(SF_DATA_DIR), std::string(SF_SHARED_MESHES)})
+  for (const std::string& root : {std::string(SF_TEST_DATA), std::string(SF_DATA_DIR), std::string(SF_SHARED_MESHES)})
     for (const auto& e : fs::recursive_directory_iterator(root)) {
       const std::string ext = e.path().extension().string();
       if (!e.is_regular_file() || (ext != ".obj" && ext != ".off" && ext != ".ply")) continue;

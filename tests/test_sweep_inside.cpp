@@ -160,8 +160,12 @@ TEST_F(SweepMissed, RealMethodsMissNoContact) {
       EXPECT_EQ(missed, 0u) << r["method"] << " " << r["depth"];
       EXPECT_EQ(spurious, 0u) << r["method"] << " " << r["depth"];
       EXPECT_LE(undecided, N / 20) << r["method"] << " " << r["depth"];
-      if (outside) EXPECT_EQ(inside + undecided, 0u) << r["method"];  // every HIP outside
-      if (!outside && r["method"] == "patch") EXPECT_EQ(inside + undecided, N) << r["depth"];
+      if (outside) {  // every HIP outside
+        EXPECT_EQ(inside + undecided, 0u) << r["method"];
+      }
+      if (!outside && r["method"] == "patch") {
+        EXPECT_EQ(inside + undecided, N) << r["depth"];
+      }
     }
   }
   EXPECT_EQ(checked, 9u);
@@ -194,8 +198,12 @@ TEST_F(SweepMissed, ColumnsCountWhatTheRendererGotWrong) {
         EXPECT_EQ(r["inside_test"]["spurious"], contact ? outside : 0);
         // the patches: every pressed-in HIP inside; the coarse polygons lie below the patches,
         // so some of those HIPs are outside them
-        if (r["depth"] == "1%") EXPECT_GT(inside, r["method"] == "patch" ? N * 9 / 10 : N / 10) << r["method"];
-        if (r["depth"] == "file") EXPECT_EQ(outside, N) << r["method"];
+        if (r["depth"] == "1%") {
+          EXPECT_GT(inside, r["method"] == "patch" ? N * 9 / 10 : N / 10) << r["method"];
+        }
+        if (r["depth"] == "file") {
+          EXPECT_EQ(outside, N) << r["method"];
+        }
       }
     }
   EXPECT_EQ(rows, 18u);
@@ -307,8 +315,11 @@ TEST_F(SweepMissed, MissedContactsLieWithinReachOfSurfaceFaults) {
     EXPECT_EQ(marked, missed);
     EXPECT_EQ(summed, missed);
     EXPECT_EQ(confirmed, missed);
-    if (shape == "keenan_crane/spot_control_mesh.obj") EXPECT_GT(missed, 10u);  // 76 of 60,000 in the README's run
-    else EXPECT_EQ(missed, 0u);
+    if (shape == "keenan_crane/spot_control_mesh.obj") {  // 76 of 60,000 in the README's run
+      EXPECT_GT(missed, 10u);
+    } else {
+      EXPECT_EQ(missed, 0u);
+    }
   }
 }
 
@@ -346,8 +357,12 @@ TEST_F(SweepMissed, TrajectoryPointsPastTheMedialAxisAreMarked) {
     flagged += here;
     unflaggedPast += missedHere;
     EXPECT_LE(missedHere, 2u) << t.depthLabel << (t.half ? " half" : "");
-    if (t.depthLabel == "0.1%") EXPECT_EQ(here, 0u);
-    if (t.depthLabel == "1%") EXPECT_GT(here, 50u) << (t.half ? " half" : "");  // 74 of 822 at the full step
+    if (t.depthLabel == "0.1%") {
+      EXPECT_EQ(here, 0u);
+    }
+    if (t.depthLabel == "1%") {  // 74 of 822 at the full step
+      EXPECT_GT(here, 50u) << (t.half ? " half" : "");
+    }
   }
   std::printf("  spot cage loop: %zu series, %zu points marked past the medial axis, %zu confirmed by the oracle, "
               "%zu more found by it\n",
