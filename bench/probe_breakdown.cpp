@@ -82,16 +82,16 @@ int main(int argc, char** argv) {
       // as the tracker's step: the band (and the winding number outside every band) first, then
       // the candidates within the bound on the distance known so far, then their refinement
       double reach = std::numeric_limits<double>::infinity();
-      // the seed's patch point (below) is the band test's hint, as the tracker's
-      const int hintFace = pass == 0                                                                   ? x.face
-                           : (hip - approachNearest[i].scp).norm() <= 2 * surface.bandError(approachNearest[i].face)
-                               ? approachNearest[i].face
-                               : -1;
+      // the seed's patch point (below) is the band test's hint, as the tracker's (the approach
+      // step's point unknown, as after resetNear)
+      const int hintFace = pass == 0 ? x.face : approachNearest[i].face;
       const Eigen::Vector2d hintX =
           pass == 0 ? Eigen::Vector2d(x.xi, x.eta) : Eigen::Vector2d(approachNearest[i].xi, approachNearest[i].eta);
+      const Eigen::Vector3d hintPoint =
+          pass == 0 ? Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()) : approachNearest[i].scp;
       const auto t0 = Clock::now();
       int reachFace = -1;
-      const bool band = surface.inErrorBand(hip, &reach, &reachFace, hintFace, hintX);
+      const bool band = surface.inErrorBand(hip, &reach, &reachFace, hintFace, hintX, hintPoint);
       const auto t1 = Clock::now();
       if (!band) (void)surface.winding(hip);
       const auto t2 = Clock::now();

@@ -98,8 +98,9 @@ TEST(UniformTriangleAt, HoldsEveryPointOfEveryFace) {
 
 // inErrorBand with a hint answers as without one for every query: HIPs on each face's normal
 // lines at depths from 1e-7 to 1e-2 of the diagonal on both sides (many inside a band, many not),
-// hinted with the patch point they were offset from, with the same domain point on another face,
-// and with a point of the same face far off; where the hinted test finds a band, its reach bounds
+// hinted with the patch point they were offset from (its position unknown, and known: the distance
+// rule that skips the hint's triangle), with the same domain point on another face, and with a
+// point of the same face far off; where the hinted test finds a band, its reach bounds
 // the distance to the nearest patch point (the global query's) from above.
 TEST(PatchSurfaceBand, HintKeepsTheVerdict) {
   const char* meshes[] = {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/quad-sphere.off",
@@ -121,13 +122,14 @@ TEST(PatchSurfaceBand, HintKeepsTheVerdict) {
         for (double d : {-1e-2, -1e-3, -1e-4, -1e-5, -1e-7, 0.0, 1e-7, 1e-5, 1e-4, 1e-3, 1e-2}) {
           const Eigen::Vector3d hip = p.pos + d * diag * p.normal;
           ++hips;
-          double r0 = -1, r1 = -1, r2 = -1, r3 = -1;
-          int f0 = -2, f1 = -2, f2 = -2, f3 = -2;
+          double r0 = -1, r1 = -1, r2 = -1, r3 = -1, r4 = -1;
+          int f0 = -2, f1 = -2, f2 = -2, f3 = -2, f4 = -2;
           const bool b0 = surface.inErrorBand(hip, &r0, &f0);
           const bool b1 = surface.inErrorBand(hip, &r1, &f1, f, X);
           const bool b2 = surface.inErrorBand(hip, &r2, &f2, (f + c.numFaces() / 2) % c.numFaces(), X);
           const bool b3 = surface.inErrorBand(hip, &r3, &f3, f, -X);
-          same += b0 == b1 && b0 == b2 && b0 == b3 && (b1 || (r1 == -1 && f1 == -2));
+          const bool b4 = surface.inErrorBand(hip, &r4, &f4, f, X, p.pos);  // the hint's point known too
+          same += b0 == b1 && b0 == b2 && b0 == b3 && b0 == b4 && (b1 || (r1 == -1 && f1 == -2));
           inBand += b0;
           if (b1) {
             hintedBand += f1 == f;

@@ -255,8 +255,9 @@ PatchNearest nearestOnPatches(const PatchSurface& surface, PatchRefiner& refiner
 }
 
 int insideByWinding(const PatchSurface& surface, const Eigen::Vector3d& hip, double* reach, int* reachFace,
-                    int hintFace, const Eigen::Vector2d& hintX) noexcept {
-  if (!surface.closed() || surface.numTriangles() == 0 || surface.inErrorBand(hip, reach, reachFace, hintFace, hintX))
+                    int hintFace, const Eigen::Vector2d& hintX, const Eigen::Vector3d& hintPoint) noexcept {
+  if (!surface.closed() || surface.numTriangles() == 0 ||
+      surface.inErrorBand(hip, reach, reachFace, hintFace, hintX, hintPoint))
     return -1;
   return surface.winding(hip) >= 1 ? 1 : 0;
 }
@@ -300,12 +301,9 @@ bool beginPatchStep(const PolygonScene& scene, const PatchSurface* surface, cons
   s.status |= SF_TRACK_GLOBAL;
   if (surface) {  // the global query on the patch surface
     const bool onFace = hint.face >= 0 && hint.face < cache.numFaces();
-    // the band test tries the uniform triangle over the hint first, unless the hint's point is too
-    // far from the HIP for it to lie in that triangle's band (|HIP - P| > 2 x the face's widest band)
-    const bool bandHint =
-        onFace && !(hint.point.allFinite() && (hip - hint.point).norm() > 2 * surface->bandError(hint.face));
-    start.windingVerdict =
-        insideByWinding(*surface, hip, &start.reach, &start.reachFace, bandHint ? hint.face : -1, hint.X);
+    // the band test tries the uniform triangle under the hint first
+    start.windingVerdict = insideByWinding(*surface, hip, &start.reach, &start.reachFace, onFace ? hint.face : -1,
+                                           hint.X, hint.point);
     if (start.windingVerdict == 0) {  // outside the closed surface beyond every error band: no patch work
       state.inContact = false;
       return false;

@@ -357,11 +357,15 @@ bool PatchSurface::overTriangle(int t, int f, const Eigen::Vector2d& X) const no
 }
 
 bool PatchSurface::inErrorBand(const Eigen::Vector3d& q, double* reach, int* reachFace, int hintFace,
-                               const Eigen::Vector2d& hintX) const noexcept {
+                               const Eigen::Vector2d& hintX, const Eigen::Vector3d& hintPoint) const noexcept {
   if (uniform_->tri.empty() || !q.allFinite()) return false;
   BandState st{uniform_.get(), q, false, std::numeric_limits<double>::infinity(), -1};
-  // the triangle over the hint first: in its band, q is in a band (any triangle's band will do)
-  if (const int64_t t = uniformTriangleAt(*uniform_, cache_, hintFace, hintX); t >= 0) testBand(st, t);
+  // the triangle over the hint first: in its band, q is in a band (any triangle's band will do).
+  // The hint's point lies within that triangle's error e of it, so q within e of the triangle lies
+  // within 2e of the point: farther than twice the face's widest band, the test cannot succeed.
+  const bool near = hintFace >= 0 && static_cast<size_t>(hintFace) < bandError_.size() &&
+                    !((q - hintPoint).norm() > 2 * bandError_[hintFace]);
+  if (const int64_t t = near ? uniformTriangleAt(*uniform_, cache_, hintFace, hintX) : -1; t >= 0) testBand(st, t);
   if (!st.inside)
     embreePointQuery(impl_->band, q, &st, impl_->pad);  // boxes are inflated by the errors: q must lie in one
   if (st.inside && reach) *reach = st.reach;

@@ -107,10 +107,12 @@ bool insidePatchSurface(const PatchSurface& surface, const Eigen::Vector3d& hip,
 /// out-of-contact step with verdict 0 needs no patch work at all: no candidates, no refinement.
 /// reach, reachFace, when given and the HIP is within a band: an upper bound (m) of its distance
 /// to the patch surface and the face it is measured to (PatchSurface::inErrorBand); untouched
-/// otherwise. hintFace, hintX: a patch point near the HIP, when known (PatchSurface::inErrorBand).
-int insideByWinding(const PatchSurface& surface, const Eigen::Vector3d& hip, double* reach = nullptr,
-                    int* reachFace = nullptr, int hintFace = -1,
-                    const Eigen::Vector2d& hintX = Eigen::Vector2d::Zero()) noexcept;
+/// otherwise. hintFace, hintX, hintPoint: a patch point near the HIP, when known
+/// (PatchSurface::inErrorBand).
+int insideByWinding(
+    const PatchSurface& surface, const Eigen::Vector3d& hip, double* reach = nullptr, int* reachFace = nullptr,
+    int hintFace = -1, const Eigen::Vector2d& hintX = Eigen::Vector2d::Zero(),
+    const Eigen::Vector3d& hintPoint = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN())) noexcept;
 
 /// Contact state of the patch method between steps (Algorithm 1).
 struct PatchContactState {

@@ -96,8 +96,12 @@ class PatchSurface {
   /// hintFace, hintX: a patch point near q when the caller knows one (a tracker's last point, a
   /// sweep's surface sample; -1: none): the uniform triangle over it is tested first, and where q
   /// lies in its band the BVH query is skipped (the same answer; reach then from that triangle).
+  /// hintPoint: that point's position (m) when known (NaN: not known): where q lies farther from
+  /// it than twice the face's widest band, q cannot be in that triangle's band and it is not tested.
   bool inErrorBand(const Eigen::Vector3d& q, double* reach = nullptr, int* reachFace = nullptr, int hintFace = -1,
-                   const Eigen::Vector2d& hintX = Eigen::Vector2d::Zero()) const noexcept;
+                   const Eigen::Vector2d& hintX = Eigen::Vector2d::Zero(),
+                   const Eigen::Vector3d& hintPoint =
+                       Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN())) const noexcept;
 
   /// Winding number of the uniform tessellation around q: signed crossings of a ray from q (+1
   /// leaving through a triangle's front). The first of three rays in fixed skew directions decides
@@ -120,11 +124,6 @@ class PatchSurface {
   /// The largest error bound of face f's adaptive triangles, and of all, m (0 without candidates).
   double error(int f) const noexcept { return error_[f]; }
   double maxError() const noexcept { return maxError_; }
-  /// The largest error bound of face f's uniform triangles (the widest error band over it), m;
-  /// 0 for a face not built or out of range.
-  double bandError(int f) const noexcept {
-    return f >= 0 && static_cast<size_t>(f) < bandError_.size() ? bandError_[f] : 0.0;
-  }
   /// True when every face is built and every edge has a twin: the patch surface is closed.
   bool closed() const noexcept { return closed_; }
   const PatchCache& cache() const noexcept { return cache_; }
@@ -139,7 +138,7 @@ class PatchSurface {
   bool closed_ = false;
   double maxError_ = 0;
   std::vector<double> error_;      ///< #F, m (0 for faces not built)
-  std::vector<double> bandError_;  ///< #F, m: the largest uniform triangle error per face
+  std::vector<double> bandError_;  ///< #F, m: the largest uniform triangle error per face (the widest band)
   std::unique_ptr<UniformTessellation> uniform_;
   std::vector<SurfaceTriangle> points_;
   std::unique_ptr<Impl> impl_;
