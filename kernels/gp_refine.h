@@ -102,8 +102,9 @@ typedef struct {
   gp_uint loadedStatus;
   GP_REAL recs[GP_MAX_N * GP_E_NFIELDS];
   gp_refine_kept kept;
-  GP_REAL lastLen; /* m: |J s| of the last accepted step of this refinement, 0 for none */
-  GP_REAL tol;     /* m: this refinement's position tolerance */
+  GP_REAL lastLen;  /* m: |J s| of the last accepted step of this refinement, 0 for none */
+  GP_REAL tol;      /* m: this refinement's position tolerance */
+  GP_REAL sinAngle; /* sin of this refinement's angle tolerance */
 } gp_refine_work;
 
 /* Stopping rules (see the file comment). */
@@ -297,9 +298,10 @@ GP_FN GP_REAL gp_rf_residual(const gp_refine_mesh* m, const gp_rf_iterate* it) {
 /* Largest coordinate magnitude of a point: the scale of its rounding. */
 GP_FN GP_REAL gp_rf_mag(gp_vec3 a) { return gp_max(GP_FABS(a.x), gp_max(GP_FABS(a.y), GP_FABS(a.z))); }
 
-GP_FN int gp_rf_converged(const gp_refine_mesh* m, const gp_rf_iterate* it, gp_vec3 hip, const gp_refine_options* o) {
+GP_FN int gp_rf_converged(const gp_refine_mesh* m, const gp_refine_work* w, const gp_rf_iterate* it, gp_vec3 hip,
+                          const gp_refine_options* o) {
   const GP_REAL rl = gp_len(it->r);
-  GP_REAL tol = GP_SIN(o->angleTol) * rl;
+  GP_REAL tol = w->sinAngle * rl; /* sin(angleTol), once per refinement */
   if (o->positionTol < tol) tol = o->positionTol;
   const GP_REAL noise = GP_R(64.0) * GP_EPS * (gp_rf_mag(hip) + m->scale);
   return gp_rf_residual(m, it) <= gp_max(tol, noise);
@@ -608,6 +610,7 @@ GP_FN gp_refine_result gp_refine_newton_warm(const gp_refine_mesh* m, gp_refine_
   if (!warm) w->kept.d2Face = w->kept.lastFace = -1;
   w->lastLen = GP_R(0.0);
   w->tol = o->positionTol; /* the residual allowed, at most (it only decides what to evaluate ahead) */
+  w->sinAngle = GP_SIN(o->angleTol);
   gp_refine_result out;
   out.scp = out.normal = gp_zero3();
   out.xi = out.eta = out.distance = GP_R(0.0);
@@ -644,7 +647,7 @@ GP_FN gp_refine_result gp_refine_newton_warm(const gp_refine_mesh* m, gp_refine_
   int conv = 0, stalled = 0, it = 0, idle = 0;
   gp_rf_iterate best = cur; /* the nearest iterate so far */
   for (; it < o->maxIterations; ++it) {
-    if ((conv = gp_rf_converged(m, &cur, hip, o))) break;
+    if ((conv = gp_rf_converged(m, w, &cur, hip, o))) break;
     const int s = gp_rf_step(m, w, &cur, hip, &D, Dmax, &out.transitions, &status);
     if (s == GP_RF_STEP_KKT) {
       conv = 1;
@@ -669,7 +672,7 @@ GP_FN gp_refine_result gp_refine_newton_warm(const gp_refine_mesh* m, gp_refine_
     stalled = s == GP_RF_STEP_STALLED;
     if (stalled) break;
   }
-  if (!conv) conv = gp_rf_converged(m, &cur, hip, o);
+  if (!conv) conv = gp_rf_converged(m, w, &cur, hip, o);
   if (cur.edge < 0) status &= ~(GP_TRACK_BOUNDARY | GP_TRACK_FOLD_EDGE);
   status |= conv ? GP_TRACK_CONVERGED : (stalled ? GP_TRACK_STALLED : GP_TRACK_MAX_ITER);
   out.scp = cur.p.pos;
