@@ -20,6 +20,7 @@
 #pragma OPENCL FP_CONTRACT OFF
 #define GP_FN static inline
 #define GP_FN_INLINE static inline
+#define GP_UNROLL
 #define GP_SQRT(x) sqrt(x)
 #define GP_COS(x) cos(x)
 #define GP_SIN(x) sin(x)
@@ -34,6 +35,11 @@ typedef uint gp_uint;
 /* the edge functions of the evaluation: inlined into it, so that a position-only evaluation
  * (gp_patch_eval_dom_d, deriv 0) drops their derivative parts and lanes stay in registers */
 #define GP_FN_INLINE static inline __attribute__((always_inline))
+/* before a short loop over a polygon's edges: unrolled completely where the edge count is a
+ * constant (gp_patch_eval_dom_n); not before loops with the edge functions inlined in them (a
+ * copy of those per edge: code too large for the instruction cache). OpenCL leaves it to the
+ * device compiler */
+#define GP_UNROLL _Pragma("GCC unroll 8")
 /* C++: overloadable names, so that a lane type (host/gp_lanes-inl.h) or a counting type (bench/)
  * can stand in for GP_REAL and bring its own sqrt, fabs, cos, sin, found by argument-dependent
  * lookup. For float and double they are std::sqrt etc. */

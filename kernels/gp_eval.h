@@ -6,14 +6,19 @@
 /* Fills d_k(X) = cos(pi/n) - X . m_k (Eq. 3) for the domain dom. Returns the smallest d_k
  * before clamping; d_k are clamped at 0 so that points on the boundary that rounding put a
  * hair outside evaluate as on it. */
-GP_FN GP_REAL gp_domain_distances(const gp_domain* dom, GP_REAL xi, GP_REAL eta, GP_REAL* d) {
+GP_FN_INLINE GP_REAL gp_domain_distances_n(const gp_domain* dom, const int n, GP_REAL xi, GP_REAL eta, GP_REAL* d) {
   GP_REAL dmin = GP_R(1.0);
-  for (int k = 0; k < dom->n; ++k) {
+  GP_UNROLL
+  for (int k = 0; k < n; ++k) {
     const GP_REAL dk = dom->apothem - (xi * dom->mx[k] + eta * dom->my[k]);
     dmin = GP_SEL(dk < dmin, dk, dmin);
     d[k] = GP_SEL(dk < GP_R(0.0), GP_R(0.0), dk);
   }
   return dmin;
+}
+
+GP_FN GP_REAL gp_domain_distances(const gp_domain* dom, GP_REAL xi, GP_REAL eta, GP_REAL* d) {
+  return gp_domain_distances_n(dom, dom->n, xi, eta, d);
 }
 
 /* Tolerance on d_k below zero for a point still counted as inside the domain. */
@@ -26,21 +31,17 @@ typedef struct {
   GP_STATUS status;               /* GP_ST_* bits */
 } gp_eval_result;
 
-/* Evaluates G(X) = sum_k w_k(X) r_k(u_k(X), v_k(X)) (Eq. 2-5) and, when deriv is non-zero, its
- * exact first derivatives and the unit normal at X = (xi, eta) in the domain dom of an n-gon
- * (gp_domain_of). recs: the patch's n edge records (record-major, private memory). deriv 0:
- * the position only (dxi, deta and normal zero; the same position bits: the same operations),
- * for callers that need no derivatives (the quality check's bulge samples); pass a constant,
- * so that the inlined derivative code drops out. Points outside the domain return
- * GP_ST_OUTSIDE and zeros. */
-GP_FN gp_eval_result gp_patch_eval_dom_d(const gp_domain* dom, const GP_REAL* recs, int mode, GP_REAL xi, GP_REAL eta,
-                                         int deriv) {
-  const int n = dom->n;
+/* The body of gp_patch_eval_dom_d for an n-gon (n = dom->n), inlined where n is a constant so
+ * that the short loops over the edges (distances, edge parameters, weights) unroll and their
+ * index arithmetic folds (the same operations in the same order: the same bits as with n
+ * unknown). */
+GP_FN_INLINE gp_eval_result gp_patch_eval_dom_n(const gp_domain* dom, const int n, const GP_REAL* recs, int mode,
+                                                GP_REAL xi, GP_REAL eta, int deriv) {
   gp_eval_result out;
   out.pos = out.dxi = out.deta = out.normal = gp_zero3();
   out.status = 0u;
   GP_REAL d[GP_MAX_N];
-  const GP_REAL dmin = gp_domain_distances(dom, xi, eta, d);
+  const GP_REAL dmin = gp_domain_distances_n(dom, n, xi, eta, d);
   /* the domain lies in the unit disc; this also rejects NaN and Inf */
   const GP_MASK outside = !(GP_FABS(xi) <= GP_R(1.5) && GP_FABS(eta) <= GP_R(1.5)) || dmin < -GP_DOMAIN_TOL;
   if (GP_ALL(outside)) {
@@ -50,12 +51,14 @@ GP_FN gp_eval_result gp_patch_eval_dom_d(const gp_domain* dom, const GP_REAL* re
   /* u_k = d_{k-1} / (d_{k-1} + d_{k+1}) is also 1 - v_{k+1}: one edge parameter t_k per edge
    * serves corners k and k+1. Gradients: grad d_j = -m_j. */
   GP_REAL t[GP_MAX_N], tx[GP_MAX_N], ty[GP_MAX_N];
+  GP_UNROLL
   for (int k = 0; k < n; ++k) {
     const int km = k == 0 ? n - 1 : k - 1, kp = k + 1 == n ? 0 : k + 1;
     const GP_REAL den = d[km] + d[kp];
     /* den = 0 only where both corners using this edge have zero weight: t = 0 there */
     const GP_MASK pos = den > GP_R(0.0);
     t[k] = GP_SEL(pos, d[km] / den, GP_R(0.0));
+    tx[k] = ty[k] = GP_R(0.0); /* set below where derivatives are wanted (deriv 0 never reads them) */
     if (!deriv) continue;
     const GP_REAL id2 = GP_R(1.0) / (den * den);
     /* d(a/(a+b)) = (b da - a db) / (a+b)^2 */
@@ -65,6 +68,7 @@ GP_FN gp_eval_result gp_patch_eval_dom_d(const gp_domain* dom, const GP_REAL* re
   /* W_k = prod_{j != k-1, k} d_j^2 and its gradient; S = sum W (Eq. 5). */
   GP_REAL W[GP_MAX_N], Wx[GP_MAX_N], Wy[GP_MAX_N];
   GP_REAL S = GP_R(0.0), Sx = GP_R(0.0), Sy = GP_R(0.0);
+  GP_UNROLL
   for (int k = 0; k < n; ++k) {
     GP_REAL w = GP_R(1.0), wx = GP_R(0.0), wy = GP_R(0.0);
     int j = k;
@@ -164,6 +168,29 @@ GP_FN gp_eval_result gp_patch_eval_dom_d(const gp_domain* dom, const GP_REAL* re
     out.status = GP_SEL(outside, (GP_STATUS)GP_ST_OUTSIDE, out.status);
   }
   return out;
+}
+
+/* Evaluates G(X) = sum_k w_k(X) r_k(u_k(X), v_k(X)) (Eq. 2-5) and, when deriv is non-zero, its
+ * exact first derivatives and the unit normal at X = (xi, eta) in the domain dom of an n-gon
+ * (gp_domain_of). recs: the patch's n edge records (record-major, private memory). deriv 0:
+ * the position only (dxi, deta and normal zero; the same position bits: the same operations),
+ * for callers that need no derivatives (the quality check's bulge samples); pass a constant,
+ * so that the inlined derivative code drops out. Points outside the domain return
+ * GP_ST_OUTSIDE and zeros. Triangles and quads run the body with n a constant (the short loops
+ * unrolled), other polygons with n as read. Measured (callgrind, AVX2 lanes, double): 4% fewer
+ * instructions per tracking step, 6% per quad built with its quality check, 1-1.5% more for n = 6
+ * and 8; unrolling the per-edge loops too saved another 1.5% but made each instance about 30 times
+ * larger (up to 360 KB) and the sweep probe's instruction-cache misses 17 times as many. */
+GP_FN gp_eval_result gp_patch_eval_dom_d(const gp_domain* dom, const GP_REAL* recs, int mode, GP_REAL xi, GP_REAL eta,
+                                         int deriv) {
+  switch (dom->n) {
+    case 3:
+      return gp_patch_eval_dom_n(dom, 3, recs, mode, xi, eta, deriv);
+    case 4:
+      return gp_patch_eval_dom_n(dom, 4, recs, mode, xi, eta, deriv);
+    default:
+      return gp_patch_eval_dom_n(dom, dom->n, recs, mode, xi, eta, deriv);
+  }
 }
 
 /* gp_patch_eval_dom_d with the derivatives and the normal. */
