@@ -229,8 +229,24 @@ PatchNearest refineCandidates(const SurfaceCandidate* c, int n, double spacing, 
   auto matches = [&](int i) {
     return firstStart ? c[i].face == firstStart->face && (c[i].X - firstStart->X).norm() < spacing : i == 0;
   };
-  for (int i = 0; i < n; ++i) {
-    if (c[i].lower >= q.nearest.distance) break;
+  // the order: candidates of a PatchSurface by their triangle's distance (ties: as given), so that
+  // the triangle under the HIP's foot point comes before a neighbour whose wider error bound
+  // gave it a lower bound below its own (sorted by lower bound, that neighbour's refinement ran
+  // first and a seed over the foot point's triangle could not stand in for it); others (cells,
+  // no distance) by lower bound
+  const bool byDistance = surface && n <= static_cast<int>(PatchSurface::kMaxCandidates);
+  int order[PatchSurface::kMaxCandidates];
+  for (int k = 0; byDistance && k < n; ++k) {  // insertion sort: a handful of candidates
+    int at = k;
+    for (; at > 0 && c[order[at - 1]].distance > c[k].distance; --at) order[at] = order[at - 1];
+    order[at] = k;
+  }
+  for (int k = 0; k < n; ++k) {
+    const int i = byDistance ? order[k] : k;
+    if (c[i].lower >= q.nearest.distance) {
+      if (byDistance) continue;  // a later one may still have a lower bound below it
+      break;
+    }
     if (near(c[i].face, c[i].X)) continue;
     if (pending && matches(i)) {
       pending = false;

@@ -60,9 +60,13 @@ struct PatchNearest {
   int candidates = 0, refined = 0;
 };
 
-/// Refines the candidates c[0..n) (sorted by lower bound, PatchSurface::candidates) in order until
-/// the next lower bound is not below the nearest distance found, skipping a start within
-/// `spacing` (domain units) of an earlier start or result on the same face; first, when given, is
+/// Refines the candidates c[0..n) (sorted by lower bound: PatchSurface::candidates, or lazy
+/// cells) whose lower bound is below the nearest distance found so far, skipping a start within
+/// `spacing` (domain units) of an earlier start or result on the same face. The order: with a
+/// surface, by the distance to the candidate's triangle (ties as given), so that the triangle
+/// under the HIP's foot point comes before a neighbour whose wider error bound put it first by
+/// lower bound; without one (cells, no distance), as given, stopping at the first lower bound not
+/// below the nearest distance. first, when given, is
 /// a refinement already done: from c[0] when firstStart is null (the OpenCL sweep), else from
 /// firstStart's (face, X) (a seed: PatchStepHint); a seed stands in for the first candidate
 /// refined whose start lies within `spacing` of the seed's on the same face, when it converged
