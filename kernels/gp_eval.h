@@ -255,7 +255,7 @@ GP_FN GP_STATUS gp_patch_quality(int n, const GP_REAL* recs, int mode, GP_REAL* 
         /* the fold test needs the normal (ring 0 inside the edge); the bulge, positions only */
         const int normal = ring == 0 && i > 0 && i < GP_Q_STEPS;
         const gp_eval_result g =
-            normal ? gp_patch_eval_dom_d(dom, recs, mode, px, py, 1) : gp_patch_eval_dom_d(dom, recs, mode, px, py, 0);
+            normal ? gp_patch_eval_dom_n(dom, n, recs, mode, px, py, 1) : gp_patch_eval_dom_n(dom, n, recs, mode, px, py, 0);
         const gp_vec3 q = g.pos;
         GP_REAL out = GP_R(0.0);
         out = gp_max(out, gp_max(lo.x - q.x, q.x - hi.x));
