@@ -178,9 +178,9 @@ GP_FN_INLINE gp_eval_result gp_patch_eval_dom_n(const gp_domain* dom, const int 
  * so that the inlined derivative code drops out. Points outside the domain return
  * GP_ST_OUTSIDE and zeros. Triangles and quads run the body with n a constant (the short loops
  * unrolled), other polygons with n as read. Measured (callgrind, AVX2 lanes, double): 4% fewer
- * instructions per tracking step, 6% per quad built with its quality check, 1-1.5% more for n = 6
- * and 8; unrolling the per-edge loops too saved another 1.5% but made each instance about 30 times
- * larger (up to 360 KB) and the sweep probe's instruction-cache misses 17 times as many. */
+ * instructions per tracking step and per 3-lane group of the refinement; unrolling the per-edge
+ * loops too saved another 1.5% but made each instance about 30 times larger (up to 360 KB) and
+ * the sweep probe's instruction-cache misses 17 times as many. */
 GP_FN gp_eval_result gp_patch_eval_dom_d(const gp_domain* dom, const GP_REAL* recs, int mode, GP_REAL xi, GP_REAL eta,
                                          int deriv) {
   switch (dom->n) {
