@@ -3,10 +3,10 @@
  * Part of gp_patch.h (after gp_tables.h); no include guard on purpose. Branch-free on
  * per-point data (see gp_vec.h, "Lanes"). */
 
-/* Fills d_k(X) = cos(pi/n) - X . m_k (Eq. 3) for the domain dom. Returns the smallest d_k
+/* Fills d_k(X) = cos(pi/n) - X . m_k (Eq. 3) for the domain dom of an n-gon. Returns the smallest d_k
  * before clamping; d_k are clamped at 0 so that points on the boundary that rounding put a
  * hair outside evaluate as on it. */
-GP_FN_INLINE GP_REAL gp_domain_distances_n(const gp_domain* dom, const int n, GP_REAL xi, GP_REAL eta, GP_REAL* d) {
+GP_FN_INLINE GP_REAL gp_domain_distances(const gp_domain* dom, const int n, GP_REAL xi, GP_REAL eta, GP_REAL* d) {
   GP_REAL dmin = GP_R(1.0);
   GP_UNROLL
   for (int k = 0; k < n; ++k) {
@@ -15,10 +15,6 @@ GP_FN_INLINE GP_REAL gp_domain_distances_n(const gp_domain* dom, const int n, GP
     d[k] = GP_SEL(dk < GP_R(0.0), GP_R(0.0), dk);
   }
   return dmin;
-}
-
-GP_FN GP_REAL gp_domain_distances(const gp_domain* dom, GP_REAL xi, GP_REAL eta, GP_REAL* d) {
-  return gp_domain_distances_n(dom, dom->n, xi, eta, d);
 }
 
 /* Tolerance on d_k below zero for a point still counted as inside the domain. */
@@ -41,7 +37,7 @@ GP_FN_INLINE gp_eval_result gp_patch_eval_dom_n(const gp_domain* dom, const int 
   out.pos = out.dxi = out.deta = out.normal = gp_zero3();
   out.status = 0u;
   GP_REAL d[GP_MAX_N];
-  const GP_REAL dmin = gp_domain_distances_n(dom, n, xi, eta, d);
+  const GP_REAL dmin = gp_domain_distances(dom, n, xi, eta, d);
   /* the domain lies in the unit disc; this also rejects NaN and Inf */
   const GP_MASK outside = !(GP_FABS(xi) <= GP_R(1.5) && GP_FABS(eta) <= GP_R(1.5)) || dmin < -GP_DOMAIN_TOL;
   if (GP_ALL(outside)) {
@@ -254,8 +250,8 @@ GP_FN GP_STATUS gp_patch_quality(int n, const GP_REAL* recs, int mode, GP_REAL* 
         gp_quality_sample(dom, k, i, ring, &s, &px, &py);
         /* the fold test needs the normal (ring 0 inside the edge); the bulge, positions only */
         const int normal = ring == 0 && i > 0 && i < GP_Q_STEPS;
-        const gp_eval_result g =
-            normal ? gp_patch_eval_dom_n(dom, n, recs, mode, px, py, 1) : gp_patch_eval_dom_n(dom, n, recs, mode, px, py, 0);
+        const gp_eval_result g = normal ? gp_patch_eval_dom_n(dom, n, recs, mode, px, py, 1)
+                                        : gp_patch_eval_dom_n(dom, n, recs, mode, px, py, 0);
         const gp_vec3 q = g.pos;
         GP_REAL out = GP_R(0.0);
         out = gp_max(out, gp_max(lo.x - q.x, q.x - hi.x));
