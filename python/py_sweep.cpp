@@ -111,7 +111,7 @@ pyb::dict sweep(const PyCache& c, const std::string& depths, const std::vector<s
   cfg.stiffness = stiffness;
   cfg.sampleOn = sampleOn;
   cfg.backend = toString(c.backend);
-  in.depths = parseDepthList(depths);
+  in.depths = parseDepthList(depths, "depths");
   std::string dir;
   bool temporary = output.is_none();
   if (temporary) {

@@ -79,6 +79,7 @@ TEST_F(CliContract, ExitStatusPerSubcommandAndKindOfMistake) {
   const std::string garbage = file("garbage.sfcache", std::string(300, 'z'));
   const std::string badObj = file("bad.obj", "v 0 0 0\nv 1 0 0\nf 1 2 9\n");
   const std::string badScene = file("scene.json", R"({"objects": [{"mesh": "none.obj"}]})");
+  const std::string far = file("far.csv", "x,y,z\n0,0,0\n1e200,0,0\n");
   struct Case {
     std::string args;
     int status;
@@ -110,6 +111,7 @@ TEST_F(CliContract, ExitStatusPerSubcommandAndKindOfMistake) {
       {"sweep --mesh " + sphere + " --depth 2% --methods patch,nope -o " + file("s"), 2, "nope"},
       {"sweep --mesh " + sphere + " --depth 2% --analytic cube:1 -o " + file("s"), 2, "cube:1"},
       {"sweep --mesh " + sphere + " --depth 2% --checkpoint-every 0 -o " + file("s"), 2, "--checkpoint-every"},
+      {"sweep --mesh " + sphere + " --depth 2% --trajectory-step -1 -o " + file("s"), 2, "--trajectory-step: '-1'"},
       {"sweep-merge -o " + file("m"), 2, "DIRS is required"},
       {"generate torus --R 1 --r 2 -o " + file("t.obj"), 2, "0 < r < R"},
       // 1: a file or its values
@@ -125,6 +127,11 @@ TEST_F(CliContract, ExitStatusPerSubcommandAndKindOfMistake) {
       {"loop --mesh " + sphere + " --device replay:" + file("none.csv") + " --duration 0.05", 1, "cannot open"},
       {"loop --scene " + badScene + " --duration 0.05", 1, "/objects/0/mesh"},
       {"sweep --cache " + sphere + " --depth 2% -o " + file("s"), 1, "not a patch cache"},
+      // a trajectory too long for its step: refused before any probe, naming the file
+      {"sweep --cache " + c + " --depth 2% --samples 10 --trajectory " + far + " -o " + file("s"), 1,
+       "far.csv: the polyline is 1e+200 m long"},
+      {"sweep --cache " + c + " --depth 2% --samples 10 --trajectory-step 1e-12 -o " + file("s"), 1,
+       "the default trajectory (a section loop): the polyline is"},
       {"sweep-merge " + file("nodir") + " -o " + file("m"), 1, "sweep.json: cannot open"},
   };
   std::set<std::string> commands;
@@ -136,7 +143,7 @@ TEST_F(CliContract, ExitStatusPerSubcommandAndKindOfMistake) {
     EXPECT_EQ(r.out, "") << "nothing on stdout: " << k.args;
     commands.insert(k.args.substr(0, k.args.find(' ')));
   }
-  EXPECT_EQ(cases.size(), 38u);
+  EXPECT_EQ(cases.size(), 41u);
   EXPECT_EQ(commands.size(), 10u);  // "", frobnicate, and the 8 subcommands
   for (const char* help : {"--help", "cache build --help", "trace --help", "loop --help", "sweep --help"})
     EXPECT_EQ(run(help).status, 0) << help;

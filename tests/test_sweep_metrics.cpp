@@ -136,7 +136,15 @@ TEST(SweepParse, DepthsShardsTags) {
   EXPECT_EQ(d[1].metres(0.5), 0.004);
   EXPECT_EQ(depthTag("2%"), "2pct");
   EXPECT_EQ(depthTag("0.004"), "0.004m");
-  for (const char* bad : {"", "x", "-1", "0", "2%%", "1e400"}) EXPECT_THROW(parseDepthList(bad), InputError) << bad;
+  for (const char* bad : {"", "x", "-1", "0", "2%%", "1e400"}) {
+    EXPECT_THROW(parseDepthList(bad), InputError) << bad;
+    try {  // the message names the option the text came from
+      parseDepthList(bad, "--trajectory-step");
+      ADD_FAILURE() << bad;
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind("--trajectory-step: ", 0), 0u) << e.what();
+    }
+  }
   int i = 0, n = 0;
   parseShard("3/8", i, n);
   EXPECT_EQ(i, 3);
@@ -164,6 +172,36 @@ TEST(SweepParse, ResamplePolyline) {
     const Eigen::Vector3d want = s <= 1 ? Eigen::Vector3d(s, 0, 0) : Eigen::Vector3d(1, s - 1, 0);
     EXPECT_LT((r[i] - want).norm(), 1e-12) << i;
   }
+}
+
+// Every polyline below and at the resampling limit resamples to about length / step + 1 points;
+// above it (far points, a tiny step, coordinates whose squared distance overflows) the error
+// names the length, the step and the count before anything is allocated.
+TEST(SweepParse, ResampleLimit) {
+  const std::vector<Eigen::Vector3d> line = {{0, 0, 0}, {3, 0, 0}, {3, 4, 0}};
+  EXPECT_DOUBLE_EQ(polylineLength(line), 7.0);
+  EXPECT_DOUBLE_EQ(polylineLength({{0, 0, 0}, {1e200, 0, 0}}), 1e200);  // no overflow to inf
+  EXPECT_EQ(polylineLength({{1, 2, 3}}), 0.0);
+  int checked = 0;
+  for (const double step : {7.0, 0.5, 1e-3, 7.0 / kMaxResampledPoints}) {
+    EXPECT_TRUE(resampleLimitError(line, step, "f.csv").empty()) << step;
+    if (step < 1e-5) continue;  // 10^7 points: the bound, not resampled here
+    const auto r = resamplePolyline(line, step);
+    EXPECT_NEAR(static_cast<double>(r.size()), std::floor(7.0 / step) + 1, 1.0) << step;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 3);
+  const std::vector<std::vector<Eigen::Vector3d>> tooLong = {
+      {{0, 0, 0}, {1e200, 0, 0}}, {{-1e308, 0, 0}, {1e308, 0, 0}}, {{0, 0, 0}, {1, 0, 0}, {0, 0, 0}, {1e6, 0, 0}}};
+  for (const auto& pts : tooLong) {
+    const std::string e = resampleLimitError(pts, 1e-3, "f.csv");
+    EXPECT_EQ(e.rfind("f.csv: the polyline is ", 0), 0u) << e;
+    EXPECT_NE(e.find("more than 1e+07"), std::string::npos) << e;
+    EXPECT_THROW(resamplePolyline(pts, 1e-3), InputError);
+  }
+  EXPECT_FALSE(resampleLimitError(line, 7.0 / kMaxResampledPoints / 2, "f.csv").empty());
+  EXPECT_TRUE(resamplePolyline(line, 0).empty());
+  EXPECT_TRUE(resamplePolyline(line, std::nan("")).empty());
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <limits>
 
@@ -77,9 +78,23 @@ using Path = std::pair<std::string, std::vector<Eigen::Vector3d>>;
 /// The trajectories of a sweep: the files (named by stem), else the default section loop.
 std::vector<Path> trajectoryPaths(const SweepConfig& c, const PatchCache& cache) {
   std::vector<Path> paths;
-  for (const auto& f : c.trajectories) paths.emplace_back(std::filesystem::path(f).stem().string(), readPointsCsv(f));
+  // every series is taken at the step and at half of it (the step's refinement check): the
+  // resampling's bound holds for the half step, checked here, before any probe runs
+  const double finest = c.trajectoryStep / 2;
+  auto check = [&](const std::vector<Eigen::Vector3d>& pts, const std::string& what) {
+    const std::string e = resampleLimitError(pts, finest, what);
+    if (e.empty()) return;
+    char step[64];
+    std::snprintf(step, sizeof step, "%.6g", c.trajectoryStep);
+    throw InputError(e + " (--trajectory-step " + step + " m: the series are taken at half of it too)");
+  };
+  for (const auto& f : c.trajectories) {
+    paths.emplace_back(std::filesystem::path(f).stem().string(), readPointsCsv(f));
+    check(paths.back().second, f);
+  }
   if (c.trajectories.empty()) {
     auto loop = defaultTrajectory(cache, c.level);
+    check(loop, "the default trajectory (a section loop)");
     if (loop.size() >= 2) paths.emplace_back("default", std::move(loop));
   }
   return paths;

@@ -64,7 +64,7 @@ std::string trim(const std::string& s) {
 
 }  // namespace
 
-std::vector<DepthSpec> parseDepthList(const std::string& text) {
+std::vector<DepthSpec> parseDepthList(const std::string& text, const std::string& option) {
   std::vector<DepthSpec> out;
   std::stringstream ss(text);
   std::string item;
@@ -83,10 +83,10 @@ std::vector<DepthSpec> parseDepthList(const std::string& text) {
       used = 0;
     }
     if (num.empty() || used != num.size() || !std::isfinite(d.value) || !(d.value > 0))
-      throw InputError("--depth: '" + d.label + "' is not a positive depth (metres, or percent like 2%)");
+      throw InputError(option + ": '" + d.label + "' is not a positive length (metres, or percent like 2%)");
     out.push_back(d);
   }
-  if (out.empty()) throw InputError("--depth: empty list");
+  if (out.empty()) throw InputError(option + ": empty list");
   return out;
 }
 

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <string>
 #include <unordered_map>
 
 #include <smoothforce/base/csv_reader.h>
@@ -30,9 +31,28 @@ void writePointsCsv(const std::vector<Eigen::Vector3d>& pts, const std::string& 
   if (std::fclose(f) != 0 || bad) throw InputError(path + ": write failed");
 }
 
+double polylineLength(const std::vector<Eigen::Vector3d>& pts) {
+  double length = 0;
+  for (size_t i = 0; i + 1 < pts.size(); ++i) length += (pts[i + 1] - pts[i]).stableNorm();  // no overflow below 1e308
+  return length;
+}
+
+std::string resampleLimitError(const std::vector<Eigen::Vector3d>& pts, double step, const std::string& what) {
+  const double length = polylineLength(pts);
+  if (!(step > 0) || length / step <= kMaxResampledPoints) return {};
+  char msg[256];
+  std::snprintf(msg, sizeof msg,
+                ": the polyline is %.6g m long; resampled every %.6g m it would take %.3g points, more than %.0e "
+                "(a larger step, or a shorter polyline)",
+                length, step, length / step, kMaxResampledPoints);
+  return what + msg;
+}
+
 std::vector<Eigen::Vector3d> resamplePolyline(const std::vector<Eigen::Vector3d>& pts, double step) {
   std::vector<Eigen::Vector3d> out;
   if (pts.empty() || !(step > 0)) return out;
+  if (const std::string e = resampleLimitError(pts, step, "trajectory"); !e.empty()) throw InputError(e);
+  out.reserve(static_cast<size_t>(polylineLength(pts) / step) + 2);
   out.push_back(pts[0]);
   double carried = 0;  // arc length since the last output point
   for (size_t i = 0; i + 1 < pts.size(); ++i) {

@@ -87,7 +87,7 @@ void sweepInputs(const SweepArgs& a, SweepInputs& in) {
   c.sampleOn = a.sampleOn;
   parseShard(a.shard, in.shardIndex, in.shardCount);
   if (!a.depth.empty()) in.depths = parseDepthList(a.depth);
-  if (!a.trajectoryStep.empty() && parseDepthList(a.trajectoryStep).size() != 1)
+  if (!a.trajectoryStep.empty() && parseDepthList(a.trajectoryStep, "--trajectory-step").size() != 1)
     throw UsageError("--trajectory-step: one value");
   if (!(a.checkpointEvery > 0)) throw UsageError("--checkpoint-every: expected a time > 0 s");
   in.hipsFile = a.hips;
@@ -144,7 +144,7 @@ void runSweepCommand(const SweepArgs& a) {
   in.opencl.device = a.patch.clDevice;
   in.cache = std::make_shared<const PatchCache>(std::move(src.cache));
   if (!a.trajectoryStep.empty())
-    c.trajectoryStep = parseDepthList(a.trajectoryStep)[0].metres(boundingDiagonal(*in.cache));
+    c.trajectoryStep = parseDepthList(a.trajectoryStep, "--trajectory-step")[0].metres(boundingDiagonal(*in.cache));
   const int threads = a.patch.backendKind() == Backend::Serial ? 1 : a.patch.threads;
 
   SweepWriter writer(a.output);

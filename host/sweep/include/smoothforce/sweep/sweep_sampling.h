@@ -29,8 +29,8 @@ struct DepthSpec {
   double metres(double diagonal) const { return relative ? value * 0.01 * diagonal : value; }
 };
 /// Parses "2%,4%" or "0.002,0.004"; throws InputError for an empty list, a malformed or a
-/// non-positive value.
-std::vector<DepthSpec> parseDepthList(const std::string& text);
+/// non-positive value, naming `option` (the command-line option or field the text came from).
+std::vector<DepthSpec> parseDepthList(const std::string& text, const std::string& option = "--depth");
 /// A file-name-safe form of a depth label: "2%" -> "2pct", "0.002" -> "0.002m".
 std::string depthTag(const std::string& label);
 
@@ -78,7 +78,18 @@ std::vector<Eigen::Vector3d> readPointsCsv(const std::string& path);
 /// Writes `x,y,z` rows with %.17g. Throws InputError on failure.
 void writePointsCsv(const std::vector<Eigen::Vector3d>& pts, const std::string& path);
 
-/// Points every `step` of arc length along the polyline, starting at its first point.
+/// The most points resamplePolyline makes of one polyline: 10^7 (at 1 kHz, 2.8 hours of a
+/// device's motion; about 1 GB of samples in a sweep).
+constexpr double kMaxResampledPoints = 1e7;
+/// Arc length of the polyline, m (each segment's length without overflow: stableNorm).
+double polylineLength(const std::vector<Eigen::Vector3d>& pts);
+/// The InputError message for a polyline (named `what`: a file, the default loop) whose
+/// resampling every `step` m would make more than kMaxResampledPoints points; empty when it
+/// would not.
+std::string resampleLimitError(const std::vector<Eigen::Vector3d>& pts, double step, const std::string& what);
+/// Points every `step` (m, > 0; none otherwise) of arc length along the polyline, starting at
+/// its first point: about polylineLength / step + 1. Throws InputError (resampleLimitError)
+/// where that would be more than kMaxResampledPoints.
 std::vector<Eigen::Vector3d> resamplePolyline(const std::vector<Eigen::Vector3d>& pts, double step);
 
 /// A default trajectory: the longest loop of the section of the level-`level` tessellation by
