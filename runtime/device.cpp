@@ -67,6 +67,7 @@ std::string PathDevice::describe() const {
 
 Trajectory readTrajectoryCsv(const std::string& path) {
   const NumericCsv csv = readNumericCsv(path, {"t", "x", "y", "z"}, /*headerRequired=*/false);
+  requirePositions(csv, path, 1);
   Trajectory tr;
   for (size_t r = 0; r < csv.rows(); ++r) {
     if (!tr.t.empty() && !(csv.at(r, 0) > tr.t.back())) {

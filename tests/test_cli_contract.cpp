@@ -79,7 +79,8 @@ TEST_F(CliContract, ExitStatusPerSubcommandAndKindOfMistake) {
   const std::string garbage = file("garbage.sfcache", std::string(300, 'z'));
   const std::string badObj = file("bad.obj", "v 0 0 0\nv 1 0 0\nf 1 2 9\n");
   const std::string badScene = file("scene.json", R"({"objects": [{"mesh": "none.obj"}]})");
-  const std::string far = file("far.csv", "x,y,z\n0,0,0\n1e200,0,0\n");
+  const std::string far = file("far.csv", "x,y,z\n0,0,0\n1e14,0,0\n");
+  const std::string beyond = file("beyond.csv", "x,y,z\n0,0,0\n1e200,0,0\n");
   struct Case {
     std::string args;
     int status;
@@ -129,7 +130,10 @@ TEST_F(CliContract, ExitStatusPerSubcommandAndKindOfMistake) {
       {"sweep --cache " + sphere + " --depth 2% -o " + file("s"), 1, "not a patch cache"},
       // a trajectory too long for its step: refused before any probe, naming the file
       {"sweep --cache " + c + " --depth 2% --samples 10 --trajectory " + far + " -o " + file("s"), 1,
-       "far.csv: the polyline is 1e+200 m long"},
+       "far.csv: the polyline is 1e+14 m long"},
+      {"sweep --cache " + c + " --depth 2% --samples 10 --trajectory " + beyond + " -o " + file("s"), 1,
+       "beyond.csv:3: x = 1e+200 m is beyond the coordinate range"},
+      {"trace --cache " + c + " --hips " + beyond + " -o " + o, 1, "beyond.csv:3: x = 1e+200 m"},
       {"sweep --cache " + c + " --depth 2% --samples 10 --trajectory-step 1e-12 -o " + file("s"), 1,
        "the default trajectory (a section loop): the polyline is"},
       {"sweep-merge " + file("nodir") + " -o " + file("m"), 1, "sweep.json: cannot open"},
@@ -143,7 +147,7 @@ TEST_F(CliContract, ExitStatusPerSubcommandAndKindOfMistake) {
     EXPECT_EQ(r.out, "") << "nothing on stdout: " << k.args;
     commands.insert(k.args.substr(0, k.args.find(' ')));
   }
-  EXPECT_EQ(cases.size(), 41u);
+  EXPECT_EQ(cases.size(), 43u);
   EXPECT_EQ(commands.size(), 10u);  // "", frobnicate, and the 8 subcommands
   for (const char* help : {"--help", "cache build --help", "trace --help", "loop --help", "sweep --help"})
     EXPECT_EQ(run(help).status, 0) << help;

@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <iterator>
 #include <string_view>
 
+#include <smoothforce/base/coordinate_range.h>
 #include <smoothforce/base/error.h>
 
 namespace sf {
@@ -62,6 +64,17 @@ std::string csvDisplayName(const std::string& path) { return path == "-" ? "<std
 
 void throwCsvError(const std::string& path, int line, const std::string& what) {
   throw InputError(path + ":" + std::to_string(line) + ": " + what);
+}
+
+void requirePositions(const NumericCsv& t, const std::string& path, size_t first) {
+  for (size_t r = 0; r < t.rows(); ++r)
+    for (size_t c = first; c < first + 3 && c < t.columns.size(); ++c)
+      if (!(std::fabs(t.at(r, c)) <= kMaxCoordinate)) {
+        char v[32];
+        std::snprintf(v, sizeof v, "%.6g", t.at(r, c));
+        throwCsvError(csvDisplayName(path), t.line[r],
+                      t.columns[c] + " = " + v + " m is beyond the coordinate range +-1e15 m");
+      }
 }
 
 NumericCsv readNumericCsv(const std::string& path, const std::vector<std::string>& columns, bool headerRequired) {

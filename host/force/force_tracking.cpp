@@ -7,6 +7,7 @@
 #include <limits>
 #include <string>
 
+#include <smoothforce/base/coordinate_range.h>
 #include <smoothforce/patch/lazy_patches.h>
 #include <smoothforce/query/embree_scene.h>
 #include <smoothforce/query/lazy_surface.h>
@@ -120,7 +121,7 @@ class PatchTracker final : public ForceRenderer {
 
   ForceSample step(const Eigen::Vector3d& hip) noexcept override {
     ForceSample s;
-    if (lazySurface_ && !state_.inContact && hip.allFinite()) {  // patches built lazily: faces chosen by their boxes
+    if (lazySurface_ && !state_.inContact && inCoordinateRange(hip)) {  // patches built lazily: faces chosen by their boxes
       s.scp = hip;
       s.status = SF_TRACK_GLOBAL;
       lazyGlobalStep(*lazySurface_, *scene_, *cache_, refiner_, hip, options_, lambda_.data(), state_, s);
@@ -303,7 +304,7 @@ bool beginPatchStep(const PolygonScene& scene, const PatchSurface* surface, cons
   s = ForceSample{};
   s.scp = hip;
   start = PatchStepStart{};
-  if (!hip.allFinite()) {
+  if (!inCoordinateRange(hip)) {  // not finite, or beyond the queries' range
     state.inContact = false;
     s.status = SF_TRACK_BAD_HIP;
     return false;

@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <cmath>
 
+#include <smoothforce/base/coordinate_range.h>
 #include <smoothforce/force/force_tracking.h>
 #include <smoothforce/query/mean_value.h>
 
@@ -99,7 +100,7 @@ bool GodObjectRenderer::nearestIfInside(const Eigen::Vector3d& hip, Eigen::Vecto
 ForceSample GodObjectRenderer::step(const Eigen::Vector3d& hip) noexcept {
   ForceSample s;
   s.scp = hip;
-  if (!hip.allFinite()) {
+  if (!inCoordinateRange(hip)) {  // not finite, or beyond the queries' range
     reset();
     s.status = SF_TRACK_BAD_HIP;
     return s;

@@ -10,6 +10,7 @@
 #include <string_view>
 #include <system_error>
 
+#include <smoothforce/base/coordinate_range.h>
 #include <smoothforce/mesh/mesh.h>
 
 namespace sf::detail {
@@ -145,6 +146,12 @@ struct LineCtx {
   double finite(std::string_view tok, const char* what) const {
     const double v = number(tok, what);
     if (!std::isfinite(v)) fail("non-finite value " + quoted(tok) + " for " + what);
+    return v;
+  }
+  /// A vertex coordinate: finite and within kMaxCoordinate (coordinate_range.h).
+  double coordinate(std::string_view tok, const char* what) const {
+    const double v = finite(tok, what);
+    if (!(std::fabs(v) <= kMaxCoordinate)) fail(std::string(what) + " " + quoted(tok) + " is beyond the coordinate range +-1e15");
     return v;
   }
   int64_t integer(std::string_view tok, const char* what) const {

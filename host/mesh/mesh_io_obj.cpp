@@ -56,7 +56,7 @@ struct ObjState {
 void readVertex(const LineCtx& c, Tokens& t, PolygonMesh& m) {
   Eigen::Vector3d p;
   static const char* axes[3] = {"x coordinate", "y coordinate", "z coordinate"};
-  for (int a = 0; a < 3; ++a) p[a] = c.finite(c.need(t, axes[a]), axes[a]);
+  for (int a = 0; a < 3; ++a) p[a] = c.coordinate(c.need(t, axes[a]), axes[a]);
   std::string_view tok;
   int extra = 0;
   while (t.next(tok)) {  // w, or r g b [a]

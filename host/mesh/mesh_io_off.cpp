@@ -84,7 +84,7 @@ PolygonMesh readOff(const std::string& path, std::string_view data) {
     c.line = lines.lineNo();
     Tokens t(content);
     Eigen::Vector3d p, n;
-    for (int a = 0; a < 3; ++a) p[a] = c.finite(c.need(t, axes[a]), axes[a]);
+    for (int a = 0; a < 3; ++a) p[a] = c.coordinate(c.need(t, axes[a]), axes[a]);
     if (h.normals) {
       for (int a = 0; a < 3; ++a) n[a] = c.finite(c.need(t, naxes[a]), naxes[a]);
       m.fileNormals.push_back(n);

@@ -294,6 +294,8 @@ PolygonMesh readPly(const std::string& path, std::string_view data) {
         if (!prop.list) {
           const double v = src.scalar(prop.type, prop.name);
           if (r >= 0 && !std::isfinite(v)) src.fail("non-finite " + prop.name + " in vertex " + std::to_string(i));
+          if (r >= 0 && r < 3 && !(std::fabs(v) <= kMaxCoordinate))
+            src.fail(prop.name + " in vertex " + std::to_string(i) + " is beyond the coordinate range +-1e15");
           if (r >= 0) (r < 3 ? m.positions[i][r] : m.fileNormals[i][r - 3]) = v;
           continue;
         }

@@ -11,6 +11,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <smoothforce/base/coordinate_range.h>
+
 #include "embree_point_query.h"
 
 namespace sf {
@@ -144,7 +146,7 @@ PolygonScene::~PolygonScene() = default;
 
 NearestPolygonPoint PolygonScene::nearest(const Eigen::Vector3d& p) const noexcept {
   NearestPolygonPoint out;
-  if (cache_.numFaces() == 0 || !p.allFinite()) return out;
+  if (cache_.numFaces() == 0 || !inCoordinateRange(p)) return out;  // beyond: Embree refuses the point
   PointState st{&facets_, p, p, std::numeric_limits<double>::infinity(), -1, impl_->pad};
   embreePointQuery(impl_->scene, p, &st);
   if (st.facet < 0) return out;
@@ -161,7 +163,7 @@ PolygonCrossing segmentQuery(const PolygonScene::Impl& impl, const PolygonFacets
                              const Eigen::Vector3d& b, const int* exclude, int nExclude, bool bothSides,
                              bool through) noexcept {
   PolygonCrossing out;
-  if (facets.numFaces() == 0 || !a.allFinite() || !b.allFinite()) return out;
+  if (facets.numFaces() == 0 || !inCoordinateRange(a) || !inCoordinateRange(b)) return out;
   SegmentContext sc;
   rtcInitIntersectContext(&sc.base);
   sc.pf = &facets;
@@ -214,7 +216,7 @@ PolygonCrossing PolygonScene::firstCrossing(const Eigen::Vector3d& a, const Eige
 }
 
 bool PolygonScene::contains(const Eigen::Vector3d& p, const Eigen::Vector3d& dir) const noexcept {
-  if (facets_.numFaces() == 0 || !p.allFinite()) return false;
+  if (facets_.numFaces() == 0 || !inCoordinateRange(p)) return false;
   const double len = 2 * facets_.extent() + (p - 0.5 * (facets_.boxMin + facets_.boxMax)).norm();
   const Eigen::Vector3d fixed[3] = {Eigen::Vector3d(0.5406, 0.6209, 0.5676).normalized(),
                                     Eigen::Vector3d(-0.7071, 0.1961, -0.6793).normalized(),

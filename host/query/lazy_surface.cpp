@@ -18,6 +18,8 @@
 #include <smoothforce/patch/detail/gp_math.h>
 #include <smoothforce/patch/patch_eval.h>
 
+#include <smoothforce/base/coordinate_range.h>
+
 #include "embree_point_query.h"
 
 namespace sf {
@@ -139,7 +141,7 @@ LazyPatchSurface::~LazyPatchSurface() = default;
 size_t LazyPatchSurface::facesWithin(const Eigen::Vector3d& q, double radius, FaceDistance* out, size_t cap,
                                      size_t* found) const noexcept {
   Collect c{&apriori_, q, radius, out, std::min(cap, kMaxFaces), 0, 0};
-  if (cache_.numFaces() > 0 && q.allFinite() && radius >= 0)
+  if (cache_.numFaces() > 0 && inCoordinateRange(q) && radius >= 0)
     embreePointQuery(
         impl_->scene, q, &c,
         std::isfinite(radius) ? float(radius) * (1.0f + 1e-6f) + impl_->pad : std::numeric_limits<float>::infinity());

@@ -14,6 +14,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <smoothforce/base/coordinate_range.h>
+
 #include "embree_point_query.h"
 #include "gp_config.h"
 #include "surface_tessellation.h"
@@ -309,7 +311,7 @@ size_t PatchSurface::numTriangles() const noexcept { return uniform_->tri.size()
 
 size_t PatchSurface::candidates(const Eigen::Vector3d& q, SurfaceCandidate* out, size_t cap, double reach,
                                 int reachFace) const noexcept {
-  if (points_.empty() || !q.allFinite() || cap == 0) return 0;
+  if (points_.empty() || !inCoordinateRange(q) || cap == 0) return 0;  // beyond: Embree refuses the point
   CandidateState st;
   st.tri = &points_;
   st.q = q;
@@ -358,7 +360,7 @@ bool PatchSurface::overTriangle(int t, int f, const Eigen::Vector2d& X) const no
 
 bool PatchSurface::inErrorBand(const Eigen::Vector3d& q, double* reach, int* reachFace, int hintFace,
                                const Eigen::Vector2d& hintX, const Eigen::Vector3d& hintPoint) const noexcept {
-  if (uniform_->tri.empty() || !q.allFinite()) return false;
+  if (uniform_->tri.empty() || !inCoordinateRange(q)) return false;
   BandState st{uniform_.get(), q, false, std::numeric_limits<double>::infinity(), -1};
   // the triangle over the hint first: in its band, q is in a band (any triangle's band will do).
   // The hint's point lies within that triangle's error e of it, so q within e of the triangle lies
@@ -374,7 +376,7 @@ bool PatchSurface::inErrorBand(const Eigen::Vector3d& q, double* reach, int* rea
 }
 
 int PatchSurface::winding(const Eigen::Vector3d& q) const noexcept {
-  if (uniform_->tri.empty() || !q.allFinite()) return 0;
+  if (uniform_->tri.empty() || !inCoordinateRange(q)) return 0;
   static const Eigen::Vector3d kDir[3] = {Eigen::Vector3d(0.5406, 0.6209, 0.5676).normalized(),
                                           Eigen::Vector3d(-0.7071, 0.1961, -0.6793).normalized(),
                                           Eigen::Vector3d(0.2673, -0.8018, 0.5345).normalized()};

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <limits>
 
+#include <smoothforce/base/coordinate_range.h>
 #include <smoothforce/base/error.h>
 #include <smoothforce/base/hash.h>
 #include <smoothforce/base/status.h>
@@ -61,6 +62,19 @@ HipSet buildHipSet(SweepInputs& in, std::unique_ptr<ReferenceSurface>* reference
   }
   if (!(c.approach > 0) || !std::isfinite(c.approach)) throw InputError("--approach must be positive");
   set.approachFactor = c.approach;
+  // every HIP and approach point a position the queries take (a depth or approach factor so
+  // large that they leave the coordinate range would only give SF_TRACK_BAD_HIP records)
+  for (size_t g = 0; g < set.size(); ++g)
+    if (!inCoordinateRange(set.hip(g)) || !inCoordinateRange(set.approach(g))) {
+      const std::string& depth = set.groups[g / set.perGroup()].label;
+      char msg[200];
+      if (!inCoordinateRange(set.hip(g)))
+        std::snprintf(msg, sizeof msg, "--depth %s: HIP %zu lies beyond the coordinate range +-1e15 m", depth.c_str(), g);
+      else
+        std::snprintf(msg, sizeof msg, "--approach %g: the approach point of HIP %zu (depth %s) lies beyond the "
+                      "coordinate range +-1e15 m", c.approach, g, depth.c_str());
+      throw InputError(msg);
+    }
   c.hipHash = hexHash(set.hash());
   if (reference) {
     if (!c.analytic.empty())

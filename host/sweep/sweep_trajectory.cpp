@@ -17,6 +17,7 @@ namespace sf {
 
 std::vector<Eigen::Vector3d> readPointsCsv(const std::string& path) {
   const NumericCsv t = readNumericCsv(path, {"x", "y", "z"});
+  requirePositions(t, path);
   std::vector<Eigen::Vector3d> pts(t.rows());
   for (size_t r = 0; r < t.rows(); ++r) pts[r] = Eigen::Vector3d(t.at(r, 0), t.at(r, 1), t.at(r, 2));
   return pts;

@@ -30,6 +30,7 @@ struct TraceArgs {
 /// Reads the `x,y,z` rows of `path` ("-": stdin) with the one CSV reader (csv_reader.h).
 std::vector<Eigen::Vector3d> readHips(const std::string& path) {
   const NumericCsv t = readNumericCsv(path, {"x", "y", "z"});
+  requirePositions(t, path);
   std::vector<Eigen::Vector3d> hips(t.rows());
   for (size_t r = 0; r < t.rows(); ++r) hips[r] = Eigen::Vector3d(t.at(r, 0), t.at(r, 1), t.at(r, 2));
   return hips;

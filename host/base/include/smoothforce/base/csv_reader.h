@@ -31,6 +31,10 @@ NumericCsv readNumericCsv(const std::string& path, const std::vector<std::string
 /// The name readNumericCsv uses for `path` in messages ("<stdin>" for "-").
 std::string csvDisplayName(const std::string& path);
 
+/// Throws InputError `path:line: what` for the first row whose columns [first, first + 3) are
+/// not a position within kMaxCoordinate (coordinate_range.h), naming the column and value.
+void requirePositions(const NumericCsv& t, const std::string& path, size_t first = 0);
+
 /// Throws InputError `path:line: what`, for callers that check values themselves.
 [[noreturn]] void throwCsvError(const std::string& path, int line, const std::string& what);
 

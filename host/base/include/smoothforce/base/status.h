@@ -36,7 +36,8 @@ inline constexpr uint32_t SF_TRACK_GLOBAL = 0x200000u;        ///< a global quer
 inline constexpr uint32_t SF_TRACK_ENTER = 0x400000u;         ///< contact began this step
 inline constexpr uint32_t SF_TRACK_LEAVE = 0x800000u;         ///< contact ended this step
 inline constexpr uint32_t SF_TRACK_NO_POLYGON = 0x1000000u;   ///< the mesh has no polygon
-inline constexpr uint32_t SF_TRACK_BAD_HIP = 0x2000000u;      ///< non-finite HIP: ignored, state reset
+/// a HIP not finite or beyond the coordinate range (coordinate_range.h): ignored, state reset
+inline constexpr uint32_t SF_TRACK_BAD_HIP = 0x2000000u;
 inline constexpr uint32_t SF_TRACK_PROXY_LIMIT = 0x4000000u;  ///< god-object: > 3 constraints or pass limit
 inline constexpr uint32_t SF_TRACK_INSIDE = 0x8000000u;       ///< contact started: the HIP is inside the surface
 /// the SCP is held on a patch edge where the surface folds back over itself (the neighbour's

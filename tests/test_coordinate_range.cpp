@@ -1,0 +1,162 @@
+// Positions beyond the coordinate range (coordinate_range.h: 1e15 m) never reach Embree (whose
+// Debian build aborts on a point beyond 1.8e18 m): every renderer reports such a HIP as
+// SF_TRACK_BAD_HIP with no force and its state reset, every query finds nothing there, and the
+// mesh and CSV readers refuse such coordinates naming the file and line.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <smoothforce/base/coordinate_range.h>
+#include <smoothforce/base/csv_reader.h>
+#include <smoothforce/base/error.h>
+#include <smoothforce/base/status.h>
+#include <smoothforce/force/force_tracking.h>
+#include <smoothforce/mesh/mesh_io.h>
+#include <smoothforce/query/embree_scene.h>
+#include <smoothforce/query/lazy_surface.h>
+#include <smoothforce/query/patch_surface.h>
+#include "patch_test_support.h"
+
+namespace sf {
+namespace {
+
+/// HIPs beyond the range on every axis, both signs, just beyond it up to the largest double,
+/// and one not finite: 6 x 5 + 1.
+std::vector<Eigen::Vector3d> outOfRange() {
+  std::vector<Eigen::Vector3d> out;
+  for (int axis = 0; axis < 3; ++axis)
+    for (double sign : {1.0, -1.0})
+      for (double v : {1.01e15, 1e17, 1.9e18, 1e30, 1.7e308}) {
+        Eigen::Vector3d p(0.01, 0.02, 0.03);
+        p[axis] = sign * v;
+        out.push_back(p);
+      }
+  out.emplace_back(NAN, 0, 0);
+  return out;
+}
+
+TEST(CoordinateRange, Predicate) {
+  EXPECT_TRUE(inCoordinateRange(Eigen::Vector3d(1e15, -1e15, 0)));
+  EXPECT_FALSE(inCoordinateRange(Eigen::Vector3d(0, 1.0000001e15, 0)));
+  EXPECT_FALSE(inCoordinateRange(Eigen::Vector3d(0, 0, INFINITY)));
+  EXPECT_FALSE(inCoordinateRange(Eigen::Vector3d(0, 0, NAN)));
+}
+
+// Every method (patch on a prebuilt cache, patch on lazy patches, direct, shading) on two
+// meshes: in contact, then each out-of-range HIP: BAD_HIP, no contact, zero force; the next
+// valid HIP is a contact start again (the state was reset), the same as after reset().
+TEST(CoordinateRange, EveryRendererReportsABadHip) {
+  const auto bad = outOfRange();
+  ASSERT_EQ(bad.size(), 31u);
+  int checked = 0;
+  for (const char* rel : {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/quad-sphere.off"}) {
+    const std::string path = test::sharedMesh(rel);
+    auto cache = std::make_shared<const PatchCache>(test::cacheFromFile(path));
+    auto skeleton = std::make_shared<const PatchCache>(test::skeletonFromFile(path));
+    // a HIP 2% of the diagonal below the patch point at the centre of face 0 (below its polygon too)
+    PatchPoint pp;
+    const int32_t f0 = 0;
+    const double x0 = 0, y0 = 0;
+    evaluatePatches(*cache, &f0, &x0, &y0, 1, &pp, Backend::Serial);
+    const Eigen::Vector3d inside = pp.pos - 2e-2 * boundingDiagonal(*cache) * pp.normal;
+    struct Kind {
+      std::shared_ptr<const PatchCache> cache;
+      ForceMethod method;
+    };
+    for (const Kind& k : {Kind{cache, ForceMethod::Patch}, Kind{skeleton, ForceMethod::Patch},
+                          Kind{cache, ForceMethod::Direct}, Kind{cache, ForceMethod::Shading}}) {
+      auto r = makeForceRenderer(k.cache, k.method, ForceOptions{});
+      r->reset();
+      const ForceSample fresh = r->step(inside);
+      ASSERT_TRUE(fresh.contact) << rel << " " << int(k.method);
+      for (const Eigen::Vector3d& hip : bad) {
+        r->step(inside);  // in contact
+        const ForceSample s = r->step(hip);
+        EXPECT_TRUE(s.status & SF_TRACK_BAD_HIP) << rel << " " << hip.transpose();
+        EXPECT_FALSE(s.contact);
+        EXPECT_EQ(s.force.norm(), 0.0);
+        const ForceSample again = r->step(inside);
+        EXPECT_TRUE(again.contact);
+        EXPECT_TRUE(again.status & SF_TRACK_ENTER) << "state reset";
+        EXPECT_EQ(again.scp, fresh.scp) << "as after reset()";
+        ++checked;
+      }
+    }
+  }
+  EXPECT_EQ(checked, 2 * 4 * 31);
+}
+
+// The queries themselves, called directly: nothing found, no abort.
+TEST(CoordinateRange, QueriesFindNothingBeyond) {
+  const auto cache = test::cacheFromFile(test::sharedMesh("keenan_crane/spot_control_mesh.obj"));
+  const PatchSurface surface(cache);
+  const PolygonScene scene(cache);
+  const LazyPatchSurface lazy(cache, scene.facets());
+  CandidateBuffer<> c;
+  int checked = 0;
+  for (const Eigen::Vector3d& q : outOfRange()) {
+    EXPECT_EQ(surface.candidates(q, c.data(), c.size()), 0u);
+    EXPECT_FALSE(surface.inErrorBand(q));
+    EXPECT_EQ(surface.winding(q), 0);
+    EXPECT_LT(scene.nearest(q).facet, 0);
+    EXPECT_FALSE(scene.contains(q, Eigen::Vector3d(0, 0, 1)));
+    EXPECT_LT(scene.firstCrossing(q, Eigen::Vector3d::Zero()).facet, 0);
+    FaceDistance fd[4];
+    EXPECT_EQ(lazy.facesWithin(q, 1.0, fd, 4), 0u);
+    ++checked;
+  }
+  EXPECT_EQ(checked, 31);
+}
+
+// The readers: OBJ, OFF, PLY vertices and CSV positions beyond the range are refused with
+// file:line (PLY: the vertex), values at the range's edge are read.
+TEST(CoordinateRange, ReadersRefuseFarCoordinates) {
+  const auto dir = std::filesystem::temp_directory_path() / ("sf_range_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  auto write = [&](const std::string& name, const std::string& text) {
+    const std::string p = (dir / name).string();
+    std::ofstream(p) << text;
+    return p;
+  };
+  auto message = [](auto&& f) -> std::string {
+    try {
+      f();
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  const std::string tri = "f 1 2 3\n";
+  const std::string ok = write("ok.obj", "v 0 0 0\nv 1e15 0 0\nv 0 -1e15 0\n" + tri);
+  EXPECT_EQ(readMesh(ok).positions.size(), 3u);
+  std::string e = message([&] { readMesh(write("far.obj", "v 0 0 0\nv 2e15 0 0\nv 0 1 0\n" + tri)); });
+  EXPECT_NE(e.find("far.obj:2:"), std::string::npos) << e;
+  EXPECT_NE(e.find("beyond the coordinate range"), std::string::npos) << e;
+  e = message([&] { readMesh(write("far.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 0 -1e300\n3 0 1 2\n")); });
+  EXPECT_NE(e.find("far.off:5:"), std::string::npos) << e;
+  e = message([&] {
+    readMesh(write("far.ply",
+                   "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\nproperty double "
+                   "z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1e20 0\n3 0 "
+                   "1 2\n"));
+  });
+  EXPECT_NE(e.find("far.ply"), std::string::npos) << e;
+  EXPECT_NE(e.find("vertex 2"), std::string::npos) << e;
+  const std::string csv = write("far.csv", "x,y,z\n0,0,0\n# a comment\n0,-3e15,0\n");
+  const NumericCsv t = readNumericCsv(csv, {"x", "y", "z"});
+  e = message([&] { requirePositions(t, csv); });
+  EXPECT_NE(e.find("far.csv:4: y = -3e+15 m is beyond"), std::string::npos) << e;
+  const std::string replay = write("far_t.csv", "t,x,y,z\n0,0,0,0\n1,1e16,0,0\n");
+  e = message([&] { requirePositions(readNumericCsv(replay, {"t", "x", "y", "z"}), replay, 1); });
+  EXPECT_NE(e.find("far_t.csv:3: x = 1e+16 m"), std::string::npos) << e;
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace sf
