@@ -133,7 +133,7 @@ class Haptic {
     p.rotation = Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
     p.scale = scale;
     if (!rt::isValid(p))
-      throw InputError("pose: expected a finite translation, a non-zero finite quaternion and a finite scale > 0");
+      throw InputError("pose: expected a finite translation, a finite quaternion of norm 1e-12 to 1e150 and a finite scale > 0");
     if (!scene_.setPose(0, p)) throw InputError("pose: another thread is publishing a pose for this object");
   }
 

@@ -36,6 +36,8 @@ const char* toString(Fault f) {
       return "consecutive missed deadlines";
     case Fault::StaleDevice:
       return "stale device (no sample within the watchdog time)";
+    case Fault::NonFiniteTime:
+      return "non-finite step time";
   }
   return "?";
 }
@@ -56,13 +58,14 @@ Eigen::Vector3d SafetyFilter::filter(double t, const Eigen::Vector3d& hip, const
   Eigen::Vector3d out = Eigen::Vector3d::Zero();
   if (faulted()) {
     fl |= kSafetyFaulted;
-  } else if (!hip.allFinite() || !force.allFinite()) {
+  } else if (!std::isfinite(t) || !hip.allFinite() || !force.allFinite()) {
+    // a non-finite time (a caller's clock: the C API, Python) would skip the ramp-in
     ++counters_.nonFinite;
-    latch(hip.allFinite() ? Fault::NonFiniteForce : Fault::NonFiniteHip, t);
+    latch(!std::isfinite(t) ? Fault::NonFiniteTime : (hip.allFinite() ? Fault::NonFiniteForce : Fault::NonFiniteHip), t);
     fl |= kSafetyFaulted;
   } else {
     out = force;
-    const double mag = out.norm();
+    const double mag = out.stableNorm();  // a finite force beyond 1e154 N: its norm() overflows
     if (mag > options_.maxForce) {
       out *= options_.maxForce / mag;
       ++counters_.clamps;
@@ -73,7 +76,7 @@ Eigen::Vector3d SafetyFilter::filter(double t, const Eigen::Vector3d& hip, const
       fl |= kSafetyRamping;
     }
     const Eigen::Vector3d delta = out - last_;
-    const double step = delta.norm();
+    const double step = delta.stableNorm();
     if (step > options_.maxForceStep) {
       out = last_ + delta * (options_.maxForceStep / step);
       ++counters_.rateLimits;

@@ -137,6 +137,8 @@ UdpFault udpFault(Fault f) noexcept {
       return UdpFault::MissedDeadlines;
     case Fault::StaleDevice:
       return UdpFault::StaleDevice;
+    case Fault::NonFiniteTime:
+      return UdpFault::NonFiniteTime;
   }
   return UdpFault::None;
 }

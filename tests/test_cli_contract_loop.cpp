@@ -145,13 +145,16 @@ TEST_F(LoopContract, ACacheKeepsItsPatchOptions) {
 }
 
 TEST_F(LoopContract, ALatchedSafetyFaultExits3) {
-  // the replay interpolates between +-1.7e308: the HIP overflows to infinity after t = 0
-  const std::string replay = "replay:" + file("inf.csv", "t,x,y,z\n0,-1.7e308,0,0\n1,1.7e308,0,0\n");
-  CliStreams r = run("loop --mesh " + sphere + " --device " + replay + " --duration 0.05");
+  // device coordinates within range (the replay reader refuses others), scaled by 1e300 into
+  // the world: the HIP overflows to infinity
+  const std::string replay = "replay:" + file("far.csv", "t,x,y,z\n0,-1e10,0,0\n1,1e10,0,0\n");
+  const std::string scene = file("scaled.json", "{\"device\": {\"transform\": {\"scale\": 1e300}}, \"objects\": "
+                                                "[{\"mesh\": \"" + sphere + "\"}]}");
+  CliStreams r = run("loop --scene " + scene + " --device " + replay + " --duration 0.05");
   EXPECT_EQ(r.status, 3) << r.err;
   EXPECT_NE(r.out.find("fault: non-finite HIP position at"), std::string::npos) << r.out;
   EXPECT_EQ(r.err.rfind("smoothforce: loop: safety fault: non-finite HIP position", 0), 0u) << r.err;
-  r = run("loop --mesh " + sphere + " --device " + replay + " --duration 0.05 --json");
+  r = run("loop --scene " + scene + " --device " + replay + " --duration 0.05 --json");
   EXPECT_EQ(r.status, 3);
   const json j = json::parse(r.out);
   EXPECT_EQ(j["exit_status"], 3);

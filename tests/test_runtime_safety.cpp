@@ -149,6 +149,42 @@ TEST(RuntimeSafety, NonFiniteHipLatchesFault) {
   EXPECT_EQ(f.filter(1.0, kHip, Vector3d(1, 0, 0)), Vector3d::Zero());
 }
 
+// A non-finite step time (a library caller's clock) would skip the ramp-in: it latches a fault.
+TEST(RuntimeSafety, NonFiniteTimeLatchesFault) {
+  int checked = 0;
+  for (const double t : {kNaN, std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()}) {
+    SafetyFilter f(SafetyOptions{});  // the defaults: ramp-in 0.5 s
+    uint32_t flags = 0;
+    EXPECT_EQ(f.filter(0.0, kHip, Vector3d(1, 0, 0), &flags), Vector3d::Zero());  // ramp starts at 0
+    EXPECT_EQ(f.filter(t, kHip, Vector3d(1, 0, 0), &flags), Vector3d::Zero()) << t;
+    EXPECT_TRUE(flags & kSafetyFaulted);
+    EXPECT_EQ(f.counters().fault, Fault::NonFiniteTime);
+    EXPECT_STREQ(toString(f.counters().fault), "non-finite step time");
+    EXPECT_EQ(f.filter(1.0, kHip, Vector3d(1, 0, 0)), Vector3d::Zero()) << "latched";
+    ++checked;
+  }
+  EXPECT_EQ(checked, 3);
+}
+
+// Finite forces of any magnitude are clamped to maxForce along their direction, and rate-limited,
+// never zeroed by an overflowing norm (a stiffness of 1e155 N/m gave 1e153 N and a zero force).
+TEST(RuntimeSafety, HugeFiniteForcesAreClampedNotZeroed) {
+  int checked = 0;
+  for (const double mag : {10.0, 1e100, 1e154, 1e160, 1e300, 1.7e308}) {
+    SafetyOptions o = noRampNoRate();
+    SafetyFilter clamp(o);
+    const Vector3d dir = Vector3d(1, -2, 2) / 3;
+    const Vector3d out = clamp.filter(1.0, kHip, mag / 2 * Vector3d(1, -2, 2) / 1.5);
+    EXPECT_NEAR(out.norm(), o.maxForce, 1e-12) << mag;
+    EXPECT_NEAR(out.normalized().dot(dir), 1.0, 1e-12) << mag;
+    o.maxForceStep = 0.5;
+    SafetyFilter rate(o);
+    EXPECT_NEAR(rate.filter(1.0, kHip, mag * Vector3d(0, 0, 1)).z(), 0.5, 1e-12) << mag;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 6);
+}
+
 TEST(RuntimeSafety, ConsecutiveMissedDeadlinesLatchFault) {
   SafetyOptions o = noRampNoRate();
   o.maxConsecutiveMisses = 3;

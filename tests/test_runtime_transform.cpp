@@ -141,6 +141,24 @@ TEST(RuntimeTransform, MapsRoundTripAndRejectsBadPoses) {
   bad.scale = 1;
   bad.translation.y() = INFINITY;
   EXPECT_THROW(DeviceTransform{bad}, sf::InputError);
+  // a quaternion normalises when its norm is within [1e-12, 1e150] (its squared norm neither
+  // under- nor overflows): scaled copies of one rotation within that range map alike; beyond
+  // it the pose is refused (it was accepted and left the object unrotated)
+  const Pose unit = poseOf(kCases[0]);
+  const DeviceTransform ref(unit);
+  int checked = 0;
+  for (const double k : {1e-11, 1e-3, 1.0, 1e50, 1e149, 1e-13, 1e151, 1e160, 1e300}) {
+    Pose p = unit;
+    p.rotation.coeffs() *= k;
+    const bool ok = k > 1e-12 && k < 1e150;
+    EXPECT_EQ(isValid(p), ok) << k;
+    if (ok)
+      EXPECT_LT((DeviceTransform(p).toWorld(Vector3d(1, 2, 3)) - ref.toWorld(Vector3d(1, 2, 3))).norm(), 1e-12) << k;
+    else
+      EXPECT_THROW(DeviceTransform{p}, sf::InputError) << k;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 9);
 }
 
 class RuntimeTransformScene : public ::testing::Test {

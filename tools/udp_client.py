@@ -47,7 +47,8 @@ STATUS_BITS = {
     "missed_deadline": 1 << 5,
     "stale": 1 << 6,
 }
-FAULTS = {0: "none", 1: "non-finite HIP", 2: "non-finite force", 3: "missed deadlines", 4: "stale device"}
+FAULTS = {0: "none", 1: "non-finite HIP", 2: "non-finite force", 3: "missed deadlines", 4: "stale device",
+          5: "non-finite step time"}
 
 
 class InputError(Exception):

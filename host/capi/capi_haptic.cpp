@@ -113,7 +113,7 @@ sf_status sf_haptic_set_pose(sf_haptic* haptic, const double translation[3], con
   p.scale = scale;
   if (!rt::isValid(p)) {
     // Not on the servo path's success branch: a message may allocate here.
-    haptic->error = "pose: expected a finite translation, a non-zero finite quaternion and a finite scale > 0";
+    haptic->error = "pose: expected a finite translation, a finite quaternion of norm 1e-12 to 1e150 and a finite scale > 0";
     return SF_ERROR_INPUT;
   }
   if (!haptic->scene.setPose(0, p)) {

@@ -130,7 +130,8 @@ const char* sf_haptic_error(const sf_haptic* haptic);
 /** One servo step from the caller's own loop (a device SDK's 1 kHz callback): HIP (m, 3
  *  doubles) in, result out. time: the caller's clock, s (any origin; increasing): drives the
  *  ramp-in and the deadline check. Safety: 3.3 N clamp, rate limit, ramp-in, a non-finite
- *  HIP or force latches a fault (zero force until sf_haptic_reset). Never allocates, locks
+ *  HIP, force or time latches a fault (zero force until sf_haptic_reset); a HIP beyond 1e15 m
+ *  is not rendered (status SF_TRACK_BAD_HIP, zero force). Never allocates, locks
  *  or throws. SF_ERROR_ARGUMENT for NULL pointers (without a message). */
 sf_status sf_haptic_step(sf_haptic* haptic, const double hip[3], double time, sf_step_result* out);
 /** Moves the object: translation (m, 3), rotation quaternion (w, x, y, z; normalised, non-zero),

@@ -15,11 +15,13 @@ struct Pose {
   double scale = 1;                                              ///< uniform, > 0
 };
 
-/// True when every component is finite, the scale is > 0 and the quaternion is not zero
-/// (it is normalised where it is used).
+/// True when every component is finite, the scale is > 0 and the quaternion is not zero and
+/// normalises (it is normalised where it is used): its norm within [1e-12, 1e150], so that the
+/// squared norm neither underflows nor overflows.
 inline bool isValid(const Pose& p) noexcept {
+  const double n = p.rotation.coeffs().stableNorm();
   return p.scale > 0 && std::isfinite(p.scale) && p.translation.allFinite() && p.rotation.coeffs().allFinite() &&
-         p.rotation.norm() > 1e-12;
+         n > 1e-12 && n < 1e150;
 }
 
 }  // namespace sf::rt

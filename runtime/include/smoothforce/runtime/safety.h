@@ -19,7 +19,7 @@ void validate(const SafetyOptions& o);
 
 /// Why the output was latched to zero. StaleDevice: the device's watchdog expired (no fresh
 /// sample within its time, e.g. a network device whose sender stopped; DeviceStatus::Stale).
-enum class Fault : uint8_t { None, NonFiniteHip, NonFiniteForce, MissedDeadlines, StaleDevice };
+enum class Fault : uint8_t { None, NonFiniteHip, NonFiniteForce, MissedDeadlines, StaleDevice, NonFiniteTime };
 const char* toString(Fault f);
 
 /// Per-step flags (bits), also written to the record.

@@ -43,7 +43,14 @@ enum UdpForceStatus : uint32_t {
 };
 
 /// FORCE packet fault codes (the wire values are fixed; Fault may grow).
-enum class UdpFault : uint32_t { None = 0, NonFiniteHip = 1, NonFiniteForce = 2, MissedDeadlines = 3, StaleDevice = 4 };
+enum class UdpFault : uint32_t {
+  None = 0,
+  NonFiniteHip = 1,
+  NonFiniteForce = 2,
+  MissedDeadlines = 3,
+  StaleDevice = 4,
+  NonFiniteTime = 5  ///< not sent by `loop` (its own clock); for completeness
+};
 
 struct HipPacket {
   uint64_t seq = 0;
