@@ -6,6 +6,7 @@
 #include <limits>
 
 #include <smoothforce/base/hash.h>
+#include <smoothforce/base/thread_limit.h>
 #include <smoothforce/mesh/mesh_check.h>
 #include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/mesh_arrays.h>
@@ -33,7 +34,7 @@ Options options(const std::string& precision, const std::string& normals, const 
   o.patch.keepOrientation = orient == "keep";
   o.backend = parseBackend(backend);
   if (o.backend == Backend::OpenCL) throw InputError("backend: the Python module builds on the CPU: tbb or serial");
-  if (threads < 0) throw InputError("threads: expected >= 0, got " + std::to_string(threads));
+  requireThreads(threads, "threads");
   o.threads = threads;
   o.lazy = lazy;
   return o;
@@ -59,7 +60,7 @@ std::vector<int32_t> int32Array(const pyb::handle& h, const char* field, int col
   const pyb::array a = pyb::array::ensure(h);
   if (!a) throw InputError(std::string(field) + ": not convertible to an array");
   const char kind = a.dtype().kind();
-  if (kind != 'i' && kind != 'u')
+  if (kind != 'i' && kind != 'u' && !(a.size() == 0 && kind == 'f'))  // [] is float64 to NumPy
     throw InputError(std::string(field) + ": expected an integer array, got dtype " + std::string(pyb::str(a.dtype())));
   if (a.ndim() != 1)
     throw InputError(std::string(field) + ": expected a 1-D array, got " + std::to_string(a.ndim()) + "-D");
@@ -76,18 +77,11 @@ std::vector<int32_t> int32Array(const pyb::handle& h, const char* field, int col
   return out;
 }
 
-using Doubles = pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>;
-
 /// rows x 3 doubles (NumPy may convert; no copy when already float64 C-contiguous).
 Doubles rows3(const pyb::handle& h, const char* field) {
-  pyb::array a = pyb::array::ensure(h);
-  if (!a) throw InputError(std::string(field) + ": not convertible to an array");
-  const char kind = a.dtype().kind();
-  if (kind != 'f' && kind != 'i' && kind != 'u')
-    throw InputError(std::string(field) + ": expected a numeric array, got dtype " + std::string(pyb::str(a.dtype())));
-  Doubles d = Doubles::ensure(a);
+  Doubles d = numericArray(h, field);
   if (d.ndim() != 2 || d.shape(1) != 3)
-    throw InputError(std::string(field) + ": expected shape (n, 3), got " + std::string(pyb::str(a.attr("shape"))));
+    throw InputError(std::string(field) + ": expected shape (n, 3), got " + std::string(pyb::str(d.attr("shape"))));
   return d;
 }
 
@@ -152,8 +146,8 @@ pyb::array evaluate(const PyCache& c, const pyb::handle& faces, const pyb::handl
   if (!hasPatchData(*c.cache))
     throw InputError(c.source + ": a lazy cache (no patch built) cannot be evaluated: build it with lazy=False");
   const std::vector<int32_t> f = int32Array(faces, "faces");
-  const Doubles x = Doubles::ensure(xi), y = Doubles::ensure(eta);
-  if (!x || !y || x.ndim() != 1 || y.ndim() != 1 || static_cast<size_t>(x.size()) != f.size() ||
+  const Doubles x = numericArray(xi, "xi"), y = numericArray(eta, "eta");
+  if (x.ndim() != 1 || y.ndim() != 1 || static_cast<size_t>(x.size()) != f.size() ||
       static_cast<size_t>(y.size()) != f.size())
     throw InputError("evaluate: faces, xi and eta must be 1-D arrays of one length (" + std::to_string(f.size()) + ")");
   static_assert(std::is_standard_layout_v<PatchPoint>);
@@ -213,7 +207,11 @@ void bindCache(pyb::module_& m) {
       .def_property_readonly(
           "mesh_hash", [](const PyCache& c) { return hexHash(c.cache->meshHash); },
           "XXH64 of the mesh file's bytes (arrays: of the arrays), 16 hex digits")
-      .def_property_readonly("source", [](const PyCache& c) { return c.source; })
+      .def_property_readonly("source",  // as os.fsdecode would (a file name that is not UTF-8 round-trips)
+                             [](const PyCache& c) {
+                               return pyb::reinterpret_steal<pyb::str>(PyUnicode_DecodeFSDefaultAndSize(
+                                   c.source.data(), static_cast<Py_ssize_t>(c.source.size())));
+                             })
       .def_property_readonly(
           "positions",
           [](pyb::object self) {

@@ -27,6 +27,17 @@ struct PyCache {
   bool flipped = false;
 };
 
+using Doubles = pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>;
+
+/// h as a C-contiguous float64 array, from any float or integer array-like; InputError
+/// (ValueError) naming `field` for any other dtype (strings, objects, None, complex, bool,
+/// datetimes), which NumPy's casting would turn into numbers or NaN.
+Doubles numericArray(const pyb::handle& h, const std::string& field);
+
+/// The message of `what` as a Python str: UTF-8, bytes that are not kept as \xNN escapes (a
+/// file name in another encoding must not empty the message).
+pyb::str messageStr(const char* what);
+
 /// A read-only NumPy view of `count` x `cols` values at `data`, keeping `owner` alive.
 template <class T>
 pyb::array_t<T> view(const T* data, size_t count, size_t cols, pyb::handle owner) {

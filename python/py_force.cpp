@@ -41,6 +41,9 @@ ForceOptions forceOptions(const std::string& method, double stiffness, const pyb
                           ForceMethod* m) {
   ForceOptions f;
   *m = parseForceMethod(method);
+  if (!preset.is_none() && !pyb::isinstance<pyb::str>(preset))
+    throw pyb::type_error("preset: expected a str (fast, balanced, accurate) or None, got " +
+                          std::string(pyb::str(preset.get_type().attr("__name__"))));
   if (!preset.is_none()) applyForcePreset(findForcePreset(preset.cast<std::string>()), f);
   f.stiffness = stiffness;
   f.patchCapacity = capacity;
@@ -48,14 +51,12 @@ ForceOptions forceOptions(const std::string& method, double stiffness, const pyb
   return f;
 }
 
-using Doubles = pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>;
-
 pyb::array trace(const PyCache& c, const pyb::handle& hipsIn, const std::string& method, double stiffness,
                  const pyb::object& preset, int capacity) {
   ForceMethod m{};
   const ForceOptions f = forceOptions(method, stiffness, preset, capacity, &m);
-  const Doubles hips = Doubles::ensure(hipsIn);
-  if (!hips || hips.ndim() != 2 || hips.shape(1) != 3) throw InputError("hips: expected shape (T, 3)");
+  const Doubles hips = numericArray(hipsIn, "hips");
+  if (hips.ndim() != 2 || hips.shape(1) != 3) throw InputError("hips: expected shape (T, 3)");
   const size_t n = static_cast<size_t>(hips.shape(0));
   pyb::array out(traceDtype(), std::vector<ssize_t>{static_cast<ssize_t>(n)});
   auto* rows = static_cast<TraceRow*>(out.mutable_data());

@@ -1,4 +1,7 @@
 // `import smoothforce`: the module, its version and the error mapping.
+#include <filesystem>
+#include <stdexcept>
+
 #include <smoothforce/base/error.h>
 #include <smoothforce/version.h>
 #include "py_common.h"
@@ -11,11 +14,17 @@ PYBIND11_MODULE(smoothforce, m) {
       "Units: metres, newtons, N/m, seconds. Bad input (files, arrays, options) raises ValueError\n"
       "with a message naming the file and line, or the field and element.";
   m.attr("__version__") = SF_VERSION_STRING;
+  // messages as str with undecodable bytes escaped: PyErr_SetString would leave an empty message
+  // for a file name that is not UTF-8
   pyb::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const sf::InputError& e) {
-      PyErr_SetString(PyExc_ValueError, e.what());
+      PyErr_SetObject(PyExc_ValueError, sf::py::messageStr(e.what()).ptr());
+    } catch (const std::filesystem::filesystem_error& e) {  // an output path that cannot be made
+      PyErr_SetObject(PyExc_ValueError, sf::py::messageStr(e.what()).ptr());
+    } catch (const std::length_error& e) {  // a size no container can hold
+      PyErr_SetObject(PyExc_MemoryError, sf::py::messageStr(e.what()).ptr());
     }
   });
   sf::py::bindCache(m);

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include <smoothforce/base/hash.h>
+#include <smoothforce/base/thread_limit.h>
 #include <smoothforce/sweep/sweep_io.h>
 #include <smoothforce/sweep/sweep_run.h>
 #include "py_common.h"
@@ -94,8 +95,17 @@ pyb::dict readSweep(const std::filesystem::path& path) {
   return toPython(std::move(d), dir, "");
 }
 
+/// Removes a temporary sweep directory when the sweep ends, however it ends.
+struct TemporaryDirectory {
+  std::string path;  ///< empty: none
+  ~TemporaryDirectory() {
+    std::error_code ec;
+    if (!path.empty()) fs::remove_all(path, ec);
+  }
+};
+
 pyb::dict sweep(const PyCache& c, const std::string& depths, const std::vector<std::string>& methods, uint64_t samples,
-                uint64_t seed, int level, double stiffness, int threads, const pyb::object& output,
+                uint64_t seed, int level, double stiffness, int threads, const std::optional<fs::path>& output,
                 const std::string& sampleOn) {
   SweepInputs in;
   in.cache = c.cache;
@@ -104,7 +114,8 @@ pyb::dict sweep(const PyCache& c, const std::string& depths, const std::vector<s
   if (methods.empty()) throw InputError("methods: empty list");
   for (const auto& m : methods) parseForceMethod(m);
   cfg.methods = methods;
-  if (samples == 0) throw InputError("samples: expected > 0");
+  if (samples == 0 || samples > (uint64_t(1) << 32))  // the command line's bound
+    throw InputError("samples: expected 1 to 4294967296, got " + std::to_string(samples));
   cfg.samples = samples;
   cfg.seed = seed;
   cfg.level = level;
@@ -112,14 +123,17 @@ pyb::dict sweep(const PyCache& c, const std::string& depths, const std::vector<s
   cfg.sampleOn = sampleOn;
   cfg.backend = toString(c.backend);
   in.depths = parseDepthList(depths, "depths");
+  requireThreads(threads, "threads");
   std::string dir;
-  bool temporary = output.is_none();
+  const bool temporary = !output;
+  TemporaryDirectory cleanup;
   if (temporary) {
     dir = (fs::temp_directory_path() /
            ("smoothforce_sweep_" + hexHash(reinterpret_cast<uintptr_t>(&in)) + "_" + std::to_string(::getpid())))
               .string();
+    cleanup.path = dir;
   } else {
-    dir = pyb::str(output).cast<std::string>();
+    dir = output->string();
   }
   std::string table;
   SweepData d;
@@ -136,10 +150,8 @@ pyb::dict sweep(const PyCache& c, const std::string& depths, const std::vector<s
   if (temporary) {
     r["config"] = readJson(fs::path(dir) / "sweep.json");
     r["summary"] = readJson(fs::path(dir) / "summary.json");
-    std::error_code ec;
-    fs::remove_all(dir, ec);
   }
-  return r;
+  return r;  // a temporary directory goes with `cleanup`
 }
 
 }  // namespace

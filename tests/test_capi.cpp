@@ -232,6 +232,10 @@ TEST(CApi, EveryErrorClassIsACodeAndAMessage) {
   expect(st, SF_ERROR_INPUT, m, "orient: expected outward or keep, got 'inward'");
   m = createError(nullptr, nullptr, &st);
   expect(st, SF_ERROR_ARGUMENT, m, "path: NULL");
+  sf_cache_options_init(&o);
+  o.threads = 1 << 30;  // crashed oneTBB making the arena
+  m = createError(kSpot.c_str(), &o, &st);
+  expect(st, SF_ERROR_INPUT, m, "threads: expected 0 (all cores) to 4096 threads, got 1073741824");
 
   // Arrays: every class names its field and element.
   const double p[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, std::numeric_limits<double>::infinity()};
@@ -244,6 +248,9 @@ TEST(CApi, EveryErrorClassIsACodeAndAMessage) {
          "tri: faceVertices[2] (face 0, corner 2): vertex index 7 out of range [0, 3)");
   st = sf_cache_from_arrays(p, 4, off, 1, good, nullptr, 0, &o, &c);
   expect(st, SF_ERROR_INPUT, sf_last_error(), "tri: positions[3][2] (vertex 3): non-finite value inf");
+  const double far[] = {0, 0, 0, 1, 0, 0, 0, 4e20, 0};
+  st = sf_cache_from_arrays(far, 3, off, 1, good, nullptr, 0, &o, &c);
+  expect(st, SF_ERROR_INPUT, sf_last_error(), "tri: positions[2][1] (vertex 2): value 4e+20 m beyond the coordinate");
   st = sf_cache_from_arrays(p, 3, off2, 1, good, nullptr, 0, &o, &c);
   expect(st, SF_ERROR_INPUT, sf_last_error(), "tri: faceOffsets[1] (face 0): 2 corners");
   st = sf_cache_from_arrays(p, 3, off, 1, good, p, 2, &o, &c);
@@ -271,6 +278,10 @@ TEST(CApi, EveryErrorClassIsACodeAndAMessage) {
   expect(st, SF_ERROR_INPUT, sf_cache_error(spot.get()), "/nonexistent/dir/x.sfcache");
   st = sf_cache_evaluate(spot.get(), 1, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr);
   expect(st, SF_ERROR_ARGUMENT, sf_cache_error(spot.get()), "must not be NULL");
+  const int32_t f0 = 0;
+  const double x0 = 0;
+  st = sf_cache_evaluate(spot.get(), static_cast<size_t>(-5), &f0, &x0, &x0, nullptr, nullptr, nullptr);
+  expect(st, SF_ERROR_ARGUMENT, sf_cache_error(spot.get()), "evaluate: count 18446744073709551611 is more than 2^40");
   st = sf_cache_save(spot.get(), (::testing::TempDir() + "/capi.sfcache").c_str());
   EXPECT_EQ(st, SF_OK);
   EXPECT_STREQ(sf_cache_error(spot.get()), "");  // cleared by a successful call
@@ -283,7 +294,16 @@ TEST(CApi, EveryErrorClassIsACodeAndAMessage) {
   EXPECT_EQ(sf_haptic_set_pose(h, t, q1, 2), SF_OK);
   EXPECT_EQ(sf_haptic_step(h, nullptr, 0, nullptr), SF_ERROR_ARGUMENT);
   EXPECT_EQ(sf_cache_evaluate(nullptr, 0, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr), SF_ERROR_ARGUMENT);
-  EXPECT_EQ(checked, 17);
+  // a non-finite time would skip the ramp-in: it latches a fault (zero force until reset)
+  sf_step_result r;
+  const double hip[3] = {0, 0, 0};
+  EXPECT_EQ(sf_haptic_step(h, hip, 1.0, &r), SF_OK);
+  EXPECT_EQ(r.faulted, 0);
+  EXPECT_EQ(sf_haptic_step(h, hip, std::numeric_limits<double>::quiet_NaN(), &r), SF_OK);
+  EXPECT_EQ(r.faulted, 1);
+  EXPECT_EQ(r.force[0] * r.force[0] + r.force[1] * r.force[1] + r.force[2] * r.force[2], 0.0);
+  sf_haptic_reset(h);
+  EXPECT_EQ(checked, 20);
   // A lazy cache: traces build their patches; evaluation and saving say why not.
   sf_cache_options_init(&o);
   o.lazy = 1;

@@ -1,5 +1,6 @@
 // C API: caches from files or arrays, saving, batch evaluation.
 #include <smoothforce/base/status.h>
+#include <smoothforce/base/thread_limit.h>
 #include <smoothforce/mesh/mesh_check.h>
 #include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/mesh_arrays.h>
@@ -40,7 +41,7 @@ Parsed parseOptions(const sf_cache_options* o) {
   p.patch.keepOrientation = orient == "keep";
   p.backend = parseBackend(opt(o->backend, "tbb"));
   if (p.backend == Backend::OpenCL) throw InputError("backend: the C API builds on the CPU: tbb or serial");
-  if (o->threads < 0) throw InputError("threads: expected >= 0, got " + std::to_string(o->threads));
+  requireThreads(o->threads, "threads");
   p.threads = o->threads;
   p.lazy = o->lazy != 0;
   return p;
@@ -161,6 +162,8 @@ sf_status sf_cache_evaluate(sf_cache* cache, size_t count, const int32_t* faces,
   if (!cache) return SF_ERROR_ARGUMENT;
   return guarded(cache->error, [&] {
     if (count && (!faces || !xi || !eta)) throw std::invalid_argument("evaluate: faces, xi and eta must not be NULL");
+    if (count > (size_t(1) << 40))  // a negative number cast to size_t, or more than memory holds
+      throw std::invalid_argument("evaluate: count " + std::to_string(count) + " is more than 2^40 points");
     if (!hasPatchData(*cache->cache))
       throw InputError(cache->source + ": a lazy cache (no patch built) cannot be evaluated: create it with lazy = 0");
     std::vector<PatchPoint> pts(count);

@@ -48,6 +48,9 @@ sf_status guarded(std::string& message, F&& f) noexcept {
   } catch (const std::bad_alloc&) {
     message = "out of memory";
     return SF_ERROR_MEMORY;
+  } catch (const std::length_error& e) {  // a size no container can hold: too much memory asked for
+    message = std::string("out of memory: ") + e.what();
+    return SF_ERROR_MEMORY;
   } catch (const std::out_of_range& e) {
     message = e.what();
     return SF_ERROR_ARGUMENT;

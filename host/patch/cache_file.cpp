@@ -10,6 +10,7 @@
 #include <fstream>
 #include <vector>
 
+#include <smoothforce/base/coordinate_range.h>
 #include <smoothforce/base/hash.h>
 #include "gp_config.h"  // GP_* status bits and record layout
 
@@ -206,6 +207,8 @@ PatchCache readPatchCache(const std::string& path, const CacheExpectation& expec
     return true;
   };
   if (!allFinite(c.positions)) throw fail("non-finite vertex position");
+  for (double x : c.positions)
+    if (!(std::fabs(x) <= kMaxCoordinate)) throw fail("a vertex position beyond the coordinate range +-1e15 m");
   if (!allFinite(c.cornerNormals)) throw fail("non-finite corner normal");
   if (!allFinite(c.faceBulge) || !allFinite(c.edgeDataD) || !allFinite(c.edgeDataF))
     throw fail("non-finite patch record");

@@ -5,6 +5,7 @@
 #include <limits>
 #include <utility>
 
+#include <smoothforce/base/coordinate_range.h>
 #include <smoothforce/base/error.h>
 #include <smoothforce/base/hash.h>
 
@@ -21,12 +22,15 @@ std::string num(double v) {
   return b;
 }
 
-/// Checks rows x 3 doubles for finiteness; names the field, row and column of the first bad one.
-void checkFinite(const MeshArrays& in, const double* a, size_t rows, const char* field, const char* row) {
+/// Checks rows x 3 doubles for finiteness (and, positions, the coordinate range of
+/// coordinate_range.h); names the field, row and column of the first bad one.
+void checkFinite(const MeshArrays& in, const double* a, size_t rows, const char* field, const char* row,
+                 bool position = false) {
   for (size_t i = 0; i < rows * 3; ++i)
-    if (!std::isfinite(a[i]))
+    if (!std::isfinite(a[i]) || (position && !(std::fabs(a[i]) <= kMaxCoordinate)))
       fail(in, std::string(field) + "[" + std::to_string(i / 3) + "][" + std::to_string(i % 3) + "] (" + row + " " +
-                   std::to_string(i / 3) + "): non-finite value " + num(a[i]));
+                   std::to_string(i / 3) + "): " + (std::isfinite(a[i]) ? "value " : "non-finite value ") + num(a[i]) +
+                   (std::isfinite(a[i]) ? " m beyond the coordinate range +-1e15 m" : ""));
 }
 
 }  // namespace
@@ -56,7 +60,7 @@ PolygonMesh meshFromArrays(const MeshArrays& in) {
   }
   const size_t corners = static_cast<size_t>(in.faceOffsets[in.numFaces]);
   if (!in.faceVertices) fail(in, "faceVertices: null with " + std::to_string(corners) + " corners");
-  checkFinite(in, in.positions, in.numVertices, "positions", "vertex");
+  checkFinite(in, in.positions, in.numVertices, "positions", "vertex", true);
   for (size_t f = 0; f < in.numFaces; ++f)
     for (int32_t c = in.faceOffsets[f]; c < in.faceOffsets[f + 1]; ++c) {
       const int32_t v = in.faceVertices[c];

@@ -8,6 +8,7 @@
 #include <type_traits>
 #include <utility>
 
+#include <smoothforce/base/thread_limit.h>
 #include <smoothforce/mesh/topology.h>
 #include <smoothforce/patch/detail/gp_traits.h>
 #include <smoothforce/patch/patch_build.h>
@@ -138,7 +139,7 @@ void buildAll(PatchCache& c, const BuildOptions& o) {
   auto inArena = [&](auto&& body) {
     if (o.backend == Backend::Serial) return body();
     if (o.threads > 0) {
-      tbb::task_arena arena(o.threads);
+      tbb::task_arena arena(arenaThreads(o.threads));
       return arena.execute(body);
     }
     return body();

@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <string>
 
+#include <smoothforce/base/thread_limit.h>
 #include <smoothforce/patch/detail/gp_traits.h>
 
 #include "patch_simd_detail.h"
@@ -282,7 +283,7 @@ void PatchEvaluator::evaluate(const int32_t* faces, const double* xi, const doub
     });
   };
   if (options_.threads > 0) {
-    tbb::task_arena arena(options_.threads);
+    tbb::task_arena arena(arenaThreads(options_.threads));
     arena.execute(all);
   } else {
     all();

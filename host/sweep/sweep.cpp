@@ -10,6 +10,7 @@
 #include <limits>
 
 #include <smoothforce/base/hash.h>
+#include <smoothforce/base/thread_limit.h>
 
 namespace sf {
 
@@ -124,7 +125,7 @@ namespace {
 template <class F>
 void inArena(int threads, F&& f) {
   if (threads > 0) {
-    tbb::task_arena arena(threads);
+    tbb::task_arena arena(arenaThreads(threads));
     arena.execute(f);
   } else {
     f();

@@ -12,6 +12,8 @@
 #include <smoothforce/base/hash.h>
 #include <smoothforce/force/force_method.h>
 
+#include "json_text.h"
+
 namespace sf {
 
 namespace fs = std::filesystem;
@@ -172,7 +174,7 @@ std::string metaJson(const SweepData& d) {
             {"begin", d.trajectoryBegin},
             {"end", d.trajectoryEnd},
             {"done", d.trajectories.size()}}}};
-  return j.dump(2) + "\n";
+  return jsonText(j, 2) + "\n";
 }
 
 std::string trajectoriesJson(const SweepData& d) {
@@ -188,7 +190,7 @@ std::string trajectoriesJson(const SweepData& d) {
                        {"force", t.force},
                        {"contact", t.contact},
                        {"past_medial_axis", t.pastMedialAxis}});
-  return ojson{{"config_hash", hexHash(sweepConfigHash(d.config))}, {"series", tr}}.dump() + "\n";
+  return jsonText(ojson{{"config_hash", hexHash(sweepConfigHash(d.config))}, {"series", tr}}) + "\n";
 }
 
 }  // namespace
@@ -234,7 +236,7 @@ std::string SweepData::label() const {
 }
 
 uint64_t sweepConfigHash(const SweepConfig& c) {
-  const std::string k = configKey(c).dump();
+  const std::string k = jsonText(configKey(c));
   return hashBytes(k.data(), k.size());
 }
 
@@ -242,7 +244,7 @@ std::string sweepConfigDifference(const SweepConfig& a, const SweepConfig& b) {
   const ojson ja = configKey(a), jb = configKey(b);
   for (const auto& [key, value] : ja.items())
     if (!jb.contains(key) || jb.at(key) != value)
-      return key + " (" + value.dump() + " vs " + (jb.contains(key) ? jb.at(key).dump() : "none") + ")";
+      return key + " (" + jsonText(value) + " vs " + (jb.contains(key) ? jsonText(jb.at(key)) : "none") + ")";
   return "";
 }
 

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 
+#include <smoothforce/base/thread_limit.h>
 #include <smoothforce/query/point_index.h>
 
 namespace sf {
@@ -85,7 +86,7 @@ Discontinuity forceDiscontinuity(const std::vector<Eigen::Vector3d>& positions,
     };
     const tbb::blocked_range<size_t> all(0, pts.size(), 1024);
     if (threads > 0) {
-      tbb::task_arena arena(threads);
+      tbb::task_arena arena(arenaThreads(threads));
       arena.execute([&] { tbb::parallel_for(all, body); });
     } else {
       tbb::parallel_for(all, body);

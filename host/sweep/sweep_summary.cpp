@@ -13,6 +13,8 @@
 #include <smoothforce/sweep/sweep_metrics.h>
 #include <smoothforce/sweep/sweep_outputs.h>
 
+#include "json_text.h"
+
 namespace sf {
 
 using ojson = nlohmann::ordered_json;
@@ -268,7 +270,7 @@ std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
           {"results", results},
           {"trajectories", trajs}};
   std::ofstream o(dir + "/summary.json", std::ios::binary);
-  o << s.dump(2) << "\n";
+  o << jsonText(s, 2) << "\n";
   o.close();
   if (!o) throw InputError(dir + "/summary.json: write failed");
   table +=

@@ -130,6 +130,8 @@ def bad(spoil):
     (lambda p, f, o: {"normals": np.full((24, 3), np.inf)}, "cube: normals[0][0] (corner 0): non-finite value inf"),
     (lambda p, f, o: {"precision": "half"}, "half"),
     (lambda p, f, o: {"normal_layout": "face"}, "normal layout: expected auto, vertex or corner, got 'face'"),
+    (lambda p, f, o: p.__setitem__((2, 0), 4e20), "cube: positions[2][0] (vertex 2): value 4e+20 m beyond the"),
+    (lambda p, f, o: {"threads": 2**30}, "threads: expected 0 (all cores) to 4096 threads, got 1073741824"),
 ])
 def test_every_bad_input_class_raises_value_error_naming_it(spoil, message):
     p, f, o, kw = bad(spoil)
@@ -150,6 +152,60 @@ def test_wrong_shapes_and_dtypes_raise_value_error():
         sf.Cache.from_arrays(CUBE_P, CUBE_O, f)
     with pytest.raises(ValueError, match="has 23 entries"):
         sf.Cache.from_arrays(CUBE_P, CUBE_O, CUBE_F[:-1])
+
+
+def test_arguments_of_the_wrong_kind_are_refused_naming_them(spot, tmp_path):
+    """Every entry point refuses non-numeric arrays (NumPy would cast strings, None and dates to
+    numbers or NaN), a preset that is not a str, a thread count beyond 4096 and a sweep of more
+    samples than the command line takes, naming the argument; an empty batch is a batch."""
+    cache = sf.Cache.from_file(spot)
+    refused = 0
+    for xi in (np.array(["0.5"]), [None], np.array(["2020-01-01"], dtype="datetime64[D]")):
+        with pytest.raises(ValueError, match="xi: expected a numeric array"):
+            cache.evaluate([0], xi, [0])
+        refused += 1
+    for hips in (np.array([["0.1", "0.1", "0.1"]]), [[None, 0, 0]]):
+        with pytest.raises(ValueError, match="hips: expected a numeric array"):
+            sf.trace(cache, hips)
+        refused += 1
+    for call in (lambda: sf.trace(cache, np.zeros((1, 3)), preset=5), lambda: sf.Haptic(cache, preset=1)):
+        with pytest.raises(TypeError, match="preset: expected a str"):
+            call()
+        refused += 1
+    for kw in ({"threads": -1}, {"threads": 5000}, {"samples": 2**62}):
+        with pytest.raises(ValueError, match=list(kw)[0]):
+            sf.sweep(cache, **kw)
+        refused += 1
+    with pytest.raises(TypeError):
+        sf.sweep(cache, samples=10, output=5)
+    assert refused == 10
+    assert len(cache.evaluate([], [], [])) == 0
+
+
+def test_sweep_paths_bytes_and_failures(spot, tmp_path):
+    """A bytes output path is that path; a failed sweep leaves no temporary directory; a mesh
+    whose file name is not UTF-8 keeps it (as os.fsdecode) and sweeps; errors keep such names."""
+    import glob
+    import os
+    cache = sf.Cache.from_file(spot)
+    out = os.fsencode(tmp_path / "bytes_out")
+    r = sf.sweep(cache, samples=20, output=out)
+    assert r["directory"] == str(tmp_path / "bytes_out") and (tmp_path / "bytes_out" / "sweep.json").is_file()
+    (tmp_path / "a_file").write_text("x")
+    with pytest.raises(ValueError, match="a_file"):
+        sf.sweep(cache, samples=20, output=str(tmp_path / "a_file"))
+    odd = os.fsencode(tmp_path) + b"/tri\xff.obj"
+    with open(odd, "wb") as f:
+        f.write(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n")
+    tet = sf.Cache.from_file(odd)
+    assert os.fsencode(tet.source) == odd
+    before = set(glob.glob(os.path.join(os.path.realpath("/tmp"), "smoothforce_sweep_*")))
+    assert sf.sweep(tet, samples=20)["summary"] is not None
+    with pytest.raises(ValueError, match="depths"):
+        sf.sweep(tet, samples=20, depths="-1")
+    assert set(glob.glob(os.path.join(os.path.realpath("/tmp"), "smoothforce_sweep_*"))) == before
+    with pytest.raises(ValueError, match=r"missing\\xff\.obj: cannot open"):
+        sf.Cache.from_file(os.fsencode(tmp_path) + b"/missing\xff.obj")
 
 
 def test_file_errors_name_the_file_and_line(paths, tmp_path):

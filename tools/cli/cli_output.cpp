@@ -38,7 +38,7 @@ void TextOutput::commit() {
 }
 
 void printJson(std::FILE* f, const nlohmann::ordered_json& j) {
-  const std::string s = j.dump(2) + "\n";
+  const std::string s = j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
   std::fputs(s.c_str(), f);
   std::fflush(f);
 }

@@ -8,10 +8,12 @@
 #include <smoothforce/config.h>
 #include <smoothforce/version.h>
 
+#include <smoothforce/base/coordinate_range.h>
 #include <smoothforce/base/csv_reader.h>
 #include <smoothforce/base/error.h>
 #include <smoothforce/base/hash.h>
 #include <smoothforce/base/status.h>
+#include <smoothforce/base/thread_limit.h>
 
 #include <smoothforce/mesh/mesh.h>
 #include <smoothforce/mesh/mesh_check.h>
