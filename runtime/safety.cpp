@@ -65,7 +65,8 @@ Eigen::Vector3d SafetyFilter::filter(double t, const Eigen::Vector3d& hip, const
     fl |= kSafetyFaulted;
   } else {
     out = force;
-    const double mag = out.stableNorm();  // a finite force beyond 1e154 N: its norm() overflows
+    double mag = out.norm();
+    if (std::isinf(mag)) mag = out.stableNorm();  // a finite force beyond 1e154 N: its norm() overflows
     if (mag > options_.maxForce) {
       out *= options_.maxForce / mag;
       ++counters_.clamps;
@@ -76,7 +77,8 @@ Eigen::Vector3d SafetyFilter::filter(double t, const Eigen::Vector3d& hip, const
       fl |= kSafetyRamping;
     }
     const Eigen::Vector3d delta = out - last_;
-    const double step = delta.stableNorm();
+    double step = delta.norm();
+    if (std::isinf(step) && delta.allFinite()) step = delta.stableNorm();
     if (step > options_.maxForceStep) {
       out = last_ + delta * (options_.maxForceStep / step);
       ++counters_.rateLimits;

@@ -43,6 +43,7 @@ Parsed parseOptions(const sf_cache_options* o) {
   if (p.backend == Backend::OpenCL) throw InputError("backend: the C API builds on the CPU: tbb or serial");
   requireThreads(o->threads, "threads");
   p.threads = o->threads;
+  if (o->normal_layout) parseNormalLayout(o->normal_layout);  // used by arrays only; checked for files too
   p.lazy = o->lazy != 0;
   return p;
 }

@@ -21,7 +21,8 @@ bool zeroArea(const PolygonMesh& m, int f, const Eigen::Vector3d& newell) {
 }
 
 Eigen::Vector3d unitFileNormal(const Eigen::Vector3d& n, const std::string& what) {
-  const double len = n.norm();
+  double len = n.norm();
+  if (std::isinf(len) && n.allFinite()) len = n.stableNorm();  // a finite normal beyond 1e154 is a direction too
   if (!std::isfinite(len) || len == 0) throw InputError(what + ": zero or non-finite file normal");
   return n / len;
 }
