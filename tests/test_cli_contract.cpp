@@ -115,6 +115,9 @@ TEST_F(CliContract, ExitStatusPerSubcommandAndKindOfMistake) {
       {"sweep --mesh " + sphere + " --depth 2% --trajectory-step -1 -o " + file("s"), 2, "--trajectory-step: '-1'"},
       {"sweep-merge -o " + file("m"), 2, "DIRS is required"},
       {"generate torus --R 1 --r 2 -o " + file("t.obj"), 2, "0 < r < R"},
+      {"generate torus-knot --turns nan --trajectory-out " + file("t.csv") + " -o " + file("t.obj"), 2, "--turns"},
+      {"trace --mesh " + sphere + " --stiffness 1e308 --hips " + hips + " -o " + o, 2,
+       "stiffness must be in (0, 1e12] N/m, got 1e+308"},
       // 1: a file or its values
       {"cache build " + file("nothere.obj") + " -o " + file("n.sfcache"), 1, "nothere.obj"},
       {"cache build " + badObj + " -o " + file("n.sfcache"), 1, "bad.obj:3"},
@@ -147,7 +150,7 @@ TEST_F(CliContract, ExitStatusPerSubcommandAndKindOfMistake) {
     EXPECT_EQ(r.out, "") << "nothing on stdout: " << k.args;
     commands.insert(k.args.substr(0, k.args.find(' ')));
   }
-  EXPECT_EQ(cases.size(), 43u);
+  EXPECT_EQ(cases.size(), 45u);
   EXPECT_EQ(commands.size(), 10u);  // "", frobnicate, and the 8 subcommands
   for (const char* help : {"--help", "cache build --help", "trace --help", "loop --help", "sweep --help"})
     EXPECT_EQ(run(help).status, 0) << help;

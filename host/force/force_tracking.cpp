@@ -19,8 +19,11 @@
 namespace sf {
 
 void validateForceOptions(const ForceOptions& o) {
-  if (!(o.stiffness > 0) || !std::isfinite(o.stiffness))
-    throw InputError("stiffness must be a finite value > 0 N/m, got " + std::to_string(o.stiffness));
+  if (!(o.stiffness > 0) || !(o.stiffness <= kMaxStiffness)) {
+    char v[32];
+    std::snprintf(v, sizeof v, "%g", o.stiffness);
+    throw InputError(std::string("stiffness must be in (0, 1e12] N/m, got ") + v);
+  }
   validateRefineOptions(o);
 }
 

@@ -1,9 +1,11 @@
 // `smoothforce generate torus-knot|sphere|torus -o OUT.obj`
 #include "cmd_generate.h"
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <optional>
 
 #include <smoothforce/sweep/generators.h>
 #include <smoothforce/sweep/sweep_sampling.h>
@@ -77,7 +79,7 @@ void addGenerateCommand(CLI::App& app) {
   knot->add_option("--tube", k->tube, "tube radius")->capture_default_str();
   knot->add_option("--scale", k->scale, "multiplies every length (e.g. 0.1/3.1 for a 10 cm knot)")
       ->capture_default_str();
-  auto size = std::make_shared<double>(0);
+  auto size = std::make_shared<std::optional<double>>();
   knot->add_option("--size", *size, "sets --scale so that the largest bounding-box side is this long (e.g. 0.1)");
   knot->add_option("--trajectory-out", *traj,
                    "also write a helix on the tube as x,y,z CSV (for sweep --trajectory); - writes stdout");
@@ -87,9 +89,14 @@ void addGenerateCommand(CLI::App& app) {
       ->capture_default_str();
   knot->add_option("-o,--output", *out, "OUT.obj")->required();
   knot->callback([=] {
-    if (*size > 0) {
+    // the options CLI11 cannot range-check: finite, positive, and a helix that stays finite
+    if (size->has_value() && !(**size > 0 && std::isfinite(**size)))
+      throw UsageError("--size: expected a finite length > 0, got " + g17(**size));
+    if (!(std::isfinite(*turns) && std::fabs(*turns) <= 1e6))
+      throw UsageError("--turns: expected a finite number of turns within +-1e6, got " + g17(*turns));
+    if (*size && **size > 0) {
       k->scale = 1;
-      k->scale = *size / largestExtent(generated([&] { return torusKnot(*k); }));
+      k->scale = **size / largestExtent(generated([&] { return torusKnot(*k); }));
     }
     const GeneratedMesh m = generated([&] { return torusKnot(*k); });
     const std::string spec = "torus-knot:" + std::to_string(k->p) + "," + std::to_string(k->q) + "," + g17(k->R) + "," +

@@ -20,11 +20,17 @@ enum class ForceMethod { Patch, Direct, Shading };
 ForceMethod parseForceMethod(const std::string& s);
 const char* toString(ForceMethod m);
 
+/// The largest stiffness an option may give, N/m: 1e12, far beyond any haptic device (a few
+/// thousand N/m) or rigid-contact simulation.
+inline constexpr double kMaxStiffness = 1e12;
+
 /// Force rendering options: the refinement options (refine, angleTolerance, positionTolerance,
 /// maxIterations, initialGuess, tessellationLevel; refine_options.h) plus these. Units: metres,
 /// newtons, N/m, radians.
 struct ForceOptions : RefineOptions {
-  double stiffness = 500.0;  ///< k in F = k (SCP - HIP), N/m; > 0
+  /// k in F = k (SCP - HIP), N/m; in (0, kMaxStiffness]: with positions within 1e15 m
+  /// (coordinate_range.h) every force is then finite (1e308 N/m overflowed to inf forces)
+  double stiffness = 500.0;
   /// Lazy construction (the cache is a skeleton, preparePatchSkeleton): faces whose patches
   /// are held at once (LRU); <= 0: every face that is touched stays built.
   int patchCapacity = 256;
