@@ -18,6 +18,8 @@
 #include <smoothforce/base/status.h>
 #include <smoothforce/force/force_tracking.h>
 #include <smoothforce/mesh/mesh_io.h>
+#include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/patch/patch_eval.h>
 #include <smoothforce/query/embree_scene.h>
 #include <smoothforce/query/lazy_surface.h>
 #include <smoothforce/query/patch_surface.h>
@@ -112,6 +114,72 @@ TEST(CoordinateRange, QueriesFindNothingBeyond) {
     ++checked;
   }
   EXPECT_EQ(checked, 31);
+}
+
+// A mesh far from the origin renders as it does at the origin (the float BVHs are built about
+// the mesh, bvhOrigin; the signed volume that orients it is taken about it, checkMesh): the
+// spot cage and the quad-sphere moved by 1e4 and 1e7 m, probes at 2 points per face (a step 1%
+// of the diagonal out, then one 1% in): the same contact verdict at every step, forces within
+// 1e-6 of the stiffness times the diagonal (the HIPs' own rounding at 1e7 m is 2e-9 m) or, at a
+// tie (two patch points as near, at most 0.1% of the steps), the same distance; except
+// where a step's SCP is held on a fold edge of the spot cage (SF_TRACK_FOLD_EDGE: two sides by
+// itself), at most 1% of the steps. At 1e7 m the moved spot cage was oriented inside out and the
+// patch method found no contact at all before. The god-object (direct, shading) is checked at
+// 1e4 m: from about 1e6 m on its constraint solve misses some contacts (found here, not
+// analysed further: a limit of the baselines, left open).
+TEST(CoordinateRange, AMeshFarFromTheOriginRendersAsAtTheOrigin) {
+  int steps = 0, foldEdge = 0, ties = 0;
+  for (const char* rel : {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/quad-sphere.off"}) {
+    PatchOptions po;
+    const LoadedMesh base = loadMesh(test::sharedMesh(rel), po);
+    auto at = [&](const Eigen::Vector3d& shift) {
+      PolygonMesh m = base.mesh;
+      for (auto& p : m.positions) p += shift;
+      return std::make_shared<const PatchCache>(buildPatchCache(loadMesh(std::move(m), 1, po), po, Backend::Tbb));
+    };
+    const auto home = at(Eigen::Vector3d::Zero());
+    const double diag = boundingDiagonal(*home);
+    // per face, the patch points at its centre and half-way to corner 0: 1% in, 1% out
+    std::vector<Eigen::Vector3d> walk;
+    for (int f = 0; f < home->numFaces(); ++f)
+      for (const double x : {0.0, 0.5}) {
+        PatchPoint pp;
+        const double y = 0;
+        evaluatePatches(*home, &f, &x, &y, 1, &pp, Backend::Serial);
+        walk.push_back(pp.pos - 0.01 * diag * pp.normal);
+        walk.push_back(pp.pos + 0.01 * diag * pp.normal);
+      }
+    for (const double d : {1e4, 1e7}) {
+      const Eigen::Vector3d shift = d * Eigen::Vector3d(0.48, -0.6, 0.64);
+      const auto moved = at(shift);
+      for (const ForceMethod method : {ForceMethod::Patch, ForceMethod::Direct, ForceMethod::Shading}) {
+        if (method != ForceMethod::Patch && d > 1e4) continue;  // the god-object: 1e4 only (below)
+        auto a = makeForceRenderer(home, method, ForceOptions{}), b = makeForceRenderer(moved, method, ForceOptions{});
+        for (size_t i = 0; i < walk.size(); i += 2) {  // a probe: from just outside to the HIP
+          a->reset();
+          b->reset();
+          for (const Eigen::Vector3d& hip : {walk[i + 1], walk[i]}) {
+            const ForceSample sa = a->step(hip), sb = b->step(hip + shift);
+            ++steps;
+            if ((sa.status | sb.status) & SF_TRACK_FOLD_EDGE) {
+              foldEdge += sa.contact != sb.contact;
+              if (sa.contact != sb.contact) continue;
+            }
+            EXPECT_EQ(sa.contact, sb.contact) << rel << " " << d << " " << int(method) << " " << hip.transpose();
+            if ((sa.force - sb.force).norm() < 1e-6 * 500 * diag) continue;
+            // the same verdict, another SCP: only a tie (two points as near; the quad-sphere's
+            // symmetry), each rounding choosing one
+            const double da = (sa.scp - hip).norm(), db = (sb.scp - (hip + shift)).norm();
+            EXPECT_LT(std::abs(da - db), 1e-6 * diag) << rel << " " << d << " " << int(method);
+            ++ties;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_EQ(steps, 4 * 4 * (180 + 512));
+  EXPECT_LE(foldEdge, steps / 100);
+  EXPECT_LE(ties, steps / 1000);
 }
 
 // The readers: OBJ, OFF, PLY vertices and CSV positions beyond the range are refused with

@@ -166,6 +166,17 @@ MeshReport checkMesh(const PolygonMesh& m) {
   r.numFaces = m.numFaces();
   const int nc = m.numCorners();
 
+  // the signed volume about a point of the mesh's box where the mesh lies far from the origin:
+  // about (0,0,0) the products of coordinates near 1e7 m cancel and the sign came out wrong (the
+  // mesh was then flipped inside out); about the origin otherwise (the same bits as before)
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
+  for (const auto& p : m.positions) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  if (r.numVertices > 0 && lo.allFinite() && hi.allFinite() && (0.5 * (lo + hi)).norm() > (hi - lo).norm())
+    c = 0.5 * (lo + hi);
   std::vector<HalfEdge> he;
   he.reserve(nc);
   std::vector<char> referenced(r.numVertices, 0);
@@ -190,8 +201,8 @@ MeshReport checkMesh(const PolygonMesh& m) {
     if (!faceSets.emplace(set, f).second) r.duplicateFaces.push_back(f);
     if (static_cast<int>(set.size()) < n || degenerate(m, f)) r.degenerateFaces.push_back(f);
     for (int k = 1; k + 1 < n; ++k) {
-      const Eigen::Vector3d& p0 = m.positions[m.faceVertex(f, 0)];
-      r.signedVolume += p0.dot(m.positions[m.faceVertex(f, k)].cross(m.positions[m.faceVertex(f, k + 1)])) / 6;
+      const Eigen::Vector3d p0 = m.positions[m.faceVertex(f, 0)] - c;
+      r.signedVolume += p0.dot((m.positions[m.faceVertex(f, k)] - c).cross(m.positions[m.faceVertex(f, k + 1)] - c)) / 6;
     }
   }
   for (int v = 0; v < r.numVertices; ++v) {

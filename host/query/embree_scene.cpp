@@ -22,6 +22,7 @@ struct PolygonScene::Impl {
   RTCScene scene = nullptr;
   const PolygonFacets* facets = nullptr;
   float pad = 0;          ///< m, added around every primitive box and to shrunk radii
+  Eigen::Vector3d origin{0, 0, 0};  ///< m: the BVH's frame (bvhOrigin)
   char error[256] = {0};  ///< first Embree error (no allocation in the callback)
   ~Impl() {
     if (scene) rtcReleaseScene(scene);
@@ -48,6 +49,8 @@ void boundsFn(const RTCBoundsFunctionArguments* args) {
     }
   // a projected one-facet face lies within (2 * planarity * diameter) of its vertices' box
   const double grow = pf.facetTolerance[pf.faceFacetOffsets[f]] + impl->pad;
+  lo -= impl->origin;
+  hi -= impl->origin;
   RTCBounds* b = args->bounds_o;
   b->lower_x = float(lo.x() - grow) - impl->pad;
   b->lower_y = float(lo.y() - grow) - impl->pad;
@@ -129,8 +132,9 @@ PolygonScene::PolygonScene(const PatchCache& cache, double planarTolerance)
       facets_(buildPolygonFacets(cache, planarTolerance)),
       impl_(std::make_unique<Impl>()) {
   impl_->facets = &facets_;
-  const double scale =
-      facets_.extent() + std::max(facets_.boxMax.cwiseAbs().maxCoeff(), facets_.boxMin.cwiseAbs().maxCoeff());
+  impl_->origin = bvhOrigin(facets_.boxMin, facets_.boxMax);
+  const double scale = facets_.extent() + std::max((facets_.boxMax - impl_->origin).cwiseAbs().maxCoeff(),
+                                                   (facets_.boxMin - impl_->origin).cwiseAbs().maxCoeff());
   impl_->pad = float(1e-5 * scale) + 1e-30f;
   impl_->device = newEmbreeDevice(onError, impl_.get());
   impl_->scene = sceneOf(impl_->device,
@@ -148,7 +152,7 @@ NearestPolygonPoint PolygonScene::nearest(const Eigen::Vector3d& p) const noexce
   NearestPolygonPoint out;
   if (cache_.numFaces() == 0 || !inCoordinateRange(p)) return out;  // beyond: Embree refuses the point
   PointState st{&facets_, p, p, std::numeric_limits<double>::infinity(), -1, impl_->pad};
-  embreePointQuery(impl_->scene, p, &st);
+  embreePointQuery(impl_->scene, p - impl_->origin, &st);
   if (st.facet < 0) return out;
   out.facet = st.facet;
   out.face = facets_.facetFace[st.facet];
@@ -177,10 +181,10 @@ PolygonCrossing segmentQuery(const PolygonScene::Impl& impl, const PolygonFacets
   sc.bestFacet = -1;
   sc.bestEntering = true;
   RTCRayHit rh;
-  const Eigen::Vector3d d = b - a;
-  rh.ray.org_x = float(a.x());
-  rh.ray.org_y = float(a.y());
-  rh.ray.org_z = float(a.z());
+  const Eigen::Vector3d d = b - a, o = a - impl.origin;  // the ray's origin in the BVH's frame
+  rh.ray.org_x = float(o.x());
+  rh.ray.org_y = float(o.y());
+  rh.ray.org_z = float(o.z());
   rh.ray.dir_x = float(d.x());
   rh.ray.dir_y = float(d.y());
   rh.ray.dir_z = float(d.z());

@@ -28,7 +28,8 @@ struct LazyPatchSurface::Impl {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
   const std::vector<PatchBox>* boxes = nullptr;
-  float pad = 0;  ///< m: float rounding of the BVH
+  float pad = 0;                    ///< m: float rounding of the BVH
+  Eigen::Vector3d origin{0, 0, 0};  ///< m: the BVH's frame (bvhOrigin)
   char error[256] = {0};
   ~Impl() {
     if (scene) rtcReleaseScene(scene);
@@ -55,12 +56,13 @@ void boundsFn(const RTCBoundsFunctionArguments* args) {
     o->upper_x = o->upper_y = o->upper_z = 1e30f;
     return;
   }
-  o->lower_x = float(b.lo.x()) - impl->pad;
-  o->lower_y = float(b.lo.y()) - impl->pad;
-  o->lower_z = float(b.lo.z()) - impl->pad;
-  o->upper_x = float(b.hi.x()) + impl->pad;
-  o->upper_y = float(b.hi.y()) + impl->pad;
-  o->upper_z = float(b.hi.z()) + impl->pad;
+  const Eigen::Vector3d lo = b.lo - impl->origin, hi = b.hi - impl->origin;
+  o->lower_x = float(lo.x()) - impl->pad;
+  o->lower_y = float(lo.y()) - impl->pad;
+  o->lower_z = float(lo.z()) - impl->pad;
+  o->upper_x = float(hi.x()) + impl->pad;
+  o->upper_y = float(hi.y()) + impl->pad;
+  o->upper_z = float(hi.z()) + impl->pad;
 }
 
 struct Collect {
@@ -117,8 +119,10 @@ LazyPatchSurface::LazyPatchSurface(const PatchCache& cache, const PolygonFacets&
     lo = lo.cwiseMin(b.lo);
     hi = hi.cwiseMax(b.hi);
   }
+  impl_->origin = bvhOrigin(lo, hi);
+  const Eigen::Vector3d llo = lo - impl_->origin, lhi = hi - impl_->origin;
   const double scale =
-      lo.allFinite() && hi.allFinite() ? (hi - lo).norm() + lo.cwiseAbs().cwiseMax(hi.cwiseAbs()).norm() : 1.0;
+      lo.allFinite() && hi.allFinite() ? (hi - lo).norm() + llo.cwiseAbs().cwiseMax(lhi.cwiseAbs()).norm() : 1.0;
   impl_->pad = float(1e-5 * scale) + 1e-30f;
   impl_->boxes = &apriori_;
   impl_->device = newEmbreeDevice(onError, impl_.get());
@@ -143,7 +147,7 @@ size_t LazyPatchSurface::facesWithin(const Eigen::Vector3d& q, double radius, Fa
   Collect c{&apriori_, q, radius, out, std::min(cap, kMaxFaces), 0, 0};
   if (cache_.numFaces() > 0 && inCoordinateRange(q) && radius >= 0)
     embreePointQuery(
-        impl_->scene, q, &c,
+        impl_->scene, q - impl_->origin, &c,
         std::isfinite(radius) ? float(radius) * (1.0f + 1e-6f) + impl_->pad : std::numeric_limits<float>::infinity());
   if (found) *found = c.found;
   return c.n;

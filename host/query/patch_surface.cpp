@@ -28,7 +28,8 @@ struct PatchSurface::Impl {
   RTCScene band = nullptr;    ///< user geometry: the uniform triangles, boxes inflated by their error
   RTCScene rays = nullptr;    ///< the uniform triangles as Embree triangles
   const PatchSurface* surface = nullptr;
-  float pad = 0;  ///< m: float rounding of the BVHs, added to boxes and radii
+  float pad = 0;                    ///< m: float rounding of the BVHs, added to boxes and radii
+  Eigen::Vector3d origin{0, 0, 0};  ///< m: the BVHs' frame (bvhOrigin)
   char error[256] = {0};
   ~Impl() {
     for (RTCScene s : {points, band, rays})
@@ -99,7 +100,7 @@ void pointBounds(const RTCBoundsFunctionArguments* args) {
   const auto* impl = static_cast<const PatchSurface::Impl*>(args->geometryUserPtr);
   const SurfaceTriangle& t = impl->surface->pointTriangles()[args->primID];
   const Eigen::Vector3d lo = t.P[0].cwiseMin(t.P[1]).cwiseMin(t.P[2]), hi = t.P[0].cwiseMax(t.P[1]).cwiseMax(t.P[2]);
-  setBounds(args->bounds_o, lo, hi, t.error, impl->pad);
+  setBounds(args->bounds_o, lo - impl->origin, hi - impl->origin, t.error, impl->pad);
 }
 
 void bandBounds(const RTCBoundsFunctionArguments* args) {
@@ -107,7 +108,8 @@ void bandBounds(const RTCBoundsFunctionArguments* args) {
   const UniformTessellation& u = impl->surface->uniform();
   const auto& tr = u.tri[args->primID];
   const Eigen::Vector3d &a = u.vertex[tr[0]], &b = u.vertex[tr[1]], &c = u.vertex[tr[2]];
-  setBounds(args->bounds_o, a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c), u.error[args->primID], impl->pad);
+  setBounds(args->bounds_o, a.cwiseMin(b).cwiseMin(c) - impl->origin, a.cwiseMax(b).cwiseMax(c) - impl->origin,
+            u.error[args->primID], impl->pad);
 }
 
 // ---- candidates ----
@@ -274,8 +276,14 @@ PatchSurface::PatchSurface(const PatchCache& cache, const PatchSurfaceOptions& o
     for (int s = cache.faceOffsets[f]; s < cache.faceOffsets[f + 1]; ++s) closed_ = closed_ && cache.slotTwin[s] >= 0;
   }
 
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
+  for (const auto& p : uniform_->vertex) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  impl_->origin = bvhOrigin(lo, hi);
   double extent = diag;
-  for (const auto& p : uniform_->vertex) extent = std::max(extent, p.cwiseAbs().maxCoeff());
+  for (const auto& p : uniform_->vertex) extent = std::max(extent, (p - impl_->origin).cwiseAbs().maxCoeff());
   impl_->surface = this;
   impl_->pad = float(1e-5 * extent) + 1e-30f;
   impl_->device = newEmbreeDevice(onError, impl_.get());
@@ -292,7 +300,7 @@ PatchSurface::PatchSurface(const PatchCache& cache, const PatchSurfaceOptions& o
         rtcSetNewGeometryBuffer(gr, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), u.tri.size()));
     if (!vb || !ib) throw std::runtime_error(std::string("patch surface BVH buffers: ") + impl_->error);
     for (size_t i = 0; i < u.vertex.size(); ++i)
-      for (int a = 0; a < 3; ++a) vb[3 * i + a] = float(u.vertex[i][a]);
+      for (int a = 0; a < 3; ++a) vb[3 * i + a] = float(u.vertex[i][a] - impl_->origin[a]);
     for (size_t i = 0; i < u.tri.size(); ++i)
       for (int a = 0; a < 3; ++a) ib[3 * i + a] = unsigned(u.tri[i][a]);
     rtcSetGeometryIntersectFilterFunction(gr, windingFilter);
@@ -326,14 +334,14 @@ size_t PatchSurface::candidates(const Eigen::Vector3d& q, SurfaceCandidate* out,
   // search runs again without the radius: the same candidates always.
   const double r0 = searchRadius(reach, reachFace);
   if (r0 < 1e30) {
-    embreePointQuery(impl_->points, q, &st, float(r0) * (1.0f + 1e-6f) + st.pad);
+    embreePointQuery(impl_->points, q - impl_->origin, &st, float(r0) * (1.0f + 1e-6f) + st.pad);
     if (!(st.bound <= r0)) {
       st.bound = std::numeric_limits<double>::infinity();
       st.count = 0;
-      embreePointQuery(impl_->points, q, &st);
+      embreePointQuery(impl_->points, q - impl_->origin, &st);
     }
   } else {
-    embreePointQuery(impl_->points, q, &st);
+    embreePointQuery(impl_->points, q - impl_->origin, &st);
   }
   size_t n = 0;
   for (size_t i = 0; i < st.count; ++i)
@@ -369,7 +377,7 @@ bool PatchSurface::inErrorBand(const Eigen::Vector3d& q, double* reach, int* rea
                     !((q - hintPoint).norm() > 2 * bandError_[hintFace]);
   if (const int64_t t = near ? uniformTriangleAt(*uniform_, cache_, hintFace, hintX) : -1; t >= 0) testBand(st, t);
   if (!st.inside)
-    embreePointQuery(impl_->band, q, &st, impl_->pad);  // boxes are inflated by the errors: q must lie in one
+    embreePointQuery(impl_->band, q - impl_->origin, &st, impl_->pad);  // boxes are inflated by the errors: q must lie in one
   if (st.inside && reach) *reach = st.reach;
   if (st.inside && reachFace) *reachFace = st.face;
   return st.inside;
@@ -388,11 +396,12 @@ int PatchSurface::winding(const Eigen::Vector3d& q) const noexcept {
     wc.dir = kDir[k];
     wc.winding = 0;
     wc.clean = true;
-    wc.minDepth = kWindingMinDepth * float(q.cwiseAbs().maxCoeff());
+    const Eigen::Vector3d o = q - impl_->origin;  // the ray's origin in the BVH's frame
+    wc.minDepth = kWindingMinDepth * float(o.cwiseAbs().maxCoeff());
     RTCRayHit rh;
-    rh.ray.org_x = float(q.x());
-    rh.ray.org_y = float(q.y());
-    rh.ray.org_z = float(q.z());
+    rh.ray.org_x = float(o.x());
+    rh.ray.org_y = float(o.y());
+    rh.ray.org_z = float(o.z());
     rh.ray.dir_x = float(kDir[k].x());
     rh.ray.dir_y = float(kDir[k].y());
     rh.ray.dir_z = float(kDir[k].z());
