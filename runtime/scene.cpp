@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include <smoothforce/base/coordinate_range.h>
 #include <smoothforce/force/force_presets.h>
 #include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/mesh_pipeline.h>
@@ -24,7 +25,10 @@ Scene::Frame Scene::frameOf(const Pose& p) noexcept {
 
 void Scene::add(SceneObject object) {
   if (!object.renderer) throw InputError("scene object '" + object.name + "': no renderer");
-  if (!isValid(object.pose)) throw InputError("scene object '" + object.name + "': pose must be finite with scale > 0");
+  if (!isValid(object.pose) || !inCoordinateRange(object.pose.translation))
+    throw InputError("scene object '" + object.name +
+                     "': pose must be finite, with a translation within +-1e15 m, a quaternion of norm 1e-12 to 1e150 "
+                     "and a scale > 0");
   object.pose.rotation.normalize();
   frames_.push_back(frameOf(object.pose));
   objects_.push_back(std::move(object));
@@ -160,7 +164,8 @@ Eigen::Quaterniond parseRotation(const Ctx& c, const json& j, const std::string&
     double v[4];
     for (int k = 0; k < 4; ++k) v[k] = c.number(q[k], w + "/" + std::to_string(k), "a finite number");
     Eigen::Quaterniond r(v[0], v[1], v[2], v[3]);
-    if (!(r.norm() > 1e-12)) c.fail(w, "the quaternion is zero");
+    if (!(r.coeffs().stableNorm() > 1e-12)) c.fail(w, "the quaternion is zero");
+    if (!(r.coeffs().stableNorm() < 1e150)) c.fail(w, "the quaternion's norm is beyond 1e150 (it would not normalise)");
     return r.normalized();
   }
   if (!j.contains("axis") || !j.contains("angle"))
@@ -176,6 +181,7 @@ Pose parsePose(const Ctx& c, const json& j, const std::string& where) {
   c.onlyKeys(j, where, {"translation", "rotation", "scale"});
   Pose p;
   if (j.contains("translation")) p.translation = c.vec3(j["translation"], where + "/translation");
+  if (!inCoordinateRange(p.translation)) c.fail(where + "/translation", "beyond the coordinate range +-1e15 m");
   if (j.contains("rotation")) p.rotation = parseRotation(c, j["rotation"], where + "/rotation");
   if (j.contains("scale")) {
     p.scale = c.number(j["scale"], where + "/scale", "a scale > 0");
@@ -186,6 +192,8 @@ Pose parsePose(const Ctx& c, const json& j, const std::string& where) {
 
 std::string stringField(const Ctx& c, const json& j, const std::string& where) {
   if (!j.is_string() || j.get<std::string>().empty()) c.fail(where, "expected a non-empty string, got " + j.dump());
+  if (j.get<std::string>().find('\0') != std::string::npos)  // a path would end there
+    c.fail(where, "expected a string without NUL characters");
   return j.get<std::string>();
 }
 
@@ -223,7 +231,7 @@ Scene loadScene(const std::string& path, const SceneDefaults& defaults, const Re
   json root;
   try {
     root = json::parse(ss.str());
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // a syntax error, or a number too large for a double
     throw InputError(path + ": invalid JSON: " + e.what());
   }
   if (!root.is_object()) c.fail("", "expected an object with \"objects\"");

@@ -220,6 +220,13 @@ TEST(CoordinateRange, ReadersRefuseFarCoordinates) {
   const NumericCsv t = readNumericCsv(csv, {"x", "y", "z"});
   e = message([&] { requirePositions(t, csv); });
   EXPECT_NE(e.find("far.csv:4: y = -3e+15 m is beyond"), std::string::npos) << e;
+  // a value too small for a double is its rounding (0), not an error; a directory is named so
+  const NumericCsv tiny = readNumericCsv(write("tiny.csv", "x,y,z\n1e-400,-2e-330,5e-324\n"), {"x", "y", "z"});
+  EXPECT_EQ(tiny.at(0, 0), 0.0);
+  EXPECT_EQ(tiny.at(0, 1), -0.0);
+  EXPECT_GT(tiny.at(0, 2), 0.0);
+  e = message([&] { readNumericCsv(dir.string(), {"x", "y", "z"}); });
+  EXPECT_NE(e.find(": is a directory, not a CSV file"), std::string::npos) << e;
   const std::string replay = write("far_t.csv", "t,x,y,z\n0,0,0,0\n1,1e16,0,0\n");
   e = message([&] { requirePositions(readNumericCsv(replay, {"t", "x", "y", "z"}), replay, 1); });
   EXPECT_NE(e.find("far_t.csv:3: x = 1e+16 m"), std::string::npos) << e;

@@ -187,6 +187,12 @@ TEST_F(RuntimeScene, ErrorsNameFileAndJsonPath) {
   has(R"({"objects": [{"mesh": "../cube.obj", "pose": {"rotation": {"quaternion": [1, 0, 0]}}}]})",
       "/objects/0/pose/rotation/quaternion: expected [w, x, y, z]");
   has(R"({"objects": [{"mesh": "../cube.obj", "pose": {"shear": 1}}]})", "/objects/0/pose/shear: unknown key");
+  has(R"({"objects": [{"mesh": "../cube.obj", "stiffness": 1e400}]})", "invalid JSON: ");  // beyond a double
+  has(R"({"objects": [{"mesh": "../cube.obj\u0000x"}]})", "/objects/0/mesh: expected a string without NUL");
+  has(R"({"objects": [{"mesh": "../cube.obj", "pose": {"translation": [1e300, 0, 0]}}]})",
+      "/objects/0/pose/translation: beyond the coordinate range");
+  has(R"({"objects": [{"mesh": "../cube.obj", "pose": {"rotation": {"quaternion": [1e300, 1e300, 0, 0]}}}]})",
+      "/objects/0/pose/rotation/quaternion: the quaternion's norm is beyond 1e150");
   // Errors inside the mesh name the mesh file too.
   const std::string e = error(R"({"objects": [{"mesh": "missing.obj"}]})");
   EXPECT_NE(e.find("scene.json: /objects/0/mesh: "), std::string::npos) << e;

@@ -4,6 +4,8 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <iterator>
@@ -43,6 +45,8 @@ std::string readAll(const std::string& path) {
     if (std::cin.bad()) throw InputError("<stdin>: read failed");
     return text;
   }
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw InputError(path + ": is a directory, not a CSV file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open");
   std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
@@ -55,6 +59,11 @@ bool parseField(std::string_view f, double& v) {
   if (!f.empty() && f[0] == '+') f.remove_prefix(1);
   if (f.empty()) return false;
   const auto r = std::from_chars(f.data(), f.data() + f.size(), v);
+  if (r.ec == std::errc::result_out_of_range && r.ptr == f.data() + f.size()) {  // overflow, or underflow
+    const std::string s(f);
+    v = std::strtod(s.c_str(), nullptr);  // a value too small for a double is its rounding to 0
+    return std::isfinite(v);
+  }
   return r.ec == std::errc() && r.ptr == f.data() + f.size() && std::isfinite(v);
 }
 
