@@ -94,6 +94,47 @@ TEST(CoordinateRange, EveryRendererReportsABadHip) {
   EXPECT_EQ(checked, 2 * 4 * 31);
 }
 
+// A HIP that jumps from a contact to farther from the object's box than the box's diagonal
+// (farBeyondBox; within the coordinate range) leaves the contact with no force, for every
+// method: from 1e14 m the patch method's tracking stalled and kept a contact of 5e16 N, the
+// god-object one of 5e14 N at 1e12 m. Nearer, a HIP pushed through keeps its contact
+// (ForceThinPlate.NoPopThroughForAnyMethod). 6 directions x 4 distances x 4 kinds x 2 meshes.
+TEST(CoordinateRange, AJumpFarOutsideLeavesTheContact) {
+  int checked = 0;
+  for (const char* rel : {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/quad-sphere.off"}) {
+    const std::string path = test::sharedMesh(rel);
+    auto cache = std::make_shared<const PatchCache>(test::cacheFromFile(path));
+    auto skeleton = std::make_shared<const PatchCache>(test::skeletonFromFile(path));
+    PatchPoint pp;
+    const int32_t f0 = 0;
+    const double x0 = 0, y0 = 0;
+    evaluatePatches(*cache, &f0, &x0, &y0, 1, &pp, Backend::Serial);
+    const double diag = boundingDiagonal(*cache);
+    const Eigen::Vector3d inside = pp.pos - 2e-2 * diag * pp.normal;
+    struct Kind {
+      std::shared_ptr<const PatchCache> cache;
+      ForceMethod method;
+    };
+    for (const Kind& k : {Kind{cache, ForceMethod::Patch}, Kind{skeleton, ForceMethod::Patch},
+                          Kind{cache, ForceMethod::Direct}, Kind{cache, ForceMethod::Shading}}) {
+      auto r = makeForceRenderer(k.cache, k.method, ForceOptions{});
+      for (int axis = 0; axis < 3; ++axis)
+        for (const double sign : {1.0, -1.0})
+          for (const double d : {10 * diag, 1e6, 1e12, 1e14}) {
+            r->reset();
+            ASSERT_TRUE(r->step(inside).contact) << rel;
+            Eigen::Vector3d far = inside;
+            far[axis] += sign * d;
+            const ForceSample s = r->step(far);
+            EXPECT_FALSE(s.contact) << rel << " " << int(k.method) << " " << far.transpose();
+            EXPECT_EQ(s.force.norm(), 0.0);
+            ++checked;
+          }
+    }
+  }
+  EXPECT_EQ(checked, 2 * 4 * 6 * 4);
+}
+
 // The queries themselves, called directly: nothing found, no abort.
 TEST(CoordinateRange, QueriesFindNothingBeyond) {
   const auto cache = test::cacheFromFile(test::sharedMesh("keenan_crane/spot_control_mesh.obj"));

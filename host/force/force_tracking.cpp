@@ -124,9 +124,13 @@ class PatchTracker final : public ForceRenderer {
 
   ForceSample step(const Eigen::Vector3d& hip) noexcept override {
     ForceSample s;
+    if (lazySurface_ && state_.inContact && lazySurface_->farBeyond(hip)) {
+      state_.inContact = false;  // no contact holds that far out (beginPatchStep, prebuilt)
+      s.status |= SF_TRACK_LEAVE;
+    }
     if (lazySurface_ && !state_.inContact && inCoordinateRange(hip)) {  // patches built lazily: faces chosen by their boxes
       s.scp = hip;
-      s.status = SF_TRACK_GLOBAL;
+      s.status |= SF_TRACK_GLOBAL;
       lazyGlobalStep(*lazySurface_, *scene_, *cache_, refiner_, hip, options_, lambda_.data(), state_, s);
       return s;
     }
@@ -311,6 +315,13 @@ bool beginPatchStep(const PolygonScene& scene, const PatchSurface* surface, cons
     state.inContact = false;
     s.status = SF_TRACK_BAD_HIP;
     return false;
+  }
+  if (state.inContact && surface && surface->farBeyond(hip)) {
+    // farther from the surface's box than its size: the contact ends, whatever tracking would
+    // find (from 1e14 m away its refinement stalled at a point the HIP was "below"); nearer, a
+    // HIP pushed through a thin part keeps its contact (no pop-through)
+    state.inContact = false;
+    s.status |= SF_TRACK_LEAVE;
   }
   if (state.inContact) {
     start.face = state.face;

@@ -105,6 +105,13 @@ ForceSample GodObjectRenderer::step(const Eigen::Vector3d& hip) noexcept {
     s.status = SF_TRACK_BAD_HIP;
     return s;
   }
+  if (inContact_ && farBeyondBox(hip, scene_->facets().boxMin, scene_->facets().boxMax)) {
+    reset();  // farther from the polygons' box than its size: no contact holds there
+    prevHip_ = hip;
+    havePrev_ = true;
+    s.status = SF_TRACK_LEAVE;
+    return s;
+  }
   const bool was = inContact_;
   bool inside = false;  // the HIP was found inside the polygons (PolygonScene::contains)
   if (!was) {           // contact starts where the HIP's path enters a polygon from its front side

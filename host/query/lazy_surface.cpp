@@ -120,6 +120,10 @@ LazyPatchSurface::LazyPatchSurface(const PatchCache& cache, const PolygonFacets&
     hi = hi.cwiseMax(b.hi);
   }
   impl_->origin = bvhOrigin(lo, hi);
+  if (lo.allFinite() && hi.allFinite() && (lo.array() <= hi.array()).all()) {
+    boxLo_ = lo;
+    boxHi_ = hi;
+  }
   const Eigen::Vector3d llo = lo - impl_->origin, lhi = hi - impl_->origin;
   const double scale =
       lo.allFinite() && hi.allFinite() ? (hi - lo).norm() + llo.cwiseAbs().cwiseMax(lhi.cwiseAbs()).norm() : 1.0;

@@ -282,6 +282,12 @@ PatchSurface::PatchSurface(const PatchCache& cache, const PatchSurfaceOptions& o
     hi = hi.cwiseMax(p);
   }
   impl_->origin = bvhOrigin(lo, hi);
+  double widest = 0;
+  for (double e : uniform_->error) widest = std::max(widest, std::isfinite(e) ? e : 0.0);
+  if (!uniform_->vertex.empty()) {  // a non-finite band error is no band (testBand compares against it)
+    bandLo_ = lo.array() - widest;
+    bandHi_ = hi.array() + widest;
+  }
   double extent = diag;
   for (const auto& p : uniform_->vertex) extent = std::max(extent, (p - impl_->origin).cwiseAbs().maxCoeff());
   impl_->surface = this;
@@ -368,7 +374,7 @@ bool PatchSurface::overTriangle(int t, int f, const Eigen::Vector2d& X) const no
 
 bool PatchSurface::inErrorBand(const Eigen::Vector3d& q, double* reach, int* reachFace, int hintFace,
                                const Eigen::Vector2d& hintX, const Eigen::Vector3d& hintPoint) const noexcept {
-  if (uniform_->tri.empty() || !inCoordinateRange(q)) return false;
+  if (uniform_->tri.empty() || !inCoordinateRange(q) || beyondBands(q)) return false;
   BandState st{uniform_.get(), q, false, std::numeric_limits<double>::infinity(), -1};
   // the triangle over the hint first: in its band, q is in a band (any triangle's band will do).
   // The hint's point lies within that triangle's error e of it, so q within e of the triangle lies

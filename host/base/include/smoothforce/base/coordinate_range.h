@@ -19,4 +19,18 @@ bool inCoordinateRange(const V& p) noexcept {
   return std::fabs(p[0]) <= kMaxCoordinate && std::fabs(p[1]) <= kMaxCoordinate && std::fabs(p[2]) <= kMaxCoordinate;
 }
 
+/// Whether p lies farther from the box [lo, hi] than the box's diagonal (p, lo, hi indexable
+/// [0..3), m): no contact holds there, for a penetration beyond the object's size has no
+/// meaning (the renderers then leave any contact; a tracker held it from 1e14 m away).
+template <class V>
+bool farBeyondBox(const V& p, const V& lo, const V& hi) noexcept {
+  double out2 = 0, diag2 = 0;
+  for (int a = 0; a < 3; ++a) {
+    const double d = p[a] < lo[a] ? lo[a] - p[a] : (p[a] > hi[a] ? p[a] - hi[a] : 0.0);
+    out2 += d * d;
+    diag2 += (hi[a] - lo[a]) * (hi[a] - lo[a]);
+  }
+  return out2 > diag2;
+}
+
 }  // namespace sf

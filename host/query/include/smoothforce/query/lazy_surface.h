@@ -9,6 +9,7 @@
 #include <memory>
 #include <vector>
 
+#include <smoothforce/base/coordinate_range.h>
 #include <smoothforce/patch/patch_bounds.h>
 #include <smoothforce/patch/patch_cache.h>
 #include <smoothforce/query/polygon_facets.h>
@@ -65,6 +66,9 @@ class LazyPatchSurface {
 
   /// Whether q (m) lies in some face's a-priori box.
   bool inAnyBox(const Eigen::Vector3d& q) const noexcept;
+  /// Whether q (m) lies farther from the box of every a-priori box than its diagonal
+  /// (farBeyondBox): no contact there.
+  bool farBeyond(const Eigen::Vector3d& q) const noexcept { return farBeyondBox(q, boxLo_, boxHi_); }
   /// The faces whose a-priori box is within `radius` (m) of q, nearest box first, at most `cap`
   /// (<= kMaxFaces; the nearest kept) into out; returns how many. *found, when given, receives
   /// how many qualified (more than cap: the rest were dropped). Does not allocate or throw.
@@ -122,6 +126,7 @@ class LazyPatchSurface {
   const PatchCache& cache_;
   const PolygonFacets& facets_;
   bool closed_ = false;
+  Eigen::Vector3d boxLo_{0, 0, 0}, boxHi_{0, 0, 0};  ///< m: farBeyond's box
   std::vector<PatchBox> apriori_;
   std::vector<float> cellBoxes_;        ///< #C x 4 oriented boxes of 18 floats (lazy_surface.cpp makeObb), by face slot
   std::vector<float> sectorBoxes_;      ///< #C oriented boxes, one per corner sector (sectorDistance), by face slot

@@ -9,6 +9,7 @@
 #include <memory>
 #include <vector>
 
+#include <smoothforce/base/coordinate_range.h>
 #include <smoothforce/patch/patch_cache.h>
 
 namespace sf {
@@ -124,6 +125,13 @@ class PatchSurface {
   /// The largest error bound of face f's adaptive triangles, and of all, m (0 without candidates).
   double error(int f) const noexcept { return error_[f]; }
   double maxError() const noexcept { return maxError_; }
+  /// Whether q lies outside the uniform tessellation's box grown by its widest error band: then
+  /// q is in no band, and outside the surface where it is closed (exact double comparisons).
+  bool beyondBands(const Eigen::Vector3d& q) const noexcept {
+    return !((q.array() >= bandLo_.array()).all() && (q.array() <= bandHi_.array()).all());
+  }
+  /// Whether q lies farther from that box than its diagonal (farBeyondBox): no contact there.
+  bool farBeyond(const Eigen::Vector3d& q) const noexcept { return farBeyondBox(q, bandLo_, bandHi_); }
   /// True when every face is built and every edge has a twin: the patch surface is closed.
   bool closed() const noexcept { return closed_; }
   const PatchCache& cache() const noexcept { return cache_; }
@@ -139,6 +147,7 @@ class PatchSurface {
   double maxError_ = 0;
   std::vector<double> error_;      ///< #F, m (0 for faces not built)
   std::vector<double> bandError_;  ///< #F, m: the largest uniform triangle error per face (the widest band)
+  Eigen::Vector3d bandLo_{0, 0, 0}, bandHi_{-1, -1, -1};  ///< m: beyondBands' box (empty: none)
   std::unique_ptr<UniformTessellation> uniform_;
   std::vector<SurfaceTriangle> points_;
   std::unique_ptr<Impl> impl_;
