@@ -1,4 +1,6 @@
 // writeTriangleMesh (tessellate.h): OBJ with a group per patch, binary or ASCII PLY.
+#include <unistd.h>
+
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -78,14 +80,20 @@ void writeTriangleMesh(const TriangleMesh& m, const std::string& path, const Tri
       m.bulge.size() != m.positions.size() || m.normals.size() != m.positions.size() ||
       m.face.size() != m.triangles.size())
     throw InputError(path + ": the triangle mesh's per-vertex or per-triangle arrays differ in length");
-  std::FILE* f = std::fopen(path.c_str(), "wb");
+  // written beside the path and renamed into place: a failed write (a full disk) leaves no
+  // partial file under the path
+  const std::string tmp = path + ".tmp." + std::to_string(::getpid());
+  std::FILE* f = std::fopen(tmp.c_str(), "wb");
   if (!f) throw InputError(path + ": cannot open for writing");
   if (ext == ".obj")
     writeObj(f, m);
   else
     writePly(f, m, format.binary);
   const bool bad = std::ferror(f) != 0;
-  if (std::fclose(f) != 0 || bad) throw InputError(path + ": write failed");
+  if (std::fclose(f) != 0 || bad || std::rename(tmp.c_str(), path.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    throw InputError(path + ": write failed");
+  }
 }
 
 }  // namespace sf
