@@ -50,40 +50,50 @@ TEST(CoordinateRange, Predicate) {
   EXPECT_FALSE(inCoordinateRange(Eigen::Vector3d(0, 0, NAN)));
 }
 
-// Every method (patch on a prebuilt cache, patch on lazy patches, direct, shading) on two
-// meshes: in contact, then each out-of-range HIP: BAD_HIP, no contact, zero force; the next
+/// A mesh's renderers of every kind (patch on a prebuilt cache, patch on lazy patches, direct,
+/// shading) and a HIP 2% of the diagonal below the patch point at the centre of face 0 (below
+/// its polygon too): in contact for each.
+struct EveryRenderer {
+  explicit EveryRenderer(const std::string& rel) {
+    const std::string path = test::sharedMesh(rel);
+    auto cache = std::make_shared<const PatchCache>(test::cacheFromFile(path));
+    auto skeleton = std::make_shared<const PatchCache>(test::skeletonFromFile(path));
+    PatchPoint pp;
+    const int32_t f0 = 0;
+    const double x0 = 0, y0 = 0;
+    evaluatePatches(*cache, &f0, &x0, &y0, 1, &pp, Backend::Serial);
+    diag = boundingDiagonal(*cache);
+    inside = pp.pos - 2e-2 * diag * pp.normal;
+    renderers.push_back(makeForceRenderer(cache, ForceMethod::Patch, ForceOptions{}));
+    renderers.push_back(makeForceRenderer(skeleton, ForceMethod::Patch, ForceOptions{}));
+    renderers.push_back(makeForceRenderer(cache, ForceMethod::Direct, ForceOptions{}));
+    renderers.push_back(makeForceRenderer(cache, ForceMethod::Shading, ForceOptions{}));
+  }
+  double diag = 0;
+  Eigen::Vector3d inside;
+  std::vector<std::unique_ptr<ForceRenderer>> renderers;
+};
+
+// Every renderer (EveryRenderer) on two meshes: in contact, then each out-of-range HIP: BAD_HIP, no contact, zero force; the next
 // valid HIP is a contact start again (the state was reset), the same as after reset().
 TEST(CoordinateRange, EveryRendererReportsABadHip) {
   const auto bad = outOfRange();
   ASSERT_EQ(bad.size(), 31u);
   int checked = 0;
   for (const char* rel : {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/quad-sphere.off"}) {
-    const std::string path = test::sharedMesh(rel);
-    auto cache = std::make_shared<const PatchCache>(test::cacheFromFile(path));
-    auto skeleton = std::make_shared<const PatchCache>(test::skeletonFromFile(path));
-    // a HIP 2% of the diagonal below the patch point at the centre of face 0 (below its polygon too)
-    PatchPoint pp;
-    const int32_t f0 = 0;
-    const double x0 = 0, y0 = 0;
-    evaluatePatches(*cache, &f0, &x0, &y0, 1, &pp, Backend::Serial);
-    const Eigen::Vector3d inside = pp.pos - 2e-2 * boundingDiagonal(*cache) * pp.normal;
-    struct Kind {
-      std::shared_ptr<const PatchCache> cache;
-      ForceMethod method;
-    };
-    for (const Kind& k : {Kind{cache, ForceMethod::Patch}, Kind{skeleton, ForceMethod::Patch},
-                          Kind{cache, ForceMethod::Direct}, Kind{cache, ForceMethod::Shading}}) {
-      auto r = makeForceRenderer(k.cache, k.method, ForceOptions{});
-      r->reset();
-      const ForceSample fresh = r->step(inside);
-      ASSERT_TRUE(fresh.contact) << rel << " " << int(k.method);
+    EveryRenderer e(rel);
+    for (size_t k = 0; k < e.renderers.size(); ++k) {
+      ForceRenderer& r = *e.renderers[k];
+      r.reset();
+      const ForceSample fresh = r.step(e.inside);
+      ASSERT_TRUE(fresh.contact) << rel << " " << k;
       for (const Eigen::Vector3d& hip : bad) {
-        r->step(inside);  // in contact
-        const ForceSample s = r->step(hip);
+        r.step(e.inside);  // in contact
+        const ForceSample s = r.step(hip);
         EXPECT_TRUE(s.status & SF_TRACK_BAD_HIP) << rel << " " << hip.transpose();
         EXPECT_FALSE(s.contact);
         EXPECT_EQ(s.force.norm(), 0.0);
-        const ForceSample again = r->step(inside);
+        const ForceSample again = r.step(e.inside);
         EXPECT_TRUE(again.contact);
         EXPECT_TRUE(again.status & SF_TRACK_ENTER) << "state reset";
         EXPECT_EQ(again.scp, fresh.scp) << "as after reset()";
@@ -102,31 +112,18 @@ TEST(CoordinateRange, EveryRendererReportsABadHip) {
 TEST(CoordinateRange, AJumpFarOutsideLeavesTheContact) {
   int checked = 0;
   for (const char* rel : {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/quad-sphere.off"}) {
-    const std::string path = test::sharedMesh(rel);
-    auto cache = std::make_shared<const PatchCache>(test::cacheFromFile(path));
-    auto skeleton = std::make_shared<const PatchCache>(test::skeletonFromFile(path));
-    PatchPoint pp;
-    const int32_t f0 = 0;
-    const double x0 = 0, y0 = 0;
-    evaluatePatches(*cache, &f0, &x0, &y0, 1, &pp, Backend::Serial);
-    const double diag = boundingDiagonal(*cache);
-    const Eigen::Vector3d inside = pp.pos - 2e-2 * diag * pp.normal;
-    struct Kind {
-      std::shared_ptr<const PatchCache> cache;
-      ForceMethod method;
-    };
-    for (const Kind& k : {Kind{cache, ForceMethod::Patch}, Kind{skeleton, ForceMethod::Patch},
-                          Kind{cache, ForceMethod::Direct}, Kind{cache, ForceMethod::Shading}}) {
-      auto r = makeForceRenderer(k.cache, k.method, ForceOptions{});
+    EveryRenderer e(rel);
+    for (size_t k = 0; k < e.renderers.size(); ++k) {
+      ForceRenderer& r = *e.renderers[k];
       for (int axis = 0; axis < 3; ++axis)
         for (const double sign : {1.0, -1.0})
-          for (const double d : {10 * diag, 1e6, 1e12, 1e14}) {
-            r->reset();
-            ASSERT_TRUE(r->step(inside).contact) << rel;
-            Eigen::Vector3d far = inside;
+          for (const double d : {10 * e.diag, 1e6, 1e12, 1e14}) {
+            r.reset();
+            ASSERT_TRUE(r.step(e.inside).contact) << rel;
+            Eigen::Vector3d far = e.inside;
             far[axis] += sign * d;
-            const ForceSample s = r->step(far);
-            EXPECT_FALSE(s.contact) << rel << " " << int(k.method) << " " << far.transpose();
+            const ForceSample s = r.step(far);
+            EXPECT_FALSE(s.contact) << rel << " " << k << " " << far.transpose();
             EXPECT_EQ(s.force.norm(), 0.0);
             ++checked;
           }
