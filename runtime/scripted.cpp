@@ -62,8 +62,15 @@ std::optional<double> SurfaceProbe::topHeight(double x, double y) const {
 }
 
 double effectiveDepth(const Scene& scene, double depth) {
-  if (depth > 0) return depth;
-  return 0.01 * sceneBounds(scene).diagonal().norm();
+  const double diagonal = sceneBounds(scene).diagonal().norm();
+  if (!(depth > 0)) return 0.01 * diagonal;
+  if (depth > diagonal) {  // a path beyond the scene's size (1e308 made it infinite, then a safety fault)
+    char msg[160];
+    std::snprintf(msg, sizeof msg, "--depth: %g m is deeper than the scene's bounding-box diagonal (%g m)", depth,
+                  diagonal);
+    throw InputError(msg);
+  }
+  return depth;
 }
 
 ScriptedPath slidePath(const Scene& scene, double depth) {

@@ -140,6 +140,10 @@ TEST_F(CliContract, ExitStatusPerSubcommandAndKindOfMistake) {
       {"sweep --cache " + c + " --depth 2% --samples 10 --trajectory-step 1e-12 -o " + file("s"), 1,
        "the default trajectory (a section loop): the polyline is"},
       {"sweep-merge " + file("nodir") + " -o " + file("m"), 1, "sweep.json: cannot open"},
+      // checked before anything is written or run
+      {"generate torus-knot --trajectory-out " + (dir / "no" / "t.csv").string() + " -o " + file("unwritten.obj"), 1,
+       "t.csv: cannot open for writing"},
+      {"loop --mesh " + sphere + " --depth 1e308 --duration 0.05", 1, "--depth: 1e+308 m is deeper than the scene's"},
   };
   std::set<std::string> commands;
   for (const Case& k : cases) {
@@ -150,7 +154,8 @@ TEST_F(CliContract, ExitStatusPerSubcommandAndKindOfMistake) {
     EXPECT_EQ(r.out, "") << "nothing on stdout: " << k.args;
     commands.insert(k.args.substr(0, k.args.find(' ')));
   }
-  EXPECT_EQ(cases.size(), 45u);
+  EXPECT_EQ(cases.size(), 47u);
+  EXPECT_FALSE(std::filesystem::exists(file("unwritten.obj"))) << "the OBJ of a generate whose helix cannot be written";
   EXPECT_EQ(commands.size(), 10u);  // "", frobnicate, and the 8 subcommands
   for (const char* help : {"--help", "cache build --help", "trace --help", "loop --help", "sweep --help"})
     EXPECT_EQ(run(help).status, 0) << help;

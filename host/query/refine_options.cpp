@@ -2,6 +2,7 @@
 #include <smoothforce/query/refine_options.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include <smoothforce/base/error.h>
 
@@ -23,14 +24,23 @@ const char* toString(RefineMethod m) { return m == RefineMethod::Newton ? "newto
 const char* toString(InitialGuess g) { return g == InitialGuess::Polygon ? "polygon" : "surface"; }
 
 void validateRefineOptions(const RefineOptions& o) {
+  // the command line's option beside the field's name; %g, not to_string's %f (1e-308 is 0.000000)
+  auto num = [](double v) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%g", v);
+    return std::string(b);
+  };
   if (!(o.angleTolerance > 0) || !std::isfinite(o.angleTolerance))
-    throw InputError("angleTolerance must be a finite value > 0 rad, got " + std::to_string(o.angleTolerance));
+    throw InputError("angle tolerance (--angle-tol, angleTolerance) must be a finite value > 0 rad, got " +
+                     num(o.angleTolerance));
   if (!(o.positionTolerance > 0) || !std::isfinite(o.positionTolerance))
-    throw InputError("positionTolerance must be a finite value > 0 (fraction of the diagonal), got " +
-                     std::to_string(o.positionTolerance));
-  if (o.maxIterations < 1) throw InputError("maxIterations must be >= 1, got " + std::to_string(o.maxIterations));
+    throw InputError("position tolerance (--position-tol, positionTolerance) must be a finite value > 0 (fraction of "
+                     "the diagonal), got " + num(o.positionTolerance));
+  if (o.maxIterations < 1)
+    throw InputError("iteration cap (--max-iter, maxIterations) must be >= 1, got " + std::to_string(o.maxIterations));
   if (o.tessellationLevel < 0 || o.tessellationLevel > 64)
-    throw InputError("tessellationLevel must be in 0..64 (0: chosen), got " + std::to_string(o.tessellationLevel));
+    throw InputError("tessellation level (--guess-level, tessellationLevel) must be in 0..64 (0: chosen), got " +
+                     std::to_string(o.tessellationLevel));
 }
 
 }  // namespace sf

@@ -98,6 +98,8 @@ void addGenerateCommand(CLI::App& app) {
       k->scale = 1;
       k->scale = **size / largestExtent(generated([&] { return torusKnot(*k); }));
     }
+    // the helix's file opened first: a path that cannot be written fails before the OBJ is written
+    std::unique_ptr<TextOutput> helix = traj->empty() ? nullptr : std::make_unique<TextOutput>(*traj);
     const GeneratedMesh m = generated([&] { return torusKnot(*k); });
     const std::string spec = "torus-knot:" + std::to_string(k->p) + "," + std::to_string(k->q) + "," + g17(k->R) + "," +
                              g17(k->r) + "," + g17(k->tube) + "," + g17(k->scale);
@@ -106,13 +108,12 @@ void addGenerateCommand(CLI::App& app) {
                           std::to_string(k->sides));
     std::FILE* to = *traj == "-" ? stderr : stdout;  // stdout carries the helix with --trajectory-out -
     report(m, "torus-knot", *out, spec, to);
-    if (!traj->empty()) {
-      TextOutput helix(*traj);
-      std::fprintf(helix.file(), "x,y,z\n");
+    if (helix) {
+      std::fprintf(helix->file(), "x,y,z\n");
       for (const auto& p : torusKnotHelix(*k, *turns, *trajPoints))
-        std::fprintf(helix.file(), "%.17g,%.17g,%.17g\n", p.x(), p.y(), p.z());
-      helix.commit();
-      std::fprintf(to, "  helix trajectory (%g turns, %d points) -> %s\n", *turns, *trajPoints, helix.name().c_str());
+        std::fprintf(helix->file(), "%.17g,%.17g,%.17g\n", p.x(), p.y(), p.z());
+      helix->commit();
+      std::fprintf(to, "  helix trajectory (%g turns, %d points) -> %s\n", *turns, *trajPoints, helix->name().c_str());
     }
   });
 
