@@ -221,6 +221,26 @@ TEST_F(SweepResume, MergeRefusesIncompleteShardsAndNamesThem) {
   writeSweepData(mergeSweepData(shards), (dir / "merged").string());
   writeSweepData(runSweep(inputs(), {}), (dir / "whole").string());
   for (const char* f : kFiles) EXPECT_EQ(slurp(dir / "whole" / f), slurp(dir / "merged" / f)) << f;
+  // a hand-edited shard index or count is refused naming the field (a count of 1e308 merged)
+  const std::string meta = slurp(dir / "shard2" / "sweep.json");
+  int refused = 0;
+  for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
+           {"\"index\": 2", "\"index\": -1"}, {"\"index\": 2", "\"index\": \"2\""},
+           {"\"index\": 2", "\"index\": 4"}, {"\"count\": 4", "\"count\": 1e308"}}) {
+    const size_t at = meta.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    std::string edited = meta;
+    edited.replace(at, from.size(), to);
+    std::ofstream(dir / "shard2" / "sweep.json") << edited;
+    try {
+      readSweepData((dir / "shard2").string());
+      ADD_FAILURE() << to;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("sweep.json: shard." + from.substr(1, 5)), std::string::npos) << e.what();
+      ++refused;
+    }
+  }
+  EXPECT_EQ(refused, 4);
 }
 
 }  // namespace

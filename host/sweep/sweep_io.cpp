@@ -286,10 +286,18 @@ SweepData readSweepData(const std::string& dir) {
   try {
     const ojson j = ojson::parse(in);
     d.config = configFrom(j.at("config"));
-    d.shardIndex = j.at("shard").at("index");
-    d.shardCount = j.at("shard").at("count");
-    d.begin = j.at("shard").at("begin");
-    d.end = j.at("shard").at("end");
+    // integers within their ranges (a hand-edited 1e308 or -1 converted to anything)
+    auto integer = [&](const char* key, double lo, double hi) {
+      const ojson& v = j.at("shard").at(key);
+      if (!v.is_number_integer() || !(v.get<double>() >= lo && v.get<double>() <= hi))
+        throw InputError(meta + ": shard." + key + ": expected an integer in [" + std::to_string(uint64_t(lo)) + ", " +
+                         std::to_string(uint64_t(hi)) + "], got " + jsonText(v));
+      return v;
+    };
+    d.shardCount = integer("count", 1, 1e9);
+    d.shardIndex = integer("index", 0, double(d.shardCount) - 1);
+    d.begin = integer("begin", 0, 1.8e19);
+    d.end = integer("end", 0, 1.8e19);
     d.interrupted = j.at("interrupted");
     if (d.begin > d.end || d.end > d.total()) throw InputError(meta + ": HIP range outside the sweep");
     const std::string tpath = dir + "/trajectories.json";
