@@ -221,6 +221,23 @@ TEST_P(HostileCache, BrokenStructureWithValidChecksums) {
   for (int32_t t : {-3, ns, std::numeric_limits<int32_t>::max(), std::numeric_limits<int32_t>::min()}) {
     with([&](Bytes& b) { set<int32_t>(b, l.slotTwin + 4 * 5, t); }, "out-of-range neighbour");
   }
+  // records that contradict each other: every slot's neighbour made the slot itself, or made to
+  // name another slot back; every face's status word given a bit the construction cannot give
+  int contradictions = 0;
+  for (int s = 0; s < ns; ++s) {
+    const int32_t twin = cache_.slotTwin[s];
+    if (twin < 0) continue;
+    with([&](Bytes& b) { set<int32_t>(b, l.slotTwin + 4 * s, s); }, "do not name each other across two faces");
+    with([&](Bytes& b) { set<int32_t>(b, l.slotTwin + 4 * twin, (s + 1) % ns); },
+         "do not name each other across two faces");
+    contradictions += 2;
+  }
+  for (int f = 0; f < nf; ++f) {
+    for (const uint32_t bad : {0xFFFFFFFFu, uint32_t(GP_ST_OUTSIDE), uint32_t(GP_ST_TOO_MANY_SIDES), 0x400u})
+      with([&](Bytes& b) { set<uint32_t>(b, l.faceStatus + 4 * f, bad); }, "status word the construction cannot give");
+    contradictions += 4;
+  }
+  EXPECT_EQ(contradictions, 2 * ns + 4 * nf);  // the cube: every slot has a neighbour
 }
 
 // Offsets {0, INT32_MAX, INT32_MIN + 5, ...}: face 1's size (INT32_MIN + 5) - INT32_MAX

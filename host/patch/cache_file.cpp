@@ -224,6 +224,25 @@ PatchCache readPatchCache(const std::string& path, const CacheExpectation& expec
     if (c.slotTwin[s] < -2 || (c.slotTwin[s] >= 0 && static_cast<uint64_t>(c.slotTwin[s]) >= h.numSlots))
       throw fail("slot " + std::to_string(s) + " has an out-of-range neighbour");
   }
+  // what the records say of each other: neighbours in pairs across two faces, statuses that the
+  // construction can give (a forged status word of 0xFFFFFFFF silently removed every patch)
+  std::vector<int32_t> slotFace(h.numSlots);
+  for (uint64_t f = 0; f < h.numFaces; ++f)
+    for (int32_t s = c.faceOffsets[f]; s < c.faceOffsets[f + 1]; ++s) slotFace[s] = static_cast<int32_t>(f);
+  for (uint64_t s = 0; s < h.numSlots; ++s) {
+    const int32_t t = c.slotTwin[s];
+    if (t >= 0 && (c.slotTwin[t] != static_cast<int32_t>(s) || slotFace[t] == slotFace[s]))
+      throw fail("slot " + std::to_string(s) + " and its neighbour " + std::to_string(t) +
+                 " do not name each other across two faces");
+  }
+  constexpr uint32_t kConstructionBits = 0x3FFu & ~GP_ST_OUTSIDE;  // GP_ST_GUARD .. GP_ST_NONFINITE
+  for (uint64_t f = 0; f < h.numFaces; ++f) {
+    const uint32_t st = c.faceStatus[f];
+    const bool tooMany = c.faceOffsets[f + 1] - c.faceOffsets[f] > GP_MAX_N;
+    if ((st & ~kConstructionBits) || bool(st & GP_ST_TOO_MANY_SIDES) != tooMany)
+      throw fail("face " + std::to_string(f) + " has a status word the construction cannot give (" +
+                 std::to_string(st) + ")");
+  }
   return c;
 }
 
