@@ -155,7 +155,7 @@ TEST(CoordinateRange, QueriesFindNothingBeyond) {
 }
 
 // A mesh far from the origin renders as it does at the origin (the float BVHs are built about
-// the mesh, bvhOrigin; the signed volume that orients it is taken about it, checkMesh): the
+// the mesh, localOrigin; the signed volume that orients it is taken about it, checkMesh): the
 // spot cage and the quad-sphere moved by 1e4 and 1e7 m, probes at 2 points per face (a step 1%
 // of the diagonal out, then one 1% in): the same contact verdict at every step, forces within
 // 1e-6 of the stiffness times the diagonal (the HIPs' own rounding at 1e7 m is 2e-9 m) or, at a

@@ -8,6 +8,7 @@
 #include <map>
 #include <numeric>
 
+#include <smoothforce/base/coordinate_range.h>
 #include <smoothforce/mesh/normals.h>
 
 namespace sf {
@@ -166,17 +167,15 @@ MeshReport checkMesh(const PolygonMesh& m) {
   r.numFaces = m.numFaces();
   const int nc = m.numCorners();
 
-  // the signed volume about a point of the mesh's box where the mesh lies far from the origin:
-  // about (0,0,0) the products of coordinates near 1e7 m cancel and the sign came out wrong (the
-  // mesh was then flipped inside out); about the origin otherwise (the same bits as before)
+  // the signed volume about localOrigin of the mesh's box: about (0,0,0) the products of
+  // coordinates near 1e7 m cancelled and the sign came out wrong (the mesh was then flipped
+  // inside out); about the origin for a mesh about it (the same bits as before)
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
   for (const auto& p : m.positions) {
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);
   }
-  Eigen::Vector3d c = Eigen::Vector3d::Zero();
-  if (r.numVertices > 0 && lo.allFinite() && hi.allFinite() && (0.5 * (lo + hi)).norm() > (hi - lo).norm())
-    c = 0.5 * (lo + hi);
+  const Eigen::Vector3d c = localOrigin(lo, hi);
   std::vector<HalfEdge> he;
   he.reserve(nc);
   std::vector<char> referenced(r.numVertices, 0);

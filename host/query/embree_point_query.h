@@ -12,15 +12,6 @@
 
 namespace sf {
 
-/// The origin of the frame the float BVHs are built in (their coordinates are positions minus
-/// it, m): the centre of the geometry's box [lo, hi] where that centre lies farther from (0,0,0)
-/// than the box's diagonal (a mesh far from the origin: float coordinates there would lose its
-/// detail, 1 m at 1e7 m), else (0,0,0) (no rounding changes for meshes about the origin).
-inline Eigen::Vector3d bvhOrigin(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
-  if (!lo.allFinite() || !hi.allFinite() || !(lo.array() <= hi.array()).all()) return Eigen::Vector3d::Zero();
-  const Eigen::Vector3d c = 0.5 * (lo + hi);
-  return c.norm() > (hi - lo).norm() ? c : Eigen::Vector3d::Zero();
-}
 
 /// Runs rtcPointQuery on `scene` at p (m, rounded to float) within `radius` (m; infinite by
 /// default: the callbacks shrink it themselves), passing `user` to the callbacks.

@@ -22,7 +22,7 @@ struct PolygonScene::Impl {
   RTCScene scene = nullptr;
   const PolygonFacets* facets = nullptr;
   float pad = 0;          ///< m, added around every primitive box and to shrunk radii
-  Eigen::Vector3d origin{0, 0, 0};  ///< m: the BVH's frame (bvhOrigin)
+  Eigen::Vector3d origin{0, 0, 0};  ///< m: the BVH's frame (localOrigin of the geometry's box)
   char error[256] = {0};  ///< first Embree error (no allocation in the callback)
   ~Impl() {
     if (scene) rtcReleaseScene(scene);
@@ -132,7 +132,7 @@ PolygonScene::PolygonScene(const PatchCache& cache, double planarTolerance)
       facets_(buildPolygonFacets(cache, planarTolerance)),
       impl_(std::make_unique<Impl>()) {
   impl_->facets = &facets_;
-  impl_->origin = bvhOrigin(facets_.boxMin, facets_.boxMax);
+  impl_->origin = localOrigin(facets_.boxMin, facets_.boxMax);
   const double scale = facets_.extent() + std::max((facets_.boxMax - impl_->origin).cwiseAbs().maxCoeff(),
                                                    (facets_.boxMin - impl_->origin).cwiseAbs().maxCoeff());
   impl_->pad = float(1e-5 * scale) + 1e-30f;

@@ -29,7 +29,7 @@ struct LazyPatchSurface::Impl {
   RTCScene scene = nullptr;
   const std::vector<PatchBox>* boxes = nullptr;
   float pad = 0;                    ///< m: float rounding of the BVH
-  Eigen::Vector3d origin{0, 0, 0};  ///< m: the BVH's frame (bvhOrigin)
+  Eigen::Vector3d origin{0, 0, 0};  ///< m: the BVH's frame (localOrigin of the geometry's box)
   char error[256] = {0};
   ~Impl() {
     if (scene) rtcReleaseScene(scene);
@@ -119,7 +119,7 @@ LazyPatchSurface::LazyPatchSurface(const PatchCache& cache, const PolygonFacets&
     lo = lo.cwiseMin(b.lo);
     hi = hi.cwiseMax(b.hi);
   }
-  impl_->origin = bvhOrigin(lo, hi);
+  impl_->origin = localOrigin(lo, hi);
   if (lo.allFinite() && hi.allFinite() && (lo.array() <= hi.array()).all()) {
     boxLo_ = lo;
     boxHi_ = hi;

@@ -29,7 +29,7 @@ struct PatchSurface::Impl {
   RTCScene rays = nullptr;    ///< the uniform triangles as Embree triangles
   const PatchSurface* surface = nullptr;
   float pad = 0;                    ///< m: float rounding of the BVHs, added to boxes and radii
-  Eigen::Vector3d origin{0, 0, 0};  ///< m: the BVHs' frame (bvhOrigin)
+  Eigen::Vector3d origin{0, 0, 0};  ///< m: the BVHs' frame (localOrigin of the geometry's box)
   char error[256] = {0};
   ~Impl() {
     for (RTCScene s : {points, band, rays})
@@ -281,7 +281,7 @@ PatchSurface::PatchSurface(const PatchCache& cache, const PatchSurfaceOptions& o
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);
   }
-  impl_->origin = bvhOrigin(lo, hi);
+  impl_->origin = localOrigin(lo, hi);
   double widest = 0;
   for (double e : uniform_->error) widest = std::max(widest, std::isfinite(e) ? e : 0.0);
   if (!uniform_->vertex.empty()) {  // a non-finite band error is no band (testBand compares against it)

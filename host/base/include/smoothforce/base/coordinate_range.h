@@ -19,6 +19,19 @@ bool inCoordinateRange(const V& p) noexcept {
   return std::fabs(p[0]) <= kMaxCoordinate && std::fabs(p[1]) <= kMaxCoordinate && std::fabs(p[2]) <= kMaxCoordinate;
 }
 
+/// The point to take a geometry's coordinates about where their rounding or cancellation would
+/// lose its detail: the centre of its box [lo, hi] where that centre lies farther from (0,0,0)
+/// than the box's diagonal (a mesh far from the origin: float coordinates at 1e7 m are 1 m
+/// apart, and products of coordinates cancel), else (0,0,0), so that nothing changes for a
+/// geometry about the origin; (0,0,0) too for an empty or non-finite box. V: an Eigen vector.
+template <class V>
+V localOrigin(const V& lo, const V& hi) {
+  const V zero = V::Zero();
+  if (!lo.allFinite() || !hi.allFinite() || !(lo.array() <= hi.array()).all()) return zero;
+  const V c = 0.5 * (lo + hi);
+  return c.norm() > (hi - lo).norm() ? c : zero;
+}
+
 /// Whether p lies farther from the box [lo, hi] than the box's diagonal (p, lo, hi indexable
 /// [0..3), m): no contact holds there, for a penetration beyond the object's size has no
 /// meaning (the renderers then leave any contact; a tracker held it from 1e14 m away).
