@@ -24,6 +24,7 @@
 #include <smoothforce/query/lazy_surface.h>
 #include <smoothforce/query/patch_surface.h>
 #include "patch_test_support.h"
+#include "surface_tessellation.h"
 
 namespace sf {
 namespace {
@@ -162,9 +163,10 @@ TEST(CoordinateRange, QueriesFindNothingBeyond) {
 // tie (two patch points as near, at most 0.1% of the steps), the same distance; except
 // where a step's SCP is held on a fold edge of the spot cage (SF_TRACK_FOLD_EDGE: two sides by
 // itself), at most 1% of the steps. At 1e7 m the moved spot cage was oriented inside out and the
-// patch method found no contact at all before. The god-object (direct, shading) is checked at
-// 1e4 m: from about 1e6 m on its constraint solve misses some contacts (found here, not
-// analysed further: a limit of the baselines, left open).
+// patch method found no contact at all before. The god-object (direct, shading) works about
+// the mesh (GodObjectRenderer's local frame): before, at 1e7 m its proxy, rounded in world
+// coordinates, left its facet's plane by 1e-9 m and fell through (a sweep of the moved spot
+// cage missed 306 of 1,838 contacts).
 TEST(CoordinateRange, AMeshFarFromTheOriginRendersAsAtTheOrigin) {
   int steps = 0, foldEdge = 0, ties = 0;
   for (const char* rel : {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/quad-sphere.off"}) {
@@ -191,7 +193,6 @@ TEST(CoordinateRange, AMeshFarFromTheOriginRendersAsAtTheOrigin) {
       const Eigen::Vector3d shift = d * Eigen::Vector3d(0.48, -0.6, 0.64);
       const auto moved = at(shift);
       for (const ForceMethod method : {ForceMethod::Patch, ForceMethod::Direct, ForceMethod::Shading}) {
-        if (method != ForceMethod::Patch && d > 1e4) continue;  // the god-object: 1e4 only (below)
         auto a = makeForceRenderer(home, method, ForceOptions{}), b = makeForceRenderer(moved, method, ForceOptions{});
         for (size_t i = 0; i < walk.size(); i += 2) {  // a probe: from just outside to the HIP
           a->reset();
@@ -215,9 +216,37 @@ TEST(CoordinateRange, AMeshFarFromTheOriginRendersAsAtTheOrigin) {
       }
     }
   }
-  EXPECT_EQ(steps, 4 * 4 * (180 + 512));
+  EXPECT_EQ(steps, 2 * 3 * 4 * (180 + 512));  // 2 shifts x 3 methods x 2 probes of 2 steps per face
   EXPECT_LE(foldEdge, steps / 100);
   EXPECT_LE(ties, steps / 1000);
+}
+
+// The patch surface of a mesh far from the origin aims no finer than its evaluation noise
+// (evaluationNoise: the rounding of its coordinates): the spot cage moved by 1e7 m has the
+// same tessellation level and adaptive triangle count as at home within 0.1% (the noise is far
+// below the target there; the moved vertices round), and moved by 1e11 and 1e13 m at most as many. Before, at 1e13 m (where a
+// coordinate rounds to 2 mm, 1e-3 of the cage's diagonal) every triangle was subdivided to the
+// depth limit and a sweep ran out of memory.
+TEST(CoordinateRange, PatchSurfaceFarFromTheOriginStaysTheSize) {
+  PatchOptions po;
+  const LoadedMesh base = loadMesh(test::sharedMesh("keenan_crane/spot_control_mesh.obj"), po);
+  auto surfaceAt = [&](double d, size_t& adaptive) {
+    PolygonMesh m = base.mesh;
+    for (auto& p : m.positions) p += d * Eigen::Vector3d(0.48, -0.6, 0.64);
+    const PatchCache cache = buildPatchCache(loadMesh(std::move(m), 1, po), po, Backend::Tbb);
+    const PatchSurface surface(cache);
+    adaptive = surface.pointTriangles().size();
+    return surface.level();
+  };
+  size_t home = 0, far = 0;
+  const int homeLevel = surfaceAt(0, home);
+  ASSERT_GT(home, 0u);
+  EXPECT_EQ(surfaceAt(1e7, far), homeLevel);
+  EXPECT_NEAR(double(far), double(home), 1e-3 * double(home));  // the moved vertices' rounding
+  for (const double d : {1e11, 1e13}) {
+    EXPECT_LE(surfaceAt(d, far), homeLevel) << d;
+    EXPECT_LE(far, home) << d;
+  }
 }
 
 // The readers: OBJ, OFF, PLY vertices and CSV positions beyond the range are refused with

@@ -11,15 +11,41 @@ namespace sf {
 
 namespace {
 constexpr int kMaxPasses = 12;
+
+/// The cache's base polygons moved by -origin: positions, topology and corner normals only
+/// (a skeleton, no patch records), for the renderer's local frame.
+std::shared_ptr<const PatchCache> movedPolygons(const PatchCache& c, const Eigen::Vector3d& origin) {
+  auto m = std::make_shared<PatchCache>();
+  m->options = c.options;
+  m->meshHash = c.meshHash;
+  m->positions = c.positions;
+  for (size_t i = 0; i < m->positions.size(); ++i) m->positions[i] -= origin[static_cast<int>(i % 3)];
+  m->faceOffsets = c.faceOffsets;
+  m->faceVertices = c.faceVertices;
+  m->cornerNormals = c.cornerNormals;
+  m->slotTwin = c.slotTwin;
+  return m;
 }
+}  // namespace
 
 GodObjectRenderer::GodObjectRenderer(std::shared_ptr<const PatchCache> cache, std::shared_ptr<const PolygonScene> scene,
                                      ForceMethod method, const ForceOptions& options)
     : cache_(std::move(cache)), scene_(std::move(scene)), shading_(method == ForceMethod::Shading), options_(options) {
   validateForceOptions(options);
   if (method == ForceMethod::Patch) throw InputError("GodObjectRenderer: method must be direct or shading");
-  if (!scene_ || scene_->planarTolerance() > kWatertightPlanarTolerance)  // gaps between projected facets
+  Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = lo;
+  for (int v = 0; v < cache_->numVertices(); ++v) {
+    const Eigen::Vector3d p(cache_->positions[3 * v], cache_->positions[3 * v + 1], cache_->positions[3 * v + 2]);
+    lo = v == 0 ? p : Eigen::Vector3d(lo.cwiseMin(p));
+    hi = v == 0 ? p : Eigen::Vector3d(hi.cwiseMax(p));
+  }
+  origin_ = localOrigin(lo, hi);
+  if (origin_ != Eigen::Vector3d::Zero()) {  // far from the origin: facets, proxy and HIP about the mesh
+    frameCache_ = movedPolygons(*cache_, origin_);
+    scene_ = std::make_shared<const PolygonScene>(*frameCache_, kWatertightPlanarTolerance);
+  } else if (!scene_ || scene_->planarTolerance() > kWatertightPlanarTolerance) {  // gaps between projected facets
     scene_ = std::make_shared<const PolygonScene>(*cache_, kWatertightPlanarTolerance);
+  }
   int maxN = 3;
   for (int f = 0; f < cache_->numFaces(); ++f) maxN = std::max(maxN, cache_->faceSize(f));
   lambda_.resize(maxN);
@@ -97,14 +123,22 @@ bool GodObjectRenderer::nearestIfInside(const Eigen::Vector3d& hip, Eigen::Vecto
   return true;
 }
 
-ForceSample GodObjectRenderer::step(const Eigen::Vector3d& hip) noexcept {
-  ForceSample s;
-  s.scp = hip;
-  if (!inCoordinateRange(hip)) {  // not finite, or beyond the queries' range
+ForceSample GodObjectRenderer::step(const Eigen::Vector3d& worldHip) noexcept {
+  if (!inCoordinateRange(worldHip)) {  // not finite, or beyond the queries' range
     reset();
+    ForceSample s;
+    s.scp = worldHip;
     s.status = SF_TRACK_BAD_HIP;
     return s;
   }
+  ForceSample s = localStep(worldHip - origin_);
+  s.scp = s.contact ? Eigen::Vector3d(s.scp + origin_) : worldHip;
+  return s;
+}
+
+ForceSample GodObjectRenderer::localStep(const Eigen::Vector3d& hip) noexcept {
+  ForceSample s;
+  s.scp = hip;
   if (inContact_ && farBeyondBox(hip, scene_->facets().boxMin, scene_->facets().boxMax)) {
     reset();  // farther from the polygons' box than its size: no contact holds there
     prevHip_ = hip;

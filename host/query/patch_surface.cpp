@@ -41,6 +41,9 @@ struct PatchSurface::Impl {
 namespace {
 
 constexpr uint32_t kNotBuilt = GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE;
+/// The tessellations aim no finer than this many times the evaluation noise: below it a
+/// triangle's measured error is rounding, and subdividing it only multiplies the triangles.
+constexpr double kNoiseFloor = 4;
 
 void onError(void* user, RTCError code, const char* str) {
   auto* impl = static_cast<PatchSurface::Impl*>(user);
@@ -239,7 +242,8 @@ int choosePatchSurfaceLevel(const PatchCache& cache, const PatchSurfaceOptions& 
   for (double& x : e) x = std::isfinite(x) ? x : 0.0;
   const size_t k = e.size() * 9 / 10;
   std::nth_element(e.begin(), e.begin() + k, e.end());
-  const double target = o.targetError * boundingDiagonal(cache);
+  // no finer than the evaluation noise resolves (a mesh far from the origin)
+  const double target = std::max(o.targetError * boundingDiagonal(cache), kNoiseFloor * evaluationNoise(cache));
   int L = 1;
   while (L < 32 && e[k] * 4.0 / (double(L) * L) > target) ++L;
   while (L > 1 && trianglesAtLevel(cache, L) > o.triangleBudget) --L;
@@ -253,14 +257,15 @@ PatchSurface::PatchSurface(const PatchCache& cache, const PatchSurfaceOptions& o
   if (!(options.targetError > 0) || options.subdivision < 0 || options.subdivision > 8)
     throw InputError("patch surface: targetError must be > 0 and subdivision in 0..8");
   const double diag = boundingDiagonal(cache);
-  const double noise = (cache.options.precision == Precision::Double ? 1e-13 : 2e-6) * diag;
+  const double noise = evaluationNoise(cache);
   uniform_ = std::make_unique<UniformTessellation>(tessellateUniform(cache, choosePatchSurfaceLevel(cache, options)));
   for (double& e : uniform_->error) e += noise;
   bandError_.assign(cache.numFaces(), 0.0);
   for (size_t t = 0; t < uniform_->tri.size(); ++t)
     bandError_[uniform_->triFace[t]] = std::max(bandError_[uniform_->triFace[t]], uniform_->error[t]);
   if (options.candidates)
-    points_ = tessellateAdaptive(cache, *uniform_, options.targetError * diag, options.subdivision);
+    points_ = tessellateAdaptive(cache, *uniform_, std::max(options.targetError * diag, kNoiseFloor * noise),
+                                 options.subdivision);
   for (SurfaceTriangle& t : points_) t.error += noise;
   error_.assign(cache.numFaces(), 0.0);
   for (const SurfaceTriangle& t : points_) {

@@ -82,6 +82,16 @@ void ringTriangles(int n, int L, std::vector<std::array<int32_t, 3>>& out) {
 
 }  // namespace
 
+double evaluationNoise(const PatchCache& cache) {
+  double far = 0;
+  for (double x : cache.positions) far = std::max(far, std::abs(x));
+  // about 450 roundings of the size (the control net's magnitude), 64 of the coordinates (the
+  // weights' sum: measured at 1e7-1e11 m, an evaluation moved by about 10-20 roundings)
+  const bool dbl = cache.options.precision == Precision::Double;
+  return std::max((dbl ? 1e-13 : 2e-6) * boundingDiagonal(cache),
+                  (dbl ? 64 * std::numeric_limits<double>::epsilon() : 16 * std::numeric_limits<float>::epsilon()) * far);
+}
+
 int64_t trianglesAtLevel(const PatchCache& cache, int L) {
   int64_t n = 0;
   for (int f = 0; f < cache.numFaces(); ++f)

@@ -46,6 +46,13 @@ UniformTessellation tessellateUniform(const PatchCache& cache, int L);
 std::vector<SurfaceTriangle> tessellateAdaptive(const PatchCache& cache, const UniformTessellation& uniform,
                                                 double maxError, int maxDepth);
 
+/// The evaluation noise (m) added to every triangle's error bound: the larger of the rounding of
+/// the cache's precision relative to the mesh's bounding-box diagonal (1e-13 in double, 2e-6 in
+/// float) and relative to its largest coordinate (64 double or 16 float epsilons: a mesh far
+/// from the origin rounds at its coordinates).
+/// The tessellations never aim below a few times it (choosePatchSurfaceLevel, PatchSurface).
+double evaluationNoise(const PatchCache& cache);
+
 /// Triangles of a level-L tessellation of the cache's built faces.
 int64_t trianglesAtLevel(const PatchCache& cache, int L);
 

@@ -37,13 +37,19 @@ namespace sf {
 /// direct:  F = k (proxy - HIP).
 /// shading: F = k |proxy - HIP| n, n interpolated from the corner normals at the proxy with
 ///          mean value coordinates on its polygon (mean_value.h).
+/// A mesh farther from the world origin than its size (localOrigin, coordinate_range.h) is
+/// rendered about its box centre: the facets, the proxy and the HIP are held relative to it,
+/// so that the facets' plane tests keep the precision of the mesh's size, not of its
+/// coordinates (at 1e7 m a proxy rounded in world coordinates left its plane by 1e-9 m and
+/// fell through the facet); SCP and force are returned in world coordinates.
 /// ForceSample: scp = proxy, face / xi / eta its polygon and domain point (MVC), normal the
 /// force direction, iterations = passes, transitions = 1 when the proxy changed polygon.
 class GodObjectRenderer final : public ForceRenderer {
  public:
   /// method: Direct or Shading. Throws InputError for bad options or ForceMethod::Patch.
   /// scene: of `cache`; when it was built with a planarTolerance above
-  /// kWatertightPlanarTolerance the renderer builds its own watertight scene.
+  /// kWatertightPlanarTolerance, or the mesh lies far from the origin, the renderer builds its
+  /// own watertight scene (in the local frame).
   GodObjectRenderer(std::shared_ptr<const PatchCache> cache, std::shared_ptr<const PolygonScene> scene,
                     ForceMethod method, const ForceOptions& options);
   ForceSample step(const Eigen::Vector3d& hip) noexcept override;
@@ -60,11 +66,15 @@ class GodObjectRenderer final : public ForceRenderer {
   /// with the most negative Lagrange multiplier (the HIP pulls the proxy to its front side),
   /// or -1 when every plane pushes.
   int releasable(const Eigen::Vector3d& hip, const Eigen::Vector3d& x, const int* act, int m) const noexcept;
+  /// step() in the local frame: hip and the result's scp relative to origin_.
+  ForceSample localStep(const Eigen::Vector3d& hip) noexcept;
   /// Point nearest `hip` on the intersection of the active planes; false when dependent.
   bool goal(const Eigen::Vector3d& hip, const int* act, int m, Eigen::Vector3d& g) const noexcept;
 
   std::shared_ptr<const PatchCache> cache_;
-  std::shared_ptr<const PolygonScene> scene_;
+  std::shared_ptr<const PolygonScene> scene_;  ///< of frameCache_ when the mesh is far from the origin
+  std::shared_ptr<const PatchCache> frameCache_;  ///< the polygons moved by -origin_, or null
+  Eigen::Vector3d origin_{0, 0, 0};               ///< m: the local frame (localOrigin of the polygons' box)
   bool shading_;
   ForceOptions options_;
   std::vector<double> lambda_;
