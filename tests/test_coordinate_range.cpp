@@ -18,6 +18,7 @@
 #include <smoothforce/base/status.h>
 #include <smoothforce/force/force_tracking.h>
 #include <smoothforce/mesh/mesh_io.h>
+#include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/patch/patch_eval.h>
 #include <smoothforce/query/embree_scene.h>
@@ -247,6 +248,72 @@ TEST(CoordinateRange, PatchSurfaceFarFromTheOriginStaysTheSize) {
     EXPECT_LE(surfaceAt(d, far), homeLevel) << d;
     EXPECT_LE(far, home) << d;
   }
+}
+
+// Float precision holds a mesh within kFloatReachDiagonals (100) diagonals of the origin; a mesh
+// farther out (at 1e7 m float rounds the spot cage's coordinates by 1 m; a sweep of it ran at 75
+// probes/s on noise) is refused with a message that names the file and asks for double: from a
+// mesh file, from arrays (preparePatchCache) and from a float cache file written elsewhere. At 90
+// diagonals it is built; double precision builds it at any distance in range.
+TEST(CoordinateRange, FloatPrecisionRefusesAMeshFarFromTheOrigin) {
+  const auto dir = std::filesystem::temp_directory_path() / ("sf_float_reach_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  auto message = [](auto&& f) -> std::string {
+    try {
+      f();
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  PatchOptions fo;
+  fo.precision = Precision::Float;
+  const PolygonMesh cage = readMesh(test::sharedMesh("keenan_crane/spot_control_mesh.obj"));
+  const LoadedMesh home = loadMesh(cage, 1, fo);
+  const double diag = boundingDiagonal(buildPatchCache(home, fo, Backend::Serial));
+  int refused = 0, built = 0;
+  for (const double reach : {90.0, 110.0, 1e4, 1e7 / diag}) {  // the far corner's distance, in diagonals
+    PolygonMesh m = cage;
+    Eigen::Vector3d hi = m.positions[0];
+    for (const auto& p : m.positions) hi = hi.cwiseMax(p);
+    const double shift = reach * diag - hi.x();  // the largest coordinate at reach diagonals
+    for (auto& p : m.positions) p.x() += shift;
+    const std::string obj = (dir / ("far_" + std::to_string(int(reach)) + ".obj")).string();
+    {
+      std::ofstream out(obj);
+      out.precision(17);
+      for (const auto& p : m.positions) out << "v " << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
+      for (int f = 0; f < m.numFaces(); ++f) {
+        out << 'f';
+        for (int s = m.faceOffsets[f]; s < m.faceOffsets[f + 1]; ++s) out << ' ' << m.faceVertices[s] + 1;
+        out << '\n';
+      }
+    }
+    const LoadedMesh far = loadMesh(std::move(m), 1, PatchOptions{});
+    if (reach < kFloatReachDiagonals) {
+      EXPECT_EQ(message([&] { buildPatchCache(loadMesh(obj, fo), fo, Backend::Serial); }), "") << reach;
+      ++built;
+      continue;
+    }
+    std::string e = message([&] { loadMesh(obj, fo); });
+    EXPECT_NE(e.find(obj + ": float precision: the mesh's coordinates reach"), std::string::npos) << e;
+    EXPECT_NE(e.find("use double precision"), std::string::npos) << e;
+    e = message([&] { preparePatchCache(far.mesh, far.cornerNormals, fo, 1); });
+    EXPECT_NE(e.find("float precision"), std::string::npos) << e;
+    EXPECT_NO_THROW(buildPatchCache(loadMesh(obj, PatchOptions{}), PatchOptions{}, Backend::Serial)) << reach;
+    // a float cache file of such a mesh (written by another build): the home cache moved
+    PatchCache moved = buildPatchCache(home, fo, Backend::Serial);
+    for (size_t i = 0; i < moved.positions.size(); i += 3) moved.positions[i] += shift;
+    const std::string file = (dir / "far.sfcache").string();
+    writePatchCache(moved, file);
+    e = message([&] { readPatchCache(file); });
+    EXPECT_NE(e.find("far.sfcache"), std::string::npos) << e;
+    EXPECT_NE(e.find("float precision"), std::string::npos) << e;
+    ++refused;
+  }
+  EXPECT_EQ(built, 1);
+  EXPECT_EQ(refused, 3);
+  std::filesystem::remove_all(dir);
 }
 
 // The readers: OBJ, OFF, PLY vertices and CSV positions beyond the range are refused with

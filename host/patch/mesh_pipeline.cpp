@@ -1,5 +1,6 @@
 #include <smoothforce/patch/mesh_pipeline.h>
 
+#include <smoothforce/base/error.h>
 #include <smoothforce/base/hash.h>
 #include <smoothforce/mesh/mesh_io.h>
 #include "gp_config.h"  // GP_* status bits and record layout
@@ -8,6 +9,8 @@ namespace sf {
 
 LoadedMesh loadMesh(const std::string& path, const PatchOptions& options) {
   PolygonMesh mesh = readMesh(path);
+  if (const std::string why = floatReachProblem(mesh.positions, options.precision); !why.empty())
+    throw InputError(path + ": " + why);
   const uint64_t hash = hashFile(path);
   return loadMesh(std::move(mesh), hash, options);
 }

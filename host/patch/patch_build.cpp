@@ -4,10 +4,15 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
 #include <stdexcept>
+#include <string>
 #include <type_traits>
 #include <utility>
 
+#include <smoothforce/base/error.h>
 #include <smoothforce/base/thread_limit.h>
 #include <smoothforce/mesh/topology.h>
 #include <smoothforce/patch/detail/gp_traits.h>
@@ -36,6 +41,47 @@ double boundingDiagonal(const PatchCache& cache) {
   return (hi - lo).norm();
 }
 
+namespace {
+std::string floatReachProblem(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double far) {
+  const double diag = (hi - lo).norm();
+  // (a mesh of one point has no size to lose: its faces are flagged as zero edges instead)
+  if (far <= kFloatReachDiagonals * diag || !(diag > 0) || !std::isfinite(far)) return {};
+  char buf[320];
+  std::snprintf(buf, sizeof buf,
+                "float precision: the mesh's coordinates reach %.4g m, %.3g times its bounding-box diagonal (%.4g m), "
+                "where float rounds them by %.3g m; use double precision (float holds a mesh within %g diagonals of the "
+                "origin)",
+                far, far / diag, diag,
+                double(std::nextafter(float(far), INFINITY) - float(far)), kFloatReachDiagonals);
+  return buf;
+}
+}  // namespace
+
+std::string floatReachProblem(const std::vector<double>& positions, Precision precision) {
+  if (precision != Precision::Float || positions.empty()) return {};
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  double far = 0;
+  for (size_t i = 0; i < positions.size(); ++i) {
+    const int a = static_cast<int>(i % 3);
+    lo[a] = std::min(lo[a], positions[i]);
+    hi[a] = std::max(hi[a], positions[i]);
+    far = std::max(far, std::abs(positions[i]));
+  }
+  return floatReachProblem(lo, hi, far);
+}
+
+std::string floatReachProblem(const std::vector<Eigen::Vector3d>& positions, Precision precision) {
+  if (precision != Precision::Float || positions.empty()) return {};
+  Eigen::Vector3d lo = positions[0], hi = lo;
+  double far = 0;
+  for (const Eigen::Vector3d& p : positions) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+    far = std::max(far, p.cwiseAbs().maxCoeff());
+  }
+  return floatReachProblem(lo, hi, far);
+}
+
 PatchCache preparePatchCache(const PolygonMesh& mesh, const std::vector<Eigen::Vector3d>& cornerNormals,
                              const PatchOptions& options, uint64_t meshHash, bool allocatePatches) {
   if (static_cast<int>(cornerNormals.size()) != mesh.numCorners())
@@ -49,6 +95,7 @@ PatchCache preparePatchCache(const PolygonMesh& mesh, const std::vector<Eigen::V
   c.faceVertices = mesh.faceVertices;
   c.cornerNormals.reserve(cornerNormals.size() * 3);
   for (const auto& n : cornerNormals) c.cornerNormals.insert(c.cornerNormals.end(), {n.x(), n.y(), n.z()});
+  if (const std::string why = floatReachProblem(c.positions, options.precision); !why.empty()) throw InputError(why);
   c.slotTwin = computeSlotTwins(mesh);
   c.faceStatus.assign(mesh.numFaces(), 0u);
   c.faceBulge.assign(mesh.numFaces(), 0.f);

@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <smoothforce/mesh/mesh.h>
@@ -51,6 +52,19 @@ struct PatchCache {
 /// faceBulge then stay 0 until a face is built there).
 PatchCache preparePatchCache(const PolygonMesh& mesh, const std::vector<Eigen::Vector3d>& cornerNormals,
                              const PatchOptions& options, uint64_t meshHash, bool allocatePatches = true);
+
+/// A float cache holds its patch records (control points in world coordinates) in float: it
+/// must lie within this many bounding-box diagonals of the origin, where float rounds a
+/// coordinate by at most 1.2e-5 of the diagonal. Farther, double precision is needed.
+inline constexpr double kFloatReachDiagonals = 100;
+
+/// Empty when `positions` (#V*3, m) suit `precision`; else why not (a float mesh of nonzero size
+/// farther from the origin than kFloatReachDiagonals diagonals: its coordinate, diagonal and
+/// float rounding).
+/// preparePatchCache and the cache reader refuse such a mesh with this message.
+std::string floatReachProblem(const std::vector<double>& positions, Precision precision);
+/// The same for #V positions.
+std::string floatReachProblem(const std::vector<Eigen::Vector3d>& positions, Precision precision);
 
 /// Builds every patch (Eq. 6-14 with the design page's conventions) and its quality, on the
 /// CPU: Backend::Serial or Backend::Tbb (threads <= 0: oneTBB's default). The OpenCL backend
