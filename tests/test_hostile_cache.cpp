@@ -240,6 +240,48 @@ TEST_P(HostileCache, BrokenStructureWithValidChecksums) {
   EXPECT_EQ(contradictions, 2 * ns + 4 * nf);  // the cube: every slot has a neighbour
 }
 
+// Records that contradict the mesh they claim to be built from, behind valid checksums: every
+// neighbour pair made boundary (-1) or non-manifold (-2) on the closed cube, every vertex moved by
+// 1e-3 of its size, every corner normal tilted. Each opened the surface or moved it silently
+// before (the patches stayed where they were built; the polygons, god-object and bounds moved).
+TEST_P(HostileCache, RecordsThatContradictTheirMesh) {
+  const Layout l = layout(cache_);
+  const int ns = cache_.numSlots(), nv = cache_.numVertices();
+  const auto with = [&](auto edit, const std::string& what) {
+    Bytes b = good_;
+    edit(b);
+    resignAll(b);
+    SCOPED_TRACE(what);
+    rejected(b, what);
+  };
+  int forged = 0;
+  for (int s = 0; s < ns; ++s) {
+    const int32_t twin = cache_.slotTwin[s];
+    if (twin < s) continue;  // each pair once (the cube: every slot has one)
+    for (const int32_t open : {-1, -2}) {
+      with(
+          [&](Bytes& b) {
+            set<int32_t>(b, l.slotTwin + 4 * s, open);
+            set<int32_t>(b, l.slotTwin + 4 * twin, open);
+          },
+          "the neighbours do not match the faces");
+      ++forged;
+    }
+  }
+  for (int v = 0; v < nv; ++v) {
+    const double x = cache_.positions[3 * v];
+    with([&](Bytes& b) { set<double>(b, l.positions + 24 * v, x + 1e-3); }, "does not start at vertex " + std::to_string(v));
+    ++forged;
+  }
+  for (int c = 0; c < ns; ++c) {
+    const double nz = cache_.cornerNormals[3 * c + 2];
+    with([&](Bytes& b) { set<double>(b, l.cornerNormals + 24 * c + 16, nz * 0.99); },
+         "does not carry corner normal " + std::to_string(c));
+    ++forged;
+  }
+  EXPECT_EQ(forged, ns + nv + ns);  // ns / 2 pairs x 2 kinds, every vertex, every corner
+}
+
 // Offsets {0, INT32_MAX, INT32_MIN + 5, ...}: face 1's size (INT32_MIN + 5) - INT32_MAX
 // overflows int32 in readPatchCache's "fewer than 3 corners" check (host/cache_file.cpp) -
 // undefined behaviour that the sanitizer build (SF_SANITIZE=undefined) reports. The file is

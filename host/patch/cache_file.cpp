@@ -8,10 +8,13 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <type_traits>
 #include <vector>
 
 #include <smoothforce/base/coordinate_range.h>
 #include <smoothforce/base/hash.h>
+#include <smoothforce/mesh/mesh.h>
+#include <smoothforce/mesh/topology.h>
 #include "gp_config.h"  // GP_* status bits and record layout
 
 namespace sf {
@@ -209,6 +212,7 @@ PatchCache readPatchCache(const std::string& path, const CacheExpectation& expec
   if (!allFinite(c.positions)) throw fail("non-finite vertex position");
   for (double x : c.positions)
     if (!(std::fabs(x) <= kMaxCoordinate)) throw fail("a vertex position beyond the coordinate range +-1e15 m");
+  if (const std::string why = floatReachProblem(c.positions, opt.precision); !why.empty()) throw fail(why);
   if (!allFinite(c.cornerNormals)) throw fail("non-finite corner normal");
   if (!allFinite(c.faceBulge) || !allFinite(c.edgeDataD) || !allFinite(c.edgeDataF))
     throw fail("non-finite patch record");
@@ -243,6 +247,46 @@ PatchCache readPatchCache(const std::string& path, const CacheExpectation& expec
       throw fail("face " + std::to_string(f) + " has a status word the construction cannot give (" +
                  std::to_string(st) + ")");
   }
+  // the neighbours are the faces' own (computeSlotTwins): a closed mesh's slots forged to
+  // boundary or non-manifold would open the surface silently
+  {
+    PolygonMesh topo;
+    topo.faceOffsets = c.faceOffsets;
+    topo.faceVertices = c.faceVertices;
+    topo.positions.resize(h.numVertices);
+    const std::vector<int32_t> twins = computeSlotTwins(topo);
+    for (uint64_t s = 0; s < h.numSlots; ++s)
+      if (twins[s] != c.slotTwin[s])
+        throw fail("slot " + std::to_string(s) + " names neighbour " + std::to_string(c.slotTwin[s]) +
+                   " where the faces' vertices give " + std::to_string(twins[s]) +
+                   " (-1 boundary, -2 non-manifold): the neighbours do not match the faces");
+  }
+  // each built face's records start at its vertices with their corner normals, in the cache's
+  // precision (gp_edge.h): positions or normals edited after the patches were built contradict them
+  auto checkRecords = [&](const auto& data) {
+    using Real = std::decay_t<decltype(data[0])>;
+    const uint64_t C = h.numSlots;
+    for (uint64_t f = 0; f < h.numFaces; ++f) {
+      if (c.faceStatus[f] & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE)) continue;
+      for (int32_t s = c.faceOffsets[f]; s < c.faceOffsets[f + 1]; ++s) {
+        const int32_t v = c.faceVertices[s];
+        for (int a = 0; a < 3; ++a) {
+          if (data[(GP_E_V0 + a) * C + s] != Real(c.positions[3 * size_t(v) + a]))
+            throw fail("face " + std::to_string(f) + ": its patch record " + std::to_string(s - c.faceOffsets[f]) +
+                       " does not start at vertex " + std::to_string(v) +
+                       " (the positions do not match the patches built from them)");
+          if (data[(GP_E_N0 + a) * C + s] != Real(c.cornerNormals[3 * size_t(s) + a]))
+            throw fail("face " + std::to_string(f) + ": its patch record " + std::to_string(s - c.faceOffsets[f]) +
+                       " does not carry corner normal " + std::to_string(s) +
+                       " (the normals do not match the patches built from them)");
+        }
+      }
+    }
+  };
+  if (opt.precision == Precision::Double)
+    checkRecords(c.edgeDataD);
+  else
+    checkRecords(c.edgeDataF);
   return c;
 }
 
