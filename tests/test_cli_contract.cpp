@@ -110,6 +110,8 @@ TEST_F(CliContract, ExitStatusPerSubcommandAndKindOfMistake) {
       {"sweep --mesh " + sphere + " --depth 2% --shard 3/3 -o " + file("s"), 2, "--shard"},
       {"sweep --mesh " + sphere + " --depth 2%x -o " + file("s"), 2, "2%x"},
       {"sweep --mesh " + sphere + " --depth 2% --methods patch,nope -o " + file("s"), 2, "nope"},
+      {"sweep --mesh " + sphere + " --depth 2% --methods patch,direct,patch -o " + file("s"), 2,
+       "--methods: 'patch' is listed twice (items 1 and 3)"},
       {"sweep --mesh " + sphere + " --depth 2% --analytic cube:1 -o " + file("s"), 2, "cube:1"},
       {"sweep --mesh " + sphere + " --depth 2% --checkpoint-every 0 -o " + file("s"), 2, "--checkpoint-every"},
       {"sweep --mesh " + sphere + " --depth 2% --trajectory-step -1 -o " + file("s"), 2, "--trajectory-step: '-1'"},
@@ -122,6 +124,8 @@ TEST_F(CliContract, ExitStatusPerSubcommandAndKindOfMistake) {
       {"cache build " + file("nothere.obj") + " -o " + file("n.sfcache"), 1, "nothere.obj"},
       {"cache build " + badObj + " -o " + file("n.sfcache"), 1, "bad.obj:3"},
       {"cache info " + garbage, 1, "not a SmoothForce patch cache"},
+      // an export that cannot fit where it goes is refused before any work (/proc: no free space)
+      {"export " + c + " --level 2 -o /proc/sf_export.ply", 1, "/proc/sf_export.ply: level 2 needs at least"},
       {"eval " + c + " --points " + outside + " -o " + o, 1, "outside.csv:2"},
       {"eval " + c + " --points " + pts + " -o " + (dir / "no" / "dir" / "o.csv").string(), 1,
        "cannot open for writing"},
@@ -154,7 +158,7 @@ TEST_F(CliContract, ExitStatusPerSubcommandAndKindOfMistake) {
     EXPECT_EQ(r.out, "") << "nothing on stdout: " << k.args;
     commands.insert(k.args.substr(0, k.args.find(' ')));
   }
-  EXPECT_EQ(cases.size(), 47u);
+  EXPECT_EQ(cases.size(), 49u);
   EXPECT_FALSE(std::filesystem::exists(file("unwritten.obj"))) << "the OBJ of a generate whose helix cannot be written";
   EXPECT_EQ(commands.size(), 10u);  // "", frobnicate, and the 8 subcommands
   for (const char* help : {"--help", "cache build --help", "trace --help", "loop --help", "sweep --help"})

@@ -180,10 +180,20 @@ std::vector<std::vector<uint32_t>> insideBits(const SweepData& d, const PatchCac
 
 }  // namespace
 
+std::string methodListProblem(const std::vector<std::string>& methods) {
+  if (methods.empty()) return "--methods: empty list";
+  for (size_t m = 0; m < methods.size(); ++m)  // one result set per method: a repeat is a mistake
+    for (size_t k = 0; k < m; ++k)
+      if (methods[k] == methods[m])
+        return "--methods: '" + methods[m] + "' is listed twice (items " + std::to_string(k + 1) + " and " +
+               std::to_string(m + 1) + ")";
+  return {};
+}
+
 static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, SweepTiming* timing) {
   const auto t0 = std::chrono::steady_clock::now();
   if (!in.cache) throw InputError("sweep: no patch cache");
-  if (in.config.methods.empty()) throw InputError("--methods: empty list");
+  if (const std::string why = methodListProblem(in.config.methods); !why.empty()) throw InputError(why);
   if (control.checkpoint && !(control.checkpointSeconds > 0))
     throw InputError("--checkpoint-every: expected a time > 0 s");
   ForceOptions opt;

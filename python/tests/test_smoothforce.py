@@ -203,6 +203,8 @@ def test_sweep_paths_bytes_and_failures(spot, tmp_path):
     assert sf.sweep(tet, samples=20)["summary"] is not None
     with pytest.raises(ValueError, match="depths"):
         sf.sweep(tet, samples=20, depths="-1")
+    with pytest.raises(ValueError, match="'patch' is listed twice"):  # one result set per method
+        sf.sweep(tet, samples=20, methods=["patch", "patch"])
     assert set(glob.glob(os.path.join(os.path.realpath("/tmp"), "smoothforce_sweep_*"))) == before
     with pytest.raises(ValueError, match=r"missing\\xff\.obj: cannot open"):
         sf.Cache.from_file(os.fsencode(tmp_path) + b"/missing\xff.obj")

@@ -59,7 +59,7 @@ void sweepInputs(const SweepArgs& a, SweepInputs& in) {
   SweepConfig& c = in.config;
   c.source = a.cache.empty() ? a.mesh : a.cache;
   c.methods = splitList(a.methods);
-  if (c.methods.empty()) throw UsageError("--methods: empty list");
+  if (const std::string why = methodListProblem(c.methods); !why.empty()) throw UsageError(why);
   for (const auto& m : c.methods) parseForceMethod(m);
   c.samples = a.samples;
   c.seed = a.seed;

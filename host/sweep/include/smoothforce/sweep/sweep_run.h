@@ -34,6 +34,11 @@ struct SweepInputs {
   std::optional<SweepData> resume;
 };
 
+/// Why a method list is not one result set per method: empty, or a method named twice (the
+/// message names it and its two positions); empty string when it is fine. The CLI reports it as
+/// a usage error, runSweep as InputError.
+std::string methodListProblem(const std::vector<std::string>& methods);
+
 struct SweepTiming {
   double setupSeconds = 0;            ///< sampling, projection, reference
   std::vector<double> methodSeconds;  ///< probes, per method
