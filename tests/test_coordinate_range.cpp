@@ -45,6 +45,17 @@ std::vector<Eigen::Vector3d> outOfRange() {
   return out;
 }
 
+/// The message of the InputError f() throws, or "" when it throws none.
+template <class F>
+std::string message(F&& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
 TEST(CoordinateRange, Predicate) {
   EXPECT_TRUE(inCoordinateRange(Eigen::Vector3d(1e15, -1e15, 0)));
   EXPECT_FALSE(inCoordinateRange(Eigen::Vector3d(0, 1.0000001e15, 0)));
@@ -258,14 +269,6 @@ TEST(CoordinateRange, PatchSurfaceFarFromTheOriginStaysTheSize) {
 TEST(CoordinateRange, FloatPrecisionRefusesAMeshFarFromTheOrigin) {
   const auto dir = std::filesystem::temp_directory_path() / ("sf_float_reach_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
-  auto message = [](auto&& f) -> std::string {
-    try {
-      f();
-    } catch (const InputError& e) {
-      return e.what();
-    }
-    return "";
-  };
   PatchOptions fo;
   fo.precision = Precision::Float;
   const PolygonMesh cage = readMesh(test::sharedMesh("keenan_crane/spot_control_mesh.obj"));
@@ -325,14 +328,6 @@ TEST(CoordinateRange, ReadersRefuseFarCoordinates) {
     const std::string p = (dir / name).string();
     std::ofstream(p) << text;
     return p;
-  };
-  auto message = [](auto&& f) -> std::string {
-    try {
-      f();
-    } catch (const InputError& e) {
-      return e.what();
-    }
-    return "";
   };
   const std::string tri = "f 1 2 3\n";
   const std::string ok = write("ok.obj", "v 0 0 0\nv 1e15 0 0\nv 0 -1e15 0\n" + tri);

@@ -83,6 +83,15 @@ class HostileCache : public ::testing::TestWithParam<Precision> {
     ASSERT_EQ(good_.size(), layout(cache_).end);
     readPatchCache(path_);  // the undamaged file loads
   }
+  /// The good file edited by edit(Bytes&), both checksums recomputed: expects it rejected with `what`.
+  template <class Edit>
+  void with(Edit edit, const std::string& what) {
+    Bytes b = good_;
+    edit(b);
+    resignAll(b);
+    SCOPED_TRACE(what);
+    rejected(b, what);
+  }
   /// Writes `b` and expects it rejected (message starting with the path, containing `what`).
   std::string rejected(const Bytes& b, const std::string& what = "", const CacheExpectation& ex = {}) {
     std::ofstream(path_, std::ios::binary | std::ios::trunc).write(b.data(), static_cast<std::streamsize>(b.size()));
@@ -202,13 +211,6 @@ TEST_P(HostileCache, WrongCountsWithValidChecksums) {
 TEST_P(HostileCache, BrokenStructureWithValidChecksums) {
   const Layout l = layout(cache_);
   const int nf = cache_.numFaces(), ns = cache_.numSlots(), nv = cache_.numVertices();
-  const auto with = [&](auto edit, const std::string& what) {
-    Bytes b = good_;
-    edit(b);
-    resignAll(b);
-    SCOPED_TRACE(what);
-    rejected(b, what);
-  };
   with([&](Bytes& b) { set<int32_t>(b, l.faceOffsets, 1); }, "inconsistent face offsets");
   with([&](Bytes& b) { set<int32_t>(b, l.faceOffsets + 4 * nf, ns - 1); }, "inconsistent face offsets");
   with([&](Bytes& b) { set<int32_t>(b, l.faceOffsets + 4, 2); }, "fewer than 3 corners");
@@ -247,13 +249,6 @@ TEST_P(HostileCache, BrokenStructureWithValidChecksums) {
 TEST_P(HostileCache, RecordsThatContradictTheirMesh) {
   const Layout l = layout(cache_);
   const int ns = cache_.numSlots(), nv = cache_.numVertices();
-  const auto with = [&](auto edit, const std::string& what) {
-    Bytes b = good_;
-    edit(b);
-    resignAll(b);
-    SCOPED_TRACE(what);
-    rejected(b, what);
-  };
   int forged = 0;
   for (int s = 0; s < ns; ++s) {
     const int32_t twin = cache_.slotTwin[s];
