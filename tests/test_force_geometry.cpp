@@ -85,6 +85,33 @@ TEST(MeanValue, PolygonPointToDomain) {
   }
 }
 
+// A face's diameter: exact (all pairs of corners) up to 256 corners, its corners' box diagonal
+// beyond (a face of 10^6 corners took hours in the pairwise loop): single flat n-gons of radius
+// 1, n = 3 .. 64 and 200, 257, 1000, 10000.
+TEST(EmbreeFacets, FaceDiameterExactUpTo256CornersThenTheBoxDiagonal) {
+  int checked = 0;
+  for (int n : {3, 4, 5, 7, 16, 64, 200, 257, 1000, 10000}) {
+    ref::RefMesh m;
+    for (const Eigen::Vector2d& p : regular(n)) m.positions.emplace_back(p.x(), p.y(), 0);
+    m.faces.emplace_back();
+    for (int k = 0; k < n; ++k) m.faces[0].push_back(k);
+    m.normals.assign(n, Eigen::Vector3d::UnitZ());
+    const PatchCache c = test::cacheFromShape(m);
+    const PolygonFacets pf = buildPolygonFacets(c);
+    double exact = 0;
+    Eigen::Vector3d lo = m.positions[0], hi = lo;
+    for (int a = 0; a < n; ++a) {
+      lo = lo.cwiseMin(m.positions[a]);
+      hi = hi.cwiseMax(m.positions[a]);
+      for (int b = a + 1; b < n; ++b) exact = std::max(exact, (m.positions[a] - m.positions[b]).norm());
+    }
+    EXPECT_EQ(pf.faceDiameter[0], n <= 256 ? exact : (hi - lo).norm()) << n;
+    EXPECT_LE(exact, pf.faceDiameter[0]) << n;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 10);
+}
+
 TEST(EmbreeFacets, NearestOnPlanarPolygonIsAnalytic) {
   // the unit-sphere cube's faces are planar squares: nearest = clamp in the face frame
   const PatchCache c = test::cacheFromShape(ref::refUnitSphereCube());

@@ -7,6 +7,11 @@
 namespace sf {
 namespace {
 
+/// Faces of up to this many corners get their exact diameter (all pairs); larger ones (no patch
+/// is built beyond GP_MAX_N = 64 sides) their corners' box diagonal: a face of 10^6 corners took
+/// hours in the pairwise loop.
+constexpr int kExactDiameterCorners = 256;
+
 Eigen::Vector3d vertexOf(const PatchCache& c, int v) {
   return {c.positions[3 * v], c.positions[3 * v + 1], c.positions[3 * v + 2]};
 }
@@ -54,13 +59,7 @@ Eigen::Vector2d inPlane(const PolygonFacets& pf, int i, const Eigen::Vector3d& p
 PolygonFacets buildPolygonFacets(const PatchCache& cache, double planarTolerance) {
   PolygonFacets pf;
   const int nf = cache.numFaces();
-  if (cache.numVertices() > 0) {
-    pf.boxMin = pf.boxMax = vertexOf(cache, 0);
-    for (int v = 1; v < cache.numVertices(); ++v) {
-      pf.boxMin = pf.boxMin.cwiseMin(vertexOf(cache, v));
-      pf.boxMax = pf.boxMax.cwiseMax(vertexOf(cache, v));
-    }
-  }
+  referencedBox(cache, pf.boxMin, pf.boxMax);
   pf.planeTolerance = 1e-10 * pf.extent() + 1e-300;
   pf.faceCentroid.resize(nf);
   pf.faceNormal.resize(nf);
@@ -78,8 +77,17 @@ PolygonFacets buildPolygonFacets(const PatchCache& cache, double planarTolerance
     c /= n;
     for (int k = 0; k < n; ++k) N += (V[k] - c).cross(V[(k + 1) % n] - c);  // Newell, about the centroid
     double diam = 0;
-    for (int a = 0; a < n; ++a)
-      for (int b = a + 1; b < n; ++b) diam = std::max(diam, (V[a] - V[b]).norm());
+    if (n <= kExactDiameterCorners) {
+      for (int a = 0; a < n; ++a)
+        for (int b = a + 1; b < n; ++b) diam = std::max(diam, (V[a] - V[b]).norm());
+    } else {  // the corners' box diagonal: between 1 and sqrt(3) diameters, in linear time
+      Eigen::Vector3d lo = V[0], hi = V[0];
+      for (int k = 1; k < n; ++k) {
+        lo = lo.cwiseMin(V[k]);
+        hi = hi.cwiseMax(V[k]);
+      }
+      diam = (hi - lo).norm();
+    }
     const bool flat = !(N.norm() > 1e-14 * diam * diam);  // zero-area face: any frame
     N = flat ? Eigen::Vector3d::UnitZ() : N.normalized();
     const Eigen::Vector3d u = perpendicular(N, V[0] - c), v = N.cross(u);

@@ -33,7 +33,7 @@ inline constexpr double kWatertightPlanarTolerance = 1e-12;
 struct PolygonFacets {
   std::vector<Eigen::Vector3d> faceCentroid, faceNormal, faceU, faceV;  ///< #F
   std::vector<double> facePlanarity;         ///< #F: max |distance to best-fit plane| / diameter
-  std::vector<double> faceDiameter;          ///< #F, m
+  std::vector<double> faceDiameter;          ///< #F, m (beyond 256 corners: the corners' box diagonal)
   std::vector<int32_t> faceFacetOffsets{0};  ///< #F+1
   std::vector<Eigen::Vector2d> corner2d;     ///< #C
   std::vector<Eigen::Vector3d> facetOrigin, facetNormal, facetU, facetV;  ///< #P
@@ -42,7 +42,7 @@ struct PolygonFacets {
   std::vector<int32_t> facetVertOffsets{0};  ///< #P+1
   std::vector<Eigen::Vector3d> facetVert3d;
   std::vector<Eigen::Vector2d> facetVert2d;
-  Eigen::Vector3d boxMin{0, 0, 0}, boxMax{0, 0, 0};  ///< of all vertices
+  Eigen::Vector3d boxMin{0, 0, 0}, boxMax{0, 0, 0};  ///< of the referenced vertices (referencedBox)
   double planeTolerance = 0;                         ///< m: |signed distance| below this counts as on a plane
 
   int numFaces() const { return static_cast<int>(faceFacetOffsets.size()) - 1; }
