@@ -20,8 +20,8 @@ std::string fmt(const char* f, double a, double b = 0, double c = 0, double d = 
 
 Eigen::AlignedBox3d sceneBounds(const Scene& scene) {
   Eigen::AlignedBox3d box;
-  for (size_t i = 0; i < scene.objects().size(); ++i)
-    for (int v = 0; v < scene.objects()[i].cache->numVertices(); ++v) box.extend(scene.worldVertex(i, v));
+  for (size_t i = 0; i < scene.objects().size(); ++i)  // the vertices faces reference (not stray ones)
+    for (const int32_t v : scene.objects()[i].cache->faceVertices) box.extend(scene.worldVertex(i, v));
   return box;
 }
 

@@ -319,6 +319,43 @@ TEST(CoordinateRange, FloatPrecisionRefusesAMeshFarFromTheOrigin) {
   std::filesystem::remove_all(dir);
 }
 
+// A vertex no face references (which readers keep) sets no size: the spot cage with one at 1e14
+// m renders as without it, every method, bit for bit (its diagonal, the polygons' box and the
+// signed volume's frame are of the referenced vertices). Before, the diagonal was 1e14 m, every
+// size-relative tolerance with it, and a sweep's 1% depth 1e12 m.
+TEST(CoordinateRange, AStrayVertexSetsNoSize) {
+  PatchOptions po;
+  const LoadedMesh base = loadMesh(test::sharedMesh("keenan_crane/spot_control_mesh.obj"), po);
+  PolygonMesh strayMesh = base.mesh;
+  strayMesh.positions.emplace_back(1e14, 0, 0);
+  const auto home = std::make_shared<const PatchCache>(buildPatchCache(base, po, Backend::Tbb));
+  const auto stray =
+      std::make_shared<const PatchCache>(buildPatchCache(loadMesh(std::move(strayMesh), 1, po), po, Backend::Tbb));
+  ASSERT_EQ(stray->numVertices(), home->numVertices() + 1);
+  EXPECT_EQ(boundingDiagonal(*stray), boundingDiagonal(*home));
+  EXPECT_EQ(stray->edgeDataD, home->edgeDataD);
+  const double diag = boundingDiagonal(*home);
+  int steps = 0;
+  for (const ForceMethod method : {ForceMethod::Patch, ForceMethod::Direct, ForceMethod::Shading}) {
+    auto a = makeForceRenderer(home, method, ForceOptions{}), b = makeForceRenderer(stray, method, ForceOptions{});
+    for (int f = 0; f < home->numFaces(); ++f) {  // a probe per face: 1% out, then 1% in
+      PatchPoint pp;
+      const double x = 0, y = 0;
+      evaluatePatches(*home, &f, &x, &y, 1, &pp, Backend::Serial);
+      a->reset();
+      b->reset();
+      for (const Eigen::Vector3d& hip : {Eigen::Vector3d(pp.pos + 0.01 * diag * pp.normal),
+                                         Eigen::Vector3d(pp.pos - 0.01 * diag * pp.normal)}) {
+        const ForceSample sa = a->step(hip), sb = b->step(hip);
+        EXPECT_EQ(sa.contact, sb.contact) << int(method) << " " << f;
+        EXPECT_EQ(sa.force, sb.force) << int(method) << " " << f;
+        ++steps;
+      }
+    }
+  }
+  EXPECT_EQ(steps, 3 * 2 * 180);
+}
+
 // The readers: OBJ, OFF, PLY vertices and CSV positions beyond the range are refused with
 // file:line (PLY: the vertex), values at the range's edge are read.
 TEST(CoordinateRange, ReadersRefuseFarCoordinates) {

@@ -174,7 +174,7 @@ TEST(MeshOrientation, OnlyClosedConsistentInwardMeshesFlip) {
   EXPECT_TRUE(sf::applyOrientation(c, r, sf::OrientPolicy::Outward));
   EXPECT_NEAR(sf::checkMesh(c).signedVolume, 8, 1e-12);
 
-  // One face turned the wrong way: closed but inconsistent, never flipped.
+  // One face of six turned the wrong way: closed, 4 of 12 edges inconsistent (over 10%), not flipped.
   sf::PolygonMesh bad = cube();
   std::reverse(bad.faceVertices.begin() + 1, bad.faceVertices.begin() + 4);
   sf::flipFaces(bad);
@@ -188,6 +188,33 @@ TEST(MeshOrientation, OnlyClosedConsistentInwardMeshesFlip) {
   r = sf::checkMesh(open);
   ASSERT_LT(r.signedVolume, 0);
   EXPECT_FALSE(sf::applyOrientation(open, r, sf::OrientPolicy::Outward));
+}
+
+// The spot cage turned inward with one face left as it was, for every face in turn (180 meshes):
+// 2-5 of 360 edges inconsistent, the volume the majority's: flipped, so that every face but the
+// one out of line points outward again (before, such a mesh stayed inside out).
+TEST(MeshOrientation, AnInwardMeshWithOneFaceOutOfLineIsFlipped) {
+  const sf::PolygonMesh home = sf::readMesh(meshPath("keenan_crane/spot_control_mesh.obj"));
+  sf::PolygonMesh inward = home;
+  sf::flipFaces(inward);
+  int flipped = 0;
+  for (int f = 0; f < home.numFaces(); ++f) {
+    sf::PolygonMesh m = inward;
+    std::copy(home.faceVertices.begin() + home.faceOffsets[f], home.faceVertices.begin() + home.faceOffsets[f + 1],
+              m.faceVertices.begin() + m.faceOffsets[f]);
+    const sf::MeshReport r = sf::checkMesh(m);
+    ASSERT_FALSE(r.inconsistentEdges.empty()) << f;
+    ASSERT_LT(r.signedVolume, 0) << f;
+    ASSERT_TRUE(sf::applyOrientation(m, r, sf::OrientPolicy::Outward)) << f;
+    for (int g = 0; g < m.numFaces(); ++g) {
+      const bool same = std::equal(m.faceVertices.begin() + m.faceOffsets[g], m.faceVertices.begin() + m.faceOffsets[g + 1],
+                                   home.faceVertices.begin() + home.faceOffsets[g]);
+      EXPECT_EQ(same, g != f) << f << " " << g;
+    }
+    EXPECT_GT(sf::checkMesh(m).signedVolume, 0) << f;
+    ++flipped;
+  }
+  EXPECT_EQ(flipped, 180);
 }
 
 TEST(MeshCheck, NonManifoldEdgesAndVertices) {

@@ -33,12 +33,8 @@ GodObjectRenderer::GodObjectRenderer(std::shared_ptr<const PatchCache> cache, st
     : cache_(std::move(cache)), scene_(std::move(scene)), shading_(method == ForceMethod::Shading), options_(options) {
   validateForceOptions(options);
   if (method == ForceMethod::Patch) throw InputError("GodObjectRenderer: method must be direct or shading");
-  Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = lo;
-  for (int v = 0; v < cache_->numVertices(); ++v) {
-    const Eigen::Vector3d p(cache_->positions[3 * v], cache_->positions[3 * v + 1], cache_->positions[3 * v + 2]);
-    lo = v == 0 ? p : Eigen::Vector3d(lo.cwiseMin(p));
-    hi = v == 0 ? p : Eigen::Vector3d(hi.cwiseMax(p));
-  }
+  Eigen::Vector3d lo, hi;
+  referencedBox(*cache_, lo, hi);
   origin_ = localOrigin(lo, hi);
   if (origin_ != Eigen::Vector3d::Zero()) {  // far from the origin: facets, proxy and HIP about the mesh
     frameCache_ = movedPolygons(*cache_, origin_);

@@ -5,6 +5,24 @@
 
 namespace sf {
 
+bool referencedBox(const double* xyz, const int32_t* cornerVertices, size_t corners, Eigen::Vector3d& lo,
+                   Eigen::Vector3d& hi) {
+  lo = hi = Eigen::Vector3d::Zero();
+  for (size_t c = 0; c < corners; ++c) {
+    const double* p = xyz + 3 * size_t(cornerVertices[c]);
+    const Eigen::Vector3d v(p[0], p[1], p[2]);
+    lo = c == 0 ? v : Eigen::Vector3d(lo.cwiseMin(v));
+    hi = c == 0 ? v : Eigen::Vector3d(hi.cwiseMax(v));
+  }
+  return corners > 0;
+}
+
+bool referencedBox(const PolygonMesh& mesh, Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
+  static_assert(sizeof(Eigen::Vector3d) == 3 * sizeof(double));
+  return referencedBox(mesh.positions.empty() ? nullptr : mesh.positions.data()->data(), mesh.faceVertices.data(),
+                       mesh.faceVertices.size(), lo, hi);
+}
+
 std::vector<int32_t> computeSlotTwins(const PolygonMesh& mesh) {
   const int nc = mesh.numCorners();
   std::vector<int32_t> twin(nc, kBoundarySlot);

@@ -212,7 +212,6 @@ PatchCache readPatchCache(const std::string& path, const CacheExpectation& expec
   if (!allFinite(c.positions)) throw fail("non-finite vertex position");
   for (double x : c.positions)
     if (!(std::fabs(x) <= kMaxCoordinate)) throw fail("a vertex position beyond the coordinate range +-1e15 m");
-  if (const std::string why = floatReachProblem(c.positions, opt.precision); !why.empty()) throw fail(why);
   if (!allFinite(c.cornerNormals)) throw fail("non-finite corner normal");
   if (!allFinite(c.faceBulge) || !allFinite(c.edgeDataD) || !allFinite(c.edgeDataF))
     throw fail("non-finite patch record");
@@ -246,6 +245,11 @@ PatchCache readPatchCache(const std::string& path, const CacheExpectation& expec
     if ((st & ~kConstructionBits) || bool(st & GP_ST_TOO_MANY_SIDES) != tooMany)
       throw fail("face " + std::to_string(f) + " has a status word the construction cannot give (" +
                  std::to_string(st) + ")");
+  }
+  {  // (after the vertex ids are checked: the box is of the referenced vertices)
+    Eigen::Vector3d lo, hi;
+    referencedBox(c, lo, hi);
+    if (const std::string why = floatReachProblem(lo, hi, opt.precision); !why.empty()) throw fail(why);
   }
   // the neighbours are the faces' own (computeSlotTwins): a closed mesh's slots forged to
   // boundary or non-manifold would open the surface silently

@@ -3,13 +3,16 @@
 #include <smoothforce/base/error.h>
 #include <smoothforce/base/hash.h>
 #include <smoothforce/mesh/mesh_io.h>
+#include <smoothforce/mesh/topology.h>
 #include "gp_config.h"  // GP_* status bits and record layout
 
 namespace sf {
 
 LoadedMesh loadMesh(const std::string& path, const PatchOptions& options) {
   PolygonMesh mesh = readMesh(path);
-  if (const std::string why = floatReachProblem(mesh.positions, options.precision); !why.empty())
+  Eigen::Vector3d lo, hi;
+  referencedBox(mesh, lo, hi);
+  if (const std::string why = floatReachProblem(lo, hi, options.precision); !why.empty())
     throw InputError(path + ": " + why);
   const uint64_t hash = hashFile(path);
   return loadMesh(std::move(mesh), hash, options);

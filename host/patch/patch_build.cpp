@@ -31,55 +31,27 @@ size_t PatchCache::bytes() const {
 }
 
 double boundingDiagonal(const PatchCache& cache) {
-  if (cache.numVertices() == 0) return 0;
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
-  for (int v = 0; v < cache.numVertices(); ++v) {
-    const Eigen::Vector3d p(cache.positions[3 * v], cache.positions[3 * v + 1], cache.positions[3 * v + 2]);
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
+  Eigen::Vector3d lo, hi;
+  referencedBox(cache, lo, hi);
   return (hi - lo).norm();
 }
 
-namespace {
-std::string floatReachProblem(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double far) {
-  const double diag = (hi - lo).norm();
+bool referencedBox(const PatchCache& cache, Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
+  return referencedBox(cache.positions.data(), cache.faceVertices.data(), cache.faceVertices.size(), lo, hi);
+}
+
+std::string floatReachProblem(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, Precision precision) {
+  const double diag = (hi - lo).norm(), far = std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff());
   // (a mesh of one point has no size to lose: its faces are flagged as zero edges instead)
-  if (far <= kFloatReachDiagonals * diag || !(diag > 0) || !std::isfinite(far)) return {};
+  if (precision != Precision::Float || far <= kFloatReachDiagonals * diag || !(diag > 0) || !std::isfinite(far))
+    return {};
   char buf[320];
   std::snprintf(buf, sizeof buf,
                 "float precision: the mesh's coordinates reach %.4g m, %.3g times its bounding-box diagonal (%.4g m), "
                 "where float rounds them by %.3g m; use double precision (float holds a mesh within %g diagonals of the "
                 "origin)",
-                far, far / diag, diag,
-                double(std::nextafter(float(far), INFINITY) - float(far)), kFloatReachDiagonals);
+                far, far / diag, diag, double(std::nextafter(float(far), INFINITY) - float(far)), kFloatReachDiagonals);
   return buf;
-}
-}  // namespace
-
-std::string floatReachProblem(const std::vector<double>& positions, Precision precision) {
-  if (precision != Precision::Float || positions.empty()) return {};
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  double far = 0;
-  for (size_t i = 0; i < positions.size(); ++i) {
-    const int a = static_cast<int>(i % 3);
-    lo[a] = std::min(lo[a], positions[i]);
-    hi[a] = std::max(hi[a], positions[i]);
-    far = std::max(far, std::abs(positions[i]));
-  }
-  return floatReachProblem(lo, hi, far);
-}
-
-std::string floatReachProblem(const std::vector<Eigen::Vector3d>& positions, Precision precision) {
-  if (precision != Precision::Float || positions.empty()) return {};
-  Eigen::Vector3d lo = positions[0], hi = lo;
-  double far = 0;
-  for (const Eigen::Vector3d& p : positions) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-    far = std::max(far, p.cwiseAbs().maxCoeff());
-  }
-  return floatReachProblem(lo, hi, far);
 }
 
 PatchCache preparePatchCache(const PolygonMesh& mesh, const std::vector<Eigen::Vector3d>& cornerNormals,
@@ -95,7 +67,11 @@ PatchCache preparePatchCache(const PolygonMesh& mesh, const std::vector<Eigen::V
   c.faceVertices = mesh.faceVertices;
   c.cornerNormals.reserve(cornerNormals.size() * 3);
   for (const auto& n : cornerNormals) c.cornerNormals.insert(c.cornerNormals.end(), {n.x(), n.y(), n.z()});
-  if (const std::string why = floatReachProblem(c.positions, options.precision); !why.empty()) throw InputError(why);
+  {
+    Eigen::Vector3d lo, hi;
+    referencedBox(mesh, lo, hi);
+    if (const std::string why = floatReachProblem(lo, hi, options.precision); !why.empty()) throw InputError(why);
+  }
   c.slotTwin = computeSlotTwins(mesh);
   c.faceStatus.assign(mesh.numFaces(), 0u);
   c.faceBulge.assign(mesh.numFaces(), 0.f);

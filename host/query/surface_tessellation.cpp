@@ -83,8 +83,9 @@ void ringTriangles(int n, int L, std::vector<std::array<int32_t, 3>>& out) {
 }  // namespace
 
 double evaluationNoise(const PatchCache& cache) {
-  double far = 0;
-  for (double x : cache.positions) far = std::max(far, std::abs(x));
+  Eigen::Vector3d lo, hi;
+  referencedBox(cache, lo, hi);
+  const double far = std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff());
   // about 450 roundings of the size (the control net's magnitude), 64 of the coordinates (the
   // weights' sum: measured at 1e7-1e11 m, an evaluation moved by about 10-20 roundings)
   const bool dbl = cache.options.precision == Precision::Double;

@@ -34,9 +34,10 @@ MeshReport checkMesh(const PolygonMesh& mesh);
 /// Reverses every face's corner order (and corner normals) in place.
 void flipFaces(PolygonMesh& mesh);
 
-/// Orientation policy: `Outward` flips a closed, consistently oriented mesh whose signed
-/// volume is negative (faces pointing inward, e.g. polygon_laplacian/sphere2.off); `Keep`
-/// leaves it. Returns true when the mesh was flipped.
+/// Orientation policy: `Outward` flips a closed mesh whose signed volume is negative (faces
+/// pointing inward, e.g. polygon_laplacian/sphere2.off), when at most 10% of its edges are
+/// inconsistently oriented (then the majority's faces point outward after the flip; the
+/// report keeps the inconsistent edges); `Keep` leaves it. Returns true when the mesh was flipped.
 enum class OrientPolicy { Outward, Keep };
 bool applyOrientation(PolygonMesh& mesh, const MeshReport& report, OrientPolicy policy);
 

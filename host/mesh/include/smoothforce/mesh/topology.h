@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include <smoothforce/mesh/mesh.h>
 
 namespace sf {
@@ -18,6 +20,15 @@ inline constexpr int32_t kNonManifoldSlot = -2;
 /// V_k to V_{k+1}) the slot of the same edge in the neighbouring face, which runs it the
 /// other way; or kBoundarySlot / kNonManifoldSlot. Output: #C.
 std::vector<int32_t> computeSlotTwins(const PolygonMesh& mesh);
+
+/// The box (lo, hi, m) of the vertices that faces reference, from #V*3 coordinates and the #C
+/// corners' vertex ids (in range): unreferenced vertices, which the readers keep, do not count
+/// (one stray vertex at 1e14 m set every size-relative tolerance). False, lo = hi = 0, when no
+/// corner is given.
+bool referencedBox(const double* xyz, const int32_t* cornerVertices, size_t corners, Eigen::Vector3d& lo,
+                   Eigen::Vector3d& hi);
+/// The same for a mesh.
+bool referencedBox(const PolygonMesh& mesh, Eigen::Vector3d& lo, Eigen::Vector3d& hi);
 
 /// Face owning slot s (binary search in faceOffsets).
 int slotFace(const std::vector<int32_t>& faceOffsets, int32_t slot);

@@ -58,13 +58,11 @@ PatchCache preparePatchCache(const PolygonMesh& mesh, const std::vector<Eigen::V
 /// coordinate by at most 1.2e-5 of the diagonal. Farther, double precision is needed.
 inline constexpr double kFloatReachDiagonals = 100;
 
-/// Empty when `positions` (#V*3, m) suit `precision`; else why not (a float mesh of nonzero size
-/// farther from the origin than kFloatReachDiagonals diagonals: its coordinate, diagonal and
-/// float rounding).
-/// preparePatchCache and the cache reader refuse such a mesh with this message.
-std::string floatReachProblem(const std::vector<double>& positions, Precision precision);
-/// The same for #V positions.
-std::string floatReachProblem(const std::vector<Eigen::Vector3d>& positions, Precision precision);
+/// Empty when a mesh whose referenced vertices span the box (lo, hi) (m) suits `precision`;
+/// else why not (a float mesh of nonzero size farther from the origin than kFloatReachDiagonals
+/// diagonals: its coordinate, diagonal and float rounding). preparePatchCache, loadMesh and the
+/// cache reader refuse such a mesh with this message.
+std::string floatReachProblem(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, Precision precision);
 
 /// Builds every patch (Eq. 6-14 with the design page's conventions) and its quality, on the
 /// CPU: Backend::Serial or Backend::Tbb (threads <= 0: oneTBB's default). The OpenCL backend
@@ -83,7 +81,11 @@ uint32_t buildPatchRecords(const PatchCache& skeleton, int f, float* recs, float
 /// sampling (status: the construction's bits only, no GP_ST_FOLD or bulge). Allocation-free.
 uint32_t buildPatchEdges(const PatchCache& skeleton, int f, double* recs) noexcept;
 
-/// Bounding-box diagonal of the cache's base mesh, m (0 without vertices).
+/// The box (lo, hi, m) of the base mesh's referenced vertices (topology.h referencedBox);
+/// false, lo = hi = 0, without faces.
+bool referencedBox(const PatchCache& cache, Eigen::Vector3d& lo, Eigen::Vector3d& hi);
+
+/// Bounding-box diagonal of the cache's base mesh (its referenced vertices), m (0 without faces).
 double boundingDiagonal(const PatchCache& cache);
 
 /// True when the cache holds constructed patches (its edge data are filled), false for a
