@@ -165,6 +165,56 @@ TEST_F(CliContract, ExitStatusPerSubcommandAndKindOfMistake) {
     EXPECT_EQ(run(help).status, 0) << help;
 }
 
+// A face with more sides than a patch can have is a hole in the patch surface: every command
+// that opens the mesh says so on stderr, once (before, only `cache build` counted it).
+TEST_F(CliContract, FacesBeyondThePatchSidesAreNoted) {
+  std::string obj;  // a prism of 65-gons
+  for (int z = 0; z < 2; ++z)
+    for (int k = 0; k < 65; ++k)
+      obj += "v " + std::to_string(std::cos(2 * M_PI * k / 65)) + " " + std::to_string(std::sin(2 * M_PI * k / 65)) +
+             " " + std::to_string(z) + "\n";
+  std::string bottom = "f", top = "f";
+  for (int k = 0; k < 65; ++k) {
+    bottom += " " + std::to_string(65 - k);
+    top += " " + std::to_string(66 + k);
+    obj += "f " + std::to_string(k + 1) + " " + std::to_string((k + 1) % 65 + 1) + " " +
+           std::to_string((k + 1) % 65 + 66) + " " + std::to_string(k + 66) + "\n";
+  }
+  const std::string prism = file("prism65.obj", obj + bottom + "\n" + top + "\n");
+  const std::string hips = file("ph.csv", "x,y,z\n0.1,0.1,0.95\n0.1,0.1,0.5\n");
+  int noted = 0;
+  for (const std::string& cmd : {"trace --mesh " + prism + " --hips " + hips + " -o " + file("pt.csv"),
+                                 "export " + prism + " --level 2 -o " + file("pe.obj"),
+                                 "sweep --mesh " + prism + " --depth 1% --samples 50 --no-plots -o " + file("ps")}) {
+    const CliStreams r = run(cmd);
+    EXPECT_EQ(r.status, 0) << cmd << "\n" << r.err;
+    EXPECT_NE(r.err.find("prism65.obj: note: 2 faces with more than 64 sides (up to 65) get no patch"),
+              std::string::npos)
+        << cmd << "\n" << r.err;
+    noted += r.err.find("get no patch") != std::string::npos;
+  }
+  EXPECT_EQ(noted, 3);
+}
+
+// Faces that repeat another's vertices (here a double-sided sheet: each triangle twice, opposite
+// orders) are noted on stderr by every command that opens the mesh: such a surface encloses
+// nothing and its inside tests are unreliable (a trace found 1 kN of phantom contact 2 m away).
+TEST_F(CliContract, DuplicateFacesAreNoted) {
+  const std::string sheet =
+      file("sheet.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 1 3 2\nf 2 4 3\nf 2 3 4\n");
+  const std::string hips = file("sh.csv", "x,y,z\n-2,0.1,0.05\n");
+  int noted = 0;
+  for (const std::string& cmd : {"trace --mesh " + sheet + " --hips " + hips + " -o " + file("st.csv"),
+                                 "export " + sheet + " --level 2 -o " + file("se.obj")}) {
+    const CliStreams r = run(cmd);
+    EXPECT_EQ(r.status, 0) << cmd << "\n" << r.err;
+    EXPECT_NE(r.err.find("sheet.obj: note: 2 faces repeat another face's vertices (face 1 first)"), std::string::npos)
+        << cmd << "\n" << r.err;
+    noted += r.err.find("repeat another face's vertices") != std::string::npos;
+  }
+  EXPECT_EQ(noted, 2);
+}
+
 TEST_F(CliContract, ResultsOnStdoutDiagnosticsOnStderr) {
   const std::string pts = file("pts3.csv", "face,xi,eta\n0,0,0\n17,0.25,-0.4\n179,0.2,-0.3\n");
   CliStreams r = run("cache info " + cache());

@@ -16,7 +16,7 @@ static_assert(SF_TRACK_CONVERGED == GP_TRACK_CONVERGED && SF_TRACK_MAX_ITER == G
                   SF_TRACK_STALLED == GP_TRACK_STALLED && SF_TRACK_BOUNDARY == GP_TRACK_BOUNDARY &&
                   SF_TRACK_DEGENERATE == GP_TRACK_DEGENERATE && SF_TRACK_FOLD_EDGE == GP_TRACK_FOLD_EDGE,
               "status.h SF_TRACK_* must equal gp_config.h GP_TRACK_*");
-static_assert(GP_MAX_N == 64, "status.h: SF_ST_TOO_MANY_SIDES documents n > 64");
+static_assert(GP_MAX_N == 64 && SF_MAX_PATCH_SIDES == GP_MAX_N, "status.h: SF_ST_TOO_MANY_SIDES documents n > 64");
 static_assert((SF_TRACK_MASK & 0xFFFFu) == 0 && (SF_TRACK_MASK & (GP_ST_NONFINITE * 2 - 1)) == 0,
               "SF_TRACK_* bits lie above the GP_ST_* bits");
 

@@ -1,8 +1,10 @@
 #include "cli_common.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 
+#include <smoothforce/base/status.h>
 #include <smoothforce/force/force_presets.h>
 #include <smoothforce/opencl/opencl_backend.h>
 #include <smoothforce/patch/cache_file.h>
@@ -130,16 +132,51 @@ double construct(PatchCache& cache, const PatchArgs& args) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+namespace {
+
+/// On stderr: faces with more sides than a patch can have are holes in the patch surface (the
+/// polygons' methods still render them); every command that opens a mesh or cache says so.
+void noteUnbuiltFaces(const PatchCache& cache, const std::string& path) {
+  int count = 0, largest = 0;
+  for (int f = 0; f < cache.numFaces(); ++f)
+    if (cache.faceSize(f) > SF_MAX_PATCH_SIDES) {
+      ++count;
+      largest = std::max(largest, cache.faceSize(f));
+    }
+  if (count > 0)
+    std::fprintf(stderr,
+                 "%s: note: %d face%s with more than %d sides (up to %d) get no patch: the patch surface has a hole "
+                 "there (split such faces; direct and shading render the polygons)\n",
+                 path.c_str(), count, count == 1 ? "" : "s", SF_MAX_PATCH_SIDES, largest);
+}
+
+/// On stderr: faces that repeat another face's vertices (a copy, or the same face in the opposite
+/// order: a double-sided sheet, which encloses nothing) make the inside tests unreliable near
+/// them; a trace 2 m from such a 1 m sheet found phantom contact of 1 kN.
+void noteDuplicateFaces(const MeshReport& report, const std::string& path) {
+  if (report.duplicateFaces.empty()) return;
+  std::fprintf(stderr,
+               "%s: note: %zu face%s repeat another face's vertices (face %d first): a double-sided or doubled "
+               "surface encloses nothing there and contact near it is unreliable (remove the copies)\n",
+               path.c_str(), report.duplicateFaces.size(), report.duplicateFaces.size() == 1 ? "" : "s",
+               report.duplicateFaces.front());
+}
+
+}  // namespace
+
 Source openSource(const std::string& path, const PatchArgs& args, bool lazy) {
   Source s;
   if (isPatchCacheFile(path)) {
     s.cache = readPatchCache(path);
     args.checkCache(s.cache, path);
+    noteUnbuiltFaces(s.cache, path);
     return s;
   }
   const PatchOptions opt = args.options();
   s.loaded = std::make_unique<LoadedMesh>(loadMesh(path, opt));
   s.cache = preparePatchCache(s.loaded->mesh, s.loaded->cornerNormals, opt, s.loaded->fileHash, !lazy);
+  noteUnbuiltFaces(s.cache, path);
+  noteDuplicateFaces(s.loaded->report, path);
   if (!lazy) s.buildSeconds = construct(s.cache, args);
   return s;
 }
