@@ -89,7 +89,7 @@ double evaluationNoise(const PatchCache& cache) {
   // about 450 roundings of the size (the control net's magnitude), 64 of the coordinates (the
   // weights' sum: measured at 1e7-1e11 m, an evaluation moved by about 10-20 roundings)
   const bool dbl = cache.options.precision == Precision::Double;
-  return std::max((dbl ? 1e-13 : 2e-6) * boundingDiagonal(cache),
+  return std::max((dbl ? 1e-13 : 2e-6) * (hi - lo).norm(),  // = boundingDiagonal(cache)
                   (dbl ? 64 * std::numeric_limits<double>::epsilon() : 16 * std::numeric_limits<float>::epsilon()) * far);
 }
 
