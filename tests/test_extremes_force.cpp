@@ -124,6 +124,52 @@ TEST(ExtremeForce, FarOutsideAndBeyondTheMedialAxis) {
   }
 }
 
+// A double-sided sheet (a 4 x 4 grid of unit quads, every quad also in the opposite order) is
+// open to the patch method (its edges are shared by four faces: non-manifold) and encloses
+// nothing: a HIP beside it, in its plane or 5 cm off it, 0.1 to 20 m from its rim all round,
+// starts no contact on a prebuilt cache or on lazy patches (the nearest point lies on a fold
+// edge, whose side says nothing). Before, such HIPs got contact of up to 10 kN (25 kN at 50 m).
+TEST(ExtremeForce, NoContactBesideADoubleSidedSheet) {
+  ref::RefMesh m;
+  for (int j = 0; j <= 4; ++j)
+    for (int i = 0; i <= 4; ++i) m.positions.emplace_back(i, j, 0);
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i) {
+      const int a = 5 * j + i;
+      m.faces.push_back({a, a + 1, a + 6, a + 5});
+      m.faces.push_back({a, a + 5, a + 6, a + 1});
+    }
+  PolygonMesh pm;
+  pm.positions = m.positions;
+  for (const auto& f : m.faces) {
+    for (int v : f) pm.faceVertices.push_back(v);
+    pm.faceOffsets.push_back(static_cast<int32_t>(pm.faceVertices.size()));
+  }
+  PatchOptions po;
+  const LoadedMesh loaded = loadMesh(pm, 1, po);
+  auto cache = std::make_shared<const PatchCache>(buildPatchCache(loaded, po, Backend::Serial));
+  auto skeleton = std::make_shared<const PatchCache>(preparePatchSkeleton(loaded, po));
+  int steps = 0;
+  for (const auto& c : {cache, skeleton}) {
+    auto r = makeForceRenderer(c, ForceMethod::Patch, ForceOptions{});
+    for (int k = 0; k < 16; ++k) {
+      const Eigen::Vector3d dir(std::cos(2 * M_PI * k / 16), std::sin(2 * M_PI * k / 16), 0);
+      for (double d : {0.1, 0.5, 2.0, 20.0})
+        for (double z : {0.0, 0.05, -0.05}) {
+          // from the centre (2, 2) out to the rim's box along dir, then d beyond it
+          const double t = 2.0 / std::max(std::abs(dir.x()), std::abs(dir.y()));
+          const Eigen::Vector3d hip = Eigen::Vector3d(2, 2, z) + (t + d) * dir;
+          r->reset();
+          const ForceSample f = r->step(hip);
+          ASSERT_TRUE(finite(f));
+          EXPECT_FALSE(f.contact) << (c == cache ? "prebuilt" : "lazy") << " at " << hip.transpose();
+          ++steps;
+        }
+    }
+  }
+  EXPECT_EQ(steps, 2 * 16 * 4 * 3);
+}
+
 // The same slide on the quad-sphere scaled by 1e-6 and 1e6 (stiffness scaled inversely, so that
 // forces are equal): SCP / scale and the forces agree with the unscaled run.
 TEST(ExtremeForce, ScaledCoordinates) {

@@ -81,8 +81,8 @@ void lazyGlobalStep(LazyPatchSurface& surface, const PolygonScene& scene, const 
       inside = true;
     else if (closed)
       inside = conflict ? scene.contains(hip, Eigen::Vector3d::Zero()) : below;
-    else
-      inside = below && !(q.nearest.status & SF_TRACK_BOUNDARY);
+    else  // open: no inside; only the side of a point off every boundary and fold edge (openInside)
+      inside = openInside(q.nearest, hip);
     if (inside && q.anyBelow) scp = q.nearestBelow;
   }
   if (inside) s.status |= SF_TRACK_INSIDE;

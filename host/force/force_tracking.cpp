@@ -291,7 +291,7 @@ bool insidePatchSurface(const PatchSurface& surface, const Eigen::Vector3d& hip,
   if (scp) *scp = q.nearest;
   if (!usable(q.nearest)) return false;
   const bool below = (hip - q.nearest.scp).dot(q.nearest.normal) < 0;
-  if (!surface.closed()) return below && !(q.nearest.status & SF_TRACK_BOUNDARY);
+  if (!surface.closed()) return detail::openInside(q.nearest, hip);
   // the side of the nearest point decides, unless the winding number is reliable here (outside every
   // error band) or a refined point about as near sees the other side (overlapping or folded patches)
   // (a nearest point held on a fold edge has two sides by itself: the two faces disagree there)
