@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <sstream>
 
 #include <smoothforce/config.h>
 #include "cli_contract_support.h"
@@ -168,19 +169,20 @@ TEST_F(CliContract, ExitStatusPerSubcommandAndKindOfMistake) {
 // A face with more sides than a patch can have is a hole in the patch surface: every command
 // that opens the mesh says so on stderr, once (before, only `cache build` counted it).
 TEST_F(CliContract, FacesBeyondThePatchSidesAreNoted) {
-  std::string obj;  // a prism of 65-gons
+  std::ostringstream o, bottom, top;  // a prism of 65-gons (a stream: GCC 12 warned of "v " + std::string&& here)
+  o.precision(17);
   for (int z = 0; z < 2; ++z)
     for (int k = 0; k < 65; ++k)
-      obj += "v " + std::to_string(std::cos(2 * M_PI * k / 65)) + " " + std::to_string(std::sin(2 * M_PI * k / 65)) +
-             " " + std::to_string(z) + "\n";
-  std::string bottom = "f", top = "f";
+      o << "v " << std::cos(2 * M_PI * k / 65) << ' ' << std::sin(2 * M_PI * k / 65) << ' ' << z << '\n';
+  bottom << 'f';
+  top << 'f';
   for (int k = 0; k < 65; ++k) {
-    bottom += " " + std::to_string(65 - k);
-    top += " " + std::to_string(66 + k);
-    obj += "f " + std::to_string(k + 1) + " " + std::to_string((k + 1) % 65 + 1) + " " +
-           std::to_string((k + 1) % 65 + 66) + " " + std::to_string(k + 66) + "\n";
+    bottom << ' ' << 65 - k;
+    top << ' ' << 66 + k;
+    o << "f " << k + 1 << ' ' << (k + 1) % 65 + 1 << ' ' << (k + 1) % 65 + 66 << ' ' << k + 66 << '\n';
   }
-  const std::string prism = file("prism65.obj", obj + bottom + "\n" + top + "\n");
+  o << bottom.str() << '\n' << top.str() << '\n';
+  const std::string prism = file("prism65.obj", o.str());
   const std::string hips = file("ph.csv", "x,y,z\n0.1,0.1,0.95\n0.1,0.1,0.5\n");
   int noted = 0;
   for (const std::string& cmd : {"trace --mesh " + prism + " --hips " + hips + " -o " + file("pt.csv"),
@@ -190,7 +192,8 @@ TEST_F(CliContract, FacesBeyondThePatchSidesAreNoted) {
     EXPECT_EQ(r.status, 0) << cmd << "\n" << r.err;
     EXPECT_NE(r.err.find("prism65.obj: note: 2 faces with more than 64 sides (up to 65) get no patch"),
               std::string::npos)
-        << cmd << "\n" << r.err;
+        << cmd << "\n"
+        << r.err;
     noted += r.err.find("get no patch") != std::string::npos;
   }
   EXPECT_EQ(noted, 3);
@@ -209,7 +212,8 @@ TEST_F(CliContract, DuplicateFacesAreNoted) {
     const CliStreams r = run(cmd);
     EXPECT_EQ(r.status, 0) << cmd << "\n" << r.err;
     EXPECT_NE(r.err.find("sheet.obj: note: 2 faces repeat another face's vertices (face 1 first)"), std::string::npos)
-        << cmd << "\n" << r.err;
+        << cmd << "\n"
+        << r.err;
     noted += r.err.find("repeat another face's vertices") != std::string::npos;
   }
   EXPECT_EQ(noted, 2);
