@@ -2,12 +2,13 @@
 
 #include <chrono>
 
+#include <smoothforce/base/staged_output.h>
 #include <smoothforce/mesh/mesh.h>
 
 namespace sf::rt {
 
 RecordWriter::RecordWriter(const std::string& path, SpscRing<StepRecord>& ring, double pollSeconds)
-    : path_(path), tmp_(path + ".tmp"), ring_(ring), poll_(pollSeconds > 0 ? pollSeconds : 0.002) {
+    : path_(path), tmp_(stagingPath(path)), ring_(ring), poll_(pollSeconds > 0 ? pollSeconds : 0.002) {
   file_ = std::fopen(tmp_.c_str(), "w");
   if (!file_) throw InputError(path_ + ": cannot open for writing");
   std::fprintf(file_, "%s\n", kRecordCsvHeader);
@@ -21,7 +22,7 @@ RecordWriter::~RecordWriter() {
   }
   if (file_) {
     std::fclose(file_);
-    std::remove(tmp_.c_str());
+    discardStaging(tmp_, path_);
   }
 }
 
@@ -58,7 +59,7 @@ void RecordWriter::finish() {
   const bool closeFailed = std::fclose(file_) != 0;
   file_ = nullptr;
   if (bad || closeFailed || std::rename(tmp_.c_str(), path_.c_str()) != 0) {
-    std::remove(tmp_.c_str());
+    discardStaging(tmp_, path_);
     throw InputError(path_ + ": write failed");
   }
 }

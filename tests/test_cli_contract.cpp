@@ -219,6 +219,23 @@ TEST_F(CliContract, DuplicateFacesAreNoted) {
   EXPECT_EQ(noted, 2);
 }
 
+// An output path that is a device is written in place: /dev/null stays a character device.
+// Before, outputs written beside the path and renamed into place replaced it with a regular file
+// when run as root (`cache build -o /dev/null`), and failed to rename otherwise.
+TEST_F(CliContract, OutputsToADeviceAreWrittenInPlace) {
+  const std::string hips = file("dn.csv", sphereHips()), pts = file("dnp.csv", "face,xi,eta\n0,0,0\n");
+  int written = 0;
+  for (const std::string& cmd : {"cache build " + sphere + " -o /dev/null", "trace --mesh " + sphere + " --hips " +
+                                                                                 hips + " -o /dev/null",
+                                 "eval " + sphere + " --points " + pts + " -o /dev/null"}) {
+    const CliStreams r = run(cmd);
+    EXPECT_EQ(r.status, 0) << cmd << "\n" << r.err;
+    EXPECT_TRUE(std::filesystem::is_character_file("/dev/null")) << cmd;
+    written += r.status == 0;
+  }
+  EXPECT_EQ(written, 3);
+}
+
 TEST_F(CliContract, ResultsOnStdoutDiagnosticsOnStderr) {
   const std::string pts = file("pts3.csv", "face,xi,eta\n0,0,0\n17,0.25,-0.4\n179,0.2,-0.3\n");
   CliStreams r = run("cache info " + cache());

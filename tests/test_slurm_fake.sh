@@ -25,7 +25,12 @@ done_of() {
 
 "$sf" generate sphere --radius 0.05 --segments 6 -o "$work/s.obj" >/dev/null
 "$sf" cache build "$work/s.obj" --normals file -o "$work/s.sfcache" >/dev/null
-args=(--cache "$work/s.sfcache" --depth 1%,3% --samples 12000 --methods patch,direct,shading
+# 48,000 samples x 2 depths over 4 shards: 24,000 patch probes a shard, so that its first
+# checkpoints (blocks of 1,024, then about 0.02 s of probes each) come well before half of them
+# (with 12,000 samples a loaded CI machine once showed 3,099 of 6,000 at the first look)
+samples=48000
+per=$((samples / 2))
+args=(--cache "$work/s.sfcache" --depth 1%,3% --samples $samples --methods patch,direct,shading
       --analytic sphere:0.05 --no-plots)
 "$sf" sweep "${args[@]}" --threads 2 -o "$work/whole" >"$work/whole.log" 2>&1 || fail "unsharded run: $(cat "$work/whole.log")"
 
@@ -42,7 +47,7 @@ for id in 1 2 3 4; do
   pid[$id]=$!
   if [ "$id" = 3 ]; then victim=$!; kill -STOP "$victim"; fi
 done
-# Let task 3 (shard 2) run 5 ms at a time until its checkpoint shows some of its 6,000 patch
+# Let task 3 (shard 2) run 5 ms at a time until its checkpoint shows some of its $per patch
 # probes done but at most half; then SIGTERM: the rest of its work is still ahead of it.
 shard="$work/out/shard_2"
 for _ in $(seq 1 4000); do
@@ -50,8 +55,8 @@ for _ in $(seq 1 4000); do
   sleep 0.005
   kill -STOP "$victim"
   d=$(done_of "$shard" patch)
-  if [ "$d" -gt 0 ] && [ "$d" -le 3000 ]; then break; fi
-  if [ "$d" -gt 3000 ]; then fail "shard 2 ran past half of its patch probes between two looks ($d)"; fi
+  if [ "$d" -gt 0 ] && [ "$d" -le $((per / 2)) ]; then break; fi
+  if [ "$d" -gt $((per / 2)) ]; then fail "shard 2 ran past half of its patch probes between two looks ($d)"; fi
 done
 [ "$(done_of "$shard" patch)" -gt 0 ] || fail "shard 2 wrote no checkpoint"
 kill -TERM "$victim"
@@ -66,11 +71,11 @@ grep -q "interrupted by SIGTERM" "$work/task3.log" || fail "no interruption mess
 for id in 1 2 4; do
   wait "${pid[$id]}" || fail "task $id failed: $(cat "$work/task$id.log")"
 done
-python3 - "$shard/sweep.json" <<'EOF' || fail "shard 2's checkpoint is not an interrupted, incomplete one"
+python3 - "$shard/sweep.json" "$per" <<'EOF' || fail "shard 2's checkpoint is not an interrupted, incomplete one"
 import json, sys
 j = json.load(open(sys.argv[1]))
 assert j["complete"] is False and j["interrupted"] is True, j
-assert 0 < j["done"]["patch"] < 6000, j["done"]
+assert 0 < j["done"]["patch"] < int(sys.argv[2]), j["done"]
 EOF
 for k in 0 1 2 3; do [ -d "$work/out/shard_$k" ] || fail "no shard_$k (task index offset by SLURM_ARRAY_TASK_MIN)"; done
 grep -q "sweep: progress" "$work/task1.log" || fail "no progress lines in a job log: $(cat "$work/task1.log")"
@@ -89,7 +94,7 @@ before=$(done_of "$shard" patch)
 (task 3) >"$work/task3b.log" 2>&1 || fail "resumed task failed: $(cat "$work/task3b.log")"
 grep -q "sweep: resuming shard 2/4" "$work/task3b.log" || fail "no resume: $(cat "$work/task3b.log")"
 ran=$(sed -n 's/^sweep: patch *\([0-9]*\) HIPs.*/\1/p' "$work/task3b.log")
-[ "$ran" = $((6000 - before)) ] || fail "the resumed task computed $ran patch probes, expected $((6000 - before))"
+[ "$ran" = $((per - before)) ] || fail "the resumed task computed $ran patch probes, expected $((per - before))"
 
 SMOOTHFORCE="$sf" bash "$repo/tools/slurm/sweep_merge.sh" "$work/out" >"$work/merge2.log" 2>&1 ||
   fail "merge failed: $(cat "$work/merge2.log")"
@@ -99,5 +104,5 @@ for f in summary.json hips.bin results_patch.bin results_direct.bin results_shad
   n=$((n + 1))
 done
 [ "$n" = 6 ] || fail "compared $n files"
-echo "slurm_fake: 4 concurrent tasks, task 3 SIGTERM after $before of 6000 patch probes (exit 143), merge refused," \
+echo "slurm_fake: 4 concurrent tasks, task 3 SIGTERM after $before of $per patch probes (exit 143), merge refused," \
   "resumed ($ran probes), merged byte-identical to the unsharded run ($n files)"

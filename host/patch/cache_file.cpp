@@ -11,6 +11,7 @@
 #include <type_traits>
 #include <vector>
 
+#include <smoothforce/base/staged_output.h>
 #include <smoothforce/base/coordinate_range.h>
 #include <smoothforce/base/hash.h>
 #include <smoothforce/mesh/mesh.h>
@@ -116,7 +117,7 @@ void writePatchCache(const PatchCache& c, const std::string& path) {
   h.payloadChecksum = hashBytes(payload.data(), payload.size());
   h.headerChecksum = hashBytes(&h, offsetof(Header, headerChecksum));
 
-  const std::string tmp = path + ".tmp." + std::to_string(::getpid());
+  const std::string tmp = stagingPath(path);
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) throw InputError(path + ": cannot write (temporary file " + tmp + ")");
@@ -124,14 +125,14 @@ void writePatchCache(const PatchCache& c, const std::string& path) {
     out.write(payload.data(), static_cast<std::streamsize>(payload.size()));
     out.flush();
     if (!out) {
-      std::remove(tmp.c_str());
+      discardStaging(tmp, path);
       throw InputError(path + ": write failed (disk full?)");
     }
   }
   std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
+  if (tmp != path) std::filesystem::rename(tmp, path, ec);
   if (ec) {
-    std::remove(tmp.c_str());
+    discardStaging(tmp, path);
     throw InputError(path + ": cannot rename temporary file into place: " + ec.message());
   }
 }

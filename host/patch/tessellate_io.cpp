@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include <smoothforce/base/staged_output.h>
 #include <smoothforce/base/error.h>
 #include <smoothforce/patch/tessellate.h>
 
@@ -82,7 +83,7 @@ void writeTriangleMesh(const TriangleMesh& m, const std::string& path, const Tri
     throw InputError(path + ": the triangle mesh's per-vertex or per-triangle arrays differ in length");
   // written beside the path and renamed into place: a failed write (a full disk) leaves no
   // partial file under the path
-  const std::string tmp = path + ".tmp." + std::to_string(::getpid());
+  const std::string tmp = stagingPath(path);
   std::FILE* f = std::fopen(tmp.c_str(), "wb");
   if (!f) throw InputError(path + ": cannot open for writing");
   if (ext == ".obj")
@@ -91,7 +92,7 @@ void writeTriangleMesh(const TriangleMesh& m, const std::string& path, const Tri
     writePly(f, m, format.binary);
   const bool bad = std::ferror(f) != 0;
   if (std::fclose(f) != 0 || bad || std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
+    discardStaging(tmp, path);
     throw InputError(path + ": write failed");
   }
 }

@@ -9,6 +9,7 @@
 
 #include <unistd.h>
 
+#include <smoothforce/base/staged_output.h>
 #include <smoothforce/base/hash.h>
 #include <smoothforce/force/force_method.h>
 
@@ -92,12 +93,10 @@ SweepConfig configFrom(const ojson& j) {
   return c;
 }
 
-std::string tmpName(const std::string& path) { return path + ".tmp." + std::to_string(::getpid()); }
-
 /// Writes through PATH.tmp.PID: data, flush, fsync, close, rename over PATH.
 template <class F>
 void writeAtomically(const std::string& path, F&& fill) {
-  const std::string tmp = tmpName(path);
+  const std::string tmp = stagingPath(path);
   std::FILE* f = std::fopen(tmp.c_str(), "wb");
   if (!f) throw InputError(path + ": cannot open for writing");
   bool ok = fill(f);
@@ -105,7 +104,7 @@ void writeAtomically(const std::string& path, F&& fill) {
   ok = ::fsync(::fileno(f)) == 0 && ok;
   ok = std::fclose(f) == 0 && ok;
   if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
+    discardStaging(tmp, path);
     throw InputError(path + ": write failed");
   }
 }

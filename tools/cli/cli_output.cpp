@@ -1,5 +1,7 @@
 #include "cli_output.h"
 
+#include <smoothforce/base/staged_output.h>
+
 #include <unistd.h>
 
 #include <smoothforce/base/error.h>  // InputError
@@ -11,7 +13,7 @@ TextOutput::TextOutput(std::string path) : path_(std::move(path)) {
     file_ = stdout;
     return;
   }
-  tmp_ = path_ + ".tmp." + std::to_string(::getpid());
+  tmp_ = stagingPath(path_);
   file_ = std::fopen(tmp_.c_str(), "w");
   if (!file_) throw InputError(path_ + ": cannot open for writing");
   std::setvbuf(file_, nullptr, _IOFBF, 1 << 20);
@@ -20,7 +22,7 @@ TextOutput::TextOutput(std::string path) : path_(std::move(path)) {
 TextOutput::~TextOutput() {
   if (!file_ || toStdout()) return;
   std::fclose(file_);
-  std::remove(tmp_.c_str());
+  discardStaging(tmp_, path_);
 }
 
 void TextOutput::commit() {
@@ -32,7 +34,7 @@ void TextOutput::commit() {
   const bool closed = std::fclose(file_) == 0;
   file_ = nullptr;
   if (bad || !closed || std::rename(tmp_.c_str(), path_.c_str()) != 0) {
-    std::remove(tmp_.c_str());
+    discardStaging(tmp_, path_);
     throw InputError(path_ + ": write failed");
   }
 }

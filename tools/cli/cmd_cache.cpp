@@ -1,6 +1,7 @@
 // `smoothforce cache build|info`
 #include <cstdio>
 #include <filesystem>
+#include <system_error>
 
 #include <smoothforce/base/hash.h>
 #include <smoothforce/patch/cache_file.h>
@@ -66,8 +67,10 @@ void build(const std::string& mesh, std::string out, const PatchArgs& args) {
               cache.numFaces() / std::max(secs, 1e-9));
   if (out.empty()) out = std::filesystem::path(mesh).filename().replace_extension(".sfcache").string();
   writePatchCache(cache, out);
-  std::printf("cache: %s, %llu bytes (mesh hash %s)\n", out.c_str(),
-              static_cast<unsigned long long>(std::filesystem::file_size(out)), hexHash(cache.meshHash).c_str());
+  std::error_code ec;  // (a device such as /dev/null, written in place, has no size)
+  const uintmax_t bytes = std::filesystem::file_size(out, ec);
+  const std::string size = ec ? "written in place (not a regular file)" : std::to_string(bytes) + " bytes";
+  std::printf("cache: %s, %s (mesh hash %s)\n", out.c_str(), size.c_str(), hexHash(cache.meshHash).c_str());
 }
 
 nlohmann::ordered_json patchSummaryJson(const PatchCache& c) {
