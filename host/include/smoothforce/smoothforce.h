@@ -12,6 +12,7 @@
 #include <smoothforce/base/csv_reader.h>
 #include <smoothforce/base/error.h>
 #include <smoothforce/base/hash.h>
+#include <smoothforce/base/staged_output.h>
 #include <smoothforce/base/status.h>
 #include <smoothforce/base/thread_limit.h>
 
