@@ -224,14 +224,14 @@ GP_FN void gp_quality_sample(const gp_domain* dom, int k, int i, int ring, GP_RE
 }
 #endif
 
-/* Quality of one built patch (design page, "Robustness"): fold = the patch normal opposite
- * to n_c at points 1e-3 inside an edge; bulge = the largest distance of sampled surface
- * points outside the face's bounding box over the face diameter. Returns GP_ST_FOLD and/or
- * GP_ST_BULGE (bulge > 0.5); the bulge value goes to *bulge. */
-GP_FN GP_STATUS gp_patch_quality(int n, const GP_REAL* recs, int mode, GP_REAL* bulge) {
+/* The body of gp_patch_quality for an n-gon, inlined where n is a constant (as
+ * gp_patch_eval_dom_n). The sample at the end of edge k (s = 1) is the one at the start of edge
+ * k + 1 (s = 0) on every ring, the same domain point bit for bit, and the fold test uses
+ * neither: each is evaluated once, as s = 0 of the next edge (4n of the 5n samples per ring).
+ * The bulge is their maximum, so the same value. */
+GP_FN_INLINE GP_STATUS gp_patch_quality_n(const gp_domain* dom, const int n, const GP_REAL* recs, int mode,
+                                          GP_REAL* bulge) {
   GP_STATUS st = 0u;
-  gp_domain scratch;
-  const gp_domain* dom = gp_domain_of(n, &scratch, 1);
   gp_vec3 lo = gp_get3(recs, GP_E_V0), hi = lo;
   GP_REAL diam = GP_R(0.0);
   for (int k = 0; k < n; ++k) {
@@ -243,7 +243,7 @@ GP_FN GP_STATUS gp_patch_quality(int n, const GP_REAL* recs, int mode, GP_REAL* 
   GP_REAL worst = GP_R(0.0);
   for (int k = 0; k < n; ++k) {
     const GP_REAL Lk = gp_edge_length(recs + k * GP_E_NFIELDS);
-    for (int i = 0; i <= GP_Q_STEPS; ++i) {
+    for (int i = 0; i < GP_Q_STEPS; ++i) { /* i = GP_Q_STEPS: edge k + 1's i = 0 */
       for (int ring = 0; ring < 3; ++ring) {
         /* points on the segment from the centre towards the edge: near the edge and inside */
         GP_SREAL s, px, py;
@@ -271,4 +271,22 @@ GP_FN GP_STATUS gp_patch_quality(int n, const GP_REAL* recs, int mode, GP_REAL* 
   *bulge = GP_SEL(diam > GP_R(0.0), worst / diam, GP_R(0.0));
   st |= GP_BITS(*bulge > GP_R(0.5), GP_ST_BULGE);
   return st;
+}
+
+/* Quality of one built patch (design page, "Robustness"): fold = the patch normal opposite
+ * to n_c at points 1e-3 inside an edge; bulge = the largest distance of sampled surface
+ * points outside the face's bounding box over the face diameter. Returns GP_ST_FOLD and/or
+ * GP_ST_BULGE (bulge > 0.5); the bulge value goes to *bulge. Triangles and quads run the body
+ * with n a constant. */
+GP_FN GP_STATUS gp_patch_quality(int n, const GP_REAL* recs, int mode, GP_REAL* bulge) {
+  gp_domain scratch;
+  const gp_domain* dom = gp_domain_of(n, &scratch, 1);
+  switch (n) {
+    case 3:
+      return gp_patch_quality_n(dom, 3, recs, mode, bulge);
+    case 4:
+      return gp_patch_quality_n(dom, 4, recs, mode, bulge);
+    default:
+      return gp_patch_quality_n(dom, n, recs, mode, bulge);
+  }
 }
