@@ -4,11 +4,13 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <set>
+#include <sstream>
 
 #include <smoothforce/mesh/mesh_io.h>
 
@@ -349,4 +351,88 @@ TEST(PlyReader, BinaryErrorsNameTheByte) {
                                std::string("\xff\xff\xff\x7f", 4) + std::string(12, '\0');
   path = writeTemp("ply_binary_huge_list.ply", hugeList);
   EXPECT_NE(errorOf(path).find("more than the rest of the file holds"), std::string::npos);
+}
+
+namespace {
+
+const std::string kSpot = std::string(SF_DATA_DIR) + "/spot_control_mesh.obj";
+
+std::string readText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// `text` with every "\n" replaced by `eol`.
+std::string withLineEnds(const std::string& text, const std::string& eol) {
+  std::string s;
+  for (char c : text) c == '\n' ? s += eol : s += c;
+  return s;
+}
+
+void expectSameMesh(const sf::PolygonMesh& a, const sf::PolygonMesh& b) {
+  ASSERT_EQ(a.numVertices(), b.numVertices());
+  EXPECT_TRUE(a.positions == b.positions);
+  EXPECT_EQ(a.faceOffsets, b.faceOffsets);
+  EXPECT_EQ(a.faceVertices, b.faceVertices);
+}
+
+std::string coordinates(const Eigen::Vector3d& p) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "%.17g %.17g %.17g", p.x(), p.y(), p.z());
+  return buf;
+}
+
+/// `m` as OFF whose header declares `nv` vertices and `nf` faces: the counts on line 2,
+/// vertex i on line 3 + i, face f on line 3 + #V + f.
+std::string offText(const sf::PolygonMesh& m, int nv, int nf) {
+  std::string s = "OFF\n" + std::to_string(nv) + " " + std::to_string(nf) + " 0\n";
+  for (const auto& p : m.positions) s += coordinates(p) + "\n";
+  for (int f = 0; f < m.numFaces(); ++f) {
+    s += std::to_string(m.faceSize(f));
+    for (int k = 0; k < m.faceSize(f); ++k) (s += ' ') += std::to_string(m.faceVertex(f, k));
+    s += "\n";
+  }
+  return s;
+}
+
+/// `m` as ASCII PLY.
+std::string plyText(const sf::PolygonMesh& m) {
+  std::string s = "ply\nformat ascii 1.0\nelement vertex " + std::to_string(m.numVertices()) +
+                  "\nproperty double x\nproperty double y\nproperty double z\nelement face " +
+                  std::to_string(m.numFaces()) + "\nproperty list uchar int vertex_indices\nend_header\n";
+  const std::string off = offText(m, 0, 0);
+  return s + off.substr(off.find('\n', 4) + 1);  // the OFF body is the same
+}
+
+}  // namespace
+
+TEST(MeshReaderLineEnds, CrOnlyReadsLikeLf) {
+  const sf::PolygonMesh spot = sf::readMesh(kSpot);
+  const std::string obj = readText(kSpot), off = offText(spot, spot.numVertices(), spot.numFaces()),
+                    ply = plyText(spot);
+  for (const char* eol : {"\r", "\r\n"}) {
+    SCOPED_TRACE(eol[1] ? "CRLF" : "CR");
+    expectSameMesh(sf::readMesh(writeTemp("spot_eol.obj", withLineEnds(obj, eol))), spot);
+    expectSameMesh(sf::readMesh(writeTemp("spot_eol.off", withLineEnds(off, eol))), spot);
+    expectSameMesh(sf::readMesh(writeTemp("spot_eol.ply", withLineEnds(ply, eol))), spot);
+  }
+  // Errors count CR-only lines: a bad value on line 100 is named there.
+  std::string bad = obj;
+  size_t at = 0;
+  for (int line = 1; line < 100; ++line) at = bad.find('\n', at) + 1;
+  bad.insert(at, "v 0 0 zz\n");
+  const std::string path = writeTemp("spot_cr_bad.obj", withLineEnds(bad, "\r"));
+  EXPECT_EQ(errorOf(path).rfind(path + ":100: bad number 'zz'", 0), 0u) << errorOf(path);
+  // A binary PLY header with CR-only line ends: its data starts right after "end_header\r",
+  // even where the first data byte is 10 (LF).
+  const std::string header =
+      "ply\rformat binary_little_endian 1.0\relement vertex 3\rproperty uchar x\rproperty uchar y\r"
+      "property uchar z\relement face 1\rproperty list uchar uchar vertex_indices\rend_header\r";
+  const sf::PolygonMesh tri =
+      sf::readMesh(writeTemp("cr_header.ply", header + std::string("\x0a\0\0\0\x0a\0\0\0\x0a\x03\0\x01\x02", 13)));
+  ASSERT_EQ(tri.numVertices(), 3);
+  EXPECT_EQ(tri.positions[0], Eigen::Vector3d(10, 0, 0));
+  EXPECT_EQ(tri.faceVertices, (std::vector<int32_t>{0, 1, 2}));
 }

@@ -107,7 +107,7 @@ obj = [
     ("obj_bom_only.obj", b"\xef\xbb\xbf", "byte-order mark only: empty"),
     ("obj_whitespace_only.obj", "\r\r \t\n\n\x0b\x0c\n", "whitespace only: empty"),
     ("obj_comments_only.obj", "# one\n# two\n#\n", "comments only: no faces"),
-    ("obj_old_mac_newlines.obj", TRI.replace("\n", "\r") + "f 1 2 3\r", "CR-only line ends: one long statement"),
+    ("obj_old_mac_newlines.obj", TRI.replace("\n", "\r") + "f 1 2 4\r", "CR-only line ends (read as line ends): index 4 out of range"),
     ("obj_nul_after_number.obj", "v 0 0 0\x00\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "NUL after a coordinate"),
     ("obj_nul_in_face.obj", TRI + "f 1 2\x003\n", "NUL inside a face"),
     ("obj_all_nul.obj", b"\x00" * 4096, "4096 NUL bytes"),

@@ -2,6 +2,7 @@
 // number parsing, and errors that name `path:line`. Internal to host/mesh_io*.cpp.
 #pragma once
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -46,17 +47,23 @@ inline std::string quoted(std::string_view tok) {
   throw InputError(path + ":" + std::to_string(line) + ": " + what);
 }
 
-/// Splits text into lines. Accepts LF and CRLF; the returned line has neither.
+/// Splits text into lines. Accepts LF, CRLF and CR (old Mac OS) line ends, also mixed; the
+/// returned line has none of them.
 class LineReader {
  public:
-  explicit LineReader(std::string_view text, size_t pos = 0) : text_(text), pos_(pos) {}
+  explicit LineReader(std::string_view text, size_t pos = 0) : text_(text), pos_(pos), lf_(findLf(pos)) {}
   bool next(std::string_view& line) {
     if (pos_ >= text_.size()) return false;
-    size_t end = text_.find('\n', pos_);
-    if (end == std::string_view::npos) end = text_.size();
-    line = text_.substr(pos_, end - pos_);
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    pos_ = end < text_.size() ? end + 1 : end;
+    if (lf_ < pos_) lf_ = findLf(pos_);
+    line = text_.substr(pos_, lf_ - pos_);
+    const size_t cr = line.find('\r');
+    if (cr != std::string_view::npos && cr + 1 < line.size()) {  // a lone CR ends the line
+      line = line.substr(0, cr);
+      pos_ += cr + 1;
+    } else {
+      if (cr != std::string_view::npos) line.remove_suffix(1);  // CRLF, or a CR that ends the file
+      pos_ = lf_ < text_.size() ? lf_ + 1 : lf_;
+    }
     ++lineNo_;
     return true;
   }
@@ -65,8 +72,11 @@ class LineReader {
   size_t remaining() const { return text_.size() - pos_; }
 
  private:
+  size_t findLf(size_t from) const { return std::min(text_.find('\n', from), text_.size()); }
+
   std::string_view text_;
   size_t pos_ = 0;
+  size_t lf_ = 0;  ///< the next LF at or after pos_ (or the end), kept across CR-only lines
   size_t lineNo_ = 0;
 };
 

@@ -161,6 +161,7 @@ Header parseHeader(const std::string& path, std::string_view data) {
   Tokens first(line);
   if (!any || !first.next(tok) || tok != "ply" || !first.done())
     failAt(path, 1, "not a PLY file (first line must be 'ply')");
+  const bool crHeader = data[lines.pos() - 1] == '\r';  // CR-only line ends
   for (;;) {
     if (!lines.next(line)) failAt(path, lines.lineNo(), "header has no end_header line");
     const LineCtx c{path, lines.lineNo()};
@@ -211,6 +212,9 @@ Header parseHeader(const std::string& path, std::string_view data) {
   }
   if (h.format < 0) failAt(path, lines.lineNo(), "header has no format line");
   h.dataStart = lines.pos();
+  // With CR-only line ends, binary data starts right after "end_header\r", also where its
+  // first byte is 10 (which the line reader takes for the LF of a CRLF).
+  if (crHeader && h.format != 0 && data.substr(0, h.dataStart).ends_with("\r\n")) --h.dataStart;
   h.lines = lines.lineNo();
   return h;
 }
