@@ -436,3 +436,34 @@ TEST(MeshReaderLineEnds, CrOnlyReadsLikeLf) {
   EXPECT_EQ(tri.positions[0], Eigen::Vector3d(10, 0, 0));
   EXPECT_EQ(tri.faceVertices, (std::vector<int32_t>{0, 1, 2}));
 }
+
+TEST(MeshReaderDispatch, Utf16AndUtf32AreRefusedNamingTheFile) {
+  const sf::PolygonMesh spot = sf::readMesh(kSpot);
+  const std::string texts[3] = {readText(kSpot), offText(spot, spot.numVertices(), spot.numFaces()), plyText(spot)};
+  const char* exts[3] = {".obj", ".off", ".ply"};
+  int refused = 0;
+  for (int i = 0; i < 3; ++i) {
+    for (const bool big : {false, true}) {
+      for (const bool bom : {true, false}) {
+        std::string bytes = bom ? (big ? "\xfe\xff" : "\xff\xfe") : "";
+        for (char c : texts[i]) big ? (bytes += '\0', bytes += c) : (bytes += c, bytes += '\0');
+        const std::string path = writeTemp(std::string("spot_utf16") + exts[i], bytes);
+        const std::string msg = errorOf(path);
+        const std::string what =
+            bom ? ": is UTF-16 encoded (byte-order mark " + std::string(big ? "FE FF" : "FF FE") + ")"
+                : ": looks UTF-16 encoded (NUL bytes between the characters)";
+        EXPECT_EQ(msg.rfind(path + what, 0), 0u) << msg;
+        EXPECT_NE(msg.find("save it as UTF-8 or ASCII"), std::string::npos) << msg;
+        ++refused;
+      }
+    }
+  }
+  EXPECT_EQ(refused, 12);
+  std::string utf32 = "\xff\xfe";
+  utf32 += std::string(2, '\0');
+  for (char c : texts[0]) (utf32 += c) += std::string(3, '\0');
+  const std::string path = writeTemp("spot_utf32.obj", utf32);
+  EXPECT_EQ(errorOf(path).rfind(path + ": is UTF-32 encoded (byte-order mark FF FE 00 00)", 0), 0u) << errorOf(path);
+  // A UTF-8 byte-order mark is read past.
+  expectSameMesh(sf::readMesh(writeTemp("spot_utf8_bom.obj", "\xef\xbb\xbf" + texts[0])), spot);
+}

@@ -102,7 +102,7 @@ obj = [
     ("obj_non_utf8_number.obj", "v 1\xff 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "byte 0xff inside a number"),
     ("obj_non_utf8_index.obj", TRI + "f 1 2 \xc3\x283\n", "invalid UTF-8 sequence in an index"),
     ("obj_latin1_only.obj", "".join(chr(c) for c in range(0x80, 0x100)) * 8, "latin-1 bytes only: no faces"),
-    ("obj_utf16le.obj", b"\xff\xfe" + (TRI + "f 1 2 3\n").encode("utf-16-le"), "UTF-16 LE text: no statement is recognised"),
+    ("obj_utf16le.obj", b"\xff\xfe" + (TRI + "f 1 2 3\n").encode("utf-16-le"), "UTF-16 LE text with a byte-order mark: refused as UTF-16"),
     ("obj_double_bom.obj", b"\xef\xbb\xbf\xef\xbb\xbf" + (TRI + "f 1 2 3\n").encode(), "two byte-order marks: first vertex lost, index 3 out of range"),
     ("obj_bom_only.obj", b"\xef\xbb\xbf", "byte-order mark only: empty"),
     ("obj_whitespace_only.obj", "\r\r \t\n\n\x0b\x0c\n", "whitespace only: empty"),
@@ -155,7 +155,7 @@ off = [
     ("off_comments_only.off", "# OFF\n# 3 1 0\n", "comments only: empty"),
     ("off_long_vertex_line.off", "OFF\n3 1 0\n0 0 0" + " 0.5" * 30000 + " x\n1 0 0\n0 1 0\n3 0 1 2\n", "vertex line with 30000 values, then x"),
     ("off_long_face_line.off", "OFF\n3 1 0\n" + V3 + "60001" + " 0 1 2" * 20000 + "\n", "60001-corner face with 60000 indices"),
-    ("off_utf16le.off", b"\xff\xfe" + ("OFF\n3 1 0\n" + V3 + "3 0 1 2\n").encode("utf-16-le"), "UTF-16 LE text"),
+    ("off_utf16le.off", b"\xff\xfe" + ("OFF\n3 1 0\n" + V3 + "3 0 1 2\n").encode("utf-16-le"), "UTF-16 LE text with a byte-order mark: refused as UTF-16"),
 ]
 for name, data, why in off:
     add(name, data, why)
