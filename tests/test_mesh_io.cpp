@@ -467,3 +467,35 @@ TEST(MeshReaderDispatch, Utf16AndUtf32AreRefusedNamingTheFile) {
   // A UTF-8 byte-order mark is read past.
   expectSameMesh(sf::readMesh(writeTemp("spot_utf8_bom.obj", "\xef\xbb\xbf" + texts[0])), spot);
 }
+
+TEST(ObjReader, BackslashContinuesAStatementOnTheNextLine) {
+  const sf::PolygonMesh spot = sf::readMesh(kSpot);
+  const std::string obj = readText(kSpot);
+  // Every v and f statement split after its first value, three ways: "v x \", "v x\" and a
+  // backslash followed by blanks.
+  for (const char* split : {" \\\n  ", "\\\n", " \\ \t\n\t"}) {
+    std::string text;
+    std::istringstream in(obj);
+    int joined = 0;
+    for (std::string line; std::getline(in, line);) {
+      const size_t second = line.find(' ', 2);
+      if ((line.rfind("v ", 0) == 0 || line.rfind("f ", 0) == 0) && second != std::string::npos) {
+        line.replace(second, 1, split);
+        ++joined;
+      }
+      text += line + "\n";
+    }
+    EXPECT_EQ(joined, spot.numVertices() + spot.numFaces());
+    expectSameMesh(sf::readMesh(writeTemp("spot_continued.obj", text)), spot);
+  }
+  // Errors name the physical line of the value.
+  const std::string tri = "v 0 0 0\nv 1 0 \\\n 0\nv 0 1 0\n";
+  std::string path = writeTemp("continued_index.obj", tri + "f 1 2 \\\n 3 \\\n 9\n");
+  EXPECT_EQ(errorOf(path).rfind(path + ":7: vertex index 9 out of range", 0), 0u) << errorOf(path);
+  path = writeTemp("continued_bad.obj", tri + "f 1 \\\n 2 3\nf 1 \\\n 2 x\n");
+  EXPECT_EQ(errorOf(path).rfind(path + ":8: bad integer 'x'", 0), 0u) << errorOf(path);
+  // A comment does not continue, and a backslash inside a line is no continuation.
+  EXPECT_EQ(sf::readMesh(writeTemp("comment.obj", "# note \\\n" + tri + "f 1 2 3\n")).numFaces(), 1);
+  path = writeTemp("inner_backslash.obj", tri + "f 1 \\ 2 3\n");
+  EXPECT_EQ(errorOf(path).rfind(path + ":5: bad integer '\\'", 0), 0u) << errorOf(path);
+}

@@ -175,7 +175,8 @@ struct LineCtx {
     if (v < 0 || v > kMaxCount) fail(std::string(what) + " " + std::to_string(v) + " out of range");
     return v;
   }
-  std::string_view need(Tokens& t, const char* what) const {
+  template <class TokenSource>
+  std::string_view need(TokenSource& t, const char* what) const {
     std::string_view tok;
     if (!t.next(tok)) fail(std::string("missing ") + what);
     return tok;

@@ -1,5 +1,6 @@
 // Strict Wavefront OBJ reader: v, vn, f (v, v/vt, v//vn, v/vt/vn; 1-based or negative
-// indices). Other statements (vt, o, g, s, usemtl, mtllib, l, p, unknown) are ignored.
+// indices). Other statements (vt, o, g, s, usemtl, mtllib, l, p, unknown) are ignored. A
+// line that ends in a backslash continues on the next line.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -45,6 +46,43 @@ struct IndexSpace {
   }
 };
 
+/// Tokens of one statement: a line whose last character before any comment (blanks aside) is
+/// a backslash continues on the next line. `c.line` follows the line of the last token
+/// returned, so that messages name the physical line.
+class StatementTokens {
+ public:
+  StatementTokens(std::string_view line, LineReader& lines, LineCtx& c) : lines_(lines), c_(c) { start(line); }
+  bool next(std::string_view& tok) { return t_.next(tok) || (continues_ && nextLine(tok)); }
+  /// Reads past the rest of the statement.
+  void skipRest() {
+    std::string_view tok;
+    while (next(tok)) continue;
+  }
+
+ private:
+  bool nextLine(std::string_view& tok) {
+    std::string_view line;
+    do {
+      if (!continues_ || !lines_.next(line)) return false;
+      c_.line = lines_.lineNo();
+      start(line);
+    } while (!t_.next(tok));
+    return true;
+  }
+  void start(std::string_view line) {
+    line = stripComment(line);
+    while (!line.empty() && isSpace(line.back())) line.remove_suffix(1);
+    continues_ = !line.empty() && line.back() == '\\';
+    if (continues_) line.remove_suffix(1);
+    t_ = Tokens(line);
+  }
+
+  LineReader& lines_;
+  LineCtx& c_;
+  Tokens t_{""};
+  bool continues_ = false;
+};
+
 struct ObjState {
   IndexSpace v{"vertex index"}, vt{"texture index"}, vn{"normal index"};
   std::vector<Eigen::Vector3d> normals;
@@ -53,7 +91,7 @@ struct ObjState {
   size_t firstFaceLine = 0;
 };
 
-void readVertex(const LineCtx& c, Tokens& t, PolygonMesh& m) {
+void readVertex(const LineCtx& c, StatementTokens& t, PolygonMesh& m) {
   Eigen::Vector3d p;
   static const char* axes[3] = {"x coordinate", "y coordinate", "z coordinate"};
   for (int a = 0; a < 3; ++a) p[a] = c.coordinate(c.need(t, axes[a]), axes[a]);
@@ -67,7 +105,7 @@ void readVertex(const LineCtx& c, Tokens& t, PolygonMesh& m) {
   m.positions.push_back(p);
 }
 
-void readNormal(const LineCtx& c, Tokens& t, ObjState& s) {
+void readNormal(const LineCtx& c, StatementTokens& t, ObjState& s) {
   Eigen::Vector3d n;
   static const char* axes[3] = {"normal x", "normal y", "normal z"};
   for (int a = 0; a < 3; ++a) n[a] = c.finite(c.need(t, axes[a]), axes[a]);
@@ -76,7 +114,7 @@ void readNormal(const LineCtx& c, Tokens& t, ObjState& s) {
   s.normals.push_back(n);
 }
 
-void readFace(const LineCtx& c, Tokens& t, ObjState& s, PolygonMesh& m, std::vector<int32_t>& verts,
+void readFace(const LineCtx& c, StatementTokens& t, ObjState& s, PolygonMesh& m, std::vector<int32_t>& verts,
               std::vector<int32_t>& vns) {
   verts.clear();
   vns.clear();
@@ -127,8 +165,8 @@ PolygonMesh readObj(const std::string& path, std::string_view data) {
   LineReader lines(data);
   std::string_view line;
   while (lines.next(line)) {
-    const LineCtx c{path, lines.lineNo()};
-    Tokens t(stripComment(line));
+    LineCtx c{path, lines.lineNo()};
+    StatementTokens t(line, lines, c);
     std::string_view kw;
     if (!t.next(kw)) continue;
     if (kw == "v") {
@@ -142,7 +180,9 @@ PolygonMesh readObj(const std::string& path, std::string_view data) {
     } else if (kw == "f" || kw == "fo") {
       readFace(c, t, s, m, verts, vns);
     }
-    // Everything else (o, g, s, usemtl, mtllib, l, p, vp, unknown extensions) is ignored.
+    // Everything else (o, g, s, usemtl, mtllib, l, p, vp, unknown extensions) is ignored,
+    // with the lines it continues on.
+    t.skipRest();
   }
   if (m.numFaces() == 0) failAt(path, lines.lineNo(), "no faces in file");
   s.v.checkFinal(path);
