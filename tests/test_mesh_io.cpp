@@ -1,5 +1,6 @@
 // Mesh readers: expected-failure table over tests/data/malformed, and unit tests of what
-// the OBJ, OFF and PLY (ASCII, binary LE/BE) readers accept.
+// the OBJ, OFF and PLY (ASCII, binary LE/BE) readers accept: line ends (LF, CRLF, CR),
+// encodings, OBJ line continuation and OFF headers whose counts disagree with the file.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -407,6 +408,48 @@ std::string plyText(const sf::PolygonMesh& m) {
 }
 
 }  // namespace
+
+TEST(OffReader, HeaderCountsThatDisagreeWithTheFileAreRefusedNamingTheLine) {
+  const sf::PolygonMesh spot = sf::readMesh(kSpot);
+  const int nv = spot.numVertices(), nf = spot.numFaces();
+  ASSERT_GT(nv, nf);               // the swapped header below declares fewer vertices
+  ASSERT_LE(spot.faceSize(0), 5);  // "4 i j k l": no OFF vertex line has 5 values
+  expectSameMesh(sf::readMesh(writeTemp("spot.off", offText(spot, nv, nf))), spot);
+  const int firstFace = 3 + nv;  // the line of face 0
+  const auto expectError = [](const std::string& path, int line, const std::string& what) {
+    const std::string msg = errorOf(path);
+    EXPECT_EQ(msg.rfind(path + ":" + std::to_string(line) + ": " + what, 0), 0u) << msg;
+  };
+  const std::string face0 = "('" + std::to_string(spot.faceSize(0));
+  for (int k = 1; k <= 6; ++k) {
+    SCOPED_TRACE("k = " + std::to_string(k));
+    const std::string more = "the header declares " + std::to_string(nv + k) + " vertices, but this line (vertex " +
+                             std::to_string(nv + 1) + ") is a face " + face0;
+    // More vertices than there are, with the right face count, or as many faces fewer (the
+    // counts add up to the lines): the first face line is where a vertex was expected.
+    expectError(writeTemp("more_vertices.off", offText(spot, nv + k, nf)), firstFace, more);
+    expectError(writeTemp("more_vertices_fewer_faces.off", offText(spot, nv + k, nf - k)), firstFace, more);
+    // Fewer vertices: a vertex line is where face 1 was expected.
+    for (const int faces : {nf, nf + k}) {
+      expectError(writeTemp("fewer_vertices.off", offText(spot, nv - k, faces)), firstFace - k,
+                  "the header declares " + std::to_string(nv - k) + " vertices, but this line (face 1 of " +
+                      std::to_string(faces) + ") is a vertex ('");
+    }
+    // More faces than there are: the file ends; fewer: the first line after the last face.
+    expectError(writeTemp("more_faces.off", offText(spot, nv, nf + k)), firstFace + nf - 1,
+                "file ends after " + std::to_string(nf) + " of " + std::to_string(nf + k) + " faces");
+    expectError(writeTemp("fewer_faces.off", offText(spot, nv, nf - k)), firstFace + nf - k,
+                "unexpected data after the last face");
+  }
+  // The counts swapped.
+  expectError(writeTemp("swapped.off", offText(spot, nf, nv)), 3 + nf,
+              "the header declares " + std::to_string(nf) + " vertices, but this line (face 1 of " +
+                  std::to_string(nv) + ") is a vertex");
+  // A tetrahedron that declares 5 vertices: its first face is no vertex with a colour.
+  const std::string path =
+      writeTemp("tet.off", "OFF\n5 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 2 0 3\n");
+  expectError(path, 7, "the header declares 5 vertices, but this line (vertex 5) is a face ('3 0 2 1')");
+}
 
 TEST(MeshReaderLineEnds, CrOnlyReadsLikeLf) {
   const sf::PolygonMesh spot = sf::readMesh(kSpot);

@@ -27,6 +27,63 @@ bool nextContent(LineReader& lines, std::string_view& content) {
   return false;
 }
 
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && isSpace(s.front())) s.remove_prefix(1);
+  while (!s.empty() && isSpace(s.back())) s.remove_suffix(1);
+  return s;
+}
+
+/// Whether a line reads as a face: an integer n >= 3, n integers >= 0, then numbers (colour).
+bool isFaceLine(std::string_view content) {
+  Tokens t(content);
+  std::string_view tok;
+  int64_t n = 0, v = 0;
+  if (!t.next(tok) || !parseInt(tok, n) || n < 3) return false;
+  for (int64_t k = 0; k < n; ++k) {
+    if (!t.next(tok) || !parseInt(tok, v) || v < 0) return false;
+  }
+  double x;
+  while (t.next(tok)) {
+    if (!parseDouble(tok, x)) return false;
+  }
+  return true;
+}
+
+/// The number of values on a line if all are numbers, else -1; `real` is set when one is
+/// not an integer.
+int countNumbers(std::string_view content, bool& real) {
+  Tokens t(content);
+  std::string_view tok;
+  int n = 0;
+  real = false;
+  for (; t.next(tok); ++n) {
+    int64_t i;
+    double x;
+    if (!parseDouble(tok, x)) return -1;
+    if (!parseInt(tok, i)) real = true;
+  }
+  return n;
+}
+
+/// Content lines from one element on, counted when first asked (only a line that looks out of
+/// place asks, so a valid file is read once).
+class LinesLeft {
+ public:
+  /// The lines from `element` (the one whose line `lines` returned last) to the end.
+  int64_t from(const LineReader& lines, int64_t element) {
+    if (at_ < 0) {
+      LineReader rest = lines;
+      std::string_view content;
+      at_ = element;
+      for (count_ = 1; nextContent(rest, content);) ++count_;
+    }
+    return count_ - (element - at_);
+  }
+
+ private:
+  int64_t at_ = -1, count_ = 0;
+};
+
 OffHeader parseKeyword(const LineCtx& c, std::string_view kw) {
   OffHeader h;
   std::string_view k = kw;
@@ -77,11 +134,26 @@ PolygonMesh readOff(const std::string& path, std::string_view data) {
   if (h.normals) m.fileNormals.reserve(static_cast<size_t>(nv));
   static const char* axes[3] = {"x coordinate", "y coordinate", "z coordinate"};
   static const char* naxes[3] = {"normal x", "normal y", "normal z"};
+  // A header whose counts disagree with the file would have face lines read as vertices
+  // (with colours) or vertex lines as faces. A line that looks like the other kind is
+  // refused where the lines left cannot hold the declared elements, or where its number of
+  // values fits no vertex line (x y z, the normal, colour 3 or 4, texture 2).
+  const int vertexValues = 3 + (h.normals ? 3 : 0) + (h.texture ? 2 : 0);
+  bool real = false;  // set by fitsVertex: the line has a value that is not an integer
+  const auto fitsVertex = [&](std::string_view line) {
+    const int colour = countNumbers(line, real) - vertexValues;
+    return colour == 0 || colour == 3 || colour == 4;
+  };
+  LinesLeft left;
   for (int64_t i = 0; i < nv; ++i) {
     if (!nextContent(lines, content)) {
       failAt(path, lines.lineNo(), "file ends after " + std::to_string(i) + " of " + std::to_string(nv) + " vertices");
     }
     c.line = lines.lineNo();
+    if (isFaceLine(content) && (!fitsVertex(content) || left.from(lines, i) < nv - i + nf)) {
+      c.fail("the header declares " + std::to_string(nv) + " vertices, but this line (vertex " + std::to_string(i + 1) +
+             ") is a face (" + quoted(trim(content)) + ")");
+    }
     Tokens t(content);
     Eigen::Vector3d p, n;
     for (int a = 0; a < 3; ++a) p[a] = c.coordinate(c.need(t, axes[a]), axes[a]);
@@ -100,6 +172,11 @@ PolygonMesh readOff(const std::string& path, std::string_view data) {
       failAt(path, lines.lineNo(), "file ends after " + std::to_string(f) + " of " + std::to_string(nf) + " faces");
     }
     c.line = lines.lineNo();
+    // Vertex lines read as faces start at the first face line.
+    if (f == 0 && !isFaceLine(content) && fitsVertex(content) && (real || left.from(lines, nv) > nf)) {
+      c.fail("the header declares " + std::to_string(nv) + " vertices, but this line (face 1 of " + std::to_string(nf) +
+             ") is a vertex (" + quoted(trim(content)) + ")");
+    }
     Tokens t(content);
     const int64_t n = c.integer(c.need(t, "face corner count"), "face corner count");
     if (n < 3) c.fail("face with " + std::to_string(n) + " corners (at least 3 needed)");
