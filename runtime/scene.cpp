@@ -4,11 +4,13 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include <smoothforce/base/coordinate_range.h>
 #include <smoothforce/force/force_presets.h>
+#include <smoothforce/force/renderer_pool.h>
 #include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/mesh_pipeline.h>
 
@@ -221,6 +223,30 @@ void parsePatchKeys(const Ctx& c, const json& o, const std::string& w, bool mesh
 
 }  // namespace
 
+namespace {
+/// The key of an object's cache in loadScene: the file (its canonical path where it exists),
+/// its kind, and for a mesh the options its patches are built with.
+std::string cacheKey(const std::filesystem::path& file, bool mesh, const PatchOptions& o) {
+  std::error_code ec;
+  const std::filesystem::path canonical = std::filesystem::weakly_canonical(file, ec);
+  std::string key = (ec ? file : canonical).string();
+  key += '\0';
+  key += mesh ? "mesh " + std::to_string(int(o.precision)) + ' ' + std::to_string(int(o.crossTangent)) + ' ' +
+                    std::to_string(int(o.normals)) + ' ' + std::to_string(int(o.keepOrientation))
+              : "cache";
+  return key;
+}
+}  // namespace
+
+RendererFactory sharedRendererFactory() {
+  auto pools = std::make_shared<std::map<const PatchCache*, std::shared_ptr<RendererPool>>>();
+  return [pools](std::shared_ptr<const PatchCache> cache, ForceMethod method, const ForceOptions& options) {
+    std::shared_ptr<RendererPool>& pool = (*pools)[cache.get()];
+    if (!pool) pool = std::make_shared<RendererPool>(std::move(cache));
+    return pool->make(method, options);
+  };
+}
+
 Scene loadScene(const std::string& path, const SceneDefaults& defaults, const RendererFactory& factory) {
   namespace fs = std::filesystem;
   const Ctx c{path};
@@ -240,6 +266,8 @@ Scene loadScene(const std::string& path, const SceneDefaults& defaults, const Re
   const json& objs = root["objects"];
   if (!objs.is_array() || objs.empty()) c.fail("/objects", "expected a non-empty array of objects");
   const fs::path base = fs::path(path).parent_path();
+  // objects that name one file with the same patch options share its cache (read once)
+  std::map<std::string, std::shared_ptr<const PatchCache>> loadedCaches;
   Scene scene;
   if (root.contains("device")) {
     const json& d = root["device"];
@@ -298,14 +326,18 @@ Scene loadScene(const std::string& path, const SceneDefaults& defaults, const Re
         c.fail(w + "/stiffness", "expected a stiffness > 0 N/m, got " + o["stiffness"].dump());
     }
     try {
-      if (hasMesh) {
+      std::shared_ptr<const PatchCache>& shared = loadedCaches[cacheKey(file, hasMesh, patchOptions)];
+      if (shared) {
+        obj.cache = shared;
+        obj.fromMesh = hasMesh;
+      } else if (hasMesh) {
         const auto t0 = std::chrono::steady_clock::now();
         const LoadedMesh loaded = loadMesh(obj.source, patchOptions);
-        obj.cache = std::make_shared<const PatchCache>(preparePatchSkeleton(loaded, patchOptions));
+        obj.cache = shared = std::make_shared<const PatchCache>(preparePatchSkeleton(loaded, patchOptions));
         obj.buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         obj.fromMesh = true;
       } else {
-        obj.cache = std::make_shared<const PatchCache>(readPatchCache(obj.source));
+        obj.cache = shared = std::make_shared<const PatchCache>(readPatchCache(obj.source));
       }
       obj.renderer = factory(obj.cache, obj.method, obj.force);
     } catch (const InputError& e) {

@@ -101,19 +101,23 @@ void finishGlobalStep(const PatchSurface& surface, const Eigen::Vector3d& hip, c
 class PatchTracker final : public ForceRenderer {
  public:
   PatchTracker(std::shared_ptr<const PatchCache> cache, std::shared_ptr<const PolygonScene> scene,
-               const ForceOptions& options, std::shared_ptr<const PatchSurface> surface)
+               const ForceOptions& options, std::shared_ptr<const PatchSurface> surface,
+               const detail::SharedLazyParts& shared = {})
       : cache_(std::move(cache)),
         scene_(std::move(scene)),
         options_(options),
         seedOptions_(options),
-        lazy_(hasPatchData(*cache_) ? nullptr : std::make_unique<LazyPatches>(cache_, options.patchCapacity)),
+        lazy_(hasPatchData(*cache_) ? nullptr
+              : shared.patches      ? shared.patches
+                                    : std::make_shared<LazyPatches>(cache_, options.patchCapacity)),
         refiner_(*cache_, lazy_.get()) {
     seedOptions_.maxIterations = 0;  // a seed is evaluated, not refined
     int maxN = 3;
     for (int f = 0; f < cache_->numFaces(); ++f) maxN = std::max(maxN, cache_->faceSize(f));
     lambda_.resize(maxN);
     if (options_.initialGuess == InitialGuess::Surface && lazy_)
-      lazySurface_ = std::make_unique<LazyPatchSurface>(*cache_, scene_->facets());
+      lazySurface_ =
+          shared.surface ? shared.surface : std::make_shared<LazyPatchSurface>(*cache_, scene_->facets());
     if (options_.initialGuess == InitialGuess::Surface && !lazy_) {
       if (surface && &surface->cache() != cache_.get())
         throw InputError("makePatchForceRenderer: the patch surface must be built from the same cache");
@@ -179,10 +183,10 @@ class PatchTracker final : public ForceRenderer {
   std::shared_ptr<const PolygonScene> scene_;
   ForceOptions options_;
   ForceOptions seedOptions_;  ///< options_ with no iteration: a seed's evaluation and tests only
-  std::unique_ptr<LazyPatches> lazy_;  ///< patches built on demand when the cache is a skeleton
+  std::shared_ptr<LazyPatches> lazy_;  ///< patches built on demand when the cache is a skeleton
   PatchRefiner refiner_;
   std::shared_ptr<const PatchSurface> surface_;    ///< InitialGuess::Surface with prebuilt patches
-  std::unique_ptr<LazyPatchSurface> lazySurface_;  ///< InitialGuess::Surface with lazy patches
+  std::shared_ptr<LazyPatchSurface> lazySurface_;  ///< InitialGuess::Surface with lazy patches
   std::vector<double> lambda_;
   PatchContactState state_;
   /// the patch point the last refining step ended at (or resetNear's; face -1: none): seeds the
@@ -420,5 +424,16 @@ std::unique_ptr<ForceRenderer> makePatchForceRenderer(std::shared_ptr<const Patc
   validateForceOptions(options);
   return std::make_unique<PatchTracker>(std::move(cache), std::move(scene), options, std::move(surface));
 }
+
+namespace detail {
+std::unique_ptr<ForceRenderer> makeSharedPatchRenderer(std::shared_ptr<const PatchCache> cache,
+                                                       std::shared_ptr<const PolygonScene> scene,
+                                                       const ForceOptions& options,
+                                                       std::shared_ptr<const PatchSurface> surface,
+                                                       const SharedLazyParts& lazy) {
+  validateForceOptions(options);
+  return std::make_unique<PatchTracker>(std::move(cache), std::move(scene), options, std::move(surface), lazy);
+}
+}  // namespace detail
 
 }  // namespace sf

@@ -9,8 +9,25 @@
 namespace sf {
 
 class LazyPatchSurface;
+class LazyPatches;
+class PolygonScene;
 
 namespace detail {
+
+/// The lazy parts of patch trackers over one skeleton that step on one thread (RendererPool):
+/// the patch store and its surface (built from the trackers' shared PolygonScene's facets).
+/// Null: the tracker makes its own.
+struct SharedLazyParts {
+  std::shared_ptr<LazyPatches> patches;
+  std::shared_ptr<LazyPatchSurface> surface;
+};
+
+/// makePatchForceRenderer with the lazy parts given (renderer_pool.cpp).
+std::unique_ptr<ForceRenderer> makeSharedPatchRenderer(std::shared_ptr<const PatchCache> cache,
+                                                       std::shared_ptr<const PolygonScene> scene,
+                                                       const ForceOptions& options,
+                                                       std::shared_ptr<const PatchSurface> surface,
+                                                       const SharedLazyParts& lazy);
 
 /// A refined point that can carry a contact: not degenerate, finite, with a unit normal.
 bool usable(const RefineResult& r) noexcept;

@@ -155,9 +155,7 @@ void run(const LoopArgs& a) {
     defaults.force.patchCapacity = a.patchCapacity;
   });
 
-  const rt::RendererFactory factory = [](std::shared_ptr<const PatchCache> c, ForceMethod m, const ForceOptions& o) {
-    return makeForceRenderer(std::move(c), m, o);
-  };
+  const rt::RendererFactory factory = rt::sharedRendererFactory();  // a scene's copies of a mesh share it
   std::string info;  // printed once everything is set up, so that an error is the only output
   rt::Scene scene;
   if (!a.scene.empty()) {

@@ -139,7 +139,8 @@ struct SceneDefaults {
 /// "scale": ..}}` (the same keys as a pose, read device-to-world: device_transform.h) sets
 /// deviceTransform(), e.g. `"scale": 0.001` for a device that reports millimetres.
 /// Each object has exactly one of `mesh` (read now; patches built lazily near the contact) or
-/// `cache` (a patch cache file). Optional: `name` (default: the file's stem), `pose`
+/// `cache` (a patch cache file); objects naming one file (with the same patch options, for a
+/// mesh) share one cache, read once. Optional: `name` (default: the file's stem), `pose`
 /// (translation in m; rotation as axis-angle with a non-zero axis (normalised) and an angle
 /// in radians, or as a quaternion [w, x, y, z] (normalised; non-zero); uniform scale > 0),
 /// `stiffness` (N/m, > 0), `method` (patch|direct|shading), `preset` (fast|balanced|accurate,
@@ -151,6 +152,12 @@ struct SceneDefaults {
 /// errors. Throws InputError `FILE: /json/path: message` for bad JSON, missing or unknown
 /// fields and bad values; errors inside a mesh or cache file name that file.
 Scene loadScene(const std::string& path, const SceneDefaults& defaults, const RendererFactory& factory);
+
+/// A RendererFactory over makeForceRenderer that shares each cache's geometry (polygon scenes,
+/// patch surfaces, lazy patches: RendererPool) among the renderers it makes, for objects that
+/// step on one thread, as a scene's do. loadScene gives objects that name one file with the same
+/// patch options one cache, so a scene of many copies of a mesh reads and sets it up once.
+RendererFactory sharedRendererFactory();
 
 /// A scene of one object at the identity pose.
 Scene singleObjectScene(std::shared_ptr<const PatchCache> cache, std::string source, ForceMethod method,

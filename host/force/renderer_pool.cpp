@@ -1,0 +1,88 @@
+#include <smoothforce/force/renderer_pool.h>
+
+#include <vector>
+
+#include <smoothforce/base/error.h>
+#include <smoothforce/force/force_tracking.h>
+#include <smoothforce/patch/lazy_patches.h>
+#include <smoothforce/query/embree_scene.h>
+#include <smoothforce/query/lazy_surface.h>
+#include "force_tracking_detail.h"
+
+namespace sf {
+
+/// Each part with the options it was made for (a handful per pool: a linear search).
+struct RendererPool::Parts {
+  struct Scene {
+    double tolerance;
+    std::shared_ptr<const PolygonScene> scene;
+    std::shared_ptr<LazyPatchSurface> lazySurface;  ///< on this scene's facets
+  };
+  struct Surface {
+    PatchSurfaceOptions options;
+    std::shared_ptr<const PatchSurface> surface;
+  };
+  struct Store {
+    int capacity;
+    std::shared_ptr<LazyPatches> patches;
+  };
+  std::vector<Scene> scenes;
+  std::vector<Surface> surfaces;
+  std::vector<Store> stores;
+
+  Scene& scene(const PatchCache& cache, double tolerance) {
+    for (Scene& s : scenes)
+      if (s.tolerance == tolerance) return s;
+    scenes.push_back({tolerance, std::make_shared<const PolygonScene>(cache, tolerance), nullptr});
+    return scenes.back();
+  }
+};
+
+namespace {
+bool sameSurfaceOptions(const PatchSurfaceOptions& a, const PatchSurfaceOptions& b) {
+  return a.level == b.level && a.targetError == b.targetError && a.triangleBudget == b.triangleBudget &&
+         a.subdivision == b.subdivision && a.candidates == b.candidates;
+}
+}  // namespace
+
+RendererPool::RendererPool(std::shared_ptr<const PatchCache> cache)
+    : cache_(std::move(cache)), parts_(std::make_unique<Parts>()) {
+  if (!cache_) throw InputError("RendererPool: no cache");
+}
+
+RendererPool::~RendererPool() = default;
+
+std::unique_ptr<ForceRenderer> RendererPool::make(ForceMethod method, const ForceOptions& options) {
+  validateForceOptions(options);
+  const bool patch = method == ForceMethod::Patch;
+  Parts::Scene& sc = parts_->scene(*cache_, patch ? kPlanarTolerance : kWatertightPlanarTolerance);
+  if (!patch) return makeForceRenderer(cache_, sc.scene, method, options);
+  const bool surfaceGuess = options.initialGuess == InitialGuess::Surface;
+  if (hasPatchData(*cache_)) {
+    std::shared_ptr<const PatchSurface> surface;
+    if (surfaceGuess) {
+      const PatchSurfaceOptions o = patchSurfaceOptions(options);
+      for (const Parts::Surface& s : parts_->surfaces)
+        if (sameSurfaceOptions(s.options, o)) surface = s.surface;
+      if (!surface) {
+        surface = std::make_shared<const PatchSurface>(*cache_, o);
+        parts_->surfaces.push_back({o, surface});
+      }
+    }
+    return makePatchForceRenderer(cache_, sc.scene, options, std::move(surface));
+  }
+  detail::SharedLazyParts lazy;
+  for (const Parts::Store& s : parts_->stores)
+    if (s.capacity == options.patchCapacity) lazy.patches = s.patches;
+  if (!lazy.patches) {
+    lazy.patches = std::make_shared<LazyPatches>(cache_, options.patchCapacity);
+    parts_->stores.push_back({options.patchCapacity, lazy.patches});
+  }
+  if (surfaceGuess) {
+    if (!sc.lazySurface) sc.lazySurface = std::make_shared<LazyPatchSurface>(*cache_, sc.scene->facets());
+    lazy.surface = sc.lazySurface;
+  }
+  return detail::makeSharedPatchRenderer(cache_, sc.scene, options, nullptr, lazy);
+}
+
+}  // namespace sf
