@@ -10,7 +10,7 @@
 
 #include <smoothforce/base/coordinate_range.h>
 #include <smoothforce/force/force_presets.h>
-#include <smoothforce/force/renderer_pool.h>
+#include <smoothforce/force/shared_geometry.h>
 #include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/mesh_pipeline.h>
 
@@ -103,13 +103,22 @@ void Scene::reset() noexcept {
 
 int Scene::patchesBuilt() const noexcept {
   int n = 0;
-  for (const SceneObject& o : objects_) n += o.renderer->patchesBuilt();
+  for (size_t i = 0; i < objects_.size(); ++i) {  // a store that objects share, once (no allocation: a scan)
+    const void* store = objects_[i].renderer->patchStore();
+    bool seen = false;
+    for (size_t j = 0; j < i && store && !seen; ++j) seen = objects_[j].renderer->patchStore() == store;
+    if (!seen) n += objects_[i].renderer->patchesBuilt();
+  }
   return n;
 }
 
 int Scene::totalFaces() const {
   int n = 0;
-  for (const SceneObject& o : objects_) n += o.cache->numFaces();
+  for (size_t i = 0; i < objects_.size(); ++i) {
+    bool seen = false;
+    for (size_t j = 0; j < i && !seen; ++j) seen = objects_[j].cache == objects_[i].cache;
+    if (!seen) n += objects_[i].cache->numFaces();
+  }
   return n;
 }
 
@@ -239,11 +248,11 @@ std::string cacheKey(const std::filesystem::path& file, bool mesh, const PatchOp
 }  // namespace
 
 RendererFactory sharedRendererFactory() {
-  auto pools = std::make_shared<std::map<const PatchCache*, std::shared_ptr<RendererPool>>>();
-  return [pools](std::shared_ptr<const PatchCache> cache, ForceMethod method, const ForceOptions& options) {
-    std::shared_ptr<RendererPool>& pool = (*pools)[cache.get()];
-    if (!pool) pool = std::make_shared<RendererPool>(std::move(cache));
-    return pool->make(method, options);
+  auto shared = std::make_shared<std::map<const PatchCache*, std::shared_ptr<SharedGeometry>>>();
+  return [shared](std::shared_ptr<const PatchCache> cache, ForceMethod method, const ForceOptions& options) {
+    std::shared_ptr<SharedGeometry>& geometry = (*shared)[cache.get()];
+    if (!geometry) geometry = std::make_shared<SharedGeometry>(std::move(cache));
+    return geometry->makeRenderer(method, options);
   };
 }
 

@@ -175,6 +175,9 @@ class PatchTracker final : public ForceRenderer {
     }
   }
   int patchesBuilt() const noexcept override { return lazy_ ? lazy_->constructions() : cache_->numFaces(); }
+  const void* patchStore() const noexcept override {
+    return lazy_ ? static_cast<const void*>(lazy_.get()) : static_cast<const void*>(cache_.get());
+  }
 
  private:
   void remember(const RefineResult& r) noexcept { rememberIn(&hint_, r); }

@@ -14,7 +14,7 @@ class PolygonScene;
 
 namespace detail {
 
-/// The lazy parts of patch trackers over one skeleton that step on one thread (RendererPool):
+/// The lazy parts of patch trackers over one skeleton that step on one thread (SharedGeometry):
 /// the patch store and its surface (built from the trackers' shared PolygonScene's facets).
 /// Null: the tracker makes its own.
 struct SharedLazyParts {
@@ -22,7 +22,7 @@ struct SharedLazyParts {
   std::shared_ptr<LazyPatchSurface> surface;
 };
 
-/// makePatchForceRenderer with the lazy parts given (renderer_pool.cpp).
+/// makePatchForceRenderer with the lazy parts given (shared_geometry.cpp).
 std::unique_ptr<ForceRenderer> makeSharedPatchRenderer(std::shared_ptr<const PatchCache> cache,
                                                        std::shared_ptr<const PolygonScene> scene,
                                                        const ForceOptions& options,

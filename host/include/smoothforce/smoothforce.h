@@ -49,7 +49,7 @@
 #include <smoothforce/force/force_presets.h>
 #include <smoothforce/force/force_tracking.h>
 #include <smoothforce/force/god_object.h>
-#include <smoothforce/force/renderer_pool.h>
+#include <smoothforce/force/shared_geometry.h>
 
 #include <smoothforce/opencl/opencl_backend.h>
 #include <smoothforce/opencl/opencl_refine.h>

@@ -85,7 +85,7 @@ class Scene final : public ForceRenderer {
   /// Objects with their current poses (updated by step(): read them from the servo thread, or
   /// while no loop runs).
   const std::vector<SceneObject>& objects() const { return objects_; }
-  /// Total faces over all objects.
+  /// Faces of the objects' caches, each cache once (objects may share one: loadScene).
   int totalFaces() const;
   /// World-frame position of vertex v of object i (current pose).
   Eigen::Vector3d worldVertex(size_t i, int v) const;
@@ -154,7 +154,7 @@ struct SceneDefaults {
 Scene loadScene(const std::string& path, const SceneDefaults& defaults, const RendererFactory& factory);
 
 /// A RendererFactory over makeForceRenderer that shares each cache's geometry (polygon scenes,
-/// patch surfaces, lazy patches: RendererPool) among the renderers it makes, for objects that
+/// patch surfaces, lazy patches: SharedGeometry) among the renderers it makes, for objects that
 /// step on one thread, as a scene's do. loadScene gives objects that name one file with the same
 /// patch options one cache, so a scene of many copies of a mesh reads and sets it up once.
 RendererFactory sharedRendererFactory();

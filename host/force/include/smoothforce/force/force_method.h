@@ -72,6 +72,10 @@ class ForceRenderer {
   /// Patch constructions so far with lazy construction (a face evicted and needed again counts
   /// again); the cache's face count when prebuilt; 0 for methods that need no patch.
   virtual int patchesBuilt() const noexcept = 0;
+  /// What patchesBuilt() counts: the lazy patch store (which renderers made by one
+  /// SharedGeometry share: shared_geometry.h) or the prebuilt cache; null when it counts
+  /// nothing. Counts over several renderers take each store once.
+  virtual const void* patchStore() const noexcept { return nullptr; }
 };
 
 /// A tracker over a prebuilt cache (shared, read-only), or over a skeleton (hasPatchData false)

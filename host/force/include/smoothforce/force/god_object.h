@@ -56,6 +56,7 @@ class GodObjectRenderer final : public ForceRenderer {
   void reset() noexcept override;
   /// The polygons need no patch: 0 on a skeleton, the cache's face count when prebuilt.
   int patchesBuilt() const noexcept override { return hasPatchData(*cache_) ? cache_->numFaces() : 0; }
+  const void* patchStore() const noexcept override { return hasPatchData(*cache_) ? cache_.get() : nullptr; }
 
  private:
   /// When `hip` is inside the closed polygons: point = the nearest polygon point, true. Inside:

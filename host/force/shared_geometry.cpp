@@ -1,4 +1,4 @@
-#include <smoothforce/force/renderer_pool.h>
+#include <smoothforce/force/shared_geometry.h>
 
 #include <vector>
 
@@ -11,8 +11,8 @@
 
 namespace sf {
 
-/// Each part with the options it was made for (a handful per pool: a linear search).
-struct RendererPool::Parts {
+/// Each part with the options it was made for (a handful per cache: a linear search).
+struct SharedGeometry::Parts {
   struct Scene {
     double tolerance;
     std::shared_ptr<const PolygonScene> scene;
@@ -45,14 +45,14 @@ bool sameSurfaceOptions(const PatchSurfaceOptions& a, const PatchSurfaceOptions&
 }
 }  // namespace
 
-RendererPool::RendererPool(std::shared_ptr<const PatchCache> cache)
+SharedGeometry::SharedGeometry(std::shared_ptr<const PatchCache> cache)
     : cache_(std::move(cache)), parts_(std::make_unique<Parts>()) {
-  if (!cache_) throw InputError("RendererPool: no cache");
+  if (!cache_) throw InputError("SharedGeometry: no cache");
 }
 
-RendererPool::~RendererPool() = default;
+SharedGeometry::~SharedGeometry() = default;
 
-std::unique_ptr<ForceRenderer> RendererPool::make(ForceMethod method, const ForceOptions& options) {
+std::unique_ptr<ForceRenderer> SharedGeometry::makeRenderer(ForceMethod method, const ForceOptions& options) {
   validateForceOptions(options);
   const bool patch = method == ForceMethod::Patch;
   Parts::Scene& sc = parts_->scene(*cache_, patch ? kPlanarTolerance : kWatertightPlanarTolerance);

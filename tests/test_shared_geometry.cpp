@@ -1,4 +1,4 @@
-// RendererPool (force/renderer_pool.h) and the scenes that use it: renderers of one cache that
+// SharedGeometry (force/shared_geometry.h) and the scenes that use it: renderers of one cache that
 // share their geometry give the forces of renderers made alone, bit for bit, and a scene's
 // copies of one file share one cache.
 #include <gtest/gtest.h>
@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include <smoothforce/force/renderer_pool.h>
+#include <smoothforce/force/shared_geometry.h>
 #include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/runtime/scene.h>
@@ -36,23 +36,23 @@ bool sameSample(const ForceSample& a, const ForceSample& b) {
          a.transitions == b.transitions && a.status == b.status;
 }
 
-/// K renderers from one pool step their paths interleaved (one step of each in turn, so the
+/// K renderers from one SharedGeometry step their paths interleaved (one step of each in turn, so the
 /// shared lazy store evicts the others' patches: capacity 4) and must give, at every step, what
 /// a renderer made alone by makeForceRenderer gives on its own path.
-void checkPoolAgainstAlone(const std::shared_ptr<const PatchCache>& cache, ForceMethod method, int& contacts,
+void checkSharedAgainstAlone(const std::shared_ptr<const PatchCache>& cache, ForceMethod method, int& contacts,
                            int& steps) {
   constexpr int K = 3, kSteps = 240;
   ForceOptions o;
   o.patchCapacity = 4;
-  o.stiffness = 800;  // not the default: the pool passes the options on
+  o.stiffness = 800;  // not the default: the options are passed on
   Vector3d lo, hi;
   ASSERT_TRUE(referencedBox(*cache, lo, hi));
   const Vector3d centre = 0.5 * (lo + hi);
   const double radius = 0.2 * (hi - lo).norm();
-  RendererPool pool(cache);
+  SharedGeometry geometry(cache);
   std::vector<std::unique_ptr<ForceRenderer>> shared, alone;
   for (int j = 0; j < K; ++j) {
-    shared.push_back(pool.make(method, o));
+    shared.push_back(geometry.makeRenderer(method, o));
     alone.push_back(makeForceRenderer(cache, method, o));
   }
   for (int i = 0; i <= kSteps; ++i)
@@ -66,7 +66,7 @@ void checkPoolAgainstAlone(const std::shared_ptr<const PatchCache>& cache, Force
     }
 }
 
-TEST(RendererPool, SharedRenderersGiveTheForcesOfRenderersMadeAlone) {
+TEST(SharedGeometry, SharedRenderersGiveTheForcesOfRenderersMadeAlone) {
   PatchOptions po;
   const LoadedMesh loaded = loadMesh(kCage, po);
   const auto skeleton = std::make_shared<const PatchCache>(preparePatchSkeleton(loaded, po));
@@ -74,7 +74,7 @@ TEST(RendererPool, SharedRenderersGiveTheForcesOfRenderersMadeAlone) {
   int contacts = 0, steps = 0, runs = 0;
   for (const auto& cache : {skeleton, prebuilt})
     for (ForceMethod m : {ForceMethod::Patch, ForceMethod::Direct, ForceMethod::Shading}) {
-      checkPoolAgainstAlone(cache, m, contacts, steps);
+      checkSharedAgainstAlone(cache, m, contacts, steps);
       ++runs;
     }
   EXPECT_EQ(runs, 6);
@@ -83,10 +83,10 @@ TEST(RendererPool, SharedRenderersGiveTheForcesOfRenderersMadeAlone) {
   EXPECT_LT(contacts, steps);
 }
 
-TEST(RendererPool, RefusesANullCache) { EXPECT_THROW(RendererPool(nullptr), InputError); }
+TEST(SharedGeometry, RefusesANullCache) { EXPECT_THROW(SharedGeometry(nullptr), InputError); }
 
-TEST(RendererPool, SceneCopiesOfOneFileShareOneCacheAndTheirGeometry) {
-  const fs::path dir = fs::temp_directory_path() / ("sf_pool_" + std::to_string(::getpid()));
+TEST(SharedGeometry, SceneCopiesOfOneFileShareOneCacheAndTheirGeometry) {
+  const fs::path dir = fs::temp_directory_path() / ("sf_shared_geometry_" + std::to_string(::getpid()));
   fs::create_directories(dir / "sub");
   fs::copy_file(kCage, dir / "cage.obj");
   {
@@ -127,6 +127,13 @@ TEST(RendererPool, SceneCopiesOfOneFileShareOneCacheAndTheirGeometry) {
   }
   EXPECT_EQ(same, 6 * 121);
   EXPECT_GT(contacts, 6 * 121 / 5);
+  // the scene's counts take a shared patch store and a shared cache once
+  ASSERT_NE(o[0].renderer->patchStore(), nullptr);
+  EXPECT_EQ(o[0].renderer->patchStore(), o[1].renderer->patchStore());
+  EXPECT_NE(o[0].renderer->patchStore(), o[2].renderer->patchStore());
+  EXPECT_GT(o[0].renderer->patchesBuilt(), 0);
+  EXPECT_EQ(s.patchesBuilt(), o[0].renderer->patchesBuilt() + o[2].renderer->patchesBuilt() + 180);
+  EXPECT_EQ(s.totalFaces(), 3 * 180);
   fs::remove_all(dir);
 }
 
