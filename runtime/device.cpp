@@ -37,8 +37,10 @@ PathDevice::PathDevice(ScriptedPath path, double speed) : path_(std::move(path))
 }
 
 Eigen::Vector3d PathDevice::at(double s) const noexcept {
-  if (s <= 0) return path_.points.front();
-  if (s >= arc_.back()) return path_.points.back();
+  // NaN lands on the first point: an overflowed arc length (inf, then fmod's NaN) passed both
+  // tests and read one past the end of arc_.
+  if (!(s > 0)) return path_.points.front();
+  if (!(s < arc_.back())) return path_.points.back();
   // First point with arc > s; the segment [i-1, i] holds s and has positive length.
   const size_t i = static_cast<size_t>(std::upper_bound(arc_.begin(), arc_.end(), s) - arc_.begin());
   const double a = arc_[i - 1], b = arc_[i];
@@ -73,7 +75,8 @@ Trajectory readTrajectoryCsv(const std::string& path) {
     if (!tr.t.empty() && !(csv.at(r, 0) > tr.t.back())) {
       char t[32];
       std::snprintf(t, sizeof t, "%.10g", csv.at(r, 0));
-      throwCsvError(path, csv.line[r], std::string("time ") + t + " s is not greater than the previous row's");
+      throwCsvError(csvDisplayName(path), csv.line[r],
+                    std::string("time ") + t + " s is not greater than the previous row's");
     }
     tr.t.push_back(csv.at(r, 0));
     tr.p.emplace_back(csv.at(r, 1), csv.at(r, 2), csv.at(r, 3));

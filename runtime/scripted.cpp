@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include <smoothforce/base/csv_reader.h>
 #include <smoothforce/mesh/mesh.h>
 #include <smoothforce/runtime/udp_device.h>
 
@@ -139,6 +140,14 @@ ScriptedPath circlePath(const Scene& scene, double depth) {
   return p;
 }
 
+void checkScriptedSpeed(double speed) {
+  if (!(speed > 0 && speed <= kMaxScriptedSpeed)) {
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "--speed: expected a speed in (0, %g] m/s, got %g", kMaxScriptedSpeed, speed);
+    throw InputError(buf);
+  }
+}
+
 void checkDeviceSpec(const std::string& spec) {
   if (spec == "null" || spec == "scripted" || spec == "scripted:slide" || spec == "scripted:circle") return;
   if (spec.rfind("replay:", 0) == 0) {
@@ -175,14 +184,23 @@ std::unique_ptr<HapticDevice> makeDevice(const std::string& spec, const Scene& s
   }
   if (spec.rfind("replay:", 0) == 0) {
     const std::string file = spec.substr(7);
-    return std::make_unique<ReplayDevice>(readTrajectoryCsv(file), file);
+    Trajectory tr = readTrajectoryCsv(file);
+    if (o.duration > 0 && !(tr.t.front() < o.duration)) {
+      char buf[256];
+      std::snprintf(buf, sizeof buf,
+                    ": the first sample is at t = %.10g s, not before the run's end (%g s): the run would hold its "
+                    "position throughout (times are seconds from the loop's start; subtract the first time)",
+                    tr.t.front(), o.duration);
+      throw InputError(csvDisplayName(file) + buf);
+    }
+    return std::make_unique<ReplayDevice>(std::move(tr), csvDisplayName(file));
   }
   if (spec.rfind("udp:", 0) == 0) {
     UdpOptions u;
     u.watchdog = o.watchdog;
     return std::make_unique<UdpDevice>(parseUdpSpec(spec), u);
   }
-  if (!(o.speed > 0) || !std::isfinite(o.speed)) throw InputError("--speed: expected a finite speed > 0 m/s");
+  checkScriptedSpeed(o.speed);
   const double depth = effectiveDepth(scene, o.depth);
   ScriptedPath path = spec == "scripted:circle" ? circlePath(scene, depth) : slidePath(scene, depth);
   return std::make_unique<PathDevice>(toDevice(std::move(path), t), o.speed / t.scale());

@@ -165,6 +165,46 @@ TEST_F(LoopContract, ALatchedSafetyFaultExits3) {
   EXPECT_EQ(r.status, 0) << r.err;
 }
 
+// --speed beyond 10 m/s is a usage error (exit 2) for both scripted paths: 1e308 m/s read
+// past the end of the path's arrays (valgrind), 1e200 m/s made the HIP jump anywhere.
+TEST_F(LoopContract, AbsurdScriptedSpeedsAreUsageErrors) {
+  int refused = 0;
+  for (const char* device : {"scripted:slide", "scripted:circle"}) {
+    for (const char* speed : {"1e308", "1e200", "11", "0"}) {
+      const CliStreams r =
+          run("loop --mesh " + sphere + " --device " + device + " --speed " + speed + " --duration 0.05");
+      EXPECT_EQ(r.status, 2) << device << " " << speed << "\n" << r.err;
+      EXPECT_NE(r.err.find("--speed: expected a speed in (0, 10] m/s, got "), std::string::npos) << r.err;
+      EXPECT_EQ(r.out, "");
+      refused += r.status == 2;
+    }
+  }
+  EXPECT_EQ(refused, 8);
+  const CliStreams r = run("loop --mesh " + sphere + " --device scripted:circle --speed 10 --duration 0.05");
+  EXPECT_EQ(r.status, 0) << r.err;
+}
+
+// A replay of absolute times (1.7e9 s since 1970) held its first sample for the whole run
+// with no sign: refused, naming the file, its first time and the run's duration. A replay
+// read from stdin is named <stdin> in its errors (it was "-").
+TEST_F(LoopContract, ReplaysThatTheRunNeverReachesAreRefused) {
+  const std::string epoch = file("epoch.csv", "t,x,y,z\n1700000000.000000,0,0,2\n1700000000.001000,0,0,1.5\n");
+  CliStreams r = run("loop --mesh " + sphere + " --device replay:" + epoch + " --duration 2");
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find("epoch.csv: the first sample is at t = 1700000000 s, not before the run's end (2 s)"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(r.out, "");
+  r = sf::test::runStreams(dir, "loop --mesh " + sphere + " --device replay:- --duration 0.05",
+                           "t,x,y,z\n0,0,0,2\n1,0,0,1.5\n1,0,0,1\n");
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find("<stdin>:4: time 1 s is not greater than the previous row's"), std::string::npos) << r.err;
+  r = sf::test::runStreams(dir, "loop --mesh " + sphere + " --device replay:- --duration 0.05",
+                           "t,x,y,z\n0,0,0,2\n1,0,0,1.5\n");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("device: replay <stdin> ("), std::string::npos) << r.out;
+}
+
 TEST_F(LoopContract, SigintAndSigtermStopEveryCommandAlike) {
   int checked = 0;
   for (int sig : {SIGINT, SIGTERM}) {

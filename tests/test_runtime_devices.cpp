@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -101,6 +102,73 @@ TEST_F(RuntimeReplay, ErrorsNameFileAndLine) {
 /// Positions along the path at times t and t + dt: |p1 - p0| / dt.
 double speedAt(HapticDevice& d, double t, double dt = 1e-4) {
   return (d.read(t + dt).position - d.read(t).position).norm() / dt;
+}
+
+// A replay's times are seconds from the loop's start: a file whose first time is not before
+// the run's end (absolute times, 1.7e9 s since 1970) held its first position for the whole
+// run, silently. makeDevice refuses it, naming the file, the first time and the duration.
+TEST_F(RuntimeReplay, AFirstSampleAfterTheRunsEndIsRefused) {
+  const Scene s = cubeScene();
+  ScriptOptions o;
+  o.duration = 2;
+  int refused = 0;
+  for (const char* t0 : {"1700000000.000000", "2", "2.5"}) {
+    const std::string p = file(std::string("t,x,y,z\n") + t0 + ",0,0,1\n1e10,0,0,2\n");
+    try {
+      makeDevice("replay:" + p, s, o);
+      ADD_FAILURE() << t0;
+    } catch (const sf::InputError& e) {
+      const std::string w = e.what();
+      EXPECT_EQ(w.rfind(p + ": the first sample is at t = " + (t0[1] == '7' ? "1700000000" : t0) + " s", 0), 0u) << w;
+      EXPECT_NE(w.find(", not before the run's end (2 s)"), std::string::npos) << w;
+      ++refused;
+    }
+  }
+  EXPECT_EQ(refused, 3);
+  // a first time before the end plays; without a duration nothing is checked
+  EXPECT_NE(makeDevice("replay:" + file("t,x,y,z\n1.9,0,0,1\n3,0,0,2\n"), s, o), nullptr);
+  o.duration = 0;
+  EXPECT_NE(makeDevice("replay:" + file("t,x,y,z\n1e9,0,0,1\n"), s, o), nullptr);
+}
+
+// An absurd --speed overflowed the arc length (speed * t = inf, fmod gave NaN), NaN passed
+// PathDevice::at's tests and it read one past the end of its arrays: makeDevice refuses
+// speeds beyond 10 m/s, and a PathDevice made with one (the class takes any finite speed)
+// still stays on its path, on both kinds of path.
+TEST(RuntimeScripted, AbsurdSpeedsAreRefusedAndThePathNeverLeft) {
+  const Scene s = cubeScene();
+  int refused = 0, onPath = 0;
+  for (const std::string spec : {"scripted:slide", "scripted:circle"}) {
+    for (const double v : {1e308, 1e200, 1e3, 10.000001, 0.0, -1.0, double(NAN), double(INFINITY)}) {
+      ScriptOptions o;
+      o.speed = v;
+      try {
+        makeDevice(spec, s, o);
+        ADD_FAILURE() << spec << " " << v;
+      } catch (const sf::InputError& e) {
+        EXPECT_EQ(std::string(e.what()).rfind("--speed: expected a speed in (0, 10] m/s, got ", 0), 0u) << e.what();
+        ++refused;
+      }
+    }
+    ScriptOptions o;
+    o.speed = 10;
+    const auto fast = makeDevice(spec, s, o);
+    ASSERT_NE(fast, nullptr);
+    const ScriptedPath path = spec == "scripted:circle" ? circlePath(s, 0.01) : slidePath(s, 0.01);
+    Eigen::AlignedBox3d box;
+    for (const Vector3d& q : path.points) box.extend(q);
+    for (const double v : {1e308, 1e200, 1.7e308}) {
+      PathDevice d(path, v);
+      for (const double t : {1e-3, 0.5, 1.0, 2.0, 3.0, 1e300}) {
+        const Vector3d p = d.read(t).position;
+        ASSERT_TRUE(p.allFinite()) << spec << " speed " << v << " t " << t;
+        ASSERT_TRUE(box.contains(p)) << spec << " speed " << v << " t " << t;
+      }
+      ++onPath;
+    }
+  }
+  EXPECT_EQ(refused, 16);
+  EXPECT_EQ(onPath, 6);
 }
 
 TEST(RuntimeScripted, SlideOnCubeTopAtDepthAndSpeed) {

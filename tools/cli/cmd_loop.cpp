@@ -133,7 +133,7 @@ void run(const LoopArgs& a) {
     rt::validate(lo);
     rt::validate(a.safety);
     requireFinitePositive(a.stiffness, "--stiffness", "a finite stiffness > 0 N/m");
-    requireFinitePositive(a.speed, "--speed", "a finite speed > 0 m/s");
+    rt::checkScriptedSpeed(a.speed);
     if (a.depthGiven) requireFinitePositive(a.depth, "--depth", "a finite depth > 0 m");
     rt::checkDeviceSpec(a.device);
     const bool udp = a.device.rfind("udp:", 0) == 0;
@@ -213,6 +213,7 @@ void run(const LoopArgs& a) {
   loop.run();
   if (a.rtPriority > 0) {
     sched_param p{};
+  so.duration = a.duration;
     pthread_setschedparam(pthread_self(), SCHED_OTHER, &p);
   }
   long long written = -1;
@@ -274,7 +275,9 @@ void addLoopCommand(CLI::App& app) {
   c->add_option("--rate", a->rate, "servo rate, Hz, 1..10000")->capture_default_str();
   c->add_option("--duration", a->duration, "seconds (> 0)")->capture_default_str();
   c->add_option("--stiffness", a->stiffness, "N/m (> 0; default for scene objects)")->capture_default_str();
-  c->add_option("--speed", a->speed, "scripted device speed, m/s (> 0)")->capture_default_str();
+  c->add_option("--speed", a->speed,
+                "scripted device speed along its path, m/s (0 < speed <= 10: a hand's speed, with room to spare)")
+      ->capture_default_str();
   auto* depth = c->add_option("--depth", a->depth,
                               "scripted depth below the surface, m (default: 1% of the bounding-box diagonal)");
   c->add_option("--record", a->record, "write per-step records to this CSV (a writer thread; the loop never blocks)");

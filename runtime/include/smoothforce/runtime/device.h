@@ -115,7 +115,7 @@ class PathDevice final : public SimulatedDevice {
   double speed() const { return speed_; }
 
  private:
-  Eigen::Vector3d at(double s) const noexcept;  ///< point at arc length s in [0, total]
+  Eigen::Vector3d at(double s) const noexcept;  ///< point at arc length s, clamped to [0, total] (NaN: the first)
 
   ScriptedPath path_;
   double speed_;

@@ -34,11 +34,18 @@ class SurfaceProbe {
   std::vector<Tri> tri_;
 };
 
+/// The fastest a scripted device moves, m/s along its path (world frame): 10. A hand moves a
+/// haptic stylus at up to a few m/s; at 10 m/s a 1 kHz loop already sees the HIP jump 1 cm a
+/// step. Beyond it the HIP jumps across contacts between steps (no haptic rendering is left to
+/// test), and at 1e308 m/s the arc length overflowed.
+inline constexpr double kMaxScriptedSpeed = 10;
+
 /// Parameters of the devices makeDevice makes.
 struct ScriptOptions {
-  double speed = 0.1;      ///< scripted: m/s along the path, world frame (> 0)
+  double speed = 0.1;      ///< scripted: m/s along the path, world frame, in (0, kMaxScriptedSpeed]
   double depth = 0;        ///< scripted: m below the top surface (> 0; 0: 1% of the bounding-box diagonal)
   double watchdog = 0.05;  ///< udp: s without a fresh sample before the stale-device fault (> 0)
+  double duration = 0;     ///< replay: the run's length, s (> 0: checked, see makeDevice; 0: not checked)
 };
 
 /// The depth used for `depth`: itself when > 0, else 1% of the scene's bounding-box diagonal.
@@ -59,6 +66,10 @@ ScriptedPath slidePath(const Scene& scene, double depth);
 /// repeated. Throws InputError when the circle leaves the surface.
 ScriptedPath circlePath(const Scene& scene, double depth);
 
+/// Throws InputError ("--speed: expected a speed in (0, 10] m/s, got ...") unless speed (m/s)
+/// lies in (0, kMaxScriptedSpeed].
+void checkScriptedSpeed(double speed);
+
 /// Throws InputError ("--device: expected ...") unless `spec` is one of the forms below.
 void checkDeviceSpec(const std::string& spec);
 
@@ -68,7 +79,10 @@ void checkDeviceSpec(const std::string& spec);
 /// and the null position are planned in the world and handed to the device in the device
 /// frame (the inverse of scene.deviceTransform(), speed divided by its scale), so the loop's
 /// transform maps them back; a replay file and udp samples are in the device frame. Throws
-/// InputError for an unknown spec or bad input.
+/// InputError for an unknown spec or bad input: a scripted speed outside (0, kMaxScriptedSpeed];
+/// a replay whose first time is not before options.duration (times are seconds from the loop's
+/// start: a file of absolute times, e.g. 1.7e9 s since 1970, would hold its first position for
+/// the whole run), naming the file, its first time and the duration.
 std::unique_ptr<HapticDevice> makeDevice(const std::string& spec, const Scene& scene, const ScriptOptions& options);
 
 }  // namespace sf::rt
