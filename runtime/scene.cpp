@@ -2,14 +2,18 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include <smoothforce/base/coordinate_range.h>
 #include <smoothforce/force/force_presets.h>
+#include <smoothforce/force/force_tracking.h>
 #include <smoothforce/force/shared_geometry.h>
 #include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/mesh_pipeline.h>
@@ -195,8 +199,9 @@ Pose parsePose(const Ctx& c, const json& j, const std::string& where) {
   if (!inCoordinateRange(p.translation)) c.fail(where + "/translation", "beyond the coordinate range +-1e15 m");
   if (j.contains("rotation")) p.rotation = parseRotation(c, j["rotation"], where + "/rotation");
   if (j.contains("scale")) {
-    p.scale = c.number(j["scale"], where + "/scale", "a scale > 0");
-    if (!(p.scale > 0)) c.fail(where + "/scale", "expected a scale > 0, got " + j["scale"].dump());
+    p.scale = c.number(j["scale"], where + "/scale", "a scale in [1e-09, 1e+09]");
+    if (!(p.scale >= kMinSceneScale && p.scale <= kMaxSceneScale))
+      c.fail(where + "/scale", "expected a scale in [1e-09, 1e+09], got " + j["scale"].dump());
   }
   return p;
 }
@@ -206,6 +211,31 @@ std::string stringField(const Ctx& c, const json& j, const std::string& where) {
   if (j.get<std::string>().find('\0') != std::string::npos)  // a path would end there
     c.fail(where, "expected a string without NUL characters");
   return j.get<std::string>();
+}
+
+/// A control character of s (< 0x20 or 0x7f), or -1.
+int controlCharacter(const std::string& s) {
+  for (const char ch : s)
+    if (static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f) return static_cast<unsigned char>(ch);
+  return -1;
+}
+
+/// An object's name: the given one (no control characters: it is printed in the report), or
+/// the file's stem with any control character replaced by '?'.
+std::string objectName(const Ctx& c, const json& o, const std::string& w, const std::string& file) {
+  if (!o.contains("name")) {
+    std::string stem = std::filesystem::path(file).stem().string();
+    for (char& ch : stem)
+      if (static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f) ch = '?';
+    return stem;
+  }
+  const std::string name = stringField(c, o["name"], w + "/name");
+  if (const int ch = controlCharacter(name); ch >= 0) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "expected a name without control characters, got U+%04X in it", ch);
+    c.fail(w + "/name", buf);
+  }
+  return name;
 }
 
 /// The patch options of a `mesh` object (after its preset): the keys of the command line's
@@ -277,6 +307,7 @@ Scene loadScene(const std::string& path, const SceneDefaults& defaults, const Re
   const fs::path base = fs::path(path).parent_path();
   // objects that name one file with the same patch options share its cache (read once)
   std::map<std::string, std::shared_ptr<const PatchCache>> loadedCaches;
+  std::vector<std::pair<std::string, bool>> names;  // each object's name, and whether the file gave it
   Scene scene;
   if (root.contains("device")) {
     const json& d = root["device"];
@@ -300,7 +331,12 @@ Scene loadScene(const std::string& path, const SceneDefaults& defaults, const Re
     const fs::path file = fs::path(rel).is_absolute() ? fs::path(rel) : base / rel;
     SceneObject obj;
     obj.source = file.string();
-    obj.name = o.contains("name") ? stringField(c, o["name"], w + "/name") : fs::path(rel).stem().string();
+    obj.name = objectName(c, o, w, rel);
+    for (size_t k = 0; k < names.size(); ++k)  // a given name names one object
+      if (names[k].first == obj.name && (o.contains("name") || names[k].second))
+        c.fail(w + "/name", "\"" + obj.name + "\" is also the name of /objects/" + std::to_string(k) +
+                                (o.contains("name") ? "" : " (this object's default name: its file's stem)"));
+    names.emplace_back(obj.name, o.contains("name"));
     if (o.contains("pose")) obj.pose = parsePose(c, o["pose"], w + "/pose");
     obj.method = defaults.method;
     if (o.contains("method")) {
@@ -330,9 +366,14 @@ Scene loadScene(const std::string& path, const SceneDefaults& defaults, const Re
     }
     parsePatchKeys(c, o, w, hasMesh, patchOptions);
     if (o.contains("stiffness")) {
-      obj.force.stiffness = c.number(o["stiffness"], w + "/stiffness", "a stiffness > 0 N/m");
-      if (!(obj.force.stiffness > 0))
-        c.fail(w + "/stiffness", "expected a stiffness > 0 N/m, got " + o["stiffness"].dump());
+      obj.force.stiffness = c.number(o["stiffness"], w + "/stiffness", "a stiffness in (0, 1e12] N/m");
+      if (!(obj.force.stiffness > 0 && obj.force.stiffness <= kMaxStiffness))
+        c.fail(w + "/stiffness", "expected a stiffness in (0, 1e12] N/m, got " + o["stiffness"].dump());
+    }
+    try {  // here, not in the renderer's factory, whose errors name the file
+      validateForceOptions(obj.force);
+    } catch (const InputError& e) {
+      c.fail(o.contains("preset") ? w + "/preset" : w, e.what());
     }
     try {
       std::shared_ptr<const PatchCache>& shared = loadedCaches[cacheKey(file, hasMesh, patchOptions)];

@@ -144,25 +144,28 @@ TEST_F(LoopContract, ACacheKeepsItsPatchOptions) {
   }
 }
 
-TEST_F(LoopContract, ALatchedSafetyFaultExits3) {
-  // device coordinates within range (the replay reader refuses others), scaled by 1e300 into
-  // the world: the HIP overflows to infinity
+// A latched safety fault exits 3: RuntimeUdpCli covers it (the sender stopping: a stale
+// device), text and --json. A device scale of 1e300 overflowed the HIP to infinity here
+// ("non-finite HIP position"); such a scene is now refused, naming the key (exit 1).
+TEST_F(LoopContract, ADeviceScaleThatWouldOverflowTheHipIsRefused) {
   const std::string replay = "replay:" + file("far.csv", "t,x,y,z\n0,-1e10,0,0\n1,1e10,0,0\n");
-  const std::string scene = file("scaled.json", "{\"device\": {\"transform\": {\"scale\": 1e300}}, \"objects\": "
-                                                "[{\"mesh\": \"" + sphere + "\"}]}");
+  const std::string scene = file("scaled.json",
+                                 "{\"device\": {\"transform\": {\"scale\": 1e300}}, \"objects\": "
+                                 "[{\"mesh\": \"" +
+                                     sphere + "\"}]}");
   CliStreams r = run("loop --scene " + scene + " --device " + replay + " --duration 0.05");
-  EXPECT_EQ(r.status, 3) << r.err;
-  EXPECT_NE(r.out.find("fault: non-finite HIP position at"), std::string::npos) << r.out;
-  EXPECT_EQ(r.err.rfind("smoothforce: loop: safety fault: non-finite HIP position", 0), 0u) << r.err;
-  r = run("loop --scene " + scene + " --device " + replay + " --duration 0.05 --json");
-  EXPECT_EQ(r.status, 3);
-  const json j = json::parse(r.out);
-  EXPECT_EQ(j["exit_status"], 3);
-  EXPECT_EQ(j["safety"]["fault"], "non-finite HIP position");
-  // the same loop on a finite replay: 0
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find("scaled.json: /device/transform/scale: expected a scale in [1e-09, 1e+09], got 1e+300"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(r.out, "");
+  // the same loop on a finite replay: 0; --json has "udp" with a udp device only
   r = run("loop --mesh " + sphere + " --device replay:" + file("ok.csv", "t,x,y,z\n0,0,0,2\n1,0,0,1.5\n") +
-          " --duration 0.05");
+          " --duration 0.05 --json");
   EXPECT_EQ(r.status, 0) << r.err;
+  const json j = json::parse(r.out);
+  EXPECT_EQ(j["exit_status"], 0);
+  EXPECT_FALSE(j.contains("udp"));
 }
 
 // --speed beyond 10 m/s is a usage error (exit 2) for both scripted paths: 1e308 m/s read

@@ -168,12 +168,13 @@ TEST_F(RuntimeScene, ErrorsNameFileAndJsonPath) {
   has(R"({"objects": [{"mesh": "a.obj", "cache": "b.sfpc"}]})", "/objects/0: give either");
   has(R"({"objects": [{"mesh": 3}]})", "/objects/0/mesh: expected a non-empty string");
   has(R"({"objects": [{"mesh": "../cube.obj", "stifness": 3}]})", "/objects/0/stifness: unknown key");
-  has(R"({"objects": [{"mesh": "../cube.obj", "stiffness": 0}]})", "/objects/0/stiffness: expected a stiffness > 0");
+  has(R"({"objects": [{"mesh": "../cube.obj", "stiffness": 0}]})",
+      "/objects/0/stiffness: expected a stiffness in (0, 1e12] N/m, got 0");
   has(R"({"objects": [{"mesh": "../cube.obj", "stiffness": "hard"}]})", "/objects/0/stiffness: expected");
   has(R"({"objects": [{"mesh": "../cube.obj"}, {"mesh": "../cube.obj", "method": "magic"}]})",
       "/objects/1/method: expected \"patch\", \"direct\" or \"shading\", got \"magic\"");
   has(R"({"objects": [{"mesh": "../cube.obj", "pose": {"scale": -1}}]})",
-      "/objects/0/pose/scale: expected a scale > 0");
+      "/objects/0/pose/scale: expected a scale in [1e-09, 1e+09], got -1");
   has(R"({"objects": [{"mesh": "../cube.obj", "pose": {"translation": [1, 2]}}]})",
       "/objects/0/pose/translation: expected an array of 3 numbers");
   has(R"({"objects": [{"mesh": "../cube.obj", "pose": {"translation": [1, "x", 2]}}]})",
@@ -199,6 +200,85 @@ TEST_F(RuntimeScene, ErrorsNameFileAndJsonPath) {
   EXPECT_NE(e.find("missing.obj"), std::string::npos) << e;
   // A scene file that is not there.
   EXPECT_THROW(loadScene((dir / "nope.json").string(), defaults, factory()), sf::InputError);
+}
+
+// Scales beyond [1e-9, 1e9] (objects and the device transform) and stiffnesses beyond 1e12
+// N/m are refused at their JSON path: 1e300 overflowed the HIP ("non-finite HIP position",
+// blamed on the device), a device scale of 1e300 gave a replay no contact, silently, and a
+// stiffness of 1e13 was blamed on /objects/0/cache.
+TEST_F(RuntimeScene, ScalesAndStiffnessesOutOfRangeNameTheirPath) {
+  int refused = 0, accepted = 0;
+  for (const char* scale : {"1e300", "1e-300", "1e10", "1e-10", "1.0000001e9", "-1", "0"}) {
+    for (const bool device : {false, true}) {
+      const std::string pose = std::string(R"({"scale": )") + scale + "}";
+      const std::string json =
+          device ? R"({"device": {"transform": )" + pose + R"(}, "objects": [{"mesh": "../cube.obj"}]})"
+                 : R"({"objects": [{"mesh": "../cube.obj", "pose": )" + pose + "}]}";
+      const std::string want = std::string(device ? "/device/transform/scale" : "/objects/0/pose/scale") +
+                               ": expected a scale in [1e-09, 1e+09], got ";
+      const std::string e = error(json);
+      EXPECT_NE(e.find("scene.json: " + want), std::string::npos) << json << "\ngot: " << e;
+      refused += e.find(want) != std::string::npos;
+    }
+  }
+  for (const char* scale : {"1e9", "1e-9", "0.001", "1"}) {
+    for (const bool device : {false, true}) {
+      const std::string pose = std::string(R"({"scale": )") + scale + "}";
+      const Scene sc =
+          load(device ? R"({"device": {"transform": )" + pose + R"(}, "objects": [{"mesh": "../cube.obj"}]})"
+                      : R"({"objects": [{"mesh": "../cube.obj", "pose": )" + pose + "}]}");
+      EXPECT_EQ(device ? sc.deviceTransform().scale() : sc.objects()[0].pose.scale, std::stod(scale));
+      ++accepted;
+    }
+  }
+  EXPECT_EQ(refused, 14);
+  EXPECT_EQ(accepted, 8);
+  int stiff = 0;
+  for (const char* k : {"1e13", "1.0000001e12", "1e300", "-5"}) {
+    const std::string e = error(std::string(R"({"objects": [{"mesh": "../cube.obj", "stiffness": )") + k + "}]}");
+    EXPECT_NE(e.find("scene.json: /objects/0/stiffness: expected a stiffness in (0, 1e12] N/m, got "),
+              std::string::npos)
+        << k << "\ngot: " << e;
+    stiff += e.find("/objects/0/stiffness:") != std::string::npos;
+  }
+  EXPECT_EQ(stiff, 4);
+  EXPECT_EQ(load(R"({"objects": [{"mesh": "../cube.obj", "stiffness": 1e12}]})").objects()[0].force.stiffness, 1e12);
+}
+
+// A given name names one object (both JSON paths named) and has no control characters (the
+// report prints it); default names (the file's stem) may repeat.
+TEST_F(RuntimeScene, ObjectNamesAreUniqueAndPrintable) {
+  struct Bad {
+    std::string json, want;
+  };
+  int checked = 0;
+  for (const Bad& b :
+       {Bad{R"({"objects": [{"mesh": "../cube.obj", "name": "a"}, {"mesh": "../cube.obj", "name": "a"}]})",
+            "/objects/1/name: \"a\" is also the name of /objects/0"},
+        Bad{R"({"objects": [{"mesh": "../cube.obj", "name": "a"}, {"mesh": "../cube.obj"},
+                            {"mesh": "../cube.obj", "name": "a"}]})",
+            "/objects/2/name: \"a\" is also the name of /objects/0"},
+        Bad{R"({"objects": [{"mesh": "../cube.obj"}, {"mesh": "../cube.obj", "name": "cube"}]})",
+            "/objects/1/name: \"cube\" is also the name of /objects/0"},
+        Bad{R"({"objects": [{"mesh": "../cube.obj", "name": "cube"}, {"mesh": "../cube.obj"}]})",
+            "/objects/1/name: \"cube\" is also the name of /objects/0 (this object's default name"},
+        Bad{R"({"objects": [{"mesh": "../cube.obj", "name": "a\nb\u0007"}]})",
+            "/objects/0/name: expected a name without control characters, got U+000A"},
+        Bad{R"({"objects": [{"mesh": "../cube.obj", "name": "tab\there"}]})",
+            "/objects/0/name: expected a name without control characters, got U+0009"},
+        Bad{R"({"objects": [{"mesh": "../cube.obj", "name": "del\u007f"}]})",
+            "/objects/0/name: expected a name without control characters, got U+007F"}}) {
+    const std::string e = error(b.json);
+    EXPECT_NE(e.find("scene.json: " + b.want), std::string::npos) << b.json << "\ngot: " << e;
+    checked += e.find(b.want) != std::string::npos;
+  }
+  EXPECT_EQ(checked, 7);
+  const Scene sc = load(R"({"objects": [{"mesh": "../cube.obj"}, {"mesh": "../cube.obj"}, {"mesh": "../cube.obj",
+                            "name": "caf\u00e9"}]})");
+  ASSERT_EQ(sc.objects().size(), 3u);
+  EXPECT_EQ(sc.objects()[0].name, "cube");
+  EXPECT_EQ(sc.objects()[1].name, "cube");
+  EXPECT_EQ(sc.objects()[2].name, "caf\xc3\xa9");
 }
 
 TEST(RuntimeSceneMethods, Names) {

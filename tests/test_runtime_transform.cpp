@@ -200,7 +200,7 @@ TEST_F(RuntimeTransformScene, SceneFileSetsTheDeviceTransform) {
   EXPECT_NEAR(Eigen::AngleAxisd(p.rotation).angle(), 0.5, 1e-15);
   EXPECT_TRUE(load(R"({"objects": [{"mesh": "cube.obj"}]})").deviceTransform().isIdentity());
   EXPECT_NE(error(R"({"device": {"transform": {"scale": 0}}, "objects": [{"mesh": "cube.obj"}]})")
-                .find("scene.json: /device/transform/scale: expected a scale > 0"),
+                .find("scene.json: /device/transform/scale: expected a scale in [1e-09, 1e+09], got 0"),
             std::string::npos);
   EXPECT_NE(error(R"({"device": {"rate": 5}, "objects": [{"mesh": "cube.obj"}]})").find("/device/rate: unknown key"),
             std::string::npos);

@@ -140,11 +140,13 @@ struct SceneDefaults {
 /// deviceTransform(), e.g. `"scale": 0.001` for a device that reports millimetres.
 /// Each object has exactly one of `mesh` (read now; patches built lazily near the contact) or
 /// `cache` (a patch cache file); objects naming one file (with the same patch options, for a
-/// mesh) share one cache, read once. Optional: `name` (default: the file's stem), `pose`
-/// (translation in m; rotation as axis-angle with a non-zero axis (normalised) and an angle
-/// in radians, or as a quaternion [w, x, y, z] (normalised; non-zero); uniform scale > 0),
-/// `stiffness` (N/m, > 0), `method` (patch|direct|shading), `preset` (fast|balanced|accurate,
-/// force_presets.h: the refinement options, and the precision of a `mesh` object's patches;
+/// mesh) share one cache, read once. Optional: `name` (default: the file's stem, control
+/// characters replaced by '?'; a given name has no control characters and is no other
+/// object's name), `pose` (translation in m; rotation as axis-angle with a non-zero axis
+/// (normalised) and an angle in radians, or as a quaternion [w, x, y, z] (normalised;
+/// non-zero); uniform scale in [kMinSceneScale, kMaxSceneScale] = [1e-9, 1e9], pose.h; the
+/// device transform's too), `stiffness` (N/m, in (0, 1e12]), `method` (patch|direct|shading), `preset`
+/// (fast|balanced|accurate, force_presets.h: the refinement options, and the precision of a `mesh` object's patches;
 /// `stiffness` still applies), `precision` (float|double), `normals` (auto|file|angle|area),
 /// `cross_tangent` (corrected|paper|blend), `orient` (outward|keep): a `mesh` object's patch
 /// options, as the command line's --precision, --normals, --cross-tangent, --orient (which
