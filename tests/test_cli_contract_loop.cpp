@@ -208,6 +208,38 @@ TEST_F(LoopContract, ReplaysThatTheRunNeverReachesAreRefused) {
   EXPECT_NE(r.out.find("device: replay <stdin> ("), std::string::npos) << r.out;
 }
 
+// A scene's cache objects keep their options as --cache does: --precision float or --normals
+// file on the command line were ignored for them (they are the defaults of mesh objects).
+TEST_F(LoopContract, SceneCacheObjectsKeepTheirPatchOptionsAsCacheDoes) {
+  fs::copy_file(spot, dir / "spot.obj", fs::copy_options::overwrite_existing);
+  ASSERT_EQ(run("cache build " + spot + " -o " + file("kept.sfcache")).status, 0);
+  const std::string scene =
+      file("mixed.json",
+           R"({"objects": [{"mesh": "spot.obj"}, {"cache": "kept.sfcache", "pose": {"translation": [3, 0, 0]}}]})");
+  const std::string only = file("only.json", R"({"objects": [{"cache": "kept.sfcache"}]})");
+  struct Case {
+    std::string scene, option, where;
+  };
+  int refused = 0;
+  for (const Case& c : {Case{scene, "--precision float", "mixed.json: /objects/1 ("},
+                        Case{only, "--precision float", "only.json: /objects/0 ("},
+                        Case{only, "--normals file", "only.json: /objects/0 ("},
+                        Case{only, "--normals angle", "only.json: /objects/0 ("},
+                        Case{only, "--cross-tangent paper", "only.json: /objects/0 ("}}) {
+    const std::string& opt = c.option;
+    const CliStreams r = run("loop --scene " + c.scene + " " + opt + " --device null --duration 0.02");
+    EXPECT_EQ(r.status, 1) << opt << "\n" << r.err;
+    EXPECT_NE(r.err.find(c.where), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("kept.sfcache): built with " + opt.substr(0, opt.find(' '))), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("but " + opt + " was given"), std::string::npos) << r.err;
+    refused += r.status == 1;
+  }
+  EXPECT_EQ(refused, 5);
+  const CliStreams r =
+      run("loop --scene " + scene + " --precision double --normals auto --device null --duration 0.02");
+  EXPECT_EQ(r.status, 0) << r.err;
+}
+
 TEST_F(LoopContract, SigintAndSigtermStopEveryCommandAlike) {
   int checked = 0;
   for (int sig : {SIGINT, SIGTERM}) {

@@ -186,6 +186,9 @@ void run(const LoopArgs& a) {
   so.watchdog = a.watchdogMs * 1e-3;
   lo.deviceTransform = scene.deviceTransform();
   const std::unique_ptr<rt::HapticDevice> device = rt::makeDevice(a.device, scene, so);
+    for (size_t i = 0; i < scene.objects().size(); ++i)  // as with --cache: a cache keeps its options
+      if (const rt::SceneObject& o = scene.objects()[i]; !o.fromMesh)
+        a.patch.checkCache(*o.cache, a.scene + ": /objects/" + std::to_string(i) + " (" + o.source + ")");
   rt::SafetyFilter safety(a.safety);
   std::unique_ptr<rt::SpscRing<rt::StepRecord>> ring;
   std::unique_ptr<rt::RecordWriter> writer;
@@ -250,7 +253,10 @@ void run(const LoopArgs& a) {
 void addLoopCommand(CLI::App& app) {
   auto* c = app.add_subcommand("loop", "Run the real-time haptic servo loop on a scene, cache or mesh");
   auto a = std::make_shared<LoopArgs>();
-  auto* scene = c->add_option("--scene", a->scene, "scene file (JSON; see runtime/scene.h)");
+  auto* scene = c->add_option("--scene", a->scene,
+                              "scene file (JSON; see runtime/scene.h); --precision, --normals, --cross-tangent and "
+                              "--orient are the defaults of its mesh objects, and a cache object must have been "
+                              "built with those given");
   auto* cache = c->add_option("--cache", a->cache, "patch cache file");
   auto* mesh = c->add_option("--mesh", a->mesh, "mesh file (patches built lazily near the contact point)");
   c->add_option("--patch-capacity", a->patchCapacity,
