@@ -14,6 +14,7 @@
 #include <cstring>
 #include <ctime>
 
+#include <smoothforce/base/coordinate_range.h>
 #include <smoothforce/mesh/mesh.h>
 
 namespace sf::rt {
@@ -185,6 +186,7 @@ void UdpDevice::handle(const uint8_t* data, size_t size, const sockaddr_storage&
     case PacketError::NonFinite:
       return count(kNonFinite);
   }
+  if (!inCoordinateRange(p.position)) return count(kOutOfRange);  // 1e300 m was accepted as a HIP
   if (peerSet_.load(std::memory_order_relaxed) && !sameAddress(from, peer_)) return count(kForeign);
   if (haveSeq_ && p.seq == lastSeq_) return count(kDuplicates);
   if (haveSeq_ && p.seq < lastSeq_) return count(kOutOfOrder);
@@ -278,6 +280,7 @@ UdpCounters UdpDevice::counters() const noexcept {
   c.badType = g(kBadType);
   c.badReserved = g(kBadReserved);
   c.nonFinite = g(kNonFinite);
+  c.outOfRange = g(kOutOfRange);
   c.superseded = g(kSuperseded);
   c.forcesSent = g(kForcesSent);
   c.sendErrors = g(kSendErrors);
@@ -298,11 +301,11 @@ std::string UdpDevice::report() const {
   std::snprintf(buf, sizeof buf,
                 "udp: %lld datagrams, %lld samples accepted (%lld superseded before a read), %lld duplicates, %lld "
                 "out of order, %lld from other senders, %lld wrong version, %lld malformed (size %lld, magic %lld, "
-                "type %lld, reserved %lld, non-finite %lld); %lld forces sent, %lld send errors\n",
+                "type %lld, reserved %lld, non-finite %lld, beyond 1e15 m %lld); %lld forces sent, %lld send errors\n",
                 (long long)c.received, (long long)c.accepted, (long long)c.superseded, (long long)c.duplicates,
                 (long long)c.outOfOrder, (long long)c.foreign, (long long)c.wrongVersion, (long long)c.malformed(),
                 (long long)c.badSize, (long long)c.badMagic, (long long)c.badType, (long long)c.badReserved,
-                (long long)c.nonFinite, (long long)c.forcesSent, (long long)c.sendErrors);
+                (long long)c.nonFinite, (long long)c.outOfRange, (long long)c.forcesSent, (long long)c.sendErrors);
   return buf;
 }
 

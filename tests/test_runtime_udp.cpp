@@ -10,6 +10,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <functional>
 #include <random>
@@ -404,6 +405,41 @@ TEST(RuntimeUdp, GarbageIsCountedAndDropped) {
   EXPECT_EQ(d.sample, seq);
   EXPECT_EQ(d.position.x(), double(seq));
   EXPECT_NE(dev.report().find("60 samples accepted"), std::string::npos) << dev.report();
+}
+
+// A HIP beyond the coordinate range (+-1e15 m) is no position the queries take: it was counted
+// as accepted (1e300 m included). It is dropped and counted as malformed (out of range), like
+// a NaN one; the next valid sample is taken as usual.
+TEST(RuntimeUdp, HipsBeyondTheCoordinateRangeAreDropped) {
+  UdpDevice dev(UdpEndpoint{"127.0.0.1", 0});
+  Peer peer;
+  ASSERT_TRUE(peer.ok);
+  uint64_t seq = 0;
+  int64_t sent = 0, far = 0, accepted = 0;
+  for (const double x : {1e300, -1e300, 1e16, 1.0000001e15, -1.0000001e15, 1e15, -1e15, 1e14, 0.25}) {
+    for (int axis = 0; axis < 3; ++axis) {
+      Vector3d p(0.1, 0.2, 0.3);
+      p[axis] = x;
+      peer.sendHip(dev.port(), ++seq, p);
+      ++sent;
+      const bool beyond = std::abs(x) > 1e15;
+      far += beyond;
+      accepted += !beyond;
+      ASSERT_TRUE(waitFor([&] { return dev.counters().received == sent; }, 5));
+      const DeviceState d = dev.read(0);
+      if (!beyond) {
+        EXPECT_EQ(d.sample, seq);
+        EXPECT_EQ(d.position[axis], x);
+      }
+    }
+  }
+  const UdpCounters c = dev.counters();
+  EXPECT_EQ(far, 15);
+  EXPECT_EQ(c.outOfRange, far);
+  EXPECT_EQ(c.malformed(), far);
+  EXPECT_EQ(c.accepted, accepted);
+  EXPECT_EQ(dev.read(0).position, Vector3d(0.1, 0.2, 0.25));
+  EXPECT_NE(dev.report().find("non-finite 0, beyond 1e15 m 15)"), std::string::npos) << dev.report();
 }
 
 /// Sends `n` samples `period` s apart (p(k) 1 mm deep), then stops.

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
 
 #include "cli_test_support.h"
 
@@ -208,6 +209,42 @@ TEST_F(RuntimeUdpCli, SenderStoppedLatchesTheStaleFaultAndZeroForce) {
     ASSERT_EQ(rec[i][7], 0);
   }
   std::printf("first stale step %.1f ms after the last sample arrived (watchdog 200 ms)\n", rec[stale][16] * 1e-3);
+}
+
+// `loop --json`: a latched fault exits 3 with the fault in "safety" (the CLI contract), and the
+// udp device's datagram counters are in "udp" (they were on stderr only).
+TEST_F(RuntimeUdpCli, JsonReportCarriesTheFaultAndTheUdpCounters) {
+  BackgroundLoop loop;
+  const int port = loop.start("--scene " + path("scene.json") +
+                              " --device udp:127.0.0.1:0 --duration 1.5 --ramp 0 --watchdog-ms 200 "
+                              "--max-missed 1000000 --json");
+  ASSERT_GT(port, 0) << loop.finish().out;
+  const CliResult c = client(port, "--duration 0.3 --linger 0 --out " + path("forces.csv"));
+  const CliResult l = loop.finish();
+  ASSERT_EQ(c.status, 0) << c.out;
+  ASSERT_EQ(l.status, 3) << l.out;
+  EXPECT_NE(l.out.find("smoothforce: loop: safety fault: stale device"), std::string::npos) << l.out;
+  const size_t begin = l.out.find("\n{\n"), end = l.out.find("\n}\n", begin);  // stdout, amid stderr's lines
+  ASSERT_NE(end, std::string::npos) << l.out;
+  const nlohmann::json j = nlohmann::json::parse(l.out.substr(begin + 1, end + 2 - begin - 1));
+  EXPECT_EQ(j["exit_status"], 3);
+  EXPECT_EQ(j["safety"]["fault"], "stale device (no sample within the watchdog time)");
+  const nlohmann::json& u = j["udp"];
+  ASSERT_TRUE(u.is_object()) << j.dump(2);
+  const long long accepted = u["accepted"].get<long long>();
+  EXPECT_GE(accepted, 0.95 * 301) << "0.3 s at 1 kHz";
+  EXPECT_LE(accepted, 301);
+  EXPECT_EQ(u["datagrams"], accepted);
+  for (const char* k : {"duplicates", "out_of_order", "foreign", "wrong_version", "send_errors"})
+    EXPECT_EQ(u[k], 0) << k;
+  int kinds = 0;
+  for (const char* k : {"size", "magic", "type", "reserved", "non_finite", "out_of_range"}) {
+    EXPECT_EQ(u["malformed"][k], 0) << k;
+    ++kinds;
+  }
+  EXPECT_EQ(kinds, 6);
+  EXPECT_GT(u["forces_sent"].get<long long>(), 0);
+  EXPECT_LE(u["superseded"].get<long long>(), 301);
 }
 
 TEST_F(RuntimeUdpCli, DevicePacedRunStepsOncePerSample) {

@@ -19,6 +19,7 @@
 #include <smoothforce/runtime/scene.h>
 #include <smoothforce/runtime/scripted.h>
 #include <smoothforce/runtime/servo_loop.h>
+#include <smoothforce/runtime/udp_device.h>
 #include "cli_common.h"
 #include "cli_exit.h"
 #include "cli_output.h"
@@ -67,8 +68,30 @@ nlohmann::ordered_json percentilesUs(const rt::LatencyHistogram& h) {
           {"max", 1e6 * h.max()}};
 }
 
-/// The report of `loop --json` (keys documented in README "Exit status and output").
-nlohmann::ordered_json loopJson(const rt::Scene& scene, const std::string& device, const LoopArgs& a,
+/// The counters of a udp device (the text report's "udp:" line).
+nlohmann::ordered_json udpJson(const rt::UdpDevice& udp) {
+  const rt::UdpCounters c = udp.counters();
+  return {{"datagrams", c.received},
+          {"accepted", c.accepted},
+          {"superseded", c.superseded},
+          {"duplicates", c.duplicates},
+          {"out_of_order", c.outOfOrder},
+          {"foreign", c.foreign},
+          {"wrong_version", c.wrongVersion},
+          {"malformed",
+           {{"size", c.badSize},
+            {"magic", c.badMagic},
+            {"type", c.badType},
+            {"reserved", c.badReserved},
+            {"non_finite", c.nonFinite},
+            {"out_of_range", c.outOfRange}}},
+          {"forces_sent", c.forcesSent},
+          {"send_errors", c.sendErrors}};
+}
+
+/// The report of `loop --json` (keys documented in README "Exit status and output"; with a udp
+/// device also "udp": udpJson's counters).
+nlohmann::ordered_json loopJson(const rt::Scene& scene, const rt::HapticDevice& device, const LoopArgs& a,
                                 const rt::LoopStats& s, const rt::SafetyCounters& c, long long written, int status) {
   nlohmann::ordered_json objects = nlohmann::ordered_json::array();
   for (const rt::SceneObject& o : scene.objects())
@@ -87,31 +110,34 @@ nlohmann::ordered_json loopJson(const rt::Scene& scene, const std::string& devic
                        {"lazy", o.fromMesh}});
   nlohmann::ordered_json records = nullptr;
   if (written >= 0) records = {{"file", a.record}, {"written", written}, {"dropped", s.recordsDropped}};
-  return {{"objects", objects},
-          {"device", device},
-          {"rate_hz", a.rate},
-          {"duration_s", a.duration},
-          {"step_compute_us", percentilesUs(s.compute)},
-          {"wake_up_lateness_us", percentilesUs(s.lateness)},
-          {"steps", s.steps},
-          {"ticks", s.ticks},
-          {"elapsed_s", s.elapsed},
-          {"stopped", s.stopped},
-          {"missed_deadlines", s.missedDeadlines},
-          {"max_consecutive_misses", c.maxConsecutiveMisses},
-          {"skipped_ticks", s.skippedTicks},
-          {"contact_steps", s.contactSteps},
-          {"contact_onsets", s.contactOnsets},
-          {"patches_built", scene.patchesBuilt()},
-          {"faces", scene.totalFaces()},
-          {"safety",
-           {{"clamps", c.clamps},
-            {"rate_limits", c.rateLimits},
-            {"non_finite", c.nonFinite},
-            {"fault", c.fault == rt::Fault::None ? nullptr : nlohmann::ordered_json(toString(c.fault))},
-            {"fault_time_s", c.fault == rt::Fault::None ? nullptr : nlohmann::ordered_json(c.faultTime)}}},
-          {"records", records},
-          {"exit_status", status}};
+  nlohmann::ordered_json j = {
+      {"objects", objects},
+      {"device", device.describe()},
+      {"rate_hz", a.rate},
+      {"duration_s", a.duration},
+      {"step_compute_us", percentilesUs(s.compute)},
+      {"wake_up_lateness_us", percentilesUs(s.lateness)},
+      {"steps", s.steps},
+      {"ticks", s.ticks},
+      {"elapsed_s", s.elapsed},
+      {"stopped", s.stopped},
+      {"missed_deadlines", s.missedDeadlines},
+      {"max_consecutive_misses", c.maxConsecutiveMisses},
+      {"skipped_ticks", s.skippedTicks},
+      {"contact_steps", s.contactSteps},
+      {"contact_onsets", s.contactOnsets},
+      {"patches_built", scene.patchesBuilt()},
+      {"faces", scene.totalFaces()},
+      {"safety",
+       {{"clamps", c.clamps},
+        {"rate_limits", c.rateLimits},
+        {"non_finite", c.nonFinite},
+        {"fault", c.fault == rt::Fault::None ? nullptr : nlohmann::ordered_json(toString(c.fault))},
+        {"fault_time_s", c.fault == rt::Fault::None ? nullptr : nlohmann::ordered_json(c.faultTime)}}},
+      {"records", records},
+      {"exit_status", status}};
+  if (const auto* udp = dynamic_cast<const rt::UdpDevice*>(&device)) j["udp"] = udpJson(*udp);
+  return j;
 }
 
 void run(const LoopArgs& a) {
@@ -160,6 +186,9 @@ void run(const LoopArgs& a) {
   rt::Scene scene;
   if (!a.scene.empty()) {
     scene = rt::loadScene(a.scene, defaults, factory);
+    for (size_t i = 0; i < scene.objects().size(); ++i)  // as with --cache: a cache keeps its options
+      if (const rt::SceneObject& o = scene.objects()[i]; !o.fromMesh)
+        a.patch.checkCache(*o.cache, a.scene + ": /objects/" + std::to_string(i) + " (" + o.source + ")");
   } else if (!a.cache.empty()) {
     auto cache = std::make_shared<const PatchCache>(readPatchCache(a.cache));
     a.patch.checkCache(*cache, a.cache);
@@ -184,11 +213,9 @@ void run(const LoopArgs& a) {
   so.speed = a.speed;
   so.depth = a.depthGiven ? a.depth : 0;
   so.watchdog = a.watchdogMs * 1e-3;
+  so.duration = a.duration;
   lo.deviceTransform = scene.deviceTransform();
   const std::unique_ptr<rt::HapticDevice> device = rt::makeDevice(a.device, scene, so);
-    for (size_t i = 0; i < scene.objects().size(); ++i)  // as with --cache: a cache keeps its options
-      if (const rt::SceneObject& o = scene.objects()[i]; !o.fromMesh)
-        a.patch.checkCache(*o.cache, a.scene + ": /objects/" + std::to_string(i) + " (" + o.source + ")");
   rt::SafetyFilter safety(a.safety);
   std::unique_ptr<rt::SpscRing<rt::StepRecord>> ring;
   std::unique_ptr<rt::RecordWriter> writer;
@@ -216,7 +243,6 @@ void run(const LoopArgs& a) {
   loop.run();
   if (a.rtPriority > 0) {
     sched_param p{};
-  so.duration = a.duration;
     pthread_setschedparam(pthread_self(), SCHED_OTHER, &p);
   }
   long long written = -1;
@@ -230,8 +256,8 @@ void run(const LoopArgs& a) {
   const int signal = receivedSignal();
   const int status = counters.fault != rt::Fault::None ? kExitFault : signal ? 128 + signal : kExitOk;
   if (a.json) {
-    printJson(stdout, loopJson(scene, deviceText, a, loop.stats(), counters, written, status));
-    std::fputs(device->report().c_str(), stderr);  // a device's own end-of-run lines (udp: packets, faults)
+    printJson(stdout, loopJson(scene, *device, a, loop.stats(), counters, written, status));
+    std::fputs(device->report().c_str(), stderr);  // a device's own end-of-run lines (udp: also in "udp")
   } else {
     std::fputs(
         rt::loopReport(loop.stats(), a.rate, counters, scene.patchesBuilt(), scene.totalFaces(), written).c_str(),
@@ -296,11 +322,14 @@ void addLoopCommand(CLI::App& app) {
   c->add_option("--spin-us", a->spinUs, "busy-wait before each deadline, us")->capture_default_str();
   addSurfaceArgs(*c, a->patch);  // not addBackendArgs: --device is the haptic device here
   addRefineArgs(*c, a->refine);
-  c->add_flag("--json", a->json,
-              "print the report as one JSON object on stdout (objects, device, rate_hz, duration_s, step_compute_us, "
-              "wake_up_lateness_us, steps, ticks, elapsed_s, stopped, missed_deadlines, max_consecutive_misses, "
-              "skipped_ticks, contact_steps, contact_onsets, patches_built, faces, safety, records, exit_status); "
-              "the set-up lines go to stderr");
+  c->add_flag(
+      "--json", a->json,
+      "print the report as one JSON object on stdout (objects, device, rate_hz, duration_s, step_compute_us, "
+      "wake_up_lateness_us, steps, ticks, elapsed_s, stopped, missed_deadlines, max_consecutive_misses, "
+      "skipped_ticks, contact_steps, contact_onsets, patches_built, faces, safety, records, exit_status; with a "
+      "udp device also udp: datagrams, accepted, superseded, duplicates, out_of_order, foreign, wrong_version, "
+      "malformed {size, magic, type, reserved, non_finite, out_of_range}, forces_sent, send_errors); "
+      "the set-up lines go to stderr");
   c->add_option("--rt-priority", a->rtPriority, "SCHED_FIFO priority 1..99 and mlockall (0: off)")
       ->check(CLI::Range(0, 99))
       ->capture_default_str();

@@ -40,16 +40,18 @@ struct UdpCounters {
   int64_t foreign = 0;     ///< valid, but from another address than the first sender
   int64_t wrongVersion = 0;
   int64_t badSize = 0, badMagic = 0, badType = 0, badReserved = 0, nonFinite = 0;  ///< malformed
+  int64_t outOfRange = 0;  ///< malformed: a coordinate beyond the coordinate range (+-1e15 m, coordinate_range.h)
   int64_t superseded = 0;  ///< accepted but never read: a newer sample arrived first
   int64_t forcesSent = 0, sendErrors = 0;
-  int64_t malformed() const noexcept { return badSize + badMagic + badType + badReserved + nonFinite; }
+  int64_t malformed() const noexcept { return badSize + badMagic + badType + badReserved + nonFinite + outOfRange; }
 };
 
 /// Receives HIP packets (udp_packet.h) on a socket bound to the endpoint and sends FORCE
 /// packets back to the sender of the samples.
 ///
 /// A receiver thread decodes every datagram and drops, counting each kind, malformed ones
-/// (size, magic, type, reserved bits, NaN/inf), other versions, duplicates and out-of-order
+/// (size, magic, type, reserved bits, NaN/inf, a coordinate beyond +-1e15 m: no position the
+/// queries take), other versions, duplicates and out-of-order
 /// packets (seq not above the last accepted one; seq must increase within a run) and packets
 /// from any address but the first valid sender's (one device, one sender). An accepted
 /// sample goes to a seqlock mailbox; read() takes the latest one without waiting (real-time
@@ -104,6 +106,7 @@ class UdpDevice final : public HapticDevice {
     kBadType,
     kBadReserved,
     kNonFinite,
+    kOutOfRange,
     kSuperseded,
     kForcesSent,
     kSendErrors,
