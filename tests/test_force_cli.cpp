@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 
 #include "cli_test_support.h"
@@ -80,6 +81,35 @@ TEST_F(ForceTraceCli, EveryMethodWritesOneRowPerStep) {
     EXPECT_GT(contact, 40) << m;
     EXPECT_LT(contact, rows) << m;
   }
+}
+
+// With --patch-capacity 1 a face evicted and needed again is built again: the report counted
+// those constructions as "patches built lazily: 288 of 180 faces". It now says constructions.
+TEST_F(ForceTraceCli, LazyPatchReportCountsConstructions) {
+  std::ostringstream hips;  // back and forth across the top of the sphere, pressed in
+  hips << "x,y,z\n";
+  for (int pass = 0; pass < 6; ++pass)
+    for (int i = 0; i <= 40; ++i) {
+      const double a = -0.5 + (pass % 2 ? 40 - i : i) / 40.0;
+      hips << 0.95 * std::sin(a) << ",0.02," << 0.95 * std::cos(a) << "\n";
+    }
+  const std::string in = file("hips.csv", hips.str());
+  int checked = 0;
+  for (const char* capacity : {"1", "0"}) {
+    const TraceRun r =
+        runCli("trace --mesh " + mesh + " --patch-capacity " + capacity + " --hips " + in + " -o " + file("out.csv"));
+    ASSERT_EQ(r.status, 0) << r.out;
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(
+        r.out, m,
+        std::regex(R"(trace: ([0-9]+) lazy patch constructions for ([0-9]+) faces \(at most ([0-9a-z]+) held)")))
+        << r.out;
+    EXPECT_EQ(m[3].str(), std::string(capacity) == "1" ? "1" : "all");
+    EXPECT_GT(std::stoi(m[1]), 0);
+    EXPECT_EQ(r.out.find("patches built lazily"), std::string::npos) << r.out;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 2);
 }
 
 TEST_F(ForceTraceCli, RejectsBadInputWithFileAndLine) {

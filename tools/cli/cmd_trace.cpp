@@ -120,8 +120,11 @@ void run(const TraceArgs& a) {
                method == ForceMethod::Patch ? toString(opt.refine) : "", a.refine.preset.empty() ? "" : ", preset ",
                a.refine.preset.c_str(), inContact, starts, maxDiff, maxAt, meanUs, 1e6 * worst, file.name().c_str());
   if (!a.mesh.empty())
-    std::fprintf(report, "trace: patches built lazily: %d of %d faces (at most %s held)\n", renderer->patchesBuilt(),
-                 cache->numFaces(), a.patchCapacity > 0 ? std::to_string(a.patchCapacity).c_str() : "all");
+    std::fprintf(report,
+                 "trace: %d lazy patch constructions for %d faces (at most %s held; a face evicted and needed again "
+                 "is built again)\n",
+                 renderer->patchesBuilt(), cache->numFaces(),
+                 a.patchCapacity > 0 ? std::to_string(a.patchCapacity).c_str() : "all");
 }
 
 }  // namespace
