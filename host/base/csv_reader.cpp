@@ -54,9 +54,38 @@ std::string readAll(const std::string& path) {
   return text;
 }
 
+/// Why `text` is not UTF-8 or ASCII ("" when it may be): UTF-16 or UTF-32, by its byte-order
+/// mark or, without one, by a NUL in every other byte (ASCII in UTF-16). The CSV reader would
+/// see a header of raw bytes.
+std::string encodingProblem(std::string_view text) {
+  using namespace std::string_view_literals;
+  if (text.starts_with("\xff\xfe\0\0"sv)) return "is UTF-32 encoded (byte-order mark FF FE 00 00)";
+  if (text.starts_with("\0\0\xfe\xff"sv)) return "is UTF-32 encoded (byte-order mark 00 00 FE FF)";
+  if (text.starts_with("\xff\xfe"sv)) return "is UTF-16 encoded (byte-order mark FF FE)";
+  if (text.starts_with("\xfe\xff"sv)) return "is UTF-16 encoded (byte-order mark FE FF)";
+  const size_t n = std::min<size_t>(text.size(), 64) / 2;  // byte pairs looked at
+  size_t nul[2] = {0, 0};                                  // pairs with a NUL first, second
+  for (size_t i = 0; i < n; ++i) {
+    const bool a = text[2 * i] == '\0', b = text[2 * i + 1] == '\0';
+    if (a != b) ++nul[b];
+  }
+  if (n >= 2 && (nul[0] == n || nul[1] == n)) return "looks UTF-16 encoded (NUL bytes between the characters)";
+  return "";
+}
+
+/// The shortest decimal form that reads back as x ("1.0000001e+15", not %.6g's "1e+15").
+std::string shortest(double x) {
+  char b[32];
+  const auto r = std::to_chars(b, b + sizeof b, x);
+  return std::string(b, r.ptr);
+}
+
 bool parseField(std::string_view f, double& v) {
   f = trim(f);
-  if (!f.empty() && f[0] == '+') f.remove_prefix(1);
+  if (!f.empty() && f[0] == '+') {
+    f.remove_prefix(1);
+    if (!f.empty() && (f[0] == '-' || f[0] == '+')) return false;  // "+-1": one sign only
+  }
   if (f.empty()) return false;
   const auto r = std::from_chars(f.data(), f.data() + f.size(), v);
   if (r.ec == std::errc::result_out_of_range && r.ptr == f.data() + f.size()) {  // overflow, or underflow
@@ -79,10 +108,8 @@ void requirePositions(const NumericCsv& t, const std::string& path, size_t first
   for (size_t r = 0; r < t.rows(); ++r)
     for (size_t c = first; c < first + 3 && c < t.columns.size(); ++c)
       if (!(std::fabs(t.at(r, c)) <= kMaxCoordinate)) {
-        char v[32];
-        std::snprintf(v, sizeof v, "%.6g", t.at(r, c));
         throwCsvError(csvDisplayName(path), t.line[r],
-                      t.columns[c] + " = " + v + " m is beyond the coordinate range +-1e15 m");
+                      t.columns[c] + " = " + shortest(t.at(r, c)) + " m is beyond the coordinate range +-1e15 m");
       }
 }
 
@@ -93,14 +120,18 @@ NumericCsv readNumericCsv(const std::string& path, const std::vector<std::string
   t.columns = columns;
   const std::string header = join(columns);
   const size_t n = columns.size();
+  if (const std::string why = encodingProblem(text); !why.empty())
+    throw InputError(name + ": " + why + "; save it as UTF-8 or ASCII");
   std::string_view rest(text);
   if (rest.substr(0, 3) == "\xEF\xBB\xBF") rest.remove_prefix(3);  // UTF-8 byte-order mark
   int lineNo = 0;
   bool headerSeen = false, first = true;
   while (!rest.empty()) {
-    const size_t nl = rest.find('\n');
+    // a line ends in LF, CRLF or a lone CR (old Mac OS; some spreadsheets still write it)
+    const size_t nl = rest.find_first_of("\r\n");
     const std::string_view raw = rest.substr(0, nl);
-    rest.remove_prefix(nl == std::string_view::npos ? rest.size() : nl + 1);
+    const bool crlf = nl != std::string_view::npos && rest[nl] == '\r' && nl + 1 < rest.size() && rest[nl + 1] == '\n';
+    rest.remove_prefix(nl == std::string_view::npos ? rest.size() : nl + (crlf ? 2 : 1));
     ++lineNo;
     const std::string_view line = trim(raw);
     if (line.empty()) continue;

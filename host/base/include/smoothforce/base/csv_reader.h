@@ -21,11 +21,11 @@ struct NumericCsv {
 /// joined by commas (blanks ignored), either as the first non-blank, non-comment line or as a
 /// `#` line before any data (NumPy's `savetxt(..., delimiter=",", header="x,y,z")` writes
 /// `# x,y,z`); with headerRequired = false a row of numbers may come first. Blank lines and
-/// other lines starting with `#` are skipped; a UTF-8 byte-order mark and CR line ends are
-/// accepted. Fields: decimal or exponent numbers, optional leading `+`, blanks around them.
-/// Throws InputError `path:line: what` for a missing or wrong header, a wrong column count
-/// or a field that is not a finite number, `path: cannot open`, and `path: no rows` for a
-/// file without data.
+/// other lines starting with `#` are skipped; a UTF-8 byte-order mark and LF, CRLF and CR-only
+/// line ends are accepted. Fields: decimal or exponent numbers, one optional sign (`+` or `-`),
+/// blanks around them. Throws InputError `path:line: what` for a missing or wrong header, a
+/// wrong column count or a field that is not a finite number, `path: cannot open`, `path: is
+/// UTF-16 encoded ...` for UTF-16 or UTF-32 text, and `path: no rows` for a file without data.
 NumericCsv readNumericCsv(const std::string& path, const std::vector<std::string>& columns, bool headerRequired = true);
 
 /// The name readNumericCsv uses for `path` in messages ("<stdin>" for "-").
