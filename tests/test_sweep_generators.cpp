@@ -116,6 +116,46 @@ TEST(GeneratorTorus, ClosedOutwardOnTorus) {
   EXPECT_THROW(torusMesh(1, 2, 16, 8), InputError);
 }
 
+// Sizes whose vertices leave the coordinate range (every mesh reader and cache build refuses
+// them) and integer parameters no mesh can follow are refused, saying the bound; the largest
+// accepted ones are made.
+TEST(GeneratorBounds, SizesBeyondTheCoordinateRangeAndAbsurdCountsAreRefused) {
+  auto message = [](auto&& make) {
+    try {
+      make();
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(accepted)");
+  };
+  TorusKnotParams huge;
+  huge.scale = 1e300;
+  TorusKnotParams wound;
+  wound.p = 2000000000;
+  TorusKnotParams many;
+  many.segments = 1000000;
+  many.sides = 1000;
+  const std::pair<std::string, std::string> refused[] = {
+      {message([] { quadSphere(1e300, 1); }), "sphere: --radius 1e+300 puts vertices up to 1e+300 m"},
+      {message([] { quadSphere(1.0000001e15, 1); }), "beyond the coordinate range +-1e15 m"},
+      {message([] { torusMesh(1e300, 1, 3, 3); }), "torus: --R 1e+300 --r 1 puts vertices"},
+      {message([] { torusMesh(1e15, 1, 3, 3); }), "up to 1000000000000001 m"},
+      {message([] { torusMesh(1, 0.5, 1000000, 1000); }), "torus: --segments x --sides makes 1e+09 quads"},
+      {message([&] { torusKnot(huge); }), "torus-knot: --scale x (--R + --r + --tube) puts vertices"},
+      {message([&] { torusKnot(wound); }), "--p 2000000000 --q 3 wind 2000000003 times"},
+      {message([&] { torusKnot(many); }), "more than 1e8"},
+  };
+  for (const auto& [got, want] : refused) EXPECT_NE(got.find(want), std::string::npos) << got;
+  EXPECT_EQ(std::size(refused), 8u);
+  EXPECT_EQ(quadSphere(1e15, 1).positions.size(), 8u);
+  EXPECT_EQ(torusMesh(1e15 - 1, 1, 3, 3).quads.size(), 9u);
+  TorusKnotParams tight;  // 4 (|p| + |q|) = 20 segments: the fewest that follow a (2,3) knot
+  tight.segments = 20;
+  EXPECT_EQ(torusKnot(tight).quads.size(), 240u);
+  tight.segments = 19;
+  EXPECT_THROW(torusKnot(tight), InputError);
+}
+
 TEST(GeneratorObj, RoundTripKeepsExactNormals) {
   const auto path = std::filesystem::temp_directory_path() / ("sf_gen_" + std::to_string(::getpid()) + ".obj");
   const GeneratedMesh m = torusKnot({});

@@ -1,16 +1,41 @@
 #include <smoothforce/sweep/generators.h>
 
 #include <Eigen/Geometry>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <map>
 #include <numbers>
 
+#include <smoothforce/base/coordinate_range.h>
+
 namespace sf {
 
 namespace {
 constexpr double kTwoPi = 2 * std::numbers::pi;
+
+/// The most quads a generator makes: 1e8 (an OBJ of about 10 GB; int32 vertex indices).
+constexpr double kMaxQuads = 1e8;
+
+/// The shortest decimal form that reads back as x.
+std::string shortest(double x) {
+  char b[32];
+  return std::string(b, std::to_chars(b, b + sizeof b, x).ptr);
 }
+
+/// Refuses a mesh whose vertices could lie beyond kMaxCoordinate (`reach`: the largest distance
+/// of a vertex from the origin, m): every mesh reader and `cache build` would refuse the file.
+void requireReach(double reach, const std::string& what) {
+  if (!(reach <= kMaxCoordinate))
+    throw InputError(what + " puts vertices up to " + shortest(reach) +
+                     " m from the origin, beyond the coordinate range +-1e15 m that the mesh readers take");
+}
+
+void requireQuads(double quads, const std::string& what) {
+  if (quads > kMaxQuads)
+    throw InputError(what + " makes " + shortest(quads) + " quads, more than 1e8 (an OBJ of about 10 GB)");
+}
+}  // namespace
 
 PolygonMesh GeneratedMesh::toPolygonMesh() const {
   PolygonMesh m;
@@ -56,6 +81,15 @@ GeneratedMesh torusKnot(const TorusKnotParams& k) {
   if (!(k.R > 0) || !(k.r > 0) || !(k.tube > 0) || !(k.scale > 0) || !std::isfinite(k.R + k.r + k.tube + k.scale))
     throw InputError("torus-knot: --R, --r, --tube and --scale must be positive and finite");
   if (k.p == 0 || k.q == 0) throw InputError("torus-knot: --p and --q must be non-zero");
+  // the centre curve's highest frequency is |p| + |q| windings per lap: at fewer than 4 segments
+  // a winding the quads cannot follow the knot (and --p 2000000000 is no knot a mesh can show)
+  const double windings = std::fabs(double(k.p)) + std::fabs(double(k.q));
+  if (double(k.segments) < 4 * windings)
+    throw InputError("torus-knot: --p " + std::to_string(k.p) + " --q " + std::to_string(k.q) + " wind " +
+                     shortest(windings) + " times (|p| + |q|) per lap; --segments " + std::to_string(k.segments) +
+                     " cannot follow that: give --segments >= 4 (|p| + |q|) = " + shortest(4 * windings));
+  requireQuads(double(k.segments) * k.sides, "torus-knot: --segments x --sides");
+  requireReach(k.scale * (k.R + k.r + k.tube), "torus-knot: --scale x (--R + --r + --tube)");
   GeneratedMesh m;
   for (int i = 0; i < k.segments; ++i) {
     const double phi = kTwoPi * i / k.segments;
@@ -90,6 +124,7 @@ std::vector<Eigen::Vector3d> torusKnotHelix(const TorusKnotParams& k, double tur
 GeneratedMesh quadSphere(double radius, int n) {
   if (n < 1) throw InputError("sphere: --segments must be >= 1, got " + std::to_string(n));
   if (!(radius > 0) || !std::isfinite(radius)) throw InputError("sphere: --radius must be positive and finite");
+  requireReach(radius, "sphere: --radius " + shortest(radius));
   GeneratedMesh m;
   std::map<std::array<int, 3>, int32_t> index;
   auto vertex = [&](std::array<int, 3> g) {
@@ -127,6 +162,8 @@ GeneratedMesh quadSphere(double radius, int n) {
 GeneratedMesh torusMesh(double R, double r, int segments, int sides) {
   if (segments < 3 || sides < 3) throw InputError("torus: --segments and --sides must be >= 3");
   if (!(r > 0) || !(R > r) || !std::isfinite(R)) throw InputError("torus: need 0 < r < R (finite)");
+  requireQuads(double(segments) * sides, "torus: --segments x --sides");
+  requireReach(R + r, "torus: --R " + shortest(R) + " --r " + shortest(r));
   GeneratedMesh m;
   for (int i = 0; i < segments; ++i)
     for (int j = 0; j < sides; ++j) {

@@ -31,8 +31,10 @@ struct TorusKnotParams {
   int p = 2, q = 3, segments = 120, sides = 12;
   double R = 1, r = 0.4, tube = 0.15, scale = 1;
 };
-/// Throws InputError for counts < 3, non-positive radii or scale, or a Frenet frame that
-/// degenerates (curvature ~ 0 somewhere on the curve).
+/// Throws InputError for counts < 3, more than 1e8 quads, fewer than 4 (|p| + |q|) segments
+/// (too few to follow the windings), non-positive radii or scale, vertices beyond the coordinate
+/// range (scale (R + r + tube) > 1e15 m), or a Frenet frame that degenerates (curvature ~ 0
+/// somewhere on the curve).
 GeneratedMesh torusKnot(const TorusKnotParams& params);
 /// Centre curve point and its first two derivatives with respect to phi (scaled).
 void torusKnotCurve(const TorusKnotParams& k, double phi, Eigen::Vector3d& c, Eigen::Vector3d& d1, Eigen::Vector3d& d2);
@@ -46,11 +48,13 @@ std::vector<Eigen::Vector3d> torusKnotHelix(const TorusKnotParams& k, double tur
 
 /// Quad-sphere of radius `radius` centred at the origin: each cube face split into
 /// segments x segments quads (equal-angle mapping), vertices on the sphere, normals radial.
-/// 6 segments^2 quads, 6 segments^2 + 2 vertices. Throws InputError for segments < 1, radius <= 0.
+/// 6 segments^2 quads, 6 segments^2 + 2 vertices. Throws InputError for segments < 1, radius <= 0
+/// and radius > 1e15 m (the coordinate range).
 GeneratedMesh quadSphere(double radius, int segments);
 
 /// Torus about the z axis: major radius R, minor radius r (0 < r < R), `segments` around the
-/// axis and `sides` around the tube; normals exact. segments * sides quads.
+/// axis and `sides` around the tube; normals exact. segments * sides quads. Throws InputError
+/// unless 0 < r < R, R + r <= 1e15 m (the coordinate range), counts >= 3 and at most 1e8 quads.
 GeneratedMesh torusMesh(double R, double r, int segments, int sides);
 
 /// Writes OBJ: `v` and `vn` per vertex (%.17g) and faces `f a//a b//b ...` (1-based).
