@@ -82,6 +82,13 @@ TEST_F(CliContract, ExitStatusPerSubcommandAndKindOfMistake) {
   const std::string badScene = file("scene.json", R"({"objects": [{"mesh": "none.obj"}]})");
   const std::string far = file("far.csv", "x,y,z\n0,0,0\n1e14,0,0\n");
   const std::string beyond = file("beyond.csv", "x,y,z\n0,0,0\n1e200,0,0\n");
+  const std::string justBeyond = file("just.csv", "x,y,z\n0,0,0\n1.0000001e15,0,0\n");
+  const std::string plusMinus = file("pm.csv", "x,y,z\n+-1,0,0\n");
+  const std::string utf16 = file("u16.csv", std::string("\xff\xfex\0,\0y\0,\0z\0\n\0", 14));
+  const std::string onePoint = file("one.csv", "x,y,z\n0,0,0.5\n");
+  const std::string samePoints = file("same.csv", "x,y,z\n0,0,0.5\n0,0,0.5\n0,0,0.5\n");
+  const std::string path = file("path.csv", "x,y,z\n0,0,0.5\n0.1,0,0.5\n");
+  const std::string sw = "sweep --cache " + c + " --samples 10 --no-plots ";
   struct Case {
     std::string args;
     int status;
@@ -121,7 +128,36 @@ TEST_F(CliContract, ExitStatusPerSubcommandAndKindOfMistake) {
       {"generate torus-knot --turns nan --trajectory-out " + file("t.csv") + " -o " + file("t.obj"), 2, "--turns"},
       {"trace --mesh " + sphere + " --stiffness 1e308 --hips " + hips + " -o " + o, 2,
        "stiffness must be in (0, 1e12] N/m, got 1e+308"},
+      // an option value out of range is a usage error, also where the mesh decides it (the depth
+      // or approach factor puts HIPs beyond the coordinate range) and for nan
+      {sw + "--depth 2% --approach nan -o " + file("s"), 2, "--approach must be positive"},
+      {sw + "--depth 1e308 -o " + file("s"), 2, "--depth 1e308: HIP 0 lies beyond the coordinate range"},
+      {sw + "--depth 2% --approach 1e308 -o " + file("s"), 2, "--approach 1e+308: the approach point of HIP 0"},
+      {sw + "--depth 2% --threshold-deg nan -o " + file("s"), 2, "--threshold-deg: expected an angle in (0, 180]"},
+      {sw + "--depth 2% --threshold-deg -5 -o " + file("s"), 2, "degrees, got -5"},
+      {sw + "--depth 2% --threshold-deg 1e308 -o " + file("s"), 2, "degrees, got 1e+308"},
+      {sw + "--depth 0x10 -o " + file("s"), 2, "--depth: '0x10' is not a positive length"},
+      {sw + "--depth 2% --seed -1 -o " + file("s"), 2, "--seed: expected an integer in [0, 18446744073709551615]"},
+      {sw + "--depth 2% --seed 99999999999999999999999 -o " + file("s"), 2, "got '99999999999999999999999'"},
+      {sw + "--depth 1%,2%,1% -o " + file("s"), 2, "--depth: '1%' is listed twice (items 1 and 3)"},
+      {sw + "--hips " + hips + " --trajectory " + path + " -o " + file("s"), 2, "--hips with --trajectory"},
+      {sw + "--depth 2% --trajectory-step 1e308 -o " + file("s"), 2,
+       "--trajectory-step 1e+308 m is longer than the default trajectory"},
+      {"generate sphere --radius 1e300 -o " + file("g.obj"), 2, "--radius 1e+300 puts vertices up to 1e+300 m"},
+      {"generate torus --R 1e300 --r 1 -o " + file("g.obj"), 2, "beyond the coordinate range +-1e15 m"},
+      {"generate torus-knot --p 2000000000 -o " + file("g.obj"), 2, "give --segments >= 4 (|p| + |q|)"},
+      {"sweep-merge " + file("m") + " -o " + file("m"), 2, "the output directory " + file("m") + " is the input"},
+      {"sweep-merge " + file("m") + " " + file("n") + " " + file("m") + " -o " + file("x"), 2,
+       "is listed twice (items 1 and 3)"},
       // 1: a file or its values
+      {"sweep --cache " + c + " --hips " + plusMinus + " -o " + file("s"), 1,
+       "pm.csv:2: x is not a finite number: '+-1'"},
+      {"sweep --cache " + c + " --hips " + justBeyond + " -o " + file("s"), 1,
+       "just.csv:3: x = 1.0000001e+15 m is beyond"},
+      {"sweep --cache " + c + " --hips " + utf16 + " -o " + file("s"), 1, "u16.csv: is UTF-16 encoded"},
+      {sw + "--depth 2% --trajectory " + onePoint + " -o " + file("s"), 1,
+       "one.csv: the trajectory has no length (1 point)"},
+      {sw + "--depth 2% --trajectory " + samePoints + " -o " + file("s"), 1, "(3 points, all at one place)"},
       {"cache build " + file("nothere.obj") + " -o " + file("n.sfcache"), 1, "nothere.obj"},
       {"cache build " + badObj + " -o " + file("n.sfcache"), 1, "bad.obj:3"},
       {"cache info " + garbage, 1, "not a SmoothForce patch cache"},
@@ -159,7 +195,7 @@ TEST_F(CliContract, ExitStatusPerSubcommandAndKindOfMistake) {
     EXPECT_EQ(r.out, "") << "nothing on stdout: " << k.args;
     commands.insert(k.args.substr(0, k.args.find(' ')));
   }
-  EXPECT_EQ(cases.size(), 49u);
+  EXPECT_EQ(cases.size(), 71u);
   EXPECT_FALSE(std::filesystem::exists(file("unwritten.obj"))) << "the OBJ of a generate whose helix cannot be written";
   EXPECT_EQ(commands.size(), 10u);  // "", frobnicate, and the 8 subcommands
   for (const char* help : {"--help", "cache build --help", "trace --help", "loop --help", "sweep --help"})
@@ -476,6 +512,12 @@ TEST_F(CliContract, OneCsvReaderAcceptsNumpyHeaders) {
   EXPECT_EQ(r.status, 0) << r.err;
   accepted += r.status == 0;
   EXPECT_EQ(accepted, 4);
+  // CR-only line ends (old Mac OS) are line ends: the same numbers
+  std::string cr = hips;
+  std::replace(cr.begin(), cr.end(), '\n', '\r');
+  r = run("trace --mesh " + sphere + " --hips " + file("cr.csv", cr) + " -o " + t2);
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(readFile(t1), readFile(t2));
   // a '#' line that is not the header stays a comment: the data line is then not a header
   r = run("trace --mesh " + sphere + " --hips " + file("wrong.csv", "# a,b,c\n1,2,3\n") + " -o " + t2);
   EXPECT_EQ(r.status, 1);

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 
+#include <smoothforce/sweep/generators.h>
 #include <smoothforce/sweep/sweep_io.h>
 #include <smoothforce/sweep/sweep_run.h>
 #include "test_sweep_support.h"
@@ -241,6 +242,127 @@ TEST_F(SweepResume, MergeRefusesIncompleteShardsAndNamesThem) {
     }
   }
   EXPECT_EQ(refused, 4);
+}
+
+// A trajectory or reference file changed under its path between two shards (or before a
+// resume) makes another sweep: sweep-merge and --resume refuse it, naming the file (they joined
+// such shards into a summary of neither run).
+TEST_F(SweepResume, AChangedTrajectoryOrReferenceFileIsRefusedNamingIt) {
+  const std::string traj = (dir / "t.csv").string(), ref = (dir / "ref.obj").string();
+  auto writeTraj = [&](const char* z) { std::ofstream(traj) << "x,y,z\n0,0,1\n0.3,0," << z << "\n0.5,0,0.87\n"; };
+  auto withFiles = [&](int shard) {
+    SweepInputs in = inputs(shard, 2);
+    in.config.trajectories = {traj};
+    in.config.reference = ref;
+    return in;
+  };
+  int refused = 0;
+  for (const std::string changed : {"trajectory", "reference"}) {
+    writeTraj("0.95");
+    writeGeneratedObj(quadSphere(1, 3), ref, "reference");
+    const fs::path s0 = dir / (changed + "0"), s1 = dir / (changed + "1");
+    writeSweepData(runSweep(withFiles(0), {}), s0.string());
+    if (changed == "trajectory")
+      writeTraj("0.9");
+    else
+      writeGeneratedObj(quadSphere(1, 4), ref, "reference");
+    writeSweepData(runSweep(withFiles(1), {}), s1.string());
+    const std::string named = "the contents of --" + changed + " " + (changed == "trajectory" ? traj : ref);
+    try {
+      mergeSweepData({readSweepData(s0.string()), readSweepData(s1.string())});
+      ADD_FAILURE() << "merged across a changed " << changed;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(named), std::string::npos) << e.what();
+      refused += std::string(e.what()).find("the file changed") != std::string::npos;
+    }
+    SweepInputs again = withFiles(0);
+    again.resume = readSweepData(s0.string());
+    try {
+      runSweep(std::move(again), {});
+      ADD_FAILURE() << "resumed across a changed " << changed;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(s0.string() + ": holds another sweep (" + named), std::string::npos)
+          << e.what();
+      ++refused;
+    }
+  }
+  EXPECT_EQ(refused, 4);
+  // unchanged files: the shards merge (and record the contents)
+  writeSweepData(runSweep(withFiles(0), {}), (dir / "same0").string());
+  const SweepData same0 = readSweepData((dir / "same0").string());
+  EXPECT_EQ(same0.config.trajectoryHashes.size(), 1u);
+  EXPECT_EQ(same0.config.referenceHash.size(), 16u);
+  EXPECT_NO_THROW(mergeSweepData({same0, readSweepData((dir / "reference1").string())}));
+}
+
+// Shards written before the file contents were recorded: two of them merge as before (nothing
+// to compare); one beside a new shard, or resumed by a new run, is refused saying why.
+TEST_F(SweepResume, ShardsWithoutRecordedFileContents) {
+  const std::string traj = (dir / "t.csv").string();
+  std::ofstream(traj) << "x,y,z\n0,0,1\n0.3,0,0.95\n";
+  std::vector<SweepData> old, fresh;
+  for (int i = 0; i < 2; ++i) {
+    SweepInputs in = inputs(i, 2);
+    in.config.trajectories = {traj};
+    SweepData d = runSweep(std::move(in), {});
+    const fs::path o = dir / ("new" + std::to_string(i)), f = dir / ("old" + std::to_string(i));
+    writeSweepData(d, o.string());
+    d.config.trajectoryHashes.clear();  // as written before: no "trajectory_hashes" in sweep.json
+    writeSweepData(d, f.string());
+    EXPECT_EQ(slurp(f / "sweep.json").find("trajectory_hashes"), std::string::npos);
+    fresh.push_back(readSweepData(o.string()));
+    old.push_back(readSweepData(f.string()));
+  }
+  EXPECT_NO_THROW(mergeSweepData(old));
+  for (auto pair : {std::vector<SweepData>{fresh[0], old[1]}, std::vector<SweepData>{old[0], fresh[1]}}) {
+    try {
+      mergeSweepData(pair);
+      ADD_FAILURE() << "an old shard merged with a new one";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("recorded in one, not in the other"), std::string::npos) << e.what();
+    }
+  }
+  SweepInputs in = inputs(0, 2);
+  in.config.trajectories = {traj};
+  in.resume = old[0];
+  EXPECT_THROW(runSweep(std::move(in), {}), InputError);
+}
+
+// sweep.json of another format version is refused naming the file and both versions (it was
+// read as version 1); shards named twice or overlapping are named by their directories.
+TEST_F(SweepResume, MergeRefusesAnotherFormatVersionAndNamesOverlappingShards) {
+  const std::string s0 = (dir / "s0").string(), s1 = (dir / "s1").string();
+  writeSweepData(runSweep(inputs(0, 2), {}), s0);
+  writeSweepData(runSweep(inputs(1, 2), {}), s1);
+  const std::string meta = slurp(dir / "s1" / "sweep.json");
+  const std::string from = "\"smoothforce_sweep_data\": 1,";
+  ASSERT_NE(meta.find(from), std::string::npos);
+  int refused = 0;
+  for (const auto& [to, says] : std::vector<std::pair<std::string, std::string>>{
+           {"\"smoothforce_sweep_data\": 2,", "format version 2; this SmoothForce reads version 1"},
+           {"\"smoothforce_sweep_data\": \"1\",", "format version \"1\"; this SmoothForce reads version 1"},
+           {"", "format version (none); this SmoothForce reads version 1"}}) {
+    std::string edited = meta;
+    edited.replace(meta.find(from), from.size(), to);
+    std::ofstream(dir / "s1" / "sweep.json") << edited;
+    try {
+      readSweepData(s1);
+      ADD_FAILURE() << to;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(s1 + "/sweep.json: sweep data " + says), std::string::npos) << e.what();
+      ++refused;
+    }
+  }
+  EXPECT_EQ(refused, 3);
+  std::ofstream(dir / "s1" / "sweep.json") << meta;
+  try {
+    mergeSweepData({readSweepData(s0), readSweepData(s1), readSweepData(s1)});
+    ADD_FAILURE() << "a shard listed twice was merged";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("are in two shards: shard 1/2 (" + s1 + ") and shard 1/2 (" + s1 + ")"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace

@@ -27,35 +27,40 @@ constexpr char kResMagic[8] = {'S', 'F', 'S', 'W', 'R', 'E', 'S', '1'};
 constexpr char kNrmMagic[8] = {'S', 'F', 'S', 'W', 'N', 'R', 'M', '1'};
 
 ojson configJson(const SweepConfig& c) {
-  return ojson{{"source", c.source},
-               {"mesh_hash", c.meshHash},
-               {"faces", c.faces},
-               {"sample_on", c.sampleOn},
-               {"samples", c.samples},
-               {"seed", c.seed},
-               {"level", c.level},
-               {"methods", c.methods},
-               {"stiffness", c.stiffness},
-               {"approach", c.approach},
-               {"refine", c.refine},
-               {"angle_tolerance", c.angleTolerance},
-               {"max_iterations", c.maxIterations},
-               {"position_tolerance", c.positionTolerance},
-               {"initial_guess", c.initialGuess},
-               {"guess_level", c.guessLevel},
-               {"preset", c.preset},
-               {"backend", c.backend},
-               {"reference", c.reference},
-               {"analytic", c.analytic},
-               {"knn", c.knn},
-               {"threshold_deg", c.thresholdDeg},
-               {"trajectories", c.trajectories},
-               {"trajectory_step", c.trajectoryStep},
-               {"diagonal", c.diagonal},
-               {"area", c.area},
-               {"hip_hash", c.hipHash},
-               {"depth_labels", c.groupLabels},
-               {"depths", c.groupDepths}};
+  ojson j{{"source", c.source},
+          {"mesh_hash", c.meshHash},
+          {"faces", c.faces},
+          {"sample_on", c.sampleOn},
+          {"samples", c.samples},
+          {"seed", c.seed},
+          {"level", c.level},
+          {"methods", c.methods},
+          {"stiffness", c.stiffness},
+          {"approach", c.approach},
+          {"refine", c.refine},
+          {"angle_tolerance", c.angleTolerance},
+          {"max_iterations", c.maxIterations},
+          {"position_tolerance", c.positionTolerance},
+          {"initial_guess", c.initialGuess},
+          {"guess_level", c.guessLevel},
+          {"preset", c.preset},
+          {"backend", c.backend},
+          {"reference", c.reference},
+          {"analytic", c.analytic},
+          {"knn", c.knn},
+          {"threshold_deg", c.thresholdDeg},
+          {"trajectories", c.trajectories},
+          {"trajectory_step", c.trajectoryStep},
+          {"diagonal", c.diagonal},
+          {"area", c.area},
+          {"hip_hash", c.hipHash},
+          {"depth_labels", c.groupLabels},
+          {"depths", c.groupDepths}};
+  // only where there are files: a sweep without them keeps the configuration (and hash) it had
+  // before the contents were recorded
+  if (!c.trajectoryHashes.empty()) j["trajectory_hashes"] = c.trajectoryHashes;
+  if (!c.referenceHash.empty()) j["reference_hash"] = c.referenceHash;
+  return j;
 }
 
 SweepConfig configFrom(const ojson& j) {
@@ -84,6 +89,8 @@ SweepConfig configFrom(const ojson& j) {
   c.knn = j.at("knn");
   c.thresholdDeg = j.at("threshold_deg");
   c.trajectories = j.at("trajectories").get<std::vector<std::string>>();
+  if (j.contains("trajectory_hashes")) c.trajectoryHashes = j.at("trajectory_hashes").get<std::vector<std::string>>();
+  c.referenceHash = j.value("reference_hash", std::string());
   c.trajectoryStep = j.at("trajectory_step");
   c.diagonal = j.at("diagonal");
   c.area = j.at("area");
@@ -161,7 +168,7 @@ std::string metaJson(const SweepData& d) {
   ojson done = ojson::object();
   const std::vector<uint64_t> counts = d.doneCounts();
   for (size_t m = 0; m < d.config.methods.size(); ++m) done[d.config.methods[m]] = counts[m];
-  ojson j{{"smoothforce_sweep_data", 1},
+  ojson j{{"smoothforce_sweep_data", kSweepDataVersion},
           {"config", configJson(d.config)},
           {"shard", {{"index", d.shardIndex}, {"count", d.shardCount}, {"begin", d.begin}, {"end", d.end}}},
           {"total", d.total()},
@@ -239,11 +246,38 @@ uint64_t sweepConfigHash(const SweepConfig& c) {
   return hashBytes(k.data(), k.size());
 }
 
+namespace {
+
+/// The difference of the recorded file contents, naming the file; "" when they agree.
+std::string fileContentDifference(const SweepConfig& a, const SweepConfig& b) {
+  const bool aOld = !a.trajectories.empty() && a.trajectoryHashes.empty(),
+             bOld = !b.trajectories.empty() && b.trajectoryHashes.empty();
+  const bool aRefOld = !a.reference.empty() && a.referenceHash.empty(),
+             bRefOld = !b.reference.empty() && b.referenceHash.empty();
+  if (aOld != bOld || aRefOld != bRefOld)
+    return "the contents of the --trajectory and --reference files: recorded in one, not in the other (written "
+           "before SmoothForce recorded them); run that one again";
+  if (a.trajectories == b.trajectories && a.trajectoryHashes.size() == b.trajectoryHashes.size())
+    for (size_t i = 0; i < a.trajectoryHashes.size(); ++i)
+      if (a.trajectoryHashes[i] != b.trajectoryHashes[i])
+        return "the contents of --trajectory " + a.trajectories[i] + " (XXH64 of its points " + a.trajectoryHashes[i] +
+               " vs " + b.trajectoryHashes[i] + "): the file changed";
+  if (a.reference == b.reference && a.referenceHash != b.referenceHash)
+    return "the contents of --reference " + a.reference + " (XXH64 of the mesh " + a.referenceHash + " vs " +
+           b.referenceHash + "): the file changed";
+  return "";
+}
+
+}  // namespace
+
 std::string sweepConfigDifference(const SweepConfig& a, const SweepConfig& b) {
+  if (std::string d = fileContentDifference(a, b); !d.empty()) return d;
   const ojson ja = configKey(a), jb = configKey(b);
   for (const auto& [key, value] : ja.items())
     if (!jb.contains(key) || jb.at(key) != value)
       return key + " (" + jsonText(value) + " vs " + (jb.contains(key) ? jsonText(jb.at(key)) : "none") + ")";
+  for (const auto& [key, value] : jb.items())
+    if (!ja.contains(key)) return key + " (none vs " + jsonText(value) + ")";
   return "";
 }
 
@@ -284,6 +318,11 @@ SweepData readSweepData(const std::string& dir) {
   if (!in) throw InputError(meta + ": cannot open (not a sweep output directory?)");
   try {
     const ojson j = ojson::parse(in);
+    // another layout would be misread (its per-HIP files included): refused before any field
+    const ojson version = j.is_object() ? j.value("smoothforce_sweep_data", ojson()) : ojson();
+    if (version != kSweepDataVersion)
+      throw InputError(meta + ": sweep data format version " + (version.is_null() ? "(none)" : jsonText(version)) +
+                       "; this SmoothForce reads version " + std::to_string(kSweepDataVersion));
     d.config = configFrom(j.at("config"));
     // integers within their ranges (a hand-edited 1e308 or -1 converted to anything)
     auto integer = [&](const char* key, double lo, double hi) {
@@ -375,15 +414,18 @@ SweepData mergeSweepData(std::vector<SweepData> shards) {
   out.results.resize(out.config.methods.size());
   uint64_t next = 0;
   bool allNormals = true;
-  for (auto& s : shards) {
+  std::vector<std::pair<uint64_t, std::string>> owners;  // (series index, shard label)
+  for (size_t k = 0; k < shards.size(); ++k) {
+    SweepData& s = shards[k];
     const std::string diff = sweepConfigDifference(shards[0].config, s.config);
     if (!diff.empty())
       throw InputError("sweep-merge: " + s.label() + " was run with a different configuration or HIP list than " +
                        shards[0].label() + ": " + diff);
     if (s.begin != next)
-      throw InputError("sweep-merge: HIPs " + std::to_string(std::min(next, s.begin)) + ".." +
-                       std::to_string(std::max(next, s.begin)) +
-                       (s.begin < next ? " are in two shards" : " are missing"));
+      throw InputError(
+          "sweep-merge: HIPs " + std::to_string(std::min(next, s.begin)) + ".." +
+          std::to_string(std::max(next, s.begin)) +
+          (s.begin < next ? " are in two shards: " + shards[k - 1].label() + " and " + s.label() : " are missing"));
     next = s.end;
     out.hips.insert(out.hips.end(), s.hips.begin(), s.hips.end());
     allNormals = allNormals && s.normals.size() == s.hips.size();
@@ -391,16 +433,22 @@ SweepData mergeSweepData(std::vector<SweepData> shards) {
     for (size_t m = 0; m < out.results.size(); ++m)
       out.results[m].insert(out.results[m].end(), s.results[m].begin(), s.results[m].end());
     out.trajectoryTotal = std::max(out.trajectoryTotal, s.trajectoryTotal);
-    for (auto& t : s.trajectories) out.trajectories.push_back(std::move(t));
+    for (auto& t : s.trajectories) {
+      owners.emplace_back(t.index, s.label());
+      out.trajectories.push_back(std::move(t));
+    }
   }
   if (next != out.total())
     throw InputError("sweep-merge: HIPs " + std::to_string(next) + ".." + std::to_string(out.total()) + " are missing");
-  std::sort(out.trajectories.begin(), out.trajectories.end(),
-            [](const TrajectorySeries& a, const TrajectorySeries& b) { return a.index < b.index; });
+  std::stable_sort(out.trajectories.begin(), out.trajectories.end(),
+                   [](const TrajectorySeries& a, const TrajectorySeries& b) { return a.index < b.index; });
+  std::stable_sort(owners.begin(), owners.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   for (size_t i = 0; i < out.trajectories.size(); ++i)
     if (out.trajectories[i].index != i)
-      throw InputError("sweep-merge: trajectory series " + std::to_string(i) +
-                       (out.trajectories[i].index < i ? " is in two shards" : " is missing"));
+      throw InputError(
+          "sweep-merge: trajectory series " + std::to_string(std::min<uint64_t>(i, out.trajectories[i].index)) +
+          (out.trajectories[i].index < i ? " is in two shards: " + owners[i - 1].second + " and " + owners[i].second
+                                         : " is missing"));
   if (out.trajectories.size() != out.trajectoryTotal)
     throw InputError("sweep-merge: trajectory series " + std::to_string(out.trajectories.size()) + ".." +
                      std::to_string(out.trajectoryTotal) + " are missing");

@@ -36,7 +36,14 @@ HipSet buildHipSet(SweepInputs& in, std::unique_ptr<ReferenceSurface>* reference
   c.meshHash = hexHash(cache.meshHash);
   if (!(c.trajectoryStep > 0)) c.trajectoryStep = c.diagonal / 400;
   std::unique_ptr<TriangleSoup> soup;
-  if (!c.reference.empty()) soup = std::make_unique<TriangleSoup>(loadTriangleSoup(c.reference));
+  c.referenceHash.clear();
+  if (!c.reference.empty()) {
+    soup = std::make_unique<TriangleSoup>(loadTriangleSoup(c.reference));
+    uint64_t h = hashBytes(soup->positions.data(), soup->positions.size() * sizeof(Eigen::Vector3d));
+    h = hashBytes(soup->triangles.data(), soup->triangles.size() * sizeof(soup->triangles[0]), h);
+    h = hashBytes(soup->cornerNormals.data(), soup->cornerNormals.size() * sizeof(soup->cornerNormals[0]), h);
+    c.referenceHash = hexHash(h);
+  }
   HipSet set;
   if (!in.hipsFile.empty()) {
     c.sampleOn = "file";
@@ -45,7 +52,7 @@ HipSet buildHipSet(SweepInputs& in, std::unique_ptr<ReferenceSurface>* reference
     set = makeFileHips(readPointsCsv(in.hipsFile), projector, c.diagonal, sampler.area());
     c.samples = set.samples.size();
   } else if (c.sampleOn == "reference") {
-    if (!soup) throw InputError("--sample-on reference needs --reference");
+    if (!soup) throw SweepOptionError("--sample-on reference needs --reference");
     set = makeDepthHips(sampleTriangleSoup(*soup, c.samples, c.seed), in.depths, c.diagonal, soup->area());
   } else if (c.sampleOn == "patch") {
     const PatchSurfaceSampler sampler(cache, c.level);
@@ -60,7 +67,7 @@ HipSet buildHipSet(SweepInputs& in, std::unique_ptr<ReferenceSurface>* reference
     c.groupLabels.push_back(g.label);
     c.groupDepths.push_back(g.depth);
   }
-  if (!(c.approach > 0) || !std::isfinite(c.approach)) throw InputError("--approach must be positive");
+  if (!(c.approach > 0) || !std::isfinite(c.approach)) throw SweepOptionError("--approach must be positive");
   set.approachFactor = c.approach;
   // every HIP and approach point a position the queries take (a depth or approach factor so
   // large that they leave the coordinate range would only give SF_TRACK_BAD_HIP records)
@@ -73,7 +80,7 @@ HipSet buildHipSet(SweepInputs& in, std::unique_ptr<ReferenceSurface>* reference
       else
         std::snprintf(msg, sizeof msg, "--approach %g: the approach point of HIP %zu (depth %s) lies beyond the "
                       "coordinate range +-1e15 m", c.approach, g, depth.c_str());
-      throw InputError(msg);
+      throw SweepOptionError(msg);
     }
   c.hipHash = hexHash(set.hash());
   if (reference) {
@@ -96,11 +103,20 @@ std::vector<Path> trajectoryPaths(const SweepConfig& c, const PatchCache& cache)
   // resampling's bound holds for the half step, checked here, before any probe runs
   const double finest = c.trajectoryStep / 2;
   auto check = [&](const std::vector<Eigen::Vector3d>& pts, const std::string& what) {
-    const std::string e = resampleLimitError(pts, finest, what);
-    if (e.empty()) return;
-    char step[64];
+    char step[64], length[64];
     std::snprintf(step, sizeof step, "%.6g", c.trajectoryStep);
-    throw InputError(e + " (--trajectory-step " + step + " m: the series are taken at half of it too)");
+    const std::string e = resampleLimitError(pts, finest, what);
+    if (!e.empty()) throw InputError(e + " (--trajectory-step " + step + " m: the series are taken at half of it too)");
+    // a series of one point has no force difference: its traj|dF| would read as perfectly smooth
+    const double len = polylineLength(pts);
+    std::snprintf(length, sizeof length, "%.6g", len);
+    if (!(len > 0))
+      throw InputError(what + ": the trajectory has no length (" + std::to_string(pts.size()) +
+                       (pts.size() == 1 ? " point" : " points, all at one place") +
+                       "): a trajectory needs two distinct points");
+    if (len < c.trajectoryStep)
+      throw SweepOptionError("--trajectory-step " + std::string(step) + " m is longer than " + what + " (" + length +
+                             " m): its series would have one point, and no force difference to measure");
   };
   for (const auto& f : c.trajectories) {
     paths.emplace_back(std::filesystem::path(f).stem().string(), readPointsCsv(f));
@@ -228,9 +244,21 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
       return makeForceRenderer(cache, method == ForceMethod::Patch ? patchScene : godScene, method, opt, surface);
     };
   }
+  if (!in.hipsFile.empty() && !in.config.trajectories.empty())
+    throw SweepOptionError(
+        "sweep: --hips with --trajectory: trajectories are probed at the --depth values, and a HIP file has "
+        "none; run the trajectories in a sweep with --depth");
   for (const auto& m : in.config.methods) in.makeRenderer(m);  // bad names and options fail here, once
   std::unique_ptr<ReferenceSurface> ref;
   const HipSet set = buildHipSet(in, &ref);
+  // Trajectory series (trajectory, method, depth, step), spread over the shards like the HIPs;
+  // the files' points are part of the configuration (a file changed under its path is another sweep).
+  const std::vector<Path> paths =
+      !lazy && in.hipsFile.empty() ? trajectoryPaths(in.config, *in.cache) : std::vector<Path>{};
+  in.config.trajectoryHashes.clear();
+  for (size_t t = 0; t < in.config.trajectories.size(); ++t)
+    in.config.trajectoryHashes.push_back(
+        hexHash(hashBytes(paths[t].second.data(), paths[t].second.size() * sizeof(Eigen::Vector3d))));
   SweepData d;
   d.config = in.config;
   d.shardIndex = in.shardIndex;
@@ -244,9 +272,6 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
   std::unique_ptr<ProbeInsideTest> patchTest;
   const std::vector<std::vector<uint32_t>> probeBits = insideBits(d, *in.cache, lazy, &patchTest);
   d.results.assign(M, std::vector<HipResult>(n));
-  // Trajectory series (trajectory, method, depth, step), spread over the shards like the HIPs.
-  const std::vector<Path> paths =
-      !lazy && in.hipsFile.empty() ? trajectoryPaths(d.config, *in.cache) : std::vector<Path>{};
   d.trajectoryTotal = paths.size() * M * G * 2;
   shardRange(d.trajectoryTotal, in.shardIndex, in.shardCount, d.trajectoryBegin, d.trajectoryEnd);
   if (in.resume) adoptCheckpoint(*in.resume, d);

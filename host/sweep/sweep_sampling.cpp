@@ -8,9 +8,11 @@
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <random>
 #include <sstream>
+#include <string_view>
 
 #include <smoothforce/patch/patch_eval.h>
 #include <smoothforce/patch/tessellate.h>
@@ -76,14 +78,18 @@ std::vector<DepthSpec> parseDepthList(const std::string& text, const std::string
       d.relative = true;
       num.pop_back();
     }
-    size_t used = 0;
-    try {
-      d.value = std::stod(num, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (num.empty() || used != num.size() || !std::isfinite(d.value) || !(d.value > 0))
+    // decimal or exponent, an optional '+': no hex (std::stod read 0x10 as 16), no inf or nan
+    std::string_view digits(num);
+    if (digits.size() > 1 && digits[0] == '+' && digits[1] != '-' && digits[1] != '+') digits.remove_prefix(1);
+    const auto r = std::from_chars(digits.data(), digits.data() + digits.size(), d.value);
+    if (digits.empty() || r.ec != std::errc() || r.ptr != digits.data() + digits.size() || !std::isfinite(d.value) ||
+        !(d.value > 0))
       throw InputError(option + ": '" + d.label + "' is not a positive length (metres, or percent like 2%)");
+    // one result set per depth: a repeat (1%,1% or 0.001,1e-3) would run the same group twice
+    for (size_t k = 0; k < out.size(); ++k)
+      if (out[k].relative == d.relative && out[k].value == d.value)
+        throw InputError(option + ": '" + d.label + "' is listed twice (items " + std::to_string(k + 1) + " and " +
+                         std::to_string(out.size() + 1) + ")");
     out.push_back(d);
   }
   if (out.empty()) throw InputError(option + ": empty list");

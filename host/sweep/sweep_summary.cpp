@@ -173,12 +173,13 @@ std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
       for (const auto& t : d.trajectories) {
         if (t.method != c.methods[m] || t.depthLabel != c.groupLabels[g] || t.half) continue;
         const auto diffs = consecutiveDifferences(t.force);
-        const double mx = diffs.empty() ? 0 : *std::max_element(diffs.begin(), diffs.end());
+        if (diffs.empty()) continue;  // one point: nothing measured (runSweep refuses such a series)
+        const double mx = *std::max_element(diffs.begin(), diffs.end());
         double mh = NAN;
         for (const auto& h : d.trajectories)
           if (h.half && h.trajectory == t.trajectory && h.method == t.method && h.depthLabel == t.depthLabel) {
             const auto dh = consecutiveDifferences(h.force);
-            mh = dh.empty() ? 0 : *std::max_element(dh.begin(), dh.end());
+            mh = dh.empty() ? NAN : *std::max_element(dh.begin(), dh.end());
           }
         if (!(mx <= trajMax)) {
           trajMax = mx;
@@ -214,7 +215,8 @@ std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
       mx = std::max(mx, x);
       mean += x;
     }
-    mean = diffs.empty() ? 0 : mean / static_cast<double>(diffs.size());
+    mean /= static_cast<double>(diffs.size());
+    if (diffs.empty()) mx = NAN;  // one point: not measured (null), not a smooth 0 N
     for (const auto& h : d.trajectories)
       if (h.half && h.trajectory == t.trajectory && h.method == t.method && h.depthLabel == t.depthLabel) {
         mh = 0;
@@ -233,8 +235,8 @@ std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
                           {"points", t.contact.size()},
                           {"contact", inContact},
                           {"step_m", t.step},
-                          {"max_diff_N", mx},
-                          {"mean_diff_N", mean},
+                          {"max_diff_N", num(mx)},
+                          {"mean_diff_N", num(mean)},
                           {"max_diff_half_step_N", num(mh)},
                           {"half_to_full_ratio", num(mh / mx)},
                           {"past_medial_axis", t.pastMedialAxis.empty() ? ojson(nullptr) : ojson(past)}});

@@ -5,7 +5,9 @@
 #include <tbb/info.h>
 
 #include <atomic>
+#include <charconv>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -28,9 +30,9 @@ namespace {
 
 struct SweepArgs {
   std::string cache, mesh, depth, methods = "patch,direct,shading", reference, analytic;
-  std::string sampleOn = "patch", hips, shard = "0/1", output, trajectoryStep;
+  std::string sampleOn = "patch", hips, shard = "0/1", output, trajectoryStep, seed = "1";
   std::vector<std::string> trajectories;
-  uint64_t samples = 10000, seed = 1;
+  uint64_t samples = 10000;
   double stiffness = 500, thresholdDeg = 10, approach = 1e-3;
   int knn = 8, level = 8;
   double checkpointEvery = 60, progressEvery = 10;
@@ -48,6 +50,16 @@ std::vector<std::string> splitList(const std::string& s) {
   return v;
 }
 
+/// A decimal integer in [0, 2^64 - 1], all of the text (no sign, no hex): CLI11 would wrap -1
+/// and saturate a larger number to 2^64 - 1. Throws UsageError naming the option and the text.
+uint64_t parseUnsigned64(const std::string& text, const char* option) {
+  uint64_t v = 0;
+  const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (text.empty() || r.ec != std::errc() || r.ptr != text.data() + text.size())
+    throw UsageError(std::string(option) + ": expected an integer in [0, 18446744073709551615], got '" + text + "'");
+  return v;
+}
+
 double seconds(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -62,9 +74,10 @@ void sweepInputs(const SweepArgs& a, SweepInputs& in) {
   if (const std::string why = methodListProblem(c.methods); !why.empty()) throw UsageError(why);
   for (const auto& m : c.methods) parseForceMethod(m);
   c.samples = a.samples;
-  c.seed = a.seed;
+  c.seed = parseUnsigned64(a.seed, "--seed");
   c.level = a.level;
   c.stiffness = a.stiffness;
+  if (!(a.approach > 0) || !std::isfinite(a.approach)) throw UsageError("--approach must be positive");
   c.approach = a.approach;
   ForceOptions fo;
   a.refine.apply(fo);
@@ -82,10 +95,20 @@ void sweepInputs(const SweepArgs& a, SweepInputs& in) {
   c.analytic = a.analytic;
   if (!c.analytic.empty()) makeAnalyticSurface(c.analytic);  // the spec's errors now
   c.knn = a.knn;
+  if (!(a.thresholdDeg > 0 && a.thresholdDeg <= 180)) {  // an angle between two directions; nan too
+    char got[32];
+    std::snprintf(got, sizeof got, "%g", a.thresholdDeg);
+    throw UsageError(std::string("--threshold-deg: expected an angle in (0, 180] degrees, got ") + got);
+  }
   c.thresholdDeg = a.thresholdDeg;
   c.trajectories = a.trajectories;
   c.sampleOn = a.sampleOn;
   parseShard(a.shard, in.shardIndex, in.shardCount);
+  if (!a.hips.empty() && (!a.trajectories.empty() || !a.trajectoryStep.empty()))
+    throw UsageError(std::string("sweep: --hips with ") +
+                     (a.trajectories.empty() ? "--trajectory-step" : "--trajectory") +
+                     ": trajectories are probed at the --depth values, and a HIP file has none; run the trajectories "
+                     "in a sweep with --depth");
   if (!a.depth.empty()) in.depths = parseDepthList(a.depth);
   if (!a.trajectoryStep.empty() && parseDepthList(a.trajectoryStep, "--trajectory-step").size() != 1)
     throw UsageError("--trajectory-step: one value");
@@ -162,7 +185,13 @@ void runSweepCommand(const SweepArgs& a) {
   ctl.checkpointSeconds = a.checkpointEvery;
   SweepTiming tm;
   const int meshFaces = in.cache->numFaces();
-  SweepData d = runSweep(std::move(in), ctl, &tm);
+  SweepData d = [&] {
+    try {
+      return runSweep(std::move(in), ctl, &tm);
+    } catch (const SweepOptionError& e) {  // an option value the mesh or files make impossible
+      throw UsageError(e.what());
+    }
+  }();
   if (bar) bar->finish();
   writer.write(d);  // the final checkpoint, complete or not
   if (d.interrupted)
@@ -208,6 +237,25 @@ void runSweepCommand(const SweepArgs& a) {
   std::printf("sweep: wall time %.2f s\n", seconds(t0));
 }
 
+/// Refuses, before any work, an input listed twice and an output directory that is one of the
+/// inputs (its files would be overwritten while read): usage errors.
+void checkMergeDirectories(const std::vector<std::string>& dirs, const std::string& out) {
+  namespace fs = std::filesystem;
+  auto same = [](const std::string& a, const std::string& b) {
+    std::error_code ec;
+    return a == b || fs::equivalent(a, b, ec);
+  };
+  for (size_t i = 0; i < dirs.size(); ++i) {
+    if (same(out, dirs[i]))
+      throw UsageError("sweep-merge: the output directory " + out + " is the input shard " + dirs[i] + " (item " +
+                       std::to_string(i + 1) + "): its files would be overwritten; give another -o");
+    for (size_t k = 0; k < i; ++k)
+      if (same(dirs[k], dirs[i]))
+        throw UsageError("sweep-merge: the shard " + dirs[i] + " is listed twice (items " + std::to_string(k + 1) +
+                         " and " + std::to_string(i + 1) + ")");
+  }
+}
+
 }  // namespace
 
 void addSweepCommands(CLI::App& app) {
@@ -226,7 +274,8 @@ void addSweepCommands(CLI::App& app) {
       ->check(CLI::Range(uint64_t(1), uint64_t(1) << 32))
       ->capture_default_str();
   s->add_option("--methods", a->methods, "comma-separated: patch, direct, shading")->capture_default_str();
-  s->add_option("--seed", a->seed, "sampling seed (std::mt19937_64)")->capture_default_str();
+  s->add_option("--seed", a->seed, "sampling seed (std::mt19937_64), an integer in [0, 2^64 - 1]")
+      ->capture_default_str();
   s->add_option("--stiffness", a->stiffness, "N/m")->capture_default_str();
   s->add_option("--approach", a->approach, "probes first step at p + APPROACH * depth * n (outside), then at the HIP")
       ->check(CLI::PositiveNumber)
@@ -244,7 +293,8 @@ void addSweepCommands(CLI::App& app) {
   s->add_option("--knn", a->knn, "neighbours per HIP for the discontinuity metric")
       ->check(CLI::Range(1, 64))
       ->capture_default_str();
-  s->add_option("--threshold-deg", a->thresholdDeg, "flag neighbour pairs above this angle")->capture_default_str();
+  s->add_option("--threshold-deg", a->thresholdDeg, "flag neighbour pairs above this angle, in (0, 180]")
+      ->capture_default_str();
   s->add_option("--shard", a->shard,
                 "I/N: compute slice I (0-based) of N of the HIP list and of the trajectory series (join with "
                 "sweep-merge)")
@@ -278,9 +328,16 @@ void addSweepCommands(CLI::App& app) {
   m->add_option("-o,--output", *out, "output directory")->required();
   m->add_flag("--no-plots", *noPlots, "do not run tools/sweep_plots.py");
   m->callback([=] {
+    checkMergeDirectories(*dirs, *out);
     std::vector<SweepData> shards;
     throwIfInterrupted("sweep-merge");
     for (const auto& d : *dirs) shards.push_back(readSweepData(d));
+    const SweepConfig& c = shards[0].config;  // shards that differ in this are refused by the merge
+    if ((!c.trajectories.empty() && c.trajectoryHashes.empty()) || (!c.reference.empty() && c.referenceHash.empty()))
+      std::fprintf(stderr,
+                   "sweep-merge: note: the shards were written before sweeps recorded the contents of their "
+                   "--trajectory and --reference files: that those did not change between the shards is not "
+                   "checked\n");
     const SweepData merged = mergeSweepData(std::move(shards));
     throwIfInterrupted("sweep-merge");
     writeSweepData(merged, *out);

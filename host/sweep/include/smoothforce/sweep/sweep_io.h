@@ -34,11 +34,18 @@ struct SweepConfig {
   int knn = 8;
   double thresholdDeg = 10;
   std::vector<std::string> trajectories;  ///< files; empty: the default section loop
-  double trajectoryStep = 0;              ///< m
-  double diagonal = 0, area = 0;          ///< m, m^2
-  std::string hipHash;                    ///< hex HipSet::hash()
-  std::vector<std::string> groupLabels;   ///< depth labels ("file" for a HIP file)
-  std::vector<double> groupDepths;        ///< m
+  /// Hex XXH64 of each trajectory file's points as read (trajectories[i]), so that a file changed
+  /// under the same path between shards or before a resume is refused; empty without files,
+  /// and in sweeps written before they were recorded.
+  std::vector<std::string> trajectoryHashes;
+  /// Hex XXH64 of the --reference mesh as read (its triangles and corner normals); "" without
+  /// one, and in sweeps written before it was recorded.
+  std::string referenceHash;
+  double trajectoryStep = 0;             ///< m
+  double diagonal = 0, area = 0;         ///< m, m^2
+  std::string hipHash;                   ///< hex HipSet::hash()
+  std::vector<std::string> groupLabels;  ///< depth labels ("file" for a HIP file)
+  std::vector<double> groupDepths;       ///< m
 };
 
 /// One run's or one shard's data: HIPs and results for the global index range [begin, end),
@@ -73,7 +80,9 @@ struct SweepData {
 /// stored in every per-HIP file's header.
 uint64_t sweepConfigHash(const SweepConfig& c);
 /// "" when a and b describe the same sweep (all but `source` equal), else the first
-/// differing setting, e.g. "seed (1 vs 2)".
+/// differing setting, e.g. "seed (1 vs 2)"; a changed trajectory or reference file is named
+/// ("the contents of --trajectory t.csv (XXH64 ... vs ...)"), and so is a configuration written
+/// before the file contents were recorded.
 std::string sweepConfigDifference(const SweepConfig& a, const SweepConfig& b);
 
 /// [begin, end) of shard `index` of `count`: contiguous, sizes differ by at most one.
@@ -102,9 +111,13 @@ class SweepWriter {
   size_t series_ = 0;           ///< trajectory series at the last write
 };
 
+/// The version of sweep.json's layout ("smoothforce_sweep_data") that writeSweepData writes
+/// and readSweepData reads.
+inline constexpr int kSweepDataVersion = 1;
+
 /// Reads what writeSweepData wrote (complete or a checkpoint); throws InputError naming the
 /// file for a missing, truncated or inconsistent file (a per-HIP file of another sweep
-/// included).
+/// included) and for a sweep.json of another format version.
 SweepData readSweepData(const std::string& dir);
 /// Joins complete shards into the unsharded run's data. Throws InputError naming every
 /// incomplete shard (interrupted or killed: resume it with `sweep --resume`), and when

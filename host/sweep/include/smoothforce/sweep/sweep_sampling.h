@@ -28,8 +28,9 @@ struct DepthSpec {
   bool relative = false;
   double metres(double diagonal) const { return relative ? value * 0.01 * diagonal : value; }
 };
-/// Parses "2%,4%" or "0.002,0.004"; throws InputError for an empty list, a malformed or a
-/// non-positive value, naming `option` (the command-line option or field the text came from).
+/// Parses "2%,4%" or "0.002,0.004" (decimal or exponent numbers, an optional '+'); throws
+/// InputError for an empty list, a malformed (hex included) or non-positive value, and a depth
+/// listed twice, naming `option` (the command-line option or field the text came from).
 std::vector<DepthSpec> parseDepthList(const std::string& text, const std::string& option = "--depth");
 /// A file-name-safe form of a depth label: "2%" -> "2pct", "0.002" -> "0.002m".
 std::string depthTag(const std::string& label);
