@@ -166,6 +166,38 @@ TEST_F(SweepCli, ShardsMergeByteIdentical) {
   EXPECT_NE(r.out.find("missing"), std::string::npos) << r.out;
 }
 
+// A HIP or trajectory file whose points nearly all lie far from the mesh (millimetres for a
+// mesh in metres) is noted on stderr: it gave 0 contacts, or a projected trajectory, silently.
+TEST_F(SweepCli, FilesInAnotherUnitAreNoted) {
+  ASSERT_EQ(run("generate sphere --radius 0.05 --segments 2 -o " + p("s.obj")).status, 0);
+  std::ofstream(p("m.csv")) << "x,y,z\n0,0,0.049\n0.01,0,0.048\n0.02,0,0.045\n";
+  std::ofstream(p("mm.csv")) << "x,y,z\n0,0,49\n10,0,48\n20,0,45\n";
+  const std::string sweep = "sweep --mesh " + p("s.obj") + " --normals file --methods direct --no-plots ";
+  struct Case {
+    std::string args, note;  ///< note "": none
+  };
+  const Case cases[] = {
+      {"--hips " + p("mm.csv"), "3 of 3 HIPs of " + p("mm.csv") + " lie farther from the mesh's bounding box"},
+      {"--depth 2% --samples 20 --trajectory " + p("mm.csv"), "3 of 3 points of --trajectory " + p("mm.csv")},
+      {"--hips " + p("m.csv"), ""},
+      {"--depth 2% --samples 20 --trajectory " + p("m.csv"), ""},
+  };
+  int noted = 0;
+  for (const Case& c : cases) {
+    const CliResult r = run(sweep + c.args + " -o " + p("o"));
+    ASSERT_EQ(r.status, 0) << c.args << "\n" << r.out;
+    const size_t at = r.out.find("sweep: note: ");
+    if (c.note.empty()) {
+      EXPECT_EQ(at, std::string::npos) << c.args << "\n" << r.out;
+    } else {
+      EXPECT_NE(r.out.find(c.note), std::string::npos) << c.args << "\n" << r.out;
+      EXPECT_NE(r.out.find("(mm for m)?"), std::string::npos) << r.out;
+      noted += at != std::string::npos;
+    }
+  }
+  EXPECT_EQ(noted, 2);
+}
+
 TEST_F(SweepCli, BadInputIsOneLine) {
   ASSERT_EQ(run("generate sphere --segments 2 -o " + p("s.obj")).status, 0);
   for (const std::string& args :

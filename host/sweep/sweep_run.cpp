@@ -11,6 +11,7 @@
 #include <limits>
 
 #include <smoothforce/base/coordinate_range.h>
+#include <smoothforce/base/csv_reader.h>
 #include <smoothforce/base/error.h>
 #include <smoothforce/base/hash.h>
 #include <smoothforce/base/status.h>
@@ -128,6 +129,23 @@ std::vector<Path> trajectoryPaths(const SweepConfig& c, const PatchCache& cache)
     if (loop.size() >= 2) paths.emplace_back("default", std::move(loop));
   }
   return paths;
+}
+
+/// A note when at least 9 in 10 of pts lie farther from the mesh's box than its diagonal (no
+/// contact there: a file in millimetres for a mesh in metres, say); "" otherwise.
+std::string farPointsNote(const std::vector<Eigen::Vector3d>& pts, const PatchCache& cache, const std::string& what,
+                          const std::string& consequence) {
+  Eigen::Vector3d lo, hi;
+  if (pts.empty() || !referencedBox(cache, lo, hi)) return "";
+  size_t far = 0;
+  for (const auto& p : pts) far += farBeyondBox(p, lo, hi);
+  if (far * 10 < pts.size() * 9) return "";
+  char msg[400];
+  std::snprintf(msg, sizeof msg,
+                "sweep: note: %zu of %zu %s lie farther from the mesh's bounding box than its diagonal (%.4g m): %s; "
+                "are they in another unit of length than the mesh (mm for m)?",
+                far, pts.size(), what.c_str(), (hi - lo).norm(), consequence.c_str());
+  return msg;
 }
 
 /// Takes over a checkpoint of the same sweep and shard (records and finished series).
@@ -259,6 +277,17 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
   for (size_t t = 0; t < in.config.trajectories.size(); ++t)
     in.config.trajectoryHashes.push_back(
         hexHash(hashBytes(paths[t].second.data(), paths[t].second.size() * sizeof(Eigen::Vector3d))));
+  if (control.note) {
+    std::vector<std::string> notes;
+    if (!in.hipsFile.empty())
+      notes.push_back(
+          farPointsNote(set.groups[0].hips, *in.cache, "HIPs of " + csvDisplayName(in.hipsFile), "no contact there"));
+    for (size_t t = 0; t < in.config.trajectories.size(); ++t)
+      notes.push_back(farPointsNote(paths[t].second, *in.cache, "points of --trajectory " + in.config.trajectories[t],
+                                    "they are projected onto the surface from there"));
+    for (const auto& n : notes)
+      if (!n.empty()) control.note(n);
+  }
   SweepData d;
   d.config = in.config;
   d.shardIndex = in.shardIndex;

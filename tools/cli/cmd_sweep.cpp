@@ -183,6 +183,7 @@ void runSweepCommand(const SweepArgs& a) {
   };
   ctl.checkpoint = [&](const SweepData& d) { writer.write(d); };
   ctl.checkpointSeconds = a.checkpointEvery;
+  ctl.note = [](const std::string& n) { std::fprintf(stderr, "%s\n", n.c_str()); };
   SweepTiming tm;
   const int meshFaces = in.cache->numFaces();
   SweepData d = [&] {

@@ -88,6 +88,10 @@ struct SweepControl {
   /// probes run as one block).
   std::function<void(const SweepData&)> checkpoint;
   double checkpointSeconds = 60;  ///< s, > 0
+  /// runSweep: a note for the user (one line, no newline; the CLI prints it on stderr), on the
+  /// calling thread: e.g. a HIP or trajectory file whose points nearly all lie far from the mesh
+  /// (another unit of length?).
+  std::function<void(const std::string&)> note;
 };
 
 /// Packs a probe's pressed-in step into its record (float32), with |SCP - ref| when ref is
