@@ -13,6 +13,7 @@
 
 #include <smoothforce/base/coordinate_range.h>
 #include <smoothforce/base/error.h>
+#include <smoothforce/base/text_encoding.h>
 
 namespace sf {
 
@@ -52,25 +53,6 @@ std::string readAll(const std::string& path) {
   std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
   if (in.bad()) throw InputError(path + ": read failed");
   return text;
-}
-
-/// Why `text` is not UTF-8 or ASCII ("" when it may be): UTF-16 or UTF-32, by its byte-order
-/// mark or, without one, by a NUL in every other byte (ASCII in UTF-16). The CSV reader would
-/// see a header of raw bytes.
-std::string encodingProblem(std::string_view text) {
-  using namespace std::string_view_literals;
-  if (text.starts_with("\xff\xfe\0\0"sv)) return "is UTF-32 encoded (byte-order mark FF FE 00 00)";
-  if (text.starts_with("\0\0\xfe\xff"sv)) return "is UTF-32 encoded (byte-order mark 00 00 FE FF)";
-  if (text.starts_with("\xff\xfe"sv)) return "is UTF-16 encoded (byte-order mark FF FE)";
-  if (text.starts_with("\xfe\xff"sv)) return "is UTF-16 encoded (byte-order mark FE FF)";
-  const size_t n = std::min<size_t>(text.size(), 64) / 2;  // byte pairs looked at
-  size_t nul[2] = {0, 0};                                  // pairs with a NUL first, second
-  for (size_t i = 0; i < n; ++i) {
-    const bool a = text[2 * i] == '\0', b = text[2 * i + 1] == '\0';
-    if (a != b) ++nul[b];
-  }
-  if (n >= 2 && (nul[0] == n || nul[1] == n)) return "looks UTF-16 encoded (NUL bytes between the characters)";
-  return "";
 }
 
 /// The shortest decimal form that reads back as x ("1.0000001e+15", not %.6g's "1e+15").
@@ -120,7 +102,7 @@ NumericCsv readNumericCsv(const std::string& path, const std::vector<std::string
   t.columns = columns;
   const std::string header = join(columns);
   const size_t n = columns.size();
-  if (const std::string why = encodingProblem(text); !why.empty())
+  if (const std::string why = textEncodingProblem(text); !why.empty())
     throw InputError(name + ": " + why + "; save it as UTF-8 or ASCII");
   std::string_view rest(text);
   if (rest.substr(0, 3) == "\xEF\xBB\xBF") rest.remove_prefix(3);  // UTF-8 byte-order mark

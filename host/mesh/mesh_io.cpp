@@ -8,6 +8,8 @@
 #include <sstream>
 #include <string_view>
 
+#include <smoothforce/base/text_encoding.h>
+
 #include "mesh_io_detail.h"
 
 namespace sf {
@@ -30,25 +32,11 @@ std::string readBytes(const std::string& path) {
   return std::move(buf).str();
 }
 
-/// Refuses UTF-16 and UTF-32 text, by its byte-order mark or, without one, by a NUL in
-/// every other byte (ASCII in UTF-16): the readers would see bad keywords or no statements.
+/// Refuses UTF-16 and UTF-32 text (textEncodingProblem): the readers would see bad keywords or
+/// no statements.
 void checkEncoding(const std::string& path, std::string_view data) {
-  const auto refuse = [&](const std::string& what) {
-    throw InputError(path + ": " + what + "; save it as UTF-8 or ASCII");
-  };
-  using namespace std::string_view_literals;
-  if (data.starts_with("\xff\xfe\0\0"sv)) refuse("is UTF-32 encoded (byte-order mark FF FE 00 00)");
-  if (data.starts_with("\0\0\xfe\xff"sv)) refuse("is UTF-32 encoded (byte-order mark 00 00 FE FF)");
-  if (data.starts_with("\xff\xfe"sv)) refuse("is UTF-16 encoded (byte-order mark FF FE)");
-  if (data.starts_with("\xfe\xff"sv)) refuse("is UTF-16 encoded (byte-order mark FE FF)");
-  const size_t n = std::min<size_t>(data.size(), 64) / 2;  // byte pairs looked at
-  int nul[2] = {0, 0};                                     // pairs with a NUL first, second
-  for (size_t i = 0; i < n; ++i) {
-    const bool a = data[2 * i] == '\0', b = data[2 * i + 1] == '\0';
-    if (a != b) ++nul[b];
-  }
-  if (n >= 2 && (nul[0] == static_cast<int>(n) || nul[1] == static_cast<int>(n)))
-    refuse("looks UTF-16 encoded (NUL bytes between the characters)");
+  if (const std::string why = textEncodingProblem(data); !why.empty())
+    throw InputError(path + ": " + why + "; save it as UTF-8 or ASCII");
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include <smoothforce/base/hash.h>
 #include <smoothforce/base/staged_output.h>
 #include <smoothforce/base/status.h>
+#include <smoothforce/base/text_encoding.h>
 #include <smoothforce/base/thread_limit.h>
 
 #include <smoothforce/mesh/mesh.h>
