@@ -213,10 +213,12 @@ std::string stringField(const Ctx& c, const json& j, const std::string& where) {
   return j.get<std::string>();
 }
 
-/// A control character of s (< 0x20 or 0x7f), or -1.
+bool isControl(char ch) { return static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f; }
+
+/// A control character of s, or -1.
 int controlCharacter(const std::string& s) {
   for (const char ch : s)
-    if (static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f) return static_cast<unsigned char>(ch);
+    if (isControl(ch)) return static_cast<unsigned char>(ch);
   return -1;
 }
 
@@ -226,7 +228,7 @@ std::string objectName(const Ctx& c, const json& o, const std::string& w, const 
   if (!o.contains("name")) {
     std::string stem = std::filesystem::path(file).stem().string();
     for (char& ch : stem)
-      if (static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f) ch = '?';
+      if (isControl(ch)) ch = '?';
     return stem;
   }
   const std::string name = stringField(c, o["name"], w + "/name");
@@ -260,9 +262,6 @@ void parsePatchKeys(const Ctx& c, const json& o, const std::string& w, bool mesh
   }
 }
 
-}  // namespace
-
-namespace {
 /// The key of an object's cache in loadScene: the file (its canonical path where it exists),
 /// its kind, and for a mesh the options its patches are built with.
 std::string cacheKey(const std::filesystem::path& file, bool mesh, const PatchOptions& o) {
