@@ -9,11 +9,52 @@
 #include <random>
 #include <vector>
 
+#include <smoothforce/mesh/mesh_io.h>
 #include <smoothforce/query/lazy_surface.h>
 #include "patch_test_support.h"
 
 namespace sf {
 namespace {
+
+/// Samples of every patch of `faces` (10 rings x 11 points per edge, and the centre) that lie
+/// outside every cell, sector and swept box of their face; points: how many were sampled.
+struct Containment {
+  long points = 0, outside = 0, sectorOutside = 0, sweptOutside = 0;
+  double worst = 0;  ///< farthest outside a cell box, over the a-priori box diagonal
+};
+Containment containment(const PatchCache& c, LazyPatchSurface& surface, const std::vector<int>& faces) {
+  Containment r;
+  constexpr int kRings = 10, kPerEdge = 11;
+  for (int f : faces) {
+    const int n = c.faceSize(f);
+    if (n > GP_MAX_N) continue;
+    const int cells = surface.cells(f);
+    EXPECT_TRUE(surface.sectors(f)) << "face " << f;
+    EXPECT_EQ(cells, LazyPatchSurface::kCellsPerSector * n) << "face " << f;
+    const double diameter = (surface.aprioriBox(f).hi - surface.aprioriBox(f).lo).norm();
+    for (int ring = 0; ring <= kRings; ++ring)
+      for (int k = 0; k < (ring == 0 ? 1 : n); ++k)
+        for (int j = 0; j < (ring == 0 ? 1 : kPerEdge); ++j) {
+          const Eigen::Vector2d x = (double(ring) / kRings) * test::edgePoint(n, k, double(j) / kPerEdge, 0.0);
+          const Eigen::Vector3d p = evaluatePatch(c, f, x.x(), x.y()).pos;
+          ++r.points;
+          double d = 1e300;  // to the nearest cell box: 0 when one holds p
+          for (int i = 0; i < cells; ++i) d = std::min(d, surface.cellDistance(f, i, p));
+          if (d > 0) {
+            ++r.outside;
+            r.worst = std::max(r.worst, d / diameter);
+          }
+          double swept = 1e300, sector = 1e300;  // to the nearest swept and sector box of the face
+          for (int k = 0; k < n; ++k) {
+            swept = std::min(swept, surface.sweptDistance(f, k, p));
+            sector = std::min(sector, surface.sectorDistance(f, k, p));
+          }
+          r.sweptOutside += swept > 0;
+          r.sectorOutside += sector > 0;
+        }
+  }
+  return r;
+}
 
 TEST(LazySurface, CellBoxesHoldTheirPatches) {
   int meshes = 0;
@@ -29,50 +70,48 @@ TEST(LazySurface, CellBoxesHoldTheirPatches) {
       std::shuffle(faces.begin(), faces.end(), std::mt19937(20261122));
       faces.resize(600);
     }
-    constexpr int kRings = 10, kPerEdge = 11;
-    long points = 0, outside = 0, faceOutside = 0, sectorOutside = 0;
-    double worst = 0;
-    for (int f : faces) {
-      const int n = c.faceSize(f);
-      if (n > GP_MAX_N) continue;
-      const int cells = surface.cells(f);
-      ASSERT_TRUE(surface.sectors(f)) << "face " << f;
-      const double diameter = (surface.aprioriBox(f).hi - surface.aprioriBox(f).lo).norm();
-      ASSERT_EQ(cells, LazyPatchSurface::kCellsPerSector * n) << "face " << f;
-      for (int ring = 0; ring <= kRings; ++ring)
-        for (int k = 0; k < (ring == 0 ? 1 : n); ++k)
-          for (int j = 0; j < (ring == 0 ? 1 : kPerEdge); ++j) {
-            const Eigen::Vector2d x = (double(ring) / kRings) * test::edgePoint(n, k, double(j) / kPerEdge, 0.0);
-            const Eigen::Vector3d p = evaluatePatch(c, f, x.x(), x.y()).pos;
-            ++points;
-            double d = 1e300;  // to the nearest cell box: 0 when one holds p
-            for (int i = 0; i < cells; ++i) d = std::min(d, surface.cellDistance(f, i, p));
-            if (d > 0) {
-              ++outside;
-              worst = std::max(worst, d / diameter);
-            }
-            double swept = 1e300, sector = 1e300;  // to the nearest swept and sector box of the face
-            for (int k = 0; k < n; ++k) {
-              swept = std::min(swept, surface.sweptDistance(f, k, p));
-              sector = std::min(sector, surface.sectorDistance(f, k, p));
-            }
-            faceOutside += swept > 0;
-            sectorOutside += sector > 0;
-          }
-    }
+    const Containment r = containment(c, surface, faces);
     std::printf(
         "  %-50s %5zu patches, %8ld samples: %ld outside every cell box, %ld every sector box, %ld every swept box\n",
-        std::filesystem::path(path).lexically_relative(SF_SHARED_MESHES).string().c_str(), faces.size(), points,
-        outside, sectorOutside, faceOutside);
-    EXPECT_EQ(outside, 0) << "worst " << worst << " of the a-priori box diagonal";
-    EXPECT_EQ(faceOutside, 0);
-    EXPECT_EQ(sectorOutside, 0);
+        std::filesystem::path(path).lexically_relative(SF_SHARED_MESHES).string().c_str(), faces.size(), r.points,
+        r.outside, r.sectorOutside, r.sweptOutside);
+    EXPECT_EQ(r.outside, 0) << "worst " << r.worst << " of the a-priori box diagonal";
+    EXPECT_EQ(r.sweptOutside, 0);
+    EXPECT_EQ(r.sectorOutside, 0);
     EXPECT_EQ(surface.sampledFaces(), static_cast<int>(faces.size()));
-    checked += points;
+    checked += r.points;
     ++meshes;
   }
   EXPECT_GE(meshes, 20);
   EXPECT_GT(checked, 2'000'000);
+}
+
+// The same far from the origin, where the boxes' margins include the rounding of the
+// coordinates: the spot cage and the quad-sphere moved by 1e4 ... 1e13 m along (1, 1, 1), every
+// patch.
+TEST(LazySurface, CellBoxesHoldTheirPatchesFarFromTheOrigin) {
+  int runs = 0;
+  long checked = 0;
+  for (const char* name : {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/quad-sphere.off"})
+    for (const double offset : {1e4, 1e6, 1e9, 1e11, 1e13}) {
+      SCOPED_TRACE(std::string(name) + " moved by " + std::to_string(offset));
+      PolygonMesh m = readMesh(std::string(SF_SHARED_MESHES) + "/" + name);
+      for (Eigen::Vector3d& x : m.positions) x.array() += offset;
+      PatchOptions o;
+      const PatchCache c = buildPatchCache(loadMesh(std::move(m), 0, o), o, Backend::Tbb);
+      const PolygonFacets facets = buildPolygonFacets(c);
+      LazyPatchSurface surface(c, facets);
+      std::vector<int> faces(c.numFaces());
+      for (int f = 0; f < c.numFaces(); ++f) faces[f] = f;
+      const Containment r = containment(c, surface, faces);
+      EXPECT_EQ(r.outside, 0) << "worst " << r.worst << " of the a-priori box diagonal";
+      EXPECT_EQ(r.sweptOutside, 0);
+      EXPECT_EQ(r.sectorOutside, 0);
+      checked += r.points;
+      ++runs;
+    }
+  EXPECT_EQ(runs, 10);
+  EXPECT_GT(checked, 100'000);
 }
 
 // facesWithin and inAnyBox against brute force over the a-priori boxes, at 2,000 points around

@@ -12,6 +12,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <limits>
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -187,17 +189,20 @@ Eigen::Vector2d sectorPoint(int n, int k, double rho, double t) {
   return rho * (c0 + t * (c1 - c0));
 }
 
-/// An oriented box of kObb floats: origin c, three axes (unit in exact arithmetic), and the range
-/// [lo, hi] of (x - c) . axis for the points x it holds, all as stored (the ranges are computed
-/// with the stored origin and axes, rounded outwards): kObb floats.
+/// An oriented box of kObb floats: origin c, stored about the surface's local origin (c - origin:
+/// floats of world coordinates 1e4 m from (0,0,0) are 1 mm apart, and the boxes' margins would
+/// have to cover that), three axes (unit in exact arithmetic), and the range [lo, hi] of
+/// (x - c) . axis for the points x it holds, all as stored (the ranges are computed with the
+/// stored origin and axes, rounded outwards): kObb floats.
 
 /// The oriented box with orthonormal frame e of the points pts[0..count), every range widened
 /// by margin, into out.
-void makeObb(const Eigen::Vector3d* pts, int count, const Eigen::Vector3d* e, double margin, float* out) {
-  for (int d = 0; d < 3; ++d) out[d] = float(pts[0][d]);
+void makeObb(const Eigen::Vector3d* pts, int count, const Eigen::Vector3d* e, double margin,
+             const Eigen::Vector3d& origin, float* out) {
+  for (int d = 0; d < 3; ++d) out[d] = float(pts[0][d] - origin[d]);
   for (int a = 0; a < 3; ++a)
     for (int d = 0; d < 3; ++d) out[3 + 3 * a + d] = float(e[a][d]);
-  const Eigen::Vector3d c(out[0], out[1], out[2]);
+  const Eigen::Vector3d c = origin + Eigen::Vector3d(out[0], out[1], out[2]);
   for (int a = 0; a < 3; ++a) {
     const Eigen::Vector3d ax(out[3 + 3 * a], out[4 + 3 * a], out[5 + 3 * a]);
     double lo = 1e300, hi = -1e300;
@@ -213,8 +218,8 @@ void makeObb(const Eigen::Vector3d* pts, int count, const Eigen::Vector3d* e, do
 
 /// Distance (m) from q to the oriented box o; 0 inside. The stored axes are orthonormal up to
 /// float rounding: the result is shrunk by 1e-6 so that it stays a lower bound.
-double obbDistance(const float* o, const Eigen::Vector3d& q) {
-  const Eigen::Vector3d d = q - Eigen::Vector3d(o[0], o[1], o[2]);
+double obbDistance(const float* o, const Eigen::Vector3d& q, const Eigen::Vector3d& origin) {
+  const Eigen::Vector3d d = q - (origin + Eigen::Vector3d(o[0], o[1], o[2]));
   double s = 0;
   for (int a = 0; a < 3; ++a) {
     const double t = d.dot(Eigen::Vector3d(o[3 + 3 * a], o[4 + 3 * a], o[5 + 3 * a]));
@@ -238,15 +243,21 @@ bool frameFrom(const Eigen::Vector3d& u, const Eigen::Vector3d& v, Eigen::Vector
 
 namespace {
 
+/// The rounding of patch points far from the origin, per metre of the local origin's distance from
+/// (0,0,0): 64 epsilons, as evaluationNoise (the spot cage moved by 1e4 to 1e6 m evaluates within 26
+/// epsilons of its points at home).
+constexpr double kFarRounding = 64 * std::numeric_limits<double>::epsilon();
+
 /// Samples corner sector k of a patch on an (L+1) x (L+1) grid (p[i][j] at ray fraction i/L and
 /// edge fraction j/L) and returns the margin of boxes around them: the sector's largest sum of
 /// second differences along both grid directions, times `factor` (the patch leaves the samples'
 /// bilinear interpolant by about an eighth of that sum), plus 1e-6 of the sector's size (where
-/// the surface is flat the second differences vanish) and 1e-7 of the distance from the origin
-/// (the evaluation near a corner varies by ~1e-8 of it); negative when a sample is not finite.
+/// the surface is flat the second differences vanish), 1e-7 of the distance from `origin` (the
+/// surface's local origin: (0,0,0) unless the mesh is far from it) and kFarRounding of the
+/// origin's distance from (0,0,0); negative when a sample is not finite.
 template <int L>
 double sampleSector(const gpd::gp_domain* dom, const double* recs, int mode, int n, int k, double factor,
-                    Eigen::Vector3d (&p)[L + 1][L + 1]) {
+                    const Eigen::Vector3d& origin, Eigen::Vector3d (&p)[L + 1][L + 1]) {
   for (int j = 0; j <= L; ++j)
     for (int i = 0; i <= L; ++i) {
       const Eigen::Vector2d X = sectorPoint(n, k, double(i) / L, double(j) / L);
@@ -262,14 +273,15 @@ double sampleSector(const gpd::gp_domain* dom, const double* recs, int mode, int
       if (j > 0 && j < L) b += (p[i][j + 1] - 2 * p[i][j] + p[i][j - 1]).norm();
       bend = std::max(bend, factor * b);
     }
-  return bend + 1e-6 * ((p[L][0] - p[0][0]).norm() + (p[L][L] - p[0][0]).norm()) + 1e-7 * p[0][0].norm();
+  return bend + 1e-6 * ((p[L][0] - p[0][0]).norm() + (p[L][L] - p[0][0]).norm()) + 1e-7 * (p[0][0] - origin).norm() +
+         kFarRounding * origin.norm();
 }
 
 /// The oriented box of the samples p[i0..i0+h][j0..j0+h], in the frame along the ray and the edge
 /// through their middle (the fallback frame where those are parallel), widened by margin.
 template <int L>
 void gridObb(const Eigen::Vector3d (&p)[L + 1][L + 1], int i0, int j0, int h, const Eigen::Vector3d* fallback,
-             double margin, float* out) {
+             double margin, const Eigen::Vector3d& origin, float* out) {
   Eigen::Vector3d pts[(L + 1) * (L + 1)];
   int m = 0;
   for (int i = i0; i <= i0 + h; ++i)
@@ -277,7 +289,7 @@ void gridObb(const Eigen::Vector3d (&p)[L + 1][L + 1], int i0, int j0, int h, co
   const int im = i0 + h / 2, jm = j0 + h / 2;
   Eigen::Vector3d e[3];
   if (!frameFrom(p[i0 + h][jm] - p[i0][jm], p[im][j0 + h] - p[im][j0], e)) std::copy(fallback, fallback + 3, e);
-  makeObb(pts, m, e, margin, out);
+  makeObb(pts, m, e, margin, origin, out);
 }
 
 }  // namespace
@@ -295,9 +307,9 @@ bool LazyPatchSurface::computeSectors(int f) noexcept {
   for (int k = 0; k < n; ++k) {
     constexpr int L = 2;  // 3 x 3 samples; twice the cells' margin factor: coarser
     Eigen::Vector3d p[L + 1][L + 1];
-    const double margin = sampleSector<L>(dom, recs, mode, n, k, 1.0, p);
+    const double margin = sampleSector<L>(dom, recs, mode, n, k, 1.0, impl_->origin, p);
     if (margin < 0) return false;
-    gridObb<L>(p, 0, 0, L, faceFrame, margin, &sectorBoxes_[static_cast<size_t>(kObb) * (first + k)]);
+    gridObb<L>(p, 0, 0, L, faceFrame, margin, impl_->origin, &sectorBoxes_[static_cast<size_t>(kObb) * (first + k)]);
     // the swept box: the sector's samples and the polygon's fan triangle (centroid, V_k,
     // V_k+1) as PolygonScene sees it (within the facets' tolerance), in the triangle's frame
     Eigen::Vector3d pts[(L + 1) * (L + 1) + 3];
@@ -312,7 +324,7 @@ bool LazyPatchSurface::computeSectors(int f) noexcept {
     pts[m++] = v1;
     Eigen::Vector3d e[3];
     if (!frameFrom(v1 - v0, centroid - v0, e)) std::copy(faceFrame, faceFrame + 3, e);
-    makeObb(pts, m, e, std::max(margin, facetTolerance_[f]), &sweptBoxes_[static_cast<size_t>(kObb) * (first + k)]);
+    makeObb(pts, m, e, std::max(margin, facetTolerance_[f]), impl_->origin, &sweptBoxes_[static_cast<size_t>(kObb) * (first + k)]);
   }
   sectorState_[f] = 1;
   return true;
@@ -332,33 +344,33 @@ int LazyPatchSurface::cells(int f) noexcept {
   for (int k = 0; k < n; ++k) {
     constexpr int H = kCellSamples, L = 2 * H;  // cell (a, b): samples i in [aH, (a+1)H], j likewise
     Eigen::Vector3d p[L + 1][L + 1];
-    const double margin = sampleSector<L>(dom, recs, mode, n, k, 0.5, p);
+    const double margin = sampleSector<L>(dom, recs, mode, n, k, 0.5, impl_->origin, p);
     if (margin < 0) return 0;
     for (int a = 0; a < 2; ++a)
       for (int b = 0; b < 2; ++b)
-        gridObb<L>(p, a * H, b * H, H, faceFrame, margin, out + kObb * (kCellsPerSector * k + 2 * a + b));
+        gridObb<L>(p, a * H, b * H, H, faceFrame, margin, impl_->origin, out + kObb * (kCellsPerSector * k + 2 * a + b));
   }
   cellCount_[f] = static_cast<int16_t>(kCellsPerSector * n);
   return cellCount_[f];
 }
 
 double LazyPatchSurface::sectorDistance(int f, int k, const Eigen::Vector3d& q) const noexcept {
-  return obbDistance(&sectorBoxes_[static_cast<size_t>(kObb) * (cache_.faceOffsets[f] + k)], q);
+  return obbDistance(&sectorBoxes_[static_cast<size_t>(kObb) * (cache_.faceOffsets[f] + k)], q, impl_->origin);
 }
 
 double LazyPatchSurface::cellDistance(int f, int i, const Eigen::Vector3d& q) const noexcept {
-  return obbDistance(&cellBoxes_[static_cast<size_t>(kCellsPerSector) * kObb * cache_.faceOffsets[f] + kObb * i], q);
+  return obbDistance(&cellBoxes_[static_cast<size_t>(kCellsPerSector) * kObb * cache_.faceOffsets[f] + kObb * i], q, impl_->origin);
 }
 
 double LazyPatchSurface::sweptDistance(int f, int k, const Eigen::Vector3d& q) const noexcept {
-  return obbDistance(&sweptBoxes_[static_cast<size_t>(kObb) * (cache_.faceOffsets[f] + k)], q);
+  return obbDistance(&sweptBoxes_[static_cast<size_t>(kObb) * (cache_.faceOffsets[f] + k)], q, impl_->origin);
 }
 
 Eigen::Vector2d LazyPatchSurface::cellStart(int f, int i, const Eigen::Vector3d& q) const noexcept {
   // the cell's box spans its ray fraction [a/2, (a+1)/2] along its first axis and its edge
   // fraction [b/2, (b+1)/2] along its second (to first order): q's clamped position on both
   const float* o = &cellBoxes_[static_cast<size_t>(kCellsPerSector) * kObb * cache_.faceOffsets[f] + kObb * i];
-  const Eigen::Vector3d d = q - Eigen::Vector3d(o[0], o[1], o[2]);
+  const Eigen::Vector3d d = q - (impl_->origin + Eigen::Vector3d(o[0], o[1], o[2]));
   double frac[2];
   for (int a = 0; a < 2; ++a) {
     const double t = d.dot(Eigen::Vector3d(o[3 + 3 * a], o[4 + 3 * a], o[5 + 3 * a]));

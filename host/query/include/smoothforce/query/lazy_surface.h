@@ -37,11 +37,13 @@ struct FaceDistance {
 ///   sample grid per sector.
 /// The sampled boxes are widened by the sector's largest sum of second differences of the
 /// samples along both grid directions (times 0.5 for cells, 1 for sectors: 4 and 8 times the
-/// deviation of a quadratic from its bilinear interpolant), 1e-6 of the sector's size and 1e-7
-/// of the distance from the origin. An estimate, not a proof: tests/test_lazy_surface.cpp
+/// deviation of a quadratic from its bilinear interpolant), 1e-6 of the sector's size, 1e-7 of
+/// the distance from the local origin (localOrigin: (0,0,0) unless the mesh is far from it, about
+/// which the boxes are stored) and 64 epsilons of that origin's distance from (0,0,0). An
+/// estimate, not a proof: tests/test_lazy_surface.cpp
 /// checks that every patch point lies in one of its face's cell, sector and swept boxes, 10 x 11
 /// samples per edge of every patch of every mesh in ../shared/meshes (600 random patches of the
-/// larger ones).
+/// larger ones), and of the spot cage and the quad-sphere moved by 1e4 to 1e13 m.
 /// Outside every a-priori box, the winding number of the patch surface around a point equals
 /// that of the base polygons: the straight line from a polygon point to the patch point of the
 /// same domain point stays in the face's box, and neighbouring faces agree on their shared edge,
