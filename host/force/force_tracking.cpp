@@ -424,8 +424,7 @@ std::unique_ptr<ForceRenderer> makePatchForceRenderer(std::shared_ptr<const Patc
                                                       std::shared_ptr<const PolygonScene> scene,
                                                       const ForceOptions& options,
                                                       std::shared_ptr<const PatchSurface> surface) {
-  validateForceOptions(options);
-  return std::make_unique<PatchTracker>(std::move(cache), std::move(scene), options, std::move(surface));
+  return detail::makeSharedPatchRenderer(std::move(cache), std::move(scene), options, std::move(surface), {});
 }
 
 namespace detail {

@@ -9,10 +9,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 #include <string>
-
-#include <limits>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -195,6 +194,11 @@ Eigen::Vector2d sectorPoint(int n, int k, double rho, double t) {
 /// (x - c) . axis for the points x it holds, all as stored (the ranges are computed with the
 /// stored origin and axes, rounded outwards): kObb floats.
 
+/// The origin c (m) of oriented box o, stored about the surface's local origin.
+Eigen::Vector3d obbOrigin(const float* o, const Eigen::Vector3d& origin) {
+  return origin + Eigen::Vector3d(o[0], o[1], o[2]);
+}
+
 /// The oriented box with orthonormal frame e of the points pts[0..count), every range widened
 /// by margin, into out.
 void makeObb(const Eigen::Vector3d* pts, int count, const Eigen::Vector3d* e, double margin,
@@ -202,7 +206,7 @@ void makeObb(const Eigen::Vector3d* pts, int count, const Eigen::Vector3d* e, do
   for (int d = 0; d < 3; ++d) out[d] = float(pts[0][d] - origin[d]);
   for (int a = 0; a < 3; ++a)
     for (int d = 0; d < 3; ++d) out[3 + 3 * a + d] = float(e[a][d]);
-  const Eigen::Vector3d c = origin + Eigen::Vector3d(out[0], out[1], out[2]);
+  const Eigen::Vector3d c = obbOrigin(out, origin);
   for (int a = 0; a < 3; ++a) {
     const Eigen::Vector3d ax(out[3 + 3 * a], out[4 + 3 * a], out[5 + 3 * a]);
     double lo = 1e300, hi = -1e300;
@@ -219,7 +223,7 @@ void makeObb(const Eigen::Vector3d* pts, int count, const Eigen::Vector3d* e, do
 /// Distance (m) from q to the oriented box o; 0 inside. The stored axes are orthonormal up to
 /// float rounding: the result is shrunk by 1e-6 so that it stays a lower bound.
 double obbDistance(const float* o, const Eigen::Vector3d& q, const Eigen::Vector3d& origin) {
-  const Eigen::Vector3d d = q - (origin + Eigen::Vector3d(o[0], o[1], o[2]));
+  const Eigen::Vector3d d = q - obbOrigin(o, origin);
   double s = 0;
   for (int a = 0; a < 3; ++a) {
     const double t = d.dot(Eigen::Vector3d(o[3 + 3 * a], o[4 + 3 * a], o[5 + 3 * a]));
@@ -370,7 +374,7 @@ Eigen::Vector2d LazyPatchSurface::cellStart(int f, int i, const Eigen::Vector3d&
   // the cell's box spans its ray fraction [a/2, (a+1)/2] along its first axis and its edge
   // fraction [b/2, (b+1)/2] along its second (to first order): q's clamped position on both
   const float* o = &cellBoxes_[static_cast<size_t>(kCellsPerSector) * kObb * cache_.faceOffsets[f] + kObb * i];
-  const Eigen::Vector3d d = q - (impl_->origin + Eigen::Vector3d(o[0], o[1], o[2]));
+  const Eigen::Vector3d d = q - obbOrigin(o, impl_->origin);
   double frac[2];
   for (int a = 0; a < 2; ++a) {
     const double t = d.dot(Eigen::Vector3d(o[3 + 3 * a], o[4 + 3 * a], o[5 + 3 * a]));
