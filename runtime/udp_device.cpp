@@ -96,13 +96,15 @@ UdpEndpoint parseUdpSpec(const std::string& spec) {
 }
 
 UdpDevice::UdpDevice(const UdpEndpoint& endpoint, const UdpOptions& options)
-    : host_(endpoint.host), port_(endpoint.port), watchdog_(options.watchdog) {
+    : host_(endpoint.host), port_(endpoint.port), watchdog_(options.watchdog), resyncAfter_(options.resyncAfter) {
   const std::string name = "udp:" + endpointName(host_, port_);
   if (!(watchdog_ > 0) || !std::isfinite(watchdog_)) {
     char buf[64];
     std::snprintf(buf, sizeof buf, "%g", watchdog_ * 1e3);
     throw InputError(std::string("--watchdog-ms: expected a finite time > 0 ms, got ") + buf);
   }
+  if (resyncAfter_ < 2)
+    throw InputError(name + ": resyncAfter: expected at least 2 packets, got " + std::to_string(resyncAfter_));
   if (port_ < 0 || port_ > 65535) throw InputError(name + ": port outside 0..65535");
   addrinfo hints{};
   hints.ai_family = AF_UNSPEC;
@@ -188,8 +190,17 @@ void UdpDevice::handle(const uint8_t* data, size_t size, const sockaddr_storage&
   }
   if (!inCoordinateRange(p.position)) return count(kOutOfRange);  // 1e300 m was accepted as a HIP
   if (peerSet_.load(std::memory_order_relaxed) && !sameAddress(from, peer_)) return count(kForeign);
-  if (haveSeq_ && p.seq == lastSeq_) return count(kDuplicates);
-  if (haveSeq_ && p.seq < lastSeq_) return count(kOutOfOrder);
+  if (haveSeq_ && p.seq == lastSeq_) {
+    behind_ = 0;
+    return count(kDuplicates);
+  }
+  if (haveSeq_ && p.seq < lastSeq_) {  // late, or a new start: resyncAfter_ in a row, increasing
+    behind_ = behind_ > 0 && p.seq > behindSeq_ ? behind_ + 1 : 1;
+    behindSeq_ = p.seq;
+    if (behind_ < resyncAfter_) return count(kOutOfOrder);
+    count(kResyncs);
+  }
+  behind_ = 0;
   if (!peerSet_.load(std::memory_order_relaxed)) {
     peer_ = from;
     peerLen_ = fromLen;
@@ -273,6 +284,7 @@ UdpCounters UdpDevice::counters() const noexcept {
   c.accepted = g(kAccepted);
   c.duplicates = g(kDuplicates);
   c.outOfOrder = g(kOutOfOrder);
+  c.resyncs = g(kResyncs);
   c.foreign = g(kForeign);
   c.wrongVersion = g(kWrongVersion);
   c.badSize = g(kBadSize);
@@ -297,15 +309,17 @@ std::string UdpDevice::describe() const {
 
 std::string UdpDevice::report() const {
   const UdpCounters c = counters();
-  char buf[512];
+  char buf[640];
   std::snprintf(buf, sizeof buf,
-                "udp: %lld datagrams, %lld samples accepted (%lld superseded before a read), %lld duplicates, %lld "
-                "out of order, %lld from other senders, %lld wrong version, %lld malformed (size %lld, magic %lld, "
-                "type %lld, reserved %lld, non-finite %lld, beyond 1e15 m %lld); %lld forces sent, %lld send errors\n",
-                (long long)c.received, (long long)c.accepted, (long long)c.superseded, (long long)c.duplicates,
-                (long long)c.outOfOrder, (long long)c.foreign, (long long)c.wrongVersion, (long long)c.malformed(),
-                (long long)c.badSize, (long long)c.badMagic, (long long)c.badType, (long long)c.badReserved,
-                (long long)c.nonFinite, (long long)c.outOfRange, (long long)c.forcesSent, (long long)c.sendErrors);
+                "udp: %lld datagrams, %lld samples accepted (%lld superseded before a read, %lld seq "
+                "resynchronisations), %lld duplicates, %lld out of order, %lld from other senders, %lld wrong "
+                "version, %lld malformed (size %lld, magic %lld, type %lld, reserved %lld, non-finite %lld, beyond "
+                "1e15 m %lld); %lld forces sent, %lld send errors\n",
+                (long long)c.received, (long long)c.accepted, (long long)c.superseded, (long long)c.resyncs,
+                (long long)c.duplicates, (long long)c.outOfOrder, (long long)c.foreign, (long long)c.wrongVersion,
+                (long long)c.malformed(), (long long)c.badSize, (long long)c.badMagic, (long long)c.badType,
+                (long long)c.badReserved, (long long)c.nonFinite, (long long)c.outOfRange, (long long)c.forcesSent,
+                (long long)c.sendErrors);
   return buf;
 }
 

@@ -289,6 +289,7 @@ TEST(RuntimeUdp, LossReorderingAndDuplicatesAreDropped) {
   EXPECT_EQ(c.accepted, int64_t(accepted.size()));
   EXPECT_EQ(c.duplicates, dups);
   EXPECT_EQ(c.outOfOrder, late);
+  EXPECT_EQ(c.resyncs, 0);
   EXPECT_EQ(c.malformed() + c.wrongVersion + c.foreign, 0);
   const std::vector<StepRecord> recs = drain(ring);
   const LoopStats& st = loop.stats();
@@ -324,6 +325,128 @@ TEST(RuntimeUdp, LossReorderingAndDuplicatesAreDropped) {
 
 // Every kind of bad datagram, interleaved with valid samples, from the sender and from a second
 // socket: each is counted in its category, none reaches the loop.
+// A sender whose seq jumps far ahead once (to 2^64-1, 2^62) or that restarts from 1 had every
+// later packet dropped as out of order: the watchdog latched a stale fault, zero force until
+// restart. Each sequence below is sent whole to a device; the counts are worked out by hand
+// from the rule (8 packets in a row below the last accepted one, each above the one before
+// it: the 8th is accepted as a new start) and the device must end on the sequence's last seq.
+// Late packets, alone, in bursts of 7, in bursts of 8 that decrease, or among newer ones, are
+// still all dropped.
+TEST(RuntimeUdp, SeqJumpsAndSenderRestartsResynchroniseAfterEightPackets) {
+  struct Case {
+    const char* name;
+    std::vector<uint64_t> seqs;
+    int64_t accepted, duplicates, outOfOrder, resyncs;
+    uint64_t last;  ///< seq of the latest accepted sample
+  };
+  auto range = [](std::vector<uint64_t>& v, uint64_t from, uint64_t to) {
+    for (uint64_t s = from; s <= to; ++s) v.push_back(s);
+  };
+  std::vector<Case> cases;
+  {  // 1..100, 2^64-1, 101..400: 101..107 dropped, 108 resynchronises, 109..400 follow
+    Case c{"jump to 2^64-1", {}, 100 + 1 + 1 + 292, 0, 7, 1, 400};
+    range(c.seqs, 1, 100);
+    c.seqs.push_back(UINT64_MAX);
+    range(c.seqs, 101, 400);
+    cases.push_back(c);
+  }
+  {
+    Case c{"jump to 2^62", {}, 100 + 1 + 1 + 292, 0, 7, 1, 400};
+    range(c.seqs, 1, 100);
+    c.seqs.push_back(uint64_t(1) << 62);
+    range(c.seqs, 101, 400);
+    cases.push_back(c);
+  }
+  {  // the sender restarts from 1 after 500 packets
+    Case c{"restart", {}, 500 + 1 + 292, 0, 7, 1, 300};
+    range(c.seqs, 1, 500);
+    range(c.seqs, 1, 300);
+    cases.push_back(c);
+  }
+  {  // two restarts, the second from 0
+    Case c{"two restarts", {}, 200 + 2 * (1 + 92), 0, 14, 2, 99};
+    range(c.seqs, 1, 200);
+    range(c.seqs, 1, 100);
+    range(c.seqs, 0, 99);
+    cases.push_back(c);
+  }
+  {  // after the jump, 103 arrives late among 101..114: the run starts again at 103, 108..114
+     // make it 8 long; then a duplicate of the last seq
+    Case c{"reordered after the jump", {}, 100 + 1 + 1 + 86, 1, 7 + 1 + 6, 1, 200};
+    range(c.seqs, 1, 100);
+    c.seqs.push_back(UINT64_MAX);
+    range(c.seqs, 101, 107);
+    c.seqs.push_back(103);
+    range(c.seqs, 108, 200);
+    c.seqs.push_back(200);  // a duplicate of the last one
+    cases.push_back(c);
+  }
+  {  // a duplicate of 2^64-1 within the run starts the count again: 101..104, dup, 105..111
+     // dropped, 112 resynchronises
+    Case c{"duplicate in the run", {}, 100 + 1 + 1 + 88, 1, 4 + 7, 1, 200};
+    range(c.seqs, 1, 100);
+    c.seqs.push_back(UINT64_MAX);
+    range(c.seqs, 101, 104);
+    c.seqs.push_back(UINT64_MAX);
+    range(c.seqs, 105, 200);
+    cases.push_back(c);
+  }
+  {  // every 50th packet is followed by 8 late ones in decreasing order, then by 7 increasing:
+     // all 15 x 20 dropped, no resynchronisation
+    Case c{"late bursts", {}, 1000, 0, 20 * 15, 0, 1000};
+    for (uint64_t s = 1; s <= 1000; ++s) {
+      c.seqs.push_back(s);
+      if (s % 50 == 0) {
+        for (uint64_t q = s - 1; q >= s - 8; --q) c.seqs.push_back(q);
+        range(c.seqs, s - 20, s - 14);
+      }
+    }
+    cases.push_back(c);
+  }
+  {  // a late packet after every new one (the previous seq but one): 499 dropped
+    Case c{"late among newer", {}, 501, 0, 499, 0, 501};
+    c.seqs.push_back(1);
+    for (uint64_t s = 2; s <= 501; ++s) {
+      c.seqs.push_back(s);
+      if (s >= 3) c.seqs.push_back(s - 2);
+    }
+    cases.push_back(c);
+  }
+  int checked = 0;
+  for (const Case& k : cases) {
+    SCOPED_TRACE(k.name);
+    ASSERT_EQ(k.accepted + k.duplicates + k.outOfOrder, int64_t(k.seqs.size())) << "the case's counts";
+    UdpOptions uo;
+    uo.watchdog = 10;  // not under test here
+    UdpDevice dev(UdpEndpoint{"127.0.0.1", 0}, uo);
+    Peer peer;
+    ASSERT_TRUE(peer.ok);
+    for (size_t i = 0; i < k.seqs.size(); ++i) {
+      peer.sendHip(dev.port(), k.seqs[i], Vector3d(1e-4 * double(i), 0, 0));
+      if (i % 40 == 39 || i + 1 == k.seqs.size()) {  // flow control: the socket buffer never overflows
+        ASSERT_TRUE(waitFor([&] { return dev.counters().received == int64_t(i + 1); }, 10));
+      }
+    }
+    const UdpCounters c = dev.counters();
+    EXPECT_EQ(c.received, int64_t(k.seqs.size()));
+    EXPECT_EQ(c.accepted, k.accepted);
+    EXPECT_EQ(c.duplicates, k.duplicates);
+    EXPECT_EQ(c.outOfOrder, k.outOfOrder);
+    EXPECT_EQ(c.resyncs, k.resyncs);
+    EXPECT_EQ(c.malformed() + c.wrongVersion + c.foreign, 0);
+    const DeviceState d = dev.read(0);
+    EXPECT_EQ(d.status, DeviceStatus::Ok);
+    EXPECT_EQ(d.sample, k.last);
+    EXPECT_NE(dev.report().find(std::to_string(k.resyncs) + " seq resynchronisations"), std::string::npos)
+        << dev.report();
+    ++checked;
+  }
+  EXPECT_EQ(checked, 8);
+  UdpOptions o;
+  o.resyncAfter = 1;  // a single late packet would be accepted
+  EXPECT_THROW(UdpDevice(UdpEndpoint{}, o), sf::InputError);
+}
+
 TEST(RuntimeUdp, GarbageIsCountedAndDropped) {
   UdpDevice dev(UdpEndpoint{"127.0.0.1", 0});
   Peer peer, other;

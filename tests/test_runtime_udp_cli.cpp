@@ -235,7 +235,7 @@ TEST_F(RuntimeUdpCli, JsonReportCarriesTheFaultAndTheUdpCounters) {
   EXPECT_GE(accepted, 0.95 * 301) << "0.3 s at 1 kHz";
   EXPECT_LE(accepted, 301);
   EXPECT_EQ(u["datagrams"], accepted);
-  for (const char* k : {"duplicates", "out_of_order", "foreign", "wrong_version", "send_errors"})
+  for (const char* k : {"duplicates", "out_of_order", "resyncs", "foreign", "wrong_version", "send_errors"})
     EXPECT_EQ(u[k], 0) << k;
   int kinds = 0;
   for (const char* k : {"size", "magic", "type", "reserved", "non_finite", "out_of_range"}) {

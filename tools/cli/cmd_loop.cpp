@@ -76,6 +76,7 @@ nlohmann::ordered_json udpJson(const rt::UdpDevice& udp) {
           {"superseded", c.superseded},
           {"duplicates", c.duplicates},
           {"out_of_order", c.outOfOrder},
+          {"resyncs", c.resyncs},
           {"foreign", c.foreign},
           {"wrong_version", c.wrongVersion},
           {"malformed",
@@ -327,8 +328,8 @@ void addLoopCommand(CLI::App& app) {
       "print the report as one JSON object on stdout (objects, device, rate_hz, duration_s, step_compute_us, "
       "wake_up_lateness_us, steps, ticks, elapsed_s, stopped, missed_deadlines, max_consecutive_misses, "
       "skipped_ticks, contact_steps, contact_onsets, patches_built, faces, safety, records, exit_status; with a "
-      "udp device also udp: datagrams, accepted, superseded, duplicates, out_of_order, foreign, wrong_version, "
-      "malformed {size, magic, type, reserved, non_finite, out_of_range}, forces_sent, send_errors); "
+      "udp device also udp: datagrams, accepted, superseded, duplicates, out_of_order, resyncs, foreign, "
+      "wrong_version, malformed {size, magic, type, reserved, non_finite, out_of_range}, forces_sent, send_errors); "
       "the set-up lines go to stderr");
   c->add_option("--rt-priority", a->rtPriority, "SCHED_FIFO priority 1..99 and mlockall (0: off)")
       ->check(CLI::Range(0, 99))

@@ -28,6 +28,10 @@ UdpEndpoint parseUdpSpec(const std::string& spec);
 /// Options of the UDP device. Units: seconds.
 struct UdpOptions {
   double watchdog = 0.05;  ///< no fresh sample for this long: read() reports Stale (> 0, finite)
+  /// Resynchronisation: this many valid packets from the sender in a row with a seq below the
+  /// last accepted one, each above the one before it, and the last of them is accepted as a
+  /// new start (UdpDevice). >= 2: a late packet alone is always dropped.
+  int resyncAfter = 8;
 };
 
 /// Counts since construction (a snapshot; every datagram lands in exactly one of accepted,
@@ -36,7 +40,8 @@ struct UdpCounters {
   int64_t received = 0;    ///< datagrams
   int64_t accepted = 0;    ///< valid HIP samples published to the loop
   int64_t duplicates = 0;  ///< seq equal to the last accepted one
-  int64_t outOfOrder = 0;  ///< seq below the last accepted one (late, reordered)
+  int64_t outOfOrder = 0;  ///< seq below the last accepted one (late, reordered) and not a resynchronisation
+  int64_t resyncs = 0;     ///< of the accepted: resynchronisations (a restarted sender, a seq jump; UdpDevice)
   int64_t foreign = 0;     ///< valid, but from another address than the first sender
   int64_t wrongVersion = 0;
   int64_t badSize = 0, badMagic = 0, badType = 0, badReserved = 0, nonFinite = 0;  ///< malformed
@@ -53,7 +58,19 @@ struct UdpCounters {
 /// (size, magic, type, reserved bits, NaN/inf, a coordinate beyond +-1e15 m: no position the
 /// queries take), other versions, duplicates and out-of-order
 /// packets (seq not above the last accepted one; seq must increase within a run) and packets
-/// from any address but the first valid sender's (one device, one sender). An accepted
+/// from any address but the first valid sender's (one device, one sender).
+/// Resynchronisation: a sender that restarts from a low seq, or one whose seq jumped far ahead
+/// once (to 2^64-1, say), would otherwise have every later packet dropped as out of order, and
+/// the watchdog would latch a stale fault. When `resyncAfter` (8) valid packets from the sender
+/// arrive in a row with a seq below the last accepted one, each above the one before it in
+/// that run, the sender is taken to have started again: the last of them is accepted (counted
+/// in `accepted` and in `resyncs`) and its seq is the one later packets must exceed; the ones
+/// before it are counted out of order. An accepted packet, a duplicate of the last accepted
+/// seq, or one not above its predecessor in the run starts the count again, so late packets
+/// scattered among newer ones are always dropped; only a burst of `resyncAfter` late packets in
+/// increasing order with nothing newer in between would be taken for a restart (one step on a
+/// sample a few ms old, counted). A sender at R Hz recovers after resyncAfter / R s (8 ms at
+/// 1 kHz), well inside the default watchdog (50 ms). An accepted
 /// sample goes to a seqlock mailbox; read() takes the latest one without waiting (real-time
 /// safe: no allocation, lock or blocking call). The watchdog: when the latest sample arrived
 /// `watchdog` s or more before read(), read() reports DeviceStatus::Stale, and the servo step
@@ -99,6 +116,7 @@ class UdpDevice final : public HapticDevice {
     kAccepted,
     kDuplicates,
     kOutOfOrder,
+    kResyncs,
     kForeign,
     kWrongVersion,
     kBadSize,
@@ -120,12 +138,15 @@ class UdpDevice final : public HapticDevice {
   std::string host_;
   int port_ = 0;
   double watchdog_;
+  int resyncAfter_;
   int fd_ = -1;
   std::atomic<int64_t> counters_[kCounters] = {};
   // Receiver thread.
   std::atomic<bool> stop_{false};
   bool haveSeq_ = false;
   uint64_t lastSeq_ = 0;
+  int behind_ = 0;           ///< packets in the current run below lastSeq_ (resynchronisation)
+  uint64_t behindSeq_ = 0;   ///< the seq of the run's last packet
   sockaddr_storage peer_{};  ///< the first valid sender; written once, before peerSet_
   socklen_t peerLen_ = 0;
   std::atomic<bool> peerSet_{false};

@@ -15,7 +15,7 @@ namespace sf::rt {
 ///   6  u8       type (UdpPacketType)
 ///   7  u8       reserved, 0
 /// HIP packet (type 1, sender -> loop), exactly kHipPacketSize = 56 bytes:
-///   8  u64 seq (strictly increasing per sender), 16 f64 sender time (s, sender's clock),
+///   8  u64 seq (strictly increasing per sender; a restart: UdpDevice), 16 f64 sender time (s, sender's clock),
 ///   24 f64 x, 32 f64 y, 40 f64 z (m, device frame), 48 u32 buttons, 52 u32 reserved 0.
 /// FORCE packet (type 2, loop -> the sender of the samples), exactly kForcePacketSize = 64:
 ///   8  u64 seq (echo of the HIP sample this force was computed from),
