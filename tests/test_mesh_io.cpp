@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -449,6 +450,113 @@ TEST(OffReader, HeaderCountsThatDisagreeWithTheFileAreRefusedNamingTheLine) {
   const std::string path =
       writeTemp("tet.off", "OFF\n5 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 2 0 3\n");
   expectError(path, 7, "the header declares 5 vertices, but this line (vertex 5) is a face ('3 0 2 1')");
+}
+
+namespace {
+
+/// `m` as OFF with header keyword `keyword` and counts nv nf: each vertex line x y z then
+/// `vertexExtra` values 0.25 (normal, texture or colour), each face line n i0 .. i(n-1) padded
+/// with colour values 1 to `faceValues` values. Vertex i on line 3 + i, face f on 3 + #V + f.
+std::string offTextPadded(const sf::PolygonMesh& m, int nv, int nf, const std::string& keyword, int vertexExtra,
+                          int faceValues) {
+  std::string s = keyword + "\n" + std::to_string(nv) + " " + std::to_string(nf) + " 0\n";
+  for (const auto& p : m.positions) {
+    s += coordinates(p);
+    for (int k = 0; k < vertexExtra; ++k) s += " 0.25";
+    s += "\n";
+  }
+  for (int f = 0; f < m.numFaces(); ++f) {
+    s += std::to_string(m.faceSize(f));
+    for (int k = 0; k < m.faceSize(f); ++k) (s += ' ') += std::to_string(m.faceVertex(f, k));
+    for (int k = 1 + m.faceSize(f); k < faceValues; ++k) s += " 1";
+    s += "\n";
+  }
+  return s;
+}
+
+/// A pentagonal prism: 10 vertices, 2 pentagons ("5 0 1 2 3 4": x y z and an RGB colour to
+/// a vertex line) and 5 quads.
+sf::PolygonMesh pentagonalPrism() {
+  sf::PolygonMesh m;
+  for (int z = 0; z < 2; ++z)
+    for (int i = 0; i < 5; ++i)
+      m.positions.emplace_back(std::cos(1.2566370614359172 * i), std::sin(1.2566370614359172 * i), z);
+  m.addFace({4, 3, 2, 1, 0});
+  m.addFace({5, 6, 7, 8, 9});
+  for (int i = 0; i < 5; ++i) m.addFace({i, (i + 1) % 5, 5 + (i + 1) % 5, 5 + i});
+  return m;
+}
+
+}  // namespace
+
+// The hole left by the test above: with k vertices more and k faces fewer declared, the first
+// k face lines were read as vertices when they have as many values as a vertex line with a
+// colour (a pentagon "5 0 1 2 3 4" in OFF, a quad with one colour value, a triangle with RGB;
+// quads in STOFF; RGB triangles in COFF with RGBA vertices), and the mesh read was silently
+// wrong (k vertices made of face lines, k faces lost). Each file below reads as the mesh with
+// the right header, and is refused at the first face line for k = 1..6.
+TEST(OffReader, FaceLinesReadAsVerticesWithAColourAreRefusedNamingTheLine) {
+  struct Variant {
+    const char* keyword;
+    int vertexExtra, faceValues;
+  };
+  const Variant variants[] = {{"OFF", 0, 6}, {"OFF", 0, 7}, {"COFF", 4, 7}, {"NOFF", 3, 6}, {"STOFF", 2, 5}};
+  const sf::PolygonMesh spot = sf::readMesh(kSpot), prism = pentagonalPrism();
+  int refused = 0, read = 0;
+  for (const sf::PolygonMesh* mesh : {&spot, &prism}) {
+    const int nv = mesh->numVertices(), nf = mesh->numFaces();
+    for (const Variant& v : variants) {
+      if (mesh == &prism && v.faceValues < 6) continue;  // no room for "5 i j k l m" in 5 values
+      SCOPED_TRACE(std::string(v.keyword) + " " + std::to_string(v.faceValues) + " values per face line, " +
+                   std::to_string(nv) + " vertices");
+      const std::string good =
+          writeTemp("good.off", offTextPadded(*mesh, nv, nf, v.keyword, v.vertexExtra, v.faceValues));
+      expectSameMesh(sf::readMesh(good), *mesh);
+      ++read;
+      const int firstFace = 3 + nv;  // the line of face 0
+      for (int k = 1; k <= 6; ++k) {
+        SCOPED_TRACE("k = " + std::to_string(k));
+        const std::string path =
+            writeTemp("lie.off", offTextPadded(*mesh, nv + k, nf - k, v.keyword, v.vertexExtra, v.faceValues));
+        const std::string lines = k == 1 ? "this line (vertex " + std::to_string(nv + 1) +
+                                               ", the last) reads as a face of the vertices before it"
+                                         : "this line (vertex " + std::to_string(nv + 1) + ") and the " +
+                                               std::to_string(k - 1) +
+                                               " vertex lines after it read as faces of the vertices before them";
+        const std::string msg = errorOf(path);
+        EXPECT_EQ(msg.rfind(path + ":" + std::to_string(firstFace) + ": the header declares " + std::to_string(nv + k) +
+                                " vertices and " + std::to_string(nf - k) + " faces, but " + lines + " ('" +
+                                std::to_string(mesh->faceSize(0)) + " ",
+                            0),
+                  0u)
+            << msg;
+        EXPECT_NE(msg.find("the lines fit " + std::to_string(nv) + " vertices and " + std::to_string(nf) + " faces"),
+                  std::string::npos)
+            << msg;
+        ++refused;
+      }
+    }
+  }
+  EXPECT_EQ(read, 5 + 4);
+  EXPECT_EQ(refused, 6 * (5 + 4));
+
+  // Vertex lines that read as faces are still vertices where a face refers to them, or where
+  // they index vertices at or after their own (no face of the vertices before): integer
+  // coordinates with an RGBA colour.
+  const std::string ints = "COFF\n5 2 0\n3 0 1 2 1 1 1\n4 0 0 1 1 1 1\n3 1 0 0 1 1 1\n3 2 2 2 1 1 1\n3 4 9 4 1 1 1\n";
+  const sf::PolygonMesh m = sf::readMesh(writeTemp("ints.off", ints + "3 0 1 2\n3 0 2 3\n"));
+  EXPECT_EQ(m.numVertices(), 5);
+  EXPECT_EQ(m.numFaces(), 2);
+  EXPECT_EQ(m.positions[4], Eigen::Vector3d(3, 4, 9));
+  // The same with the last vertex "3 2 1 0 ...": a face of the four before it that no face
+  // refers to, refused (the file may be valid; the reader cannot tell it from a header lie).
+  const std::string amb = "COFF\n5 2 0\n3 0 1 2 1 1 1\n4 0 0 1 1 1 1\n3 1 0 0 1 1 1\n3 2 2 2 1 1 1\n3 2 1 0 1 1 1\n";
+  const std::string path = writeTemp("amb.off", amb + "3 0 1 2\n3 0 2 3\n");
+  EXPECT_EQ(errorOf(path).rfind(path + ":7: the header declares 5 vertices and 2 faces, but this line (vertex 5, the "
+                                       "last) reads as a face of the vertices before it ('3 2 1 0 1 1 1')",
+                                0),
+            0u)
+      << errorOf(path);
 }
 
 TEST(MeshReaderLineEnds, CrOnlyReadsLikeLf) {

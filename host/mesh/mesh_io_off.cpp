@@ -1,6 +1,8 @@
 // Strict ASCII OFF reader: [ST][C][N]OFF header (counts on the same line or the next),
 // one vertex per line, one face per line (`n i0 .. i(n-1)` then optional colour values),
-// `#` comments, blank lines. The edge count is ignored.
+// `#` comments, blank lines. The edge count is ignored. A header whose counts disagree with
+// the file is refused at the first line of the other kind (readOff).
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -34,19 +36,63 @@ std::string_view trim(std::string_view s) {
 }
 
 /// Whether a line reads as a face: an integer n >= 3, n integers >= 0, then numbers (colour).
-bool isFaceLine(std::string_view content) {
+/// Returns the largest of the n indices, or -1 when the line is no face.
+int64_t faceLineMaxIndex(std::string_view content) {
   Tokens t(content);
   std::string_view tok;
-  int64_t n = 0, v = 0;
-  if (!t.next(tok) || !parseInt(tok, n) || n < 3) return false;
+  int64_t n = 0, v = 0, top = 0;
+  if (!t.next(tok) || !parseInt(tok, n) || n < 3) return -1;
   for (int64_t k = 0; k < n; ++k) {
-    if (!t.next(tok) || !parseInt(tok, v) || v < 0) return false;
+    if (!t.next(tok) || !parseInt(tok, v) || v < 0) return -1;
+    top = std::max(top, v);
   }
   double x;
   while (t.next(tok)) {
-    if (!parseDouble(tok, x)) return false;
+    if (!parseDouble(tok, x)) return -1;
   }
-  return true;
+  return top;
+}
+
+bool isFaceLine(std::string_view content) { return faceLineMaxIndex(content) >= 0; }
+
+/// A vertex line that reads as a face (faceLineMaxIndex), at the end of the vertex section.
+struct FaceLikeVertex {
+  size_t line;
+  int64_t maxIndex;
+  std::string_view content;
+};
+
+/// The header declares nv vertices and nf faces; `tail` are the last vertex lines, all reading
+/// as faces, and `m` holds the faces read after them. With nv + k and nf - k declared, the first
+/// k face lines are read as vertices (a pentagon "5 0 1 2 3 4" is x y z and a colour, so is a
+/// triangle with a colour), the faces after them read as faces, and the mesh is silently wrong;
+/// but those k "vertices" are the last ones, they read as faces of the vertices before them
+/// (indices below nv - k), and no face refers to them (faces index the nv - k real vertices).
+/// Fails at the first of the longest such tail.
+void refuseFaceLinesReadAsVertices(const LineCtx& c, int64_t nv, int64_t nf, const std::vector<FaceLikeVertex>& tail,
+                                   const PolygonMesh& m) {
+  if (tail.empty()) return;
+  const int64_t first = nv - static_cast<int64_t>(tail.size());  // the vertex of tail[0]
+  std::vector<uint8_t> used(tail.size(), 0);
+  for (const int32_t v : m.faceVertices)
+    if (v >= first) used[static_cast<size_t>(v - first)] = 1;
+  size_t k = tail.size();  // tail[k..] is the longest tail unreferenced, indexing below vertex first + k
+  int64_t top = -1;
+  for (size_t j = tail.size(); j-- > 0;) {
+    top = std::max(top, tail[j].maxIndex);
+    if (used[j] || top >= first + static_cast<int64_t>(j)) break;
+    k = j;
+  }
+  const int64_t r = static_cast<int64_t>(tail.size() - k);
+  if (r == 0) return;
+  LineCtx at{c.path, tail[k].line};
+  const std::string lines =
+      r == 1 ? "this line (vertex " + std::to_string(nv) + ", the last) reads as a face of the vertices before it ("
+             : "this line (vertex " + std::to_string(nv - r + 1) + ") and the " + std::to_string(r - 1) +
+                   " vertex lines after it read as faces of the vertices before them (";
+  at.fail("the header declares " + std::to_string(nv) + " vertices and " + std::to_string(nf) + " faces, but " + lines +
+          quoted(trim(tail[k].content)) + ") and no face refers to " + (r == 1 ? "it" : "them") + ": the lines fit " +
+          std::to_string(nv - r) + " vertices and " + std::to_string(nf + r) + " faces");
 }
 
 /// The number of values on a line if all are numbers, else -1; `real` is set when one is
@@ -137,7 +183,9 @@ PolygonMesh readOff(const std::string& path, std::string_view data) {
   // A header whose counts disagree with the file would have face lines read as vertices
   // (with colours) or vertex lines as faces. A line that looks like the other kind is
   // refused where the lines left cannot hold the declared elements, or where its number of
-  // values fits no vertex line (x y z, the normal, colour 3 or 4, texture 2).
+  // values fits no vertex line (x y z, the normal, colour 3 or 4, texture 2). Face lines
+  // that do fit one, with as many faces fewer declared, are refused after the faces
+  // (refuseFaceLinesReadAsVertices: the last vertex lines read as faces no face refers to).
   const int vertexValues = 3 + (h.normals ? 3 : 0) + (h.texture ? 2 : 0);
   bool real = false;  // set by fitsVertex: the line has a value that is not an integer
   const auto fitsVertex = [&](std::string_view line) {
@@ -145,12 +193,18 @@ PolygonMesh readOff(const std::string& path, std::string_view data) {
     return colour == 0 || colour == 3 || colour == 4;
   };
   LinesLeft left;
+  std::vector<FaceLikeVertex> faceLike;  // the last vertex lines, while they read as faces
   for (int64_t i = 0; i < nv; ++i) {
     if (!nextContent(lines, content)) {
       failAt(path, lines.lineNo(), "file ends after " + std::to_string(i) + " of " + std::to_string(nv) + " vertices");
     }
     c.line = lines.lineNo();
-    if (isFaceLine(content) && (!fitsVertex(content) || left.from(lines, i) < nv - i + nf)) {
+    const int64_t maxIndex = faceLineMaxIndex(content);
+    if (maxIndex < 0)
+      faceLike.clear();
+    else
+      faceLike.push_back({c.line, maxIndex, content});
+    if (maxIndex >= 0 && (!fitsVertex(content) || left.from(lines, i) < nv - i + nf)) {
       c.fail("the header declares " + std::to_string(nv) + " vertices, but this line (vertex " + std::to_string(i + 1) +
              ") is a face (" + quoted(trim(content)) + ")");
     }
@@ -200,6 +254,7 @@ PolygonMesh readOff(const std::string& path, std::string_view data) {
            "unexpected data after the last face (the header says " + std::to_string(nv) + " vertices and " +
                std::to_string(nf) + " faces)");
   }
+  refuseFaceLinesReadAsVertices(c, nv, nf, faceLike, m);
   return m;
 }
 
