@@ -25,7 +25,9 @@ std::string loopReport(const LoopStats& s, double rate, const SafetyCounters& c,
   std::snprintf(buf, sizeof buf, "contacts: %lld steps in contact, %lld onsets\n",
                 static_cast<long long>(s.contactSteps), static_cast<long long>(s.contactOnsets));
   out += buf;
-  std::snprintf(buf, sizeof buf, "patches built: %d of %d faces\n", patchesBuilt, totalFaces);
+  std::snprintf(buf, sizeof buf,
+                "patch constructions: %d for %d faces (a face evicted and needed again is built again)\n", patchesBuilt,
+                totalFaces);
   out += buf;
   std::snprintf(buf, sizeof buf,
                 "safety: %lld clamps, %lld rate limits, %lld non-finite, fault: ", static_cast<long long>(c.clamps),

@@ -287,9 +287,36 @@ TEST(RuntimeLoop, ReportFormat) {
   EXPECT_EQ(l2, "wake-up lateness: p50 0.0 us, p99 0.0 us, p99.9 0.0 us, max 0.0 us");
   EXPECT_NE(rep.find("missed deadlines: 0 (max consecutive 0, skipped ticks 0)"), std::string::npos);
   EXPECT_NE(rep.find("contacts: 500 steps in contact, 10 onsets"), std::string::npos);
-  EXPECT_NE(rep.find("patches built: 12 of 34 faces"), std::string::npos);
+  EXPECT_NE(rep.find("\npatch constructions: 12 for 34 faces (a face evicted and needed again is built again)\n"),
+            std::string::npos)
+      << rep;
   EXPECT_NE(rep.find("fault: none"), std::string::npos);
   EXPECT_NE(rep.find("records: 1000 written, 0 dropped"), std::string::npos);
+}
+
+// With a small --patch-capacity a face evicted and needed again is built again, and the line
+// read "patches built: 40 of 6 faces". It counts constructions and says so, for every count.
+TEST(RuntimeLoop, ReportCountsPatchConstructionsNotFaces) {
+  FakeClock clock;
+  CostlyPlane r(clock);
+  BobbingDevice dev;
+  SafetyFilter safety;
+  LoopOptions o;
+  o.duration = 0.01;
+  ServoLoop loop(dev, r, safety, clock, o);
+  loop.run();
+  int checked = 0;
+  for (const int built : {0, 5, 6, 7, 40, 1000}) {
+    const std::string rep = loopReport(loop.stats(), o.rate, safety.counters(), built, 6);
+    EXPECT_NE(rep.find("\npatch constructions: " + std::to_string(built) +
+                       " for 6 faces (a face evicted and needed again is built again)\n"),
+              std::string::npos)
+        << rep;
+    EXPECT_EQ(rep.find("patches built"), std::string::npos) << rep;
+    EXPECT_EQ(rep.find(" of 6 faces"), std::string::npos) << rep;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 6);
 }
 
 }  // namespace

@@ -15,10 +15,12 @@ namespace sf::rt {
 ///     (device-paced: steps: N device-paced (one per sample, mean R Hz) in E s[, stopped early])
 ///   missed deadlines: M (max consecutive C, skipped ticks S)
 ///   contacts: X steps in contact, Y onsets
-///   patches built: P of F faces
+///   patch constructions: P for F faces (a face evicted and needed again is built again)
 ///   safety: C clamps, R rate limits, N non-finite, fault: none | REASON at T s
 ///   records: W written, D dropped        (only when recording)
-/// Percentiles are nearest-rank over all steps (LatencyHistogram).
+/// Percentiles are nearest-rank over all steps (LatencyHistogram). P counts constructions
+/// (ForceRenderer::patchesBuilt, each shared store once): with a small --patch-capacity a face
+/// evicted and needed again counts again, so P may exceed the F faces of the scene's meshes.
 std::string loopReport(const LoopStats& stats, double rate, const SafetyCounters& safety, int patchesBuilt,
                        int totalFaces, long long recordsWritten = -1);
 
