@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include <smoothforce/force/god_object.h>
 #include <smoothforce/force/shared_geometry.h>
 #include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/mesh_pipeline.h>
@@ -80,6 +81,53 @@ TEST(SharedGeometry, SharedRenderersGiveTheForcesOfRenderersMadeAlone) {
   EXPECT_EQ(runs, 6);
   EXPECT_EQ(steps, 6 * 3 * 241);
   EXPECT_GT(contacts, steps / 5);  // the paths spend a good part of their length inside
+  EXPECT_LT(contacts, steps);
+}
+
+// Far from the origin the god-object renders about the mesh (its local frame). Its renderers of
+// one cache share one scene of the polygons moved there (godObjectScene): each used to build its
+// own. The shared renderers give the forces of renderers made alone, and a renderer takes a
+// scene only where it is of its polygons in its frame.
+TEST(SharedGeometry, GodObjectRenderersFarFromTheOriginShareTheirLocalFrame) {
+  PatchOptions po;
+  const LoadedMesh loaded = loadMesh(kCage, po);
+  int contacts = 0, steps = 0, offsets = 0;
+  for (const double offset : {0.0, 1e4, 1e6, 1e9}) {
+    PolygonMesh m = loaded.mesh;
+    for (auto& p : m.positions) p += Vector3d(offset, -0.5 * offset, 0.25 * offset);
+    const auto cache =
+        std::make_shared<const PatchCache>(preparePatchSkeleton(loadMesh(std::move(m), 1, po), po));
+    for (ForceMethod method : {ForceMethod::Direct, ForceMethod::Shading})
+      checkSharedAgainstAlone(cache, method, contacts, steps);
+    const std::shared_ptr<const PolygonScene> frame = godObjectScene(*cache);
+    const bool far = offset > 0;
+    EXPECT_EQ(&frame->cache() == cache.get(), !far) << offset;  // far: the moved polygons
+    {
+      GodObjectRenderer direct(cache, frame, ForceMethod::Direct, ForceOptions{});
+      GodObjectRenderer shading(cache, frame, ForceMethod::Shading, ForceOptions{});
+      EXPECT_EQ(frame.use_count(), 3) << offset;  // both renderers hold it: neither built its own
+    }
+    // the polygons in world coordinates, far from the origin: not the frame, so not taken
+    const auto world = std::make_shared<const PolygonScene>(*cache, kWatertightPlanarTolerance);
+    {
+      GodObjectRenderer direct(cache, world, ForceMethod::Direct, ForceOptions{});
+      EXPECT_EQ(world.use_count(), far ? 1 : 2) << offset;
+    }
+    // the frame of another cache (one vertex of the mesh moved by 1 mm) is not taken either
+    if (far) {
+      PolygonMesh other = loaded.mesh;
+      other.positions[0] += Vector3d(1e-3, 0, 0);
+      for (auto& p : other.positions) p += Vector3d(offset, -0.5 * offset, 0.25 * offset);
+      const auto otherCache =
+          std::make_shared<const PatchCache>(preparePatchSkeleton(loadMesh(std::move(other), 1, po), po));
+      GodObjectRenderer direct(otherCache, frame, ForceMethod::Direct, ForceOptions{});
+      EXPECT_EQ(frame.use_count(), 1) << offset;
+    }
+    ++offsets;
+  }
+  EXPECT_EQ(offsets, 4);
+  EXPECT_EQ(steps, 4 * 2 * 3 * 241);
+  EXPECT_GT(contacts, steps / 5);
   EXPECT_LT(contacts, steps);
 }
 

@@ -26,19 +26,51 @@ std::shared_ptr<const PatchCache> movedPolygons(const PatchCache& c, const Eigen
   m->slotTwin = c.slotTwin;
   return m;
 }
+
+/// True when `moved` holds the polygons of `c` moved by -origin (movedPolygons), bit for bit.
+bool inLocalFrame(const PatchCache& moved, const PatchCache& c, const Eigen::Vector3d& origin) {
+  if (moved.positions.size() != c.positions.size() || moved.faceOffsets != c.faceOffsets ||
+      moved.faceVertices != c.faceVertices || moved.cornerNormals != c.cornerNormals || moved.slotTwin != c.slotTwin)
+    return false;
+  for (size_t i = 0; i < c.positions.size(); ++i)
+    if (!(moved.positions[i] == c.positions[i] - origin[static_cast<int>(i % 3)])) return false;
+  return true;
+}
+
+/// The origin of a god-object renderer's local frame for `cache` (localOrigin of its box).
+Eigen::Vector3d frameOrigin(const PatchCache& cache) {
+  Eigen::Vector3d lo, hi;
+  referencedBox(cache, lo, hi);
+  return localOrigin(lo, hi);
+}
 }  // namespace
+
+std::shared_ptr<const PolygonScene> godObjectScene(const PatchCache& cache) {
+  const Eigen::Vector3d origin = frameOrigin(cache);
+  if (origin == Eigen::Vector3d::Zero()) return std::make_shared<const PolygonScene>(cache, kWatertightPlanarTolerance);
+  struct Framed {  // the moved polygons and their scene, which refers to them
+    std::shared_ptr<const PatchCache> moved;
+    PolygonScene scene;
+    explicit Framed(std::shared_ptr<const PatchCache> m)
+        : moved(std::move(m)), scene(*moved, kWatertightPlanarTolerance) {}
+  };
+  auto framed = std::make_shared<const Framed>(movedPolygons(cache, origin));
+  return std::shared_ptr<const PolygonScene>(framed, &framed->scene);
+}
 
 GodObjectRenderer::GodObjectRenderer(std::shared_ptr<const PatchCache> cache, std::shared_ptr<const PolygonScene> scene,
                                      ForceMethod method, const ForceOptions& options)
     : cache_(std::move(cache)), scene_(std::move(scene)), shading_(method == ForceMethod::Shading), options_(options) {
   validateForceOptions(options);
   if (method == ForceMethod::Patch) throw InputError("GodObjectRenderer: method must be direct or shading");
-  Eigen::Vector3d lo, hi;
-  referencedBox(*cache_, lo, hi);
-  origin_ = localOrigin(lo, hi);
+  origin_ = frameOrigin(*cache_);
   if (origin_ != Eigen::Vector3d::Zero()) {  // far from the origin: facets, proxy and HIP about the mesh
-    frameCache_ = movedPolygons(*cache_, origin_);
-    scene_ = std::make_shared<const PolygonScene>(*frameCache_, kWatertightPlanarTolerance);
+    const bool shared = scene_ && scene_->planarTolerance() <= kWatertightPlanarTolerance &&
+                        &scene_->cache() != cache_.get() && inLocalFrame(scene_->cache(), *cache_, origin_);
+    if (!shared) {
+      frameCache_ = movedPolygons(*cache_, origin_);
+      scene_ = std::make_shared<const PolygonScene>(*frameCache_, kWatertightPlanarTolerance);
+    }
   } else if (!scene_ || scene_->planarTolerance() > kWatertightPlanarTolerance) {  // gaps between projected facets
     scene_ = std::make_shared<const PolygonScene>(*cache_, kWatertightPlanarTolerance);
   }

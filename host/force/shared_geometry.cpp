@@ -4,6 +4,7 @@
 
 #include <smoothforce/base/error.h>
 #include <smoothforce/force/force_tracking.h>
+#include <smoothforce/force/god_object.h>
 #include <smoothforce/patch/lazy_patches.h>
 #include <smoothforce/query/embree_scene.h>
 #include <smoothforce/query/lazy_surface.h>
@@ -29,6 +30,9 @@ struct SharedGeometry::Parts {
   std::vector<Scene> scenes;
   std::vector<Surface> surfaces;
   std::vector<Store> stores;
+  /// the direct and shading methods' watertight scene (godObjectScene: in the renderers' local
+  /// frame when the mesh is far from the origin)
+  std::shared_ptr<const PolygonScene> godObjectScene;
 
   Scene& scene(const PatchCache& cache, double tolerance) {
     for (Scene& s : scenes)
@@ -55,8 +59,11 @@ SharedGeometry::~SharedGeometry() = default;
 std::unique_ptr<ForceRenderer> SharedGeometry::makeRenderer(ForceMethod method, const ForceOptions& options) {
   validateForceOptions(options);
   const bool patch = method == ForceMethod::Patch;
-  Parts::Scene& sc = parts_->scene(*cache_, patch ? kPlanarTolerance : kWatertightPlanarTolerance);
-  if (!patch) return makeForceRenderer(cache_, sc.scene, method, options);
+  if (!patch) {
+    if (!parts_->godObjectScene) parts_->godObjectScene = godObjectScene(*cache_);
+    return std::make_unique<GodObjectRenderer>(cache_, parts_->godObjectScene, method, options);
+  }
+  Parts::Scene& sc = parts_->scene(*cache_, kPlanarTolerance);
   const bool surfaceGuess = options.initialGuess == InitialGuess::Surface;
   if (hasPatchData(*cache_)) {
     std::shared_ptr<const PatchSurface> surface;

@@ -44,12 +44,20 @@ namespace sf {
 /// fell through the facet); SCP and force are returned in world coordinates.
 /// ForceSample: scp = proxy, face / xi / eta its polygon and domain point (MVC), normal the
 /// force direction, iterations = passes, transitions = 1 when the proxy changed polygon.
+/// The watertight polygon scene (kWatertightPlanarTolerance) a GodObjectRenderer of `cache`
+/// renders on, for the renderers of one cache to share (SharedGeometry): for a mesh far from
+/// the world origin, built on its polygons moved into the renderer's local frame (which it
+/// holds), else on `cache` itself (which must outlive it). Throws as PolygonScene does.
+std::shared_ptr<const PolygonScene> godObjectScene(const PatchCache& cache);
+
 class GodObjectRenderer final : public ForceRenderer {
  public:
   /// method: Direct or Shading. Throws InputError for bad options or ForceMethod::Patch.
-  /// scene: of `cache`; when it was built with a planarTolerance above
-  /// kWatertightPlanarTolerance, or the mesh lies far from the origin, the renderer builds its
-  /// own watertight scene (in the local frame).
+  /// scene: of `cache`, or godObjectScene(*cache) (for a mesh far from the origin, of its
+  /// polygons in the local frame: renderers of one cache share it). When it was built with a
+  /// planarTolerance above kWatertightPlanarTolerance, or the mesh lies far from the origin and
+  /// the scene is not of its polygons in the local frame (checked vertex by vertex), the
+  /// renderer builds its own watertight scene (in the local frame).
   GodObjectRenderer(std::shared_ptr<const PatchCache> cache, std::shared_ptr<const PolygonScene> scene,
                     ForceMethod method, const ForceOptions& options);
   ForceSample step(const Eigen::Vector3d& hip) noexcept override;
