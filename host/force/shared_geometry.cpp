@@ -14,11 +14,6 @@ namespace sf {
 
 /// Each part with the options it was made for (a handful per cache: a linear search).
 struct SharedGeometry::Parts {
-  struct Scene {
-    double tolerance;
-    std::shared_ptr<const PolygonScene> scene;
-    std::shared_ptr<LazyPatchSurface> lazySurface;  ///< on this scene's facets
-  };
   struct Surface {
     PatchSurfaceOptions options;
     std::shared_ptr<const PatchSurface> surface;
@@ -27,19 +22,14 @@ struct SharedGeometry::Parts {
     int capacity;
     std::shared_ptr<LazyPatches> patches;
   };
-  std::vector<Scene> scenes;
+  /// the patch method's polygon scene (kPlanarTolerance) and the lazy surface on its facets
+  std::shared_ptr<const PolygonScene> patchScene;
+  std::shared_ptr<LazyPatchSurface> lazySurface;
   std::vector<Surface> surfaces;
   std::vector<Store> stores;
   /// the direct and shading methods' watertight scene (godObjectScene: in the renderers' local
   /// frame when the mesh is far from the origin)
   std::shared_ptr<const PolygonScene> godObjectScene;
-
-  Scene& scene(const PatchCache& cache, double tolerance) {
-    for (Scene& s : scenes)
-      if (s.tolerance == tolerance) return s;
-    scenes.push_back({tolerance, std::make_shared<const PolygonScene>(cache, tolerance), nullptr});
-    return scenes.back();
-  }
 };
 
 namespace {
@@ -63,7 +53,8 @@ std::unique_ptr<ForceRenderer> SharedGeometry::makeRenderer(ForceMethod method, 
     if (!parts_->godObjectScene) parts_->godObjectScene = godObjectScene(*cache_);
     return std::make_unique<GodObjectRenderer>(cache_, parts_->godObjectScene, method, options);
   }
-  Parts::Scene& sc = parts_->scene(*cache_, kPlanarTolerance);
+  if (!parts_->patchScene) parts_->patchScene = std::make_shared<const PolygonScene>(*cache_, kPlanarTolerance);
+  const std::shared_ptr<const PolygonScene>& scene = parts_->patchScene;
   const bool surfaceGuess = options.initialGuess == InitialGuess::Surface;
   if (hasPatchData(*cache_)) {
     std::shared_ptr<const PatchSurface> surface;
@@ -76,7 +67,7 @@ std::unique_ptr<ForceRenderer> SharedGeometry::makeRenderer(ForceMethod method, 
         parts_->surfaces.push_back({o, surface});
       }
     }
-    return makePatchForceRenderer(cache_, sc.scene, options, std::move(surface));
+    return makePatchForceRenderer(cache_, scene, options, std::move(surface));
   }
   detail::SharedLazyParts lazy;
   for (const Parts::Store& s : parts_->stores)
@@ -86,10 +77,10 @@ std::unique_ptr<ForceRenderer> SharedGeometry::makeRenderer(ForceMethod method, 
     parts_->stores.push_back({options.patchCapacity, lazy.patches});
   }
   if (surfaceGuess) {
-    if (!sc.lazySurface) sc.lazySurface = std::make_shared<LazyPatchSurface>(*cache_, sc.scene->facets());
-    lazy.surface = sc.lazySurface;
+    if (!parts_->lazySurface) parts_->lazySurface = std::make_shared<LazyPatchSurface>(*cache_, scene->facets());
+    lazy.surface = parts_->lazySurface;
   }
-  return detail::makeSharedPatchRenderer(cache_, sc.scene, options, nullptr, lazy);
+  return detail::makeSharedPatchRenderer(cache_, scene, options, nullptr, lazy);
 }
 
 }  // namespace sf
