@@ -37,10 +37,18 @@ Model randomModel(std::mt19937_64& rng, double scaleLo, double scaleHi, Vec2L* s
   const double bs = logu(scaleLo, scaleHi), gs = logu(scaleLo, scaleHi);
   double l1 = bs, l2 = bs;
   switch (static_cast<int>(4 * u(rng))) {
-    case 0: l2 = bs * logu(-2, 0); break;                        // convex, condition <= 100
-    case 1: l2 = bs * logu(-6, -2); break;                       // convex, condition 100..1e6
-    case 2: l2 = -bs * logu(-3, 0); break;                       // indefinite
-    default: l2 = bs * (u(rng) < 0.5 ? 0.0 : 1e-14); break;      // singular or nearly
+    case 0:
+      l2 = bs * logu(-2, 0);
+      break;  // convex, condition <= 100
+    case 1:
+      l2 = bs * logu(-6, -2);
+      break;  // convex, condition 100..1e6
+    case 2:
+      l2 = -bs * logu(-3, 0);
+      break;  // indefinite
+    default:
+      l2 = bs * (u(rng) < 0.5 ? 0.0 : 1e-14);
+      break;  // singular or nearly
   }
   const double th = ang(rng), c = std::cos(th), sn = std::sin(th);
   Model m{};
@@ -74,8 +82,8 @@ bool sameBits(R a, R b) {
 /// metric M relative to the step's length; margin: the relative band around the branch
 /// thresholds where rounding may decide either way.
 template <typename R, typename Solve, typename TrSolve>
-void checkSolve(Solve solve, TrSolve trSolve, int count, double scaleLo, double scaleHi, double relTol,
-                double margin, unsigned seed, Counts& n) {
+void checkSolve(Solve solve, TrSolve trSolve, int count, double scaleLo, double scaleHi, double relTol, double margin,
+                unsigned seed, Counts& n) {
   std::mt19937_64 rng(seed);
   for (int i = 0; i < count; ++i) {
     Vec2L unused;
@@ -121,18 +129,25 @@ void checkSolve(Solve solve, TrSolve trSolve, int count, double scaleLo, double 
   }
 }
 
+/// Every model counted once, both branches covered, few within rounding of a threshold.
+void expectCoverage(const Counts& n, int count, int maxAmbiguous, const char* precision) {
+  EXPECT_EQ(n.direct + n.fallback + n.ambiguous, count);
+  EXPECT_GE(n.direct, count / 10) << "the direct step's branch is covered";
+  EXPECT_GE(n.fallback, count / 5) << "the trust-region branch is covered";
+  EXPECT_LE(n.ambiguous, maxAmbiguous);
+  std::printf(
+      "%s: %d direct (the trust-region solve off by more than the tolerance in %d), %d trust-region, %d at a "
+      "threshold\n",
+      precision, n.direct, n.trWorse, n.fallback, n.ambiguous);
+}
+
 TEST(RefineSolve, DirectNewtonStepMatchesTheTrustRegionSolveDouble) {
   const int count = 200000;
   Counts n;
   checkSolve<double>([](auto... a) { return gpd::gp_rf_newton_solve(a...); },
                      [](auto... a) { return gpd::gp_rf_tr_solve(a...); }, count, -6, 6, 1e-10, 1e-6, 20261123u, n);
   ASSERT_FALSE(HasFatalFailure());
-  EXPECT_EQ(n.direct + n.fallback + n.ambiguous, count);
-  EXPECT_GE(n.direct, count / 10) << "the direct step's branch is covered";
-  EXPECT_GE(n.fallback, count / 5) << "the trust-region branch is covered";
-  EXPECT_LE(n.ambiguous, count / 1000);
-  std::printf("double: %d direct (the trust-region solve off by more than the tolerance in %d), %d trust-region, %d at a threshold\n",
-              n.direct, n.trWorse, n.fallback, n.ambiguous);
+  expectCoverage(n, count, count / 1000, "double");
 }
 
 TEST(RefineSolve, DirectNewtonStepMatchesTheTrustRegionSolveFloat) {
@@ -141,12 +156,7 @@ TEST(RefineSolve, DirectNewtonStepMatchesTheTrustRegionSolveFloat) {
   checkSolve<float>([](auto... a) { return gpf::gp_rf_newton_solve(a...); },
                     [](auto... a) { return gpf::gp_rf_tr_solve(a...); }, count, -3, 3, 2e-3, 1e-3, 20261124u, n);
   ASSERT_FALSE(HasFatalFailure());
-  EXPECT_EQ(n.direct + n.fallback + n.ambiguous, count);
-  EXPECT_GE(n.direct, count / 10);
-  EXPECT_GE(n.fallback, count / 5);
-  EXPECT_LE(n.ambiguous, count / 100);
-  std::printf("float: %d direct (the trust-region solve off by more than the tolerance in %d), %d trust-region, %d at a threshold\n",
-              n.direct, n.trWorse, n.fallback, n.ambiguous);
+  expectCoverage(n, count, count / 100, "float");
 }
 
 }  // namespace
