@@ -414,8 +414,8 @@ GP_FN GP_REAL gp_rf_newton_solve(GP_REAL g0, GP_REAL g1, GP_REAL b00, GP_REAL b0
   if (b00 > GP_R(0.0) && det >= GP_R(1.0e-3) * (b00 * b11) && det > GP_R(0.0)) {
     const GP_REAL x0 = (b01 * g1 - b11 * g0) / det, x1 = (b01 * g0 - b00 * g1) / det;
     const GP_REAL mn = x0 * (m00 * x0 + m01 * x1) + x1 * (m01 * x0 + m11 * x1);
-    const GP_REAL pred = -(g0 * x0 + g1 * x1 + GP_R(0.5) * (x0 * (b00 * x0 + b01 * x1) + x1 * (b01 * x0 + b11 * x1)));
     if (mn <= D * D && GP_FABS(x0) + GP_FABS(x1) <= GP_BIG) {
+      const GP_REAL pred = -(g0 * x0 + g1 * x1 + GP_R(0.5) * (x0 * (b00 * x0 + b01 * x1) + x1 * (b01 * x0 + b11 * x1)));
       *s0 = x0;
       *s1 = x1;
       *newton = 1;
