@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <new>
 #include <sstream>
 
@@ -269,16 +270,25 @@ TEST(RuntimeLoop, RecordWriterBadPath) {
   EXPECT_THROW(RecordWriter("/nonexistent-dir/x.csv", ring), sf::InputError);
 }
 
-TEST(RuntimeLoop, ReportFormat) {
+/// The costly plane and the bobbing device on a fake clock, run for `duration` s: the loop whose
+/// statistics the report tests format.
+struct ReportLoop {
   FakeClock clock;
-  CostlyPlane r(clock);
+  CostlyPlane r{clock};
   BobbingDevice dev;
   SafetyFilter safety;
   LoopOptions o;
-  o.duration = 1.0;
-  ServoLoop loop(dev, r, safety, clock, o);
-  loop.run();
-  const std::string rep = loopReport(loop.stats(), o.rate, safety.counters(), 12, 34, 1000);
+  std::unique_ptr<ServoLoop> loop;
+  explicit ReportLoop(double duration) {
+    o.duration = duration;
+    loop = std::make_unique<ServoLoop>(dev, r, safety, clock, o);
+    loop->run();
+  }
+};
+
+TEST(RuntimeLoop, ReportFormat) {
+  const ReportLoop run(1.0);
+  const std::string rep = loopReport(run.loop->stats(), run.o.rate, run.safety.counters(), 12, 34, 1000);
   std::istringstream in(rep);
   std::string l1, l2;
   std::getline(in, l1);
@@ -297,17 +307,10 @@ TEST(RuntimeLoop, ReportFormat) {
 // With a small --patch-capacity a face evicted and needed again is built again, and the line
 // read "patches built: 40 of 6 faces". It counts constructions and says so, for every count.
 TEST(RuntimeLoop, ReportCountsPatchConstructionsNotFaces) {
-  FakeClock clock;
-  CostlyPlane r(clock);
-  BobbingDevice dev;
-  SafetyFilter safety;
-  LoopOptions o;
-  o.duration = 0.01;
-  ServoLoop loop(dev, r, safety, clock, o);
-  loop.run();
+  const ReportLoop run(0.01);
   int checked = 0;
   for (const int built : {0, 5, 6, 7, 40, 1000}) {
-    const std::string rep = loopReport(loop.stats(), o.rate, safety.counters(), built, 6);
+    const std::string rep = loopReport(run.loop->stats(), run.o.rate, run.safety.counters(), built, 6);
     EXPECT_NE(rep.find("\npatch constructions: " + std::to_string(built) +
                        " for 6 faces (a face evicted and needed again is built again)\n"),
               std::string::npos)
