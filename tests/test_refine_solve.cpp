@@ -73,6 +73,29 @@ Model randomModel(std::mt19937_64& rng, double scaleLo, double scaleHi) {
   return m;
 }
 
+/// A model rounded to precision R, as the solvers take it.
+template <typename R>
+struct Rounded {
+  R g0, g1, b00, b01, b11, m00, m01, m11, D;
+  explicit Rounded(const Model& m)
+      : g0(R(m.g0)),
+        g1(R(m.g1)),
+        b00(R(m.b00)),
+        b01(R(m.b01)),
+        b11(R(m.b11)),
+        m00(R(m.m00)),
+        m01(R(m.m01)),
+        m11(R(m.m11)),
+        D(R(m.D)) {}
+  /// solve(g0, g1, b00, b01, b11, m00, m01, m11, D, s0, s1, newton): its decrease.
+  template <typename Solve>
+  R operator()(Solve solve, R* s0, R* s1, int* newton) const {
+    return solve(g0, g1, b00, b01, b11, m00, m01, m11, D, s0, s1, newton);
+  }
+  Mat2L B() const { return (Mat2L() << b00, b01, b01, b11).finished(); }
+  Mat2L M() const { return (Mat2L() << m00, m01, m01, m11).finished(); }
+};
+
 template <typename R>
 bool sameBits(R a, R b) {
   return std::memcmp(&a, &b, sizeof(R)) == 0;  // NaN too: a singular model gives NaN either way
@@ -86,20 +109,16 @@ void checkSolve(Solve solve, TrSolve trSolve, int count, double scaleLo, double 
                 unsigned seed, Counts& n) {
   std::mt19937_64 rng(seed);
   for (int i = 0; i < count; ++i) {
-    const Model m = randomModel(rng, scaleLo, scaleHi);
-    const R g0 = R(m.g0), g1 = R(m.g1), b00 = R(m.b00), b01 = R(m.b01), b11 = R(m.b11);
-    const R m00 = R(m.m00), m01 = R(m.m01), m11 = R(m.m11), D = R(m.D);
+    const Rounded<R> r(randomModel(rng, scaleLo, scaleHi));
     R s0 = 0, s1 = 0, t0 = 0, t1 = 0;
     int newton = -1, trNewton = -1;
-    const R pred = solve(g0, g1, b00, b01, b11, m00, m01, m11, D, &s0, &s1, &newton);
-    const R trPred = trSolve(g0, g1, b00, b01, b11, m00, m01, m11, D, &t0, &t1, &trNewton);
+    const R pred = r(solve, &s0, &s1, &newton);
+    const R trPred = r(trSolve, &t0, &t1, &trNewton);
     // the reference: the model as rounded to R, B s = -g solved in long double
-    Mat2L B, Ml;
-    B << b00, b01, b01, b11;
-    Ml << m00, m01, m01, m11;
+    const Mat2L B = r.B(), Ml = r.M();
     const long double det = B.determinant();
-    const Vec2L g(g0, g1), sRef = -(B.inverse() * g);
-    const long double mn = sRef.dot(Ml * sRef), D2 = static_cast<long double>(D) * D;
+    const Vec2L g(r.g0, r.g1), sRef = -(B.inverse() * g);
+    const long double mn = sRef.dot(Ml * sRef), D2 = static_cast<long double>(r.D) * r.D;
     const bool convex = B(0, 0) > 0 && det > 0;
     const bool comfy = convex && det >= 1e-3L * (1 + margin) * B(0, 0) * B(1, 1);
     const bool notComfy = !convex || det <= 1e-3L * (1 - margin) * B(0, 0) * B(1, 1);
@@ -168,20 +187,16 @@ void checkTrustRegion(TrSolve trSolve, int count, double scaleLo, double scaleHi
   std::mt19937_64 rng(seed);
   taken = 0;
   for (int i = 0; i < count; ++i) {
-    const Model m = randomModel(rng, scaleLo, scaleHi);
-    const R g0 = R(m.g0), g1 = R(m.g1), b00 = R(m.b00), b01 = R(m.b01), b11 = R(m.b11);
-    const R m00 = R(m.m00), m01 = R(m.m01), m11 = R(m.m11), D = R(m.D);
-    if (!(D < std::sqrt(std::numeric_limits<R>::max()) / 1024)) continue;  // D^2 overflows R
+    const Rounded<R> r(randomModel(rng, scaleLo, scaleHi));
+    if (!(r.D < std::sqrt(std::numeric_limits<R>::max()) / 1024)) continue;  // D^2 overflows R
     ++taken;
     R s0 = 0, s1 = 0;
     int newton = -1;
-    const R pred = trSolve(g0, g1, b00, b01, b11, m00, m01, m11, D, &s0, &s1, &newton);
+    const R pred = r(trSolve, &s0, &s1, &newton);
     ASSERT_TRUE(std::isfinite(s0) && std::isfinite(s1) && std::isfinite(pred) && pred >= 0)
         << "model " << i << ": step " << s0 << ", " << s1 << ", decrease " << pred;
-    Mat2L Ml;
-    Ml << m00, m01, m01, m11;
     const Vec2L s(s0, s1);
-    ASSERT_LE(s.dot(Ml * s), static_cast<long double>(D) * D * (1 + relTol))
+    ASSERT_LE(s.dot(r.M() * s), static_cast<long double>(r.D) * r.D * (1 + relTol))
         << "model " << i << ": the step leaves the region";
   }
 }
