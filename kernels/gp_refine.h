@@ -104,7 +104,8 @@ typedef struct {
   gp_refine_kept kept;
   GP_REAL lastLen;  /* m: |J s| of the last accepted step of this refinement, 0 for none */
   GP_REAL tol;      /* m: this refinement's position tolerance */
-  GP_REAL sinAngle; /* sin of this refinement's angle tolerance */
+  GP_REAL sinAngle; /* sin(sinOf): the sine of the angle tolerance, computed once per tolerance */
+  GP_REAL sinOf;    /* the tolerance it is for; NaN before the first refinement (zeroed work: sin 0 = 0) */
 } gp_refine_work;
 
 /* Stopping rules (see the file comment). */
@@ -635,7 +636,10 @@ GP_FN gp_refine_result gp_refine_newton_warm(const gp_refine_mesh* m, gp_refine_
   if (!warm) w->kept.d2Face = w->kept.lastFace = -1;
   w->lastLen = GP_R(0.0);
   w->tol = o->positionTol; /* the residual allowed, at most (it only decides what to evaluate ahead) */
-  w->sinAngle = GP_SIN(o->angleTol);
+  if (!(w->sinOf == o->angleTol)) {
+    w->sinAngle = GP_SIN(o->angleTol);
+    w->sinOf = o->angleTol;
+  }
   gp_refine_result out;
   out.scp = out.normal = gp_zero3();
   out.xi = out.eta = out.distance = GP_R(0.0);

@@ -47,6 +47,7 @@ __kernel void gp_refine(const int numFaces, const int numSlots, const int mode, 
   mesh.scale = scale;
   gp_refine_work work;
   work.loaded = -1;
+  work.sinOf = (GP_REAL)NAN; /* no sine computed yet */
   const gp_vec3 hip = gp_v3(hips[q], hips[m + q], hips[2 * m + q]);
   gp_refine_options opt;
   opt.maxIterations = qIterations[q] >= 0 ? qIterations[q] : maxIterations;

@@ -158,6 +158,7 @@ PatchRefiner::PatchRefiner(const PatchCache& cache, LazyPatches* lazy)
     m.load = [](void*, int, double*) noexcept -> gp_uint { return GP_ST_TOO_MANY_SIDES; };
   }
   ns.work.loaded = -1;
+  ns.work.sinOf = std::numeric_limits<double>::quiet_NaN();
   ns.work.kept.d2Face = ns.work.kept.lastFace = -1;
   ns.seed.d2Face = ns.seed.lastFace = -1;
 }
