@@ -321,6 +321,16 @@ GP_FN int gp_rf_minimum(const gp_refine_mesh* m, const gp_refine_work* w, const 
   return b00 > GP_R(0.0) && b00 * b11 - b01 * b01 > GP_R(0.0);
 }
 
+/* s^T A s for the symmetric 2x2 A = [a00 a01; a01 a11] and s = (x, y). */
+GP_FN GP_REAL gp_rf_form(GP_REAL a00, GP_REAL a01, GP_REAL a11, GP_REAL x, GP_REAL y) {
+  return x * (a00 * x + a01 * y) + y * (a01 * x + a11 * y);
+}
+
+/* The model's decrease -(g.s + s^T B s / 2) for the step s = (x, y). */
+GP_FN GP_REAL gp_rf_decrease(GP_REAL g0, GP_REAL g1, GP_REAL b00, GP_REAL b01, GP_REAL b11, GP_REAL x, GP_REAL y) {
+  return -(g0 * x + g1 * y + GP_R(0.5) * gp_rf_form(b00, b01, b11, x, y));
+}
+
 /* Minimises g.s + s^T B s / 2 subject to s^T M s <= D^2 (2x2; M positive definite up to a
  * regularisation), exactly: Cholesky M = L L^T, z = L^T s, then the eigen-decomposition of
  * L^-1 B L^-T and the secular equation |z(lambda)| = D (bisection; the hard case included).
@@ -414,9 +424,8 @@ GP_FN GP_REAL gp_rf_newton_solve(GP_REAL g0, GP_REAL g1, GP_REAL b00, GP_REAL b0
   const GP_REAL det = b00 * b11 - b01 * b01;
   if (b00 > GP_R(0.0) && det >= GP_R(1.0e-3) * (b00 * b11) && det > GP_R(0.0)) {
     const GP_REAL x0 = (b01 * g1 - b11 * g0) / det, x1 = (b01 * g0 - b00 * g1) / det;
-    const GP_REAL mn = x0 * (m00 * x0 + m01 * x1) + x1 * (m01 * x0 + m11 * x1);
-    if (mn <= D * D && GP_FABS(x0) + GP_FABS(x1) <= GP_BIG) {
-      const GP_REAL pred = -(g0 * x0 + g1 * x1 + GP_R(0.5) * (x0 * (b00 * x0 + b01 * x1) + x1 * (b01 * x0 + b11 * x1)));
+    if (gp_rf_form(m00, m01, m11, x0, x1) <= D * D && GP_FABS(x0) + GP_FABS(x1) <= GP_BIG) {
+      const GP_REAL pred = gp_rf_decrease(g0, g1, b00, b01, b11, x0, x1);
       *s0 = x0;
       *s1 = x1;
       *newton = 1;
@@ -534,8 +543,8 @@ GP_FN int gp_rf_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* 
     /* held on a boundary edge and the free step points out: 1-D Newton along the edge */
     GP_REAL ex, ey;
     (void)gp_rf_edge_tangent(n, cur->edge, &cur->p, &ex, &ey);
-    const GP_REAL ge = g0 * ex + g1 * ey, be = ex * (b00 * ex + b01 * ey) + ey * (b01 * ex + b11 * ey);
-    const GP_REAL me = ex * (m00 * ex + m01 * ey) + ey * (m01 * ex + m11 * ey);
+    const GP_REAL ge = g0 * ex + g1 * ey, be = gp_rf_form(b00, b01, b11, ex, ey);
+    const GP_REAL me = gp_rf_form(m00, m01, m11, ex, ey);
     const GP_REAL smax = me > GP_R(0.0) ? *D / GP_SQRT(me) : GP_R(0.0);
     GP_REAL sig = be > GP_R(0.0) ? -ge / be : (ge > GP_R(0.0) ? -smax : smax);
     newton = be > GP_R(0.0) && GP_FABS(sig) <= smax;
@@ -568,7 +577,7 @@ GP_FN int gp_rf_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* 
     }
     if (face == cur->face) { /* the model's decrease for the displacement actually taken */
       const GP_REAL u = x - cur->x, v = y - cur->y;
-      pred = -(g0 * u + g1 * v + GP_R(0.5) * (u * (b00 * u + b01 * v) + v * (b01 * u + b11 * v)));
+      pred = gp_rf_decrease(g0, g1, b00, b01, b11, u, v);
       sx = u;
       sy = v;
     }
@@ -578,7 +587,7 @@ GP_FN int gp_rf_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* 
     sy = y - cur->y;
   }
   const GP_REAL len =
-      GP_SQRT(gp_max(sx * (m00 * sx + m01 * sy) + sy * (m01 * sx + m11 * sy), GP_R(0.0))); /* |J s|, m */
+      GP_SQRT(gp_max(gp_rf_form(m00, m01, m11, sx, sy), GP_R(0.0))); /* |J s|, m */
   /* the trial point with its second differences, unless this step is expected to converge: the
    * last two steps' lengths predict the next one's (len^3 / prev^2, quadratic convergence) */
   const GP_REAL next = w->lastLen > GP_R(0.0) ? len * len * len / (w->lastLen * w->lastLen) : GP_BIG;
