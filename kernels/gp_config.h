@@ -79,6 +79,9 @@ static inline double gp_sin(double x) { return std::sin(x); }
 #define GP_ST_SINGULAR 0x80u        /* dG/dxi x dG/deta vanishes; normal is a fallback */
 #define GP_ST_TOO_MANY_SIDES 0x100u /* n > GP_MAX_N or n < 3: not built */
 #define GP_ST_NONFINITE 0x200u      /* non-finite input */
+/* position, derivatives and normal from the refinement's quadratic model at this point, not
+ * from an evaluation (gp_refine_options.modelFinal) */
+#define GP_ST_MODEL_POINT 0x400u
 #define GP_ST_DEGENERATE_MASK \
   (GP_ST_ZERO_EDGE | GP_ST_EDGE_NORMAL | GP_ST_CROSS_TANGENT | GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE)
 

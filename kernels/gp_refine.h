@@ -55,6 +55,12 @@
 #define GP_RF_D2_RHO GP_R(0.1)
 #undef GP_RF_D2_MAX_USES
 #define GP_RF_D2_MAX_USES 3
+#undef GP_RF_MODEL_STEP
+/* With gp_refine_options.modelFinal, a step predicted to converge that stays on its face, moves at
+ * most this far (domain units, per coordinate) and starts where its second differences were
+ * taken takes its trial point from the model instead of evaluating the patch: the model's error
+ * is O(|G'''| |s|^3) in the position and O(|G'''| |s|^2) in the derivatives. */
+#define GP_RF_MODEL_STEP GP_R(1.0e-4)
 #undef GP_RF_AT_ONCE
 #define GP_RF_AT_ONCE (GP_R(64.0) * GP_EPS) /* an exit this early in a step leaves from where it is */
 
@@ -90,6 +96,10 @@ typedef struct {
   int d2Uses;               /* steps that reused them since they were taken */
   GP_REAL d2x, d2y;         /* their domain point */
   gp_vec3 d2xx, d2yy, d2xy; /* eps G_xx, eps G_yy, 2 eps G_xy: differences of exact first derivatives */
+  /* estimate of |G'''| (m per domain unit^3) from these and the differences taken before them on
+   * the same face (the change of the second derivatives between the two points); -1 unknown
+   * (or not wanted: gp_refine_options.modelFinal 0) */
+  GP_REAL g3;
   int lastFace;             /* face of the last refinement's final point, -1 for none */
   GP_REAL lastX, lastY;
   gp_eval_result lastP;
@@ -106,6 +116,7 @@ typedef struct {
   GP_REAL tol;      /* m: this refinement's position tolerance */
   GP_REAL sinAngle; /* sin(sinOf): the sine of the angle tolerance, computed once per tolerance */
   GP_REAL sinOf;    /* the tolerance it is for; NaN before the first refinement (zeroed work: sin 0 = 0) */
+  int modelFinal;   /* this refinement's gp_refine_options.modelFinal */
 } gp_refine_work;
 
 /* Stopping rules (see the file comment). */
@@ -113,6 +124,9 @@ typedef struct {
   int maxIterations;   /* >= 0 (0: the start is evaluated and tested only) */
   GP_REAL angleTol;    /* rad */
   GP_REAL positionTol; /* m: tangential residual allowed */
+  /* 1: the trial point of a converging step may come from the model (GP_RF_MODEL_STEP; the
+   * point then carries GP_ST_MODEL_POINT); 0: every point is evaluated */
+  int modelFinal;
 } gp_refine_options;
 
 /* One refinement's result (the fields of host RefineResult). */
@@ -230,9 +244,19 @@ GP_FN gp_rf_iterate gp_rf_at(const gp_refine_mesh* m, gp_refine_work* w, int f, 
  * (xc + eps, yc), (xc, yc + eps) (p1, p2). */
 GP_FN void gp_rf_store_d2(gp_refine_work* w, int f, GP_REAL xc, GP_REAL yc, const gp_eval_result* pc,
                           const gp_eval_result* p1, const gp_eval_result* p2) {
-  w->kept.d2xx = gp_sub(p1->dxi, pc->dxi);
-  w->kept.d2yy = gp_sub(p2->deta, pc->deta);
-  w->kept.d2xy = gp_add(gp_sub(p1->deta, pc->deta), gp_sub(p2->dxi, pc->dxi));
+  const gp_vec3 xx = gp_sub(p1->dxi, pc->dxi), yy = gp_sub(p2->deta, pc->deta);
+  const gp_vec3 xy = gp_add(gp_sub(p1->deta, pc->deta), gp_sub(p2->dxi, pc->dxi));
+  w->kept.g3 = GP_R(-1.0);
+  const GP_REAL dl = gp_max(GP_FABS(xc - w->kept.d2x), GP_FABS(yc - w->kept.d2y));
+  if (w->modelFinal && w->kept.d2Face == f && dl > GP_R(0.0)) { /* |H_new - H_old| / |X_new - X_old|, H = d2 / eps */
+    const GP_REAL dh = gp_max(gp_max(gp_len(gp_sub(xx, w->kept.d2xx)), gp_len(gp_sub(yy, w->kept.d2yy))),
+                              GP_R(0.5) * gp_len(gp_sub(xy, w->kept.d2xy)));
+    const GP_REAL g3 = dh / (GP_RF_FD_EPS * dl);
+    if (g3 < GP_BIG) w->kept.g3 = g3;
+  }
+  w->kept.d2xx = xx;
+  w->kept.d2yy = yy;
+  w->kept.d2xy = xy;
   w->kept.d2Face = f;
   w->kept.d2x = xc;
   w->kept.d2y = yc;
@@ -319,6 +343,42 @@ GP_FN int gp_rf_minimum(const gp_refine_mesh* m, const gp_refine_work* w, const 
   const GP_REAL b00 = gp_dot(a, a) + gp_dot(r, w->kept.d2xx) / eps, b11 = gp_dot(b, b) + gp_dot(r, w->kept.d2yy) / eps;
   const GP_REAL b01 = gp_dot(a, b) + GP_R(0.5) * gp_dot(r, w->kept.d2xy) / eps;
   return b00 > GP_R(0.0) && b00 * b11 - b01 * b01 > GP_R(0.0);
+}
+
+/* The trial point of the step (sx, sy) from cur on cur's face by the quadratic model there
+ * (gp_refine_options.modelFinal): G + J s + s^T H s / 2, the derivatives J + H s and their unit
+ * normal, H from the second differences taken at cur's point (w->kept), flagged
+ * GP_ST_MODEL_POINT. Returns 0 (and *p unset) where the model may not stand in for the patch:
+ * differences taken elsewhere, a step beyond GP_RF_MODEL_STEP, a point cur's evaluation flags
+ * (outside, singular), a model normal that is not defined, or an estimated model error that
+ * could move the tangential residual by more than half the stopping tolerance: with g3 the
+ * estimate of |G'''| (w->kept.g3) and l = |sx| + |sy|, the derivatives are off by about
+ * g3 l^2 / 2, the normal by that times (|G_xi| + |G_eta|) / |G_xi x G_eta|, the point by
+ * g3 l^3 / 6, and the residual by |G - HIP| times the normal's error plus the point's. */
+GP_FN int gp_rf_model_point(const gp_refine_work* w, const gp_rf_iterate* cur, GP_REAL sx, GP_REAL sy,
+                            gp_eval_result* p) {
+  if (!(w->kept.d2Face == cur->face && w->kept.d2x == cur->x && w->kept.d2y == cur->y)) return 0;
+  if (!(GP_FABS(sx) <= GP_RF_MODEL_STEP && GP_FABS(sy) <= GP_RF_MODEL_STEP) || !(w->kept.g3 >= GP_R(0.0))) return 0;
+  if (cur->p.status & (GP_ST_OUTSIDE | GP_ST_SINGULAR | GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE)) return 0;
+  const GP_REAL ie = GP_R(1.0) / GP_RF_FD_EPS;
+  /* H s per component: G_xx sx + G_xy sy and G_xy sx + G_yy sy (d2xy holds 2 eps G_xy) */
+  const gp_vec3 hx = gp_add(gp_scale(w->kept.d2xx, sx * ie), gp_scale(w->kept.d2xy, GP_R(0.5) * sy * ie));
+  const gp_vec3 hy = gp_add(gp_scale(w->kept.d2xy, GP_R(0.5) * sx * ie), gp_scale(w->kept.d2yy, sy * ie));
+  const gp_vec3 dxi = gp_add(cur->p.dxi, hx), deta = gp_add(cur->p.deta, hy);
+  const gp_vec3 nn = gp_cross(dxi, deta);
+  const GP_REAL jmax = gp_max(gp_len(dxi), gp_len(deta)), lnn = gp_len(nn);
+  if (!(lnn > GP_TINY * jmax * jmax) || !gp_finite3(nn)) return 0;
+  const GP_REAL l = GP_FABS(sx) + GP_FABS(sy), dj = GP_R(0.5) * w->kept.g3 * l * l;
+  const GP_REAL rl = gp_len(cur->r);
+  const GP_REAL err = rl * dj * (gp_len(dxi) + gp_len(deta)) / lnn + dj * l / GP_R(3.0);
+  if (!(err <= GP_R(0.5) * gp_min(w->sinAngle * rl, w->tol))) return 0;
+  p->pos = gp_add(cur->p.pos, gp_add(gp_scale(gp_madd(cur->p.dxi, hx, GP_R(0.5)), sx),
+                                     gp_scale(gp_madd(cur->p.deta, hy, GP_R(0.5)), sy)));
+  p->dxi = dxi;
+  p->deta = deta;
+  p->normal = gp_scale(nn, GP_R(1.0) / lnn);
+  p->status = cur->p.status | GP_ST_MODEL_POINT;
+  return 1;
 }
 
 /* s^T A s for the symmetric 2x2 A = [a00 a01; a01 a11] and s = (x, y). */
@@ -591,7 +651,13 @@ GP_FN int gp_rf_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* 
   /* the trial point with its second differences, unless this step is expected to converge: the
    * last two steps' lengths predict the next one's (len^3 / prev^2, quadratic convergence) */
   const GP_REAL next = w->lastLen > GP_R(0.0) ? len * len * len / (w->lastLen * w->lastLen) : GP_BIG;
-  gp_rf_iterate trial = next > w->tol ? gp_rf_at_d2(m, w, face, x, y, hip) : gp_rf_at(m, w, face, x, y, hip);
+  gp_rf_iterate trial;
+  gp_eval_result mp; /* converging with modelFinal, on the same face: the model's point */
+  if (!(next > w->tol) && w->modelFinal && face == cur->face && edge < 0 && tr == 0 &&
+      gp_rf_model_point(w, cur, sx, sy, &mp))
+    trial = gp_rf_with(face, x, y, mp, hip);
+  else
+    trial = next > w->tol ? gp_rf_at_d2(m, w, face, x, y, hip) : gp_rf_at(m, w, face, x, y, hip);
   trial.edge = edge;
   int accept = 0, atNoise = 0;
   GP_REAL rho = GP_R(0.0);
@@ -614,6 +680,17 @@ GP_FN int gp_rf_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* 
   }
   if (lagged && !(accept && (atNoise || GP_FABS(rho - GP_R(1.0)) <= GP_RF_D2_RHO)))
     w->kept.d2Face = -1; /* the lagged model was off: take the differences again */
+  if (!accept && (cur->p.status & GP_ST_MODEL_POINT)) {
+    /* from a model point (modelFinal) the step measured its decrease against the model's point,
+     * off the patch by the model's error: take the patch there and step again from it, the
+     * radius kept */
+    gp_rf_iterate ev = gp_rf_at(m, w, cur->face, cur->x, cur->y, hip);
+    if (ev.f < GP_BIG) {
+      ev.edge = cur->edge;
+      *cur = ev;
+      return GP_RF_STEP_OK;
+    }
+  }
   if (!accept || rho < GP_R(0.25)) {
     const GP_REAL shrink = GP_R(0.25) * len;
     *D = shrink < *D ? shrink : GP_R(0.25) * *D;
@@ -645,6 +722,7 @@ GP_FN gp_refine_result gp_refine_newton_warm(const gp_refine_mesh* m, gp_refine_
   if (!warm) w->kept.d2Face = w->kept.lastFace = -1;
   w->lastLen = GP_R(0.0);
   w->tol = o->positionTol; /* the residual allowed, at most (it only decides what to evaluate ahead) */
+  w->modelFinal = o->modelFinal;
   if (!(w->sinOf == o->angleTol)) {
     w->sinAngle = GP_SIN(o->angleTol);
     w->sinOf = o->angleTol;

@@ -14,7 +14,8 @@
 #endif
 
 /* numFaces: #F. numSlots: #C. mode: GP_CT_*. count: N HIPs. maxIterations >= 1.
- * angleTolerance: rad. positionTolerance: m. scale: bounding-box diagonal, m.
+ * angleTolerance: rad. positionTolerance: m. modelFinal: gp_refine_options.modelFinal (0 or 1).
+ * scale: bounding-box diagonal, m.
  * faceOffsets: #F+1. edgeData: GP_E_NFIELDS*#C, field-major. faceStatus: #F. slotTwin: #C.
  * hips: 3*N component-major (hips[c * N + q], m). qFace, qXi, qEta, qEdge: N (start; qEdge
  * the domain edge the start is held on, -1 for none). qIterations: N, the query's iteration
@@ -25,7 +26,7 @@
  * outStatus: N, GP_TRACK_* | GP_ST_*. */
 __kernel void gp_refine(const int numFaces, const int numSlots, const int mode, const int count,
                         const int maxIterations, const GP_REAL angleTolerance, const GP_REAL positionTolerance,
-                        const GP_REAL scale,
+                        const int modelFinal, const GP_REAL scale,
                         __global const int* faceOffsets, __global const GP_REAL* edgeData,
                         __global const uint* faceStatus, __global const int* slotTwin, __global const GP_REAL* hips,
                         __global const int* qFace, __global const GP_REAL* qXi, __global const GP_REAL* qEta,
@@ -53,6 +54,7 @@ __kernel void gp_refine(const int numFaces, const int numSlots, const int mode, 
   opt.maxIterations = qIterations[q] >= 0 ? qIterations[q] : maxIterations;
   opt.angleTol = angleTolerance;
   opt.positionTol = positionTolerance;
+  opt.modelFinal = modelFinal;
   const gp_refine_result r = gp_refine_newton(&mesh, &work, hip, qFace[q], qXi[q], qEta[q], qEdge[q], &opt);
   outReal[q] = r.scp.x;
   outReal[m + q] = r.scp.y;

@@ -106,7 +106,7 @@ TEST(BaseError, ChecksPassSilentlyAndFailWithBothOperands) {
 
 TEST(BaseStatus, BitsAreDistinctAndTrackBitsLieAboveThePatchBits) {
   const uint32_t st[] = {SF_ST_GUARD, SF_ST_ZERO_EDGE, SF_ST_EDGE_NORMAL, SF_ST_CROSS_TANGENT,  SF_ST_FOLD,
-                         SF_ST_BULGE, SF_ST_OUTSIDE,   SF_ST_SINGULAR,    SF_ST_TOO_MANY_SIDES, SF_ST_NONFINITE};
+                         SF_ST_BULGE, SF_ST_OUTSIDE,   SF_ST_SINGULAR,    SF_ST_TOO_MANY_SIDES, SF_ST_NONFINITE, SF_ST_MODEL_POINT};
   const uint32_t track[] = {SF_TRACK_CONVERGED,  SF_TRACK_MAX_ITER, SF_TRACK_STALLED,     SF_TRACK_BOUNDARY,
                             SF_TRACK_DEGENERATE, SF_TRACK_GLOBAL,   SF_TRACK_ENTER,       SF_TRACK_LEAVE,
                             SF_TRACK_NO_POLYGON, SF_TRACK_BAD_HIP,  SF_TRACK_PROXY_LIMIT, SF_TRACK_INSIDE,
@@ -126,9 +126,9 @@ TEST(BaseStatus, BitsAreDistinctAndTrackBitsLieAboveThePatchBits) {
     allTrack |= b;
     ++n;
   }
-  EXPECT_EQ(n, 23);
+  EXPECT_EQ(n, 24);
   EXPECT_EQ(allTrack, SF_TRACK_MASK);
-  EXPECT_EQ(SF_TRACK_MASK & (SF_ST_NONFINITE * 2 - 1), 0u);
+  EXPECT_EQ(SF_TRACK_MASK & (SF_ST_MODEL_POINT * 2 - 1), 0u);
   // the kernels' spelling (compile-time asserted in base/status.cpp as well)
   EXPECT_EQ(SF_ST_DEGENERATE_MASK, uint32_t(GP_ST_DEGENERATE_MASK));
   EXPECT_EQ(SF_TRACK_DEGENERATE, uint32_t(GP_TRACK_DEGENERATE));

@@ -73,6 +73,7 @@ struct Agreement {
   double maxNormalAngle = 0;     // rad, between the two sides' normals on the same face
   double maxOwnNormalAngle = 0;  // rad, device normal vs the patch normal at the device's own (face, X)
   int otherMinimum = 0;          // both converged, to different stationary points (another basin)
+  int modelPoints = 0, modelDiff = 0;  // device results on a model point; the bit differing from the CPU's
 };
 
 /// Runs the queries on the device and on PatchRefiner. Each pair reaches the same point within
@@ -121,6 +122,8 @@ Agreement compareWithCpu(const PatchCache& c, const std::vector<RefineQuery>& q,
         std::max(a.maxOwnNormalAngle, std::atan2(g[i].normal.cross(own).norm(), g[i].normal.dot(own)));
     if (r.face != g[i].face) ++a.otherFace;
     a.statusDiff += (r.status & mask) != (g[i].status & mask);
+    a.modelPoints += (g[i].status & SF_ST_MODEL_POINT) != 0;
+    a.modelDiff += ((r.status ^ g[i].status) & SF_ST_MODEL_POINT) != 0;
   }
   return a;
 }
@@ -155,6 +158,28 @@ TEST_F(OpenCLRefine, AgreesWithPatchRefinerDoubleAndFloat) {
         EXPECT_LE(a.otherMinimum, static_cast<int>(q.size()) / 50) << rel;
       }
     }
+  }
+}
+
+// FinalStep::Model: the kernel takes the same steps as PatchRefiner, model points included (the
+// same source, kernels/gp_refine.h), so the double results agree as with evaluated final steps;
+// the device normal lies within the model's error of the patch normal at its own point.
+TEST_F(OpenCLRefine, ModelFinalStepAgreesWithPatchRefiner) {
+  for (const char* rel : {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/quad-sphere.off"}) {
+    const PatchCache c = test::cacheFromFile(test::sharedMesh(rel), CrossTangentMode::Corrected, Precision::Double);
+    const double diag = boundingDiagonal(c);
+    const std::vector<RefineQuery> q = globalQueries(c, 400, 0.05 * diag, 11);
+    ForceOptions o;
+    o.finalStep = FinalStep::Model;
+    const Agreement a = compareWithCpu(c, q, kTolD, 2e-10, o);
+    std::printf("  %s: %d of %d device results on a model point (the bit differs on %d); max |SCP_cl - SCP_cpu| = "
+                "%.3g x diagonal; device normal vs its own point's %.3g rad\n",
+                rel, a.modelPoints, a.compared, a.modelDiff, a.maxScp / diag, a.maxOwnNormalAngle);
+    EXPECT_EQ(a.compared, static_cast<int>(q.size())) << rel;
+    EXPECT_EQ(a.statusDiff, 0) << rel;
+    EXPECT_EQ(a.modelDiff, 0) << rel;
+    EXPECT_GE(a.modelPoints, a.compared / 4) << rel << ": the option takes effect";
+    EXPECT_LE(a.maxOwnNormalAngle, 1e-7) << rel;
   }
 }
 
@@ -259,6 +284,7 @@ TEST_F(OpenCLRefine, SharedCodeMatchesOnHostAndDevice) {
   opt.maxIterations = ForceOptions{}.maxIterations;
   opt.angleTol = ForceOptions{}.angleTolerance;
   opt.positionTol = ForceOptions{}.positionTolerance * diag;
+  opt.modelFinal = 0;
   for (size_t i = 0; i < q.size(); ++i) {
     work->loaded = -1;
     const gpd::gp_refine_result h =

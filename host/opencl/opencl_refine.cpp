@@ -105,6 +105,7 @@ struct OpenCLRefiner::Impl {
     k.setArg(a++, static_cast<cl_int>(o.maxIterations));
     k.setArg(a++, static_cast<Real>(o.angleTolerance));
     k.setArg(a++, static_cast<Real>(o.positionTolerance * scale));
+    k.setArg(a++, static_cast<cl_int>(o.finalStep == FinalStep::Model));
     k.setArg(a++, static_cast<Real>(scale));
     for (cl::Buffer* b : {&offs, &rec, &fst, &twin, &hips, &qf, &qx, &qy, &qe, &qi, &outR, &outI, &outSt})
       k.setArg(a++, *b);

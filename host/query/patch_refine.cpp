@@ -343,6 +343,7 @@ RefineResult PatchRefiner::refineNewton(const Eigen::Vector3d& hip, int face, do
   o.maxIterations = options.maxIterations;
   o.angleTol = options.angleTolerance;
   o.positionTol = options.positionTolerance * scale_;
+  o.modelFinal = options.finalStep == FinalStep::Model;
   // a seed on the face of the last seed: that seed's state, which gp_refine_newton_warm uses only
   // where this start is exactly its point (its evaluation and second differences there: the same
   // bits as evaluating again), and a seed takes no step, so the result is a cold start's

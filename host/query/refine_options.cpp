@@ -20,8 +20,15 @@ InitialGuess parseInitialGuess(const std::string& s) {
   throw InputError("initial guess: expected surface|polygon, got '" + s + "'");
 }
 
+FinalStep parseFinalStep(const std::string& s) {
+  if (s == "evaluated") return FinalStep::Evaluated;
+  if (s == "model") return FinalStep::Model;
+  throw InputError("final step: expected evaluated|model, got '" + s + "'");
+}
+
 const char* toString(RefineMethod m) { return m == RefineMethod::Newton ? "newton" : "paper"; }
 const char* toString(InitialGuess g) { return g == InitialGuess::Polygon ? "polygon" : "surface"; }
+const char* toString(FinalStep s) { return s == FinalStep::Model ? "model" : "evaluated"; }
 
 void validateRefineOptions(const RefineOptions& o) {
   // the command line's option beside the field's name; %g, not to_string's %f (1e-308 is 0.000000)
@@ -38,6 +45,9 @@ void validateRefineOptions(const RefineOptions& o) {
                      "the diagonal), got " + num(o.positionTolerance));
   if (o.maxIterations < 1)
     throw InputError("iteration cap (--max-iter, maxIterations) must be >= 1, got " + std::to_string(o.maxIterations));
+  if (o.finalStep != FinalStep::Evaluated && o.finalStep != FinalStep::Model)
+    throw InputError("final step (--final-step, finalStep) must be evaluated or model, got " +
+                     std::to_string(static_cast<int>(o.finalStep)));
   if (o.tessellationLevel < 0 || o.tessellationLevel > 64)
     throw InputError("tessellation level (--guess-level, tessellationLevel) must be in 0..64 (0: chosen), got " +
                      std::to_string(o.tessellationLevel));

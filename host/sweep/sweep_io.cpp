@@ -60,6 +60,9 @@ ojson configJson(const SweepConfig& c) {
   // before the contents were recorded
   if (!c.trajectoryHashes.empty()) j["trajectory_hashes"] = c.trajectoryHashes;
   if (!c.referenceHash.empty()) j["reference_hash"] = c.referenceHash;
+  // only where not the default: a sweep of evaluated final steps keeps the configuration (and
+  // hash) it had before the option existed
+  if (c.finalStep != "evaluated") j["final_step"] = c.finalStep;
   return j;
 }
 
@@ -82,6 +85,7 @@ SweepConfig configFrom(const ojson& j) {
   c.positionTolerance = j.value("position_tolerance", ForceOptions{}.positionTolerance);
   c.initialGuess = j.value("initial_guess", std::string("surface"));
   c.guessLevel = j.value("guess_level", ForceOptions{}.tessellationLevel);
+  c.finalStep = j.value("final_step", std::string("evaluated"));
   c.preset = j.value("preset", std::string());
   c.backend = j.at("backend");
   c.reference = j.at("reference");

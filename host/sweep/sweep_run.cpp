@@ -238,6 +238,7 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
   opt.maxIterations = in.config.maxIterations;
   opt.initialGuess = parseInitialGuess(in.config.initialGuess);
   opt.tessellationLevel = in.config.guessLevel;
+  opt.finalStep = parseFinalStep(in.config.finalStep);
   // A skeleton cache (sweep --mesh with --sample-on reference): every worker's patch renderer
   // builds the patches its HIPs touch, none evicted; nothing else may evaluate patches.
   const bool lazy = !hasPatchData(*in.cache);

@@ -31,6 +31,7 @@ void RefineArgs::apply(ForceOptions& o) const {
   if (given(iterOpt)) o.maxIterations = maxIter;
   if (given(guessOpt)) o.initialGuess = parseInitialGuess(guess);
   if (given(levelOpt)) o.tessellationLevel = guessLevel;
+  if (given(finalStepOpt)) o.finalStep = parseFinalStep(finalStep);
 }
 
 Precision RefineArgs::precision(Precision given) const {
@@ -62,6 +63,12 @@ void addRefineArgs(CLI::App& cmd, RefineArgs& a) {
                               "tessellation level of the patch surface for the global query (0: chosen)")
                    ->check(CLI::Range(0, 64))
                    ->capture_default_str();
+  a.finalStepOpt = cmd.add_option("--final-step", a.finalStep,
+                                   "evaluated|model: the Newton refinement's converging step ends on an evaluation of "
+                                   "the patch, or on its quadratic model (one evaluation fewer per tracking step; "
+                                   "README 'Speed against accuracy')")
+                       ->check(CLI::IsMember({"evaluated", "model"}))
+                       ->capture_default_str();
   a.precisionOpt = cmd.get_option_no_throw("--precision");
 }
 

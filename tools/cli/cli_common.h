@@ -36,14 +36,15 @@ void addBackendArgs(CLI::App& cmd, PatchArgs& args);
 void addPatchArgs(CLI::App& cmd, PatchArgs& args);
 
 /// The patch method's refinement options of every command that computes forces (trace, loop,
-/// sweep): --preset, --refine, --angle-tol, --position-tol, --max-iter, --initial-guess, --guess-level.
+/// sweep): --preset, --refine, --angle-tol, --position-tol, --max-iter, --initial-guess, --guess-level,
+/// --final-step.
 /// Order: defaults, then the preset (force_presets.h), then the options given explicitly.
 struct RefineArgs {
-  std::string preset, refine = "newton", guess = "surface";
+  std::string preset, refine = "newton", guess = "surface", finalStep = "evaluated";
   double angleTol = ForceOptions{}.angleTolerance, posTol = ForceOptions{}.positionTolerance;
   int maxIter = ForceOptions{}.maxIterations, guessLevel = ForceOptions{}.tessellationLevel;
   CLI::Option *refineOpt = nullptr, *tolOpt = nullptr, *posTolOpt = nullptr, *iterOpt = nullptr, *guessOpt = nullptr,
-              *levelOpt = nullptr;
+              *levelOpt = nullptr, *finalStepOpt = nullptr;
   CLI::Option* precisionOpt = nullptr;  ///< --precision of addPatchArgs, when the command has it
   /// Fills o's refinement fields (stiffness untouched). Throws InputError for an unknown
   /// preset, refinement or initial guess.

@@ -105,6 +105,7 @@ nlohmann::ordered_json loopJson(const rt::Scene& scene, const rt::HapticDevice& 
                        {"angle_tolerance", o.force.angleTolerance},
                        {"max_iterations", o.force.maxIterations},
                        {"initial_guess", toString(o.force.initialGuess)},
+                       {"final_step", toString(o.force.finalStep)},
                        {"precision", toString(o.cache->options.precision)},
                        {"normals", toString(o.cache->options.normals)},
                        {"cross_tangent", toString(o.cache->options.crossTangent)},

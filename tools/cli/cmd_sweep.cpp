@@ -89,6 +89,7 @@ void sweepInputs(const SweepArgs& a, SweepInputs& in) {
   c.positionTolerance = fo.positionTolerance;
   c.initialGuess = toString(fo.initialGuess);
   c.guessLevel = fo.tessellationLevel;
+  c.finalStep = toString(fo.finalStep);
   c.preset = a.refine.preset;
   c.backend = a.patch.backend;
   c.reference = a.reference;

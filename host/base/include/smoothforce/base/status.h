@@ -20,13 +20,16 @@ inline constexpr uint32_t SF_ST_OUTSIDE = 0x40u;          ///< evaluation point 
 inline constexpr uint32_t SF_ST_SINGULAR = 0x80u;         ///< dG/dxi x dG/deta vanishes; normal is a fallback
 inline constexpr uint32_t SF_ST_TOO_MANY_SIDES = 0x100u;  ///< n > 64 or n < 3: not built
 inline constexpr uint32_t SF_ST_NONFINITE = 0x200u;       ///< non-finite input
+/// the SCP, derivatives and normal come from the refinement's quadratic model at the SCP's domain
+/// point, not from an evaluation of the patch (RefineOptions::finalStep = FinalStep::Model)
+inline constexpr uint32_t SF_ST_MODEL_POINT = 0x400u;
 /// The most sides a polygon's patch can have (GP_MAX_N); larger faces get no patch.
 inline constexpr int SF_MAX_PATCH_SIDES = 64;
 /// The bits that make a patch degenerate (its surface is a fallback or missing).
 inline constexpr uint32_t SF_ST_DEGENERATE_MASK =
     SF_ST_ZERO_EDGE | SF_ST_EDGE_NORMAL | SF_ST_CROSS_TANGENT | SF_ST_TOO_MANY_SIDES | SF_ST_NONFINITE;
 
-/// SF_TRACK_* bits: 0x10000 .. 0x10000000, above the SF_ST_* bits (0x1 .. 0x200), which
+/// SF_TRACK_* bits: 0x10000 .. 0x10000000, above the SF_ST_* bits (0x1 .. 0x400), which
 /// ForceSample::status also carries (the patch's construction and evaluation bits).
 /// CONVERGED .. DEGENERATE and FOLD_EDGE equal the refinement's GP_TRACK_* (kernels/gp_config.h).
 inline constexpr uint32_t SF_TRACK_CONVERGED = 0x10000u;  ///< refinement met the tolerances

@@ -24,7 +24,7 @@ const char* toString(ForceMethod m);
 /// thousand N/m) or rigid-contact simulation.
 inline constexpr double kMaxStiffness = 1e12;
 
-/// Force rendering options: the refinement options (refine, angleTolerance, positionTolerance,
+/// Force rendering options: the refinement options (refine, angleTolerance, positionTolerance, finalStep,
 /// maxIterations, initialGuess, tessellationLevel; refine_options.h) plus these. Units: metres,
 /// newtons, N/m, radians.
 struct ForceOptions : RefineOptions {

@@ -53,8 +53,8 @@ class OpenCLRefiner {
   /// queries, out: n each. out[i] as PatchRefiner::refine(queries[i].hip, face, xi, eta,
   /// options) would return it (scp, normal, face, edge, xi, eta, distance, iterations,
   /// transitions, status = SF_TRACK_* | GP_ST_*); an unusable start gives SF_TRACK_DEGENERATE
-  /// and zeros. options.angleTolerance (rad), positionTolerance and maxIterations are used; refine
-  /// must be Newton.
+  /// and zeros. options.angleTolerance (rad), positionTolerance, maxIterations and finalStep are
+  /// used; refine must be Newton.
   void refine(const RefineQuery* queries, size_t n, const RefineOptions& options, RefineResult* out);
 
   Precision precision() const;

@@ -16,13 +16,24 @@ enum class RefineMethod { PaperDescent, Newton };
 /// the nearest point of the base polygons (Embree) mapped to the domain by mean value
 /// coordinates, refined once, contact when (HIP - SCP) . n < 0. Used by ForceMethod::Patch only.
 enum class InitialGuess { Surface, Polygon };
+/// How the Newton refinement takes the point of its last, converging step. evaluated (default):
+/// the patch is evaluated there, so the SCP lies on the patch and its normal is the patch's at
+/// its domain point to rounding. model: where the step is predicted to converge, stays on its
+/// face, moves at most 1e-4 domain units and starts where the second differences were taken, the
+/// point, its derivatives and normal come from the quadratic model there (G + J s + s^T H s / 2,
+/// J + H s; kernels/gp_refine.h, GP_RF_MODEL_STEP) and carry SF_ST_MODEL_POINT: one patch
+/// evaluation fewer per tracking step, at a model error far below the stopping tolerances
+/// (README "Speed against accuracy": measured bounds). The paper's descent ignores it.
+enum class FinalStep { Evaluated, Model };
 
 /// Parsers throw InputError naming the value; toString gives the option spelling
 /// (InitialGuess: "surface"|"polygon"; "tessellation", its former name, parses as Surface).
 RefineMethod parseRefineMethod(const std::string& s);
 InitialGuess parseInitialGuess(const std::string& s);
+FinalStep parseFinalStep(const std::string& s);  ///< "evaluated"|"model"
 const char* toString(RefineMethod m);
 const char* toString(InitialGuess g);
+const char* toString(FinalStep s);
 
 /// Refinement options. Units: radians; positionTolerance is a fraction of the mesh's
 /// bounding-box diagonal.
@@ -38,6 +49,7 @@ struct RefineOptions {
   /// 1..64; 0 chooses it (PatchSurfaceOptions: error bound below 1e-4 of the diagonal within a
   /// triangle budget).
   int tessellationLevel = 0;
+  FinalStep finalStep = FinalStep::Evaluated;  ///< the converging step's point (Newton only)
 };
 
 /// Checks angleTolerance > 0, positionTolerance > 0 (both finite), maxIterations >= 1,

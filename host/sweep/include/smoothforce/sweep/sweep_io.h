@@ -27,6 +27,7 @@ struct SweepConfig {
   int maxIterations = 50;                ///< patch refinement cap (ForceOptions)
   double positionTolerance = 1e-10;      ///< fraction of the diagonal (ForceOptions)
   std::string initialGuess = "surface";  ///< surface | polygon (ForceOptions)
+  std::string finalStep = "evaluated";   ///< evaluated | model (ForceOptions::finalStep)
   int guessLevel = 0;                    ///< patch surface tessellation level (0: chosen)
   std::string preset;                    ///< --preset as given ("" when none)
   std::string backend = "tbb";           ///< tbb | serial | opencl (construction, patch refinement)
