@@ -7,6 +7,7 @@
 // rates per round, their medians and the ratios of the medians.
 //   build/bench/probe_ratio [--samples 100000] [--depth 0.005] [--rounds 5] [--threads 2]
 //                           [--only patch|direct]   (one kind of case, e.g. under perf record)
+//                           [--final-step evaluated|model|both]   (the patch method's; both: two cases)
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -30,6 +31,7 @@ using namespace sf;
 struct Case {
   std::string label, path;
   ForceMethod method = ForceMethod::Patch;
+  ForceOptions opt;  ///< the patch method's finalStep differs between the patch cases
   std::shared_ptr<const PatchCache> cache;
   HipSet hips;
   std::unique_ptr<RendererPool> pool;
@@ -47,7 +49,7 @@ double median(std::vector<double> v) {
 int main(int argc, char** argv) {
   int samples = 100000, rounds = 5, threads = 2;
   double depth = 0.005;
-  std::string only;
+  std::string only, finalStep = "evaluated";
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
     if (a == "--samples")
@@ -60,33 +62,37 @@ int main(int argc, char** argv) {
       threads = std::atoi(argv[i + 1]);
     else if (a == "--only")
       only = argv[i + 1];
+    else if (a == "--final-step")
+      finalStep = argv[i + 1];
     else {
       std::fprintf(stderr, "probe_ratio: unknown option %s\n", a.c_str());
       return 2;
     }
   }
   if (samples < 1 || rounds < 1 || threads < 1 || !(depth > 0 && depth < 0.5) ||
-      !(only.empty() || only == "patch" || only == "direct")) {
+      !(only.empty() || only == "patch" || only == "direct") ||
+      !(finalStep == "evaluated" || finalStep == "model" || finalStep == "both")) {
     std::fprintf(stderr,
                  "probe_ratio: --samples, --rounds, --threads must be >= 1, --depth in (0, 0.5), --only patch or "
-                 "direct\n");
+                 "direct, --final-step evaluated, model or both\n");
     return 2;
   }
   const std::string shared = SF_SHARED_MESHES;
   const std::string cage = std::string(SF_DATA_DIR) + "/spot_control_mesh.obj";
   std::vector<Case> cases;
-  auto add = [&](const char* label, const std::string& path, ForceMethod method) {
+  auto add = [&](const char* label, const std::string& path, ForceMethod method, FinalStep step = FinalStep::Evaluated) {
     if (!only.empty() && (only == "patch") != (method == ForceMethod::Patch)) return;
     cases.emplace_back();
     cases.back().label = label;
     cases.back().path = path;
     cases.back().method = method;
+    cases.back().opt.finalStep = step;
   };
-  add("patch, spot cage", cage, ForceMethod::Patch);
+  if (finalStep != "model") add("patch, spot cage", cage, ForceMethod::Patch);
+  if (finalStep != "evaluated") add("patch (model), spot cage", cage, ForceMethod::Patch, FinalStep::Model);
   add("direct, spot.obj", shared + "/odedstein/spot.obj", ForceMethod::Direct);
   add("direct, spot_triangulated", shared + "/keenan_crane/spot_triangulated.obj", ForceMethod::Direct);
   add("direct, spot cage", cage, ForceMethod::Direct);
-  const ForceOptions opt;
   SweepControl control;
   control.threads = threads;
   for (auto it = cases.begin(); it != cases.end();) {
@@ -105,6 +111,7 @@ int main(int argc, char** argv) {
     // one polygon scene and (patch) one patch surface shared by every worker's renderer
     auto scene = std::make_shared<const PolygonScene>(*it->cache);
     std::shared_ptr<const PatchSurface> surface;
+    const ForceOptions opt = it->opt;
     if (it->method == ForceMethod::Patch)
       surface = std::make_shared<const PatchSurface>(*it->cache, patchSurfaceOptions(opt));
     const auto cache = it->cache;
@@ -130,9 +137,10 @@ int main(int argc, char** argv) {
     for (double x : c.rates) std::printf(" %.3g", x);
     std::printf("  median %.3g\n", median(c.rates));
   }
-  if (!cases.empty() && cases[0].method == ForceMethod::Patch)
-    for (size_t i = 1; i < cases.size(); ++i)
-      std::printf("patch on the cage / %s: %.3g (medians)\n", cases[i].label.c_str(),
-                  median(cases[0].rates) / median(cases[i].rates));
+  for (const Case& p : cases)
+    if (p.method == ForceMethod::Patch)
+      for (const Case& d : cases)
+        if (d.method != ForceMethod::Patch)
+          std::printf("%s / %s: %.3g (medians)\n", p.label.c_str(), d.label.c_str(), median(p.rates) / median(d.rates));
   return 0;
 }
