@@ -250,6 +250,28 @@ def test_trace_matches_cli_trace_on_every_hip(spot, paths, tmp_path):
             assert (~t["contact"][-50:]).sum() >= 40  # 5 cm outside (a few land inside another part)
 
 
+def test_final_step_model_marks_model_points_and_stays_near_evaluated(spot):
+    """final_step="model" (as --final-step model): most steps of a slide in contact end on a model
+    point (status bit 0x400, SF_ST_MODEL_POINT), none with the default, the same contacts, and the
+    SCPs within 1e-8 m (the spot cage's diagonal is about 2.7 m; measured in C++: 1.1e-10 of it)."""
+    cache = sf.Cache.from_file(spot)
+    pts = cache.evaluate(np.zeros(200, dtype=np.int32), np.linspace(-0.5, 0.5, 200), np.zeros(200))
+    hips = pts["position"] - 0.005 * pts["normal"]
+    e = sf.trace(cache, hips)
+    m = sf.trace(cache, hips, final_step="model")
+    model_bit = 0x400
+    assert (e["status"] & model_bit).sum() == 0
+    assert list(m["contact"]) == list(e["contact"])
+    assert e["contact"].sum() == len(hips)
+    assert ((m["status"] & model_bit) != 0).sum() >= len(hips) // 2
+    assert np.abs(m["scp"] - e["scp"]).max() <= 1e-8
+    h = sf.Haptic(cache, final_step="model", ramp_time=0.0)
+    assert h.step(hips[0], 0.0)["contact"]
+    assert h.step(hips[1], 1e-3)["status"] & model_bit
+    with pytest.raises(ValueError, match="final step"):
+        sf.trace(cache, hips, final_step="turbo")
+
+
 def test_haptic_step_applies_safety_and_matches_trace(spot):
     cache = sf.Cache.from_file(spot)
     pts = cache.evaluate(np.zeros(200, dtype=np.int32), np.linspace(-0.5, 0.5, 200), np.zeros(200))
