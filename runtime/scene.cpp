@@ -320,8 +320,8 @@ Scene loadScene(const std::string& path, const SceneDefaults& defaults, const Re
     const json& o = objs[i];
     if (!o.is_object()) c.fail(w, "expected an object with \"mesh\" or \"cache\"");
     c.onlyKeys(o, w,
-               {"name", "mesh", "cache", "pose", "stiffness", "method", "preset", "precision", "normals",
-                "cross_tangent", "orient", "comment"});
+               {"name", "mesh", "cache", "pose", "stiffness", "method", "preset", "final_step", "precision",
+                "normals", "cross_tangent", "orient", "comment"});
     const bool hasMesh = o.contains("mesh"), hasCache = o.contains("cache");
     if (hasMesh == hasCache)
       c.fail(w, hasMesh ? "give either \"mesh\" or \"cache\", not both" : "missing \"mesh\" or \"cache\"");
@@ -362,6 +362,14 @@ Scene loadScene(const std::string& path, const SceneDefaults& defaults, const Re
       }
       applyForcePreset(*preset, obj.force);
       patchOptions.precision = preset->precision;
+    }
+    if (o.contains("final_step")) {  // after "preset", which leaves it alone
+      const std::string v = stringField(c, o["final_step"], w + "/final_step");
+      try {
+        obj.force.finalStep = parseFinalStep(v);
+      } catch (const InputError& e) {
+        c.fail(w + "/final_step", e.what());
+      }
     }
     parsePatchKeys(c, o, w, hasMesh, patchOptions);
     if (o.contains("stiffness")) {

@@ -29,6 +29,7 @@ struct Made {
   int faces;
   double angleTolerance = 0;
   int maxIterations = 0;
+  sf::FinalStep finalStep = sf::FinalStep::Evaluated;
 };
 
 class RuntimeScene : public ::testing::Test {
@@ -43,7 +44,7 @@ class RuntimeScene : public ::testing::Test {
   /// Each object's renderer: the half-space z <= 0.5 of its own frame (the cube's top plane).
   RendererFactory factory() {
     return [this](std::shared_ptr<const sf::PatchCache> c, sf::ForceMethod m, const sf::ForceOptions& o) {
-      made.push_back({m, o.stiffness, c->numFaces(), o.angleTolerance, o.maxIterations});
+      made.push_back({m, o.stiffness, c->numFaces(), o.angleTolerance, o.maxIterations, o.finalStep});
       return std::make_unique<PlaneRenderer>(Vector3d::UnitZ(), 0.5, o.stiffness);
     };
   }
@@ -108,6 +109,22 @@ TEST_F(RuntimeScene, PresetSetsRefinementAndMeshPrecisionButNotStiffness) {
   EXPECT_NE(e.find("scene.json: /objects/0/preset: --preset: expected fast|balanced|accurate, got 'turbo'"),
             std::string::npos)
       << e;
+}
+
+TEST_F(RuntimeScene, FinalStepPerObjectOverTheDefault) {
+  defaults.force.finalStep = sf::FinalStep::Model;  // loop --final-step model
+  const Scene s = load(R"({"objects": [
+      {"mesh": "../cube.obj", "final_step": "evaluated", "preset": "fast"},
+      {"mesh": "../cube.obj"}]})");
+  ASSERT_EQ(made.size(), 2u);
+  EXPECT_EQ(made[0].finalStep, sf::FinalStep::Evaluated);
+  EXPECT_EQ(made[1].finalStep, sf::FinalStep::Model);
+  const std::string e = error(R"({"objects": [{"mesh": "../cube.obj", "final_step": "turbo"}]})");
+  EXPECT_NE(e.find("scene.json: /objects/0/final_step: final step: expected evaluated|model, got 'turbo'"),
+            std::string::npos)
+      << e;
+  EXPECT_NE(error(R"({"objects": [{"mesh": "../cube.obj", "final_step": 1}]})").find("/objects/0/final_step"),
+            std::string::npos);
 }
 
 TEST_F(RuntimeScene, LoadsCacheFiles) {

@@ -147,7 +147,8 @@ struct SceneDefaults {
 /// non-zero); uniform scale in [kMinSceneScale, kMaxSceneScale] = [1e-9, 1e9], pose.h; the
 /// device transform's too), `stiffness` (N/m, in (0, 1e12]), `method` (patch|direct|shading), `preset`
 /// (fast|balanced|accurate, force_presets.h: the refinement options, and the precision of a `mesh` object's patches;
-/// `stiffness` still applies), `precision` (float|double), `normals` (auto|file|angle|area),
+/// `stiffness` still applies), `final_step` (evaluated|model, RefineOptions::finalStep: as --final-step,
+/// which gives the default), `precision` (float|double), `normals` (auto|file|angle|area),
 /// `cross_tangent` (corrected|paper|blend), `orient` (outward|keep): a `mesh` object's patch
 /// options, as the command line's --precision, --normals, --cross-tangent, --orient (which
 /// give the defaults; errors on a `cache` object, which keeps its own), `comment`. Unknown keys are
