@@ -124,8 +124,8 @@ INSTANTIATE_TEST_SUITE_P(Shapes, FinalStepModel, ::testing::ValuesIn(test::close
                          [](const ::testing::TestParamInfo<std::string>& i) { return test::shapeTestName(i.param); });
 
 // `--final-step` on the command line: trace marks model points in its status column (and never
-// with the default), an unknown value is a usage error naming the option, and a sweep records
-// the choice in sweep.json.
+// with the default), an unknown value and `model` with the paper's descent are usage errors
+// naming the option, and a sweep records the choice in sweep.json.
 TEST(FinalStepModelCli, TraceMarksModelPointsAndSweepRecordsTheChoice) {
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path() / ("sf_final_step_" + std::to_string(::getpid()));
@@ -166,6 +166,10 @@ TEST(FinalStepModelCli, TraceMarksModelPointsAndSweepRecordsTheChoice) {
   const auto bad = test::smoothforce("trace --mesh " + mesh + " --hips " + hips + " --final-step turbo -o " + out);
   EXPECT_EQ(bad.status, 2) << bad.out;
   EXPECT_NE(bad.out.find("--final-step"), std::string::npos) << bad.out;
+  const auto paper =
+      test::smoothforce("trace --mesh " + mesh + " --hips " + hips + " --refine paper --final-step model -o " + out);
+  EXPECT_EQ(paper.status, 2) << paper.out;
+  EXPECT_NE(paper.out.find("needs --refine newton"), std::string::npos) << paper.out;
   const auto s = test::smoothforce("sweep --mesh " + mesh + " --depth 1% --samples 8 --methods patch --no-plots " +
                                    "--final-step model -o " + (dir / "sw").string());
   ASSERT_EQ(s.status, 0) << s.out;

@@ -48,6 +48,9 @@ void validateRefineOptions(const RefineOptions& o) {
   if (o.finalStep != FinalStep::Evaluated && o.finalStep != FinalStep::Model)
     throw InputError("final step (--final-step, finalStep) must be evaluated or model, got " +
                      std::to_string(static_cast<int>(o.finalStep)));
+  if (o.finalStep == FinalStep::Model && o.refine != RefineMethod::Newton)
+    throw InputError("final step (--final-step, finalStep) 'model' ends a Newton step on its model: it needs "
+                     "--refine newton, got --refine " + std::string(toString(o.refine)));
   if (o.tessellationLevel < 0 || o.tessellationLevel > 64)
     throw InputError("tessellation level (--guess-level, tessellationLevel) must be in 0..64 (0: chosen), got " +
                      std::to_string(o.tessellationLevel));

@@ -23,7 +23,7 @@ enum class InitialGuess { Surface, Polygon };
 /// point, its derivatives and normal come from the quadratic model there (G + J s + s^T H s / 2,
 /// J + H s; kernels/gp_refine.h, GP_RF_MODEL_STEP) and carry SF_ST_MODEL_POINT: one patch
 /// evaluation fewer per tracking step, at a model error far below the stopping tolerances
-/// (README "Speed against accuracy": measured bounds). The paper's descent ignores it.
+/// (README "Speed against accuracy": measured bounds). Model needs RefineMethod::Newton.
 enum class FinalStep { Evaluated, Model };
 
 /// Parsers throw InputError naming the value; toString gives the option spelling
@@ -53,7 +53,8 @@ struct RefineOptions {
 };
 
 /// Checks angleTolerance > 0, positionTolerance > 0 (both finite), maxIterations >= 1,
-/// tessellationLevel in 0..64; throws InputError naming the bad value.
+/// tessellationLevel in 0..64, finalStep one of its values and Model only with Newton; throws
+/// InputError naming the bad value.
 void validateRefineOptions(const RefineOptions& options);
 
 }  // namespace sf
