@@ -385,8 +385,10 @@ TEST_F(CliContract, JsonOutputsParseWithTheDocumentedKeys) {
   ASSERT_EQ(r.status, 0) << r.err;
   j = json::parse(r.out);
   EXPECT_EQ(keys(j),
-            (V{"compute_us_max", "compute_us_mean", "contacts", "faces", "in_contact", "max_force_difference_n",
-               "max_force_difference_step", "method", "output", "patches_built", "preset", "refine", "steps"}));
+            (V{"compute_us_max", "compute_us_mean", "contacts", "faces", "final_step", "in_contact",
+               "max_force_difference_n", "max_force_difference_step", "method", "output", "patches_built", "preset",
+               "refine", "steps"}));
+  EXPECT_EQ(j["final_step"], "evaluated");
   // against the CSV it wrote: steps = rows, in_contact = rows with contact 1
   std::istringstream rows(readFile(out));
   std::string line;

@@ -101,6 +101,7 @@ void run(const TraceArgs& a) {
                              {"method", toString(method)},
                              {"refine", toString(opt.refine)},
                              {"preset", a.refine.preset},
+                             {"final_step", toString(opt.finalStep)},
                              {"in_contact", inContact},
                              {"contacts", starts},
                              {"max_force_difference_n", maxDiff},
