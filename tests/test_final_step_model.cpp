@@ -26,6 +26,7 @@
 #include <smoothforce/query/embree_scene.h>
 #include <smoothforce/sweep/sweep_sampling.h>
 #include "cli_test_support.h"
+#include "patch_test_support.h"
 #include "query_test_support.h"
 
 namespace sf {
@@ -43,8 +44,20 @@ struct ModelStats {
   double normalApart = 0;   // rad, between the two renderers' normals
 };
 
-ModelStats slideBoth(const std::string& shape) {
-  const auto cache = test::closedShapeCache(shape);
+/// The cache as the CPU refinement evaluates it: float records widened to double, evaluated in
+/// double (patch_refine.cpp); a double cache as it is.
+PatchCache widened(const PatchCache& c) {
+  PatchCache w = c;
+  if (c.options.precision == Precision::Float) {
+    w.edgeDataD.assign(c.edgeDataF.begin(), c.edgeDataF.end());
+    w.edgeDataF.clear();
+    w.options.precision = Precision::Double;
+  }
+  return w;
+}
+
+ModelStats slideBoth(const std::string& shape, std::shared_ptr<const PatchCache> cache) {
+  const PatchCache exact = widened(*cache);  // the patch the model stands in for
   const double diag = boundingDiagonal(*cache);
   PatchRefiner walker(*cache);
   const PatchSurfaceSampler sampler(*cache, cache->numFaces() > 4000 ? 2 : 6);
@@ -81,7 +94,7 @@ ModelStats slideBoth(const std::string& shape) {
         st.normalApart = std::max(st.normalApart, angle(m.normal, e.normal));
         if (!(m.status & SF_ST_MODEL_POINT)) continue;
         ++st.modelPoints;
-        const PatchPoint p = evaluatePatch(*cache, m.face, m.xi, m.eta);
+        const PatchPoint p = evaluatePatch(exact, m.face, m.xi, m.eta);
         st.offPatch = std::max(st.offPatch, (m.scp - p.pos).norm() / diag);
         st.normalOff = std::max(st.normalOff, angle(m.normal, p.normal));
         if (!(m.status & SF_TRACK_FOLD_EDGE))
@@ -106,7 +119,7 @@ class FinalStepModel : public ::testing::TestWithParam<std::string> {};
 // position tolerance is 1e-10 and the model's estimated error may add half of it); SCPs at
 // most 1.11e-10 x diagonal and normals 2.5e-8 rad from those of evaluated final steps.
 TEST_P(FinalStepModel, StaysOnThePatchWithinItsBounds) {
-  const ModelStats st = slideBoth(GetParam());
+  const ModelStats st = slideBoth(GetParam(), test::closedShapeCache(GetParam()));
   EXPECT_EQ(st.steps, st.expected);
   EXPECT_GE(st.steps, 12 * 3 * 100) << "slides of at least 100 points on average";
   EXPECT_EQ(st.contactDiffers, 0);
@@ -122,6 +135,27 @@ TEST_P(FinalStepModel, StaysOnThePatchWithinItsBounds) {
 
 INSTANTIATE_TEST_SUITE_P(Shapes, FinalStepModel, ::testing::ValuesIn(test::closedShapes()),
                          [](const ::testing::TestParamInfo<std::string>& i) { return test::shapeTestName(i.param); });
+
+// The same on float caches (the CPU refinement evaluates the float records widened to double: the
+// model is checked against that patch), of a quad cage, a quad sphere and a triangle mesh, with
+// the same bounds.
+TEST(FinalStepModelFloat, StaysOnThePatchWithinItsBounds) {
+  for (const char* rel : {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/quad-sphere.off", "odedstein/bunny.obj"}) {
+    const auto cache = std::make_shared<const PatchCache>(
+        test::cacheFromFile(test::sharedMesh(rel), CrossTangentMode::Corrected, Precision::Float));
+    const ModelStats st = slideBoth(std::string(rel) + " (float)", cache);
+    EXPECT_EQ(st.steps, st.expected) << rel;
+    EXPECT_GE(st.steps, 12 * 3 * 100) << rel;
+    EXPECT_EQ(st.contactDiffers, 0) << rel;
+    EXPECT_EQ(st.capHits, 0) << rel;
+    EXPECT_GE(st.modelPoints, st.contacts / 3) << rel;
+    EXPECT_LE(st.offPatch, 1e-13) << rel;
+    EXPECT_LE(st.normalOff, 1e-7) << rel;
+    EXPECT_LE(st.residual, 2 * ForceOptions{}.positionTolerance) << rel;
+    EXPECT_LE(st.scpApart, 3 * ForceOptions{}.positionTolerance) << rel;
+    EXPECT_LE(st.normalApart, 1e-7) << rel;
+  }
+}
 
 // `--final-step` on the command line: trace marks model points in its status column (and never
 // with the default), an unknown value and `model` with the paper's descent are usage errors

@@ -180,6 +180,19 @@ TEST_F(OpenCLRefine, ModelFinalStepAgreesWithPatchRefiner) {
     EXPECT_EQ(a.modelDiff, 0) << rel;
     EXPECT_GE(a.modelPoints, a.compared / 4) << rel << ": the option takes effect";
     EXPECT_LE(a.maxOwnNormalAngle, 1e-7) << rel;
+    // float: the kernel computes in float (finite-difference step 1e-3), PatchRefiner in double
+    // around the float records, so they may take other paths; the bounds of the evaluated test.
+    // Measured: the kernel takes no model point in float (the position tolerance lies below
+    // float rounding, where the model's error estimate refuses it)
+    const PatchCache cf = test::cacheFromFile(test::sharedMesh(rel), CrossTangentMode::Corrected, Precision::Float);
+    const Agreement f = compareWithCpu(cf, q, kTolF, 1e-5, o);
+    std::printf("  %s float: %d of %d device results on a model point; max |SCP_cl - SCP_cpu| = %.3g x diagonal; "
+                "device normal vs its own point's %.3g rad; other stationary point %d\n",
+                rel, f.modelPoints, f.compared, f.maxScp / diag, f.maxOwnNormalAngle, f.otherMinimum);
+    EXPECT_EQ(f.compared + f.otherMinimum, static_cast<int>(q.size())) << rel;
+    EXPECT_LE(f.otherMinimum, static_cast<int>(q.size()) / 50) << rel;
+    EXPECT_EQ(f.statusDiff, 0) << rel;
+    EXPECT_LE(f.maxOwnNormalAngle, 1e-4) << rel;
   }
 }
 
