@@ -240,20 +240,26 @@ GP_FN gp_rf_iterate gp_rf_at(const gp_refine_mesh* m, gp_refine_work* w, int f, 
   return gp_rf_with(f, x, y, gp_rf_eval(m, w, f, x, y), hip);
 }
 
+/* The estimate of |G'''| (m per domain unit^3) from new second differences (xx, yy, xy) of face
+ * f at (xc, yc) and the ones kept (k): |H_new - H_old| / |X_new - X_old| with H = d2 / eps, or
+ * -1 where the kept ones are of another face or of the same point. */
+GP_FN GP_REAL gp_rf_g3(const gp_refine_kept* k, int f, GP_REAL xc, GP_REAL yc, gp_vec3 xx, gp_vec3 yy, gp_vec3 xy) {
+  if (k->d2Face != f) return GP_R(-1.0);
+  const GP_REAL dl = gp_max(GP_FABS(xc - k->d2x), GP_FABS(yc - k->d2y));
+  if (!(dl > GP_R(0.0))) return GP_R(-1.0);
+  const GP_REAL dh = gp_max(gp_max(gp_len(gp_sub(xx, k->d2xx)), gp_len(gp_sub(yy, k->d2yy))),
+                            GP_R(0.5) * gp_len(gp_sub(xy, k->d2xy)));
+  const GP_REAL g3 = dh / (GP_RF_FD_EPS * dl);
+  return g3 < GP_BIG ? g3 : GP_R(-1.0);
+}
+
 /* Stores the second differences of face f at (xc, yc) from the evaluations there (pc) and at
- * (xc + eps, yc), (xc, yc + eps) (p1, p2). */
+ * (xc + eps, yc), (xc, yc + eps) (p1, p2), with the |G'''| estimate where modelFinal wants it. */
 GP_FN void gp_rf_store_d2(gp_refine_work* w, int f, GP_REAL xc, GP_REAL yc, const gp_eval_result* pc,
                           const gp_eval_result* p1, const gp_eval_result* p2) {
   const gp_vec3 xx = gp_sub(p1->dxi, pc->dxi), yy = gp_sub(p2->deta, pc->deta);
   const gp_vec3 xy = gp_add(gp_sub(p1->deta, pc->deta), gp_sub(p2->dxi, pc->dxi));
-  w->kept.g3 = GP_R(-1.0);
-  const GP_REAL dl = gp_max(GP_FABS(xc - w->kept.d2x), GP_FABS(yc - w->kept.d2y));
-  if (w->modelFinal && w->kept.d2Face == f && dl > GP_R(0.0)) { /* |H_new - H_old| / |X_new - X_old|, H = d2 / eps */
-    const GP_REAL dh = gp_max(gp_max(gp_len(gp_sub(xx, w->kept.d2xx)), gp_len(gp_sub(yy, w->kept.d2yy))),
-                              GP_R(0.5) * gp_len(gp_sub(xy, w->kept.d2xy)));
-    const GP_REAL g3 = dh / (GP_RF_FD_EPS * dl);
-    if (g3 < GP_BIG) w->kept.g3 = g3;
-  }
+  w->kept.g3 = w->modelFinal ? gp_rf_g3(&w->kept, f, xc, yc, xx, yy, xy) : GP_R(-1.0);
   w->kept.d2xx = xx;
   w->kept.d2yy = yy;
   w->kept.d2xy = xy;
@@ -366,11 +372,11 @@ GP_FN int gp_rf_model_point(const gp_refine_work* w, const gp_rf_iterate* cur, G
   const gp_vec3 hy = gp_add(gp_scale(w->kept.d2xy, GP_R(0.5) * sx * ie), gp_scale(w->kept.d2yy, sy * ie));
   const gp_vec3 dxi = gp_add(cur->p.dxi, hx), deta = gp_add(cur->p.deta, hy);
   const gp_vec3 nn = gp_cross(dxi, deta);
-  const GP_REAL jmax = gp_max(gp_len(dxi), gp_len(deta)), lnn = gp_len(nn);
+  const GP_REAL la = gp_len(dxi), lb = gp_len(deta), jmax = gp_max(la, lb), lnn = gp_len(nn);
   if (!(lnn > GP_TINY * jmax * jmax) || !gp_finite3(nn)) return 0;
   const GP_REAL l = GP_FABS(sx) + GP_FABS(sy), dj = GP_R(0.5) * w->kept.g3 * l * l;
   const GP_REAL rl = gp_len(cur->r);
-  const GP_REAL err = rl * dj * (gp_len(dxi) + gp_len(deta)) / lnn + dj * l / GP_R(3.0);
+  const GP_REAL err = rl * dj * (la + lb) / lnn + dj * l / GP_R(3.0);
   if (!(err <= GP_R(0.5) * gp_min(w->sinAngle * rl, w->tol))) return 0;
   p->pos = gp_add(cur->p.pos, gp_add(gp_scale(gp_madd(cur->p.dxi, hx, GP_R(0.5)), sx),
                                      gp_scale(gp_madd(cur->p.deta, hy, GP_R(0.5)), sy)));

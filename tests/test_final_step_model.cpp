@@ -111,6 +111,21 @@ ModelStats slideBoth(const std::string& shape, std::shared_ptr<const PatchCache>
   return st;
 }
 
+/// The bounds every mesh and precision meets (measured below), `where` naming the case.
+void expectWithinBounds(const ModelStats& st, const std::string& where) {
+  EXPECT_EQ(st.steps, st.expected) << where;
+  EXPECT_GE(st.steps, 12 * 3 * 100) << where << ": slides of at least 100 points on average";
+  EXPECT_EQ(st.contactDiffers, 0) << where;
+  EXPECT_EQ(st.capHits, 0) << where;
+  EXPECT_GE(st.contacts, st.steps * 9 / 10) << where;
+  EXPECT_GE(st.modelPoints, st.contacts / 3) << where << ": the option takes effect";
+  EXPECT_LE(st.offPatch, 1e-13) << where;
+  EXPECT_LE(st.normalOff, 1e-7) << where;
+  EXPECT_LE(st.residual, 2 * ForceOptions{}.positionTolerance) << where;
+  EXPECT_LE(st.scpApart, 3 * ForceOptions{}.positionTolerance) << where;
+  EXPECT_LE(st.normalApart, 1e-7) << where;
+}
+
 class FinalStepModel : public ::testing::TestWithParam<std::string> {};
 
 // Measured (2026-11-23, 22 shapes): model points on 47% (the knot's slides) to 99% of the steps
@@ -119,18 +134,7 @@ class FinalStepModel : public ::testing::TestWithParam<std::string> {};
 // position tolerance is 1e-10 and the model's estimated error may add half of it); SCPs at
 // most 1.11e-10 x diagonal and normals 2.5e-8 rad from those of evaluated final steps.
 TEST_P(FinalStepModel, StaysOnThePatchWithinItsBounds) {
-  const ModelStats st = slideBoth(GetParam(), test::closedShapeCache(GetParam()));
-  EXPECT_EQ(st.steps, st.expected);
-  EXPECT_GE(st.steps, 12 * 3 * 100) << "slides of at least 100 points on average";
-  EXPECT_EQ(st.contactDiffers, 0);
-  EXPECT_EQ(st.capHits, 0);
-  EXPECT_GE(st.contacts, st.steps * 9 / 10);
-  EXPECT_GE(st.modelPoints, st.contacts / 3) << "the option takes effect";
-  EXPECT_LE(st.offPatch, 1e-13);
-  EXPECT_LE(st.normalOff, 1e-7);
-  EXPECT_LE(st.residual, 2 * ForceOptions{}.positionTolerance);
-  EXPECT_LE(st.scpApart, 3 * ForceOptions{}.positionTolerance);
-  EXPECT_LE(st.normalApart, 1e-7);
+  expectWithinBounds(slideBoth(GetParam(), test::closedShapeCache(GetParam())), GetParam());
 }
 
 INSTANTIATE_TEST_SUITE_P(Shapes, FinalStepModel, ::testing::ValuesIn(test::closedShapes()),
@@ -143,17 +147,8 @@ TEST(FinalStepModelFloat, StaysOnThePatchWithinItsBounds) {
   for (const char* rel : {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/quad-sphere.off", "odedstein/bunny.obj"}) {
     const auto cache = std::make_shared<const PatchCache>(
         test::cacheFromFile(test::sharedMesh(rel), CrossTangentMode::Corrected, Precision::Float));
-    const ModelStats st = slideBoth(std::string(rel) + " (float)", cache);
-    EXPECT_EQ(st.steps, st.expected) << rel;
-    EXPECT_GE(st.steps, 12 * 3 * 100) << rel;
-    EXPECT_EQ(st.contactDiffers, 0) << rel;
-    EXPECT_EQ(st.capHits, 0) << rel;
-    EXPECT_GE(st.modelPoints, st.contacts / 3) << rel;
-    EXPECT_LE(st.offPatch, 1e-13) << rel;
-    EXPECT_LE(st.normalOff, 1e-7) << rel;
-    EXPECT_LE(st.residual, 2 * ForceOptions{}.positionTolerance) << rel;
-    EXPECT_LE(st.scpApart, 3 * ForceOptions{}.positionTolerance) << rel;
-    EXPECT_LE(st.normalApart, 1e-7) << rel;
+    const std::string name = std::string(rel) + " (float)";
+    expectWithinBounds(slideBoth(name, cache), name);
   }
 }
 
