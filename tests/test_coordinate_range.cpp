@@ -63,8 +63,8 @@ TEST(CoordinateRange, Predicate) {
   EXPECT_FALSE(inCoordinateRange(Eigen::Vector3d(0, 0, NAN)));
 }
 
-/// A mesh's renderers of every kind (patch on a prebuilt cache, patch on lazy patches, direct,
-/// shading) and a HIP 2% of the diagonal below the patch point at the centre of face 0 (below
+/// A mesh's renderers of every kind (patch on a prebuilt cache, patch on lazy patches, each also
+/// with model final steps, direct, shading) and a HIP 2% of the diagonal below the patch point at the centre of face 0 (below
 /// its polygon too): in contact for each.
 struct EveryRenderer {
   explicit EveryRenderer(const std::string& rel) {
@@ -79,6 +79,10 @@ struct EveryRenderer {
     inside = pp.pos - 2e-2 * diag * pp.normal;
     renderers.push_back(makeForceRenderer(cache, ForceMethod::Patch, ForceOptions{}));
     renderers.push_back(makeForceRenderer(skeleton, ForceMethod::Patch, ForceOptions{}));
+    ForceOptions model;
+    model.finalStep = FinalStep::Model;
+    renderers.push_back(makeForceRenderer(cache, ForceMethod::Patch, model));
+    renderers.push_back(makeForceRenderer(skeleton, ForceMethod::Patch, model));
     renderers.push_back(makeForceRenderer(cache, ForceMethod::Direct, ForceOptions{}));
     renderers.push_back(makeForceRenderer(cache, ForceMethod::Shading, ForceOptions{}));
   }
@@ -114,14 +118,14 @@ TEST(CoordinateRange, EveryRendererReportsABadHip) {
       }
     }
   }
-  EXPECT_EQ(checked, 2 * 4 * 31);
+  EXPECT_EQ(checked, 2 * 6 * 31);
 }
 
 // A HIP that jumps from a contact to farther from the object's box than the box's diagonal
 // (farBeyondBox; within the coordinate range) leaves the contact with no force, for every
 // method: from 1e14 m the patch method's tracking stalled and kept a contact of 5e16 N, the
 // god-object one of 5e14 N at 1e12 m. Nearer, a HIP pushed through keeps its contact
-// (ForceThinPlate.NoPopThroughForAnyMethod). 6 directions x 4 distances x 4 kinds x 2 meshes.
+// (ForceThinPlate.NoPopThroughForAnyMethod). 6 directions x 4 distances x 6 kinds x 2 meshes.
 TEST(CoordinateRange, AJumpFarOutsideLeavesTheContact) {
   int checked = 0;
   for (const char* rel : {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/quad-sphere.off"}) {
@@ -142,7 +146,7 @@ TEST(CoordinateRange, AJumpFarOutsideLeavesTheContact) {
           }
     }
   }
-  EXPECT_EQ(checked, 2 * 4 * 6 * 4);
+  EXPECT_EQ(checked, 2 * 6 * 6 * 4);
 }
 
 // The queries themselves, called directly: nothing found, no abort.

@@ -142,8 +142,12 @@ class PatchTracker final : public ForceRenderer {
     // the patch point the last step ended at (or resetNear's) seeds the global query on the
     // surface and bounds its candidate search; without one the query runs whole here
     const bool seeded = surface_ && hint_.face >= 0 && hint_.seed && options_.refine == RefineMethod::Newton;
-    if (!beginPatchStep(*scene_, surface_.get(), *cache_, hip, state_, lambda_.data(), start, s, seeded, hint_))
+    if (!beginPatchStep(*scene_, surface_.get(), *cache_, hip, state_, lambda_.data(), start, s, seeded, hint_)) {
+      // a HIP the queries do not take resets the renderer (reset()): the next step starts
+      // afresh, not from the seed the step before it left
+      if (s.status & SF_TRACK_BAD_HIP) hint_ = PatchStepHint{};
       return s;
+    }
     if (start.global && surface_ && !start.seeded) {  // the whole global query: every candidate it may need
       const PatchNearest q =
           nearestOnPatches(*surface_, refiner_, hip, options_, nullptr, start.reach, nullptr, start.reachFace);
