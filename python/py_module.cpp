@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include <smoothforce/base/error.h>
+#include <smoothforce/base/status.h>
 #include <smoothforce/version.h>
 #include "py_common.h"
 
@@ -12,8 +13,11 @@ PYBIND11_MODULE(smoothforce, m) {
       "SmoothForce: smooth haptic force on coarse polygon meshes through G1 Gregory patches\n"
       "(Wu et al., 'Smooth Force Rendering on Coarse Polygonal Meshes').\n\n"
       "Units: metres, newtons, N/m, seconds. Bad input (files, arrays, options) raises ValueError\n"
-      "with a message naming the file and line, or the field and element.";
+      "with a message naming the file and line, or the field and element. Status words carry the\n"
+      "bits SF_ST_* (patch and point), SF_TRACK_* (step) and SF_PROBE_* (sweep probe), module constants.";
   m.attr("__version__") = SF_VERSION_STRING;
+  // the status bits of patch points, steps and probes, by the C++ names (SF_ST_MODEL_POINT, ...)
+  for (const sf::StatusBit& b : sf::kStatusBits) m.attr(b.name) = b.value;
   // messages as str with undecodable bytes escaped: PyErr_SetString would leave an empty message
   // for a file name that is not UTF-8
   pyb::register_exception_translator([](std::exception_ptr p) {

@@ -105,29 +105,27 @@ TEST(BaseError, ChecksPassSilentlyAndFailWithBothOperands) {
 }
 
 TEST(BaseStatus, BitsAreDistinctAndTrackBitsLieAboveThePatchBits) {
-  const uint32_t st[] = {SF_ST_GUARD, SF_ST_ZERO_EDGE, SF_ST_EDGE_NORMAL, SF_ST_CROSS_TANGENT,  SF_ST_FOLD,
-                         SF_ST_BULGE, SF_ST_OUTSIDE,   SF_ST_SINGULAR,    SF_ST_TOO_MANY_SIDES, SF_ST_NONFINITE, SF_ST_MODEL_POINT};
-  const uint32_t track[] = {SF_TRACK_CONVERGED,  SF_TRACK_MAX_ITER, SF_TRACK_STALLED,     SF_TRACK_BOUNDARY,
-                            SF_TRACK_DEGENERATE, SF_TRACK_GLOBAL,   SF_TRACK_ENTER,       SF_TRACK_LEAVE,
-                            SF_TRACK_NO_POLYGON, SF_TRACK_BAD_HIP,  SF_TRACK_PROXY_LIMIT, SF_TRACK_INSIDE,
-                            SF_TRACK_FOLD_EDGE};
-  uint32_t all = 0, allTrack = 0;
+  // kStatusBits (the names Python and the C API give): one bit each, distinct, by prefix the
+  // SF_ST_* bits below SF_TRACK_MASK's, which they fill as the SF_PROBE_* bits fill SF_PROBE_MASK
+  uint32_t all = 0, allSt = 0, allTrack = 0, allProbe = 0;
   int n = 0;
-  for (uint32_t b : st) {
-    EXPECT_EQ(b & (b - 1), 0u) << "one bit each";
-    EXPECT_EQ(all & b, 0u) << "distinct";
-    all |= b;
+  for (const StatusBit& b : kStatusBits) {
+    const std::string name = b.name;
+    EXPECT_EQ(b.value & (b.value - 1), 0u) << name << ": one bit each";
+    EXPECT_NE(b.value, 0u) << name;
+    EXPECT_EQ(all & b.value, 0u) << name << ": distinct";
+    all |= b.value;
+    (name.rfind("SF_ST_", 0) == 0 ? allSt : name.rfind("SF_TRACK_", 0) == 0 ? allTrack : allProbe) |= b.value;
+    EXPECT_TRUE(name.rfind("SF_ST_", 0) == 0 || name.rfind("SF_TRACK_", 0) == 0 || name.rfind("SF_PROBE_", 0) == 0)
+        << name;
     ++n;
   }
-  for (uint32_t b : track) {
-    EXPECT_EQ(b & (b - 1), 0u) << "one bit each";
-    EXPECT_EQ(all & b, 0u) << "distinct";
-    all |= b;
-    allTrack |= b;
-    ++n;
-  }
-  EXPECT_EQ(n, 24);
+  EXPECT_EQ(n, 27);
+  EXPECT_EQ(allSt, SF_ST_MODEL_POINT * 2 - 1);  // 0x1 .. 0x400, no gap
   EXPECT_EQ(allTrack, SF_TRACK_MASK);
+  EXPECT_EQ(allProbe, SF_PROBE_MASK);
+  EXPECT_EQ(kStatusBits[10].value, SF_ST_MODEL_POINT);
+  EXPECT_STREQ(kStatusBits[10].name, "SF_ST_MODEL_POINT");
   EXPECT_EQ(SF_TRACK_MASK & (SF_ST_MODEL_POINT * 2 - 1), 0u);
   // the kernels' spelling (compile-time asserted in base/status.cpp as well)
   EXPECT_EQ(SF_ST_DEGENERATE_MASK, uint32_t(GP_ST_DEGENERATE_MASK));

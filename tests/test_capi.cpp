@@ -120,22 +120,36 @@ TEST(CApi, TraceEqualsTheRendererOnEveryHipForEveryMethod) {
   auto ref = std::make_shared<const sf::PatchCache>(cppCache());
   const std::vector<double> hips = hipsInside(*ref);
   const size_t n = hips.size() / 3;
-  for (const char* method : {"patch", "direct", "shading"}) {
+  // every method with the default final step, and the patch method with final_step "model"
+  const std::pair<const char*, const char*> runs[] = {
+      {"patch", nullptr}, {"patch", "model"}, {"direct", nullptr}, {"shading", nullptr}};
+  for (const auto& [method, finalStep] : runs) {
     sf_haptic_options o;
     sf_haptic_options_init(&o);
+    EXPECT_EQ(o.final_step, nullptr);
     o.method = method;
+    o.final_step = finalStep;
     std::vector<sf_step_result> out(n);
     ASSERT_EQ(sf_cache_trace(c.get(), &o, n, hips.data(), out.data()), SF_OK) << sf_cache_error(c.get());
-    auto r = sf::makeForceRenderer(ref, sf::parseForceMethod(method), sf::ForceOptions{});
-    size_t same = 0, contacts = 0;
+    sf::ForceOptions fo;
+    if (finalStep) fo.finalStep = sf::parseFinalStep(finalStep);
+    auto r = sf::makeForceRenderer(ref, sf::parseForceMethod(method), fo);
+    size_t same = 0, contacts = 0, modelPoints = 0;
     for (size_t i = 0; i < n; ++i) {
       const sf::ForceSample s = r->step(Eigen::Vector3d(hips[3 * i], hips[3 * i + 1], hips[3 * i + 2]));
       same += s.force == Eigen::Vector3d(out[i].force[0], out[i].force[1], out[i].force[2]) &&
               s.scp == Eigen::Vector3d(out[i].scp[0], out[i].scp[1], out[i].scp[2]) && s.contact == out[i].contact &&
               s.status == out[i].status && s.iterations == out[i].iterations;
       contacts += out[i].contact;
+      modelPoints += (out[i].status & SF_ST_MODEL_POINT) != 0;
     }
     EXPECT_EQ(same, n) << method;
+    // model points only where asked for; the jumps between faces end on one where a converging
+    // step stays near its start
+    if (finalStep)
+      EXPECT_GT(modelPoints, 0u);
+    else
+      EXPECT_EQ(modelPoints, 0u) << method;
     // The patch method tracks every jump between faces 1 cm deep; the god-object methods may
     // lose such a jump (their own behaviour, the same in C++: `same` above).
     if (std::string(method) == "patch") {
@@ -271,6 +285,10 @@ TEST(CApi, EveryErrorClassIsACodeAndAMessage) {
   st = sf_haptic_create(spot.get(), &ho, &h);
   expect(st, SF_ERROR_INPUT, sf_last_error(), "magnetic");
   sf_haptic_options_init(&ho);
+  ho.final_step = "modelled";
+  st = sf_haptic_create(spot.get(), &ho, &h);
+  expect(st, SF_ERROR_INPUT, sf_last_error(), "final step: expected evaluated|model, got 'modelled'");
+  sf_haptic_options_init(&ho);
   ho.stiffness = -5;
   st = sf_cache_trace(spot.get(), &ho, 0, nullptr, nullptr);
   expect(st, SF_ERROR_INPUT, sf_cache_error(spot.get()), "stiffness");
@@ -303,7 +321,7 @@ TEST(CApi, EveryErrorClassIsACodeAndAMessage) {
   EXPECT_EQ(r.faulted, 1);
   EXPECT_EQ(r.force[0] * r.force[0] + r.force[1] * r.force[1] + r.force[2] * r.force[2], 0.0);
   sf_haptic_reset(h);
-  EXPECT_EQ(checked, 20);
+  EXPECT_EQ(checked, 21);
   // A lazy cache: traces build their patches; evaluation and saving say why not.
   sf_cache_options_init(&o);
   o.lazy = 1;

@@ -9,10 +9,39 @@
 
 namespace sf::capi {
 
+// The C header's status bits are the library's (one list: smoothforce/base/status.h).
+#define SF_CAPI_SAME_BIT(name) static_assert(static_cast<uint32_t>(::name) == sf::name, #name)
+SF_CAPI_SAME_BIT(SF_ST_GUARD);
+SF_CAPI_SAME_BIT(SF_ST_ZERO_EDGE);
+SF_CAPI_SAME_BIT(SF_ST_EDGE_NORMAL);
+SF_CAPI_SAME_BIT(SF_ST_CROSS_TANGENT);
+SF_CAPI_SAME_BIT(SF_ST_FOLD);
+SF_CAPI_SAME_BIT(SF_ST_BULGE);
+SF_CAPI_SAME_BIT(SF_ST_OUTSIDE);
+SF_CAPI_SAME_BIT(SF_ST_SINGULAR);
+SF_CAPI_SAME_BIT(SF_ST_TOO_MANY_SIDES);
+SF_CAPI_SAME_BIT(SF_ST_NONFINITE);
+SF_CAPI_SAME_BIT(SF_ST_MODEL_POINT);
+SF_CAPI_SAME_BIT(SF_TRACK_CONVERGED);
+SF_CAPI_SAME_BIT(SF_TRACK_MAX_ITER);
+SF_CAPI_SAME_BIT(SF_TRACK_STALLED);
+SF_CAPI_SAME_BIT(SF_TRACK_BOUNDARY);
+SF_CAPI_SAME_BIT(SF_TRACK_DEGENERATE);
+SF_CAPI_SAME_BIT(SF_TRACK_GLOBAL);
+SF_CAPI_SAME_BIT(SF_TRACK_ENTER);
+SF_CAPI_SAME_BIT(SF_TRACK_LEAVE);
+SF_CAPI_SAME_BIT(SF_TRACK_NO_POLYGON);
+SF_CAPI_SAME_BIT(SF_TRACK_BAD_HIP);
+SF_CAPI_SAME_BIT(SF_TRACK_PROXY_LIMIT);
+SF_CAPI_SAME_BIT(SF_TRACK_INSIDE);
+SF_CAPI_SAME_BIT(SF_TRACK_FOLD_EDGE);
+#undef SF_CAPI_SAME_BIT
+
 ForceOptions forceOptions(const sf_haptic_options& o, ForceMethod* method) {
   ForceOptions f;
   *method = parseForceMethod(opt(o.method, "patch"));
   if (o.preset) applyForcePreset(findForcePreset(o.preset), f);
+  if (o.final_step) f.finalStep = parseFinalStep(o.final_step);
   f.stiffness = o.stiffness;
   f.patchCapacity = o.patch_capacity;
   validateForceOptions(f);
@@ -55,7 +84,7 @@ void sf_haptic_options_init(sf_haptic_options* o) {
   if (!o) return;
   const rt::SafetyOptions s;
   *o = sf_haptic_options{nullptr,        nullptr,    ForceOptions{}.stiffness, ForceOptions{}.patchCapacity, s.maxForce,
-                         s.maxForceStep, s.rampTime, rt::StepOptions{}.rate};
+                         s.maxForceStep, s.rampTime, rt::StepOptions{}.rate,   nullptr};
 }
 
 sf_status sf_haptic_create(sf_cache* cache, const sf_haptic_options* options, sf_haptic** out) {

@@ -12,7 +12,6 @@ SHARED = ["polygon_laplacian/hexaSphere.off", "pmp/chamfer-cube.off", "geomview/
           "odedstein/spot_low_resolution.obj", "lagrange/cube.obj", "keenan_crane/spot_control_mesh.obj"]
 
 
-GP_ST_OUTSIDE = 0x40  # kernels/gp_config.h
 
 
 def run(*args):
@@ -58,14 +57,14 @@ def test_evaluate_matches_cli_eval_on_every_face(spot, paths, tmp_path):
     ref = np.array([[float(r[k]) for k in ("x", "y", "z", "nx", "ny", "nz")] for r in rows])
     np.testing.assert_array_equal(pts["position"], ref[:, :3])
     np.testing.assert_array_equal(pts["normal"], ref[:, 3:])
-    assert (pts["status"] & GP_ST_OUTSIDE).sum() == 0  # none outside its domain
+    assert (pts["status"] & sf.SF_ST_OUTSIDE).sum() == 0  # none outside its domain
     np.testing.assert_allclose(np.linalg.norm(pts["normal"], axis=1), 1.0, atol=1e-12)
 
 
 def test_evaluate_outside_domain_and_bad_face_are_flagged(spot):
     cache = sf.Cache.from_file(spot)
     pts = cache.evaluate([0, 5, 10_000, -1], [2.0, 0.0, 0.0, 0.0], [0.0, 3.0, 0.0, 0.0])
-    assert list(pts["status"] & GP_ST_OUTSIDE) == [GP_ST_OUTSIDE] * 4
+    assert list(pts["status"] & sf.SF_ST_OUTSIDE) == [sf.SF_ST_OUTSIDE] * 4
     assert not pts["position"].any()
 
 
@@ -250,16 +249,35 @@ def test_trace_matches_cli_trace_on_every_hip(spot, paths, tmp_path):
             assert (~t["contact"][-50:]).sum() >= 40  # 5 cm outside (a few land inside another part)
 
 
+def test_status_bits_are_module_constants():
+    """Every status bit by its C++ name: one bit each, distinct; SF_ST_* fill 0x1..0x400, SF_TRACK_*
+    0x10000..0x10000000, SF_PROBE_* the top three bits (the values status.h and smoothforce.h give)."""
+    bits = {k: getattr(sf, k) for k in dir(sf) if k.startswith(("SF_ST_", "SF_TRACK_", "SF_PROBE_"))}
+    assert len(bits) == 27
+    union = 0
+    for name, v in bits.items():
+        assert isinstance(v, int) and v > 0 and v & (v - 1) == 0, name
+        assert union & v == 0, name
+        union |= v
+    def group(prefix):
+        return sum(v for k, v in bits.items() if k.startswith(prefix))
+    assert group("SF_ST_") == 0x7FF
+    assert group("SF_TRACK_") == 0x1FFF0000
+    assert group("SF_PROBE_") == 0xE0000000
+    assert (sf.SF_ST_OUTSIDE, sf.SF_ST_MODEL_POINT, sf.SF_TRACK_BAD_HIP) == (0x40, 0x400, 0x2000000)
+
+
 def test_final_step_model_marks_model_points_and_stays_near_evaluated(spot):
     """final_step="model" (as --final-step model): most steps of a slide in contact end on a model
-    point (status bit 0x400, SF_ST_MODEL_POINT), none with the default, the same contacts, and the
+    point (status bit SF_ST_MODEL_POINT), none with the default, the same contacts, and the
     SCPs within 1e-8 m (the spot cage's diagonal is about 2.7 m; measured in C++: 1.1e-10 of it)."""
     cache = sf.Cache.from_file(spot)
     pts = cache.evaluate(np.zeros(200, dtype=np.int32), np.linspace(-0.5, 0.5, 200), np.zeros(200))
     hips = pts["position"] - 0.005 * pts["normal"]
     e = sf.trace(cache, hips)
     m = sf.trace(cache, hips, final_step="model")
-    model_bit = 0x400
+    model_bit = sf.SF_ST_MODEL_POINT
+    assert model_bit == 0x400  # the value of status.h and the C API
     assert (e["status"] & model_bit).sum() == 0
     assert list(m["contact"]) == list(e["contact"])
     assert e["contact"].sum() == len(hips)

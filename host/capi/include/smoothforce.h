@@ -32,12 +32,44 @@ typedef enum sf_status {
   SF_ERROR_INTERNAL = 4  /**< a bug in SmoothForce (message says where) */
 } sf_status;
 
+/** Status bits of a patch point (sf_cache_evaluate) and of a step (sf_step_result.status): the
+ *  SF_ST_* bits of the patch's construction and of the evaluated point, and the SF_TRACK_* bits
+ *  that refinement and the force methods add. The values of the C++ library's sf::SF_ST_* and
+ *  sf::SF_TRACK_* (smoothforce/base/status.h; the C API asserts them equal when it is built). */
+enum sf_status_bits {
+  SF_ST_GUARD = 0x1,             /**< a backward end tangent was replaced (guard 1) */
+  SF_ST_ZERO_EDGE = 0x2,         /**< an edge of (near) zero length */
+  SF_ST_EDGE_NORMAL = 0x4,       /**< edge normal or an end tangent undefined; fallback used */
+  SF_ST_CROSS_TANGENT = 0x8,     /**< cross tangent undefined; fallback used */
+  SF_ST_FOLD = 0x10,             /**< patch normal opposite to the edge normal near an edge */
+  SF_ST_BULGE = 0x20,            /**< surface leaves the face box by > 0.5 face diameters */
+  SF_ST_OUTSIDE = 0x40,          /**< evaluation point outside the domain (or a bad face index) */
+  SF_ST_SINGULAR = 0x80,         /**< dG/dxi x dG/deta vanishes; the normal is a fallback */
+  SF_ST_TOO_MANY_SIDES = 0x100,  /**< more than 64 or fewer than 3 sides: no patch */
+  SF_ST_NONFINITE = 0x200,       /**< non-finite input */
+  SF_ST_MODEL_POINT = 0x400,     /**< the SCP and normal come from the refinement's quadratic
+                                      model (final_step "model"), not a patch evaluation */
+  SF_TRACK_CONVERGED = 0x10000,  /**< refinement met the tolerances */
+  SF_TRACK_MAX_ITER = 0x20000,   /**< refinement hit the iteration cap */
+  SF_TRACK_STALLED = 0x40000,    /**< no step could decrease the distance before the tolerance */
+  SF_TRACK_BOUNDARY = 0x80000,   /**< the SCP is held on a boundary or non-manifold edge */
+  SF_TRACK_DEGENERATE = 0x100000, /**< patch not evaluable: its polygon was used instead */
+  SF_TRACK_GLOBAL = 0x200000,    /**< a global query ran this step */
+  SF_TRACK_ENTER = 0x400000,     /**< contact began this step */
+  SF_TRACK_LEAVE = 0x800000,     /**< contact ended this step */
+  SF_TRACK_NO_POLYGON = 0x1000000, /**< the mesh has no polygon */
+  SF_TRACK_BAD_HIP = 0x2000000,  /**< HIP not finite or beyond 1e15 m: not rendered, state reset */
+  SF_TRACK_PROXY_LIMIT = 0x4000000, /**< god-object: more than 3 constraints or the pass limit */
+  SF_TRACK_INSIDE = 0x8000000,   /**< contact started: the HIP is inside the surface */
+  SF_TRACK_FOLD_EDGE = 0x10000000 /**< the SCP is held on an edge where the surface folds back */
+};
+
 /** A whole-mesh patch cache (or a mesh whose patches are built on demand). */
 typedef struct sf_cache sf_cache;
 /** A force renderer with the safety layer and the servo step (one object at a pose). */
 typedef struct sf_haptic sf_haptic;
 
-/** "0.1.0": the library's version. */
+/** "0.2.0": the library's version. */
 const char* sf_version(void);
 /** Name of a status code ("SF_ERROR_INPUT"). */
 const char* sf_status_name(sf_status status);
@@ -88,8 +120,8 @@ sf_status sf_cache_save(sf_cache* cache, const char* path);
 
 /** Evaluates count points on the patches: face (0-based) and (xi, eta) in the face's domain,
  *  the regular n-gon with corners (cos 2 pi k/n, sin 2 pi k/n). Outputs (any may be NULL):
- *  position count x 3 (m), normal count x 3 (unit), status count GP_ST_* bits (a point
- *  outside its domain or a bad face index: GP_ST_OUTSIDE, zero vectors). In parallel (the
+ *  position count x 3 (m), normal count x 3 (unit), status count SF_ST_* bits (a point
+ *  outside its domain or a bad face index: SF_ST_OUTSIDE, zero vectors). In parallel (the
  *  cache's backend). SF_ERROR_INPUT for a lazy cache. */
 sf_status sf_cache_evaluate(sf_cache* cache, size_t count, const int32_t* faces, const double* xi, const double* eta,
                             double* position, double* normal, uint32_t* status);
@@ -104,6 +136,10 @@ typedef struct sf_haptic_options {
   double max_force_step; /**< largest change per step, N (default 0.5; INFINITY disables) */
   double ramp_time;      /**< force ramp-in from the first step, s (default 0.5; 0 disables) */
   double rate;           /**< nominal servo rate, Hz (default 1000): deadlines of sf_haptic_step */
+  const char* final_step; /**< patch method: "evaluated" (default, NULL) or "model": the Newton
+                               refinement's converging step ends on its quadratic model, one patch
+                               evaluation fewer per tracking step (README "The model final step";
+                               since 0.2.0) */
 } sf_haptic_options;
 void sf_haptic_options_init(sf_haptic_options* options);
 

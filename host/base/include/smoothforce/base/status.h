@@ -63,4 +63,42 @@ inline constexpr uint32_t SF_PROBE_UNDECIDED =
 inline constexpr uint32_t SF_PROBE_ON_FAULT = 0x80000000u;
 inline constexpr uint32_t SF_PROBE_MASK = 0xE0000000u;
 
+/// A status bit's name and value: kStatusBits lists every SF_ST_*, SF_TRACK_* and SF_PROBE_* bit
+/// above (the names Python's module and the C API's sf_status_bits give them).
+struct StatusBit {
+  const char* name;
+  uint32_t value;
+};
+#define SF_STATUS_BIT(name) StatusBit{#name, name}  // the name spelled once
+inline constexpr StatusBit kStatusBits[] = {
+    SF_STATUS_BIT(SF_ST_GUARD),
+    SF_STATUS_BIT(SF_ST_ZERO_EDGE),
+    SF_STATUS_BIT(SF_ST_EDGE_NORMAL),
+    SF_STATUS_BIT(SF_ST_CROSS_TANGENT),
+    SF_STATUS_BIT(SF_ST_FOLD),
+    SF_STATUS_BIT(SF_ST_BULGE),
+    SF_STATUS_BIT(SF_ST_OUTSIDE),
+    SF_STATUS_BIT(SF_ST_SINGULAR),
+    SF_STATUS_BIT(SF_ST_TOO_MANY_SIDES),
+    SF_STATUS_BIT(SF_ST_NONFINITE),
+    SF_STATUS_BIT(SF_ST_MODEL_POINT),
+    SF_STATUS_BIT(SF_TRACK_CONVERGED),
+    SF_STATUS_BIT(SF_TRACK_MAX_ITER),
+    SF_STATUS_BIT(SF_TRACK_STALLED),
+    SF_STATUS_BIT(SF_TRACK_BOUNDARY),
+    SF_STATUS_BIT(SF_TRACK_DEGENERATE),
+    SF_STATUS_BIT(SF_TRACK_GLOBAL),
+    SF_STATUS_BIT(SF_TRACK_ENTER),
+    SF_STATUS_BIT(SF_TRACK_LEAVE),
+    SF_STATUS_BIT(SF_TRACK_NO_POLYGON),
+    SF_STATUS_BIT(SF_TRACK_BAD_HIP),
+    SF_STATUS_BIT(SF_TRACK_PROXY_LIMIT),
+    SF_STATUS_BIT(SF_TRACK_INSIDE),
+    SF_STATUS_BIT(SF_TRACK_FOLD_EDGE),
+    SF_STATUS_BIT(SF_PROBE_INSIDE),
+    SF_STATUS_BIT(SF_PROBE_UNDECIDED),
+    SF_STATUS_BIT(SF_PROBE_ON_FAULT),
+};
+#undef SF_STATUS_BIT
+
 }  // namespace sf
