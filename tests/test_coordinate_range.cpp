@@ -64,8 +64,8 @@ TEST(CoordinateRange, Predicate) {
 }
 
 /// A mesh's renderers of every kind (patch on a prebuilt cache, patch on lazy patches, each also
-/// with model final steps, direct, shading) and a HIP 2% of the diagonal below the patch point at the centre of face 0 (below
-/// its polygon too): in contact for each.
+/// with model final steps, direct, shading) and a HIP 2% of the diagonal below the patch point at the centre of face 0
+/// (below its polygon too): in contact for each.
 struct EveryRenderer {
   explicit EveryRenderer(const std::string& rel) {
     const std::string path = test::sharedMesh(rel);

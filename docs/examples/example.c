@@ -111,7 +111,8 @@ int main(int argc, char** argv) {
   const sf_status st = sf_cache_from_arrays(positions, 3, offsets, 1, bad, NULL, 0, NULL, &none);
   printf("bad arrays: %s: %s\n", sf_status_name(st), sf_last_error());
 
-  const int ok = contacts == N && sameContacts && modelPoints > 0 && maxDiff < 1e-6 && inContact == steps && maxForce <= 3.3 + 1e-9 && st == SF_ERROR_INPUT && !none &&
+  const int ok = contacts == N && sameContacts && modelPoints > 0 && maxDiff < 1e-6 && inContact == steps &&
+                 maxForce <= 3.3 + 1e-9 && st == SF_ERROR_INPUT && !none &&
                  strstr(sf_last_error(), "vertex index 7 out of range") != NULL;
   printf("example_c: %s\n", ok ? "OK" : "FAILED");
   return ok ? 0 : 1;

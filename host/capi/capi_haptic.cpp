@@ -1,6 +1,7 @@
 // C API: the servo step (renderer + safety + ServoStep on a one-object scene) and traces.
 #include <cmath>
 #include <cstring>
+#include <iterator>
 
 #include <smoothforce/force/force_presets.h>
 #include <smoothforce/force/force_tracking.h>
@@ -36,6 +37,8 @@ SF_CAPI_SAME_BIT(SF_TRACK_PROXY_LIMIT);
 SF_CAPI_SAME_BIT(SF_TRACK_INSIDE);
 SF_CAPI_SAME_BIT(SF_TRACK_FOLD_EDGE);
 #undef SF_CAPI_SAME_BIT
+// the 24 above and the sweep's 3 SF_PROBE_* bits (not in C) are every bit the library names
+static_assert(std::size(sf::kStatusBits) == 24 + 3, "a status bit of status.h is missing from smoothforce.h");
 
 ForceOptions forceOptions(const sf_haptic_options& o, ForceMethod* method) {
   ForceOptions f;
@@ -83,8 +86,15 @@ extern "C" {
 void sf_haptic_options_init(sf_haptic_options* o) {
   if (!o) return;
   const rt::SafetyOptions s;
-  *o = sf_haptic_options{nullptr,        nullptr,    ForceOptions{}.stiffness, ForceOptions{}.patchCapacity, s.maxForce,
-                         s.maxForceStep, s.rampTime, rt::StepOptions{}.rate,   nullptr};
+  *o = sf_haptic_options{nullptr,
+                         nullptr,
+                         ForceOptions{}.stiffness,
+                         ForceOptions{}.patchCapacity,
+                         s.maxForce,
+                         s.maxForceStep,
+                         s.rampTime,
+                         rt::StepOptions{}.rate,
+                         nullptr};
 }
 
 sf_status sf_haptic_create(sf_cache* cache, const sf_haptic_options* options, sf_haptic** out) {

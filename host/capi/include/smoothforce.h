@@ -37,31 +37,31 @@ typedef enum sf_status {
  *  that refinement and the force methods add. The values of the C++ library's sf::SF_ST_* and
  *  sf::SF_TRACK_* (smoothforce/base/status.h; the C API asserts them equal when it is built). */
 enum sf_status_bits {
-  SF_ST_GUARD = 0x1,             /**< a backward end tangent was replaced (guard 1) */
-  SF_ST_ZERO_EDGE = 0x2,         /**< an edge of (near) zero length */
-  SF_ST_EDGE_NORMAL = 0x4,       /**< edge normal or an end tangent undefined; fallback used */
-  SF_ST_CROSS_TANGENT = 0x8,     /**< cross tangent undefined; fallback used */
-  SF_ST_FOLD = 0x10,             /**< patch normal opposite to the edge normal near an edge */
-  SF_ST_BULGE = 0x20,            /**< surface leaves the face box by > 0.5 face diameters */
-  SF_ST_OUTSIDE = 0x40,          /**< evaluation point outside the domain (or a bad face index) */
-  SF_ST_SINGULAR = 0x80,         /**< dG/dxi x dG/deta vanishes; the normal is a fallback */
-  SF_ST_TOO_MANY_SIDES = 0x100,  /**< more than 64 or fewer than 3 sides: no patch */
-  SF_ST_NONFINITE = 0x200,       /**< non-finite input */
-  SF_ST_MODEL_POINT = 0x400,     /**< the SCP and normal come from the refinement's quadratic
-                                      model (final_step "model"), not a patch evaluation */
-  SF_TRACK_CONVERGED = 0x10000,  /**< refinement met the tolerances */
-  SF_TRACK_MAX_ITER = 0x20000,   /**< refinement hit the iteration cap */
-  SF_TRACK_STALLED = 0x40000,    /**< no step could decrease the distance before the tolerance */
-  SF_TRACK_BOUNDARY = 0x80000,   /**< the SCP is held on a boundary or non-manifold edge */
-  SF_TRACK_DEGENERATE = 0x100000, /**< patch not evaluable: its polygon was used instead */
-  SF_TRACK_GLOBAL = 0x200000,    /**< a global query ran this step */
-  SF_TRACK_ENTER = 0x400000,     /**< contact began this step */
-  SF_TRACK_LEAVE = 0x800000,     /**< contact ended this step */
-  SF_TRACK_NO_POLYGON = 0x1000000, /**< the mesh has no polygon */
-  SF_TRACK_BAD_HIP = 0x2000000,  /**< HIP not finite or beyond 1e15 m: not rendered, state reset */
+  SF_ST_GUARD = 0x1,                /**< a backward end tangent was replaced (guard 1) */
+  SF_ST_ZERO_EDGE = 0x2,            /**< an edge of (near) zero length */
+  SF_ST_EDGE_NORMAL = 0x4,          /**< edge normal or an end tangent undefined; fallback used */
+  SF_ST_CROSS_TANGENT = 0x8,        /**< cross tangent undefined; fallback used */
+  SF_ST_FOLD = 0x10,                /**< patch normal opposite to the edge normal near an edge */
+  SF_ST_BULGE = 0x20,               /**< surface leaves the face box by > 0.5 face diameters */
+  SF_ST_OUTSIDE = 0x40,             /**< evaluation point outside the domain (or a bad face index) */
+  SF_ST_SINGULAR = 0x80,            /**< dG/dxi x dG/deta vanishes; the normal is a fallback */
+  SF_ST_TOO_MANY_SIDES = 0x100,     /**< more than 64 or fewer than 3 sides: no patch */
+  SF_ST_NONFINITE = 0x200,          /**< non-finite input */
+  SF_ST_MODEL_POINT = 0x400,        /**< the SCP and normal come from the refinement's quadratic
+                                         model (final_step "model"), not a patch evaluation */
+  SF_TRACK_CONVERGED = 0x10000,     /**< refinement met the tolerances */
+  SF_TRACK_MAX_ITER = 0x20000,      /**< refinement hit the iteration cap */
+  SF_TRACK_STALLED = 0x40000,       /**< no step could decrease the distance before the tolerance */
+  SF_TRACK_BOUNDARY = 0x80000,      /**< the SCP is held on a boundary or non-manifold edge */
+  SF_TRACK_DEGENERATE = 0x100000,   /**< patch not evaluable: its polygon was used instead */
+  SF_TRACK_GLOBAL = 0x200000,       /**< a global query ran this step */
+  SF_TRACK_ENTER = 0x400000,        /**< contact began this step */
+  SF_TRACK_LEAVE = 0x800000,        /**< contact ended this step */
+  SF_TRACK_NO_POLYGON = 0x1000000,  /**< the mesh has no polygon */
+  SF_TRACK_BAD_HIP = 0x2000000,     /**< HIP not finite or beyond 1e15 m: not rendered, state reset */
   SF_TRACK_PROXY_LIMIT = 0x4000000, /**< god-object: more than 3 constraints or the pass limit */
-  SF_TRACK_INSIDE = 0x8000000,   /**< contact started: the HIP is inside the surface */
-  SF_TRACK_FOLD_EDGE = 0x10000000 /**< the SCP is held on an edge where the surface folds back */
+  SF_TRACK_INSIDE = 0x8000000,      /**< contact started: the HIP is inside the surface */
+  SF_TRACK_FOLD_EDGE = 0x10000000   /**< the SCP is held on an edge where the surface folds back */
 };
 
 /** A whole-mesh patch cache (or a mesh whose patches are built on demand). */
