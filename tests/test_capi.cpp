@@ -144,10 +144,10 @@ TEST(CApi, TraceEqualsTheRendererOnEveryHipForEveryMethod) {
       modelPoints += (out[i].status & SF_ST_MODEL_POINT) != 0;
     }
     EXPECT_EQ(same, n) << method;
-    // model points only where asked for; the jumps between faces end on one where a converging
-    // step stays near its start
+    // model points only where asked for, and then on most steps (measured: 775 of 932; a step
+    // ends on one where its converging Newton step stays near its start)
     if (finalStep)
-      EXPECT_GT(modelPoints, 0u);
+      EXPECT_GE(modelPoints, n / 2);
     else
       EXPECT_EQ(modelPoints, 0u) << method;
     // The patch method tracks every jump between faces 1 cm deep; the god-object methods may

@@ -12,8 +12,6 @@ SHARED = ["polygon_laplacian/hexaSphere.off", "pmp/chamfer-cube.off", "geomview/
           "odedstein/spot_low_resolution.obj", "lagrange/cube.obj", "keenan_crane/spot_control_mesh.obj"]
 
 
-
-
 def run(*args):
     subprocess.run([str(a) for a in args], check=True, capture_output=True)
 
@@ -259,6 +257,7 @@ def test_status_bits_are_module_constants():
         assert isinstance(v, int) and v > 0 and v & (v - 1) == 0, name
         assert union & v == 0, name
         union |= v
+
     def group(prefix):
         return sum(v for k, v in bits.items() if k.startswith(prefix))
     assert group("SF_ST_") == 0x7FF
