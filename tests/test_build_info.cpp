@@ -12,6 +12,7 @@
 #include <smoothforce/version.h>
 #include <algorithm>
 #include <string>
+#include <utility>
 
 #include "cli_test_support.h"
 #include "gp_config.h"
@@ -109,15 +110,21 @@ TEST(BaseStatus, BitsAreDistinctAndTrackBitsLieAboveThePatchBits) {
   // SF_ST_* bits below SF_TRACK_MASK's, which they fill as the SF_PROBE_* bits fill SF_PROBE_MASK
   uint32_t all = 0, allSt = 0, allTrack = 0, allProbe = 0;
   int n = 0;
+  const std::pair<const char*, uint32_t*> groups[] = {
+      {"SF_ST_", &allSt}, {"SF_TRACK_", &allTrack}, {"SF_PROBE_", &allProbe}};
   for (const StatusBit& b : kStatusBits) {
     const std::string name = b.name;
     EXPECT_EQ(b.value & (b.value - 1), 0u) << name << ": one bit each";
     EXPECT_NE(b.value, 0u) << name;
     EXPECT_EQ(all & b.value, 0u) << name << ": distinct";
     all |= b.value;
-    (name.rfind("SF_ST_", 0) == 0 ? allSt : name.rfind("SF_TRACK_", 0) == 0 ? allTrack : allProbe) |= b.value;
-    EXPECT_TRUE(name.rfind("SF_ST_", 0) == 0 || name.rfind("SF_TRACK_", 0) == 0 || name.rfind("SF_PROBE_", 0) == 0)
-        << name;
+    int in = 0;
+    for (const auto& [prefix, bits] : groups) {
+      if (name.rfind(prefix, 0) != 0) continue;
+      *bits |= b.value;
+      ++in;
+    }
+    EXPECT_EQ(in, 1) << name << ": one of the three prefixes";
     ++n;
   }
   EXPECT_EQ(n, 27);

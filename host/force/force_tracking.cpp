@@ -143,9 +143,9 @@ class PatchTracker final : public ForceRenderer {
     // surface and bounds its candidate search; without one the query runs whole here
     const bool seeded = surface_ && hint_.face >= 0 && hint_.seed && options_.refine == RefineMethod::Newton;
     if (!beginPatchStep(*scene_, surface_.get(), *cache_, hip, state_, lambda_.data(), start, s, seeded, hint_)) {
-      // a HIP the queries do not take resets the renderer (reset()): the next step starts
-      // afresh, not from the seed the step before it left
-      if (s.status & SF_TRACK_BAD_HIP) hint_ = PatchStepHint{};
+      // a HIP the queries do not take resets the renderer: the next step starts afresh, not
+      // from the seed the step before it left
+      if (s.status & SF_TRACK_BAD_HIP) reset();
       return s;
     }
     if (start.global && surface_ && !start.seeded) {  // the whole global query: every candidate it may need
