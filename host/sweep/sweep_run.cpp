@@ -97,8 +97,9 @@ namespace {
 
 using Path = std::pair<std::string, std::vector<Eigen::Vector3d>>;
 
-/// The trajectories of a sweep: the files (named by stem), else the default section loop.
-std::vector<Path> trajectoryPaths(const SweepConfig& c, const PatchCache& cache) {
+/// The trajectories of a sweep: the files (named by stem), else the default section loop, or
+/// none, with a note in *note, where no section of the surface exists (defaultTrajectory).
+std::vector<Path> trajectoryPaths(const SweepConfig& c, const PatchCache& cache, std::string* note) {
   std::vector<Path> paths;
   // every series is taken at the step and at half of it (the step's refinement check): the
   // resampling's bound holds for the half step, checked here, before any probe runs
@@ -125,8 +126,14 @@ std::vector<Path> trajectoryPaths(const SweepConfig& c, const PatchCache& cache)
   }
   if (c.trajectories.empty()) {
     auto loop = defaultTrajectory(cache, c.level);
+    if (loop.empty()) {  // not asked for: the sweep runs without it, and says so
+      *note =
+          "sweep: note: no default trajectory: no plane through the centre of the surface's box normal to "
+          "one of its axes meets the surface; the sweep has no trajectory series (give one with --trajectory)";
+      return paths;
+    }
     check(loop, "the default trajectory (a section loop)");
-    if (loop.size() >= 2) paths.emplace_back("default", std::move(loop));
+    paths.emplace_back("default", std::move(loop));
   }
   return paths;
 }
@@ -272,14 +279,15 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
   const HipSet set = buildHipSet(in, &ref);
   // Trajectory series (trajectory, method, depth, step), spread over the shards like the HIPs;
   // the files' points are part of the configuration (a file changed under its path is another sweep).
+  std::string noTrajectory;
   const std::vector<Path> paths =
-      !lazy && in.hipsFile.empty() ? trajectoryPaths(in.config, *in.cache) : std::vector<Path>{};
+      !lazy && in.hipsFile.empty() ? trajectoryPaths(in.config, *in.cache, &noTrajectory) : std::vector<Path>{};
   in.config.trajectoryHashes.clear();
   for (size_t t = 0; t < in.config.trajectories.size(); ++t)
     in.config.trajectoryHashes.push_back(
         hexHash(hashBytes(paths[t].second.data(), paths[t].second.size() * sizeof(Eigen::Vector3d))));
   if (control.note) {
-    std::vector<std::string> notes;
+    std::vector<std::string> notes{noTrajectory};
     if (!in.hipsFile.empty())
       notes.push_back(
           farPointsNote(set.groups[0].hips, *in.cache, "HIPs of " + csvDisplayName(in.hipsFile), "no contact there"));

@@ -69,38 +69,15 @@ std::vector<Eigen::Vector3d> resamplePolyline(const std::vector<Eigen::Vector3d>
   return out;
 }
 
-std::vector<Eigen::Vector3d> defaultTrajectory(const PatchCache& cache, int level) {
-  const TriangleMesh tm = tessellatePatches(
-      cache, level, [&](const int32_t* f, const double* x, const double* y, size_t n, PatchPoint* out) {
-        evaluatePatches(cache, f, x, y, n, out, Backend::Tbb);
-      });
-  if (tm.triangles.empty()) return {};
-  Eigen::Vector3d lo = tm.positions[0], hi = lo;
-  for (const auto& p : tm.positions) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  // Weld the patches' shared boundary vertices (each patch has its own copies).
-  const double tol = 1e-7 * std::max((hi - lo).norm(), 1e-300);
-  struct KeyHash {  // XXH64 of the three grid coordinates
-    size_t operator()(const std::array<long long, 3>& k) const noexcept {
-      return static_cast<size_t>(hashBytes(k.data(), sizeof k));
-    }
-  };
-  std::unordered_map<std::array<long long, 3>, int, KeyHash> weld;
-  weld.reserve(tm.positions.size());
-  std::vector<int> id(tm.positions.size());
-  std::vector<Eigen::Vector3d> P;
-  for (size_t i = 0; i < tm.positions.size(); ++i) {
-    std::array<long long, 3> key;
-    for (int a = 0; a < 3; ++a) key[a] = std::llround(tm.positions[i][a] / tol);
-    auto [it, fresh] = weld.emplace(key, static_cast<int>(P.size()));
-    if (fresh) P.push_back(tm.positions[i]);
-    id[i] = it->second;
-  }
-  int axis = 0;
-  (hi - lo).minCoeff(&axis);
-  const double c = 0.5 * (lo[axis] + hi[axis]);
+namespace {
+
+/// A box extent at most this fraction of the box's diagonal is flat (rounding of a planar mesh).
+constexpr double kFlatExtent = 1e-9;
+
+/// The longest chain of the section of the welded triangles (P, tri) by the plane x[axis] = c:
+/// a closed loop (first point repeated last) or an open polyline; empty when the plane misses.
+std::vector<Eigen::Vector3d> longestSection(const std::vector<Eigen::Vector3d>& P,
+                                            const std::vector<std::array<int, 3>>& tri, int axis, double c) {
   std::vector<double> s(P.size());
   for (size_t i = 0; i < P.size(); ++i) {
     s[i] = P[i][axis] - c;
@@ -111,9 +88,7 @@ std::vector<Eigen::Vector3d> defaultTrajectory(const PatchCache& cache, int leve
   std::vector<std::array<uint64_t, 2>> seg;
   std::unordered_map<uint64_t, std::vector<int>> at;
   std::unordered_map<uint64_t, Eigen::Vector3d> point;
-  for (const auto& t : tm.triangles) {
-    const int v[3] = {id[t[0]], id[t[1]], id[t[2]]};
-    if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) continue;
+  for (const auto& v : tri) {
     uint64_t ends[2];
     int ne = 0;
     for (int e = 0; e < 3; ++e) {
@@ -147,14 +122,64 @@ std::vector<Eigen::Vector3d> defaultTrajectory(const PatchCache& cache, int leve
         if (!used[cand]) next = cand;
       sid = next;
     }
-    double len = 0;
-    for (size_t i = 0; i + 1 < loop.size(); ++i) len += (loop[i + 1] - loop[i]).norm();
+    const double len = polylineLength(loop);
     if (len > bestLen) {
       bestLen = len;
       best.swap(loop);
     }
   }
   return best;
+}
+
+}  // namespace
+
+std::vector<Eigen::Vector3d> defaultTrajectory(const PatchCache& cache, int level) {
+  const TriangleMesh tm = tessellatePatches(
+      cache, level, [&](const int32_t* f, const double* x, const double* y, size_t n, PatchPoint* out) {
+        evaluatePatches(cache, f, x, y, n, out, Backend::Tbb);
+      });
+  if (tm.triangles.empty()) return {};
+  Eigen::Vector3d lo = tm.positions[0], hi = lo;
+  for (const auto& p : tm.positions) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  // Weld the patches' shared boundary vertices (each patch has its own copies).
+  const double tol = 1e-7 * std::max((hi - lo).norm(), 1e-300);
+  struct KeyHash {  // XXH64 of the three grid coordinates
+    size_t operator()(const std::array<long long, 3>& k) const noexcept {
+      return static_cast<size_t>(hashBytes(k.data(), sizeof k));
+    }
+  };
+  std::unordered_map<std::array<long long, 3>, int, KeyHash> weld;
+  weld.reserve(tm.positions.size());
+  std::vector<int> id(tm.positions.size());
+  std::vector<Eigen::Vector3d> P;
+  for (size_t i = 0; i < tm.positions.size(); ++i) {
+    std::array<long long, 3> key;
+    for (int a = 0; a < 3; ++a) key[a] = std::llround(tm.positions[i][a] / tol);
+    auto [it, fresh] = weld.emplace(key, static_cast<int>(P.size()));
+    if (fresh) P.push_back(tm.positions[i]);
+    id[i] = it->second;
+  }
+  std::vector<std::array<int, 3>> tri;
+  tri.reserve(tm.triangles.size());
+  for (const auto& t : tm.triangles) {
+    const std::array<int, 3> v = {id[t[0]], id[t[1]], id[t[2]]};
+    if (v[0] != v[1] && v[1] != v[2] && v[0] != v[2]) tri.push_back(v);
+  }
+  // the box's axes from the shortest: a flat mesh lies in the plane normal to its shortest axis
+  // (within rounding: a section there is rounding noise, so that axis is passed over), and the
+  // next axis cuts across it
+  const Eigen::Vector3d extent = hi - lo;
+  std::array<int, 3> axes = {0, 1, 2};
+  std::stable_sort(axes.begin(), axes.end(), [&](int a, int b) { return extent[a] < extent[b]; });
+  for (const int axis : axes) {
+    if (!(extent[axis] > kFlatExtent * extent.norm())) continue;
+    std::vector<Eigen::Vector3d> best = longestSection(P, tri, axis, 0.5 * (lo[axis] + hi[axis]));
+    if (polylineLength(best) > 0) return best;
+  }
+  return {};
 }
 
 }  // namespace sf

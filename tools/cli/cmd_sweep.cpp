@@ -285,7 +285,9 @@ void addSweepCommands(CLI::App& app) {
   s->add_option("--level", a->level, "tessellation level for sampling and projection")
       ->check(CLI::Range(1, 64))
       ->capture_default_str();
-  s->add_option("--trajectory", a->trajectories, "x,y,z CSV polylines on the surface (default: a section loop)");
+  s->add_option(
+      "--trajectory", a->trajectories,
+      "x,y,z CSV polylines on the surface (default: the surface's section by a plane through its box's centre)");
   s->add_option("--trajectory-step", a->trajectoryStep, "resampling step: metres or percent (default 0.25%)");
   s->add_option("--reference", a->reference, "dense reference mesh: SCP accuracy (and --sample-on reference)");
   s->add_option("--sample-on", a->sampleOn, "patch|reference: where surface samples are drawn")

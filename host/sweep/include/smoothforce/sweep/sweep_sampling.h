@@ -93,9 +93,12 @@ std::string resampleLimitError(const std::vector<Eigen::Vector3d>& pts, double s
 /// where that would be more than kMaxResampledPoints.
 std::vector<Eigen::Vector3d> resamplePolyline(const std::vector<Eigen::Vector3d>& pts, double step);
 
-/// A default trajectory: the longest loop of the section of the level-`level` tessellation by
-/// the plane through the bounding-box centre normal to the box's shortest axis (a great circle
-/// on a sphere, the outer equator of a torus). Empty when the plane misses the surface.
+/// A default trajectory: the longest loop (or open chain) of the section of the level-`level`
+/// tessellation by the plane through the bounding-box centre normal to the box's shortest axis
+/// (a great circle on a sphere, the outer equator of a torus); where that plane meets no edge, or
+/// the box is flat along that axis (extent at most 1e-9 of its diagonal: a planar mesh lies in
+/// that plane), normal to the next shortest axis, then the longest (a line across a flat mesh).
+/// Points in metres, on the tessellation. Empty when none of the three planes meets the surface.
 std::vector<Eigen::Vector3d> defaultTrajectory(const PatchCache& cache, int level = 8);
 
 }  // namespace sf
