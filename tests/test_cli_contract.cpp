@@ -526,6 +526,84 @@ TEST_F(CliContract, OneCsvReaderAcceptsNumpyHeaders) {
   EXPECT_NE(r.err.find("wrong.csv:2: expected header 'x,y,z', got '1,2,3'"), std::string::npos) << r.err;
 }
 
+// Loggers and spreadsheets write the same columns other ways: named in another case, order or
+// quoting, among other columns, split by semicolons, tabs or blanks. Every such file gives the
+// plain file's trace, every HIP equal; a header without a wanted column names it.
+TEST_F(CliContract, OneCsvReaderTakesColumnsByName) {
+  const std::string hips = sphereHips();
+  std::vector<std::vector<std::string>> rows;  // the x, y, z cells of every HIP
+  {
+    std::istringstream in(hips);
+    std::string line;
+    std::getline(in, line);
+    while (std::getline(in, line)) rows.push_back(cells(line));
+  }
+  ASSERT_EQ(rows.size(), 41u);
+  struct Variant {
+    const char* name;
+    const char* header;  ///< with '|' between the fields, each the delimiter below
+    std::string delim;
+    std::vector<int> order;  ///< per field: x, y, z (0-2), or -1: an extra column (the row index)
+  };
+  const std::vector<Variant> variants = {
+      {"upper", "X|Y|Z", ",", {0, 1, 2}},
+      {"time first", "t|x|y|z", ",", {-1, 0, 1, 2}},
+      {"reordered, extra last", "z|x|y|fx", ",", {2, 0, 1, -1}},
+      {"quoted", "\"x\"|\"y\"|\"z\"", ",", {0, 1, 2}},
+      {"semicolons, a comma in a name", "time, s|x|y|z", ";", {-1, 0, 1, 2}},
+      {"tabs", "x|y|z", "\t", {0, 1, 2}},
+      {"blanks", "x|y|z", "   ", {0, 1, 2}},
+      {"blanks around commas", " x | y | z ", " , ", {0, 1, 2}},
+  };
+  const std::string plain = file("plain_t.csv");
+  ASSERT_EQ(run("trace --mesh " + sphere + " --hips " + file("plain.csv", hips) + " -o " + plain).status, 0);
+  int same = 0;
+  for (const Variant& v : variants) {
+    std::string text = v.header;
+    for (size_t at; (at = text.find('|')) != std::string::npos;) text.replace(at, 1, v.delim);
+    text += "\n";
+    for (size_t r = 0; r < rows.size(); ++r) {
+      for (size_t k = 0; k < v.order.size(); ++k)
+        text += (k ? v.delim : "") + (v.order[k] < 0 ? std::to_string(r) : rows[r][v.order[k]]);
+      text += "\n";
+    }
+    const std::string out = file("v_t.csv");
+    const CliStreams r = run("trace --mesh " + sphere + " --hips " + file("v.csv", text) + " -o " + out);
+    EXPECT_EQ(r.status, 0) << v.name << ": " << r.err;
+    EXPECT_EQ(readFile(out), readFile(plain)) << v.name;
+    same += r.status == 0 && readFile(out) == readFile(plain);
+  }
+  EXPECT_EQ(same, static_cast<int>(variants.size()));
+  // eval --points with its columns reordered: the same values
+  const std::string e1 = file("eo1.csv"), e2 = file("eo2.csv");
+  ASSERT_EQ(
+      run("eval " + cache() + " --points " + file("po.csv", "face,xi,eta\n0,0,0\n17,0.25,-0.4\n") + " -o " + e1).status,
+      0);
+  CliStreams r =
+      run("eval " + cache() + " --points " + file("pr.csv", "Eta;Face;XI\n0;0;0\n-0.4;17;0.25\n") + " -o " + e2);
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(readFile(e1), readFile(e2));
+  // what is refused, naming the file, the line and the column
+  const struct {
+    const char* text;
+    const char* message;
+  } bad[] = {
+      {"t,x,y\n0,1,2\n",
+       "bad.csv:1: expected header 'x,y,z' (the columns in any order, others ignored), got "
+       "'t,x,y': the header has no column 'z'"},
+      {"x,y,z,X\n1,2,3,4\n",
+       "bad.csv:1: expected header 'x,y,z' (the columns in any order, others ignored), got "
+       "'x,y,z,X': the header names column 'x' twice"},
+      {"t,x,y,z\n0,1,2,3\n1,2,3\n", "bad.csv:3: expected 4 columns t,x,y,z, got 3"},
+      {"t;x;y;z\n0;1;2;abc\n", "bad.csv:2: z is not a finite number: 'abc'"},
+  };
+  for (const auto& b : bad) {
+    r = run("trace --mesh " + sphere + " --hips " + file("bad.csv", b.text) + " -o " + file("bad_t.csv"));
+    EXPECT_EQ(r.status, 1) << b.text;
+    EXPECT_NE(r.err.find(b.message), std::string::npos) << r.err;
+  }
+}
+
 TEST_F(CliContract, OpenClDeviceIsClDevice) {
   for (const char* cmd : {"cache build", "eval", "export", "trace", "sweep"}) {
     const CliStreams h = run(std::string(cmd) + " --help");

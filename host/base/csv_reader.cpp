@@ -1,6 +1,7 @@
 #include <smoothforce/base/csv_reader.h>
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -10,6 +11,7 @@
 #include <iostream>
 #include <iterator>
 #include <string_view>
+#include <vector>
 
 #include <smoothforce/base/coordinate_range.h>
 #include <smoothforce/base/error.h>
@@ -24,14 +26,6 @@ std::string_view trim(std::string_view s) {
   if (a == std::string_view::npos) return {};
   const auto b = s.find_last_not_of(" \t\r");
   return s.substr(a, b - a + 1);
-}
-
-/// The line without blanks: "x, y ,z" -> "x,y,z".
-std::string squeeze(std::string_view s) {
-  std::string h;
-  for (char ch : s)
-    if (ch != ' ' && ch != '\t' && ch != '\r') h += ch;
-  return h;
 }
 
 std::string join(const std::vector<std::string>& v) {
@@ -95,6 +89,80 @@ void requirePositions(const NumericCsv& t, const std::string& path, size_t first
       }
 }
 
+namespace {
+
+/// The delimiter of a file, from its first line of content: of comma, semicolon and tab, the
+/// one it holds most often (a tie: in that order; "time, s;x;y;z" is split at semicolons), else
+/// ' ' (runs of blanks).
+char detectDelimiter(std::string_view line) {
+  char best = ' ';
+  std::ptrdiff_t most = 0;
+  for (const char d : {',', ';', '\t'})
+    if (const auto k = std::count(line.begin(), line.end(), d); k > most) {
+      most = k;
+      best = d;
+    }
+  return best;
+}
+
+/// The fields of a (trimmed) line split at d; with ' ', at runs of blanks.
+std::vector<std::string_view> splitFields(std::string_view line, char d) {
+  std::vector<std::string_view> f;
+  if (d == ' ') {
+    size_t a = line.find_first_not_of(" \t");
+    while (a != std::string_view::npos) {
+      const size_t b = line.find_first_of(" \t", a);
+      f.push_back(line.substr(a, b == std::string_view::npos ? std::string_view::npos : b - a));
+      a = b == std::string_view::npos ? b : line.find_first_not_of(" \t", b);
+    }
+    return f;
+  }
+  size_t a = 0;
+  for (size_t b; (b = line.find(d, a)) != std::string_view::npos; a = b + 1) f.push_back(line.substr(a, b - a));
+  f.push_back(line.substr(a));
+  return f;
+}
+
+/// A header field as a column name: blanks and one pair of quotes around it dropped, lower case.
+std::string columnName(std::string_view f) {
+  f = trim(f);
+  if (f.size() >= 2 && (f.front() == '"' || f.front() == '\'') && f.back() == f.front())
+    f = trim(f.substr(1, f.size() - 2));
+  std::string s(f);
+  for (char& ch : s) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return s;
+}
+
+/// Whether every field reads as a number (NaN and infinities included: a data row, whose
+/// values the reader then checks).
+bool allNumbers(const std::vector<std::string_view>& fields) {
+  for (std::string_view f : fields) {
+    f = trim(f);
+    if (!f.empty() && f[0] == '+') f.remove_prefix(1);
+    double v;
+    const auto r = std::from_chars(f.data(), f.data() + f.size(), v);
+    if (f.empty() || r.ptr != f.data() + f.size()) return false;
+  }
+  return true;
+}
+
+/// Where each wanted column stands among the header's fields (-1: missing); "" or the problem.
+std::string locateColumns(const std::vector<std::string_view>& fields, const std::vector<std::string>& wanted,
+                          std::vector<int>& at) {
+  at.assign(wanted.size(), -1);
+  for (size_t c = 0; c < wanted.size(); ++c)
+    for (size_t i = 0; i < fields.size(); ++i)
+      if (columnName(fields[i]) == wanted[c]) {
+        if (at[c] >= 0) return "the header names column '" + wanted[c] + "' twice";
+        at[c] = static_cast<int>(i);
+      }
+  for (size_t c = 0; c < wanted.size(); ++c)
+    if (at[c] < 0) return "the header has no column '" + wanted[c] + "'";
+  return "";
+}
+
+}  // namespace
+
 NumericCsv readNumericCsv(const std::string& path, const std::vector<std::string>& columns, bool headerRequired) {
   const std::string name = csvDisplayName(path);
   const std::string text = readAll(path);
@@ -108,6 +176,28 @@ NumericCsv readNumericCsv(const std::string& path, const std::vector<std::string
   if (rest.substr(0, 3) == "\xEF\xBB\xBF") rest.remove_prefix(3);  // UTF-8 byte-order mark
   int lineNo = 0;
   bool headerSeen = false, first = true;
+  char delim = ',';
+  std::vector<int> at(n);  // the wanted columns' places among a row's fields
+  for (size_t c = 0; c < n; ++c) at[c] = static_cast<int>(c);
+  size_t width = n;            // fields per row
+  std::string given = header;  // the header as the file gives it, for messages
+  // the header in `line`, split at d: "" where it names every wanted column, else why not
+  auto takeHeader = [&](std::string_view line, char d) {
+    const std::vector<std::string_view> fields = splitFields(line, d);
+    std::vector<int> where;
+    const std::string why = locateColumns(fields, columns, where);
+    if (!why.empty()) return why;
+    headerSeen = true;
+    delim = d;
+    at = where;
+    width = fields.size();
+    given.clear();
+    for (const std::string_view f : fields) {
+      if (!given.empty()) given += ',';
+      given += trim(f);
+    }
+    return why;
+  };
   while (!rest.empty()) {
     // a line ends in LF, CRLF or a lone CR (old Mac OS; some spreadsheets still write it)
     const size_t nl = rest.find_first_of("\r\n");
@@ -118,33 +208,40 @@ NumericCsv readNumericCsv(const std::string& path, const std::vector<std::string
     const std::string_view line = trim(raw);
     if (line.empty()) continue;
     if (line[0] == '#') {  // a comment, or the header after '#' (NumPy savetxt) before any data
-      if (first && !headerSeen && squeeze(line.substr(1)) == header) headerSeen = true;
+      if (first && !headerSeen) {
+        const std::string_view h = trim(line.substr(1));
+        takeHeader(h, detectDelimiter(h));
+      }
       continue;
     }
     if (first) {
       first = false;
       if (!headerSeen) {
-        if (squeeze(line) == header) {
-          headerSeen = true;
+        const char d = detectDelimiter(line);
+        const std::vector<std::string_view> fields = splitFields(line, d);
+        if (!allNumbers(fields)) {  // a header: the wanted columns by name, in any order, others ignored
+          if (const std::string why = takeHeader(line, d); !why.empty())
+            throwCsvError(name, lineNo,
+                          "expected header '" + header + "' (the columns in any order, others ignored), got '" +
+                              std::string(line) + "': " + why);
           continue;
         }
         if (headerRequired)
           throwCsvError(name, lineNo, "expected header '" + header + "', got '" + std::string(line) + "'");
+        delim = d;  // no header: the columns in order
       }
     }
-    const size_t k = 1 + static_cast<size_t>(std::count(line.begin(), line.end(), ','));
-    if (k != n)
-      throwCsvError(name, lineNo,
-                    "expected " + std::to_string(n) + " columns " + header + ", got " + std::to_string(k));
-    size_t start = 0;
+    const std::vector<std::string_view> fields = splitFields(line, delim);
+    if (fields.size() != width)
+      throwCsvError(
+          name, lineNo,
+          "expected " + std::to_string(width) + " columns " + given + ", got " + std::to_string(fields.size()));
     for (size_t c = 0; c < n; ++c) {
-      const size_t end = c + 1 < n ? line.find(',', start) : line.size();
       double v = 0;
-      const std::string_view f = line.substr(start, end - start);
+      const std::string_view f = fields[static_cast<size_t>(at[c])];
       if (!parseField(f, v))
         throwCsvError(name, lineNo, columns[c] + " is not a finite number: '" + std::string(trim(f)) + "'");
       t.values.push_back(v);
-      start = end + 1;
     }
     t.line.push_back(lineNo);
   }
