@@ -181,9 +181,8 @@ NumericCsv readNumericCsv(const std::string& path, const std::vector<std::string
   for (size_t c = 0; c < n; ++c) at[c] = static_cast<int>(c);
   size_t width = n;            // fields per row
   std::string given = header;  // the header as the file gives it, for messages
-  // the header in `line`, split at d: "" where it names every wanted column, else why not
-  auto takeHeader = [&](std::string_view line, char d) {
-    const std::vector<std::string_view> fields = splitFields(line, d);
+  // the header whose fields are split at d: "" where it names every wanted column, else why not
+  auto takeHeader = [&](const std::vector<std::string_view>& fields, char d) {
     std::vector<int> where;
     const std::string why = locateColumns(fields, columns, where);
     if (!why.empty()) return why;
@@ -210,7 +209,8 @@ NumericCsv readNumericCsv(const std::string& path, const std::vector<std::string
     if (line[0] == '#') {  // a comment, or the header after '#' (NumPy savetxt) before any data
       if (first && !headerSeen) {
         const std::string_view h = trim(line.substr(1));
-        takeHeader(h, detectDelimiter(h));
+        const char d = detectDelimiter(h);
+        takeHeader(splitFields(h, d), d);
       }
       continue;
     }
@@ -220,7 +220,7 @@ NumericCsv readNumericCsv(const std::string& path, const std::vector<std::string
         const char d = detectDelimiter(line);
         const std::vector<std::string_view> fields = splitFields(line, d);
         if (!allNumbers(fields)) {  // a header: the wanted columns by name, in any order, others ignored
-          if (const std::string why = takeHeader(line, d); !why.empty())
+          if (const std::string why = takeHeader(fields, d); !why.empty())
             throwCsvError(name, lineNo,
                           "expected header '" + header + "' (the columns in any order, others ignored), got '" +
                               std::string(line) + "': " + why);

@@ -75,7 +75,8 @@ namespace {
 constexpr double kFlatExtent = 1e-9;
 
 /// The longest chain of the section of the welded triangles (P, tri) by the plane x[axis] = c:
-/// a closed loop (first point repeated last) or an open polyline; empty when the plane misses.
+/// a closed loop (first point repeated last) or an open polyline of positive length; empty when
+/// the plane misses.
 std::vector<Eigen::Vector3d> longestSection(const std::vector<Eigen::Vector3d>& P,
                                             const std::vector<std::array<int, 3>>& tri, int axis, double c) {
   std::vector<double> s(P.size());
@@ -177,7 +178,7 @@ std::vector<Eigen::Vector3d> defaultTrajectory(const PatchCache& cache, int leve
   for (const int axis : axes) {
     if (!(extent[axis] > kFlatExtent * extent.norm())) continue;
     std::vector<Eigen::Vector3d> best = longestSection(P, tri, axis, 0.5 * (lo[axis] + hi[axis]));
-    if (polylineLength(best) > 0) return best;
+    if (!best.empty()) return best;
   }
   return {};
 }
