@@ -50,12 +50,12 @@ double probeOffset(const PatchSurface& surface) { return 1e-5 * boundingDiagonal
 }  // namespace
 
 namespace {
-/// surfaceVerdict, and twice the triangle's area in *area2.
-SurfaceVerdict verdictAndArea(const PatchSurface& surface, size_t t, double* area2) noexcept {
+/// surfaceVerdict with the probe offset h (probeOffset, taken once by the caller: it scans every
+/// vertex), and twice the triangle's area in *area2.
+SurfaceVerdict verdictAndArea(const PatchSurface& surface, size_t t, double h, double* area2) noexcept {
   Eigen::Vector3d n, mid;
   *area2 = doubleArea(surface.uniform(), t, &n, &mid);
   if (*area2 == 0) return SurfaceVerdict::Degenerate;
-  const double h = probeOffset(surface);
   const int front = surface.winding(mid + h * n), back = surface.winding(mid - h * n);
   return front == 0 && back == 1 ? SurfaceVerdict::Consistent
          : front > back          ? SurfaceVerdict::Folded
@@ -66,7 +66,7 @@ SurfaceVerdict verdictAndArea(const PatchSurface& surface, size_t t, double* are
 
 SurfaceVerdict surfaceVerdict(const PatchSurface& surface, size_t t) noexcept {
   double area2;
-  return verdictAndArea(surface, t, &area2);
+  return verdictAndArea(surface, t, probeOffset(surface), &area2);
 }
 
 std::vector<std::array<Eigen::Vector3d, 3>> faultTriangles(const PatchSurface& surface, const SurfaceFaults& faults) {
@@ -89,7 +89,7 @@ SurfaceFaults measureSurfaceFaults(const PatchSurface& surface) {
   r.verdict.assign(u.tri.size(), SurfaceVerdict::Degenerate);
   std::vector<double> area2(u.tri.size(), 0.0);
   tbb::parallel_for(size_t(0), u.tri.size(),
-                    [&](size_t t) { r.verdict[t] = verdictAndArea(surface, t, &area2[t]); });
+                    [&](size_t t) { r.verdict[t] = verdictAndArea(surface, t, r.offset, &area2[t]); });
   for (size_t t = 0; t < u.tri.size(); ++t) {
     const auto v = static_cast<size_t>(r.verdict[t]);
     ++r.count[v];
