@@ -81,6 +81,50 @@ GP_FN_INLINE gp_dvec3 gp_unit_or_inward(gp_dvec3 a, GP_REAL tiny, gp_dvec3 nc, g
   return u;
 }
 
+/* Below this length (times the record's largest length for t_c) a cross-tangent direction is
+ * turned through the edge direction (gp_turn_through_edge). */
+#undef GP_TURN_EPS
+#define GP_TURN_EPS GP_R(1.0e-2)
+
+/* Where a direction field a(t) in the tangent plane of n_c (t_c of Eq. 13, or the corrected q
+ * projected) turns over along the edge, from a0 at t = 0 to a1 at t = 1, it passes through zero
+ * and its unit vector flips: the patch tears (pmp/L.off's reflex corner, tetris.obj's straight
+ * corners: the surface jumped 0.5 m and 0.13 m across a line of constant t_k). Where |a| < eps this
+ * adds (eps - |a|) b, b = n_c x unit(a1 - a0) turned inward (b . (n_c x C') >= 0), so that the
+ * direction turns through b instead, continuously (design page, Robustness 4). Unchanged where
+ * |a| >= eps, or where a1 - a0 has no direction. */
+GP_FN_INLINE gp_dvec3 gp_turn_through_edge(gp_dvec3 a, GP_REAL eps, gp_dvec3 nc, gp_dvec3 cp, gp_vec3 a0, gp_vec3 a1) {
+  const GP_REAL l2 = gp_dot(a.v, a.v);
+  if (!GP_ANY(l2 < eps * eps)) return a; /* the common case: no square root */
+  const GP_REAL l = GP_SQRT(l2);
+  const gp_vec3 span = gp_sub(a1, a0);
+  const GP_REAL ls = gp_len(span);
+  const GP_MASK near = l < eps && ls > GP_R(0.0);
+  const gp_vec3 u = gp_scale(span, GP_R(1.0) / ls);
+  const gp_dvec3 b0 = gp_dv(gp_cross(nc.v, u), gp_cross(nc.d, u));
+  const gp_dvec3 b = gp_dsel(gp_dot(b0.v, gp_cross(nc.v, cp.v)) < GP_R(0.0), gp_dneg(b0), b0);
+  /* eps - |a| and its derivative -a.a'/|a| (0 where |a| = 0) */
+  const gp_dreal m = gp_dr(eps - l, GP_SEL(l > GP_R(0.0), -gp_dot(a.v, a.d) / l, GP_R(0.0)));
+  return gp_dsel(near, gp_dadd(a, gp_dmul(m, b)), a);
+}
+
+/* The printed cross-tangent direction p(t) = unit(t_c(t)) (Eq. 11-13) with its t-derivative;
+ * regular: made to turn through +-C' where t_c vanishes (gp_turn_through_edge; the corrected
+ * construction), else as printed. scale: the largest length of the record. */
+GP_FN_INLINE gp_dvec3 gp_printed_direction(const GP_REAL* rec, GP_REAL t, gp_dvec3 c, gp_dvec3 cp, gp_dvec3 nc,
+                                           GP_REAL scale, int regular, GP_STATUS* st) {
+  /* Eq. 11-13: v_int, n_int, t_c = n_c x (v_int x n_int) */
+  const gp_dvec3 vint = gp_dsub(gp_dlerp(gp_get3(rec, GP_E_VP), gp_get3(rec, GP_E_VN), t), c);
+  const gp_dvec3 nint = gp_dscale(gp_dadd(gp_dlerp(gp_get3(rec, GP_E_NP), gp_get3(rec, GP_E_NN), t), nc), GP_R(0.5));
+  gp_dvec3 tc = gp_dcross(nc, gp_dcross(vint, nint));
+  if (regular) {
+    const gp_vec3 a0 = gp_sub(gp_get3(rec, GP_E_VP), gp_get3(rec, GP_E_V0));
+    const gp_vec3 a1 = gp_sub(gp_get3(rec, GP_E_VN), gp_get3(rec, GP_E_V1));
+    tc = gp_turn_through_edge(tc, GP_TURN_EPS * scale, nc, cp, a0, a1);
+  }
+  return gp_unit_or_inward(tc, GP_TINY * scale, nc, cp, scale, st);
+}
+
 /* Cross tangent T_k(t) with its t-derivative (Eq. 11-14 and the design page's variants).
  * c = (C, C'), cp = (C', C''), nc = n_c (dual), L = gp_edge_length. mode: GP_CT_*. Where a
  * step is undefined, the inward direction n_c x C' (gp_edge_inward) replaces it. */
@@ -94,18 +138,15 @@ GP_FN_INLINE gp_dvec3 gp_cross_tangent(const GP_REAL* rec, GP_REAL t, int mode, 
   if (mode == GP_CT_BLEND) {
     q = gp_dlerp(d0, d1, t);
   } else {
-    /* Eq. 11-13: v_int, n_int, t_c = n_c x (v_int x n_int) */
-    const gp_dvec3 vint = gp_dsub(gp_dlerp(gp_get3(rec, GP_E_VP), gp_get3(rec, GP_E_VN), t), c);
-    const gp_dvec3 nint = gp_dscale(gp_dadd(gp_dlerp(gp_get3(rec, GP_E_NP), gp_get3(rec, GP_E_NN), t), nc), GP_R(0.5));
-    const gp_dvec3 tc = gp_dcross(nc, gp_dcross(vint, nint));
-    const gp_dvec3 p = gp_unit_or_inward(tc, GP_TINY * scale, nc, cp, scale, st);
+    const gp_dvec3 p = gp_printed_direction(rec, t, c, cp, nc, scale, mode != GP_CT_PAPER, st);
     if (mode == GP_CT_PAPER) return gp_dmul(len, p); /* Eq. 14 as printed */
     /* correction: q(t) = p(t) + (1-t)(d0 - p(0)) + t(d1 - p(1)) */
     const gp_vec3 c0 = gp_sub(d0, gp_get3(rec, GP_E_P0)), c1 = gp_sub(d1, gp_get3(rec, GP_E_P1));
     q = gp_dadd(p, gp_dlerp(c0, c1, t));
   }
-  /* project onto the tangent plane of n_c: q - (q.n_c) n_c */
-  const gp_dvec3 proj = gp_dsub(q, gp_dmul(gp_ddot(q, nc), nc));
+  /* project onto the tangent plane of n_c: q - (q.n_c) n_c, turning through +-C' where it
+   * vanishes (q runs from d0 to d1) */
+  const gp_dvec3 proj = gp_turn_through_edge(gp_dsub(q, gp_dmul(gp_ddot(q, nc), nc)), GP_TURN_EPS, nc, cp, d0, d1);
   return gp_dmul(len, gp_unit_or_inward(proj, GP_TINY, nc, cp, scale, st));
 }
 
@@ -148,12 +189,14 @@ GP_FN void gp_finish_edge_record(GP_REAL* rec, gp_vec3 d0, gp_vec3 d1, int mode,
   gp_put3(rec, GP_E_D0, d0);
   gp_put3(rec, GP_E_D1, d1);
   const GP_REAL L = gp_edge_length(rec);
-  for (int end = 0; end < 2; ++end) { /* p(0), p(1): the printed direction */
+  for (int end = 0; end < 2; ++end) { /* p(0), p(1): the printed direction (as the mode turns it) */
     const GP_REAL t = end ? GP_R(1.0) : GP_R(0.0);
     gp_dvec3 c, cp;
     gp_edge_curve(rec, t, &c, &cp);
     const gp_dvec3 nc = gp_edge_normal(rec, t, cp, L, st);
-    const gp_dvec3 T = gp_cross_tangent(rec, t, GP_CT_PAPER, c, cp, nc, L, st);
+    const GP_REAL scale = gp_max(L, gp_max(rec[GP_E_LP], rec[GP_E_LN]));
+    const gp_dreal len = gp_dr((GP_R(1.0) - t) * rec[GP_E_LP] + t * rec[GP_E_LN], rec[GP_E_LN] - rec[GP_E_LP]);
+    const gp_dvec3 T = gp_dmul(len, gp_printed_direction(rec, t, c, cp, nc, scale, mode == GP_CT_CORRECTED, st));
     const GP_REAL l = end ? rec[GP_E_LN] : rec[GP_E_LP];
     gp_put3(rec, end ? GP_E_P1 : GP_E_P0, gp_sel3(l > GP_R(0.0), gp_scale(T.v, GP_R(1.0) / l), gp_zero3()));
   }

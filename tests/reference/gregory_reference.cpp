@@ -110,23 +110,49 @@ struct TangentData {
   CrossTangent mode = CrossTangent::Corrected;
 };
 
+/// Robustness 4 (design page): where a tangent-plane direction field a(t), running from a0 at
+/// t = 0 to a1 at t = 1, is shorter than eps, a + (eps - |a|) b with b = n_c x unit(a1 - a0)
+/// turned inward (b . (n_c x C') >= 0), so that where it turns over it turns through b instead
+/// of through zero. Branch on the real part; the length is analytic for the complex step.
+template <class T>
+V3<T> turnThroughEdge(const V3<T>& a, double eps, const V3<T>& nc, const EdgeData& E, const T& t, const V3d& a0,
+                      const V3d& a1) {
+  const V3d span = a1 - a0;
+  const double ls = std::sqrt(dot(span, span));
+  if (!(realNorm(a) < eps) || !(ls > 0)) return a;
+  V3<T> b = cross(nc, lift<T>(span / ls));
+  if (re(dot(b, cross(nc, curveDt(E, t)))) < 0.0) b = -b;
+  return a + (T(eps) - T(std::sqrt(dot(a, a)))) * b;
+}
+
+/// Robustness 4's eps: 1e-2 (times the largest of the edge's three lengths for t_c).
+constexpr double kTurnEps = 1e-2;
+
 /// p(t) = unit(t_c(t)), the printed cross-tangent direction:
 /// v_int = (1-t) V_{k-1} + t V_{k+2} - C_k(t)            (Eq. 11)
 /// n_int = ((1-t) N_{k-1} + t N_{k+2} + n_c(t)) / 2        (Eq. 12)
 /// t_c   = n_c(t) x (v_int x n_int)                        (Eq. 13)
+/// In the corrected construction t_c turns through the edge where it vanishes (Robustness 4;
+/// a0 = V_{k-1} - V_k, a1 = V_{k+2} - V_{k+1}, eps relative to the largest of L, L_prev, L_next).
 template <class T>
 V3<T> printedDirection(const TangentData& D, const T& t) {
   const T s = T(1) - t;
   const V3<T> nc = edgeNormal(D.edge, t);
   const V3<T> vInt = s * lift<T>(D.Vprev) + t * lift<T>(D.Vnext) - curve(D.edge, t);
   const V3<T> nInt = T(0.5) * (s * lift<T>(D.Nprev) + t * lift<T>(D.Nnext) + nc);
-  return unit(cross(nc, cross(vInt, nInt)));
+  V3<T> tc = cross(nc, cross(vInt, nInt));
+  if (D.mode == CrossTangent::Corrected) {
+    const double scale = std::max(D.edge.L, std::max(D.Lprev, D.Lnext));
+    tc = turnThroughEdge(tc, kTurnEps * scale, nc, D.edge, t, D.Vprev - D.edge.A, D.Vnext - D.edge.B);
+  }
+  return unit(tc);
 }
 
 /// T_k(t) = ((1-t) L_prev + t L_next) * direction (Eq. 14), the direction being
 ///   paper:     unit(t_c(t))
 ///   corrected: unit(q - (q.n_c) n_c), q = p(t) + (1-t)(d0 - p(0)) + t(d1 - p(1))
 ///   blend:     unit(q - (q.n_c) n_c), q = (1-t) d0 + t d1
+/// the projection turned through the edge where it vanishes (Robustness 4, a0 = d0, a1 = d1).
 template <class T>
 V3<T> crossTangent(const TangentData& D, const T& t) {
   const T s = T(1) - t;
@@ -139,7 +165,7 @@ V3<T> crossTangent(const TangentData& D, const T& t) {
     q = s * lift<T>(D.d0) + t * lift<T>(D.d1);
   }
   const V3<T> nc = edgeNormal(D.edge, t);
-  return scale * unit(q - dot(q, nc) * nc);
+  return scale * unit(turnThroughEdge(q - dot(q, nc) * nc, kTurnEps, nc, D.edge, t, D.d0, D.d1));
 }
 
 }  // namespace

@@ -1,0 +1,130 @@
+// The patch surface is continuous inside every face (C0) on every bundled mesh: no tear where a
+// cross-tangent direction turns over along an edge (design page, Robustness 4). Before that rule,
+// pmp/L.off (a reflex corner), tetris.obj and L-plane.obj (straight and reflex corners) and the
+// scanned bunny at resolutions 3 and 4 tore, by up to 0.5 m, 0.17 m and 0.0068 m.
+//
+// A second cause of tears is left: see kTornByEdgeNormal.
+//
+// Independent check: chords of each domain parallel to each of its edges, sampled; a step whose
+// position change exceeds 4 times what the derivatives at its two ends predict is bisected, the
+// half with the larger change kept, down to 1e-9 domain units. A tear keeps its jump there; a steep
+// but continuous stretch (a cross tangent turning fast) does not.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <smoothforce/patch/patch_eval.h>
+#include "patch_test_support.h"
+
+namespace sf {
+namespace {
+
+constexpr uint32_t kNotBuilt = GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE;
+
+struct Sample {
+  int face;
+  Eigen::Vector2d X;
+};
+
+/// Whether the position change over the step a -> b is no more than 4x the derivatives' estimate.
+bool stepFits(const PatchPoint& a, const PatchPoint& b, const Eigen::Vector2d& d, double floor) {
+  const double predicted = std::max((a.dxi * d.x() + a.deta * d.y()).norm(), (b.dxi * d.x() + b.deta * d.y()).norm());
+  return (b.pos - a.pos).norm() <= 4 * predicted + floor;
+}
+
+/// The position change left after bisecting the step x0 -> x1 of face f to 1e-9 domain units.
+double jumpAfterBisection(const PatchCache& c, int f, Eigen::Vector2d x0, Eigen::Vector2d x1) {
+  PatchPoint a = evaluatePatch(c, f, x0.x(), x0.y()), b = evaluatePatch(c, f, x1.x(), x1.y());
+  while ((x1 - x0).norm() > 1e-9) {
+    const Eigen::Vector2d m = 0.5 * (x0 + x1);
+    const PatchPoint pm = evaluatePatch(c, f, m.x(), m.y());
+    if ((pm.pos - a.pos).norm() >= (b.pos - pm.pos).norm()) {
+      x1 = m;
+      b = pm;
+    } else {
+      x0 = m;
+      a = pm;
+    }
+  }
+  return (b.pos - a.pos).norm();
+}
+
+/// Faces that still tear, by a second cause, left: the edge normal n_c's orientation rule
+/// (Robustness 1: n_c . ((1-t) N_k + t N_{k+1}) >= 0) turns n_c over where the raw n_c, not
+/// small, is perpendicular to the interpolated normal (two such points on an edge of each face
+/// below, on scanned meshes whose vertex normals turn sharply). Measured; a face that starts or
+/// stops tearing fails the test.
+const std::map<std::string, std::string> kTornByEdgeNormal = {{"bun_zipper_res2.ply", " 1925 1973 1997 2031"},
+                                                              {"bun_zipper_res4.ply", " 695 775 925 926"}};
+
+TEST(PatchContinuity, NoTearInsideAnyFaceOfAnyBundledMesh) {
+  constexpr int kSamples = 64;               // per chord, over 3 edge lengths (clipped to the domain)
+  constexpr double kInset[2] = {0.15, 0.5};  // chords at these fractions of the way to the centre
+  int meshes = 0, faces = 0;
+  size_t tornFaces = 0;
+  size_t steps = 0, bisected = 0;
+  for (const std::string& path : test::sharedMeshFiles()) {
+    SCOPED_TRACE(path);
+    const PatchCache c = test::cacheFromFile(path);
+    const double diag = boundingDiagonal(c);
+    std::vector<Sample> s;
+    std::vector<size_t> chordStart;
+    for (int f = 0; f < c.numFaces(); ++f) {
+      if (c.faceStatus[f] & kNotBuilt) continue;
+      ++faces;
+      const int n = c.faceSize(f);
+      for (int k = 0; k < n; ++k) {
+        const Eigen::Vector2d a = domainCorner(n, k), b = domainCorner(n, (k + 1) % n);
+        for (double inset : kInset) {
+          chordStart.push_back(s.size());
+          for (int i = 0; i <= kSamples; ++i) {
+            const double lambda = -1.0 + 3.0 * i / kSamples;
+            const Eigen::Vector2d X = (1 - inset) * (a + lambda * (b - a));
+            if (insideDomain(n, X.x(), X.y(), -1e-9)) s.push_back({f, X});
+          }
+        }
+      }
+    }
+    chordStart.push_back(s.size());
+    std::vector<int32_t> face(s.size());
+    std::vector<double> xi(s.size()), eta(s.size());
+    for (size_t i = 0; i < s.size(); ++i) {
+      face[i] = s[i].face;
+      xi[i] = s[i].X.x();
+      eta[i] = s[i].X.y();
+    }
+    std::vector<PatchPoint> p(s.size());
+    evaluatePatches(c, face.data(), xi.data(), eta.data(), s.size(), p.data(), Backend::Tbb);
+    std::vector<int> torn;  // faces with a tear
+    for (size_t ch = 0; ch + 1 < chordStart.size(); ++ch)
+      for (size_t i = chordStart[ch]; i + 1 < chordStart[ch + 1]; ++i) {
+        ++steps;
+        if (stepFits(p[i], p[i + 1], s[i + 1].X - s[i].X, 1e-12 * diag)) continue;
+        ++bisected;
+        const double jump = jumpAfterBisection(c, s[i].face, s[i].X, s[i + 1].X);
+        if (jump > 1e-4 * diag && (torn.empty() || torn.back() != s[i].face)) torn.push_back(s[i].face);
+      }
+    std::sort(torn.begin(), torn.end());
+    torn.erase(std::unique(torn.begin(), torn.end()), torn.end());
+    const std::string name = std::filesystem::path(path).filename().string();
+    const auto known = kTornByEdgeNormal.find(name);
+    std::string list;
+    for (int f : torn) list += " " + std::to_string(f);
+    EXPECT_EQ(list, known == kTornByEdgeNormal.end() ? "" : known->second) << name << ": faces that tear";
+    tornFaces += torn.size();
+    ++meshes;
+  }
+  std::printf("%d meshes, %d faces, %zu chord steps, %zu bisected, %zu faces tear\n", meshes, faces, steps, bisected,
+              tornFaces);
+  EXPECT_EQ(meshes, 28);
+  EXPECT_GT(steps, size_t(100) * faces);
+}
+
+}  // namespace
+}  // namespace sf
