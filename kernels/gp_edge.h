@@ -81,8 +81,8 @@ GP_FN_INLINE gp_dvec3 gp_unit_or_inward(gp_dvec3 a, GP_REAL tiny, gp_dvec3 nc, g
   return u;
 }
 
-/* Below this length (times the record's largest length for t_c) a cross-tangent direction is
- * turned through the edge direction (gp_turn_through_edge). */
+/* Below this length (times the record's largest length for t_c) a cross-tangent direction
+ * that turns over is turned through a direction across its path (gp_turn_through_edge). */
 #undef GP_TURN_EPS
 #define GP_TURN_EPS GP_R(1.0e-2)
 
@@ -109,8 +109,9 @@ GP_FN_INLINE gp_dvec3 gp_turn_through_edge(gp_dvec3 a, GP_REAL eps, gp_dvec3 nc,
 }
 
 /* The printed cross-tangent direction p(t) = unit(t_c(t)) (Eq. 11-13) with its t-derivative;
- * regular: made to turn through +-C' where t_c vanishes (gp_turn_through_edge; the corrected
- * construction), else as printed. scale: the largest length of the record. */
+ * regular: turned where t_c vanishes (gp_turn_through_edge, a0 = V_{k-1} - V_k, a1 = V_{k+2} -
+ * V_{k+1}: v_int at the ends; the corrected construction), else as printed. scale: the largest
+ * length of the record. */
 GP_FN_INLINE gp_dvec3 gp_printed_direction(const GP_REAL* rec, GP_REAL t, gp_dvec3 c, gp_dvec3 cp, gp_dvec3 nc,
                                            GP_REAL scale, int regular, GP_STATUS* st) {
   /* Eq. 11-13: v_int, n_int, t_c = n_c x (v_int x n_int) */
@@ -144,8 +145,8 @@ GP_FN_INLINE gp_dvec3 gp_cross_tangent(const GP_REAL* rec, GP_REAL t, int mode, 
     const gp_vec3 c0 = gp_sub(d0, gp_get3(rec, GP_E_P0)), c1 = gp_sub(d1, gp_get3(rec, GP_E_P1));
     q = gp_dadd(p, gp_dlerp(c0, c1, t));
   }
-  /* project onto the tangent plane of n_c: q - (q.n_c) n_c, turning through +-C' where it
-   * vanishes (q runs from d0 to d1) */
+  /* project onto the tangent plane of n_c: q - (q.n_c) n_c, turned where it vanishes
+   * (gp_turn_through_edge; q runs from d0 to d1) */
   const gp_dvec3 proj = gp_turn_through_edge(gp_dsub(q, gp_dmul(gp_ddot(q, nc), nc)), GP_TURN_EPS, nc, cp, d0, d1);
   return gp_dmul(len, gp_unit_or_inward(proj, GP_TINY, nc, cp, scale, st));
 }
