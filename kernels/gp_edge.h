@@ -82,18 +82,14 @@ GP_FN_INLINE gp_dvec3 gp_unit_or_inward(gp_dvec3 a, GP_REAL tiny, gp_dvec3 nc, g
 }
 
 /* Below this length (times the record's largest length for t_c) a cross-tangent direction
- * that turns over is turned through a direction across its path (gp_turn_through_edge). */
+ * that turns over is turned through a direction across its path (gp_turn_past_zero). */
 #undef GP_TURN_EPS
 #define GP_TURN_EPS GP_R(1.0e-2)
 
-/* Where a direction field a(t) in the tangent plane of n_c (t_c of Eq. 13, or the corrected q
- * projected) turns over along the edge, from a0 at t = 0 to a1 at t = 1, it passes through zero
- * and its unit vector flips: the patch tears (pmp/L.off's reflex corner, tetris.obj's straight
- * corners: the surface jumped 0.5 m and 0.13 m across a line of constant t_k). Where |a| < eps this
- * adds (eps - |a|) b, b = n_c x unit(a1 - a0) turned inward (b . (n_c x C') >= 0), so that the
- * direction turns through b instead, continuously (design page, Robustness 4). Unchanged where
- * |a| >= eps, or where a1 - a0 has no direction. */
-GP_FN gp_dvec3 gp_turned(gp_dvec3 a, GP_REAL l2, GP_REAL eps, gp_dvec3 nc, gp_dvec3 cp, gp_vec3 a0, gp_vec3 a1) {
+/* The rare path of gp_turn_past_zero (|a|^2 = l2 < eps^2 on some lane), out of line: inlined into
+ * every edge of every evaluation it made the tracking step 15% slower. */
+GP_FN gp_dvec3 gp_turn_past_zero_near(gp_dvec3 a, GP_REAL l2, GP_REAL eps, gp_dvec3 nc, gp_dvec3 cp, gp_vec3 a0,
+                                      gp_vec3 a1) {
   const GP_REAL l = GP_SQRT(l2);
   const gp_vec3 span = gp_sub(a1, a0);
   const GP_REAL ls = gp_len(span);
@@ -105,15 +101,33 @@ GP_FN gp_dvec3 gp_turned(gp_dvec3 a, GP_REAL l2, GP_REAL eps, gp_dvec3 nc, gp_dv
   const gp_dreal m = gp_dr(eps - l, GP_SEL(l > GP_R(0.0), -gp_dot(a.v, a.d) / l, GP_R(0.0)));
   return gp_dsel(near, gp_dadd(a, gp_dmul(m, b)), a);
 }
-/* (the rare path out of line: inlined, it made every evaluation 15% slower) */
-GP_FN_INLINE gp_dvec3 gp_turn_through_edge(gp_dvec3 a, GP_REAL eps, gp_dvec3 nc, gp_dvec3 cp, gp_vec3 a0, gp_vec3 a1) {
+
+/* Where a direction field a(t) in the tangent plane of n_c (t_c of Eq. 13, or the corrected q
+ * projected) turns over along the edge, from a0 at t = 0 to a1 at t = 1, it passes through zero
+ * and its unit vector flips: the patch tears (pmp/L.off's reflex corner, tetris.obj's straight
+ * corners: the surface jumped 0.5 m and 0.13 m across a line of constant t_k). Where |a| < eps this
+ * adds (eps - |a|) b, b = n_c x unit(a1 - a0) turned inward (b . (n_c x C') >= 0), so that the
+ * direction turns through b instead, continuously (design page, Robustness 4). Unchanged where
+ * |a| >= eps, or where a1 - a0 has no direction. cp = (C', C''). */
+GP_FN_INLINE gp_dvec3 gp_turn_past_zero(gp_dvec3 a, GP_REAL eps, gp_dvec3 nc, gp_dvec3 cp, gp_vec3 a0, gp_vec3 a1) {
   const GP_REAL l2 = gp_dot(a.v, a.v);
   if (!GP_ANY(l2 < eps * eps)) return a; /* the common case */
-  return gp_turned(a, l2, eps, nc, cp, a0, a1);
+  return gp_turn_past_zero_near(a, l2, eps, nc, cp, a0, a1);
+}
+
+/* The largest of the three lengths an edge record refers to (L = gp_edge_length): the scale of
+ * its cross tangent's "tiny" and of Robustness 4's eps for t_c. */
+GP_FN_INLINE GP_REAL gp_tangent_scale(const GP_REAL* rec, GP_REAL L) {
+  return gp_max(L, gp_max(rec[GP_E_LP], rec[GP_E_LN]));
+}
+
+/* The cross tangent's length (1-t) L_prev + t L_next (Eq. 14) with its t-derivative. */
+GP_FN_INLINE gp_dreal gp_tangent_length(const GP_REAL* rec, GP_REAL t) {
+  return gp_dr((GP_R(1.0) - t) * rec[GP_E_LP] + t * rec[GP_E_LN], rec[GP_E_LN] - rec[GP_E_LP]);
 }
 
 /* The printed cross-tangent direction p(t) = unit(t_c(t)) (Eq. 11-13) with its t-derivative;
- * regular: turned where t_c vanishes (gp_turn_through_edge, a0 = V_{k-1} - V_k, a1 = V_{k+2} -
+ * regular: turned where t_c vanishes (gp_turn_past_zero, a0 = V_{k-1} - V_k, a1 = V_{k+2} -
  * V_{k+1}: v_int at the ends; the corrected construction), else as printed. scale: the largest
  * length of the record. */
 GP_FN_INLINE gp_dvec3 gp_printed_direction(const GP_REAL* rec, GP_REAL t, gp_dvec3 c, gp_dvec3 cp, gp_dvec3 nc,
@@ -125,7 +139,7 @@ GP_FN_INLINE gp_dvec3 gp_printed_direction(const GP_REAL* rec, GP_REAL t, gp_dve
   if (regular) {
     const gp_vec3 a0 = gp_sub(gp_get3(rec, GP_E_VP), gp_get3(rec, GP_E_V0));
     const gp_vec3 a1 = gp_sub(gp_get3(rec, GP_E_VN), gp_get3(rec, GP_E_V1));
-    tc = gp_turn_through_edge(tc, GP_TURN_EPS * scale, nc, cp, a0, a1);
+    tc = gp_turn_past_zero(tc, GP_TURN_EPS * scale, nc, cp, a0, a1);
   }
   return gp_unit_or_inward(tc, GP_TINY * scale, nc, cp, scale, st);
 }
@@ -135,9 +149,8 @@ GP_FN_INLINE gp_dvec3 gp_printed_direction(const GP_REAL* rec, GP_REAL t, gp_dve
  * step is undefined, the inward direction n_c x C' (gp_edge_inward) replaces it. */
 GP_FN_INLINE gp_dvec3 gp_cross_tangent(const GP_REAL* rec, GP_REAL t, int mode, gp_dvec3 c, gp_dvec3 cp, gp_dvec3 nc,
                                 GP_REAL L, GP_STATUS* st) {
-  /* the largest of the three lengths the record refers to: the scale for "tiny" */
-  const GP_REAL scale = gp_max(L, gp_max(rec[GP_E_LP], rec[GP_E_LN]));
-  const gp_dreal len = gp_dr((GP_R(1.0) - t) * rec[GP_E_LP] + t * rec[GP_E_LN], rec[GP_E_LN] - rec[GP_E_LP]);
+  const GP_REAL scale = gp_tangent_scale(rec, L);
+  const gp_dreal len = gp_tangent_length(rec, t);
   const gp_vec3 d0 = gp_get3(rec, GP_E_D0), d1 = gp_get3(rec, GP_E_D1);
   gp_dvec3 q;
   if (mode == GP_CT_BLEND) {
@@ -150,8 +163,8 @@ GP_FN_INLINE gp_dvec3 gp_cross_tangent(const GP_REAL* rec, GP_REAL t, int mode, 
     q = gp_dadd(p, gp_dlerp(c0, c1, t));
   }
   /* project onto the tangent plane of n_c: q - (q.n_c) n_c, turned where it vanishes
-   * (gp_turn_through_edge; q runs from d0 to d1) */
-  const gp_dvec3 proj = gp_turn_through_edge(gp_dsub(q, gp_dmul(gp_ddot(q, nc), nc)), GP_TURN_EPS, nc, cp, d0, d1);
+   * (gp_turn_past_zero; q runs from d0 to d1) */
+  const gp_dvec3 proj = gp_turn_past_zero(gp_dsub(q, gp_dmul(gp_ddot(q, nc), nc)), GP_TURN_EPS, nc, cp, d0, d1);
   return gp_dmul(len, gp_unit_or_inward(proj, GP_TINY, nc, cp, scale, st));
 }
 
@@ -199,9 +212,8 @@ GP_FN void gp_finish_edge_record(GP_REAL* rec, gp_vec3 d0, gp_vec3 d1, int mode,
     gp_dvec3 c, cp;
     gp_edge_curve(rec, t, &c, &cp);
     const gp_dvec3 nc = gp_edge_normal(rec, t, cp, L, st);
-    const GP_REAL scale = gp_max(L, gp_max(rec[GP_E_LP], rec[GP_E_LN]));
-    const gp_dreal len = gp_dr((GP_R(1.0) - t) * rec[GP_E_LP] + t * rec[GP_E_LN], rec[GP_E_LN] - rec[GP_E_LP]);
-    const gp_dvec3 T = gp_dmul(len, gp_printed_direction(rec, t, c, cp, nc, scale, mode == GP_CT_CORRECTED, st));
+    const gp_dvec3 p = gp_printed_direction(rec, t, c, cp, nc, gp_tangent_scale(rec, L), mode == GP_CT_CORRECTED, st);
+    const gp_dvec3 T = gp_dmul(gp_tangent_length(rec, t), p);
     const GP_REAL l = end ? rec[GP_E_LN] : rec[GP_E_LP];
     gp_put3(rec, end ? GP_E_P1 : GP_E_P0, gp_sel3(l > GP_R(0.0), gp_scale(T.v, GP_R(1.0) / l), gp_zero3()));
   }

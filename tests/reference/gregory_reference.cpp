@@ -115,8 +115,8 @@ struct TangentData {
 /// turned inward (b . (n_c x C') >= 0), so that where it turns over it turns through b instead
 /// of through zero. Branch on the real part; the length is analytic for the complex step.
 template <class T>
-V3<T> turnThroughEdge(const V3<T>& a, double eps, const V3<T>& nc, const EdgeData& E, const T& t, const V3d& a0,
-                      const V3d& a1) {
+V3<T> turnPastZero(const V3<T>& a, double eps, const V3<T>& nc, const EdgeData& E, const T& t, const V3d& a0,
+                   const V3d& a1) {
   const V3d span = a1 - a0;
   const double ls = std::sqrt(dot(span, span));
   if (!(realNorm(a) < eps) || !(ls > 0)) return a;
@@ -132,7 +132,7 @@ constexpr double kTurnEps = 1e-2;
 /// v_int = (1-t) V_{k-1} + t V_{k+2} - C_k(t)            (Eq. 11)
 /// n_int = ((1-t) N_{k-1} + t N_{k+2} + n_c(t)) / 2        (Eq. 12)
 /// t_c   = n_c(t) x (v_int x n_int)                        (Eq. 13)
-/// In the corrected construction t_c turns through the edge where it vanishes (Robustness 4;
+/// In the corrected construction t_c is turned where it vanishes (turnPastZero, Robustness 4;
 /// a0 = V_{k-1} - V_k, a1 = V_{k+2} - V_{k+1}, eps relative to the largest of L, L_prev, L_next).
 template <class T>
 V3<T> printedDirection(const TangentData& D, const T& t) {
@@ -143,7 +143,7 @@ V3<T> printedDirection(const TangentData& D, const T& t) {
   V3<T> tc = cross(nc, cross(vInt, nInt));
   if (D.mode == CrossTangent::Corrected) {
     const double scale = std::max(D.edge.L, std::max(D.Lprev, D.Lnext));
-    tc = turnThroughEdge(tc, kTurnEps * scale, nc, D.edge, t, D.Vprev - D.edge.A, D.Vnext - D.edge.B);
+    tc = turnPastZero(tc, kTurnEps * scale, nc, D.edge, t, D.Vprev - D.edge.A, D.Vnext - D.edge.B);
   }
   return unit(tc);
 }
@@ -152,7 +152,7 @@ V3<T> printedDirection(const TangentData& D, const T& t) {
 ///   paper:     unit(t_c(t))
 ///   corrected: unit(q - (q.n_c) n_c), q = p(t) + (1-t)(d0 - p(0)) + t(d1 - p(1))
 ///   blend:     unit(q - (q.n_c) n_c), q = (1-t) d0 + t d1
-/// the projection turned through the edge where it vanishes (Robustness 4, a0 = d0, a1 = d1).
+/// the projection turned where it vanishes (turnPastZero, Robustness 4, a0 = d0, a1 = d1).
 template <class T>
 V3<T> crossTangent(const TangentData& D, const T& t) {
   const T s = T(1) - t;
@@ -165,7 +165,7 @@ V3<T> crossTangent(const TangentData& D, const T& t) {
     q = s * lift<T>(D.d0) + t * lift<T>(D.d1);
   }
   const V3<T> nc = edgeNormal(D.edge, t);
-  return scale * unit(turnThroughEdge(q - dot(q, nc) * nc, kTurnEps, nc, D.edge, t, D.d0, D.d1));
+  return scale * unit(turnPastZero(q - dot(q, nc) * nc, kTurnEps, nc, D.edge, t, D.d0, D.d1));
 }
 
 }  // namespace
