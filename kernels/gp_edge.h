@@ -36,8 +36,11 @@ GP_FN_INLINE GP_REAL gp_edge_length(const GP_REAL* rec) {
   return gp_len(gp_sub(gp_get3(rec, GP_E_V1), gp_get3(rec, GP_E_V0)));
 }
 
-/* Unit surface normal along the edge, n_c(t) (Eq. 10, normalised), oriented so that
- * n_c . ((1-t) N_k + t N_{k+1}) >= 0, with its t-derivative. cp = (C', C''); L = gp_edge_length. */
+/* Unit surface normal along the edge, n_c(t) (Eq. 10, normalised), with its t-derivative.
+ * cp = (C', C''); L = gp_edge_length. The guarded end tangents (gp_edge_tangents) make it N_k at
+ * t = 0 and N_{k+1} at t = 1; in between it is not turned towards the interpolated normal (such a
+ * turn flips it where it is perpendicular to that normal, and tore patches: design page,
+ * Robustness 1). */
 GP_FN_INLINE gp_dvec3 gp_edge_normal(const GP_REAL* rec, GP_REAL t, gp_dvec3 cp, GP_REAL L, GP_STATUS* st) {
   const gp_vec3 e = gp_sub(gp_get3(rec, GP_E_V1), gp_get3(rec, GP_E_V0));
   const gp_dvec3 nt = gp_dlerp(gp_get3(rec, GP_E_N0), gp_get3(rec, GP_E_N1), t);
@@ -56,7 +59,7 @@ GP_FN_INLINE gp_dvec3 gp_edge_normal(const GP_REAL* rec, GP_REAL t, gp_dvec3 cp,
     sraw = GP_SEL(flat, sfb, sraw);
   }
   *st |= sraw;
-  return gp_dsel(gp_dot(n.v, nt.v) < GP_R(0.0), gp_dneg(n), n);
+  return n;
 }
 
 /* Inward direction used where a cross-tangent construction step is undefined: unit

@@ -79,6 +79,46 @@ TEST(PatchIdentities, CrossTangentEndsMatchNeighbouringCurves) {
   }
 }
 
+// The edge normal n_c(t) of Eq. 10 is the vertex normal at both ends of every edge of every
+// bundled mesh: the guard (Robustness 1) keeps the end tangents forward and in the vertices'
+// tangent planes, so n_c needs no orientation rule of its own (one, n_c . N(t) >= 0 at every t,
+// turned n_c over inside edges and tore patches; test_patch_continuity.cpp). Checked against the
+// records' unit normals N_k, N_{k+1}; every edge of every face, counted.
+TEST(PatchIdentities, EdgeNormalIsTheVertexNormalAtBothEndsOfEveryEdge) {
+  size_t ends = 0;
+  double worst = 0;
+  for (const std::string& path : test::sharedMeshFiles()) {
+    SCOPED_TRACE(path);
+    const PatchCache c = test::cacheFromFile(path);
+    size_t meshEnds = 0;
+    for (int f = 0; f < c.numFaces(); ++f) {
+      if (c.faceStatus[f] & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE)) continue;
+      double recs[GP_MAX_N * GP_E_NFIELDS];
+      gatherRecords(c, f, recs);
+      for (int k = 0; k < c.faceSize(f); ++k) {
+        const double* rk = recs + k * GP_E_NFIELDS;
+        const double L = gpd::gp_edge_length(rk);
+        if (!(L > 0)) continue;  // a zero-length edge has no edge normal of its own
+        for (int end = 0; end < 2; ++end) {
+          gpd::gp_dvec3 cv, cp;
+          gpd::gp_edge_curve(rk, end, &cv, &cp);
+          uint32_t st = 0;
+          const gpd::gp_vec3 nc = gpd::gp_edge_normal(rk, end, cp, L, &st).v;
+          const gpd::gp_vec3 N = gpd::gp_get3(rk, end ? GP_E_N1 : GP_E_N0);
+          const double gap = gpd::gp_len(gpd::gp_sub(nc, N));
+          worst = std::max(worst, gap);
+          EXPECT_LT(gap, 1e-12) << "face " << f << " edge " << k << " end " << end;
+          ++meshEnds;
+        }
+      }
+    }
+    EXPECT_GT(meshEnds, 0u);
+    ends += meshEnds;
+  }
+  std::printf("%zu edge ends, largest |n_c - N| %.3g\n", ends, worst);
+  EXPECT_GT(ends, size_t(1'000'000));
+}
+
 // dG/dxi, dG/deta are exact: they agree with central differences to O(h^2).
 TEST(PatchIdentities, DerivativesMatchFiniteDifferences) {
   const PatchCache c = cacheFromShape(ref::refJitteredPolytope(3, 0, 0.12, 15.0));

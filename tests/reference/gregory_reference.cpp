@@ -89,14 +89,13 @@ V3<T> curveDt(const EdgeData& E, const T& t) {
   return d00 * lift<T>(E.A) - d00 * lift<T>(E.B) + (T(E.L) * d10) * lift<T>(E.ts) + (T(E.L) * d11) * lift<T>(E.te);
 }
 
-/// n_c(t) = unit(C'(t) x (((1-t) N_k + t N_{k+1}) x e)) (Eq. 10, normalised), oriented so
-/// that n_c . ((1-t) N_k + t N_{k+1}) >= 0 (Robustness 1). Branch on the real part.
+/// n_c(t) = unit(C'(t) x (((1-t) N_k + t N_{k+1}) x e)) (Eq. 10, normalised), not turned
+/// towards the interpolated normal (Robustness 1: the guarded end tangents make it N_k and
+/// N_{k+1} at the ends).
 template <class T>
 V3<T> edgeNormal(const EdgeData& E, const T& t) {
   const V3<T> Nt = (T(1) - t) * lift<T>(E.NA) + t * lift<T>(E.NB);
-  V3<T> nc = unit(cross(curveDt(E, t), cross(Nt, lift<T>(E.e))));
-  if (re(dot(nc, Nt)) < 0.0) nc = -nc;
-  return nc;
+  return unit(cross(curveDt(E, t), cross(Nt, lift<T>(E.e))));
 }
 
 /// Everything the cross tangent T_k(t) of edge k needs (Eq. 11-14, Robustness 2-3).
