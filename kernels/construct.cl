@@ -42,7 +42,7 @@ __kernel void gp_construct(const int numFaces, const int numSlots, const int mod
   }
   gp_uint st = gp_build_patch(n, V, N, vid, mode, recs);
   GP_REAL bulge = GP_R(0.0);
-  if (st & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE)) {
+  if (st & GP_ST_NOT_BUILT) {
     /* gp_build_patch wrote nothing: store zeros rather than stale private memory */
     for (int j = 0; j < n * GP_E_NFIELDS; ++j) recs[j] = GP_R(0.0);
   } else {

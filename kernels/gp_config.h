@@ -82,8 +82,9 @@ static inline double gp_sin(double x) { return std::sin(x); }
 /* position, derivatives and normal from the refinement's quadratic model at this point, not
  * from an evaluation (gp_refine_options.modelFinal) */
 #define GP_ST_MODEL_POINT 0x400u
-#define GP_ST_DEGENERATE_MASK \
-  (GP_ST_ZERO_EDGE | GP_ST_EDGE_NORMAL | GP_ST_CROSS_TANGENT | GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE)
+/* the bits of a face that has no patch (not built: its records are zeros, not evaluable) */
+#define GP_ST_NOT_BUILT (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE)
+#define GP_ST_DEGENERATE_MASK (GP_ST_ZERO_EDGE | GP_ST_EDGE_NORMAL | GP_ST_CROSS_TANGENT | GP_ST_NOT_BUILT)
 
 /* Refinement status bits (gp_refine.h); equal to the host's SF_TRACK_* (force_tracking.h),
  * above the GP_ST_* bits, which a refinement result carries too. */

@@ -96,7 +96,7 @@ DenseOracle::DenseOracle(const PatchCache& cache, long budget) : impl_(std::make
                               evaluatePatches(cache, f, x, y, n, out, Backend::Tbb);
                             });
   for (int f = 0; f < cache.numFaces(); ++f) {
-    if (cache.faceStatus[f] & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE)) continue;
+    if (cache.faceStatus[f] & GP_ST_NOT_BUILT) continue;
     const size_t before = domain_.size();
     domainRingPoints(cache.faceSize(f), level_, domain_);
     impl_->vertexFace.insert(impl_->vertexFace.end(), domain_.size() - before, f);

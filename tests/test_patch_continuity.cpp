@@ -27,8 +27,6 @@
 namespace sf {
 namespace {
 
-constexpr uint32_t kNotBuilt = GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE;
-
 struct Sample {
   int face;
   Eigen::Vector2d X;
@@ -70,7 +68,7 @@ TEST(PatchContinuity, NoTearInsideAnyFaceOfAnyBundledMesh) {
     std::vector<Sample> s;
     std::vector<size_t> chordStart;
     for (int f = 0; f < c.numFaces(); ++f) {
-      if (c.faceStatus[f] & kNotBuilt) continue;
+      if (c.faceStatus[f] & GP_ST_NOT_BUILT) continue;
       ++faces;
       const int n = c.faceSize(f);
       for (int k = 0; k < n; ++k) {

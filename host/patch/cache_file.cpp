@@ -272,7 +272,7 @@ PatchCache readPatchCache(const std::string& path, const CacheExpectation& expec
     using Real = std::decay_t<decltype(data[0])>;
     const uint64_t C = h.numSlots;
     for (uint64_t f = 0; f < h.numFaces; ++f) {
-      if (c.faceStatus[f] & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE)) continue;
+      if (c.faceStatus[f] & GP_ST_NOT_BUILT) continue;
       for (int32_t s = c.faceOffsets[f]; s < c.faceOffsets[f + 1]; ++s) {
         const int32_t v = c.faceVertices[s];
         for (int a = 0; a < 3; ++a) {

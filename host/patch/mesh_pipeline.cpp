@@ -49,7 +49,7 @@ PatchStatusSummary summarizePatchStatus(const PatchCache& cache) {
     s.zeroEdge += (st & GP_ST_ZERO_EDGE) != 0;
     s.edgeNormal += (st & GP_ST_EDGE_NORMAL) != 0;
     s.crossTangent += (st & GP_ST_CROSS_TANGENT) != 0;
-    s.notBuilt += (st & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE)) != 0;
+    s.notBuilt += (st & GP_ST_NOT_BUILT) != 0;
     if (st & GP_ST_FOLD) {
       ++s.fold;
       s.foldFaces.push_back(f);

@@ -18,7 +18,7 @@ std::vector<PatchBox> patchBoxes(const PatchCache& cache) {
     double recs[GP_MAX_N * GP_E_NFIELDS];
     for (int f = range.begin(); f < range.end(); ++f) {
       const int n = cache.faceSize(f), first = cache.faceOffsets[f];
-      if (buildPatchEdges(cache, f, recs) & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE)) continue;
+      if (buildPatchEdges(cache, f, recs) & GP_ST_NOT_BUILT) continue;
       gpd::gp_vec3 lo, hi;
       gpd::gp_patch_box(n, recs, &lo, &hi);
       PatchBox& b = boxes[f];

@@ -115,7 +115,7 @@ uint32_t buildRecords(const PatchCache& c, int f, Real* recs, float* bulgeOut, b
   const int mode = static_cast<int>(c.options.crossTangent);
   gp_uint st = G::build(n, V, N, vid, mode, recs);
   Real bulge = 0;
-  if (quality && !(st & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE))) st |= G::quality(n, recs, mode, &bulge);
+  if (quality && !(st & GP_ST_NOT_BUILT)) st |= G::quality(n, recs, mode, &bulge);
   if (bulgeOut) *bulgeOut = static_cast<float>(bulge);
   return st;
 }

@@ -103,7 +103,7 @@ void BuildFacesT(PatchCache& c, const int32_t* faces, size_t count) {
     for (size_t j = 0; j < valid; ++j) {
       const int f = faces[base + j];
       uint32_t status = static_cast<uint32_t>(st[j]);
-      const bool built = !(status & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE));
+      const bool built = !(status & GP_ST_NOT_BUILT);
       if (built) status |= static_cast<uint32_t>(qst[j]);
       c.faceStatus[f] = status;
       c.faceBulge[f] = built ? static_cast<float>(bulge[j]) : 0.f;

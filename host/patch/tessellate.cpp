@@ -22,7 +22,7 @@ TriangleMesh tessellatePatches(const PatchCache& cache, int level, const BatchEv
   std::vector<Eigen::Vector2d> dom;
   out.firstVertex.assign(cache.numFaces(), -1);
   for (int f = 0; f < cache.numFaces(); ++f) {
-    if (cache.faceStatus[f] & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE)) continue;
+    if (cache.faceStatus[f] & GP_ST_NOT_BUILT) continue;
     const int n = cache.faceSize(f);
     const int base = static_cast<int>(qf.size());
     out.firstVertex[f] = base;

@@ -302,7 +302,7 @@ bool LazyPatchSurface::computeSectors(int f) noexcept {
   sectorState_[f] = 0;
   const int n = cache_.faceSize(f);
   double recs[GP_MAX_N * GP_E_NFIELDS];
-  if (!apriori_[f].valid || (buildPatchEdges(cache_, f, recs) & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE))) return false;
+  if (!apriori_[f].valid || (buildPatchEdges(cache_, f, recs) & GP_ST_NOT_BUILT)) return false;
   const gpd::gp_domain* dom = gpd::gp_domain_of(n, nullptr, 1);
   const int mode = static_cast<int>(cache_.options.crossTangent);
   const Eigen::Vector3d faceFrame[3] = {facets_.faceU[f], facets_.faceV[f], facets_.faceNormal[f]};
@@ -340,7 +340,7 @@ int LazyPatchSurface::cells(int f) noexcept {
   ++sampledCount_;
   const int n = cache_.faceSize(f);
   double recs[GP_MAX_N * GP_E_NFIELDS];
-  if (!apriori_[f].valid || (buildPatchEdges(cache_, f, recs) & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE))) return 0;
+  if (!apriori_[f].valid || (buildPatchEdges(cache_, f, recs) & GP_ST_NOT_BUILT)) return 0;
   const gpd::gp_domain* dom = gpd::gp_domain_of(n, nullptr, 1);
   const int mode = static_cast<int>(cache_.options.crossTangent);
   const Eigen::Vector3d faceFrame[3] = {facets_.faceU[f], facets_.faceV[f], facets_.faceNormal[f]};

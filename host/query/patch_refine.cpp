@@ -171,7 +171,7 @@ bool PatchRefiner::evaluable(int f) const noexcept {
   if (f < 0 || f >= cache_.numFaces()) return false;
   const int n = cache_.faceSize(f);
   if (n < 3 || n > GP_MAX_N || !(lazy_ || hasPatchData(cache_))) return false;
-  return !(faceStatus(f) & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE));
+  return !(faceStatus(f) & GP_ST_NOT_BUILT);
 }
 
 void PatchRefiner::load(int f) noexcept {

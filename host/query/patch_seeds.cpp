@@ -24,7 +24,7 @@ PatchSeeds::PatchSeeds(const PatchCache& cache, int level) {
   std::vector<double> qx, qy;
   std::vector<Eigen::Vector2d> dom;
   for (int f = 0; f < cache.numFaces(); ++f) {
-    if (cache.faceStatus[f] & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE)) continue;
+    if (cache.faceStatus[f] & GP_ST_NOT_BUILT) continue;
     dom.clear();
     domainRingPoints(cache.faceSize(f), level, dom);
     for (const Eigen::Vector2d& X : dom) {
@@ -36,7 +36,7 @@ PatchSeeds::PatchSeeds(const PatchCache& cache, int level) {
   std::vector<PatchPoint> pts(qf.size());
   evaluatePatches(cache, qf.data(), qx.data(), qy.data(), qf.size(), pts.data(), Backend::Tbb);
   std::vector<Eigen::Vector3d> pos;
-  constexpr uint32_t bad = GP_ST_OUTSIDE | GP_ST_SINGULAR | GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE;
+  constexpr uint32_t bad = GP_ST_OUTSIDE | GP_ST_SINGULAR | GP_ST_NOT_BUILT;
   for (size_t i = 0; i < pts.size(); ++i) {
     if ((pts[i].status & bad) || !pts[i].pos.allFinite()) continue;
     pos.push_back(pts[i].pos);

@@ -40,7 +40,6 @@ struct PatchSurface::Impl {
 
 namespace {
 
-constexpr uint32_t kNotBuilt = GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE;
 /// The tessellations aim no finer than this many times the evaluation noise: below it a
 /// triangle's measured error is rounding, and subdividing it only multiplies the triangles.
 constexpr double kNoiseFloor = 4;
@@ -274,7 +273,7 @@ PatchSurface::PatchSurface(const PatchCache& cache, const PatchSurfaceOptions& o
   }
   closed_ = true;
   for (int f = 0; f < cache.numFaces(); ++f) {
-    if (cache.faceStatus[f] & kNotBuilt) {
+    if (cache.faceStatus[f] & GP_ST_NOT_BUILT) {
       closed_ = false;
       continue;
     }

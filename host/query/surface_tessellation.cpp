@@ -15,8 +15,6 @@
 namespace sf {
 namespace {
 
-constexpr uint32_t kNotBuilt = GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE;
-
 /// Error samples of a triangle: its centroid and its three edge midpoints (weights on a, b, c).
 constexpr double kW[4][3] = {{1. / 3, 1. / 3, 1. / 3}, {0.5, 0.5, 0}, {0, 0.5, 0.5}, {0.5, 0, 0.5}};
 
@@ -96,7 +94,7 @@ double evaluationNoise(const PatchCache& cache) {
 int64_t trianglesAtLevel(const PatchCache& cache, int L) {
   int64_t n = 0;
   for (int f = 0; f < cache.numFaces(); ++f)
-    if (!(cache.faceStatus[f] & kNotBuilt)) n += int64_t(cache.faceSize(f)) * L * L;
+    if (!(cache.faceStatus[f] & GP_ST_NOT_BUILT)) n += int64_t(cache.faceSize(f)) * L * L;
   return n;
 }
 
@@ -111,7 +109,7 @@ UniformTessellation tessellateUniform(const PatchCache& cache, int L) {
   std::vector<std::array<int32_t, 3>> local;
   t.faceFirstTri.assign(cache.numFaces(), -1);
   for (int f = 0; f < cache.numFaces(); ++f) {
-    if (cache.faceStatus[f] & kNotBuilt) continue;
+    if (cache.faceStatus[f] & GP_ST_NOT_BUILT) continue;
     t.faceFirstTri[f] = static_cast<int64_t>(t.tri.size());
     const int n = cache.faceSize(f), base = static_cast<int>(t.domain.size());
     dom.clear();

@@ -24,11 +24,11 @@ namespace sf {
 
 namespace {
 
-constexpr uint32_t kBadPoint = GP_ST_OUTSIDE | GP_ST_SINGULAR | GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE;
+constexpr uint32_t kBadPoint = GP_ST_OUTSIDE | GP_ST_SINGULAR | GP_ST_NOT_BUILT;
 
 double uniform01(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1.0p-53; }
 
-bool evaluable(const PatchCache& c, int f) { return !(c.faceStatus[f] & (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE)); }
+bool evaluable(const PatchCache& c, int f) { return !(c.faceStatus[f] & GP_ST_NOT_BUILT); }
 
 /// Domain triangles of face f at `level` rings, the ring layout of tessellatePatches.
 void domainTriangles(int n, int L, std::vector<Eigen::Vector2d>& out) {
