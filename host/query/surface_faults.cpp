@@ -50,8 +50,8 @@ double probeOffset(const PatchSurface& surface) { return 1e-5 * boundingDiagonal
 }  // namespace
 
 namespace {
-/// surfaceVerdict with the probe offset h (probeOffset, taken once by the caller: it scans every
-/// vertex), and twice the triangle's area in *area2.
+/// The verdict of triangle t (measureSurfaceFaults) with the probe offset h (probeOffset, taken
+/// once by the caller: it scans every vertex), and twice the triangle's area in *area2.
 SurfaceVerdict verdictAndArea(const PatchSurface& surface, size_t t, double h, double* area2) noexcept {
   Eigen::Vector3d n, mid;
   *area2 = doubleArea(surface.uniform(), t, &n, &mid);
@@ -63,11 +63,6 @@ SurfaceVerdict verdictAndArea(const PatchSurface& surface, size_t t, double h, d
                                  : SurfaceVerdict::Thin;
 }
 }  // namespace
-
-SurfaceVerdict surfaceVerdict(const PatchSurface& surface, size_t t) noexcept {
-  double area2;
-  return verdictAndArea(surface, t, probeOffset(surface), &area2);
-}
 
 std::vector<std::array<Eigen::Vector3d, 3>> faultTriangles(const PatchSurface& surface, const SurfaceFaults& faults) {
   const UniformTessellation& u = surface.uniform();

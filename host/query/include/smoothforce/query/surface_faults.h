@@ -51,11 +51,6 @@ struct SurfaceFaults {
 /// parallel (oneTBB); sums in triangle order (the same result for any thread count).
 SurfaceFaults measureSurfaceFaults(const PatchSurface& surface);
 
-/// The verdict of triangle t (< surface.uniform()'s triangle count) as measureSurfaceFaults
-/// gives it; Degenerate for a zero-area triangle. For closed surfaces only (PatchSurface::closed):
-/// on an open one the winding number, and so the verdict, means nothing.
-SurfaceVerdict surfaceVerdict(const PatchSurface& surface, size_t t) noexcept;
-
 /// The corners (m) of the triangles of surface.uniform() that faults (measured on that surface)
 /// found neither Consistent nor Degenerate, in triangle order.
 std::vector<std::array<Eigen::Vector3d, 3>> faultTriangles(const PatchSurface& surface, const SurfaceFaults& faults);
