@@ -141,6 +141,50 @@ TEST_F(SweepCli, MeshWithReferenceBuildsOnlyTouchedPatches) {
   EXPECT_EQ(all.out.find("patch constructions"), std::string::npos) << all.out;
 }
 
+// A sweep that builds or loads every patch names its folded and bulging patches on stderr before
+// it probes, as `cache build` reports them (the same counts and face lists), and says nothing of
+// either where there are none. Meshes: one fold (pmp/L.off's reflex corner), 16 folds (the spot
+// cage), folds and bulges (the scanned bunny at res4), neither (a generated sphere).
+TEST_F(SweepCli, NamesFoldedAndBulgingPatchesAsCacheBuildDoes) {
+  ASSERT_EQ(run("generate sphere --radius 0.05 --segments 4 -o " + p("s.obj")).status, 0);
+  const std::regex folds(R"(folds (\d+), bulges > 0.5 (\d+))"), list(R"(  (fold|bulge) faces:([ \d.]*)\n)");
+  int meshes = 0, withFolds = 0, withBulges = 0;
+  for (const std::string mesh :
+       {std::string(SF_SHARED_MESHES) + "/pmp/L.off", std::string(SF_DATA_DIR) + "/spot_control_mesh.obj",
+        std::string(SF_SHARED_MESHES) + "/stanford/bun_zipper_res4.ply", p("s.obj")}) {
+    SCOPED_TRACE(mesh);
+    const CliResult build = run("cache build " + mesh + " -o " + p("c.sfcache"));
+    ASSERT_EQ(build.status, 0) << build.out;
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(build.out, m, folds)) << build.out;
+    const int nFold = std::stoi(m[1]), nBulge = std::stoi(m[2]);
+    std::string foldIds, bulgeIds;
+    for (auto it = std::sregex_iterator(build.out.begin(), build.out.end(), list); it != std::sregex_iterator(); ++it)
+      ((*it)[1] == "fold" ? foldIds : bulgeIds) = (*it)[2];
+    const CliResult sweep =
+        run("sweep --cache " + p("c.sfcache") + " --depth 0.5% --samples 50 --methods patch --no-plots -o " + p("out"));
+    ASSERT_EQ(sweep.status, 0) << sweep.out;
+    const std::string foldLine = "sweep: " + std::to_string(nFold) + " folded patches",
+                      bulgeLine = "sweep: " + std::to_string(nBulge) + " bulging patches";
+    if (nFold > 0) {
+      EXPECT_NE(sweep.out.find(foldLine), std::string::npos) << sweep.out;
+      EXPECT_NE(sweep.out.find("faces:" + foldIds + "\n"), std::string::npos) << sweep.out;
+    } else {
+      EXPECT_EQ(sweep.out.find("folded patches"), std::string::npos) << sweep.out;
+    }
+    if (nBulge > 0) {
+      EXPECT_NE(sweep.out.find(bulgeLine), std::string::npos) << sweep.out;
+      EXPECT_NE(sweep.out.find("faces:" + bulgeIds + "\n"), std::string::npos) << sweep.out;
+    } else {
+      EXPECT_EQ(sweep.out.find("bulging patches"), std::string::npos) << sweep.out;
+    }
+    ++meshes, withFolds += nFold > 0, withBulges += nBulge > 0;
+  }
+  EXPECT_EQ(meshes, 4);
+  EXPECT_EQ(withFolds, 3);
+  EXPECT_EQ(withBulges, 1);
+}
+
 TEST_F(SweepCli, ShardsMergeByteIdentical) {
   ASSERT_EQ(run("generate sphere --radius 0.05 --segments 3 -o " + p("s.obj")).status, 0);
   const std::string common = "sweep --mesh " + p("s.obj") +

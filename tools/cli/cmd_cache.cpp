@@ -23,10 +23,7 @@ void printPatchSummary(const PatchCache& c) {
       "degenerate %d, not built %d\n",
       s.guard, s.fold, s.bulge, s.maxBulge, static_cast<int>(s.degenerateFaces.size()), s.notBuilt);
   auto list = [](const char* what, const std::vector<int>& ids) {
-    if (ids.empty()) return;
-    std::printf("  %s faces:", what);
-    for (size_t i = 0; i < ids.size() && i < 10; ++i) std::printf(" %d", ids[i]);
-    std::printf(ids.size() > 10 ? " ...\n" : "\n");
+    if (!ids.empty()) std::printf("  %s faces:%s\n", what, faceIdsText(ids).c_str());
   };
   list("fold", s.foldFaces);
   list("bulge", s.bulgeFaces);

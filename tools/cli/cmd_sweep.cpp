@@ -18,6 +18,7 @@
 
 #include <smoothforce/force/force_tracking.h>
 #include <smoothforce/patch/cache_file.h>
+#include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/sweep/sweep_run.h>
 #include "cli_common.h"
 #include "cli_exit.h"
@@ -160,6 +161,16 @@ void runSweepCommand(const SweepArgs& a) {
                  "sweep: built all %d patches of %s in %.2f s (%s backend; the HIPs are placed on or projected onto "
                  "the patch surface, which needs every patch)\n",
                  src.cache.numFaces(), a.mesh.c_str(), src.buildSeconds, a.patch.backend.c_str());
+  if (!lazy) {  // what cache build reports about the patches, where a patch method's force may turn sharply
+    const PatchStatusSummary s = summarizePatchStatus(src.cache);
+    if (s.fold > 0)
+      std::fprintf(stderr, "sweep: %d folded patches (normal opposite to the edge normal near an edge), faces:%s\n",
+                   s.fold, faceIdsText(s.foldFaces).c_str());
+    if (s.bulge > 0)
+      std::fprintf(stderr,
+                   "sweep: %d bulging patches (> 0.5 face diameters outside the face's box; max %.3f), faces:%s\n",
+                   s.bulge, s.maxBulge, faceIdsText(s.bulgeFaces).c_str());
+  }
   if (a.patch.backendKind() == Backend::OpenCL)
     std::fprintf(stderr,
                  "sweep: --backend opencl: patch construction (with --mesh) and the patch method's refinements on the "
