@@ -144,7 +144,8 @@ TEST_F(SweepCli, MeshWithReferenceBuildsOnlyTouchedPatches) {
 // A sweep that builds or loads every patch names its folded and bulging patches on stderr before
 // it probes, as `cache build` reports them (the same counts and face lists), and says nothing of
 // either where there are none. Meshes: one fold (pmp/L.off's reflex corner), 16 folds (the spot
-// cage), folds and bulges (the scanned bunny at res4), neither (a generated sphere).
+// cage), folds and bulges (the scanned bunny at res4), neither (a generated sphere); a sweep
+// without the patch method does not.
 TEST_F(SweepCli, NamesFoldedAndBulgingPatchesAsCacheBuildDoes) {
   ASSERT_EQ(run("generate sphere --radius 0.05 --segments 4 -o " + p("s.obj")).status, 0);
   const std::regex folds(R"(folds (\d+), bulges > 0.5 (\d+))"), list(R"(  (fold|bulge) faces:([ \d.]*)\n)");
@@ -183,6 +184,11 @@ TEST_F(SweepCli, NamesFoldedAndBulgingPatchesAsCacheBuildDoes) {
   EXPECT_EQ(meshes, 4);
   EXPECT_EQ(withFolds, 3);
   EXPECT_EQ(withBulges, 1);
+  // without the patch method in the sweep, its patches' folds are not its concern
+  const CliResult direct = run("sweep --mesh " + std::string(SF_SHARED_MESHES) +
+                               "/pmp/L.off --depth 0.5% --samples 50 --methods direct --no-plots -o " + p("direct"));
+  ASSERT_EQ(direct.status, 0) << direct.out;
+  EXPECT_EQ(direct.out.find("folded patches"), std::string::npos) << direct.out;
 }
 
 TEST_F(SweepCli, ShardsMergeByteIdentical) {

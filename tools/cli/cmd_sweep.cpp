@@ -4,6 +4,7 @@
 
 #include <tbb/info.h>
 
+#include <algorithm>
 #include <atomic>
 #include <charconv>
 #include <chrono>
@@ -161,7 +162,8 @@ void runSweepCommand(const SweepArgs& a) {
                  "sweep: built all %d patches of %s in %.2f s (%s backend; the HIPs are placed on or projected onto "
                  "the patch surface, which needs every patch)\n",
                  src.cache.numFaces(), a.mesh.c_str(), src.buildSeconds, a.patch.backend.c_str());
-  if (!lazy) {  // what cache build reports about the patches, where a patch method's force may turn sharply
+  // what cache build reports about the patches, where the patch method's force may turn sharply
+  if (!lazy && std::find(c.methods.begin(), c.methods.end(), "patch") != c.methods.end()) {
     const PatchStatusSummary s = summarizePatchStatus(src.cache);
     if (s.fold > 0)
       std::fprintf(stderr, "sweep: %d folded patches (normal opposite to the edge normal near an edge), faces:%s\n",
