@@ -162,16 +162,22 @@ void runSweepCommand(const SweepArgs& a) {
                  "sweep: built all %d patches of %s in %.2f s (%s backend; the HIPs are placed on or projected onto "
                  "the patch surface, which needs every patch)\n",
                  src.cache.numFaces(), a.mesh.c_str(), src.buildSeconds, a.patch.backend.c_str());
-  // what cache build reports about the patches, where the patch method's force may turn sharply
+  // what cache build reports about the patches, where the patch method's force may turn sharply;
+  // printed when probing starts (the inputs checked: a bad input stays a one-line error)
+  std::string patchNotes;
   if (!lazy && std::find(c.methods.begin(), c.methods.end(), "patch") != c.methods.end()) {
     const PatchStatusSummary s = summarizePatchStatus(src.cache);
     if (s.fold > 0)
-      std::fprintf(stderr, "sweep: %d folded patches (normal opposite to the edge normal near an edge), faces:%s\n",
-                   s.fold, faceIdsText(s.foldFaces).c_str());
-    if (s.bulge > 0)
-      std::fprintf(stderr,
-                   "sweep: %d bulging patches (> 0.5 face diameters outside the face's box; max %.3f), faces:%s\n",
-                   s.bulge, s.maxBulge, faceIdsText(s.bulgeFaces).c_str());
+      patchNotes +=
+          "sweep: " + std::to_string(s.fold) +
+          " folded patches (normal opposite to the edge normal near an edge), faces:" + faceIdsText(s.foldFaces) + "\n";
+    if (s.bulge > 0) {
+      char max[32];
+      std::snprintf(max, sizeof max, "%.3f", s.maxBulge);
+      patchNotes += "sweep: " + std::to_string(s.bulge) +
+                    " bulging patches (> 0.5 face diameters outside the face's box; max " + max +
+                    "), faces:" + faceIdsText(s.bulgeFaces) + "\n";
+    }
   }
   if (a.patch.backendKind() == Backend::OpenCL)
     std::fprintf(stderr,
@@ -190,6 +196,7 @@ void runSweepCommand(const SweepArgs& a) {
   ctl.threads = threads;
   ctl.stop = &stopFlag();
   ctl.started = [&](uint64_t pending, uint64_t) {
+    std::fputs(patchNotes.c_str(), stderr);
     bar = std::make_unique<ProgressBar>(pending, "probe", a.progressEvery);
   };
   ctl.progress = [&](size_t n) {
