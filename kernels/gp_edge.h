@@ -89,8 +89,10 @@ GP_FN_INLINE gp_dvec3 gp_unit_or_inward(gp_dvec3 a, GP_REAL tiny, gp_dvec3 nc, g
 #undef GP_TURN_EPS
 #define GP_TURN_EPS GP_R(1.0e-2)
 
-/* The rare path of gp_turn_past_zero (|a|^2 = l2 < eps^2 on some lane), out of line: inlined into
- * every edge of every evaluation it made the tracking step 15% slower. */
+/* The rare path of gp_turn_past_zero (|a|^2 = l2 < eps^2 on some lane). GP_FN, not GP_FN_INLINE:
+ * forced into every edge of every evaluation it made the tracking step 15% slower; where it is
+ * inlined is left to the compiler, since forcing it out of line (noinline) was slower too
+ * (performance log, twenty-second session). */
 GP_FN gp_dvec3 gp_turn_past_zero_near(gp_dvec3 a, GP_REAL l2, GP_REAL eps, gp_dvec3 nc, gp_dvec3 cp, gp_vec3 a0,
                                       gp_vec3 a1) {
   const GP_REAL l = GP_SQRT(l2);
