@@ -64,4 +64,11 @@ PatchStatusSummary summarizePatchStatus(const PatchCache& cache) {
   return s;
 }
 
+std::string faceIdsText(const std::vector<int>& ids) {
+  std::string s;
+  for (size_t i = 0; i < ids.size() && i < 10; ++i) (s += ' ') += std::to_string(ids[i]);
+  if (ids.size() > 10) s += " ...";
+  return s;
+}
+
 }  // namespace sf

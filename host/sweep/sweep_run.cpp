@@ -16,6 +16,7 @@
 #include <smoothforce/base/hash.h>
 #include <smoothforce/base/status.h>
 #include <smoothforce/force/force_tracking.h>
+#include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/query/embree_scene.h>
 #include <smoothforce/sweep/probe_inside.h>
 #include <smoothforce/sweep/sweep_opencl.h>
@@ -96,6 +97,25 @@ HipSet buildHipSet(SweepInputs& in, std::unique_ptr<ReferenceSurface>* reference
 namespace {
 
 using Path = std::pair<std::string, std::vector<Eigen::Vector3d>>;
+
+/// What `cache build` reports of the patches where the patch method's force may turn sharply:
+/// a line for the folded and one for the bulging patches, each only where there are some.
+std::vector<std::string> patchStatusNotes(const PatchCache& cache) {
+  const PatchStatusSummary s = summarizePatchStatus(cache);
+  std::vector<std::string> notes;
+  if (s.fold > 0)
+    notes.push_back(
+        "sweep: " + std::to_string(s.fold) +
+        " folded patches (normal opposite to the edge normal near an edge), faces:" + faceIdsText(s.foldFaces));
+  if (s.bulge > 0) {
+    char max[32];
+    std::snprintf(max, sizeof max, "%.3f", s.maxBulge);
+    notes.push_back("sweep: " + std::to_string(s.bulge) +
+                    " bulging patches (> 0.5 face diameters outside the face's box; max " + max +
+                    "), faces:" + faceIdsText(s.bulgeFaces));
+  }
+  return notes;
+}
 
 /// The trajectories of a sweep: the files (named by stem), else the default section loop, or
 /// none, with a note in *note, where no section of the surface exists (defaultTrajectory).
@@ -294,6 +314,9 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
     for (size_t t = 0; t < in.config.trajectories.size(); ++t)
       notes.push_back(farPointsNote(paths[t].second, *in.cache, "points of --trajectory " + in.config.trajectories[t],
                                     "they are projected onto the surface from there"));
+    const auto& methods = in.config.methods;
+    if (!lazy && std::find(methods.begin(), methods.end(), "patch") != methods.end())
+      for (std::string& n : patchStatusNotes(*in.cache)) notes.push_back(std::move(n));
     for (const auto& n : notes)
       if (!n.empty()) control.note(n);
   }

@@ -214,10 +214,4 @@ std::string faceSizeText(const std::vector<int>& h) {
   return s.empty() ? "none" : s;
 }
 
-std::string faceIdsText(const std::vector<int>& ids) {
-  std::string s;
-  for (size_t i = 0; i < ids.size() && i < 10; ++i) s += " " + std::to_string(ids[i]);
-  return ids.size() > 10 ? s + " ..." : s;
-}
-
 }  // namespace sf::cli

@@ -79,9 +79,6 @@ BatchEvaluator makeEvaluator(const PatchCache& cache, const PatchArgs& args);
 /// "4 tri, 160 quad, 16 5-gon"
 std::string faceSizeText(const std::vector<int>& histogram);
 
-/// The first 10 face ids, each after a space, then " ..." if there are more: " 3 17 40".
-std::string faceIdsText(const std::vector<int>& ids);
-
 void addCacheCommands(CLI::App& app);
 void addEvalCommand(CLI::App& app);
 void addExportCommand(CLI::App& app);

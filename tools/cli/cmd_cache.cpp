@@ -130,9 +130,7 @@ void printFaults(const SurfaceFaults& f) {
       f.totalArea > 0 ? 100.0 * f.faultArea() / f.totalArea : 0.0, at(SurfaceVerdict::Folded),
       at(SurfaceVerdict::Overlapping), at(SurfaceVerdict::Thin), faces.size());
   if (faces.empty()) return;
-  std::printf("  fault faces (largest area first):");
-  for (size_t i = 0; i < faces.size() && i < 10; ++i) std::printf(" %d", faces[i]);
-  std::printf(faces.size() > 10 ? " ...\n" : "\n");
+  std::printf("  fault faces (largest area first):%s\n", faceIdsText(faces).c_str());
 }
 
 void info(const std::string& path, bool json, bool faults) {

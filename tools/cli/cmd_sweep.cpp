@@ -4,7 +4,6 @@
 
 #include <tbb/info.h>
 
-#include <algorithm>
 #include <atomic>
 #include <charconv>
 #include <chrono>
@@ -19,7 +18,6 @@
 
 #include <smoothforce/force/force_tracking.h>
 #include <smoothforce/patch/cache_file.h>
-#include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/sweep/sweep_run.h>
 #include "cli_common.h"
 #include "cli_exit.h"
@@ -162,23 +160,6 @@ void runSweepCommand(const SweepArgs& a) {
                  "sweep: built all %d patches of %s in %.2f s (%s backend; the HIPs are placed on or projected onto "
                  "the patch surface, which needs every patch)\n",
                  src.cache.numFaces(), a.mesh.c_str(), src.buildSeconds, a.patch.backend.c_str());
-  // what cache build reports about the patches, where the patch method's force may turn sharply;
-  // printed when probing starts (the inputs checked: a bad input stays a one-line error)
-  std::string patchNotes;
-  if (!lazy && std::find(c.methods.begin(), c.methods.end(), "patch") != c.methods.end()) {
-    const PatchStatusSummary s = summarizePatchStatus(src.cache);
-    if (s.fold > 0)
-      patchNotes +=
-          "sweep: " + std::to_string(s.fold) +
-          " folded patches (normal opposite to the edge normal near an edge), faces:" + faceIdsText(s.foldFaces) + "\n";
-    if (s.bulge > 0) {
-      char max[32];
-      std::snprintf(max, sizeof max, "%.3f", s.maxBulge);
-      patchNotes += "sweep: " + std::to_string(s.bulge) +
-                    " bulging patches (> 0.5 face diameters outside the face's box; max " + max +
-                    "), faces:" + faceIdsText(s.bulgeFaces) + "\n";
-    }
-  }
   if (a.patch.backendKind() == Backend::OpenCL)
     std::fprintf(stderr,
                  "sweep: --backend opencl: patch construction (with --mesh) and the patch method's refinements on the "
@@ -196,7 +177,6 @@ void runSweepCommand(const SweepArgs& a) {
   ctl.threads = threads;
   ctl.stop = &stopFlag();
   ctl.started = [&](uint64_t pending, uint64_t) {
-    std::fputs(patchNotes.c_str(), stderr);
     bar = std::make_unique<ProgressBar>(pending, "probe", a.progressEvery);
   };
   ctl.progress = [&](size_t n) {

@@ -48,4 +48,8 @@ struct PatchStatusSummary {
 };
 PatchStatusSummary summarizePatchStatus(const PatchCache& cache);
 
+/// Face ids for a report line: the first 10, each after a space, then " ..." if there are more
+/// (" 3 17 40").
+std::string faceIdsText(const std::vector<int>& ids);
+
 }  // namespace sf
