@@ -203,6 +203,17 @@ class PatchTracker final : public ForceRenderer {
 
 }  // namespace
 
+void mergeNearest(PatchNearest& q, const PatchNearest& more) noexcept {
+  if (more.nearest.distance < q.nearest.distance) q.nearest = more.nearest;
+  if (more.nearestBelow.distance < q.nearestBelow.distance) q.nearestBelow = more.nearestBelow;
+  q.anyBelow = q.anyBelow || more.anyBelow;
+  q.anyAbove = q.anyAbove || more.anyAbove;
+  q.nearestAbove = std::min(q.nearestAbove, more.nearestAbove);
+  q.minLower = std::min(q.minLower, more.minLower);
+  q.candidates += more.candidates;
+  q.refined += more.refined;
+}
+
 PatchNearest refineCandidates(const SurfaceCandidate* c, int n, double spacing, PatchRefiner& refiner,
                               const Eigen::Vector3d& hip, const ForceOptions& options,
                               const RefineResult* first, const SurfaceCandidate* firstStart,
@@ -285,8 +296,19 @@ PatchNearest nearestOnPatches(const PatchSurface& surface, PatchRefiner& refiner
                               const SurfaceCandidate* firstStart, int reachFace) noexcept {
   if (first && firstStart && usable(*first)) tighterReach(surface, first->distance, first->face, reach, reachFace);
   CandidateBuffer<> c;
-  const int n = static_cast<int>(surface.candidates(hip, c.data(), c.size(), reach, reachFace));
-  return refineCandidates(c.data(), n, surface.spacing(), refiner, hip, options, first, firstStart, &surface);
+  int n = static_cast<int>(surface.candidates(hip, c.data(), c.size(), reach, reachFace));
+  PatchNearest q = refineCandidates(c.data(), n, surface.spacing(), refiner, hip, options, first, firstStart, &surface);
+  // a full buffer holds the candidates of lowest lower bound; those it left out matter where their
+  // lower bounds (at least the last one's) are below the nearest distance found: the next ones,
+  // refined in turn, until none is (a bulging patch's wide error bounds can crowd the buffer)
+  while (n == static_cast<int>(c.size()) && c[n - 1].lower < q.nearest.distance) {
+    const SurfaceCandidate last = c[n - 1];
+    if (usable(q.nearest)) tighterReach(surface, q.nearest.distance, q.nearest.face, reach, reachFace);
+    n = static_cast<int>(surface.candidates(hip, c.data(), c.size(), reach, reachFace, &last));
+    mergeNearest(q,
+                 refineCandidates(c.data(), n, surface.spacing(), refiner, hip, options, nullptr, nullptr, &surface));
+  }
+  return q;
 }
 
 int insideByWinding(const PatchSurface& surface, const Eigen::Vector3d& hip, double* reach, int* reachFace,

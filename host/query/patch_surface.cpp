@@ -125,7 +125,15 @@ struct CandidateState {
   float pad;
   size_t count;
   CandidateBuffer<kMaxCandidates> c;  ///< c[0..count) written
+  /// collect only triangles after this (lower bound, triangle) in that order (null: all); every
+  /// triangle still counts towards bound
+  const SurfaceCandidate* after;
 };
+
+/// The strict order of candidates: by lower bound, then by triangle.
+bool candidateAfter(double lowerA, int triangleA, double lowerB, int triangleB) {
+  return lowerA > lowerB || (lowerA == lowerB && triangleA > triangleB);
+}
 
 bool candidateFn(RTCPointQueryFunctionArguments* args) {
   auto* st = static_cast<CandidateState*>(args->userPtr);
@@ -134,22 +142,22 @@ bool candidateFn(RTCPointQueryFunctionArguments* args) {
   const double d = std::sqrt(closestOnTriangle(st->q, t.P[0], t.P[1], t.P[2], u, v, w));
   const double e = t.error;
   if (!(d - e <= st->bound)) return false;
+  const int id = static_cast<int>(args->primID);
   SurfaceCandidate* slot = nullptr;
-  if (st->count < kMaxCandidates) {
+  if (st->after && !candidateAfter(d - e, id, st->after->lower, st->after->triangle)) {
+    // collected by an earlier call: only its bound counts
+  } else if (st->count < kMaxCandidates) {
     slot = &st->c[st->count++];
   } else {  // full: replace the last candidate in (lower bound, triangle) order, if after this one
     // (a strict order: the candidates kept do not depend on the order Embree visits them in)
-    auto after = [](const SurfaceCandidate& a, double lower, int triangle) {
-      return a.lower > lower || (a.lower == lower && a.triangle > triangle);
-    };
     slot = &st->c[0];
     for (size_t i = 1; i < st->count; ++i)
-      if (after(st->c[i], slot->lower, slot->triangle)) slot = &st->c[i];
-    if (!after(*slot, d - e, static_cast<int>(args->primID))) slot = nullptr;
+      if (candidateAfter(st->c[i].lower, st->c[i].triangle, slot->lower, slot->triangle)) slot = &st->c[i];
+    if (!candidateAfter(slot->lower, slot->triangle, d - e, id)) slot = nullptr;
   }
   if (slot) {
     slot->face = t.face;
-    slot->triangle = static_cast<int>(args->primID);
+    slot->triangle = id;
     slot->distance = d;
     slot->lower = d - e;
     slot->X = u * t.X[0] + v * t.X[1] + w * t.X[2];
@@ -328,10 +336,11 @@ int PatchSurface::level() const noexcept { return uniform_->level; }
 size_t PatchSurface::numTriangles() const noexcept { return uniform_->tri.size(); }
 
 size_t PatchSurface::candidates(const Eigen::Vector3d& q, SurfaceCandidate* out, size_t cap, double reach,
-                                int reachFace) const noexcept {
+                                int reachFace, const SurfaceCandidate* after) const noexcept {
   if (points_.empty() || !inCoordinateRange(q) || cap == 0) return 0;  // beyond: Embree refuses the point
   CandidateState st;
   st.tri = &points_;
+  st.after = after;
   st.q = q;
   st.bound = std::numeric_limits<double>::infinity();
   st.pad = impl_->pad;

@@ -60,6 +60,10 @@ struct PatchNearest {
   int candidates = 0, refined = 0;
 };
 
+/// Adds the refinements of `more` (a later batch of candidates of the same query) to q: the
+/// nearest points kept where nearer (ties: q's), the flags and counts combined.
+void mergeNearest(PatchNearest& q, const PatchNearest& more) noexcept;
+
 /// Refines the candidates c[0..n) (sorted by lower bound: PatchSurface::candidates, or lazy
 /// cells) whose lower bound is below the nearest distance found so far, skipping a start within
 /// `spacing` (domain units) of an earlier start or result on the same face. The order: with a
@@ -82,7 +86,9 @@ PatchNearest refineCandidates(const SurfaceCandidate* c, int n, double spacing, 
                               const PatchSurface* surface = nullptr) noexcept;
 
 /// The global nearest point of the patches to `hip` (m): PatchSurface::candidates, then
-/// refineCandidates. Never throws or allocates.
+/// refineCandidates; where the candidate buffer is full and its last lower bound is below the
+/// nearest distance found, the next candidates in turn (PatchSurface::candidates' `after`), so
+/// that no candidate that could be nearer is left out. Never throws or allocates.
 /// first, firstStart: as in refineCandidates (a refinement already done; with firstStart, its
 /// distance also bounds the candidate search).
 /// reach, reachFace: an upper bound (m) of the HIP's distance to the patch surface when known

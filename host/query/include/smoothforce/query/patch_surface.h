@@ -80,8 +80,13 @@ class PatchSurface {
   /// reachFace: the face of the patch point that gives reach, when known (-1: not known): the
   /// radius is then reach + 2 error(reachFace), which a face far from the patch surface's worst
   /// error bounds keeps near reach.
+  /// after: the last candidate of an earlier call for the same q that returned 256 (or `cap`):
+  /// only candidates after it in (lower bound, triangle) order are collected, the next ones
+  /// (null: from the first). A wide error bound (a bulging patch) can give more than 256
+  /// triangles a lower bound below the nearest patch point's distance.
   size_t candidates(const Eigen::Vector3d& q, SurfaceCandidate* out, size_t cap,
-                    double reach = std::numeric_limits<double>::infinity(), int reachFace = -1) const noexcept;
+                    double reach = std::numeric_limits<double>::infinity(), int reachFace = -1,
+                    const SurfaceCandidate* after = nullptr) const noexcept;
   /// The radius candidates() starts its search at for (reach, reachFace): reach + 2 error(reachFace),
   /// or reach + 2 maxError() where reachFace is -1 or out of range (m; infinite without a reach).
   double searchRadius(double reach, int reachFace = -1) const noexcept {
