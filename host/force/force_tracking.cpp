@@ -300,8 +300,11 @@ PatchNearest nearestOnPatches(const PatchSurface& surface, PatchRefiner& refiner
   PatchNearest q = refineCandidates(c.data(), n, surface.spacing(), refiner, hip, options, first, firstStart, &surface);
   // a full buffer holds the candidates of lowest lower bound; those it left out matter where their
   // lower bounds (at least the last one's) are below the nearest distance found: the next ones,
-  // refined in turn, until none is (a bulging patch's wide error bounds can crowd the buffer)
-  while (n == static_cast<int>(c.size()) && c[n - 1].lower < q.nearest.distance) {
+  // refined in turn, until none is (a bulging patch's wide error bounds can crowd the buffer), at
+  // most kMaxCandidateBatches batches in all
+  for (int batch = 1;
+       batch < kMaxCandidateBatches && n == static_cast<int>(c.size()) && c[n - 1].lower < q.nearest.distance;
+       ++batch) {
     const SurfaceCandidate last = c[n - 1];
     if (usable(q.nearest)) tighterReach(surface, q.nearest.distance, q.nearest.face, reach, reachFace);
     n = static_cast<int>(surface.candidates(hip, c.data(), c.size(), reach, reachFace, &last));

@@ -261,8 +261,8 @@ PatchSurface::PatchSurface(const PatchCache& cache, const PatchSurfaceOptions& o
     : cache_(cache), impl_(std::make_unique<Impl>()) {
   if (!hasPatchData(cache)) throw InputError("the patch surface needs built patches (a cache, not a skeleton)");
   if (options.level < 0 || options.level > 64) throw InputError("patch surface level must be in 0..64");
-  if (!(options.targetError > 0) || options.subdivision < 0 || options.subdivision > 8)
-    throw InputError("patch surface: targetError must be > 0 and subdivision in 0..8");
+  if (!(options.targetError > 0) || options.subdivision < 0 || options.subdivision > 8 || options.adaptiveBudget < 1)
+    throw InputError("patch surface: targetError must be > 0, subdivision in 0..8 and adaptiveBudget >= 1");
   const double diag = boundingDiagonal(cache);
   const double noise = evaluationNoise(cache);
   uniform_ = std::make_unique<UniformTessellation>(tessellateUniform(cache, choosePatchSurfaceLevel(cache, options)));
@@ -272,7 +272,7 @@ PatchSurface::PatchSurface(const PatchCache& cache, const PatchSurfaceOptions& o
     bandError_[uniform_->triFace[t]] = std::max(bandError_[uniform_->triFace[t]], uniform_->error[t]);
   if (options.candidates)
     points_ = tessellateAdaptive(cache, *uniform_, std::max(options.targetError * diag, kNoiseFloor * noise),
-                                 options.subdivision);
+                                 options.subdivision, static_cast<size_t>(options.adaptiveBudget));
   for (SurfaceTriangle& t : points_) t.error += noise;
   error_.assign(cache.numFaces(), 0.0);
   for (const SurfaceTriangle& t : points_) {

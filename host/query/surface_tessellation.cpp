@@ -191,7 +191,7 @@ int64_t uniformTriangleAt(const UniformTessellation& u, const PatchCache& cache,
 }
 
 std::vector<SurfaceTriangle> tessellateAdaptive(const PatchCache& cache, const UniformTessellation& u, double maxError,
-                                                int maxDepth) {
+                                                int maxDepth, size_t budget) {
   std::vector<SurfaceTriangle> done, todo;
   for (size_t i = 0; i < u.tri.size(); ++i) {
     SurfaceTriangle s;
@@ -203,7 +203,18 @@ std::vector<SurfaceTriangle> tessellateAdaptive(const PatchCache& cache, const U
     s.error = u.error[i];
     (s.error > maxError ? todo : done).push_back(s);
   }
-  for (int depth = 0; depth < maxDepth && !todo.empty(); ++depth) {
+  bool full = false;
+  for (int depth = 0; depth < maxDepth && !todo.empty() && !full; ++depth) {
+    // each split adds 3 triangles: where the budget cannot take them all, the largest errors first
+    const size_t have = done.size() + todo.size();
+    const size_t room = budget > have ? (budget - have) / 3 : 0;
+    if (room < todo.size()) {
+      std::stable_sort(todo.begin(), todo.end(),
+                       [](const SurfaceTriangle& a, const SurfaceTriangle& b) { return a.error > b.error; });
+      done.insert(done.end(), todo.begin() + static_cast<std::ptrdiff_t>(room), todo.end());
+      todo.resize(room);
+      full = true;
+    }
     // children at the edge midpoints: corners (a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca)
     std::vector<SurfaceTriangle> kids(4 * todo.size());
     // a chunk of parents at a time: per parent its 3 corners and 3 edge midpoints (the children's
@@ -242,7 +253,8 @@ std::vector<SurfaceTriangle> tessellateAdaptive(const PatchCache& cache, const U
       }
     });
     todo.clear();
-    for (const SurfaceTriangle& c : kids) (c.error > maxError && depth + 1 < maxDepth ? todo : done).push_back(c);
+    for (const SurfaceTriangle& c : kids)
+      (c.error > maxError && depth + 1 < maxDepth && !full ? todo : done).push_back(c);
   }
   done.insert(done.end(), todo.begin(), todo.end());
   return done;

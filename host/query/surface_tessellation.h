@@ -42,9 +42,11 @@ struct SurfaceTriangle {
 UniformTessellation tessellateUniform(const PatchCache& cache, int L);
 
 /// The uniform triangles, each subdivided into 4 (at its domain edge midpoints) while its error
-/// exceeds `maxError` (m), at most `maxDepth` times.
+/// exceeds `maxError` (m), at most `maxDepth` times, and while the result stays within `budget`
+/// triangles: where a round would exceed it, only the triangles of largest error (ties: the
+/// earlier) are split that fit, and subdivision stops.
 std::vector<SurfaceTriangle> tessellateAdaptive(const PatchCache& cache, const UniformTessellation& uniform,
-                                                double maxError, int maxDepth);
+                                                double maxError, int maxDepth, size_t budget = SIZE_MAX);
 
 /// The evaluation noise (m) added to every triangle's error bound: the larger of the rounding of
 /// the cache's precision relative to the mesh's bounding-box diagonal (1e-13 in double, 2e-6 in

@@ -85,10 +85,17 @@ PatchNearest refineCandidates(const SurfaceCandidate* c, int n, double spacing, 
                               const RefineResult* first = nullptr, const SurfaceCandidate* firstStart = nullptr,
                               const PatchSurface* surface = nullptr) noexcept;
 
+/// The most candidate batches (of PatchSurface::kMaxCandidates) nearestOnPatches refines.
+/// The 28 bundled meshes need at most 23 (tests/test_global_query.cpp); patches that bulge
+/// hundreds of face sizes (normals that disagree with the geometry) give nearly every triangle a
+/// lower bound below the nearest distance, and this bounds a query's time there.
+inline constexpr int kMaxCandidateBatches = 64;
+
 /// The global nearest point of the patches to `hip` (m): PatchSurface::candidates, then
 /// refineCandidates; where the candidate buffer is full and its last lower bound is below the
 /// nearest distance found, the next candidates in turn (PatchSurface::candidates' `after`), so
-/// that no candidate that could be nearer is left out. Never throws or allocates.
+/// that no candidate that could be nearer is left out, up to kMaxCandidateBatches batches.
+/// Never throws or allocates.
 /// first, firstStart: as in refineCandidates (a refinement already done; with firstStart, its
 /// distance also bounds the candidate search).
 /// reach, reachFace: an upper bound (m) of the HIP's distance to the patch surface when known

@@ -36,6 +36,11 @@ struct PatchSurfaceOptions {
   double targetError = 1e-3;
   int64_t triangleBudget = 1'000'000;
   int subdivision = 6;  ///< at most this many halvings of a triangle, 0..8
+  /// the adaptive tessellation stops subdividing at this many triangles (136 bytes each, plus
+  /// Embree's BVH), the worst error bounds split first: normals that disagree with the geometry
+  /// bulge every patch, and 4 such faces took 9 GB unbounded. The bundled meshes need at most
+  /// 3.5 million (bun_zipper.ply); a triangle left coarser keeps its wider, valid bound.
+  int64_t adaptiveBudget = 4'000'000;
   /// false: only what winding() and inErrorBand() need (an inside test, as the sweep's): no
   /// adaptive tessellation and no BVH over it; candidates() then finds none
   bool candidates = true;
