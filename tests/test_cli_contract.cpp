@@ -2,9 +2,11 @@
 // kind of mistake, results on stdout and diagnostics on stderr, --json, `-` for standard
 // input and output, one CSV reader (NumPy `# x,y,z` headers), --cl-device.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -121,7 +123,14 @@ TEST_F(CliContract, ExitStatusPerSubcommandAndKindOfMistake) {
       {"sweep --mesh " + sphere + " --depth 2% --methods patch,direct,patch -o " + file("s"), 2,
        "--methods: 'patch' is listed twice (items 1 and 3)"},
       {"sweep --mesh " + sphere + " --depth 2% --analytic cube:1 -o " + file("s"), 2, "cube:1"},
+      {"sweep --mesh " + sphere + " --depth 2% --analytic sphere:1e300 -o " + file("s"), 2,
+       "sphere:1e300: every value must be within the coordinate range (1e15 m)"},
       {"sweep --mesh " + sphere + " --depth 2% --checkpoint-every 0 -o " + file("s"), 2, "--checkpoint-every"},
+      {"sweep --mesh " + sphere + " --depth 2% --progress-every nan -o " + file("s"), 2, "--progress-every"},
+      {"sweep --mesh " + sphere + " --depth 2% --progress-every -5 -o " + file("s"), 2, "--progress-every"},
+      {"sweep --mesh " + sphere + " --depth 2% --methods patch, -o " + file("s"), 2,
+       "--methods: an empty item in 'patch,'"},
+      {"trace --mesh " + sphere + " --preset '' --hips " + hips + " -o " + o, 2, "got ''"},
       {"sweep --mesh " + sphere + " --depth 2% --trajectory-step -1 -o " + file("s"), 2, "--trajectory-step: '-1'"},
       {"sweep-merge -o " + file("m"), 2, "DIRS is required"},
       {"generate torus --R 1 --r 2 -o " + file("t.obj"), 2, "0 < r < R"},
@@ -195,7 +204,7 @@ TEST_F(CliContract, ExitStatusPerSubcommandAndKindOfMistake) {
     EXPECT_EQ(r.out, "") << "nothing on stdout: " << k.args;
     commands.insert(k.args.substr(0, k.args.find(' ')));
   }
-  EXPECT_EQ(cases.size(), 71u);
+  EXPECT_EQ(cases.size(), 76u);
   EXPECT_FALSE(std::filesystem::exists(file("unwritten.obj"))) << "the OBJ of a generate whose helix cannot be written";
   EXPECT_EQ(commands.size(), 10u);  // "", frobnicate, and the 8 subcommands
   for (const char* help : {"--help", "cache build --help", "trace --help", "loop --help", "sweep --help"})
@@ -270,6 +279,37 @@ TEST_F(CliContract, OutputsToADeviceAreWrittenInPlace) {
     written += r.status == 0;
   }
   EXPECT_EQ(written, 3);
+}
+
+// A report or JSON summary on stdout that cannot be written (/dev/full: no space) is a failed
+// write: exit 1 and one line, as `-o -` already reported it; each exited 0 before.
+TEST_F(CliContract, AFailedWriteToStdoutIsAnError) {
+  if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  const std::string c = cache(), pts = file("pts.csv", "face,xi,eta\n0,0,0\n");
+  const std::string hips = file("hips.csv", sphereHips());
+  const std::vector<std::string> commands = {
+      "cache build " + mesh + " -o " + file("c.sfcache"),
+      "cache info " + c,
+      "cache info --json " + c,
+      "eval " + c + " --points " + pts + " -o " + file("e.csv") + " --json",
+      "trace --cache " + c + " --hips " + hips + " -o " + file("t.csv") + " --json",
+      "sweep --cache " + c + " --samples 10 --depth 2% --methods patch --no-plots -o " + file("sw"),
+      "eval " + c + " --points " + pts + " -o -"};
+  int failed = 0;
+  for (const std::string& args : commands) {
+    const std::string err = file("stderr.txt");
+    const int raw = std::system((std::string(SF_CLI_PATH) + " " + args + " > /dev/full 2> " + err).c_str());
+    const int status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    const std::string text = readFile(err);
+    EXPECT_EQ(status, 1) << args << "\n" << text;
+    // one error line, the last (a sweep's notes and progress lines come before it)
+    const size_t cut = text.size() >= 2 ? text.rfind('\n', text.size() - 2) : std::string::npos;
+    const std::string last = cut == std::string::npos ? text : text.substr(cut + 1);
+    EXPECT_NE(last.find("<stdout>: write failed"), std::string::npos) << args << "\n" << text;
+    EXPECT_EQ(text.find("write failed"), text.rfind("write failed")) << "one error line: " << args << "\n" << text;
+    failed += status == 1;
+  }
+  EXPECT_EQ(failed, 7);
 }
 
 TEST_F(CliContract, ResultsOnStdoutDiagnosticsOnStderr) {

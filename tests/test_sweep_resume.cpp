@@ -1,12 +1,14 @@
 // Sweep checkpoints and --resume (issue 13 part 3), with fake renderers: a run stopped at any
 // point and resumed from what it wrote gives the bytes of the uninterrupted run; checkpoints
 // are atomic and self-identifying; trajectory series spread over the shards; sweep-merge
-// refuses incomplete shards and names them.
+// refuses incomplete shards and names them; damaged per-HIP records are refused naming the HIP.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include <smoothforce/sweep/generators.h>
@@ -363,6 +365,50 @@ TEST_F(SweepResume, MergeRefusesAnotherFormatVersionAndNamesOverlappingShards) {
               std::string::npos)
         << e.what();
   }
+}
+
+TEST_F(SweepResume, DamagedRecordsAreRefusedNamingTheHip) {
+  // a record edited or damaged behind a valid header: a NaN HIP or force, flags other than 0 / 1,
+  // a contact not done, a face below -1 (HipResult: force 0, scp 12, ref 24, face 28, status 32,
+  // iterations 36, contact 38, done 39; 32-byte headers)
+  const std::string s0 = (dir / "s0").string();
+  writeSweepData(runSweep(inputs(), {}), s0);
+  const std::string hips = slurp(dir / "s0" / "hips.bin"), res = slurp(dir / "s0" / "results_smooth.bin");
+  auto poke = [](std::string data, size_t at, const void* bytes, size_t n) {
+    std::memcpy(&data[at], bytes, n);
+    return data;
+  };
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const float nanf = std::numeric_limits<float>::quiet_NaN();
+  const uint8_t seven = 7, one = 1, zero = 0;
+  const int32_t minusFive = -5;
+  const size_t k = 3, rec = 32 + 40 * k;  // HIP 3
+  struct Damage {
+    std::string file, data, says;
+  };
+  const std::vector<Damage> damages = {
+      {"hips.bin", poke(hips, 32 + 24 * k, &nan, 8), "hips.bin: HIP 3 is not finite"},
+      {"results_smooth.bin", poke(res, rec + 38, &seven, 1),
+       "results_smooth.bin: HIP 3: done and contact must be 0 or 1"},
+      {"results_smooth.bin", poke(poke(res, rec + 38, &one, 1), rec + 39, &zero, 1),
+       "results_smooth.bin: HIP 3: in contact but not done"},
+      {"results_smooth.bin", poke(res, rec + 4, &nanf, 4), "results_smooth.bin: HIP 3: force is not finite"},
+      {"results_smooth.bin", poke(res, rec + 28, &minusFive, 4), "results_smooth.bin: HIP 3: face -5 outside"}};
+  int refused = 0;
+  for (const Damage& d : damages) {
+    std::ofstream(dir / "s0" / d.file, std::ios::binary) << d.data;
+    try {
+      readSweepData(s0);
+      ADD_FAILURE() << d.says;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(s0 + "/" + d.says), std::string::npos) << e.what();
+      ++refused;
+    }
+    std::ofstream(dir / "s0" / "hips.bin", std::ios::binary) << hips;
+    std::ofstream(dir / "s0" / "results_smooth.bin", std::ios::binary) << res;
+  }
+  EXPECT_EQ(refused, 5);
+  EXPECT_NO_THROW(readSweepData(s0));  // the undamaged files read
 }
 
 }  // namespace

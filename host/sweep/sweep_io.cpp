@@ -1,6 +1,7 @@
 #include <smoothforce/sweep/sweep_io.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -9,8 +10,9 @@
 
 #include <unistd.h>
 
-#include <smoothforce/base/staged_output.h>
+#include <smoothforce/base/coordinate_range.h>
 #include <smoothforce/base/hash.h>
+#include <smoothforce/base/staged_output.h>
 #include <smoothforce/force/force_method.h>
 
 #include "json_text.h"
@@ -314,6 +316,37 @@ void SweepWriter::write(const SweepData& d) {
 
 void writeSweepData(const SweepData& d, const std::string& dir) { SweepWriter(dir).write(d); }
 
+namespace {
+/// The per-HIP records a sweep writes hold finite HIPs within the coordinate range, flags 0 or 1
+/// (contact only where done), finite forces where done, finite SCPs where in contact and faces of
+/// the mesh: a record edited or damaged behind a valid header is refused, naming it, instead of
+/// merging a NaN or a contact count above the HIP count into the summary.
+void checkRecords(const std::string& dir, const SweepData& d) {
+  for (size_t i = 0; i < d.hips.size(); ++i)
+    if (!inCoordinateRange(d.hips[i]))
+      throw InputError(dir + "/hips.bin: HIP " + std::to_string(d.begin + i) +
+                       " is not finite or beyond the coordinate range (1e15 m)");
+  for (size_t m = 0; m < d.results.size(); ++m) {
+    const std::string file = dir + "/results_" + d.config.methods[m] + ".bin";
+    for (size_t i = 0; i < d.results[m].size(); ++i) {
+      const HipResult& r = d.results[m][i];
+      auto bad = [&](const char* what) {
+        throw InputError(file + ": HIP " + std::to_string(d.begin + i) + ": " + what);
+      };
+      if (r.done > 1 || r.contact > 1) bad("done and contact must be 0 or 1");
+      if (r.contact && !r.done) bad("in contact but not done");
+      if (!r.done) continue;
+      if (!(std::isfinite(r.force[0]) && std::isfinite(r.force[1]) && std::isfinite(r.force[2])))
+        bad("force is not finite");
+      if (r.contact && !(std::isfinite(r.scp[0]) && std::isfinite(r.scp[1]) && std::isfinite(r.scp[2])))
+        bad("SCP of a contact is not finite");
+      if (r.face < -1 || (d.config.faces > 0 && r.face >= d.config.faces))
+        bad(("face " + std::to_string(r.face) + " outside the mesh's " + std::to_string(d.config.faces)).c_str());
+    }
+  }
+}
+}  // namespace
+
 SweepData readSweepData(const std::string& dir) {
   SweepData d;
   d.directory = dir;
@@ -390,6 +423,7 @@ SweepData readSweepData(const std::string& dir) {
   }
   for (const auto& m : d.config.methods)
     d.results.push_back(readBlock<HipResult>(dir + "/results_" + m + ".bin", kResMagic, d.begin, d.end, config, 1));
+  checkRecords(dir, d);
   return d;
 }
 

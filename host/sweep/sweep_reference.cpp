@@ -7,6 +7,7 @@
 #include <numbers>
 #include <sstream>
 
+#include <smoothforce/base/coordinate_range.h>
 #include <smoothforce/mesh/mesh_io.h>
 #include <smoothforce/mesh/normals.h>
 #include <smoothforce/query/point_index.h>
@@ -103,8 +104,12 @@ std::unique_ptr<ReferenceSurface> makeAnalyticSurface(const std::string& spec) {
     throw InputError("--analytic " + spec + ": expected sphere:R, torus:R,r or torus-knot:p,q,R,r,tube[,scale]");
   const std::string kind = spec.substr(0, colon);
   const std::vector<double> v = parseNumbers(spec, spec.substr(colon + 1));
-  for (double x : v)
+  for (double x : v) {
     if (kind != "torus-knot" && !(x > 0)) throw InputError("--analytic " + spec + ": radii must be positive");
+    // a surface beyond the queries' coordinate range has no distance to report (inf, not an error)
+    if (!(std::abs(x) <= kMaxCoordinate))
+      throw InputError("--analytic " + spec + ": every value must be within the coordinate range (1e15 m)");
+  }
   if (kind == "sphere" && v.size() == 1) return std::make_unique<SphereSurface>(v[0]);
   if (kind == "torus" && v.size() == 2) {
     if (!(v[1] < v[0])) throw InputError("--analytic " + spec + ": need r < R");

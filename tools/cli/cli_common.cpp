@@ -42,7 +42,12 @@ Precision RefineArgs::precision(Precision given) const {
 void addRefineArgs(CLI::App& cmd, RefineArgs& a) {
   cmd.add_option("--preset", a.preset,
                  "fast|balanced|accurate: refinement options (and the precision of patches built now) from the "
-                 "trade-off study, README 'Speed against accuracy'; explicit options override it");
+                 "trade-off study, README 'Speed against accuracy'; explicit options override it")
+      ->check(
+          [](const std::string& v) {
+            return v.empty() ? std::string("expected fast, balanced or accurate, got ''") : "";
+          },
+          "PRESET");
   a.refineOpt = cmd.add_option("--refine", a.refine, "newton|paper: SCP refinement on the patches")
                     ->check(CLI::IsMember({"newton", "paper"}))
                     ->capture_default_str();

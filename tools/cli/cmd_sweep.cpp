@@ -70,6 +70,9 @@ void sweepInputs(const SweepArgs& a, SweepInputs& in) {
   if (a.depth.empty() == a.hips.empty()) throw UsageError("sweep: give exactly one of --depth and --hips");
   SweepConfig& c = in.config;
   c.source = a.cache.empty() ? a.mesh : a.cache;
+  if (a.methods.empty() || a.methods.front() == ',' || a.methods.back() == ',' ||
+      a.methods.find(",,") != std::string::npos)
+    throw UsageError("--methods: an empty item in '" + a.methods + "'");
   c.methods = splitList(a.methods);
   if (const std::string why = methodListProblem(c.methods); !why.empty()) throw UsageError(why);
   for (const auto& m : c.methods) parseForceMethod(m);
@@ -114,6 +117,8 @@ void sweepInputs(const SweepArgs& a, SweepInputs& in) {
   if (!a.trajectoryStep.empty() && parseDepthList(a.trajectoryStep, "--trajectory-step").size() != 1)
     throw UsageError("--trajectory-step: one value");
   if (!(a.checkpointEvery > 0)) throw UsageError("--checkpoint-every: expected a time > 0 s");
+  if (!(a.progressEvery >= 0) || !std::isfinite(a.progressEvery))
+    throw UsageError("--progress-every: expected a time >= 0 s (0: none)");
   in.hipsFile = a.hips;
 }
 

@@ -2,6 +2,7 @@
 // 2 usage, 3 a safety fault in `loop`, 130/143 interrupted by SIGINT/SIGTERM (cli_exit.h).
 #include <cstdio>
 #include <exception>
+#include <iostream>
 #include <new>
 
 #include <smoothforce/config.h>
@@ -56,5 +57,13 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "smoothforce: %s\n", e.what());
     return kExitInput;
   }
-  return exitStatus();
+  // a report or JSON summary on stdout that did not all arrive (a full disk, /dev/full) is a failed
+  // write, as `-o -` reports it; after an error already reported, that one line stands
+  const int status = exitStatus();
+  std::cout.flush();
+  if (status == 0 && (!std::cout || std::fflush(stdout) != 0 || std::ferror(stdout))) {
+    std::fprintf(stderr, "smoothforce: <stdout>: write failed\n");
+    return kExitInput;
+  }
+  return status;
 }
