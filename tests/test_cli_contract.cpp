@@ -312,6 +312,21 @@ TEST_F(CliContract, AFailedWriteToStdoutIsAnError) {
   EXPECT_EQ(failed, 7);
 }
 
+// A mesh or reference of zero area is named in the error (it said "sampling: the patches have
+// zero area" and "reference mesh has zero area").
+TEST_F(CliContract, ZeroAreaMeshesAreNamed) {
+  const std::string zero = file("zero.obj", "v 0 0 0\nv 0 0 0\nv 0 0 0\nf 1 2 3\n");
+  const std::string sw = " --samples 10 --depth 1% --no-plots --methods patch -o ";
+  const CliStreams a = run("sweep --mesh " + zero + sw + file("a"));
+  EXPECT_EQ(a.status, 1) << a.err;
+  EXPECT_NE(a.err.find(zero + ": sampling: the patches have zero area"), std::string::npos) << a.err;
+  const CliStreams b =
+      run("sweep --cache " + cache() + sw + file("b") + " --reference " + zero + " --sample-on reference");
+  EXPECT_EQ(b.status, 1) << b.err;
+  EXPECT_NE(b.err.find(zero + ": the reference mesh has zero area"), std::string::npos) << b.err;
+  EXPECT_EQ(std::count(b.err.begin(), b.err.end(), '\n'), 1) << b.err;
+}
+
 TEST_F(CliContract, ResultsOnStdoutDiagnosticsOnStderr) {
   const std::string pts = file("pts3.csv", "face,xi,eta\n0,0,0\n17,0.25,-0.4\n179,0.2,-0.3\n");
   CliStreams r = run("cache info " + cache());

@@ -150,6 +150,7 @@ TriangleSoup loadTriangleSoup(const std::string& path) {
     }
   }
   if (s.triangles.empty()) throw InputError(path + ": no triangles");
+  if (!(s.area() > 0)) throw InputError(path + ": the reference mesh has zero area");
   return s;
 }
 

@@ -25,6 +25,15 @@
 namespace sf {
 
 namespace {
+/// The sampler of the cache's patch surface; its InputError (patches of zero area) names the mesh.
+PatchSurfaceSampler samplerOf(const PatchCache& cache, const SweepConfig& c) {
+  try {
+    return PatchSurfaceSampler(cache, c.level);
+  } catch (const InputError& e) {
+    throw InputError(c.source + ": " + e.what());
+  }
+}
+
 double since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -49,7 +58,7 @@ HipSet buildHipSet(SweepInputs& in, std::unique_ptr<ReferenceSurface>* reference
   HipSet set;
   if (!in.hipsFile.empty()) {
     c.sampleOn = "file";
-    const PatchSurfaceSampler sampler(cache, c.level);
+    const PatchSurfaceSampler sampler = samplerOf(cache, c);
     const PatchProjector projector(cache, c.level);
     set = makeFileHips(readPointsCsv(in.hipsFile), projector, c.diagonal, sampler.area());
     c.samples = set.samples.size();
@@ -57,7 +66,7 @@ HipSet buildHipSet(SweepInputs& in, std::unique_ptr<ReferenceSurface>* reference
     if (!soup) throw SweepOptionError("--sample-on reference needs --reference");
     set = makeDepthHips(sampleTriangleSoup(*soup, c.samples, c.seed), in.depths, c.diagonal, soup->area());
   } else if (c.sampleOn == "patch") {
-    const PatchSurfaceSampler sampler(cache, c.level);
+    const PatchSurfaceSampler sampler = samplerOf(cache, c);
     set = makeDepthHips(sampler.sample(c.samples, c.seed), in.depths, c.diagonal, sampler.area());
   } else {
     throw InputError("--sample-on: expected patch or reference, got '" + c.sampleOn + "'");
