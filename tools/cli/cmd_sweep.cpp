@@ -14,7 +14,6 @@
 #include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include <smoothforce/force/force_tracking.h>
 #include <smoothforce/patch/cache_file.h>
@@ -41,13 +40,17 @@ struct SweepArgs {
   RefineArgs refine;
 };
 
-std::vector<std::string> splitList(const std::string& s) {
+/// The comma-separated items of option `option`'s value s; throws UsageError for an empty item
+/// (an empty value, a leading, trailing or doubled comma).
+std::vector<std::string> splitList(const std::string& s, const char* option) {
   std::vector<std::string> v;
-  std::stringstream ss(s);
-  std::string item;
-  while (std::getline(ss, item, ','))
-    if (!item.empty()) v.push_back(item);
-  return v;
+  for (size_t at = 0;;) {
+    const size_t comma = s.find(',', at);
+    v.push_back(s.substr(at, comma == std::string::npos ? std::string::npos : comma - at));
+    if (v.back().empty()) throw UsageError(std::string(option) + ": an empty item in '" + s + "'");
+    if (comma == std::string::npos) return v;
+    at = comma + 1;
+  }
 }
 
 /// A decimal integer in [0, 2^64 - 1], all of the text (no sign, no hex): CLI11 would wrap -1
@@ -70,10 +73,7 @@ void sweepInputs(const SweepArgs& a, SweepInputs& in) {
   if (a.depth.empty() == a.hips.empty()) throw UsageError("sweep: give exactly one of --depth and --hips");
   SweepConfig& c = in.config;
   c.source = a.cache.empty() ? a.mesh : a.cache;
-  if (a.methods.empty() || a.methods.front() == ',' || a.methods.back() == ',' ||
-      a.methods.find(",,") != std::string::npos)
-    throw UsageError("--methods: an empty item in '" + a.methods + "'");
-  c.methods = splitList(a.methods);
+  c.methods = splitList(a.methods, "--methods");
   if (const std::string why = methodListProblem(c.methods); !why.empty()) throw UsageError(why);
   for (const auto& m : c.methods) parseForceMethod(m);
   c.samples = a.samples;
