@@ -85,6 +85,9 @@ static inline double gp_sin(double x) { return std::sin(x); }
 /* the bits of a face that has no patch (not built: its records are zeros, not evaluable) */
 #define GP_ST_NOT_BUILT (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE)
 #define GP_ST_DEGENERATE_MASK (GP_ST_ZERO_EDGE | GP_ST_EDGE_NORMAL | GP_ST_CROSS_TANGENT | GP_ST_NOT_BUILT)
+/* an evaluation that is not a point of the patch with its normal: outside the domain, a fallback
+ * normal, or no patch */
+#define GP_ST_NOT_A_PATCH_POINT (GP_ST_OUTSIDE | GP_ST_SINGULAR | GP_ST_NOT_BUILT)
 
 /* Refinement status bits (gp_refine.h); equal to the host's SF_TRACK_* (force_tracking.h),
  * above the GP_ST_* bits, which a refinement result carries too. */

@@ -363,7 +363,7 @@ GP_FN int gp_rf_model_point(const gp_refine_work* w, const gp_rf_iterate* cur, G
                             gp_eval_result* p) {
   if (!(w->kept.d2Face == cur->face && w->kept.d2x == cur->x && w->kept.d2y == cur->y)) return 0;
   if (!(GP_FABS(sx) <= GP_RF_MODEL_STEP && GP_FABS(sy) <= GP_RF_MODEL_STEP) || !(w->kept.g3 >= GP_R(0.0))) return 0;
-  if (cur->p.status & (GP_ST_OUTSIDE | GP_ST_SINGULAR | GP_ST_NOT_BUILT)) return 0;
+  if (cur->p.status & GP_ST_NOT_A_PATCH_POINT) return 0;
   const GP_REAL ie = GP_R(1.0) / GP_RF_FD_EPS;
   /* H s per component: G_xx sx + G_xy sy and G_xy sx + G_yy sy (d2xy holds 2 eps G_xy) */
   const gp_vec3 hx = gp_add(gp_scale(w->kept.d2xx, sx * ie), gp_scale(w->kept.d2xy, GP_R(0.5) * sy * ie));

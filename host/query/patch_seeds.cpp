@@ -36,9 +36,8 @@ PatchSeeds::PatchSeeds(const PatchCache& cache, int level) {
   std::vector<PatchPoint> pts(qf.size());
   evaluatePatches(cache, qf.data(), qx.data(), qy.data(), qf.size(), pts.data(), Backend::Tbb);
   std::vector<Eigen::Vector3d> pos;
-  constexpr uint32_t bad = GP_ST_OUTSIDE | GP_ST_SINGULAR | GP_ST_NOT_BUILT;
   for (size_t i = 0; i < pts.size(); ++i) {
-    if ((pts[i].status & bad) || !pts[i].pos.allFinite()) continue;
+    if ((pts[i].status & GP_ST_NOT_A_PATCH_POINT) || !pts[i].pos.allFinite()) continue;
     pos.push_back(pts[i].pos);
     face_.push_back(qf[i]);
     dom_.emplace_back(qx[i], qy[i]);

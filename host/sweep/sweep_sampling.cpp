@@ -24,8 +24,6 @@ namespace sf {
 
 namespace {
 
-constexpr uint32_t kBadPoint = GP_ST_OUTSIDE | GP_ST_SINGULAR | GP_ST_NOT_BUILT;
-
 double uniform01(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1.0p-53; }
 
 bool evaluable(const PatchCache& c, int f) { return !(c.faceStatus[f] & GP_ST_NOT_BUILT); }
@@ -197,7 +195,8 @@ std::vector<SurfaceSample> PatchSurfaceSampler::sample(size_t n, uint64_t seed) 
     std::vector<size_t> again;
     for (size_t j = 0; j < todo.size(); ++j) {
       const PatchPoint& p = pts[j];
-      if ((p.status & kBadPoint) || !p.pos.allFinite() || !p.normal.allFinite() || p.normal.norm() < 0.5) {
+      if ((p.status & GP_ST_NOT_A_PATCH_POINT) || !p.pos.allFinite() || !p.normal.allFinite() ||
+          p.normal.norm() < 0.5) {
         again.push_back(todo[j]);
         continue;
       }
