@@ -178,11 +178,10 @@ TEST(CoordinateRange, QueriesFindNothingBeyond) {
 // 1e-6 of the stiffness times the diagonal (the HIPs' own rounding at 1e7 m is 2e-9 m) or, at a
 // tie (two patch points as near, at most 0.1% of the steps), the same distance; except
 // where a step's SCP is held on a fold edge of the spot cage (SF_TRACK_FOLD_EDGE: two sides by
-// itself), at most 1% of the steps. At 1e7 m the moved spot cage was oriented inside out and the
-// patch method found no contact at all before. The god-object (direct, shading) works about
-// the mesh (GodObjectRenderer's local frame): before, at 1e7 m its proxy, rounded in world
-// coordinates, left its facet's plane by 1e-9 m and fell through (a sweep of the moved spot
-// cage missed 306 of 1,838 contacts).
+// itself; the verdict or the SCP may differ), at most 1% of the steps. At 1e7 m the moved spot cage was oriented inside
+// out and the patch method found no contact at all before. The god-object (direct, shading) works about the mesh
+// (GodObjectRenderer's local frame): before, at 1e7 m its proxy, rounded in world coordinates, left its facet's plane
+// by 1e-9 m and fell through (a sweep of the moved spot cage missed 306 of 1,838 contacts).
 TEST(CoordinateRange, AMeshFarFromTheOriginRendersAsAtTheOrigin) {
   int steps = 0, foldEdge = 0, ties = 0;
   for (const char* rel : {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/quad-sphere.off"}) {
@@ -217,8 +216,11 @@ TEST(CoordinateRange, AMeshFarFromTheOriginRendersAsAtTheOrigin) {
             const ForceSample sa = a->step(hip), sb = b->step(hip + shift);
             ++steps;
             if ((sa.status | sb.status) & SF_TRACK_FOLD_EDGE) {
-              foldEdge += sa.contact != sb.contact;
-              if (sa.contact != sb.contact) continue;
+              // the verdict, or the SCP (one tracked contact held on the fold edge, the other
+              // left it and was handed over by the global query), may differ
+              const bool differ = sa.contact != sb.contact || (sa.force - sb.force).norm() >= 1e-6 * 500 * diag;
+              foldEdge += differ;
+              if (differ) continue;
             }
             EXPECT_EQ(sa.contact, sb.contact) << rel << " " << d << " " << int(method) << " " << hip.transpose();
             if ((sa.force - sb.force).norm() < 1e-6 * 500 * diag) continue;

@@ -98,6 +98,32 @@ void finishGlobalStep(const PatchSurface& surface, const Eigen::Vector3d& hip, c
   setContact(inside, scp, hip, options, state, s);
 }
 
+/// The end of a tracking step whose refinement r left the contact (the HIP not below r): the
+/// global query on the surface decides, as at an out-of-contact step (no patch work where the
+/// HIP is outside the closed surface beyond every error band); inside, the contact holds at the
+/// query's SCP (no SF_TRACK_LEAVE or SF_TRACK_ENTER), outside it ends.
+void leaveOrHold(const PatchSurface& surface, PatchRefiner& refiner, const Eigen::Vector3d& hip, const RefineResult& r,
+                 const ForceOptions& options, PatchContactState& state, ForceSample& s, PatchStepHint* next) noexcept {
+  const bool from = usable(r);
+  double reach = std::numeric_limits<double>::infinity();
+  int reachFace = -1;
+  const int verdict = insideByWinding(surface, hip, &reach, &reachFace, from ? r.face : -1,
+                                      Eigen::Vector2d(r.xi, r.eta), from ? r.scp : Eigen::Vector3d::Constant(NAN));
+  s.status |= SF_TRACK_GLOBAL;
+  if (verdict == 0) {
+    rememberIn(next, r);
+    setContact(false, r, hip, options, state, s);
+    return;
+  }
+  SurfaceCandidate start;
+  start.face = r.face;
+  start.X = Eigen::Vector2d(r.xi, r.eta);
+  const PatchNearest q =
+      nearestOnPatches(surface, refiner, hip, options, from ? &r : nullptr, reach, from ? &start : nullptr, reachFace);
+  finishGlobalStep(surface, hip, q, options, state, s, verdict);
+  rememberIn(next, q.nearest);
+}
+
 class PatchTracker final : public ForceRenderer {
  public:
   PatchTracker(std::shared_ptr<const PatchCache> cache, std::shared_ptr<const PolygonScene> scene,
@@ -164,6 +190,12 @@ class PatchTracker final : public ForceRenderer {
                                                  start.seeded ? seedOptions_ : options_, start.edge)
                                : refiner_.refineNext(hip, start.face, start.X.x(), start.X.y(), options_, start.edge);
     finishPatchStep(*scene_, surface_.get(), refiner_, hip, start, r, options_, state_, s, &hint_);
+    if (lazySurface_ && !start.global && !state_.inContact) {
+      // a tracked contact ends only where the global query would not start one (leaveOrHold)
+      state_.inContact = true;
+      s.status = (s.status & ~SF_TRACK_LEAVE) | SF_TRACK_GLOBAL;
+      lazyGlobalStep(*lazySurface_, *scene_, *cache_, refiner_, hip, options_, lambda_.data(), state_, s);
+    }
     return s;
   }
 
@@ -446,7 +478,16 @@ void finishPatchStep(const PolygonScene& scene, const PatchSurface* surface, Pat
     r.eta = start.X.y();
   }
   const bool ok = r.scp.allFinite() && r.normal.allFinite() && r.normal.squaredNorm() > 0.5;
-  setContact(ok && (hip - r.scp).dot(r.normal) < 0, r, hip, options, state, s);
+  const bool below = ok && (hip - r.scp).dot(r.normal) < 0;
+  if (!below && state.inContact && surface && !start.global) {
+    // a tracked contact ends only where the global query would not start one: inside a surface
+    // fault the refinement can slide to a nearer sheet the HIP is above while the HIP is inside
+    // the surface (the next step's global query entered again: the force switched on and off at
+    // half the servo rate). The query runs only on such a step, from the point r ended at.
+    leaveOrHold(*surface, refiner, hip, r, options, state, s, next);
+    return;
+  }
+  setContact(below, r, hip, options, state, s);
 }
 
 std::unique_ptr<ForceRenderer> makePatchForceRenderer(std::shared_ptr<const PatchCache> cache,

@@ -208,7 +208,11 @@ bool beginPatchStep(const PolygonScene& scene, const PatchSurface* surface, cons
 /// its first refinement, from the first candidate or the hint's seed: the candidates are
 /// deterministic), then decides contact by insidePatchSurface; a polygon step uses the polygon
 /// itself where the patch is degenerate and decides by (HIP - SCP) . n < 0; a tracking step
-/// continues contact while (HIP - SCP) . n < 0. F = stiffness (SCP - HIP) (N/m, m). Updates
+/// continues contact while (HIP - SCP) . n < 0, and on a surface, where that fails, ends it only
+/// where the global query would not start one (insideByWinding, then nearestOnPatches from r and
+/// insidePatchSurface: inside a surface fault the refinement can reach a nearer sheet the HIP is
+/// above; the contact then holds at the query's SCP, with SF_TRACK_GLOBAL set and no
+/// SF_TRACK_LEAVE). F = stiffness (SCP - HIP) (N/m, m). Updates
 /// state and s. Never throws or allocates.
 /// next, when given: set to the patch point the step ended at (a global step: its query's
 /// nearest point; else the refinement's: face, X and position), where that point is usable

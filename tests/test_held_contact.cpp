@@ -1,0 +1,127 @@
+// A HIP held still feels a steady force: after its first step, the patch method's contact
+// verdict does not change from step to step, on every bundled mesh, on the prebuilt cache and
+// on the lazy skeleton. Found on the stock spot cage: at a HIP 0.16 m inside the cow, inside an
+// overlapping surface fault (faces 35, 125, 38), the cache path's global step entered contact
+// (the winding number is 1), and the tracking step that followed refined to a nearer sheet the
+// HIP is above, and left; the next global step entered again: about 80 N switched on and off at
+// half the servo rate.
+//
+// Independent check on the closed meshes: the held verdict is the patch surface's winding number
+// (the global query's own test, outside every error band).
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <random>
+#include <string>
+
+#include <smoothforce/force/force_tracking.h>
+#include <smoothforce/query/embree_scene.h>
+#include <smoothforce/query/patch_surface.h>
+#include <smoothforce/sweep/sweep_sampling.h>
+#include "patch_test_support.h"
+
+namespace sf {
+namespace {
+
+struct HeldCounts {
+  long hips = 0, contacts = 0, changed = 0, insideFar = 0, disagree = 0;
+};
+
+/// Steps r `steps` times at each HIP (reset before each HIP) and counts the HIPs whose contact
+/// verdict after the first step differs from the first step's.
+HeldCounts holdStill(ForceRenderer& r, const std::vector<Eigen::Vector3d>& hips, const PatchSurface* surface,
+                     const std::string& path, const char* what) {
+  constexpr int kSteps = 4;
+  HeldCounts c;
+  for (const Eigen::Vector3d& hip : hips) {
+    r.reset();
+    const ForceSample first = r.step(hip);
+    ++c.hips;
+    c.contacts += first.contact;
+    bool changed = false;
+    ForceSample s = first;
+    for (int k = 1; k < kSteps; ++k) {
+      s = r.step(hip);
+      if (s.contact != first.contact && !changed) {
+        changed = true;
+        if (c.changed < 3)
+          ADD_FAILURE() << what << " " << path << ": HIP " << hip.transpose() << " held still: contact "
+                        << first.contact << " at its first step, " << s.contact << " at step " << k + 1 << " (face "
+                        << first.face << " then " << s.face << ", status 0x" << std::hex << s.status << std::dec << ")";
+      }
+    }
+    c.changed += changed;
+    if (surface && insideByWinding(*surface, hip) >= 0) {
+      ++c.insideFar;
+      c.disagree += s.contact != (insideByWinding(*surface, hip) == 1);
+    }
+  }
+  return c;
+}
+
+TEST(HeldContact, AHipHeldStillKeepsItsContactVerdictOnEveryBundledMesh) {
+  constexpr int kHips = 300;     // per mesh: uniform in the bounding box grown by 5% of its diagonal
+  constexpr int kPressed = 300;  // per mesh: pressed in from sampled patch points, to these depths (x diagonal)
+  constexpr double kDepth[] = {0.005, 0.02, 0.05, 0.1};
+  const ForceOptions options;
+  int meshes = 0;
+  HeldCounts cacheTotal, lazyTotal;
+  for (const std::string& path : test::sharedMeshFiles()) {
+    SCOPED_TRACE(path);
+    auto cache = std::make_shared<const PatchCache>(test::cacheFromFile(path));
+    auto skeleton = std::make_shared<const PatchCache>(test::skeletonFromFile(path));
+    auto surface = std::make_shared<const PatchSurface>(*cache, patchSurfaceOptions(options));
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
+    for (size_t v = 0; v < cache->positions.size() / 3; ++v) {
+      const Eigen::Vector3d p(cache->positions[3 * v], cache->positions[3 * v + 1], cache->positions[3 * v + 2]);
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+    const double diag = (hi - lo).norm(), grow = 0.05 * diag;
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(0, 1);
+    std::vector<Eigen::Vector3d> hips;
+    for (int i = 0; i < kHips; ++i) {
+      Eigen::Vector3d p;
+      for (int a = 0; a < 3; ++a) p[a] = lo[a] - grow + u(rng) * (hi[a] - lo[a] + 2 * grow);
+      hips.push_back(p);
+    }
+    // and patch points pressed in along their normal, to the depths of sweeps and deeper (into
+    // the sheets of surface faults)
+    const std::vector<SurfaceSample> samples = PatchSurfaceSampler(*cache).sample(kPressed, 5);
+    for (size_t i = 0; i < samples.size(); ++i)
+      hips.push_back(samples[i].point - kDepth[i % std::size(kDepth)] * diag * samples[i].normal);
+    auto onCache =
+        makeForceRenderer(cache, std::make_shared<const PolygonScene>(*cache), ForceMethod::Patch, options, surface);
+    auto onSkeleton =
+        makeForceRenderer(skeleton, std::make_shared<const PolygonScene>(*skeleton), ForceMethod::Patch, options);
+    const HeldCounts a = holdStill(*onCache, hips, surface.get(), path, "cache");
+    const HeldCounts b = holdStill(*onSkeleton, hips, nullptr, path, "lazy");
+    std::printf(
+        "  %s: cache %ld contacts, %ld changed, %ld/%ld disagree with the winding number; lazy %ld contacts, %ld "
+        "changed\n",
+        path.c_str(), a.contacts, a.changed, a.disagree, a.insideFar, b.contacts, b.changed);
+    for (HeldCounts* t : {&cacheTotal, &lazyTotal}) {
+      const HeldCounts& m = t == &cacheTotal ? a : b;
+      t->hips += m.hips;
+      t->contacts += m.contacts;
+      t->changed += m.changed;
+      t->insideFar += m.insideFar;
+      t->disagree += m.disagree;
+    }
+    ++meshes;
+  }
+  std::printf(
+      "%d meshes: cache %ld HIPs, %ld contacts, %ld changed, %ld of %ld disagree; lazy %ld contacts, %ld changed\n",
+      meshes, cacheTotal.hips, cacheTotal.contacts, cacheTotal.changed, cacheTotal.disagree, cacheTotal.insideFar,
+      lazyTotal.contacts, lazyTotal.changed);
+  EXPECT_EQ(meshes, 28);
+  EXPECT_EQ(cacheTotal.hips, 28L * (kHips + kPressed));
+  EXPECT_EQ(cacheTotal.changed, 0);
+  EXPECT_EQ(lazyTotal.changed, 0);
+  EXPECT_EQ(cacheTotal.disagree, 0);
+  EXPECT_GT(cacheTotal.contacts, cacheTotal.hips / 10);
+}
+
+}  // namespace
+}  // namespace sf
