@@ -69,7 +69,7 @@ double effectiveDepth(const Scene& scene, double depth) {
     char msg[160];
     std::snprintf(msg, sizeof msg, "--depth: %g m is deeper than the scene's bounding-box diagonal (%g m)", depth,
                   diagonal);
-    throw InputError(msg);
+    throw OptionError(msg);
   }
   return depth;
 }

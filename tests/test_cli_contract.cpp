@@ -152,6 +152,10 @@ TEST_F(CliContract, ExitStatusPerSubcommandAndKindOfMistake) {
       {sw + "--hips " + hips + " --trajectory " + path + " -o " + file("s"), 2, "--hips with --trajectory"},
       {sw + "--depth 2% --trajectory-step 1e308 -o " + file("s"), 2,
        "--trajectory-step 1e+308 m is longer than the default trajectory"},
+      // and too fine for the default loop, and a scripted depth beyond the scene
+      {"sweep --cache " + c + " --depth 2% --samples 10 --trajectory-step 1e-12 -o " + file("s"), 2,
+       "the default trajectory (a section loop): the polyline is"},
+      {"loop --mesh " + sphere + " --depth 1e308 --duration 0.05", 2, "--depth: 1e+308 m is deeper than the scene's"},
       {"generate sphere --radius 1e300 -o " + file("g.obj"), 2, "--radius 1e+300 puts vertices up to 1e+300 m"},
       {"generate torus --R 1e300 --r 1 -o " + file("g.obj"), 2, "beyond the coordinate range +-1e15 m"},
       {"generate torus-knot --p 2000000000 -o " + file("g.obj"), 2, "give --segments >= 4 (|p| + |q|)"},
@@ -187,13 +191,10 @@ TEST_F(CliContract, ExitStatusPerSubcommandAndKindOfMistake) {
       {"sweep --cache " + c + " --depth 2% --samples 10 --trajectory " + beyond + " -o " + file("s"), 1,
        "beyond.csv:3: x = 1e+200 m is beyond the coordinate range"},
       {"trace --cache " + c + " --hips " + beyond + " -o " + o, 1, "beyond.csv:3: x = 1e+200 m"},
-      {"sweep --cache " + c + " --depth 2% --samples 10 --trajectory-step 1e-12 -o " + file("s"), 1,
-       "the default trajectory (a section loop): the polyline is"},
       {"sweep-merge " + file("nodir") + " -o " + file("m"), 1, "sweep.json: cannot open"},
       // checked before anything is written or run
       {"generate torus-knot --trajectory-out " + (dir / "no" / "t.csv").string() + " -o " + file("unwritten.obj"), 1,
        "t.csv: cannot open for writing"},
-      {"loop --mesh " + sphere + " --depth 1e308 --duration 0.05", 1, "--depth: 1e+308 m is deeper than the scene's"},
   };
   std::set<std::string> commands;
   for (const Case& k : cases) {

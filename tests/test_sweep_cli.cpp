@@ -150,7 +150,7 @@ TEST_F(SweepCli, NamesFoldedAndBulgingPatchesAsCacheBuildDoes) {
   ASSERT_EQ(run("generate sphere --radius 0.05 --segments 4 -o " + p("s.obj")).status, 0);
   const std::regex folds(R"(folds (\d+), bulges > 0.5 (\d+))"), list(R"(  (fold|bulge) faces:([ \d.]*)\n)");
   int meshes = 0, withFolds = 0, withBulges = 0;
-  for (const std::string mesh :
+  for (const std::string& mesh :
        {std::string(SF_SHARED_MESHES) + "/pmp/L.off", std::string(SF_DATA_DIR) + "/spot_control_mesh.obj",
         std::string(SF_SHARED_MESHES) + "/stanford/bun_zipper_res4.ply", p("s.obj")}) {
     SCOPED_TRACE(mesh);

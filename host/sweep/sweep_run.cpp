@@ -63,7 +63,7 @@ HipSet buildHipSet(SweepInputs& in, std::unique_ptr<ReferenceSurface>* reference
     set = makeFileHips(readPointsCsv(in.hipsFile), projector, c.diagonal, sampler.area());
     c.samples = set.samples.size();
   } else if (c.sampleOn == "reference") {
-    if (!soup) throw SweepOptionError("--sample-on reference needs --reference");
+    if (!soup) throw OptionError("--sample-on reference needs --reference");
     set = makeDepthHips(sampleTriangleSoup(*soup, c.samples, c.seed), in.depths, c.diagonal, soup->area());
   } else if (c.sampleOn == "patch") {
     const PatchSurfaceSampler sampler = samplerOf(cache, c);
@@ -78,7 +78,7 @@ HipSet buildHipSet(SweepInputs& in, std::unique_ptr<ReferenceSurface>* reference
     c.groupLabels.push_back(g.label);
     c.groupDepths.push_back(g.depth);
   }
-  if (!(c.approach > 0) || !std::isfinite(c.approach)) throw SweepOptionError("--approach must be positive");
+  if (!(c.approach > 0) || !std::isfinite(c.approach)) throw OptionError("--approach must be positive");
   set.approachFactor = c.approach;
   // every HIP and approach point a position the queries take (a depth or approach factor so
   // large that they leave the coordinate range would only give SF_TRACK_BAD_HIP records)
@@ -91,7 +91,7 @@ HipSet buildHipSet(SweepInputs& in, std::unique_ptr<ReferenceSurface>* reference
       else
         std::snprintf(msg, sizeof msg, "--approach %g: the approach point of HIP %zu (depth %s) lies beyond the "
                       "coordinate range +-1e15 m", c.approach, g, depth.c_str());
-      throw SweepOptionError(msg);
+      throw OptionError(msg);
     }
   c.hipHash = hexHash(set.hash());
   if (reference) {
@@ -133,11 +133,16 @@ std::vector<Path> trajectoryPaths(const SweepConfig& c, const PatchCache& cache,
   // every series is taken at the step and at half of it (the step's refinement check): the
   // resampling's bound holds for the half step, checked here, before any probe runs
   const double finest = c.trajectoryStep / 2;
-  auto check = [&](const std::vector<Eigen::Vector3d>& pts, const std::string& what) {
+  // a file's trajectory too long for the step is the file's (exit 1); the default loop's, the step's
+  auto check = [&](const std::vector<Eigen::Vector3d>& pts, const std::string& what, bool fromFile) {
     char step[64], length[64];
     std::snprintf(step, sizeof step, "%.6g", c.trajectoryStep);
     const std::string e = resampleLimitError(pts, finest, what);
-    if (!e.empty()) throw InputError(e + " (--trajectory-step " + step + " m: the series are taken at half of it too)");
+    if (!e.empty()) {
+      const std::string m = e + " (--trajectory-step " + step + " m: the series are taken at half of it too)";
+      if (fromFile) throw InputError(m);
+      throw OptionError(m);
+    }
     // a series of one point has no force difference: its traj|dF| would read as perfectly smooth
     const double len = polylineLength(pts);
     std::snprintf(length, sizeof length, "%.6g", len);
@@ -146,12 +151,12 @@ std::vector<Path> trajectoryPaths(const SweepConfig& c, const PatchCache& cache,
                        (pts.size() == 1 ? " point" : " points, all at one place") +
                        "): a trajectory needs two distinct points");
     if (len < c.trajectoryStep)
-      throw SweepOptionError("--trajectory-step " + std::string(step) + " m is longer than " + what + " (" + length +
-                             " m): its series would have one point, and no force difference to measure");
+      throw OptionError("--trajectory-step " + std::string(step) + " m is longer than " + what + " (" + length +
+                        " m): its series would have one point, and no force difference to measure");
   };
   for (const auto& f : c.trajectories) {
     paths.emplace_back(std::filesystem::path(f).stem().string(), readPointsCsv(f));
-    check(paths.back().second, f);
+    check(paths.back().second, f, true);
   }
   if (c.trajectories.empty()) {
     auto loop = defaultTrajectory(cache, c.level);
@@ -161,7 +166,7 @@ std::vector<Path> trajectoryPaths(const SweepConfig& c, const PatchCache& cache,
           "one of its axes meets the surface; the sweep has no trajectory series (give one with --trajectory)";
       return paths;
     }
-    check(loop, "the default trajectory (a section loop)");
+    check(loop, "the default trajectory (a section loop)", false);
     paths.emplace_back("default", std::move(loop));
   }
   return paths;
@@ -300,7 +305,7 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
     };
   }
   if (!in.hipsFile.empty() && !in.config.trajectories.empty())
-    throw SweepOptionError(
+    throw OptionError(
         "sweep: --hips with --trajectory: trajectories are probed at the --depth values, and a HIP file has "
         "none; run the trajectories in a sweep with --depth");
   for (const auto& m : in.config.methods) in.makeRenderer(m);  // bad names and options fail here, once

@@ -192,13 +192,7 @@ void runSweepCommand(const SweepArgs& a) {
   ctl.note = [](const std::string& n) { std::fprintf(stderr, "%s\n", n.c_str()); };
   SweepTiming tm;
   const int meshFaces = in.cache->numFaces();
-  SweepData d = [&] {
-    try {
-      return runSweep(std::move(in), ctl, &tm);
-    } catch (const SweepOptionError& e) {  // an option value the mesh or files make impossible
-      throw UsageError(e.what());
-    }
-  }();
+  SweepData d = runSweep(std::move(in), ctl, &tm);  // an OptionError: exit 2 (main)
   if (bar) bar->finish();
   writer.write(d);  // the final checkpoint, complete or not
   if (d.interrupted)

@@ -5,6 +5,7 @@
 #include <iostream>
 #include <new>
 
+#include <smoothforce/base/error.h>
 #include <smoothforce/config.h>
 #include <smoothforce/version.h>
 
@@ -45,6 +46,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "smoothforce: %s (see --help)\n", e.what());
     return kExitUsage;
   } catch (const UsageError& e) {
+    std::fprintf(stderr, "smoothforce: %s (see --help)\n", e.what());
+    return kExitUsage;
+  } catch (const sf::OptionError& e) {  // an option value the mesh, scene or files make impossible
     std::fprintf(stderr, "smoothforce: %s (see --help)\n", e.what());
     return kExitUsage;
   } catch (const Interrupted& e) {

@@ -48,7 +48,8 @@ struct ScriptOptions {
   double duration = 0;     ///< replay: the run's length, s (> 0: checked, see makeDevice; 0: not checked)
 };
 
-/// The depth used for `depth`: itself when > 0, else 1% of the scene's bounding-box diagonal.
+/// The depth used for `depth` (m): itself when > 0, else 1% of the scene's bounding-box
+/// diagonal. Throws OptionError when it exceeds that diagonal.
 double effectiveDepth(const Scene& scene, double depth);
 
 /// `scripted` / `scripted:slide`: the vertical plane y = (bounding-box centre y) is sampled

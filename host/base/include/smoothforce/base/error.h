@@ -15,6 +15,15 @@ class InputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// An option value that the inputs make impossible, found where the inputs are read (a sweep's
+/// depth or approach that puts HIPs beyond the coordinate range, a trajectory step too long or
+/// too fine for the trajectory, a scripted depth beyond the scene, options that do not go
+/// together): bad input like any InputError; the CLI reports it as a usage error (exit 2).
+class OptionError : public InputError {
+ public:
+  using InputError::InputError;
+};
+
 /// A broken invariant inside SmoothForce (a bug, not bad input), thrown by SF_CHECK*.
 /// what() = "file:line: CHECK failed: <expression>" plus both operands for the comparisons.
 class InternalError : public std::logic_error {

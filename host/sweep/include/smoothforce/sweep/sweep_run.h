@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include <smoothforce/base/error.h>
 #include <smoothforce/opencl/opencl_backend.h>
 #include <smoothforce/sweep/sweep.h>
 #include <smoothforce/sweep/sweep_io.h>
@@ -34,14 +35,6 @@ struct SweepInputs {
   std::optional<SweepData> resume;
 };
 
-/// An option value that the inputs make impossible (a depth or approach factor that puts HIPs
-/// beyond the coordinate range, a trajectory step longer than the trajectory, options that do
-/// not go together): bad input like any InputError; the CLI reports it as a usage error.
-class SweepOptionError : public InputError {
- public:
-  using InputError::InputError;
-};
-
 /// Why a method list is not one result set per method: empty, or a method named twice (the
 /// message names it and its two positions); empty string when it is fine. The CLI reports it as
 /// a usage error, runSweep as InputError.
@@ -62,7 +55,7 @@ struct SweepTiming {
 /// SweepControl), then its trajectory series, in parallel. Stops early when control.stop is
 /// set: the data then holds the records and series done (interrupted = true). Progress
 /// covers the probes (methods x HIPs of the shard left to run). Throws InputError for bad input
-/// (SweepOptionError for option values, --hips with --trajectory included: a HIP file gives no
+/// (OptionError for option values, --hips with --trajectory included: a HIP file gives no
 /// depth to run trajectories at).
 SweepData runSweep(SweepInputs inputs, const SweepControl& control, SweepTiming* timing = nullptr);
 
