@@ -693,7 +693,9 @@ TEST_F(CliContract, OpenClDeviceIsClDevice) {
   const CliStreams none =
       run("eval " + cache() + " --backend opencl --cl-device nosuchdevice --points " + pts + " -o " + file("x.csv"));
   EXPECT_EQ(none.status, 1);
-  EXPECT_NE(none.err.find("OpenCL device 'nosuchdevice' not found"), std::string::npos) << none.err;
+  // one line, listing the devices
+  EXPECT_NE(none.err.find("OpenCL device 'nosuchdevice' not found (devices: 0: "), std::string::npos) << none.err;
+  EXPECT_EQ(std::count(none.err.begin(), none.err.end(), '\n'), 1) << none.err;
 }
 
 }  // namespace

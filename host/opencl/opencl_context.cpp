@@ -110,9 +110,11 @@ std::string trim(std::string s) {
   return s;
 }
 
+/// The devices on one line (an error message is one line): "0: name [platform]; 1: ...".
 std::string describe(const std::vector<OpenCLDeviceInfo>& all) {
   std::ostringstream os;
-  for (const auto& d : all) os << "\n  " << d.index << ": " << d.name << " [" << d.platformName << "]";
+  for (const auto& d : all)
+    os << (d.index > 0 ? "; " : "") << d.index << ": " << d.name << " [" << d.platformName << "]";
   return os.str();
 }
 
@@ -176,7 +178,7 @@ OpenCLDeviceInfo selectOpenCLDevice(const std::string& device) {
     for (const auto& d : all)
       if (lower(d.platformName).find(want) != std::string::npos) return d;
   }
-  throw OpenCLError("OpenCL device '" + device + "' not found; devices:" + describe(all), CL_DEVICE_NOT_FOUND);
+  throw OpenCLError("OpenCL device '" + device + "' not found (devices: " + describe(all) + ")", CL_DEVICE_NOT_FOUND);
 }
 
 std::string defaultProgramCacheDir() {
