@@ -115,7 +115,9 @@ TEST(LazySurface, CellBoxesHoldTheirPatchesFarFromTheOrigin) {
 }
 
 // facesWithin and inAnyBox against brute force over the a-priori boxes, at 2,000 points around
-// the spot cage and the quad-sphere; computed on a skeleton (nothing built).
+// the spot cage and the quad-sphere, and facesWithin's batches (each after the last of the one
+// before) against the brute-force list in (distance, face) order; computed on a skeleton
+// (nothing built).
 TEST(LazySurface, BoxQueriesAgreeWithBruteForce) {
   for (const char* rel : {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/quad-sphere.off"}) {
     const PatchCache skeleton = test::skeletonFromFile(test::sharedMesh(rel));
@@ -130,7 +132,7 @@ TEST(LazySurface, BoxQueriesAgreeWithBruteForce) {
     }
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> u(-0.2, 1.2);
-    int inside = 0, truncated = 0;
+    int inside = 0, truncated = 0, multiBatch = 0;
     for (int i = 0; i < 2000; ++i) {
       const Eigen::Vector3d q = lo + Eigen::Vector3d(u(rng), u(rng), u(rng)).cwiseProduct(hi - lo);
       const double radius = 0.05 * (hi - lo).norm() * (i % 5);
@@ -149,11 +151,36 @@ TEST(LazySurface, BoxQueriesAgreeWithBruteForce) {
       ASSERT_EQ(n, std::min<size_t>(32, brute.size()));
       truncated += found > n;
       for (size_t k = 0; k < n; ++k) EXPECT_EQ(out[k].distance, brute[k].distance) << rel << " point " << i;
+      // batches of 32, each after the last of the one before, give every face in (distance, face) order
+      std::sort(brute.begin(), brute.end(), [](auto& a, auto& b) {
+        return a.distance < b.distance || (a.distance == b.distance && a.face < b.face);
+      });
+      std::vector<FaceDistance> all;
+      int batches = 0;
+      for (const FaceDistance* after = nullptr;; ++batches) {
+        size_t more = 0;
+        const size_t m = surface.facesWithin(q, radius, out, 32, &more, after);
+        all.insert(all.end(), out, out + m);
+        if (more <= m || m == 0) break;
+        after = &all.back();
+      }
+      // one batch: ties in distance as the BVH met them (the distances' order is checked above)
+      if (batches == 0)
+        std::sort(all.begin(), all.end(), [](auto& a, auto& b) {
+          return a.distance < b.distance || (a.distance == b.distance && a.face < b.face);
+        });
+      multiBatch += batches > 0;
+      ASSERT_EQ(all.size(), brute.size()) << rel << " point " << i;
+      for (size_t k = 0; k < all.size(); ++k) {
+        EXPECT_EQ(all[k].face, brute[k].face) << rel << " point " << i << " entry " << k;
+        EXPECT_EQ(all[k].distance, brute[k].distance) << rel << " point " << i << " entry " << k;
+      }
       EXPECT_EQ(surface.inAnyBox(q), any) << rel << " point " << i;
       inside += any;
     }
     EXPECT_GT(inside, 100) << rel;
     EXPECT_GT(truncated, 10) << rel;
+    EXPECT_EQ(multiBatch, truncated) << rel;
   }
 }
 

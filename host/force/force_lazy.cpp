@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <limits>
 
+#include <smoothforce/base/status.h>
 #include <smoothforce/query/embree_scene.h>
 #include <smoothforce/query/lazy_surface.h>
 #include <smoothforce/query/mean_value.h>
@@ -18,8 +19,62 @@ namespace {
 /// refined again. Small: a cell is 0.5 of a sector's ray long, and a result held on a fold edge
 /// must not hide the cell beside it (on the spot cage that cell held the nearest point).
 constexpr double kStartSpacing = 0.02;
-/// The most refinement starts one step considers (the polygon start and the nearest cells).
+/// The most refinement starts one batch holds (the polygon start and the nearest cells).
 constexpr int kMaxCandidates = 512;
+/// The most batches of faces (LazyPatchSurface::kMaxFaces each) one step takes, and of cells
+/// (kMaxCandidates each) per batch of faces: they bound a step's time where patches that bulge
+/// far beyond their faces put thousands of boxes within reach. On the bundled meshes a HIP 5% of
+/// the diagonal deep takes up to 22 face batches and never a second cell batch
+/// (tests/test_lazy_query.cpp, test_held_contact.cpp).
+constexpr int kMaxFaceBatches = 64;
+constexpr int kMaxCellBatches = 16;
+
+/// The most cells a face has (LazyPatchSurface::cells: kCellsPerSector per corner).
+constexpr int kMaxFaceCells = LazyPatchSurface::kCellsPerSector * SF_MAX_PATCH_SIDES;
+
+/// (lower bound, place) order of the cell candidates, where a cell's place in its batch of faces
+/// (kept in `triangle`: face rank x kMaxFaceCells + cell) puts ties in the order of the faces'
+/// box distances (nearest box first: the face most likely to hold the nearest point is refined
+/// first, and its distance prunes the rest).
+bool cellBefore(const SurfaceCandidate& a, const SurfaceCandidate& b) noexcept {
+  return a.lower < b.lower || (a.lower == b.lower && a.triangle < b.triangle);
+}
+
+/// Collects into c[from, n) the cells of the faces near[0, m) whose lower bound (the larger of
+/// the face's box distance and the cell's) is below `bound`, after `after` in cellBefore order
+/// when given, the first kMaxCandidates - from in that order; returns n. *more: cells qualified
+/// beyond those kept.
+int collectCells(LazyPatchSurface& surface, const PatchCache& cache, const FaceDistance* near, size_t m,
+                 const Eigen::Vector3d& hip, double bound, const SurfaceCandidate* after, SurfaceCandidate* c, int from,
+                 bool* more) noexcept {
+  int n = from;
+  *more = false;
+  for (size_t i = 0; i < m; ++i) {
+    const int f = near[i].face;
+    // the sector boxes first: most faces whose a-priori box is near stop here
+    if (!surface.sectors(f)) continue;
+    double faceLower = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < cache.faceSize(f); ++k) faceLower = std::min(faceLower, surface.sectorDistance(f, k, hip));
+    if (!(std::max(near[i].distance, faceLower) < bound)) continue;
+    const int cells = surface.cells(f);
+    for (int j = 0; j < cells; ++j) {
+      SurfaceCandidate e;
+      e.face = f;
+      e.triangle = static_cast<int>(i) * kMaxFaceCells + j;
+      e.lower = std::max(near[i].distance, surface.cellDistance(f, j, hip));
+      if (!(e.lower < bound) || (after && !cellBefore(*after, e))) continue;
+      if (n == kMaxCandidates) {
+        *more = true;
+        if (!cellBefore(e, c[n - 1])) continue;
+      }
+      int at = n < kMaxCandidates ? n++ : n - 1;
+      for (; at > from && cellBefore(e, c[at - 1]); --at) c[at] = c[at - 1];
+      e.X = surface.cellStart(f, j, hip);
+      c[at] = e;
+    }
+  }
+  return n;
+}
 
 }  // namespace
 
@@ -46,29 +101,39 @@ void lazyGlobalStep(LazyPatchSurface& surface, const PolygonScene& scene, const 
   c[0].lower = -1;
   const RefineResult first = refiner.refine(hip, c[0].face, c[0].X.x(), c[0].X.y(), options);
   const double upper = usable(first) ? first.distance : std::numeric_limits<double>::infinity();
-  FaceDistance near[LazyPatchSurface::kMaxFaces];
-  const size_t m = surface.facesWithin(hip, upper, near, LazyPatchSurface::kMaxFaces);
-  int n = 1;  // c[1..n): the cells below the upper bound, sorted by lower bound, the lowest kMaxCandidates kept
-  for (size_t i = 0; i < m; ++i) {
-    const int f = near[i].face;
-    // the sector boxes first: most faces whose a-priori box is near stop here
-    if (!surface.sectors(f)) continue;
-    double faceLower = std::numeric_limits<double>::infinity();
-    for (int k = 0; k < cache.faceSize(f); ++k) faceLower = std::min(faceLower, surface.sectorDistance(f, k, hip));
-    if (!(std::max(near[i].distance, faceLower) < upper)) continue;
-    const int cells = surface.cells(f);
-    for (int j = 0; j < cells; ++j) {
-      const double lower = std::max(near[i].distance, surface.cellDistance(f, j, hip));
-      if (!(lower < upper) || (n == kMaxCandidates && lower >= c[n - 1].lower)) continue;
-      int at = n < kMaxCandidates ? n++ : n - 1;
-      for (; at > 1 && c[at - 1].lower > lower; --at) c[at] = c[at - 1];
-      c[at] = SurfaceCandidate{};
-      c[at].face = f;
-      c[at].X = surface.cellStart(f, j, hip);
-      c[at].lower = lower;
+  // the faces in batches of kMaxFaces (box distance order), each face batch's cells in batches of
+  // kMaxCandidates (lower bound order), each batch refined in turn while what a full one left out
+  // could still be nearer than the nearest point found (dense meshes put hundreds of a-priori
+  // boxes within reach); the first cell batch also holds the polygon start, c[0]
+  PatchNearest q;
+  bool started = false;
+  FaceDistance near[LazyPatchSurface::kMaxFaces], lastFace;
+  const FaceDistance* afterFace = nullptr;
+  for (int faceBatch = 0; faceBatch < kMaxFaceBatches; ++faceBatch) {
+    auto bound = [&] { return started ? std::min(upper, q.nearest.distance) : upper; };
+    size_t found = 0;
+    const size_t m = surface.facesWithin(hip, bound(), near, LazyPatchSurface::kMaxFaces, &found, afterFace);
+    SurfaceCandidate lastCell;
+    const SurfaceCandidate* afterCell = nullptr;
+    for (int cellBatch = 0; cellBatch < kMaxCellBatches; ++cellBatch) {
+      bool more = false;
+      const int n = collectCells(surface, cache, near, m, hip, bound(), afterCell, c.data(), started ? 0 : 1, &more);
+      const PatchNearest b =
+          refineCandidates(c.data(), n, kStartSpacing, refiner, hip, options, started ? nullptr : &first);
+      if (started)
+        mergeNearest(q, b);
+      else
+        q = b;
+      started = true;
+      if (!more || !(c[n - 1].lower < q.nearest.distance)) break;
+      lastCell = c[n - 1];
+      afterCell = &lastCell;
     }
+    if (found <= m || m == 0) break;
+    lastFace = near[m - 1];
+    afterFace = &lastFace;
+    if (!(lastFace.distance < q.nearest.distance)) break;
   }
-  const PatchNearest q = refineCandidates(c.data(), n, kStartSpacing, refiner, hip, options, &first);
   bool inside = false;
   RefineResult scp = q.nearest;
   if (usable(q.nearest)) {

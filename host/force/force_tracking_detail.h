@@ -62,8 +62,10 @@ void setContact(bool contact, const RefineResult& r, const Eigen::Vector3d& hip,
 ///   every face whose a-priori box is within U of the HIP is a candidate, its lower bound the
 ///   larger of the face's and the cell's box distance, its start the cell's point under the HIP (cellStart);
 ///   refineCandidates refines them in order of lower bound until the next is not below the
-///   nearest distance found (only those faces' patches are built; at most 511 cells, the
-///   lowest).
+///   nearest distance found (only those faces' patches are built). The faces come in batches of
+///   LazyPatchSurface::kMaxFaces (box distance order), their cells in batches of 511 (lower
+///   bound order); the next batch is taken while the last of a full one is below the nearest
+///   distance found (at most 64 face batches of 16 cell batches each).
 /// - Contact when the HIP is inside: by the polygons outside those boxes; else on the side the
 ///   nearest refined point's normal points away from (an open mesh: and not held on a boundary
 ///   edge), except where the nearest point is held on a fold edge of a closed mesh (two sides by

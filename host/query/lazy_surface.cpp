@@ -72,7 +72,19 @@ struct Collect {
   double radius;
   FaceDistance* out;
   size_t cap, n, found;
+  const FaceDistance* after;  ///< only the faces after it in (distance, face) order; null: all
+  /// (distance, face) order, kept in a heap; false: distance order, ties as the BVH meets them, by
+  /// insertion (cheap where the traversal meets the boxes nearly in order and ties stay put)
+  bool strict;
 };
+
+/// (distance, face) order of facesWithin (a function object: inlined in the heap operations).
+struct Before {
+  bool operator()(const FaceDistance& a, const FaceDistance& b) const noexcept {
+    return a.distance < b.distance || (a.distance == b.distance && a.face < b.face);
+  }
+};
+constexpr Before before{};
 
 bool pointQueryFn(RTCPointQueryFunctionArguments* args) {
   auto* c = static_cast<Collect*>(args->userPtr);
@@ -80,17 +92,33 @@ bool pointQueryFn(RTCPointQueryFunctionArguments* args) {
   if (!b.valid) return false;
   const double d = b.distance(c->q);
   if (!(d <= c->radius)) return false;
+  const FaceDistance e{static_cast<int>(args->primID), d};
+  if (c->after && !before(*c->after, e)) return false;
   ++c->found;
   if (c->cap == 0) return false;
-  size_t i = c->n;  // insertion into the sorted list, the farthest dropped when full
-  if (c->n == c->cap) {
-    if (d >= c->out[c->n - 1].distance) return false;
-    i = c->n - 1;
-  } else {
-    ++c->n;
+  if (!c->strict) {
+    size_t i = c->n;  // insertion into the sorted list, the farthest dropped when full
+    if (c->n == c->cap) {
+      if (d >= c->out[c->n - 1].distance) return false;
+      i = c->n - 1;
+    } else {
+      ++c->n;
+    }
+    for (; i > 0 && c->out[i - 1].distance > d; --i) c->out[i] = c->out[i - 1];
+    c->out[i] = e;
+    return false;
   }
-  for (; i > 0 && c->out[i - 1].distance > d; --i) c->out[i] = c->out[i - 1];
-  c->out[i] = FaceDistance{static_cast<int>(args->primID), d};
+  // a max-heap of the first `cap` in (distance, face) order (its top the last kept), sorted at
+  // the end: a HIP inside a hundred boxes gives a hundred ties at distance 0, which a sorted
+  // insertion would shift past one another
+  if (c->n == c->cap) {
+    if (!before(e, c->out[0])) return false;
+    std::pop_heap(c->out, c->out + c->n, before);
+    c->out[c->n - 1] = e;
+  } else {
+    c->out[c->n++] = e;
+  }
+  std::push_heap(c->out, c->out + c->n, before);
   return false;
 }
 
@@ -148,12 +176,22 @@ LazyPatchSurface::LazyPatchSurface(const PatchCache& cache, const PolygonFacets&
 LazyPatchSurface::~LazyPatchSurface() = default;
 
 size_t LazyPatchSurface::facesWithin(const Eigen::Vector3d& q, double radius, FaceDistance* out, size_t cap,
-                                     size_t* found) const noexcept {
-  Collect c{&apriori_, q, radius, out, std::min(cap, kMaxFaces), 0, 0};
-  if (cache_.numFaces() > 0 && inCoordinateRange(q) && radius >= 0)
-    embreePointQuery(
-        impl_->scene, q - impl_->origin, &c,
-        std::isfinite(radius) ? float(radius) * (1.0f + 1e-6f) + impl_->pad : std::numeric_limits<float>::infinity());
+                                     size_t* found, const FaceDistance* after) const noexcept {
+  Collect c{&apriori_, q, radius, out, std::min(cap, kMaxFaces), 0, 0, after, after != nullptr};
+  if (!(cache_.numFaces() > 0 && inCoordinateRange(q) && radius >= 0)) {
+    if (found) *found = 0;
+    return 0;
+  }
+  const float r =
+      std::isfinite(radius) ? float(radius) * (1.0f + 1e-6f) + impl_->pad : std::numeric_limits<float>::infinity();
+  embreePointQuery(impl_->scene, q - impl_->origin, &c, r);
+  if (!c.strict && c.found > c.n &&
+      c.cap > 0) {  // some were dropped: again in the strict order (a next batch continues it)
+    c.n = c.found = 0;
+    c.strict = true;
+    embreePointQuery(impl_->scene, q - impl_->origin, &c, r);
+  }
+  if (c.strict) std::sort_heap(out, out + c.n, before);
   if (found) *found = c.found;
   return c.n;
 }

@@ -72,10 +72,13 @@ class LazyPatchSurface {
   /// (farBeyondBox): no contact there.
   bool farBeyond(const Eigen::Vector3d& q) const noexcept { return farBeyondBox(q, boxLo_, boxHi_); }
   /// The faces whose a-priori box is within `radius` (m) of q, nearest box first, at most `cap`
-  /// (<= kMaxFaces; the nearest kept) into out; returns how many. *found, when given, receives
-  /// how many qualified (more than cap: the rest were dropped). Does not allocate or throw.
-  size_t facesWithin(const Eigen::Vector3d& q, double radius, FaceDistance* out, size_t cap,
-                     size_t* found = nullptr) const noexcept;
+  /// (<= kMaxFaces; the first kept) into out; returns how many. *found, when given, receives how
+  /// many qualified (more than cap: the rest were dropped). Ties in distance come as the BVH
+  /// meets them where every face fits; where some were dropped, or `after` is given, the order is
+  /// (distance, face) (the query runs again in that order), and after, when given, keeps only the
+  /// faces after it (the next batch after a full one: its last entry). Does not allocate or throw.
+  size_t facesWithin(const Eigen::Vector3d& q, double radius, FaceDistance* out, size_t cap, size_t* found = nullptr,
+                     const FaceDistance* after = nullptr) const noexcept;
   /// Whether q lies in some swept box (sweptDistance) of a face whose a-priori box holds q (false
   /// when no a-priori box holds q). Outside every swept box, the winding number of the patch
   /// surface around q is that of the base polygons, as outside the a-priori boxes (on the
