@@ -19,13 +19,13 @@
 #include <smoothforce/query/patch_surface.h>
 #include <smoothforce/sweep/sweep_sampling.h>
 #include "patch_test_support.h"
+#include "pressed_hips_support.h"
 
 namespace sf {
 namespace {
 
 TEST(GlobalQuery, NoNearerPatchPointIsLeftOutOnAnyBundledMesh) {
-  constexpr size_t kSamples = 500;             // per mesh and depth
-  constexpr double kDepth[2] = {0.005, 0.02};  // x the bounding-box diagonal
+  constexpr size_t kSamples = 500;  // per mesh and depth
   const ForceOptions options;
   int meshes = 0;
   long hips = 0, farther = 0, capped = 0, overflowing = 0;
@@ -40,21 +40,18 @@ TEST(GlobalQuery, NoNearerPatchPointIsLeftOutOnAnyBundledMesh) {
     ASSERT_EQ(samples.size(), kSamples);
     ++meshes;
     long meshFarther = 0, meshOverflowing = 0;
-    for (double depth : kDepth) {
-      for (const SurfaceSample& s : samples) {
-        const double d = depth * diag;
-        const Eigen::Vector3d hip = s.point - d * s.normal;
-        const PatchNearest q = nearestOnPatches(surface, refiner, hip, options);
-        ++hips;
-        meshOverflowing += q.candidates > static_cast<int>(PatchSurface::kMaxCandidates);
-        mostBatches = std::max(mostBatches, (q.candidates + 255) / 256);
-        capped += (q.nearest.status & SF_TRACK_MAX_ITER) != 0;
-        if (!(q.nearest.distance <= d * (1 + 1e-9))) {
-          if (meshFarther++ < 3)
-            ADD_FAILURE() << "HIP " << hip.transpose() << " at depth " << d << " m: nearest point found at "
-                          << q.nearest.distance << " m (face " << q.nearest.face << ", status 0x" << std::hex
-                          << q.nearest.status << std::dec << "), the sample on face " << s.face << " is at " << d;
-        }
+    for (const test::PressedHip& p : test::pressedHips(samples, {0.005, 0.02}, diag)) {
+      const PatchNearest q = nearestOnPatches(surface, refiner, p.hip, options);
+      ++hips;
+      meshOverflowing += q.candidates > static_cast<int>(PatchSurface::kMaxCandidates);
+      mostBatches = std::max(mostBatches, (q.candidates + 255) / 256);
+      capped += (q.nearest.status & SF_TRACK_MAX_ITER) != 0;
+      if (!(q.nearest.distance <= p.depth * (1 + 1e-9))) {
+        if (meshFarther++ < 3)
+          ADD_FAILURE() << "HIP " << p.hip.transpose() << " at depth " << p.depth << " m: nearest point found at "
+                        << q.nearest.distance << " m (face " << q.nearest.face << ", status 0x" << std::hex
+                        << q.nearest.status << std::dec << "), the sample on face " << samples[p.sample].face
+                        << " is at " << p.depth;
       }
     }
     farther += meshFarther;

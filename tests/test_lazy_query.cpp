@@ -19,13 +19,13 @@
 #include <smoothforce/query/embree_scene.h>
 #include <smoothforce/sweep/sweep_sampling.h>
 #include "patch_test_support.h"
+#include "pressed_hips_support.h"
 
 namespace sf {
 namespace {
 
 TEST(LazyGlobalQuery, NoNearerPatchPointIsLeftOutOnAnyBundledMesh) {
-  constexpr size_t kSamples = 250;                         // per mesh and depth
-  constexpr double kDepth[] = {0.001, 0.005, 0.02, 0.05};  // x the bounding-box diagonal
+  constexpr size_t kSamples = 250;  // per mesh and depth
   const ForceOptions options;
   int meshes = 0;
   long hips = 0, contacts = 0, farther = 0;
@@ -40,31 +40,28 @@ TEST(LazyGlobalQuery, NoNearerPatchPointIsLeftOutOnAnyBundledMesh) {
         makeForceRenderer(skeleton, std::make_shared<const PolygonScene>(*skeleton), ForceMethod::Patch, options);
     ++meshes;
     long meshFarther = 0, meshContacts = 0;
-    for (double depth : kDepth) {
-      for (const SurfaceSample& s : samples) {
-        const double d = depth * diag;
-        const Eigen::Vector3d hip = s.point - d * s.normal;
-        lazy->reset();
-        const ForceSample f = lazy->step(hip);
-        ++hips;
-        meshContacts += f.contact;
-        if (f.contact && !((f.scp - hip).norm() <= d * (1 + 1e-9))) {
-          if (meshFarther++ < 3)
-            ADD_FAILURE() << "HIP " << hip.transpose() << " at depth " << d << " m: SCP at " << (f.scp - hip).norm()
-                          << " m (face " << f.face << ", status 0x" << std::hex << f.status << std::dec
-                          << "), the sample on face " << s.face << " is at " << d;
-        }
+    const std::vector<test::PressedHip> pressed = test::pressedHips(samples, {0.001, 0.005, 0.02, 0.05}, diag);
+    for (const test::PressedHip& p : pressed) {
+      lazy->reset();
+      const ForceSample f = lazy->step(p.hip);
+      ++hips;
+      meshContacts += f.contact;
+      if (f.contact && !((f.scp - p.hip).norm() <= p.depth * (1 + 1e-9))) {
+        if (meshFarther++ < 3)
+          ADD_FAILURE() << "HIP " << p.hip.transpose() << " at depth " << p.depth << " m: SCP at "
+                        << (f.scp - p.hip).norm() << " m (face " << f.face << ", status 0x" << std::hex << f.status
+                        << std::dec << "), the sample on face " << samples[p.sample].face << " is at " << p.depth;
       }
     }
     farther += meshFarther;
     contacts += meshContacts;
-    std::printf("  %s: %ld of %zu in contact, %ld farther than the depth\n", path.c_str(), meshContacts,
-                std::size(kDepth) * kSamples, meshFarther);
+    std::printf("  %s: %ld of %zu in contact, %ld farther than the depth\n", path.c_str(), meshContacts, pressed.size(),
+                meshFarther);
   }
   std::printf("%d meshes, %ld HIPs: %ld in contact, %ld with an SCP farther than the depth\n", meshes, hips, contacts,
               farther);
   EXPECT_EQ(meshes, 28);
-  EXPECT_EQ(hips, 28L * static_cast<long>(std::size(kDepth) * kSamples));
+  EXPECT_EQ(hips, 28L * 4 * static_cast<long>(kSamples));  // 4 depths
   EXPECT_EQ(farther, 0);
   EXPECT_GT(contacts, hips * 9 / 10);
 }
