@@ -7,16 +7,22 @@
 // half the servo rate.
 //
 // Independent check on the closed meshes: the held verdict is the patch surface's winding number
-// (the global query's own test, outside every error band).
+// (the global query's own test, outside every error band). And where the prebuilt and the lazy
+// path hold different verdicts on a closed mesh, a surface fault of the patch surface (measured
+// by ProbeInsideTest, from the winding number) lies within 3 times the HIP's distance to it: the
+// lazy path has no winding number and goes by the side of its nearest point. On open meshes the
+// two differ too (136 of 3,600 HIPs on five meshes with folded faces), counted, not asserted.
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <memory>
 #include <random>
 #include <string>
 
 #include <smoothforce/force/force_tracking.h>
 #include <smoothforce/query/embree_scene.h>
 #include <smoothforce/query/patch_surface.h>
+#include <smoothforce/sweep/probe_inside.h>
 #include <smoothforce/sweep/sweep_sampling.h>
 #include "patch_test_support.h"
 
@@ -30,7 +36,7 @@ struct HeldCounts {
 /// Steps r `steps` times at each HIP (reset before each HIP) and counts the HIPs whose contact
 /// verdict after the first step differs from the first step's.
 HeldCounts holdStill(ForceRenderer& r, const std::vector<Eigen::Vector3d>& hips, const PatchSurface* surface,
-                     const std::string& path, const char* what) {
+                     const std::string& path, const char* what, std::vector<char>& held) {
   constexpr int kSteps = 4;
   HeldCounts c;
   for (const Eigen::Vector3d& hip : hips) {
@@ -51,6 +57,7 @@ HeldCounts holdStill(ForceRenderer& r, const std::vector<Eigen::Vector3d>& hips,
       }
     }
     c.changed += changed;
+    held.push_back(s.contact);
     if (surface && insideByWinding(*surface, hip) >= 0) {
       ++c.insideFar;
       c.disagree += s.contact != (insideByWinding(*surface, hip) == 1);
@@ -66,6 +73,7 @@ TEST(HeldContact, AHipHeldStillKeepsItsContactVerdictOnEveryBundledMesh) {
   const ForceOptions options;
   int meshes = 0;
   HeldCounts cacheTotal, lazyTotal;
+  long closedDiffer = 0, openDiffer = 0, faultless = 0;
   for (const std::string& path : test::sharedMeshFiles()) {
     SCOPED_TRACE(path);
     auto cache = std::make_shared<const PatchCache>(test::cacheFromFile(path));
@@ -95,8 +103,33 @@ TEST(HeldContact, AHipHeldStillKeepsItsContactVerdictOnEveryBundledMesh) {
         makeForceRenderer(cache, std::make_shared<const PolygonScene>(*cache), ForceMethod::Patch, options, surface);
     auto onSkeleton =
         makeForceRenderer(skeleton, std::make_shared<const PolygonScene>(*skeleton), ForceMethod::Patch, options);
-    const HeldCounts a = holdStill(*onCache, hips, surface.get(), path, "cache");
-    const HeldCounts b = holdStill(*onSkeleton, hips, nullptr, path, "lazy");
+    std::vector<char> heldA, heldB;
+    const HeldCounts a = holdStill(*onCache, hips, surface.get(), path, "cache", heldA);
+    const HeldCounts b = holdStill(*onSkeleton, hips, nullptr, path, "lazy", heldB);
+    // where the two paths' held verdicts differ on a closed mesh (the lazy one has no winding
+    // number: the side of its nearest point decides), a surface fault is within reach (3 times the
+    // distance to the nearest patch point: kConflict, force_tracking.cpp); open meshes counted
+    PatchRefiner refiner(*cache);
+    std::unique_ptr<const ProbeInsideTest> faults;  // measured where needed (about a second)
+    long differ = 0, offFault = 0;
+    for (size_t i = 0; i < hips.size(); ++i) {
+      if (heldA[i] == heldB[i]) continue;
+      ++differ;
+      if (!surface->closed()) continue;
+      if (!faults) faults = std::make_unique<const ProbeInsideTest>(*cache, ForceMethod::Patch);
+      const double d = nearestOnPatches(*surface, refiner, hips[i], options).nearest.distance;
+      const double f = faults->surfaceFaultDistance(hips[i]);
+      if (!(f <= 3 * d)) {
+        ++offFault;
+        ADD_FAILURE() << path << ": HIP " << hips[i].transpose() << " held in contact " << int(heldA[i])
+                      << " on the cache, " << int(heldB[i]) << " lazily; nearest patch point " << d
+                      << " m away, nearest surface fault " << f << " m";
+      }
+    }
+    std::printf("  %s: %ld held verdicts differ between the cache and lazily (%s), %ld off every fault\n", path.c_str(),
+                differ, surface->closed() ? "closed" : "open", offFault);
+    (surface->closed() ? closedDiffer : openDiffer) += differ;
+    faultless += offFault;
     std::printf(
         "  %s: cache %ld contacts, %ld changed, %ld/%ld disagree with the winding number; lazy %ld contacts, %ld "
         "changed\n",
@@ -121,6 +154,12 @@ TEST(HeldContact, AHipHeldStillKeepsItsContactVerdictOnEveryBundledMesh) {
   EXPECT_EQ(lazyTotal.changed, 0);
   EXPECT_EQ(cacheTotal.disagree, 0);
   EXPECT_GT(cacheTotal.contacts, cacheTotal.hips / 10);
+  std::printf(
+      "held verdicts that differ between the cache and lazily: %ld on closed meshes (%ld off every fault), "
+      "%ld on open ones\n",
+      closedDiffer, faultless, openDiffer);
+  EXPECT_EQ(faultless, 0);
+  EXPECT_GT(closedDiffer, 0);  // the spot cage's faults: the check ran
 }
 
 }  // namespace
