@@ -32,18 +32,13 @@ constexpr int kMaxCellBatches = 16;
 /// The most cells a face has (LazyPatchSurface::cells: kCellsPerSector per corner).
 constexpr int kMaxFaceCells = LazyPatchSurface::kCellsPerSector * SF_MAX_PATCH_SIDES;
 
-/// (lower bound, place) order of the cell candidates, where a cell's place in its batch of faces
-/// (kept in `triangle`: face rank x kMaxFaceCells + cell) puts ties in the order of the faces'
-/// box distances (nearest box first: the face most likely to hold the nearest point is refined
-/// first, and its distance prunes the rest).
-bool cellBefore(const SurfaceCandidate& a, const SurfaceCandidate& b) noexcept {
-  return a.lower < b.lower || (a.lower == b.lower && a.triangle < b.triangle);
-}
-
 /// Collects into c[from, n) the cells of the faces near[0, m) whose lower bound (the larger of
-/// the face's box distance and the cell's) is below `bound`, after `after` in cellBefore order
-/// when given, the first kMaxCandidates - from in that order; returns n. *more: cells qualified
-/// beyond those kept.
+/// the face's box distance and the cell's) is below `bound`, after `after` in candidateBefore
+/// order when given, the first kMaxCandidates - from in that order; returns n. *more: cells
+/// qualified beyond those kept. A cell's `triangle` holds its place in the batch of faces (face
+/// rank x kMaxFaceCells + cell), so that ties in lower bound come in the order of the faces' box
+/// distances (nearest box first: the face most likely to hold the nearest point is refined first,
+/// and its distance prunes the rest).
 int collectCells(LazyPatchSurface& surface, const PatchCache& cache, const FaceDistance* near, size_t m,
                  const Eigen::Vector3d& hip, double bound, const SurfaceCandidate* after, SurfaceCandidate* c, int from,
                  bool* more) noexcept {
@@ -62,13 +57,13 @@ int collectCells(LazyPatchSurface& surface, const PatchCache& cache, const FaceD
       e.face = f;
       e.triangle = static_cast<int>(i) * kMaxFaceCells + j;
       e.lower = std::max(near[i].distance, surface.cellDistance(f, j, hip));
-      if (!(e.lower < bound) || (after && !cellBefore(*after, e))) continue;
+      if (!(e.lower < bound) || (after && !candidateBefore(*after, e))) continue;
       if (n == kMaxCandidates) {
         *more = true;
-        if (!cellBefore(e, c[n - 1])) continue;
+        if (!candidateBefore(e, c[n - 1])) continue;
       }
       int at = n < kMaxCandidates ? n++ : n - 1;
-      for (; at > from && cellBefore(e, c[at - 1]); --at) c[at] = c[at - 1];
+      for (; at > from && candidateBefore(e, c[at - 1]); --at) c[at] = c[at - 1];
       e.X = surface.cellStart(f, j, hip);
       c[at] = e;
     }
@@ -109,8 +104,8 @@ void lazyGlobalStep(LazyPatchSurface& surface, const PolygonScene& scene, const 
   bool started = false;
   FaceDistance near[LazyPatchSurface::kMaxFaces], lastFace;
   const FaceDistance* afterFace = nullptr;
+  auto bound = [&] { return started ? std::min(upper, q.nearest.distance) : upper; };
   for (int faceBatch = 0; faceBatch < kMaxFaceBatches; ++faceBatch) {
-    auto bound = [&] { return started ? std::min(upper, q.nearest.distance) : upper; };
     size_t found = 0;
     const size_t m = surface.facesWithin(hip, bound(), near, LazyPatchSurface::kMaxFaces, &found, afterFace);
     SurfaceCandidate lastCell;

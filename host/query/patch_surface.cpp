@@ -130,11 +130,6 @@ struct CandidateState {
   const SurfaceCandidate* after;
 };
 
-/// The strict order of candidates: by lower bound, then by triangle.
-bool candidateAfter(double lowerA, int triangleA, double lowerB, int triangleB) {
-  return lowerA > lowerB || (lowerA == lowerB && triangleA > triangleB);
-}
-
 bool candidateFn(RTCPointQueryFunctionArguments* args) {
   auto* st = static_cast<CandidateState*>(args->userPtr);
   const SurfaceTriangle& t = (*st->tri)[args->primID];
@@ -144,7 +139,7 @@ bool candidateFn(RTCPointQueryFunctionArguments* args) {
   if (!(d - e <= st->bound)) return false;
   const int id = static_cast<int>(args->primID);
   SurfaceCandidate* slot = nullptr;
-  if (st->after && !candidateAfter(d - e, id, st->after->lower, st->after->triangle)) {
+  if (st->after && !candidateBefore(st->after->lower, st->after->triangle, d - e, id)) {
     // collected by an earlier call: only its bound counts
   } else if (st->count < kMaxCandidates) {
     slot = &st->c[st->count++];
@@ -152,8 +147,8 @@ bool candidateFn(RTCPointQueryFunctionArguments* args) {
     // (a strict order: the candidates kept do not depend on the order Embree visits them in)
     slot = &st->c[0];
     for (size_t i = 1; i < st->count; ++i)
-      if (candidateAfter(st->c[i].lower, st->c[i].triangle, slot->lower, slot->triangle)) slot = &st->c[i];
-    if (!candidateAfter(slot->lower, slot->triangle, d - e, id)) slot = nullptr;
+      if (candidateBefore(*slot, st->c[i])) slot = &st->c[i];
+    if (!candidateBefore(d - e, id, slot->lower, slot->triangle)) slot = nullptr;
   }
   if (slot) {
     slot->face = t.face;

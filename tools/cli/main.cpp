@@ -34,6 +34,10 @@ int main(int argc, char** argv) {
   addLoopCommand(app);
   addSweepCommands(app);
   addGenerateCommand(app);
+  auto usage = [](const std::exception& e) {  // one line, exit 2
+    std::fprintf(stderr, "smoothforce: %s (see --help)\n", e.what());
+    return kExitUsage;
+  };
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -43,14 +47,11 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "smoothforce: %s (see --help)\n", e.what());
-    return kExitUsage;
+    return usage(e);
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "smoothforce: %s (see --help)\n", e.what());
-    return kExitUsage;
+    return usage(e);
   } catch (const sf::OptionError& e) {  // an option value the mesh, scene or files make impossible
-    std::fprintf(stderr, "smoothforce: %s (see --help)\n", e.what());
-    return kExitUsage;
+    return usage(e);
   } catch (const Interrupted& e) {
     std::fprintf(stderr, "smoothforce: %s\n", e.what());
     return 128 + e.signal();

@@ -27,6 +27,16 @@ struct SurfaceCandidate {
   double lower = 0;         ///< m
 };
 
+/// The strict order of candidates: by lower bound, then by `triangle` (PatchSurface::candidates
+/// keeps the first `cap` in it and continues it after `after`; the lazy query's cells use it with
+/// their own place in `triangle`). Whether (lowerA, triangleA) comes before (lowerB, triangleB).
+inline bool candidateBefore(double lowerA, int triangleA, double lowerB, int triangleB) noexcept {
+  return lowerA < lowerB || (lowerA == lowerB && triangleA < triangleB);
+}
+inline bool candidateBefore(const SurfaceCandidate& a, const SurfaceCandidate& b) noexcept {
+  return candidateBefore(a.lower, a.triangle, b.lower, b.triangle);
+}
+
 /// Options of PatchSurface. Errors are fractions of the mesh's bounding-box diagonal.
 struct PatchSurfaceOptions {
   int level = 0;  ///< uniform tessellation level (each polygon edge split in L), 1..64; 0: chosen
