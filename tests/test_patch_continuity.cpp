@@ -1,5 +1,5 @@
-// The patch surface is continuous inside every face (C0) on every bundled mesh. Two causes of
-// tears are fixed and checked here:
+// The patch surface is continuous inside every face (C0), and so are its first derivatives (C1: no
+// crease), on every bundled mesh. Two causes of tears are fixed and checked here:
 // - a cross-tangent direction that turns over along an edge (design page, Robustness 4): pmp/L.off
 //   (a reflex corner), tetris.obj and L-plane.obj (straight and reflex corners) and the scanned
 //   bunny at resolutions 3 and 4 tore, by up to 0.5 m, 0.17 m and 0.0068 m;
@@ -9,15 +9,27 @@
 //   1997 2031; 695 775 925 926). n_c is now the normalised Eq. 10 direction, continuous, and the
 //   vertex normal at both ends (test_patch_identities.cpp).
 //
+// And one cause of creases: the turn of Robustness 4 pushed by (eps - |a|) b was continuous but its
+// derivative jumped where the push starts (|a| = eps): on pmp/L.off's folded hexagon dG/dxi jumped
+// from 0.6 to 31 m per domain unit across that curve and the normal turned over, a crease the
+// Newton refinement crawled along to its iteration cap (36 of 600 lazy global queries ended
+// farther than the prebuilt one, up to 3% of the diagonal). The push is now (eps - |a|)^2 / eps.
+//
 // Independent check: chords of each domain parallel to each of its edges, sampled; a step whose
 // position change exceeds 4 times what the derivatives at its two ends predict is bisected, the
 // half with the larger change kept, down to 1e-9 domain units. A tear keeps its jump there; a steep
-// but continuous stretch (a cross tangent turning fast) does not.
+// but continuous stretch (a cross tangent turning fast) does not. Likewise for creases with the
+// derivative along the chord (three insets: L.off's crease lies nearer the centre than the two
+// above): a step whose derivative changes by more than a tenth of the chord's largest derivative
+// is bisected (the half with the larger change kept); a crease keeps its jump at 1e-9 domain
+// units (more than 1% of that scale), a smooth but fast-turning stretch does not. With the first
+// push, 85 faces creased: L.off 1, L-plane.obj 16, tetris.obj 13, bun_zipper_res2/3/4 46, 4, 5.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -55,9 +67,49 @@ double jumpAfterBisection(const PatchCache& c, int f, Eigen::Vector2d x0, Eigen:
   return (b.pos - a.pos).norm();
 }
 
+/// Chords of every built face's domain (parallel to each of its edges, at the given insets: the
+/// fractions of the way to the centre), sampled and evaluated: s[chordStart[c], chordStart[c + 1])
+/// is chord c, in face order.
+struct Chords {
+  std::vector<Sample> s;
+  std::vector<size_t> chordStart;
+  std::vector<PatchPoint> p;
+  int faces = 0;
+};
+
+Chords sampleChords(const PatchCache& c, std::initializer_list<double> insets) {
+  constexpr int kSamples = 64;  // per chord, over 3 edge lengths (clipped to the domain)
+  Chords h;
+  for (int f = 0; f < c.numFaces(); ++f) {
+    if (c.faceStatus[f] & GP_ST_NOT_BUILT) continue;
+    ++h.faces;
+    const int n = c.faceSize(f);
+    for (int k = 0; k < n; ++k) {
+      const Eigen::Vector2d a = domainCorner(n, k), b = domainCorner(n, (k + 1) % n);
+      for (double inset : insets) {
+        h.chordStart.push_back(h.s.size());
+        for (int i = 0; i <= kSamples; ++i) {
+          const double lambda = -1.0 + 3.0 * i / kSamples;
+          const Eigen::Vector2d X = (1 - inset) * (a + lambda * (b - a));
+          if (insideDomain(n, X.x(), X.y(), -1e-9)) h.s.push_back({f, X});
+        }
+      }
+    }
+  }
+  h.chordStart.push_back(h.s.size());
+  std::vector<int32_t> face(h.s.size());
+  std::vector<double> xi(h.s.size()), eta(h.s.size());
+  for (size_t i = 0; i < h.s.size(); ++i) {
+    face[i] = h.s[i].face;
+    xi[i] = h.s[i].X.x();
+    eta[i] = h.s[i].X.y();
+  }
+  h.p.resize(h.s.size());
+  evaluatePatches(c, face.data(), xi.data(), eta.data(), h.s.size(), h.p.data(), Backend::Tbb);
+  return h;
+}
+
 TEST(PatchContinuity, NoTearInsideAnyFaceOfAnyBundledMesh) {
-  constexpr int kSamples = 64;               // per chord, over 3 edge lengths (clipped to the domain)
-  constexpr double kInset[2] = {0.15, 0.5};  // chords at these fractions of the way to the centre
   int meshes = 0, faces = 0;
   size_t tornFaces = 0;
   size_t steps = 0, bisected = 0;
@@ -65,42 +117,16 @@ TEST(PatchContinuity, NoTearInsideAnyFaceOfAnyBundledMesh) {
     SCOPED_TRACE(path);
     const PatchCache c = test::cacheFromFile(path);
     const double diag = boundingDiagonal(c);
-    std::vector<Sample> s;
-    std::vector<size_t> chordStart;
-    for (int f = 0; f < c.numFaces(); ++f) {
-      if (c.faceStatus[f] & GP_ST_NOT_BUILT) continue;
-      ++faces;
-      const int n = c.faceSize(f);
-      for (int k = 0; k < n; ++k) {
-        const Eigen::Vector2d a = domainCorner(n, k), b = domainCorner(n, (k + 1) % n);
-        for (double inset : kInset) {
-          chordStart.push_back(s.size());
-          for (int i = 0; i <= kSamples; ++i) {
-            const double lambda = -1.0 + 3.0 * i / kSamples;
-            const Eigen::Vector2d X = (1 - inset) * (a + lambda * (b - a));
-            if (insideDomain(n, X.x(), X.y(), -1e-9)) s.push_back({f, X});
-          }
-        }
-      }
-    }
-    chordStart.push_back(s.size());
-    std::vector<int32_t> face(s.size());
-    std::vector<double> xi(s.size()), eta(s.size());
-    for (size_t i = 0; i < s.size(); ++i) {
-      face[i] = s[i].face;
-      xi[i] = s[i].X.x();
-      eta[i] = s[i].X.y();
-    }
-    std::vector<PatchPoint> p(s.size());
-    evaluatePatches(c, face.data(), xi.data(), eta.data(), s.size(), p.data(), Backend::Tbb);
+    const Chords h = sampleChords(c, {0.15, 0.5});
+    faces += h.faces;
     std::vector<int> torn;  // faces with a tear, ascending (the steps come face by face, in face order)
-    for (size_t ch = 0; ch + 1 < chordStart.size(); ++ch)
-      for (size_t i = chordStart[ch]; i + 1 < chordStart[ch + 1]; ++i) {
+    for (size_t ch = 0; ch + 1 < h.chordStart.size(); ++ch)
+      for (size_t i = h.chordStart[ch]; i + 1 < h.chordStart[ch + 1]; ++i) {
         ++steps;
-        if (stepFits(p[i], p[i + 1], s[i + 1].X - s[i].X, 1e-12 * diag)) continue;
+        if (stepFits(h.p[i], h.p[i + 1], h.s[i + 1].X - h.s[i].X, 1e-12 * diag)) continue;
         ++bisected;
-        const double jump = jumpAfterBisection(c, s[i].face, s[i].X, s[i + 1].X);
-        if (jump > 1e-4 * diag && (torn.empty() || torn.back() != s[i].face)) torn.push_back(s[i].face);
+        const double jump = jumpAfterBisection(c, h.s[i].face, h.s[i].X, h.s[i + 1].X);
+        if (jump > 1e-4 * diag && (torn.empty() || torn.back() != h.s[i].face)) torn.push_back(h.s[i].face);
       }
     std::string list;
     for (int f : torn) (list += ' ') += std::to_string(f);  // no string temporary: GCC 12 -Wrestrict
@@ -112,6 +138,66 @@ TEST(PatchContinuity, NoTearInsideAnyFaceOfAnyBundledMesh) {
               tornFaces);
   EXPECT_EQ(meshes, 28);
   EXPECT_GT(steps, size_t(100) * faces);
+}
+
+/// G's derivative along the unit domain direction u at p (m per domain unit).
+Eigen::Vector3d along(const PatchPoint& p, const Eigen::Vector2d& u) { return p.dxi * u.x() + p.deta * u.y(); }
+
+/// The change of the derivative along the step x0 -> x1 of face f (m per domain unit) left after
+/// bisecting it to 1e-9 domain units, the half with the larger change kept.
+double creaseAfterBisection(const PatchCache& c, int f, Eigen::Vector2d x0, Eigen::Vector2d x1) {
+  const Eigen::Vector2d u = (x1 - x0).normalized();
+  PatchPoint a = evaluatePatch(c, f, x0.x(), x0.y()), b = evaluatePatch(c, f, x1.x(), x1.y());
+  while ((x1 - x0).norm() > 1e-9) {
+    const Eigen::Vector2d m = 0.5 * (x0 + x1);
+    const PatchPoint pm = evaluatePatch(c, f, m.x(), m.y());
+    if ((along(pm, u) - along(a, u)).norm() >= (along(b, u) - along(pm, u)).norm()) {
+      x1 = m;
+      b = pm;
+    } else {
+      x0 = m;
+      a = pm;
+    }
+  }
+  return (along(b, u) - along(a, u)).norm();
+}
+
+TEST(PatchContinuity, NoCreaseInsideAnyFaceOfAnyBundledMesh) {
+  int meshes = 0;
+  size_t steps = 0, bisected = 0, creasedFaces = 0;
+  for (const std::string& path : test::sharedMeshFiles()) {
+    SCOPED_TRACE(path);
+    const PatchCache c = test::cacheFromFile(path);
+    const double floor = 1e-9 * boundingDiagonal(c);  // m per domain unit: below it a derivative is noise
+    // a third chord near the centre: L.off's crease is crossed by none of the other two
+    const Chords h = sampleChords(c, {0.15, 0.5, 0.85});
+    std::vector<int> creased;  // faces with a crease, ascending
+    for (size_t ch = 0; ch + 1 < h.chordStart.size(); ++ch) {
+      if (h.chordStart[ch + 1] - h.chordStart[ch] < 2) continue;
+      // the chord's derivative scale: the largest derivative along it (a smooth fold passes
+      // through zero, so the step's own derivatives are no scale)
+      const Eigen::Vector2d u = (h.s[h.chordStart[ch] + 1].X - h.s[h.chordStart[ch]].X).normalized();
+      double scale = floor;
+      for (size_t i = h.chordStart[ch]; i < h.chordStart[ch + 1]; ++i) scale = std::max(scale, along(h.p[i], u).norm());
+      for (size_t i = h.chordStart[ch]; i + 1 < h.chordStart[ch + 1]; ++i) {
+        ++steps;
+        if ((along(h.p[i + 1], u) - along(h.p[i], u)).norm() <= 0.1 * scale) continue;
+        ++bisected;
+        if (creaseAfterBisection(c, h.s[i].face, h.s[i].X, h.s[i + 1].X) > 1e-2 * scale &&
+            (creased.empty() || creased.back() != h.s[i].face))
+          creased.push_back(h.s[i].face);
+      }
+    }
+    std::string list;
+    for (int f : creased) (list += ' ') += std::to_string(f);
+    EXPECT_EQ(list, "") << "faces with a crease";
+    creasedFaces += creased.size();
+    ++meshes;
+  }
+  std::printf("%d meshes, %zu chord steps, %zu bisected, %zu faces with a crease\n", meshes, steps, bisected,
+              creasedFaces);
+  EXPECT_EQ(meshes, 28);
+  EXPECT_GT(bisected, size_t(0));  // the fast-turning stretches are looked at
 }
 
 }  // namespace

@@ -110,7 +110,7 @@ struct TangentData {
 };
 
 /// Robustness 4 (design page): where a tangent-plane direction field a(t), running from a0 at
-/// t = 0 to a1 at t = 1, is shorter than eps, a + (eps - |a|) b with b = n_c x unit(a1 - a0)
+/// t = 0 to a1 at t = 1, is shorter than eps, a + ((eps - |a|)^2 / eps) b with b = n_c x unit(a1 - a0)
 /// turned inward (b . (n_c x C') >= 0), so that where it turns over it turns through b instead
 /// of through zero. Branch on the real part; the length is analytic for the complex step.
 template <class T>
@@ -121,7 +121,8 @@ V3<T> turnPastZero(const V3<T>& a, double eps, const V3<T>& nc, const EdgeData& 
   if (!(realNorm(a) < eps) || !(ls > 0)) return a;
   V3<T> b = cross(nc, lift<T>(span / ls));
   if (re(dot(b, cross(nc, curveDt(E, t)))) < 0.0) b = -b;
-  return a + (T(eps) - T(std::sqrt(dot(a, a)))) * b;
+  const T m = T(eps) - T(std::sqrt(dot(a, a)));
+  return a + (m * m / T(eps)) * b;
 }
 
 /// Robustness 4's eps: 1e-2 (times the largest of the edge's three lengths for t_c).
