@@ -11,8 +11,9 @@
 // path hold different verdicts on a closed mesh, a surface fault of the patch surface (measured
 // by ProbeInsideTest, from the winding number) lies within 3 times the HIP's distance to it: the
 // lazy path has no winding number and goes by the side of its nearest point. On open meshes the
-// two differ too (146 of 3,600 HIPs on six meshes with folded faces, mostly ties between coincident
-// sheets of opposite sides: README, "The contact query"), counted, not asserted.
+// two differ too (146 of 3,600 HIPs on six meshes with folded faces; a folded planar patch gives
+// ties between coincident sheets of opposite sides: README, "The contact query"), counted, not
+// asserted.
 #include <gtest/gtest.h>
 
 #include <cstdio>
