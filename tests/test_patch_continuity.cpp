@@ -50,13 +50,16 @@ bool stepFits(const PatchPoint& a, const PatchPoint& b, const Eigen::Vector2d& d
   return (b.pos - a.pos).norm() <= 4 * predicted + floor;
 }
 
-/// The position change left after bisecting the step x0 -> x1 of face f to 1e-9 domain units.
-double jumpAfterBisection(const PatchCache& c, int f, Eigen::Vector2d x0, Eigen::Vector2d x1) {
+/// The change of value(p) (a 3-vector of the patch point p) left after bisecting the step x0 -> x1
+/// of face f to 1e-9 domain units, the half with the larger change kept: a jump of the position
+/// (a tear) or of a derivative (a crease) keeps its size, a continuous change shrinks.
+template <class Value>
+double changeAfterBisection(const PatchCache& c, int f, Eigen::Vector2d x0, Eigen::Vector2d x1, Value value) {
   PatchPoint a = evaluatePatch(c, f, x0.x(), x0.y()), b = evaluatePatch(c, f, x1.x(), x1.y());
   while ((x1 - x0).norm() > 1e-9) {
     const Eigen::Vector2d m = 0.5 * (x0 + x1);
     const PatchPoint pm = evaluatePatch(c, f, m.x(), m.y());
-    if ((pm.pos - a.pos).norm() >= (b.pos - pm.pos).norm()) {
+    if ((value(pm) - value(a)).norm() >= (value(b) - value(pm)).norm()) {
       x1 = m;
       b = pm;
     } else {
@@ -64,7 +67,14 @@ double jumpAfterBisection(const PatchCache& c, int f, Eigen::Vector2d x0, Eigen:
       a = pm;
     }
   }
-  return (b.pos - a.pos).norm();
+  return (value(b) - value(a)).norm();
+}
+
+/// The faces of a list as " f0 f1 ...", empty for none (what a test expects to be empty).
+std::string faceList(const std::vector<int>& faces) {
+  std::string list;
+  for (int f : faces) (list += ' ') += std::to_string(f);  // no string temporary: GCC 12 -Wrestrict
+  return list;
 }
 
 /// Chords of every built face's domain (parallel to each of its edges, at the given insets: the
@@ -125,12 +135,11 @@ TEST(PatchContinuity, NoTearInsideAnyFaceOfAnyBundledMesh) {
         ++steps;
         if (stepFits(h.p[i], h.p[i + 1], h.s[i + 1].X - h.s[i].X, 1e-12 * diag)) continue;
         ++bisected;
-        const double jump = jumpAfterBisection(c, h.s[i].face, h.s[i].X, h.s[i + 1].X);
+        const double jump =
+            changeAfterBisection(c, h.s[i].face, h.s[i].X, h.s[i + 1].X, [](const PatchPoint& p) { return p.pos; });
         if (jump > 1e-4 * diag && (torn.empty() || torn.back() != h.s[i].face)) torn.push_back(h.s[i].face);
       }
-    std::string list;
-    for (int f : torn) (list += ' ') += std::to_string(f);  // no string temporary: GCC 12 -Wrestrict
-    EXPECT_EQ(list, "") << "faces that tear";
+    EXPECT_EQ(faceList(torn), "") << "faces that tear";
     tornFaces += torn.size();
     ++meshes;
   }
@@ -142,25 +151,6 @@ TEST(PatchContinuity, NoTearInsideAnyFaceOfAnyBundledMesh) {
 
 /// G's derivative along the unit domain direction u at p (m per domain unit).
 Eigen::Vector3d along(const PatchPoint& p, const Eigen::Vector2d& u) { return p.dxi * u.x() + p.deta * u.y(); }
-
-/// The change of the derivative along the step x0 -> x1 of face f (m per domain unit) left after
-/// bisecting it to 1e-9 domain units, the half with the larger change kept.
-double creaseAfterBisection(const PatchCache& c, int f, Eigen::Vector2d x0, Eigen::Vector2d x1) {
-  const Eigen::Vector2d u = (x1 - x0).normalized();
-  PatchPoint a = evaluatePatch(c, f, x0.x(), x0.y()), b = evaluatePatch(c, f, x1.x(), x1.y());
-  while ((x1 - x0).norm() > 1e-9) {
-    const Eigen::Vector2d m = 0.5 * (x0 + x1);
-    const PatchPoint pm = evaluatePatch(c, f, m.x(), m.y());
-    if ((along(pm, u) - along(a, u)).norm() >= (along(b, u) - along(pm, u)).norm()) {
-      x1 = m;
-      b = pm;
-    } else {
-      x0 = m;
-      a = pm;
-    }
-  }
-  return (along(b, u) - along(a, u)).norm();
-}
 
 TEST(PatchContinuity, NoCreaseInsideAnyFaceOfAnyBundledMesh) {
   int meshes = 0;
@@ -177,20 +167,19 @@ TEST(PatchContinuity, NoCreaseInsideAnyFaceOfAnyBundledMesh) {
       // the chord's derivative scale: the largest derivative along it (a smooth fold passes
       // through zero, so the step's own derivatives are no scale)
       const Eigen::Vector2d u = (h.s[h.chordStart[ch] + 1].X - h.s[h.chordStart[ch]].X).normalized();
+      const auto alongU = [&u](const PatchPoint& p) { return along(p, u); };
       double scale = floor;
       for (size_t i = h.chordStart[ch]; i < h.chordStart[ch + 1]; ++i) scale = std::max(scale, along(h.p[i], u).norm());
       for (size_t i = h.chordStart[ch]; i + 1 < h.chordStart[ch + 1]; ++i) {
         ++steps;
         if ((along(h.p[i + 1], u) - along(h.p[i], u)).norm() <= 0.1 * scale) continue;
         ++bisected;
-        if (creaseAfterBisection(c, h.s[i].face, h.s[i].X, h.s[i + 1].X) > 1e-2 * scale &&
+        if (changeAfterBisection(c, h.s[i].face, h.s[i].X, h.s[i + 1].X, alongU) > 1e-2 * scale &&
             (creased.empty() || creased.back() != h.s[i].face))
           creased.push_back(h.s[i].face);
       }
     }
-    std::string list;
-    for (int f : creased) (list += ' ') += std::to_string(f);
-    EXPECT_EQ(list, "") << "faces with a crease";
+    EXPECT_EQ(faceList(creased), "") << "faces with a crease";
     creasedFaces += creased.size();
     ++meshes;
   }
