@@ -1,5 +1,7 @@
 #include <smoothforce/patch/tessellate.h>
 
+#include <string>
+
 #include "gp_config.h"
 
 namespace sf {
@@ -11,6 +13,61 @@ void domainRingPoints(int n, int L, std::vector<Eigen::Vector2d>& out) {
       const Eigen::Vector2d a = domainCorner(n, k), b = domainCorner(n, (k + 1) % n);
       for (int j = 0; j < r; ++j) out.push_back((double(r) / L) * (a + (double(j) / r) * (b - a)));
     }
+}
+
+void ringTriangles(int n, int L, int32_t base, std::vector<std::array<int32_t, 3>>& out) {
+  // ring r (0..L) has n r vertices (1 at the centre): the domain polygon scaled by r/L, each
+  // side split in r; vertex (r, k, j) = (r/L) (C_k + j/r (C_{k+1} - C_k)).
+  auto ringStart = [&](int r) { return r == 0 ? 0 : 1 + n * r * (r - 1) / 2; };
+  auto idx = [&](int r, int k, int j) {  // j may equal r: the next side's first vertex
+    return base + (r == 0 ? 0 : ringStart(r) + ((k * r + j) % (n * r)));
+  };
+  for (int r = 1; r <= L; ++r)
+    for (int k = 0; k < n; ++k) {
+      for (int j = 0; j < r; ++j) out.push_back({idx(r, k, j), idx(r, k, j + 1), idx(r - 1, k, j)});
+      for (int j = 0; j + 1 < r; ++j) out.push_back({idx(r - 1, k, j), idx(r, k, j + 1), idx(r - 1, k, j + 1)});
+    }
+}
+
+std::vector<int32_t> builtFaces(const PatchCache& cache) {
+  std::vector<int32_t> faces;
+  for (int f = 0; f < cache.numFaces(); ++f)
+    if (!(cache.faceStatus[f] & GP_ST_NOT_BUILT)) faces.push_back(f);
+  return faces;
+}
+
+void visitRingPoints(const PatchCache& cache, int level, const int32_t* faces, size_t count,
+                     const BatchEvaluator& evaluate,
+                     const std::function<void(size_t i, const PatchPoint* points, size_t m)>& visit) {
+  if (level < 1 || level > 256) throw InputError("--level: expected 1..256, got " + std::to_string(level));
+  constexpr size_t kBatchPoints = size_t(1) << 18;
+  std::vector<int32_t> qf;
+  std::vector<double> qx, qy;
+  std::vector<size_t> first;  // the batch's faces' first points
+  std::vector<Eigen::Vector2d> dom;
+  std::vector<PatchPoint> pts;
+  for (size_t b = 0; b < count;) {
+    qf.clear();
+    qx.clear();
+    qy.clear();
+    first.clear();
+    size_t e = b;
+    for (; e < count && (e == b || qf.size() < kBatchPoints); ++e) {
+      first.push_back(qf.size());
+      dom.clear();
+      domainRingPoints(cache.faceSize(faces[e]), level, dom);
+      for (const Eigen::Vector2d& p : dom) {
+        qf.push_back(faces[e]);
+        qx.push_back(p.x());
+        qy.push_back(p.y());
+      }
+    }
+    first.push_back(qf.size());
+    pts.resize(qf.size());
+    evaluate(qf.data(), qx.data(), qy.data(), qf.size(), pts.data());
+    for (size_t i = b; i < e; ++i) visit(i, pts.data() + first[i - b], first[i - b + 1] - first[i - b]);
+    b = e;
+  }
 }
 
 TriangleMesh tessellatePatches(const PatchCache& cache, int level, const BatchEvaluator& evaluate) {
@@ -26,13 +83,6 @@ TriangleMesh tessellatePatches(const PatchCache& cache, int level, const BatchEv
     const int n = cache.faceSize(f);
     const int base = static_cast<int>(qf.size());
     out.firstVertex[f] = base;
-    // ring r (0..L) has n r vertices (1 at the centre): the domain polygon scaled by r/L,
-    // each side split in r; vertex (r, k, j) = (r/L) (C_k + j/r (C_{k+1} - C_k)).
-    auto ringStart = [&](int r) { return r == 0 ? 0 : 1 + n * r * (r - 1) / 2; };
-    auto idx = [&](int r, int k, int j) {  // j may equal r: the next side's first vertex
-      if (r == 0) return base;
-      return base + ringStart(r) + ((k * r + j) % (n * r));
-    };
     dom.clear();
     domainRingPoints(n, L, dom);
     for (const Eigen::Vector2d& p : dom) {
@@ -40,17 +90,9 @@ TriangleMesh tessellatePatches(const PatchCache& cache, int level, const BatchEv
       qx.push_back(p.x());
       qy.push_back(p.y());
     }
-    for (int r = 1; r <= L; ++r)
-      for (int k = 0; k < n; ++k) {
-        for (int j = 0; j < r; ++j) {
-          out.triangles.push_back({idx(r, k, j), idx(r, k, j + 1), idx(r - 1, k, j)});
-          out.face.push_back(f);
-        }
-        for (int j = 0; j + 1 < r; ++j) {
-          out.triangles.push_back({idx(r - 1, k, j), idx(r, k, j + 1), idx(r - 1, k, j + 1)});
-          out.face.push_back(f);
-        }
-      }
+    const size_t t0 = out.triangles.size();
+    ringTriangles(n, L, base, out.triangles);
+    out.face.insert(out.face.end(), out.triangles.size() - t0, f);
   }
   std::vector<PatchPoint> pts(qf.size());
   evaluate(qf.data(), qx.data(), qy.data(), qf.size(), pts.data());

@@ -67,17 +67,6 @@ void addSamples(Batch& b, int face, const std::array<Eigen::Vector2d, 3>& X) {
   for (int k = 0; k < 4; ++k) b.add(face, kW[k][0] * X[0] + kW[k][1] * X[1] + kW[k][2] * X[2]);
 }
 
-/// Ring triangulation of one n-gon's level-L domainRingPoints, indices relative to the face's first vertex.
-void ringTriangles(int n, int L, std::vector<std::array<int32_t, 3>>& out) {
-  auto ringStart = [&](int r) { return r == 0 ? 0 : 1 + n * r * (r - 1) / 2; };
-  auto idx = [&](int r, int k, int j) { return r == 0 ? 0 : ringStart(r) + ((k * r + j) % (n * r)); };
-  for (int r = 1; r <= L; ++r)
-    for (int k = 0; k < n; ++k) {
-      for (int j = 0; j < r; ++j) out.push_back({idx(r, k, j), idx(r, k, j + 1), idx(r - 1, k, j)});
-      for (int j = 0; j + 1 < r; ++j) out.push_back({idx(r - 1, k, j), idx(r, k, j + 1), idx(r - 1, k, j + 1)});
-    }
-}
-
 }  // namespace
 
 double evaluationNoise(const PatchCache& cache) {
@@ -116,7 +105,7 @@ UniformTessellation tessellateUniform(const PatchCache& cache, int L) {
     domainRingPoints(n, L, dom);
     t.domain.insert(t.domain.end(), dom.begin(), dom.end());
     local.clear();
-    ringTriangles(n, L, local);
+    ringTriangles(n, L, 0, local);
     for (const auto& tr : local) {
       t.tri.push_back({base + tr[0], base + tr[1], base + tr[2]});
       t.triFace.push_back(f);

@@ -26,8 +26,6 @@ namespace {
 
 double uniform01(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1.0p-53; }
 
-bool evaluable(const PatchCache& c, int f) { return !(c.faceStatus[f] & GP_ST_NOT_BUILT); }
-
 /// Domain triangles of face f at `level` rings, the ring layout of tessellatePatches.
 void domainTriangles(int n, int L, std::vector<Eigen::Vector2d>& out) {
   auto vtx = [&](int r, int k, int j) -> Eigen::Vector2d {
@@ -110,58 +108,70 @@ std::string depthTag(const std::string& label) {
 
 PatchSurfaceSampler::PatchSurfaceSampler(const PatchCache& cache, int level) : cache_(cache) {
   if (level < 1 || level > 64) throw InputError("sampling level must be in [1, 64], got " + std::to_string(level));
-  std::vector<Eigen::Vector2d> tri;
-  std::vector<int> faces;
-  std::vector<size_t> tfirst{0};  // faces[i]'s triangles: tfirst[i]..tfirst[i + 1]
-  for (int f = 0; f < cache.numFaces(); ++f) {
-    if (!evaluable(cache, f)) continue;
-    tri.clear();
-    domainTriangles(cache.faceSize(f), level, tri);
-    dom_.insert(dom_.end(), tri.begin(), tri.end());
-    face_.insert(face_.end(), tri.size() / 3, f);
-    faces.push_back(f);
-    tfirst.push_back(face_.size());
+  faces_ = builtFaces(cache);
+  if (faces_.empty()) throw InputError("sampling: no patch can be evaluated");
+  // Per polygon size n: the small triangles' domain corners (domainTriangles' layout, the same
+  // for every n-gon), and the distinct corners among them (a ring point is a corner of up to 6
+  // triangles): each face evaluates those once.
+  struct Corners {
+    std::vector<Eigen::Vector2d> points;  ///< distinct corners, bit for bit
+    std::vector<uint32_t> slot;           ///< per corner (3 per triangle): its index in points
+  };
+  std::vector<Corners> distinct;
+  first_.assign(1, 0);
+  for (const int32_t f : faces_) {
+    const size_t n = static_cast<size_t>(cache.faceSize(f));
+    if (dom_.size() <= n) {
+      dom_.resize(n + 1);
+      distinct.resize(n + 1);
+    }
+    if (dom_[n].empty()) {
+      domainTriangles(static_cast<int>(n), level, dom_[n]);
+      std::vector<uint32_t> order(dom_[n].size());
+      for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+      const auto& d = dom_[n];
+      std::sort(order.begin(), order.end(), [&](uint32_t i, uint32_t j) {
+        return d[i].x() < d[j].x() || (d[i].x() == d[j].x() && (d[i].y() < d[j].y() || (d[i].y() == d[j].y() && i < j)));
+      });
+      Corners& c = distinct[n];
+      c.slot.resize(order.size());
+      for (size_t k = 0; k < order.size(); ++k) {
+        if (k == 0 || d[order[k]] != d[order[k - 1]]) c.points.push_back(d[order[k]]);
+        c.slot[order[k]] = static_cast<uint32_t>(c.points.size() - 1);
+      }
+    }
+    first_.push_back(first_.back() + dom_[n].size() / 3);
   }
-  if (face_.empty()) throw InputError("sampling: no patch can be evaluated");
-  // the triangles' areas a few faces at a time: each distinct corner of the chunk's triangles
-  // evaluated once (a ring point is a corner of up to 6 triangles), not one array of every corner
-  // of the mesh; the same points, so the same values
-  std::vector<double> area(face_.size());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, faces.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
-    const size_t t0 = tfirst[r.begin()], t1 = tfirst[r.end()], m = 3 * (t1 - t0);
-    auto same = [&](size_t i, size_t j) {  // corners i, j of the chunk: the same face and point
-      return face_[t0 + i / 3] == face_[t0 + j / 3] && dom_[3 * t0 + i] == dom_[3 * t0 + j];
-    };
-    auto before = [&](size_t i, size_t j) {
-      const int fi = face_[t0 + i / 3], fj = face_[t0 + j / 3];
-      const Eigen::Vector2d &a = dom_[3 * t0 + i], &b = dom_[3 * t0 + j];
-      return fi < fj || (fi == fj && (a.x() < b.x() || (a.x() == b.x() && a.y() < b.y())));
-    };
-    std::vector<size_t> order(m), slot(m);
-    for (size_t i = 0; i < m; ++i) order[i] = i;
-    std::sort(order.begin(), order.end(), before);
+  // the triangles' areas a few faces at a time (each face's distinct corners evaluated once);
+  // the same points as every corner evaluated, so the same values
+  std::vector<double> area(first_.back());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, faces_.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
     std::vector<int32_t> qf;
     std::vector<double> qx, qy;
-    for (size_t k = 0; k < m; ++k) {
-      const size_t i = order[k];
-      if (k == 0 || !same(order[k - 1], i)) {
-        qf.push_back(face_[t0 + i / 3]);
-        qx.push_back(dom_[3 * t0 + i].x());
-        qy.push_back(dom_[3 * t0 + i].y());
+    std::vector<size_t> at;  // each face's first point in the batch
+    for (size_t i = r.begin(); i < r.end(); ++i) {
+      at.push_back(qf.size());
+      for (const Eigen::Vector2d& X : distinct[static_cast<size_t>(cache.faceSize(faces_[i]))].points) {
+        qf.push_back(faces_[i]);
+        qx.push_back(X.x());
+        qy.push_back(X.y());
       }
-      slot[i] = qf.size() - 1;
     }
     std::vector<PatchPoint> pts(qf.size());
     evaluatePatches(cache, qf.data(), qx.data(), qy.data(), qf.size(), pts.data(), Backend::Serial);
-    for (size_t t = t0; t < t1; ++t) {
-      const size_t j = 3 * (t - t0);
-      const Eigen::Vector3d &a = pts[slot[j]].pos, &b = pts[slot[j + 1]].pos, &c = pts[slot[j + 2]].pos;
-      area[t] = 0.5 * (b - a).cross(c - a).norm();
+    for (size_t i = r.begin(); i < r.end(); ++i) {
+      const std::vector<uint32_t>& slot = distinct[static_cast<size_t>(cache.faceSize(faces_[i]))].slot;
+      const PatchPoint* p = pts.data() + at[i - r.begin()];
+      for (size_t t = first_[i]; t < first_[i + 1]; ++t) {
+        const size_t j = 3 * (t - first_[i]);
+        const Eigen::Vector3d &a = p[slot[j]].pos, &b = p[slot[j + 1]].pos, &c = p[slot[j + 2]].pos;
+        area[t] = 0.5 * (b - a).cross(c - a).norm();
+      }
     }
   });
-  cdf_.resize(face_.size());
+  cdf_.resize(area.size());
   double acc = 0;
-  for (size_t t = 0; t < face_.size(); ++t) {
+  for (size_t t = 0; t < area.size(); ++t) {
     acc += std::isfinite(area[t]) ? area[t] : 0.0;
     cdf_[t] = acc;
   }
@@ -184,9 +194,12 @@ std::vector<SurfaceSample> PatchSurfaceSampler::sample(size_t n, uint64_t seed) 
     qy.resize(todo.size());
     for (size_t j = 0; j < todo.size(); ++j) {  // serial: one RNG stream, deterministic
       const size_t t = pickByCdf(cdf_, uniform01(rng));
+      const size_t i = static_cast<size_t>(std::upper_bound(first_.begin(), first_.end(), t) - first_.begin()) - 1;
+      const int32_t f = faces_[i];
+      const Eigen::Vector2d* X0 = dom_[static_cast<size_t>(cache_.faceSize(f))].data() + 3 * (t - first_[i]);
       const double s = std::sqrt(uniform01(rng)), v = uniform01(rng);
-      const Eigen::Vector2d X = (1 - s) * dom_[3 * t] + s * (1 - v) * dom_[3 * t + 1] + s * v * dom_[3 * t + 2];
-      qf[j] = face_[t];
+      const Eigen::Vector2d X = (1 - s) * X0[0] + s * (1 - v) * X0[1] + s * v * X0[2];
+      qf[j] = f;
       qx[j] = X.x();
       qy[j] = X.y();
     }

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <string>
 #include <unordered_map>
 
@@ -134,50 +135,104 @@ std::vector<Eigen::Vector3d> longestSection(const std::vector<Eigen::Vector3d>& 
 
 }  // namespace
 
-std::vector<Eigen::Vector3d> defaultTrajectory(const PatchCache& cache, int level) {
-  const TriangleMesh tm = tessellatePatches(
-      cache, level, [&](const int32_t* f, const double* x, const double* y, size_t n, PatchPoint* out) {
-        evaluatePatches(cache, f, x, y, n, out, Backend::Tbb);
-      });
-  if (tm.triangles.empty()) return {};
-  Eigen::Vector3d lo = tm.positions[0], hi = lo;
-  for (const auto& p : tm.positions) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  // Weld the patches' shared boundary vertices (each patch has its own copies).
-  const double tol = 1e-7 * std::max((hi - lo).norm(), 1e-300);
+namespace {
+
+/// The welded level-L tessellation of faces[0..count) (their ring points in order, each point's
+/// weld key its position rounded to a grid of `tol` m; a key's first point is the vertex) into
+/// (P, tri): triangles with three distinct vertices, in order.
+void weldedRings(const PatchCache& cache, int level, const std::vector<int32_t>& faces, double tol,
+                 const BatchEvaluator& evaluate, std::vector<Eigen::Vector3d>& P,
+                 std::vector<std::array<int, 3>>& tri) {
   struct KeyHash {  // XXH64 of the three grid coordinates
     size_t operator()(const std::array<long long, 3>& k) const noexcept {
       return static_cast<size_t>(hashBytes(k.data(), sizeof k));
     }
   };
   std::unordered_map<std::array<long long, 3>, int, KeyHash> weld;
-  weld.reserve(tm.positions.size());
-  std::vector<int> id(tm.positions.size());
-  std::vector<Eigen::Vector3d> P;
-  for (size_t i = 0; i < tm.positions.size(); ++i) {
-    std::array<long long, 3> key;
-    for (int a = 0; a < 3; ++a) key[a] = std::llround(tm.positions[i][a] / tol);
-    auto [it, fresh] = weld.emplace(key, static_cast<int>(P.size()));
-    if (fresh) P.push_back(tm.positions[i]);
-    id[i] = it->second;
-  }
-  std::vector<std::array<int, 3>> tri;
-  tri.reserve(tm.triangles.size());
-  for (const auto& t : tm.triangles) {
-    const std::array<int, 3> v = {id[t[0]], id[t[1]], id[t[2]]};
-    if (v[0] != v[1] && v[1] != v[2] && v[0] != v[2]) tri.push_back(v);
-  }
+  std::vector<int> id;
+  std::vector<std::array<int32_t, 3>> local;
+  P.clear();
+  tri.clear();
+  visitRingPoints(cache, level, faces.data(), faces.size(), evaluate,
+                  [&](size_t i, const PatchPoint* pts, size_t m) {
+                    id.resize(m);
+                    for (size_t v = 0; v < m; ++v) {
+                      std::array<long long, 3> key;
+                      for (int a = 0; a < 3; ++a) key[a] = std::llround(pts[v].pos[a] / tol);
+                      auto [it, fresh] = weld.emplace(key, static_cast<int>(P.size()));
+                      if (fresh) P.push_back(pts[v].pos);
+                      id[v] = it->second;
+                    }
+                    local.clear();
+                    ringTriangles(cache.faceSize(faces[i]), level, 0, local);
+                    for (const auto& t : local) {
+                      const std::array<int, 3> w = {id[t[0]], id[t[1]], id[t[2]]};
+                      if (w[0] != w[1] && w[1] != w[2] && w[0] != w[2]) tri.push_back(w);
+                    }
+                  });
+}
+
+}  // namespace
+
+std::vector<Eigen::Vector3d> defaultTrajectory(const PatchCache& cache, int level) {
+  const std::vector<int32_t> built = builtFaces(cache);
+  if (level < 1 || level > 256) throw InputError("--level: expected 1..256, got " + std::to_string(level));
+  if (built.empty()) return {};
+  const BatchEvaluator evaluate = [&](const int32_t* f, const double* x, const double* y, size_t n, PatchPoint* out) {
+    evaluatePatches(cache, f, x, y, n, out, Backend::Tbb);
+  };
+  // The section is that of the whole welded level-L tessellation, but only the faces near the
+  // cutting plane take part in it: each face's ring points are evaluated once for its box (and
+  // the whole tessellation's, which places the plane), and the faces near the plane again for
+  // the weld and the section (on a 70k-face mesh 0.5 s instead of 6 s, and no array of every
+  // point). Min and max in the order of the points, as over the whole tessellation: a NaN first
+  // point keeps the box NaN, later NaNs are passed over.
+  std::vector<Eigen::Vector3d> faceLo(built.size()), faceHi(built.size());
+  std::vector<char> finite(built.size(), 1);
+  Eigen::Vector3d lo, hi;
+  visitRingPoints(cache, level, built.data(), built.size(), evaluate, [&](size_t i, const PatchPoint* pts, size_t m) {
+    if (i == 0) lo = hi = pts[0].pos;
+    Eigen::Vector3d a = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), b = -a;
+    for (size_t v = 0; v < m; ++v) {
+      a = a.cwiseMin(pts[v].pos);
+      b = b.cwiseMax(pts[v].pos);
+      finite[i] = finite[i] && pts[v].pos.allFinite();
+    }
+    faceLo[i] = a;
+    faceHi[i] = b;
+    lo = lo.cwiseMin(a);
+    hi = hi.cwiseMax(b);
+  });
+  // Weld the patches' shared boundary vertices (each patch has its own copies).
+  const double tol = 1e-7 * std::max((hi - lo).norm(), 1e-300);
   // the box's axes from the shortest: a flat mesh lies in the plane normal to its shortest axis
   // (within rounding: a section there is rounding noise, so that axis is passed over), and the
   // next axis cuts across it
   const Eigen::Vector3d extent = hi - lo;
   std::array<int, 3> axes = {0, 1, 2};
   std::stable_sort(axes.begin(), axes.end(), [&](int a, int b) { return extent[a] < extent[b]; });
+  std::vector<Eigen::Vector3d> P;
+  std::vector<std::array<int, 3>> tri;
   for (const int axis : axes) {
     if (!(extent[axis] > kFlatExtent * extent.norm())) continue;
-    std::vector<Eigen::Vector3d> best = longestSection(P, tri, axis, 0.5 * (lo[axis] + hi[axis]));
+    const double c = 0.5 * (lo[axis] + hi[axis]);
+    // A triangle crosses the plane where its welded vertices do; each lies in the weld cell
+    // (diagonal sqrt(3) tol) of every copy of it, so its face's points reach within that of the
+    // plane. Such a face's points lie within `reach` of the plane, and every point welded with
+    // one of them (an earlier copy gives the vertex's position) within reach + sqrt(3) tol: the
+    // faces with points there are welded, in order, as in the whole tessellation; a face with
+    // a non-finite point always is.
+    const double near = 2 * tol;
+    double reach = near;
+    for (size_t i = 0; i < built.size(); ++i)
+      if (finite[i] && faceLo[i][axis] <= c + near && faceHi[i][axis] >= c - near)
+        reach = std::max(reach, std::max(faceHi[i][axis] - c, c - faceLo[i][axis]));
+    reach += 2 * tol;
+    std::vector<int32_t> faces;
+    for (size_t i = 0; i < built.size(); ++i)
+      if (!finite[i] || (faceLo[i][axis] <= c + reach && faceHi[i][axis] >= c - reach)) faces.push_back(built[i]);
+    weldedRings(cache, level, faces, tol, evaluate, P, tri);
+    std::vector<Eigen::Vector3d> best = longestSection(P, tri, axis, c);
     if (!best.empty()) return best;
   }
   return {};

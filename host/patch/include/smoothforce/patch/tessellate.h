@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,22 @@ struct TriangleMesh {
 /// order: the centre, then ring r = 1..L (the domain polygon scaled by r/L, each side split in
 /// r): 1 + n L (L+1) / 2 points (xi, eta).
 void domainRingPoints(int n, int level, std::vector<Eigen::Vector2d>& out);
+
+/// Appends the triangles of one n-gon's level-L ring tessellation (n L^2, counter-clockwise seen
+/// from outside, tessellatePatches' order), as indices of domainRingPoints(n, L) plus `base`.
+void ringTriangles(int n, int level, int32_t base, std::vector<std::array<int32_t, 3>>& out);
+
+/// The faces of `cache` whose patches are built (status without GP_ST_NOT_BUILT), in order.
+std::vector<int32_t> builtFaces(const PatchCache& cache);
+
+/// Evaluates the level-L domainRingPoints of faces[0..count) a bounded batch at a time (at most
+/// about 2^18 points each: memory stays bounded on meshes of millions of faces) and calls
+/// visit(i, points, m) for each face faces[i] in order, with its m ring points' evaluations.
+/// The values are those of one batch of every point (evaluations are bit-identical whatever the
+/// batch). Throws InputError when level is outside [1, 256].
+void visitRingPoints(const PatchCache& cache, int level, const int32_t* faces, size_t count,
+                     const BatchEvaluator& evaluate,
+                     const std::function<void(size_t i, const PatchPoint* points, size_t m)>& visit);
 
 /// Samples every built patch on `level` rings (each polygon edge split `level` times):
 /// 1 + n L (L+1) / 2 vertices and n L^2 triangles per n-gon, counter-clockwise seen from

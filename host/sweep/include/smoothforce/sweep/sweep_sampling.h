@@ -38,6 +38,8 @@ std::string depthTag(const std::string& label);
 /// The patches split into small triangles (each polygon edge in `level`), the triangles'
 /// 3-D areas as sampling weights. Samples: a triangle by area, then a uniform barycentric point
 /// in that triangle's DOMAIN coordinates, evaluated exactly on the patch (point and normal).
+/// Memory: 8 bytes per small triangle (the cumulative areas; n L^2 per n-gon), the domain
+/// triangles kept once per polygon size.
 class PatchSurfaceSampler {
  public:
   /// Throws InputError when no patch can be evaluated or level is outside [1, 64].
@@ -50,9 +52,10 @@ class PatchSurfaceSampler {
 
  private:
   const PatchCache& cache_;
-  std::vector<int32_t> face_;         ///< per small triangle
-  std::vector<Eigen::Vector2d> dom_;  ///< 3 domain corners per small triangle
-  std::vector<double> cdf_;           ///< cumulative areas
+  std::vector<int32_t> faces_;                     ///< the built faces, in order
+  std::vector<size_t> first_;                      ///< #faces_ + 1: each one's first small triangle
+  std::vector<std::vector<Eigen::Vector2d>> dom_;  ///< per polygon size n: 3 domain corners per small triangle
+  std::vector<double> cdf_;                        ///< cumulative areas, per small triangle
   double area_ = 0;
 };
 
