@@ -11,6 +11,7 @@
 
 #include <smoothforce/base/hash.h>
 #include <smoothforce/base/thread_limit.h>
+#include <smoothforce/sweep/morton_order.h>
 
 namespace sf {
 
@@ -76,47 +77,17 @@ void fillHipResult(HipResult& r, const ForceSample& s, const ReferenceSurface* r
   r.done = 1;
 }
 
-namespace {
-/// Spreads the low 21 bits of x to every third bit (bit i to bit 3 i).
-uint64_t spreadBits3(uint64_t x) {
-  x &= 0x1fffff;
-  x = (x | x << 32) & 0x1f00000000ffffULL;
-  x = (x | x << 16) & 0x1f0000ff0000ffULL;
-  x = (x | x << 8) & 0x100f00f00f00f00fULL;
-  x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
-  x = (x | x << 2) & 0x1249249249249249ULL;
-  return x;
-}
-}  // namespace
-
 std::vector<uint32_t> probeOrder(const HipSet& set, size_t begin, size_t end) {
   const size_t n = end > begin ? end - begin : 0;
   std::vector<uint32_t> order(n);
   constexpr size_t kSegment = size_t(1) << 20;  // sorted segment by segment: bounded scratch
-  std::vector<std::pair<uint64_t, uint32_t>> key;
+  std::vector<Eigen::Vector3d> q;
   for (size_t s0 = 0; s0 < n; s0 += kSegment) {
     const size_t m = std::min(kSegment, n - s0);
-    Eigen::AlignedBox3d box;
-    for (size_t i = 0; i < m; ++i) {
-      const Eigen::Vector3d q = set.hip(begin + s0 + i);
-      if (q.allFinite()) box.extend(q);
-    }
-    const Eigen::Vector3d lo = box.isEmpty() ? Eigen::Vector3d::Zero() : box.min();
-    const double extent = box.isEmpty() ? 0.0 : box.sizes().maxCoeff();
-    const double scale = extent > 0 ? double((1 << 21) - 1) / extent : 0.0;
-    key.resize(m);
-    tbb::parallel_for(size_t(0), m, [&](size_t i) {
-      const Eigen::Vector3d q = set.hip(begin + s0 + i);
-      uint64_t code = ~uint64_t(0);  // non-finite HIPs last
-      if (q.allFinite()) {
-        code = 0;
-        for (int a = 0; a < 3; ++a)
-          code |= spreadBits3(uint64_t(std::clamp((q[a] - lo[a]) * scale, 0.0, double((1 << 21) - 1)))) << a;
-      }
-      key[i] = {code, static_cast<uint32_t>(s0 + i)};
-    });
-    std::sort(key.begin(), key.end());
-    for (size_t i = 0; i < m; ++i) order[s0 + i] = key[i].second;
+    q.resize(m);
+    tbb::parallel_for(size_t(0), m, [&](size_t i) { q[i] = set.hip(begin + s0 + i); });
+    const std::vector<uint32_t> seg = mortonOrder(q);
+    for (size_t i = 0; i < m; ++i) order[s0 + i] = static_cast<uint32_t>(s0 + seg[i]);
   }
   return order;
 }

@@ -1,5 +1,7 @@
 // NumPy .npy writer and the per-HIP results_METHOD.npy of a sweep (sweep_outputs.h).
 // Format: https://numpy.org/doc/stable/reference/generated/numpy.lib.format.html (version 1.0).
+#include <tbb/parallel_for.h>
+
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -90,9 +92,9 @@ size_t sweepNpyRecordSize() {
 
 void writeSweepNpy(const SweepData& d, const std::vector<std::vector<double>>& disc, const std::string& dir) {
   const size_t N = d.config.samples, total = d.hips.size();
-  std::vector<unsigned char> bytes;
-  for (size_t m = 0; m < d.config.methods.size(); ++m) {
-    bytes.clear();
+  // one method's file per task (each packs its own records: 174 MB for 2 x 10^6 HIPs)
+  tbb::parallel_for(size_t(0), d.config.methods.size(), [&](size_t m) {
+    std::vector<unsigned char> bytes;
     bytes.reserve(total * sweepNpyRecordSize());
     RecordPacker p(bytes);
     for (size_t g = 0; g < total; ++g) {
@@ -106,7 +108,7 @@ void writeSweepNpy(const SweepData& d, const std::vector<std::vector<double>>& d
         << hipMissed(r) << r.done;
     }
     writeNpy(dir + "/results_" + d.config.methods[m] + ".npy", sweepNpyFields(), total, bytes.data());
-  }
+  });
 }
 
 }  // namespace sf

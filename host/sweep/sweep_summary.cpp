@@ -1,4 +1,7 @@
 // writeSweepSummary (sweep_io.h): metrics, summary.json, PLY point clouds, the printed table.
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -200,12 +203,20 @@ std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
       for (size_t i = 0; i < index.size(); ++i) hipDisc[m][index[i]] = disc.local[i];
       clouds.push_back(CloudJob{tag, g, HipCloud{&d, m, std::move(index), disc.local}});
     }
-  for (const CloudJob& j : clouds) {
-    const double ref = colourRef[j.group] > 0 ? colourRef[j.group] : thr / std::max(spacing, 1e-300);
-    writeHipPly(dir + "/" + j.tag + ".ply", j.cloud, ref);
-    writeHipVtp(dir + "/" + j.tag + ".vtp", j.cloud);
-  }
-  writeSweepNpy(d, hipDisc, dir);
+  // the point clouds and the .npy files side by side (independent files; 1.6 GB for 10^6 samples
+  // at two depths and three methods, 3.8 s one after the other)
+  tbb::parallel_invoke(
+      [&] {
+        tbb::parallel_for(size_t(0), 2 * clouds.size(), [&](size_t k) {
+          const CloudJob& j = clouds[k / 2];
+          const double ref = colourRef[j.group] > 0 ? colourRef[j.group] : thr / std::max(spacing, 1e-300);
+          if (k % 2 == 0)
+            writeHipPly(dir + "/" + j.tag + ".ply", j.cloud, ref);
+          else
+            writeHipVtp(dir + "/" + j.tag + ".vtp", j.cloud);
+        });
+      },
+      [&] { writeSweepNpy(d, hipDisc, dir); });
   ojson trajs = ojson::array();
   for (const auto& t : d.trajectories) {
     if (t.half) continue;

@@ -59,6 +59,11 @@ void writeHipVtp(const std::string& path, const HipCloud& c) {
                                  {"Float32", "ref_distance", 1, {}},  {"Float32", "scp", 3, {}},
                                  {"UInt64", "hip_index", 1, {}}};
   VtpArray points{"Float64", "Points", 3, {}}, conn{"Int64", "connectivity", 1, {}}, offs{"Int64", "offsets", 1, {}};
+  const size_t bytesPerPoint[] = {12, 4, 8, 1, 1, 4, 4, 2, 4, 12, 8};
+  for (size_t a = 0; a < point.size(); ++a) point[a].bytes.reserve(n * bytesPerPoint[a]);
+  points.bytes.reserve(24 * n);
+  conn.bytes.reserve(8 * n);
+  offs.bytes.reserve(8 * n);
   for (size_t i = 0; i < n; ++i) {
     const HipResult& r = record(c, i);
     for (int a = 0; a < 3; ++a) append(point[0].bytes, r.force[a]);
