@@ -13,6 +13,7 @@
 #include <smoothforce/query/patch_surface.h>
 #include <smoothforce/query/polygon_facets.h>
 #include <smoothforce/query/surface_faults.h>
+#include <smoothforce/sweep/morton_order.h>
 #include <smoothforce/sweep/sweep_reference.h>
 
 namespace sf {
@@ -66,8 +67,11 @@ uint32_t ProbeInsideTest::classify(const Eigen::Vector3d& hip) const noexcept {
 }
 
 std::vector<uint32_t> ProbeInsideTest::classify(const std::vector<Eigen::Vector3d>& hips) const {
+  // along a Morton curve of the HIPs: consecutive tests walk the same BVH nodes (a sweep's HIPs
+  // come in the random order of their samples); each test is on its own
+  const std::vector<uint32_t> order = mortonOrder(hips);
   std::vector<uint32_t> out(hips.size());
-  tbb::parallel_for(size_t(0), hips.size(), [&](size_t i) { out[i] = classify(hips[i]); });
+  tbb::parallel_for(size_t(0), hips.size(), [&](size_t k) { out[order[k]] = classify(hips[order[k]]); });
   return out;
 }
 
