@@ -75,9 +75,9 @@ namespace {
 /// A box extent at most this fraction of the box's diagonal is flat (rounding of a planar mesh).
 constexpr double kFlatExtent = 1e-9;
 
-/// The longest chain of the section of the welded triangles (P, tri) by the plane x[axis] = c:
-/// a closed loop (first point repeated last) or an open polyline of positive length; empty when
-/// the plane misses.
+
+}  // namespace
+
 std::vector<Eigen::Vector3d> longestSection(const std::vector<Eigen::Vector3d>& P,
                                             const std::vector<std::array<int, 3>>& tri, int axis, double c) {
   std::vector<double> s(P.size());
@@ -132,8 +132,6 @@ std::vector<Eigen::Vector3d> longestSection(const std::vector<Eigen::Vector3d>& 
   }
   return best;
 }
-
-}  // namespace
 
 namespace {
 

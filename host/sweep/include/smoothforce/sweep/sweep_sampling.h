@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -95,6 +96,14 @@ std::string resampleLimitError(const std::vector<Eigen::Vector3d>& pts, double s
 /// its first point: about polylineLength / step + 1. Throws InputError (resampleLimitError)
 /// where that would be more than kMaxResampledPoints.
 std::vector<Eigen::Vector3d> resamplePolyline(const std::vector<Eigen::Vector3d>& pts, double step);
+
+/// The longest chain of the section of a welded triangle mesh (vertices P, m; triangles tri,
+/// indices into P) by the plane x[axis] = c: a closed loop (first point repeated last) or an open
+/// polyline of positive length, its points where the triangles' edges cross the plane (a vertex
+/// exactly on it counts as on the positive side); empty when the plane misses. Chains follow
+/// the triangles' order; of equally long ones, the first.
+std::vector<Eigen::Vector3d> longestSection(const std::vector<Eigen::Vector3d>& P,
+                                            const std::vector<std::array<int, 3>>& tri, int axis, double c);
 
 /// A default trajectory: the longest loop (or open chain) of the section of the level-`level`
 /// tessellation by the plane through the bounding-box centre normal to the box's shortest axis
