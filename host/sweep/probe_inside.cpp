@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 
@@ -69,8 +70,12 @@ uint32_t ProbeInsideTest::classify(const Eigen::Vector3d& hip) const noexcept {
 std::vector<uint32_t> ProbeInsideTest::classify(const std::vector<Eigen::Vector3d>& hips) const {
   // along a Morton curve of the HIPs: consecutive tests walk the same BVH nodes (a sweep's HIPs
   // come in the random order of their samples); each test is on its own
-  const std::vector<uint32_t> order = mortonOrder(hips);
   std::vector<uint32_t> out(hips.size());
+  if (hips.size() > UINT32_MAX) {  // beyond mortonOrder's indices: in the given order
+    tbb::parallel_for(size_t(0), hips.size(), [&](size_t i) { out[i] = classify(hips[i]); });
+    return out;
+  }
+  const std::vector<uint32_t> order = mortonOrder(hips);
   tbb::parallel_for(size_t(0), hips.size(), [&](size_t k) { out[order[k]] = classify(hips[order[k]]); });
   return out;
 }
