@@ -75,7 +75,6 @@ namespace {
 /// A box extent at most this fraction of the box's diagonal is flat (rounding of a planar mesh).
 constexpr double kFlatExtent = 1e-9;
 
-
 }  // namespace
 
 std::vector<Eigen::Vector3d> longestSection(const std::vector<Eigen::Vector3d>& P,
