@@ -36,8 +36,14 @@ size_t expectVisitsAsTessellation(const PatchCache& c, int level, size_t* batche
     ++*batches;
     evaluatePatches(c, f, x, y, n, out, Backend::Tbb);
   };
-  visitRingPoints(c, level, faces.data(), faces.size(), counting, [&](size_t i, const PatchPoint* p, size_t m) {
+  std::vector<Eigen::Vector2d> dom;
+  visitRingPoints(c, level, faces.data(), faces.size(), counting,
+                  [&](size_t i, const Eigen::Vector2d* X, const PatchPoint* p, size_t m) {
     order.push_back(i);
+    dom.clear();
+    domainRingPoints(c.faceSize(faces[i]), level, dom);
+    EXPECT_EQ(dom.size(), m);
+    for (size_t v = 0; v < m && v < dom.size(); ++v) mismatched += dom[v] != X[v];
     const int n = c.faceSize(faces[i]);
     EXPECT_EQ(m, size_t(1 + n * level * (level + 1) / 2)) << "face " << faces[i];
     EXPECT_EQ(tm.firstVertex[faces[i]], int32_t(next)) << "face " << faces[i];

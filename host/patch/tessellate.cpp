@@ -36,9 +36,9 @@ std::vector<int32_t> builtFaces(const PatchCache& cache) {
   return faces;
 }
 
-void visitRingPoints(const PatchCache& cache, int level, const int32_t* faces, size_t count,
-                     const BatchEvaluator& evaluate,
-                     const std::function<void(size_t i, const PatchPoint* points, size_t m)>& visit) {
+void visitRingPoints(
+    const PatchCache& cache, int level, const int32_t* faces, size_t count, const BatchEvaluator& evaluate,
+    const std::function<void(size_t i, const Eigen::Vector2d* X, const PatchPoint* points, size_t m)>& visit) {
   if (level < 1 || level > 256) throw InputError("--level: expected 1..256, got " + std::to_string(level));
   constexpr size_t kBatchPoints = size_t(1) << 18;
   std::vector<int32_t> qf;
@@ -51,21 +51,22 @@ void visitRingPoints(const PatchCache& cache, int level, const int32_t* faces, s
     qx.clear();
     qy.clear();
     first.clear();
+    dom.clear();
     size_t e = b;
     for (; e < count && (e == b || qf.size() < kBatchPoints); ++e) {
       first.push_back(qf.size());
-      dom.clear();
       domainRingPoints(cache.faceSize(faces[e]), level, dom);
-      for (const Eigen::Vector2d& p : dom) {
+      for (size_t v = first.back(); v < dom.size(); ++v) {
         qf.push_back(faces[e]);
-        qx.push_back(p.x());
-        qy.push_back(p.y());
+        qx.push_back(dom[v].x());
+        qy.push_back(dom[v].y());
       }
     }
     first.push_back(qf.size());
     pts.resize(qf.size());
     evaluate(qf.data(), qx.data(), qy.data(), qf.size(), pts.data());
-    for (size_t i = b; i < e; ++i) visit(i, pts.data() + first[i - b], first[i - b + 1] - first[i - b]);
+    for (size_t i = b; i < e; ++i)
+      visit(i, dom.data() + first[i - b], pts.data() + first[i - b], first[i - b + 1] - first[i - b]);
     b = e;
   }
 }

@@ -27,17 +27,15 @@ PatchSeeds::PatchSeeds(const PatchCache& cache, int level) {
     evaluatePatches(cache, f, x, y, n, out, Backend::Tbb);
   };
   std::vector<Eigen::Vector3d> pos;
-  std::vector<Eigen::Vector2d> dom;
-  visitRingPoints(cache, level, faces.data(), faces.size(), evaluate, [&](size_t i, const PatchPoint* pts, size_t m) {
-    dom.clear();
-    domainRingPoints(cache.faceSize(faces[i]), level, dom);
-    for (size_t v = 0; v < m; ++v) {
-      if ((pts[v].status & GP_ST_NOT_A_PATCH_POINT) || !pts[v].pos.allFinite()) continue;
-      pos.push_back(pts[v].pos);
-      face_.push_back(faces[i]);
-      dom_.push_back(dom[v]);
-    }
-  });
+  visitRingPoints(cache, level, faces.data(), faces.size(), evaluate,
+                  [&](size_t i, const Eigen::Vector2d* X, const PatchPoint* pts, size_t m) {
+                    for (size_t v = 0; v < m; ++v) {
+                      if ((pts[v].status & GP_ST_NOT_A_PATCH_POINT) || !pts[v].pos.allFinite()) continue;
+                      pos.push_back(pts[v].pos);
+                      face_.push_back(faces[i]);
+                      dom_.push_back(X[v]);
+                    }
+                  });
   index_ = std::make_unique<PointIndex>(std::move(pos));
 }
 

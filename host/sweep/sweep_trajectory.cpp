@@ -151,7 +151,7 @@ void weldedRings(const PatchCache& cache, int level, const std::vector<int32_t>&
   P.clear();
   tri.clear();
   visitRingPoints(cache, level, faces.data(), faces.size(), evaluate,
-                  [&](size_t i, const PatchPoint* pts, size_t m) {
+                  [&](size_t i, const Eigen::Vector2d*, const PatchPoint* pts, size_t m) {
                     id.resize(m);
                     for (size_t v = 0; v < m; ++v) {
                       std::array<long long, 3> key;
@@ -187,7 +187,7 @@ std::vector<Eigen::Vector3d> defaultTrajectory(const PatchCache& cache, int leve
   std::vector<Eigen::Vector3d> faceLo(built.size()), faceHi(built.size());
   std::vector<char> finite(built.size(), 1);
   Eigen::Vector3d lo, hi;
-  visitRingPoints(cache, level, built.data(), built.size(), evaluate, [&](size_t i, const PatchPoint* pts, size_t m) {
+  visitRingPoints(cache, level, built.data(), built.size(), evaluate, [&](size_t i, const Eigen::Vector2d*, const PatchPoint* pts, size_t m) {
     if (i == 0) lo = hi = pts[0].pos;
     Eigen::Vector3d a = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), b = -a;
     for (size_t v = 0; v < m; ++v) {

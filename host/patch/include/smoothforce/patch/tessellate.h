@@ -42,12 +42,12 @@ std::vector<int32_t> builtFaces(const PatchCache& cache);
 
 /// Evaluates the level-L domainRingPoints of faces[0..count) a bounded batch at a time (at most
 /// about 2^18 points each: memory stays bounded on meshes of millions of faces) and calls
-/// visit(i, points, m) for each face faces[i] in order, with its m ring points' evaluations.
-/// The values are those of one batch of every point (evaluations are bit-identical whatever the
-/// batch). Throws InputError when level is outside [1, 256].
-void visitRingPoints(const PatchCache& cache, int level, const int32_t* faces, size_t count,
-                     const BatchEvaluator& evaluate,
-                     const std::function<void(size_t i, const PatchPoint* points, size_t m)>& visit);
+/// visit(i, X, points, m) for each face faces[i] in order, with its m ring points' domain
+/// coordinates X and evaluations. The values are those of one batch of every point (evaluations
+/// are bit-identical whatever the batch). Throws InputError when level is outside [1, 256].
+void visitRingPoints(
+    const PatchCache& cache, int level, const int32_t* faces, size_t count, const BatchEvaluator& evaluate,
+    const std::function<void(size_t i, const Eigen::Vector2d* X, const PatchPoint* points, size_t m)>& visit);
 
 /// Samples every built patch on `level` rings (each polygon edge split `level` times):
 /// 1 + n L (L+1) / 2 vertices and n L^2 triangles per n-gon, counter-clockwise seen from
