@@ -159,12 +159,13 @@ void UdpDevice::receiveLoop() noexcept {
           ::recvfrom(fd_, buf, sizeof buf, MSG_DONTWAIT | MSG_TRUNC, reinterpret_cast<sockaddr*>(&from), &fromLen);
       if (n < 0) break;  // drained (EAGAIN) or an error: back to poll
       const int64_t recvNs = monotonicNs();
-      count(kReceived);
-      if (static_cast<size_t>(n) > sizeof buf) {
+      if (static_cast<size_t>(n) > sizeof buf)
         count(kBadSize);  // longer than any packet: truncated by the kernel, MSG_TRUNC gave its length
-        continue;
-      }
-      handle(buf, static_cast<size_t>(n), from, fromLen, recvNs);
+      else
+        handle(buf, static_cast<size_t>(n), from, fromLen, recvNs);
+      // counted after the datagram's verdict: a reader that sees `received` n (counters(),
+      // acquire) sees the verdicts of those n (waiting on `received`, a test read one short)
+      counters_[kReceived].fetch_add(1, std::memory_order_release);
     }
   }
 }
@@ -220,16 +221,21 @@ void UdpDevice::handle(const uint8_t* data, size_t size, const sockaddr_storage&
   futexWakeAll(published_);
 }
 
+bool UdpDevice::takeNewer() noexcept {
+  if (mailbox_.version() == readVersion_) return false;
+  Sample s;
+  uint64_t v = 0;
+  if (!mailbox_.read(s, v) || v <= readVersion_) return false;
+  const int64_t skipped = static_cast<int64_t>(v - readVersion_ - 1) + (unread_ ? 1 : 0);
+  if (skipped > 0) count(kSuperseded, skipped);
+  latest_ = s;
+  readVersion_ = v;
+  return true;
+}
+
 DeviceState UdpDevice::read(double) noexcept {
-  if (mailbox_.version() != readVersion_) {
-    Sample s;
-    uint64_t v = 0;
-    if (mailbox_.read(s, v) && v > readVersion_) {
-      if (v > readVersion_ + 1) count(kSuperseded, static_cast<int64_t>(v - readVersion_ - 1));
-      latest_ = s;
-      readVersion_ = v;
-    }
-  }
+  takeNewer();
+  unread_ = false;
   DeviceState d;
   if (readVersion_ == 0) {
     d.status = DeviceStatus::NoSample;
@@ -252,7 +258,9 @@ bool UdpDevice::waitForSample(double timeout) noexcept {
   }
   for (;;) {
     const uint32_t seen = published_.load(std::memory_order_acquire);
-    if (mailbox_.version() > readVersion_) return true;
+    // a newer sample taken; where a write overlapped the reads, the futex word has moved (or
+    // moves when that write completes), so the wait below returns at once or then
+    if (takeNewer()) return unread_ = true;
     const int64_t left = deadline - monotonicNs();
     if (left <= 0) return false;
     futexWait(published_, seen, left);
@@ -280,7 +288,7 @@ void UdpDevice::commandForce(const Eigen::Vector3d& f, const ForceStatus& status
 UdpCounters UdpDevice::counters() const noexcept {
   auto g = [this](Counter c) { return counters_[c].load(std::memory_order_relaxed); };
   UdpCounters c;
-  c.received = g(kReceived);
+  c.received = counters_[kReceived].load(std::memory_order_acquire);  // first: the verdicts of these
   c.accepted = g(kAccepted);
   c.duplicates = g(kDuplicates);
   c.outOfOrder = g(kOutOfOrder);

@@ -37,7 +37,7 @@ struct UdpOptions {
 /// Counts since construction (a snapshot; every datagram lands in exactly one of accepted,
 /// duplicates, outOfOrder, foreign, wrongVersion or one malformed kind).
 struct UdpCounters {
-  int64_t received = 0;    ///< datagrams
+  int64_t received = 0;    ///< datagrams (counted after each one's verdict below)
   int64_t accepted = 0;    ///< valid HIP samples published to the loop
   int64_t duplicates = 0;  ///< seq equal to the last accepted one
   int64_t outOfOrder = 0;  ///< seq below the last accepted one (late, reordered) and not a resynchronisation
@@ -80,7 +80,10 @@ struct UdpCounters {
 /// sample read, with a non-blocking sendto from the calling thread (a syscall, no allocation
 /// or lock in this process); nothing is sent before the first sample.
 /// Device-paced: waitForSample() blocks on a futex until the receiver publishes a newer
-/// sample, the timeout passes, or the watchdog of the latest sample expires.
+/// sample, the timeout passes, or the watchdog of the latest sample expires; it returns true
+/// only once it has taken that sample, so the read() after it renders it (a read that met the
+/// receiver in the middle of its next write, preempted there, used to return the sample before
+/// and the loop stepped on it twice).
 class UdpDevice final : public HapticDevice {
  public:
   /// Binds the socket and starts the receiver thread. Throws InputError naming the endpoint
@@ -153,7 +156,12 @@ class UdpDevice final : public HapticDevice {
   SeqlockMailbox<Sample> mailbox_;
   std::atomic<uint32_t> published_{0};  ///< futex word: bumped after each publish
   // Servo thread.
+  /// Takes the mailbox's sample into latest_ where it is newer than the one taken (counting the
+  /// ones it skipped as superseded, and the one it replaces when no read() returned it yet);
+  /// false where there is none newer, or a write overlapped every attempt.
+  bool takeNewer() noexcept;
   Sample latest_{};
+  bool unread_ = false;  ///< latest_ was taken by waitForSample and no read() has returned it
   uint64_t readVersion_ = 0;
   std::thread thread_;
 };
