@@ -24,7 +24,9 @@
  *   released when the free step points back inside.
  * Converged when the tangential residual (|r x n|, or |r . G_e| / |G_e| along a held edge) is at
  * most min(sin(angleTol) |r|, positionTol), or at most the evaluation noise of positions
- * (64 eps times the coordinate magnitude).
+ * (64 eps times the coordinate magnitude); at a singular point of the patch (a fold line, where
+ * r lies along no normal), also when the point is a strict local minimum of the model whose
+ * Newton step would decrease f by at most that tolerance squared over 2 (gp_rf_stationary).
  *
  * Memory: the cache arrays are read through GP_GLOBAL pointers (gp_refine_mesh), because the
  * iterate changes face while it runs; on the host a loader hook may supply the records instead
@@ -567,6 +569,30 @@ GP_FN void gp_rf_move(const gp_refine_mesh* m, gp_refine_work* w, int* f, GP_REA
 #define GP_RF_STEP_KKT 2 /* held at a corner of a boundary edge that the step pushes against */
 #undef GP_RF_STEP_HELD
 #define GP_RF_STEP_HELD 3 /* moved onto an edge it cannot cross, without moving on the surface */
+#undef GP_RF_STEP_STATIONARY
+#define GP_RF_STEP_STATIONARY 4 /* at a singular point that is a local minimum within the tolerance */
+#undef GP_RF_SINGULAR
+/* An iterate is at a singular point of its patch when |G_xi x G_eta| <= this x |G_xi| |G_eta|
+ * (the sine of the angle between the two tangents): a fold, where J has rank about 1. */
+#define GP_RF_SINGULAR GP_R(1.0e-3)
+
+/* Whether iterate it, at a singular point, is a local minimum of f within the stopping tolerance:
+ * the model there is convex (B positive definite) and its Newton step would decrease f by at most
+ * tol^2 / 2, tol the angle test's min(sin(angleTol) |r|, positionTol) (or the noise of positions).
+ * At a regular point that is the angle test itself up to the curvature term of B (the decrease
+ * of the Gauss-Newton step is |P r|^2 / 2, P the projection onto the tangent plane); where the
+ * nearest point lies on a fold of the patch (a HIP beyond the fold line), r is not along any
+ * normal and only this test can be met. */
+GP_FN int gp_rf_stationary(const gp_refine_mesh* m, const gp_refine_work* w, const gp_rf_iterate* it, gp_vec3 hip,
+                           GP_REAL g0, GP_REAL g1, GP_REAL b00, GP_REAL b01, GP_REAL b11) {
+  const GP_REAL det = b00 * b11 - b01 * b01;
+  if (!(b00 > GP_R(0.0) && det > GP_R(0.0))) return 0;
+  const GP_REAL twicePred = (b11 * g0 * g0 - GP_R(2.0) * b01 * g0 * g1 + b00 * g1 * g1) / det;
+  GP_REAL tol = w->sinAngle * gp_len(it->r);
+  if (w->tol < tol) tol = w->tol;
+  tol = gp_max(tol, GP_R(64.0) * GP_EPS * (gp_rf_mag(hip) + m->scale));
+  return twicePred <= tol * tol;
+}
 
 /* One trust-region step from *cur (see the file comment); D: the radius (m), updated. */
 GP_FN int gp_rf_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* cur, gp_vec3 hip, GP_REAL* D,
@@ -580,9 +606,13 @@ GP_FN int gp_rf_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* 
    * taken again only GP_RF_D2_REUSE away from where they were last taken (or on another face) */
   GP_REAL xc = cur->x, yc = cur->y;
   gp_dom_interior(n, &xc, &yc, eps);
+  /* at a singular point the stationarity test below decides on the model: its differences are
+   * taken there */
+  const int singular = cur->edge < 0 && !(gp_len(gp_cross(a, b)) > GP_RF_SINGULAR * GP_SQRT(m00 * m11));
   const int exact = w->kept.d2Face == cur->face && w->kept.d2x == xc && w->kept.d2y == yc; /* taken here already */
-  const int lagged = !exact && w->kept.d2Face == cur->face && GP_FABS(xc - w->kept.d2x) <= GP_RF_D2_REUSE &&
-                     GP_FABS(yc - w->kept.d2y) <= GP_RF_D2_REUSE && w->kept.d2Uses < GP_RF_D2_MAX_USES;
+  const int lagged = !exact && !singular && w->kept.d2Face == cur->face &&
+                     GP_FABS(xc - w->kept.d2x) <= GP_RF_D2_REUSE && GP_FABS(yc - w->kept.d2y) <= GP_RF_D2_REUSE &&
+                     w->kept.d2Uses < GP_RF_D2_MAX_USES;
   if (lagged) w->kept.d2Uses += 1;
   if (!exact && !lagged) {
     const gp_eval_result pc = (xc == cur->x && yc == cur->y) ? cur->p : gp_rf_eval(m, w, cur->face, xc, yc);
@@ -595,6 +625,8 @@ GP_FN int gp_rf_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* 
     w->kept.d2Face = -1; /* not evaluable there: nothing to reuse */
     return GP_RF_STEP_STALLED;
   }
+  if (singular && xc == cur->x && yc == cur->y && gp_rf_stationary(m, w, cur, hip, g0, g1, b00, b01, b11))
+    return GP_RF_STEP_STATIONARY;
 
   GP_REAL sx, sy, pred;
   int newton, face = cur->face, edge = -1, tr = 0;
@@ -769,7 +801,7 @@ GP_FN gp_refine_result gp_refine_newton_warm(const gp_refine_mesh* m, gp_refine_
   for (; it < o->maxIterations; ++it) {
     if ((conv = gp_rf_converged(m, w, &cur, hip, o))) break;
     const int s = gp_rf_step(m, w, &cur, hip, &D, Dmax, &out.transitions, &status);
-    if (s == GP_RF_STEP_KKT) {
+    if (s == GP_RF_STEP_KKT || s == GP_RF_STEP_STATIONARY) {
       conv = 1;
       break;
     }

@@ -1,10 +1,15 @@
-// Shared by the global-query tests: HIPs pressed into a patch surface along the normals of
-// sampled patch points, whose distance to the surface is known not to exceed the depth.
+// Shared by the global-query tests (and bench/refine_stats.cpp): HIPs pressed into a patch
+// surface along the normals of sampled patch points, whose distance to the surface is known not
+// to exceed the depth, and HIPs uniform in a mesh's box.
 #pragma once
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <initializer_list>
+#include <random>
 #include <vector>
+
+#include <smoothforce/patch/patch_cache.h>
 
 #include <smoothforce/sweep/sweep_sampling.h>
 
@@ -29,6 +34,30 @@ inline std::vector<PressedHip> pressedHips(const std::vector<SurfaceSample>& sam
     for (size_t i = 0; i < samples.size(); ++i)
       out.push_back({samples[i].point - depth * diag * samples[i].normal, depth * diag, i});
   return out;
+}
+
+/// `count` HIPs uniform in the box of the cache's vertices grown by `grow` x its diagonal on every
+/// side (std::mt19937_64 seeded with `seed`; coordinates drawn x, y, z per HIP); *boxDiagonal
+/// (when given): that box's diagonal before growing, m.
+inline std::vector<Eigen::Vector3d> uniformHipsInBox(const PatchCache& cache, int count, uint64_t seed,
+                                                     double grow = 0.05, double* boxDiagonal = nullptr) {
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
+  for (size_t v = 0; v < cache.positions.size() / 3; ++v) {
+    const Eigen::Vector3d p(cache.positions[3 * v], cache.positions[3 * v + 1], cache.positions[3 * v + 2]);
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const double g = grow * (hi - lo).norm();
+  if (boxDiagonal) *boxDiagonal = (hi - lo).norm();
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<Eigen::Vector3d> hips;
+  for (int i = 0; i < count; ++i) {
+    Eigen::Vector3d p;
+    for (int a = 0; a < 3; ++a) p[a] = lo[a] - g + u(rng) * (hi[a] - lo[a] + 2 * g);
+    hips.push_back(p);
+  }
+  return hips;
 }
 
 }  // namespace sf::test

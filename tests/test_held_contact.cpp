@@ -18,7 +18,6 @@
 
 #include <cstdio>
 #include <memory>
-#include <random>
 #include <string>
 
 #include <smoothforce/force/force_tracking.h>
@@ -28,6 +27,7 @@
 #include <smoothforce/sweep/sweep.h>
 #include <smoothforce/sweep/sweep_sampling.h>
 #include "patch_test_support.h"
+#include "pressed_hips_support.h"
 
 namespace sf {
 namespace {
@@ -82,21 +82,8 @@ TEST(HeldContact, AHipHeldStillKeepsItsContactVerdictOnEveryBundledMesh) {
     auto cache = std::make_shared<const PatchCache>(test::cacheFromFile(path));
     auto skeleton = std::make_shared<const PatchCache>(test::skeletonFromFile(path));
     auto surface = std::make_shared<const PatchSurface>(*cache, patchSurfaceOptions(options));
-    Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
-    for (size_t v = 0; v < cache->positions.size() / 3; ++v) {
-      const Eigen::Vector3d p(cache->positions[3 * v], cache->positions[3 * v + 1], cache->positions[3 * v + 2]);
-      lo = lo.cwiseMin(p);
-      hi = hi.cwiseMax(p);
-    }
-    const double diag = (hi - lo).norm(), grow = 0.05 * diag;
-    std::mt19937_64 rng(11);
-    std::uniform_real_distribution<double> u(0, 1);
-    std::vector<Eigen::Vector3d> hips;
-    for (int i = 0; i < kHips; ++i) {
-      Eigen::Vector3d p;
-      for (int a = 0; a < 3; ++a) p[a] = lo[a] - grow + u(rng) * (hi[a] - lo[a] + 2 * grow);
-      hips.push_back(p);
-    }
+    double diag = 0;
+    std::vector<Eigen::Vector3d> hips = test::uniformHipsInBox(*cache, kHips, 11, 0.05, &diag);
     // and patch points pressed in along their normal, to the depths of sweeps and deeper (into
     // the sheets of surface faults)
     const std::vector<SurfaceSample> samples = PatchSurfaceSampler(*cache).sample(kPressed, 5);

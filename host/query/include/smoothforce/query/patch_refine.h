@@ -52,7 +52,11 @@ struct RefineResult {
 /// non-manifold edge it stays at the edge's nearest point. The Fig. 8 reconstruction is ours.
 /// Both stop when the tangential residual |(G - HIP) x n| is at most
 /// min(sin(angleTolerance) |G - HIP|, positionTolerance x diagonal) (along a held edge: the
-/// residual along the edge), after maxIterations, or when no step can decrease f.
+/// residual along the edge), after maxIterations, or when no step can decrease f. Newton also
+/// stops, converged, at a singular point of a patch (|G_xi x G_eta| <= 1e-3 |G_xi| |G_eta|: a
+/// fold line, where G - HIP lies along no normal and the residual test cannot be met) that is a
+/// strict local minimum of its model whose Newton step would move f by at most that tolerance
+/// squared over 2 (gp_rf_stationary, kernels/gp_refine.h).
 class PatchRefiner {
  public:
   /// cache: a prebuilt cache, or a skeleton (hasPatchData false) with `lazy` building its
