@@ -648,17 +648,28 @@ GP_FN int gp_rf_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* 
     if (sig < -smax) sig = -smax;
     const GP_REAL t0 = gp_dom_edge_param(n, cur->edge, x, y);
     GP_REAL t1 = t0 + sig;
-    if (t1 < GP_R(0.0) || t1 > GP_R(1.0)) newton = 0; /* cut at the edge's end */
+    const int cut = t1 < GP_R(0.0) || t1 > GP_R(1.0);
+    if (cut) newton = 0; /* cut at the edge's end */
     t1 = t1 < GP_R(0.0) ? GP_R(0.0) : (t1 > GP_R(1.0) ? GP_R(1.0) : t1);
     sig = t1 - t0;
     pred = -(ge * sig + GP_R(0.5) * be * sig * sig);
-    if (!(pred > GP_R(0.0))) return GP_RF_STEP_KKT; /* blocked at a corner of the held edge */
+    /* blocked at a corner of the held edge; also where the iterate is at that corner up to the
+     * rounding of its domain point (a corner reached along the other edge there lies a few eps
+     * off this edge's end: the step of that size was rejected at the noise of f and the radius
+     * shrank until the refinement stalled) */
+    if (!(pred > GP_R(0.0)) || (cut && GP_FABS(sig) <= GP_RF_AT_ONCE)) return GP_RF_STEP_KKT;
     gp_dom_edge_point(n, cur->edge, t1, &x, &y);
     edge = cur->edge;
     st |= *status & (GP_TRACK_BOUNDARY | GP_TRACK_FOLD_EDGE);
   } else {
     gp_rf_move(m, w, &face, &x, &y, sx, sy, a, b, &edge, &tr, &st);
-    if (edge >= 0 && tau <= GP_RF_AT_ONCE && (face == cur->face || (st & GP_TRACK_FOLD_EDGE))) {
+    /* at once: at the start of the step, or within rounding of the start in the domain (an
+     * iterate on the edge up to its last bits, whose step leaves by a fraction above
+     * GP_RF_AT_ONCE: the move of a few eps was rejected at the noise of f and the radius shrank
+     * until the refinement stalled) */
+    const int atOnce = tau <= GP_RF_AT_ONCE || (face == cur->face && GP_FABS(x - cur->x) <= GP_RF_AT_ONCE &&
+                                                GP_FABS(y - cur->y) <= GP_RF_AT_ONCE);
+    if (edge >= 0 && atOnce && (face == cur->face || (st & GP_TRACK_FOLD_EDGE))) {
       /* stopped at once on an edge it cannot cross (the same surface point): hold it there and
        * step along it next */
       gp_rf_iterate held = gp_rf_at(m, w, face, x, y, hip);
