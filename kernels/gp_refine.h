@@ -594,6 +594,31 @@ GP_FN int gp_rf_stationary(const gp_refine_mesh* m, const gp_refine_work* w, con
   return twicePred <= tol * tol;
 }
 
+/* Whether iterate it, held on domain edge a and stopped at once on edge b (both edges it cannot
+ * cross), sits at their common corner as a KKT point: f does not decrease, to first order, along
+ * either edge away from the corner (g = (g0, g1) = J^T r at it; over the domain's cone at the
+ * corner the directional derivative is least along one of the two edges). Without this the
+ * iterate switched between the two edges, an evaluation each, until a held step found the corner. */
+GP_FN int gp_rf_corner_kkt(int n, const gp_rf_iterate* it, int a, int b, GP_REAL g0, GP_REAL g1) {
+  int endA; /* the corner as an end of edge a: 1 at C_{a+1} (b follows a), 0 at C_a (a follows b) */
+  if (b == (a + 1) % n)
+    endA = 1;
+  else if (a == (b + 1) % n)
+    endA = 0;
+  else
+    return 0;
+  const GP_REAL t = gp_dom_edge_param(n, a, it->x, it->y);
+  if (!(endA ? t >= GP_R(1.0) - GP_RF_AT_ONCE : t <= GP_RF_AT_ONCE)) return 0;
+  GP_REAL ax, ay, bx, by, cx, cy;
+  gp_domain_corner(n, a, &ax, &ay);
+  gp_domain_corner(n, (a + 1) % n, &bx, &by);
+  gp_domain_corner(n, endA ? (a + 2) % n : (a + n - 1) % n, &cx, &cy);
+  /* from the corner into edge a, and into edge b */
+  const GP_REAL intoA = endA ? g0 * (ax - bx) + g1 * (ay - by) : g0 * (bx - ax) + g1 * (by - ay);
+  const GP_REAL intoB = endA ? g0 * (cx - bx) + g1 * (cy - by) : g0 * (cx - ax) + g1 * (cy - ay);
+  return intoA > GP_R(0.0) && intoB > GP_R(0.0);
+}
+
 /* One trust-region step from *cur (see the file comment); D: the radius (m), updated. */
 GP_FN int gp_rf_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* cur, gp_vec3 hip, GP_REAL* D,
                      GP_REAL Dmax, int* transitions, gp_uint* status) {
@@ -669,6 +694,9 @@ GP_FN int gp_rf_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* 
      * until the refinement stalled) */
     const int atOnce = tau <= GP_RF_AT_ONCE || (face == cur->face && GP_FABS(x - cur->x) <= GP_RF_AT_ONCE &&
                                                 GP_FABS(y - cur->y) <= GP_RF_AT_ONCE);
+    if (edge >= 0 && atOnce && face == cur->face && cur->edge >= 0 && edge != cur->edge &&
+        gp_rf_corner_kkt(n, cur, cur->edge, edge, g0, g1))
+      return GP_RF_STEP_KKT;
     if (edge >= 0 && atOnce && (face == cur->face || (st & GP_TRACK_FOLD_EDGE))) {
       /* stopped at once on an edge it cannot cross (the same surface point): hold it there and
        * step along it next */
