@@ -815,9 +815,14 @@ GP_FN gp_refine_result gp_refine_newton_warm(const gp_refine_mesh* m, gp_refine_
     return out;
   }
   const int n0 = gp_rf_size(m, face);
-  gp_dom_clamp(n0, &xi, &eta);
-  gp_dom_off_corner(n0, &xi, &eta);
-  gp_rf_iterate cur = w->kept.lastFace == face && w->kept.lastX == xi && w->kept.lastY == eta
+  /* a start at exactly the last refinement's final point (warm) is that iterate, a corner
+   * included: moving it off the corner would walk it back there, an evaluation or more a step */
+  const int last = w->kept.lastFace == face && w->kept.lastX == xi && w->kept.lastY == eta;
+  if (!last) {
+    gp_dom_clamp(n0, &xi, &eta);
+    gp_dom_off_corner(n0, &xi, &eta);
+  }
+  gp_rf_iterate cur = last || (w->kept.lastFace == face && w->kept.lastX == xi && w->kept.lastY == eta)
                           ? gp_rf_with(face, xi, eta, w->kept.lastP, hip)
                           : gp_rf_at_d2(m, w, face, xi, eta, hip);
   w->kept.lastFace = -1;
