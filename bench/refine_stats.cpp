@@ -4,7 +4,8 @@
 // cap, and every candidate of those queries (the first batch) refined from its own start: how
 // many refinements, iterations, and how each ended (converged, at the cap, stalled; at a
 // singular point, GP_ST_SINGULAR), with the wall time of the queries.
-//   refine_stats [MESH...]   (default: every shared mesh up to 3 MB)
+//   refine_stats [--query-only] [MESH...]   (default: every shared mesh up to 3 MB; --query-only:
+//   only the timed queries, for profiling)
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -46,8 +47,8 @@ std::vector<Eigen::Vector3d> heldHips(const PatchCache& cache) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  std::vector<std::string> meshes(argv + 1, argv + argc);
+namespace {
+int run(std::vector<std::string> meshes) {
   const bool queryOnly = !meshes.empty() && meshes[0] == "--query-only";  // profiling the queries
   if (queryOnly) meshes.erase(meshes.begin());
   if (meshes.empty()) meshes = sharedMeshes();
@@ -86,4 +87,19 @@ int main(int argc, char** argv) {
     std::fflush(stdout);
   }
   return 0;
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  if (!args.empty() && (args[0] == "-h" || args[0] == "--help")) {
+    std::printf("usage: refine_stats [--query-only] [MESH...]   (default: every shared mesh up to 3 MB)\n");
+    return 0;
+  }
+  try {
+    return run(args);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "refine_stats: %s\n", e.what());
+    return 1;
+  }
 }
