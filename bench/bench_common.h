@@ -1,6 +1,8 @@
 // Inputs shared by the benchmark programs.
 #pragma once
 
+#include <cstdio>
+#include <exception>
 #include <random>
 #include <string>
 #include <vector>
@@ -9,6 +11,18 @@
 #include <smoothforce/patch/patch_eval.h>
 
 namespace sf::bench {
+
+/// Runs a measuring program's body: an error (a mesh that cannot be read, ...) is one line
+/// "NAME: message" on stderr and exit status 1, not an abort.
+template <class Body>
+int guardedMain(const char* name, Body&& body) {
+  try {
+    return body();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: %s\n", name, e.what());
+    return 1;
+  }
+}
 
 /// `count` separate n-gons (no shared vertices): regular polygons of radius 1 with their
 /// vertices lifted by up to 0.1 and normals tilted by up to ~15 degrees (seeded).

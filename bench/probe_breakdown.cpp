@@ -28,6 +28,7 @@
 #include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/query/patch_surface.h>
 #include <smoothforce/sweep/sweep_sampling.h>
+#include "bench_common.h"
 
 namespace {
 
@@ -36,9 +37,7 @@ using Clock = std::chrono::steady_clock;
 
 double us(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::micro>(b - a).count(); }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   std::string mesh = std::string(SF_SHARED_MESHES) + "/keenan_crane/spot_control_mesh.obj";
   double depth = 0.005;
   int samples = 20000;
@@ -97,9 +96,10 @@ int main(int argc, char** argv) {
       const auto t2 = Clock::now();
       SurfaceCandidate from;
       from.face = pass == 0 ? x.face : approachNearest[i].face;
-      from.X = pass == 0 ? Eigen::Vector2d(x.xi, x.eta) : Eigen::Vector2d(approachNearest[i].xi, approachNearest[i].eta);
-      const RefineResult seed = from.face >= 0 ? refiner.refine(hip, from.face, from.X.x(), from.X.y(), seedOpt)
-                                               : RefineResult{};
+      from.X =
+          pass == 0 ? Eigen::Vector2d(x.xi, x.eta) : Eigen::Vector2d(approachNearest[i].xi, approachNearest[i].eta);
+      const RefineResult seed =
+          from.face >= 0 ? refiner.refine(hip, from.face, from.X.x(), from.X.y(), seedOpt) : RefineResult{};
       const auto t3 = Clock::now();
       const bool seeded = from.face >= 0 && seed.scp.allFinite() && !(seed.status & SF_TRACK_DEGENERATE);
       // the tighter bound by the search radius it gives (reach + 2 x the face's error bound)
@@ -109,8 +109,8 @@ int main(int argc, char** argv) {
       }
       const int n = static_cast<int>(surface.candidates(hip, c.data(), c.size(), reach, reachFace));
       const auto t4 = Clock::now();
-      const PatchNearest q = refineCandidates(c.data(), n, surface.spacing(), refiner, hip, opt, seeded ? &seed : nullptr,
-                                              seeded ? &from : nullptr, &surface);
+      const PatchNearest q = refineCandidates(c.data(), n, surface.spacing(), refiner, hip, opt,
+                                              seeded ? &seed : nullptr, seeded ? &from : nullptr, &surface);
       const auto t5 = Clock::now();
       if (pass == 0 && q.nearest.scp.allFinite() && !(q.nearest.status & SF_TRACK_DEGENERATE))
         approachNearest[i] = q.nearest;
@@ -136,4 +136,9 @@ int main(int argc, char** argv) {
         iterations / N, tb / N, 100.0 * inBand / N, tw / N, 100.0 * rays / N);
   }
   return 0;
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  return sf::bench::guardedMain("probe_breakdown", [&] { return run(argc, argv); });
 }

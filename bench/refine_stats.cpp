@@ -96,10 +96,5 @@ int main(int argc, char** argv) {
     std::printf("usage: refine_stats [--query-only] [MESH...]   (default: every shared mesh up to 3 MB)\n");
     return 0;
   }
-  try {
-    return run(args);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "refine_stats: %s\n", e.what());
-    return 1;
-  }
+  return bench::guardedMain("refine_stats", [&] { return run(args); });
 }

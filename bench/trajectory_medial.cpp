@@ -21,8 +21,10 @@
 #include <smoothforce/query/patch_surface.h>
 #include <smoothforce/sweep/sweep.h>
 #include <smoothforce/sweep/sweep_sampling.h>
+#include "bench_common.h"
 
-int main(int argc, char** argv) {
+namespace {
+int run(int argc, char** argv) {
   using namespace sf;
   std::string mesh = std::string(SF_SHARED_MESHES) + "/keenan_crane/spot_control_mesh.obj";
   double frac = 0.01;
@@ -127,4 +129,9 @@ int main(int argc, char** argv) {
       "contact\n",
       mesh.c_str(), frac, loop.force.size(), past, outside, runs, runsAfterCrossing, lost);
   return 0;
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  return sf::bench::guardedMain("trajectory_medial", [&] { return run(argc, argv); });
 }
