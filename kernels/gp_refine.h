@@ -329,13 +329,17 @@ GP_FN GP_REAL gp_rf_residual(const gp_refine_mesh* m, const gp_rf_iterate* it) {
 /* Largest coordinate magnitude of a point: the scale of its rounding. */
 GP_FN GP_REAL gp_rf_mag(gp_vec3 a) { return gp_max(GP_FABS(a.x), gp_max(GP_FABS(a.y), GP_FABS(a.z))); }
 
-GP_FN int gp_rf_converged(const gp_refine_mesh* m, const gp_refine_work* w, const gp_rf_iterate* it, gp_vec3 hip,
-                          const gp_refine_options* o) {
-  const GP_REAL rl = gp_len(it->r);
+/* The stopping tolerance (m) at an iterate whose distance to the HIP is rl: min(sin(angleTol) rl,
+ * positionTol), or the evaluation noise of positions where that is larger. */
+GP_FN GP_REAL gp_rf_tolerance(const gp_refine_mesh* m, const gp_refine_work* w, GP_REAL rl, gp_vec3 hip) {
   GP_REAL tol = w->sinAngle * rl; /* sin(angleTol), once per refinement */
-  if (o->positionTol < tol) tol = o->positionTol;
+  if (w->tol < tol) tol = w->tol;
   const GP_REAL noise = GP_R(64.0) * GP_EPS * (gp_rf_mag(hip) + m->scale);
-  return gp_rf_residual(m, it) <= gp_max(tol, noise);
+  return gp_max(tol, noise);
+}
+
+GP_FN int gp_rf_converged(const gp_refine_mesh* m, const gp_refine_work* w, const gp_rf_iterate* it, gp_vec3 hip) {
+  return gp_rf_residual(m, it) <= gp_rf_tolerance(m, w, gp_len(it->r), hip);
 }
 
 /* Whether iterate it is a strict local minimum of f by the model there: B = J^T J + sum r_i d2G_i
@@ -588,9 +592,7 @@ GP_FN int gp_rf_stationary(const gp_refine_mesh* m, const gp_refine_work* w, con
   const GP_REAL det = b00 * b11 - b01 * b01;
   if (!(b00 > GP_R(0.0) && det > GP_R(0.0))) return 0;
   const GP_REAL twicePred = (b11 * g0 * g0 - GP_R(2.0) * b01 * g0 * g1 + b00 * g1 * g1) / det;
-  GP_REAL tol = w->sinAngle * gp_len(it->r);
-  if (w->tol < tol) tol = w->tol;
-  tol = gp_max(tol, GP_R(64.0) * GP_EPS * (gp_rf_mag(hip) + m->scale));
+  const GP_REAL tol = gp_rf_tolerance(m, w, gp_len(it->r), hip);
   return twicePred <= tol * tol;
 }
 
@@ -817,14 +819,13 @@ GP_FN gp_refine_result gp_refine_newton_warm(const gp_refine_mesh* m, gp_refine_
   const int n0 = gp_rf_size(m, face);
   /* a start at exactly the last refinement's final point (warm) is that iterate, a corner
    * included: moving it off the corner would walk it back there, an evaluation or more a step */
-  const int last = w->kept.lastFace == face && w->kept.lastX == xi && w->kept.lastY == eta;
+  int last = w->kept.lastFace == face && w->kept.lastX == xi && w->kept.lastY == eta;
   if (!last) {
     gp_dom_clamp(n0, &xi, &eta);
     gp_dom_off_corner(n0, &xi, &eta);
+    last = w->kept.lastFace == face && w->kept.lastX == xi && w->kept.lastY == eta;
   }
-  gp_rf_iterate cur = last || (w->kept.lastFace == face && w->kept.lastX == xi && w->kept.lastY == eta)
-                          ? gp_rf_with(face, xi, eta, w->kept.lastP, hip)
-                          : gp_rf_at_d2(m, w, face, xi, eta, hip);
+  gp_rf_iterate cur = last ? gp_rf_with(face, xi, eta, w->kept.lastP, hip) : gp_rf_at_d2(m, w, face, xi, eta, hip);
   w->kept.lastFace = -1;
   cur.edge = startEdge >= 0 && startEdge < n0 ? startEdge : -1;
   if (!(cur.f < GP_BIG)) {
@@ -843,7 +844,7 @@ GP_FN gp_refine_result gp_refine_newton_warm(const gp_refine_mesh* m, gp_refine_
   int conv = 0, stalled = 0, it = 0, idle = 0;
   gp_rf_iterate best = cur; /* the nearest iterate so far */
   for (; it < o->maxIterations; ++it) {
-    if ((conv = gp_rf_converged(m, w, &cur, hip, o))) break;
+    if ((conv = gp_rf_converged(m, w, &cur, hip))) break;
     const int s = gp_rf_step(m, w, &cur, hip, &D, Dmax, &out.transitions, &status);
     if (s == GP_RF_STEP_KKT || s == GP_RF_STEP_STATIONARY) {
       conv = 1;
@@ -868,7 +869,7 @@ GP_FN gp_refine_result gp_refine_newton_warm(const gp_refine_mesh* m, gp_refine_
     stalled = s == GP_RF_STEP_STALLED;
     if (stalled) break;
   }
-  if (!conv) conv = gp_rf_converged(m, w, &cur, hip, o);
+  if (!conv) conv = gp_rf_converged(m, w, &cur, hip);
   if (cur.edge < 0) status &= ~(GP_TRACK_BOUNDARY | GP_TRACK_FOLD_EDGE);
   status |= conv ? GP_TRACK_CONVERGED : (stalled ? GP_TRACK_STALLED : GP_TRACK_MAX_ITER);
   out.scp = cur.p.pos;
