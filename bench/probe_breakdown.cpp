@@ -43,11 +43,18 @@ int run(int argc, char** argv) {
   int samples = 20000;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
+    if (a == "-h" || a == "--help") {
+      std::printf("usage: probe_breakdown [MESH] [--depth 0.005] [--samples 20000]\n");
+      return 0;
+    }
     if (a == "--depth" && i + 1 < argc)
       depth = std::atof(argv[++i]);
     else if (a == "--samples" && i + 1 < argc)
       samples = std::atoi(argv[++i]);
-    else
+    else if (a.rfind('-', 0) == 0) {
+      std::fprintf(stderr, "probe_breakdown: unknown option or missing value: %s (--help)\n", a.c_str());
+      return 2;
+    } else
       mesh = a;
   }
   if (!(depth > 0) || samples < 1) {

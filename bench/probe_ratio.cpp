@@ -50,8 +50,18 @@ int main(int argc, char** argv) {
   int samples = 100000, rounds = 5, threads = 2;
   double depth = 0.005;
   std::string only, finalStep = "evaluated";
-  for (int i = 1; i + 1 < argc; i += 2) {
+  for (int i = 1; i < argc; i += 2) {
     const std::string a = argv[i];
+    if (a == "-h" || a == "--help") {
+      std::printf(
+          "usage: probe_ratio [--samples 100000] [--depth 0.005] [--rounds 5] [--threads 2] [--only patch|direct] "
+          "[--final-step evaluated|model|both]\n");
+      return 0;
+    }
+    if (i + 1 == argc) {
+      std::fprintf(stderr, "probe_ratio: %s needs a value (--help)\n", a.c_str());
+      return 2;
+    }
     if (a == "--samples")
       samples = std::atoi(argv[i + 1]);
     else if (a == "--depth")

@@ -18,40 +18,16 @@
 #include <smoothforce/query/patch_surface.h>
 #include <smoothforce/sweep/sweep_sampling.h>
 #include "../tests/pressed_hips_support.h"  // HeldContact's HIPs
+#include "../tests/shared_mesh_files.h"
 #include "bench_common.h"
 
 using namespace sf;
 
 namespace {
-
-std::vector<std::string> sharedMeshes() {
-  std::vector<std::string> files;
-  for (const auto& e : std::filesystem::recursive_directory_iterator(SF_SHARED_MESHES)) {
-    const std::string ext = e.path().extension().string();
-    if ((ext == ".obj" || ext == ".off" || ext == ".ply") && e.file_size() <= 3'000'000)
-      files.push_back(e.path().string());
-  }
-  std::sort(files.begin(), files.end());
-  return files;
-}
-
-std::vector<Eigen::Vector3d> heldHips(const PatchCache& cache) {
-  double diag = 0;
-  std::vector<Eigen::Vector3d> hips = test::uniformHipsInBox(cache, 300, 11, 0.05, &diag);
-  constexpr double kDepth[] = {0.005, 0.02, 0.05, 0.1};
-  const std::vector<SurfaceSample> samples = PatchSurfaceSampler(cache).sample(300, 5);
-  for (size_t i = 0; i < samples.size(); ++i)
-    hips.push_back(samples[i].point - kDepth[i % std::size(kDepth)] * diag * samples[i].normal);
-  return hips;
-}
-
-}  // namespace
-
-namespace {
 int run(std::vector<std::string> meshes) {
   const bool queryOnly = !meshes.empty() && meshes[0] == "--query-only";  // profiling the queries
   if (queryOnly) meshes.erase(meshes.begin());
-  if (meshes.empty()) meshes = sharedMeshes();
+  if (meshes.empty()) meshes = test::sharedMeshFiles();
   const ForceOptions options;
   std::printf("%-40s %5s %6s %8s %9s %6s %7s %7s %7s %9s\n", "mesh", "HIPs", "capNP", "refines", "iters", "cap",
               "capSing", "stalled", "convSg", "query_s");
@@ -59,7 +35,7 @@ int run(std::vector<std::string> meshes) {
     const PatchCache cache = bench::meshCache(path, Precision::Double);
     const PatchSurface surface(cache);
     PatchRefiner refiner(cache);
-    const std::vector<Eigen::Vector3d> hips = heldHips(cache);
+    const std::vector<Eigen::Vector3d> hips = test::heldContactHips(cache);
     long capNearest = 0, refines = 0, iters = 0, cap = 0, capSingular = 0, stalled = 0, convSingular = 0;
     const auto t0 = std::chrono::steady_clock::now();
     for (const Eigen::Vector3d& h : hips)

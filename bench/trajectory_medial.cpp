@@ -30,9 +30,16 @@ int run(int argc, char** argv) {
   double frac = 0.01;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
+    if (a == "-h" || a == "--help") {
+      std::printf("usage: trajectory_medial [MESH] [--depth 0.01]\n");
+      return 0;
+    }
     if (a == "--depth" && i + 1 < argc)
       frac = std::atof(argv[++i]);
-    else
+    else if (a.rfind('-', 0) == 0) {
+      std::fprintf(stderr, "trajectory_medial: unknown option or missing value: %s (--help)\n", a.c_str());
+      return 2;
+    } else
       mesh = a;
   }
   if (!(frac > 0)) {

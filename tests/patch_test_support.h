@@ -14,6 +14,7 @@
 #include <smoothforce/patch/patch_eval.h>
 #include "gp_config.h"  // GP_* status bits and record layout
 #include "ref_shapes.h"
+#include "shared_mesh_files.h"
 
 namespace sf::test {
 
@@ -55,19 +56,6 @@ inline PatchCache skeletonFromFile(const std::string& path, Precision precision 
 }
 
 inline std::string sharedMesh(const std::string& rel) { return std::string(SF_SHARED_MESHES) + "/" + rel; }
-
-/// Every mesh file (.obj, .off, .ply) under ../shared/meshes of at most maxBytes (the larger ones
-/// are the dense references, covered by the CLI runs), sorted.
-inline std::vector<std::string> sharedMeshFiles(uintmax_t maxBytes = 3'000'000) {
-  std::vector<std::string> files;
-  for (const auto& entry : std::filesystem::recursive_directory_iterator(SF_SHARED_MESHES)) {
-    const std::string ext = entry.path().extension().string();
-    if ((ext == ".obj" || ext == ".off" || ext == ".ply") && entry.file_size() <= maxBytes)
-      files.push_back(entry.path().string());
-  }
-  std::sort(files.begin(), files.end());
-  return files;
-}
 
 /// One flat unit quad in z = 0 with normals +z: an open mesh, every edge a boundary edge.
 inline PatchCache flatQuadCache() {

@@ -1,4 +1,4 @@
-// Shared by the global-query tests (and bench/refine_stats.cpp): HIPs pressed into a patch
+// Shared by the global-query and held-contact tests (and bench/refine_stats.cpp): HIPs pressed into a patch
 // surface along the normals of sampled patch points, whose distance to the surface is known not
 // to exceed the depth, and HIPs uniform in a mesh's box.
 #pragma once
@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <initializer_list>
+#include <iterator>
 #include <random>
 #include <vector>
 
@@ -57,6 +58,22 @@ inline std::vector<Eigen::Vector3d> uniformHipsInBox(const PatchCache& cache, in
     for (int a = 0; a < 3; ++a) p[a] = lo[a] - g + u(rng) * (hi[a] - lo[a] + 2 * g);
     hips.push_back(p);
   }
+  return hips;
+}
+
+/// The HIPs HeldContact holds still on a mesh (and refine_stats refines to): 300 uniform in the
+/// box grown by 5% of its diagonal (seed 11), then 300 patch samples (seed 5) pressed in along
+/// their normals by 0.5%, 2%, 5% and 10% of the box diagonal in turn; 600 in all. *boxDiagonal
+/// (when given): that diagonal, m.
+inline std::vector<Eigen::Vector3d> heldContactHips(const PatchCache& cache, double* boxDiagonal = nullptr) {
+  constexpr int kUniform = 300, kPressed = 300;
+  constexpr double kDepth[] = {0.005, 0.02, 0.05, 0.1};
+  double diag = 0;
+  std::vector<Eigen::Vector3d> hips = uniformHipsInBox(cache, kUniform, 11, 0.05, &diag);
+  const std::vector<SurfaceSample> samples = PatchSurfaceSampler(cache).sample(kPressed, 5);
+  for (size_t i = 0; i < samples.size(); ++i)
+    hips.push_back(samples[i].point - kDepth[i % std::size(kDepth)] * diag * samples[i].normal);
+  if (boxDiagonal) *boxDiagonal = diag;
   return hips;
 }
 

@@ -70,9 +70,6 @@ HeldCounts holdStill(ForceRenderer& r, const std::vector<Eigen::Vector3d>& hips,
 }
 
 TEST(HeldContact, AHipHeldStillKeepsItsContactVerdictOnEveryBundledMesh) {
-  constexpr int kHips = 300;     // per mesh: uniform in the bounding box grown by 5% of its diagonal
-  constexpr int kPressed = 300;  // per mesh: pressed in from sampled patch points, to these depths (x diagonal)
-  constexpr double kDepth[] = {0.005, 0.02, 0.05, 0.1};
   const ForceOptions options;
   int meshes = 0;
   HeldCounts cacheTotal, lazyTotal;
@@ -82,13 +79,9 @@ TEST(HeldContact, AHipHeldStillKeepsItsContactVerdictOnEveryBundledMesh) {
     auto cache = std::make_shared<const PatchCache>(test::cacheFromFile(path));
     auto skeleton = std::make_shared<const PatchCache>(test::skeletonFromFile(path));
     auto surface = std::make_shared<const PatchSurface>(*cache, patchSurfaceOptions(options));
-    double diag = 0;
-    std::vector<Eigen::Vector3d> hips = test::uniformHipsInBox(*cache, kHips, 11, 0.05, &diag);
-    // and patch points pressed in along their normal, to the depths of sweeps and deeper (into
-    // the sheets of surface faults)
-    const std::vector<SurfaceSample> samples = PatchSurfaceSampler(*cache).sample(kPressed, 5);
-    for (size_t i = 0; i < samples.size(); ++i)
-      hips.push_back(samples[i].point - kDepth[i % std::size(kDepth)] * diag * samples[i].normal);
+    // 300 uniform in the bounding box grown by 5% of its diagonal, and 300 patch points pressed in
+    // along their normal, to the depths of sweeps and deeper (into the sheets of surface faults)
+    const std::vector<Eigen::Vector3d> hips = test::heldContactHips(*cache);
     auto onCache =
         makeForceRenderer(cache, std::make_shared<const PolygonScene>(*cache), ForceMethod::Patch, options, surface);
     auto onSkeleton =
@@ -139,7 +132,7 @@ TEST(HeldContact, AHipHeldStillKeepsItsContactVerdictOnEveryBundledMesh) {
       meshes, cacheTotal.hips, cacheTotal.contacts, cacheTotal.changed, cacheTotal.disagree, cacheTotal.insideFar,
       lazyTotal.contacts, lazyTotal.changed);
   EXPECT_EQ(meshes, 28);
-  EXPECT_EQ(cacheTotal.hips, 28L * (kHips + kPressed));
+  EXPECT_EQ(cacheTotal.hips, 28L * 600);
   EXPECT_EQ(cacheTotal.changed, 0);
   EXPECT_EQ(lazyTotal.changed, 0);
   EXPECT_EQ(cacheTotal.disagree, 0);

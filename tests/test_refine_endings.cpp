@@ -96,9 +96,10 @@ TEST(RefineEndings, EveryNearestPointConvergesAndThoseOffTheAngleTestAreLocalMin
       if (r.edge >= 0) {
         edgesIterating += again.iterations > 0;
         EXPECT_LE(again.iterations, 6) << "HIP " << hip.transpose() << ": held on edge " << r.edge;
-        if (again.iterations > 0)
+        if (again.iterations > 0) {
           EXPECT_TRUE(first.status & SF_ST_SINGULAR)
               << "HIP " << hip.transpose() << ": held on edge " << r.edge << " at a regular point, iterates again";
+        }
       }
       EXPECT_TRUE(again.status & SF_TRACK_CONVERGED);
     }
