@@ -11,19 +11,14 @@
 #include <sstream>
 #include <string>
 
+#include "file_bytes.h"
+
 namespace sf::test {
 
 struct CliStreams {
   int status = -1;  ///< exit status; -1 when killed by a signal
   std::string out, err;
 };
-
-inline std::string readFile(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 inline std::string shellQuote(const std::string& s) {
   std::string q = "'";
@@ -46,8 +41,8 @@ inline CliStreams runStreams(const std::filesystem::path& dir, const std::string
   const int st = std::system(cmd.c_str());
   CliStreams r;
   r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  r.out = readFile(base + ".out");
-  r.err = readFile(base + ".err");
+  r.out = fileBytes(base + ".out");
+  r.err = fileBytes(base + ".err");
   return r;
 }
 

@@ -19,7 +19,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using sf::test::CliStreams;
-using sf::test::readFile;
+using sf::test::fileBytes;
 using json = nlohmann::json;
 
 class CliContract : public ::testing::Test {
@@ -301,7 +301,7 @@ TEST_F(CliContract, AFailedWriteToStdoutIsAnError) {
     const std::string err = file("stderr.txt");
     const int raw = std::system((std::string(SF_CLI_PATH) + " " + args + " > /dev/full 2> " + err).c_str());
     const int status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    const std::string text = readFile(err);
+    const std::string text = fileBytes(err);
     EXPECT_EQ(status, 1) << args << "\n" << text;
     // one error line, the last (a sweep's notes and progress lines come before it)
     const size_t cut = text.size() >= 2 ? text.rfind('\n', text.size() - 2) : std::string::npos;
@@ -342,7 +342,7 @@ TEST_F(CliContract, ResultsOnStdoutDiagnosticsOnStderr) {
   EXPECT_EQ(r.err, "");
   r = run("eval " + cache() + " --points " + pts + " -o -");
   EXPECT_EQ(r.status, 0);
-  EXPECT_EQ(r.out, readFile(csv));
+  EXPECT_EQ(r.out, fileBytes(csv));
   EXPECT_EQ(r.err, "eval: 3 points -> <stdout>\n");
   // trace alike
   const std::string hips = file("hips.csv", sphereHips()), tcsv = file("t.csv");
@@ -352,7 +352,7 @@ TEST_F(CliContract, ResultsOnStdoutDiagnosticsOnStderr) {
   EXPECT_EQ(r.err, "");
   r = run("trace --mesh " + sphere + " --hips " + hips + " -o -");
   EXPECT_EQ(r.status, 0);
-  EXPECT_EQ(r.out, readFile(tcsv));
+  EXPECT_EQ(r.out, fileBytes(tcsv));
   EXPECT_EQ(r.err.rfind("trace: 41 steps", 0), 0u) << r.err;
   // loop: the report on stdout; with --json the set-up lines on stderr
   r = run("loop --mesh " + sphere + " --device null --duration 0.05");
@@ -446,7 +446,7 @@ TEST_F(CliContract, JsonOutputsParseWithTheDocumentedKeys) {
                "refine", "steps"}));
   EXPECT_EQ(j["final_step"], "evaluated");
   // against the CSV it wrote: steps = rows, in_contact = rows with contact 1
-  std::istringstream rows(readFile(out));
+  std::istringstream rows(fileBytes(out));
   std::string line;
   std::getline(rows, line);
   int n = 0, contact = 0;
@@ -497,12 +497,12 @@ TEST_F(CliContract, DashReadsStdinAndWritesStdout) {
   ASSERT_EQ(run("eval " + cache() + " --points " + file("p.csv", pts) + " -o " + viaFile).status, 0);
   CliStreams r = run("eval " + cache() + " --points - -o -", pts);
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_EQ(r.out, readFile(viaFile));
+  EXPECT_EQ(r.out, fileBytes(viaFile));
   const std::string hips = sphereHips(), tFile = file("tf.csv");
   ASSERT_EQ(run("trace --mesh " + sphere + " --hips " + file("h.csv", hips) + " -o " + tFile).status, 0);
   r = run("trace --mesh " + sphere + " --hips - -o -", hips);
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_EQ(r.out, readFile(tFile));
+  EXPECT_EQ(r.out, fileBytes(tFile));
   // an error in standard input is named <stdin>
   r = run("trace --mesh " + sphere + " --hips - -o -", "x,y,z\n1,2\n");
   EXPECT_EQ(r.status, 1);
@@ -514,7 +514,7 @@ TEST_F(CliContract, DashReadsStdinAndWritesStdout) {
   r = run(common + "--hips - -o " + file("sws"), hips);
   ASSERT_EQ(r.status, 0) << r.err;
   for (const char* f : {"results_patch.bin", "results_direct.bin", "hips.bin"})
-    EXPECT_EQ(readFile(dir / "swf" / f), readFile(dir / "sws" / f)) << f;
+    EXPECT_EQ(fileBytes(dir / "swf" / f), fileBytes(dir / "sws" / f)) << f;
   // generate --trajectory-out -: the helix on stdout, the report on stderr
   ASSERT_EQ(
       run("generate torus-knot --trajectory-points 50 --trajectory-out " + file("hx.csv") + " -o " + file("k1.obj"))
@@ -522,7 +522,7 @@ TEST_F(CliContract, DashReadsStdinAndWritesStdout) {
       0);
   r = run("generate torus-knot --trajectory-points 50 --trajectory-out - -o " + file("k2.obj"));
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_EQ(r.out, readFile(dir / "hx.csv"));
+  EXPECT_EQ(r.out, fileBytes(dir / "hx.csv"));
   EXPECT_NE(r.err.find("generate: torus-knot"), std::string::npos) << r.err;
 }
 
@@ -552,7 +552,7 @@ TEST_F(CliContract, OneCsvReaderAcceptsNumpyHeaders) {
   ASSERT_EQ(run("trace --mesh " + sphere + " --hips " + file("plain.csv", hips) + " -o " + t1).status, 0);
   CliStreams r = run("trace --mesh " + sphere + " --hips " + file("np.csv", numpy("x,y,z", hips)) + " -o " + t2);
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_EQ(readFile(t1), readFile(t2));
+  EXPECT_EQ(fileBytes(t1), fileBytes(t2));
   accepted += r.status == 0;
   r = run("sweep --mesh " + sphere + " --methods direct --no-plots --hips " + file("np.csv") + " -o " + file("swn"));
   EXPECT_EQ(r.status, 0) << r.err;
@@ -563,7 +563,7 @@ TEST_F(CliContract, OneCsvReaderAcceptsNumpyHeaders) {
   r = run("eval " + cache() + " --points " + file("pn.csv", "# made by gen.py\n" + numpy("face,xi,eta", pts)) + " -o " +
           e2);
   EXPECT_EQ(r.status, 0) << r.err;
-  EXPECT_EQ(readFile(e1), readFile(e2));
+  EXPECT_EQ(fileBytes(e1), fileBytes(e2));
   accepted += r.status == 0;
   r = run("loop --mesh " + sphere +
           " --duration 0.02 --device replay:" + file("rp.csv", numpy("t,x,y,z", "t,x,y,z\n0,0,0,1.1\n1,0,0,0.9\n")));
@@ -575,7 +575,7 @@ TEST_F(CliContract, OneCsvReaderAcceptsNumpyHeaders) {
   std::replace(cr.begin(), cr.end(), '\n', '\r');
   r = run("trace --mesh " + sphere + " --hips " + file("cr.csv", cr) + " -o " + t2);
   EXPECT_EQ(r.status, 0) << r.err;
-  EXPECT_EQ(readFile(t1), readFile(t2));
+  EXPECT_EQ(fileBytes(t1), fileBytes(t2));
   // a '#' line that is not the header stays a comment: the data line is then not a header
   r = run("trace --mesh " + sphere + " --hips " + file("wrong.csv", "# a,b,c\n1,2,3\n") + " -o " + t2);
   EXPECT_EQ(r.status, 1);
@@ -626,8 +626,8 @@ TEST_F(CliContract, OneCsvReaderTakesColumnsByName) {
     const std::string out = file("v_t.csv");
     const CliStreams r = run("trace --mesh " + sphere + " --hips " + file("v.csv", text) + " -o " + out);
     EXPECT_EQ(r.status, 0) << v.name << ": " << r.err;
-    EXPECT_EQ(readFile(out), readFile(plain)) << v.name;
-    same += r.status == 0 && readFile(out) == readFile(plain);
+    EXPECT_EQ(fileBytes(out), fileBytes(plain)) << v.name;
+    same += r.status == 0 && fileBytes(out) == fileBytes(plain);
   }
   EXPECT_EQ(same, static_cast<int>(variants.size()));
   // eval --points with its columns reordered: the same values
@@ -638,7 +638,7 @@ TEST_F(CliContract, OneCsvReaderTakesColumnsByName) {
   CliStreams r =
       run("eval " + cache() + " --points " + file("pr.csv", "Eta;Face;XI\n0;0;0\n-0.4;17;0.25\n") + " -o " + e2);
   EXPECT_EQ(r.status, 0) << r.err;
-  EXPECT_EQ(readFile(e1), readFile(e2));
+  EXPECT_EQ(fileBytes(e1), fileBytes(e2));
   // what is refused, naming the file, the line and the column
   const struct {
     const char* text;
@@ -682,14 +682,14 @@ TEST_F(CliContract, OpenClDeviceIsClDevice) {
   if (r.status != 0 && r.err.find("no OpenCL device") != std::string::npos)
     GTEST_SKIP() << "no OpenCL device here: " << r.err;
   ASSERT_EQ(r.status, 0) << r.err;
-  const std::vector<double> a = numbers(readFile(cpu)), b = numbers(readFile(cl));
+  const std::vector<double> a = numbers(fileBytes(cpu)), b = numbers(fileBytes(cl));
   ASSERT_EQ(a.size(), 18u);  // 2 rows of face,xi,eta,x,y,z,nx,ny,nz
   ASSERT_EQ(b.size(), a.size());
   for (size_t i = 0; i < a.size(); ++i) EXPECT_NEAR(a[i], b[i], 1e-9) << i;
   const CliStreams d = run("eval " + cache() + " --backend opencl --device 0 --points " + pts + " -o " + old);
   EXPECT_EQ(d.status, 0) << d.err;
   EXPECT_NE(d.err.find("--device is deprecated for the OpenCL device; use --cl-device"), std::string::npos) << d.err;
-  EXPECT_EQ(readFile(old), readFile(cl));
+  EXPECT_EQ(fileBytes(old), fileBytes(cl));
   const CliStreams none =
       run("eval " + cache() + " --backend opencl --cl-device nosuchdevice --points " + pts + " -o " + file("x.csv"));
   EXPECT_EQ(none.status, 1);

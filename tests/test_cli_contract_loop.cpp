@@ -15,7 +15,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using sf::test::CliStreams;
-using sf::test::readFile;
+using sf::test::fileBytes;
 using json = nlohmann::json;
 
 class LoopContract : public ::testing::Test {
@@ -75,7 +75,7 @@ TEST_F(LoopContract, LoopRendersTheSurfaceTraceRendersWithTheSamePatchOptions) {
     r = run("loop --mesh " + spot + " --normals " + mode + " --device replay:" +
             file("one.csv", "t,x,y,z\n0," + std::string(hip) + "\n") + " --duration 0.1 --record " + rec);
     ASSERT_EQ(r.status, 0) << r.err;
-    const auto t = rows(readFile(trace)), l = rows(readFile(rec));
+    const auto t = rows(fileBytes(trace)), l = rows(fileBytes(rec));
     ASSERT_EQ(t.size(), 100u);
     ASSERT_GE(l.size(), 10u);  // 100 ticks; some are skipped on a loaded machine
     ASSERT_LE(l.size(), 100u);
@@ -265,11 +265,11 @@ TEST_F(LoopContract, SigintAndSigtermStopEveryCommandAlike) {
     r = run(args, sig, 0.3);
     EXPECT_EQ(r.status, 128 + sig) << r.err;
     EXPECT_NE(r.err.find("sweep: interrupted by " + name), std::string::npos) << r.err;
-    EXPECT_NE(readFile(fs::path(sw) / "sweep.json").find("\"complete\": false"), std::string::npos);
+    EXPECT_NE(fileBytes(fs::path(sw) / "sweep.json").find("\"complete\": false"), std::string::npos);
     r = run(args + " --resume");
     EXPECT_EQ(r.status, 0) << r.err;
     EXPECT_NE(r.err.find("sweep: resuming shard 0/1"), std::string::npos) << r.err;
-    EXPECT_NE(readFile(fs::path(sw) / "sweep.json").find("\"complete\": true"), std::string::npos);
+    EXPECT_NE(fileBytes(fs::path(sw) / "sweep.json").find("\"complete\": true"), std::string::npos);
     ++checked;
   }
   EXPECT_EQ(checked, 2);

@@ -15,6 +15,7 @@
 #include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/mesh_arrays.h>
 #include "patch_test_support.h"
+#include "file_bytes.h"
 
 namespace sf::test {
 namespace {
@@ -52,14 +53,10 @@ Flat flatten(const PolygonMesh& m) {
   return f;
 }
 
-std::string bytesOf(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
 
 std::string cacheBytes(const LoadedMesh& lm, const PatchOptions& o, const std::string& path) {
   writePatchCache(buildPatchCache(lm, o, Backend::Tbb), path);
-  return bytesOf(path);
+  return sf::test::fileBytes(path);
 }
 
 /// Every mesh file that reads: tests/data (most are malformed on purpose; those that read

@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include <smoothforce/mesh/mesh_io.h>
+#include "file_bytes.h"
 
 namespace fs = std::filesystem;
 
@@ -359,12 +360,6 @@ namespace {
 
 const std::string kSpot = std::string(SF_DATA_DIR) + "/spot_control_mesh.obj";
 
-std::string readText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 /// `text` with every "\n" replaced by `eol`.
 std::string withLineEnds(const std::string& text, const std::string& eol) {
@@ -561,7 +556,7 @@ TEST(OffReader, FaceLinesReadAsVerticesWithAColourAreRefusedNamingTheLine) {
 
 TEST(MeshReaderLineEnds, CrOnlyReadsLikeLf) {
   const sf::PolygonMesh spot = sf::readMesh(kSpot);
-  const std::string obj = readText(kSpot), off = offText(spot, spot.numVertices(), spot.numFaces()),
+  const std::string obj = sf::test::fileBytes(kSpot), off = offText(spot, spot.numVertices(), spot.numFaces()),
                     ply = plyText(spot);
   for (const char* eol : {"\r", "\r\n"}) {
     SCOPED_TRACE(eol[1] ? "CRLF" : "CR");
@@ -590,7 +585,7 @@ TEST(MeshReaderLineEnds, CrOnlyReadsLikeLf) {
 
 TEST(MeshReaderDispatch, Utf16AndUtf32AreRefusedNamingTheFile) {
   const sf::PolygonMesh spot = sf::readMesh(kSpot);
-  const std::string texts[3] = {readText(kSpot), offText(spot, spot.numVertices(), spot.numFaces()), plyText(spot)};
+  const std::string texts[3] = {sf::test::fileBytes(kSpot), offText(spot, spot.numVertices(), spot.numFaces()), plyText(spot)};
   const char* exts[3] = {".obj", ".off", ".ply"};
   int refused = 0;
   for (int i = 0; i < 3; ++i) {
@@ -621,7 +616,7 @@ TEST(MeshReaderDispatch, Utf16AndUtf32AreRefusedNamingTheFile) {
 
 TEST(ObjReader, BackslashContinuesAStatementOnTheNextLine) {
   const sf::PolygonMesh spot = sf::readMesh(kSpot);
-  const std::string obj = readText(kSpot);
+  const std::string obj = sf::test::fileBytes(kSpot);
   // Every v and f statement split after its first value, three ways: "v x \", "v x\" and a
   // backslash followed by blanks.
   for (const char* split : {" \\\n  ", "\\\n", " \\ \t\n\t"}) {

@@ -22,6 +22,7 @@
 #include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/mesh_pipeline.h>
 #include "cli_test_support.h"
+#include "file_bytes.h"
 
 namespace {
 
@@ -384,11 +385,6 @@ std::string writeObjWithNormals(const sf::PolygonMesh& m, const std::vector<Eige
   return path;
 }
 
-/// The bytes of a file.
-std::string fileBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
 
 /// Bitwise equality of two arrays of trivially copyable values.
 template <class T>
@@ -452,7 +448,7 @@ TEST(NormalsAuto, FaceReferencedVertexNormalsBuildTheFileCache) {
       const std::string pa = obj + ".auto.sfcache", pf = obj + ".file.sfcache";
       sf::writePatchCache(ca, pa);
       sf::writePatchCache(cf, pf);
-      const std::string ba = fileBytes(pa), bf = fileBytes(pf);
+      const std::string ba = sf::test::fileBytes(pa), bf = sf::test::fileBytes(pf);
       ASSERT_EQ(ba.size(), bf.size());
       ASSERT_GT(ba.size(), 128u);
       EXPECT_TRUE(ba.compare(128, std::string::npos, bf, 128, std::string::npos) == 0);
@@ -618,7 +614,7 @@ TEST(NormalsAuto, CacheBuildCommand) {
   EXPECT_NE(ra.out.find("normals: auto\n  the file's normals, one per vertex (through face references)\n"),
             std::string::npos)
       << ra.out;
-  const std::string ba = fileBytes(obj + ".a.sfcache"), bf = fileBytes(obj + ".f.sfcache");
+  const std::string ba = sf::test::fileBytes(obj + ".a.sfcache"), bf = sf::test::fileBytes(obj + ".f.sfcache");
   ASSERT_GT(ba.size(), 128u);
   EXPECT_EQ(ba.substr(128), bf.substr(128));
 

@@ -16,6 +16,7 @@
 #include <smoothforce/base/status.h>
 #include <smoothforce/sweep/sweep.h>
 #include "cli_test_support.h"
+#include "file_bytes.h"
 
 namespace {
 
@@ -24,12 +25,6 @@ namespace fs = std::filesystem;
 using sf::test::CliResult;
 CliResult run(const std::string& args) { return sf::test::smoothforce(args); }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 class SweepCli : public ::testing::Test {
  protected:
@@ -85,11 +80,11 @@ TEST_F(SweepCli, MeshWithReferenceBuildsOnlyTouchedPatches) {
   EXPECT_LT(std::stoi(m[1]), 200) << "the cap touches a few dozen of the 1,536 faces per worker";
   ASSERT_EQ(run("sweep --cache " + p("s.sfcache") + common + p("full")).status, 0);
   for (const char* f : {"results_direct.bin", "hips.bin"})
-    EXPECT_EQ(slurp(dir / "lazy" / f), slurp(dir / "full" / f)) << f;
+    EXPECT_EQ(sf::test::fileBytes(dir / "lazy" / f), sf::test::fileBytes(dir / "full" / f)) << f;
   // the patch records too, but for the sweep's inside test: it needs every patch built, so a
   // lazy sweep says UNDECIDED for the patch method (SF_PROBE_* bits of the status, offset 32)
-  std::string lazyPatch = slurp(dir / "lazy" / "results_patch.bin"),
-              fullPatch = slurp(dir / "full" / "results_patch.bin");
+  std::string lazyPatch = sf::test::fileBytes(dir / "lazy" / "results_patch.bin"),
+              fullPatch = sf::test::fileBytes(dir / "full" / "results_patch.bin");
   ASSERT_EQ(lazyPatch.size(), fullPatch.size());
   ASSERT_EQ((lazyPatch.size() - 32) % sizeof(sf::HipResult), 0u);
   size_t records = 0, decided = 0;
@@ -117,8 +112,8 @@ TEST_F(SweepCli, MeshWithReferenceBuildsOnlyTouchedPatches) {
       << lazySurface.out;
   EXPECT_LT(std::stoi(m[1]), 200) << "the cap touches a few dozen of the 1,536 faces per worker";
   ASSERT_EQ(run("sweep --cache " + p("s.sfcache") + surface + p("full-s")).status, 0);
-  lazyPatch = slurp(dir / "lazy-s" / "results_patch.bin");
-  fullPatch = slurp(dir / "full-s" / "results_patch.bin");
+  lazyPatch = sf::test::fileBytes(dir / "lazy-s" / "results_patch.bin");
+  fullPatch = sf::test::fileBytes(dir / "full-s" / "results_patch.bin");
   ASSERT_EQ(lazyPatch.size(), fullPatch.size());
   size_t contacts = 0;
   double worst = 0;
@@ -208,7 +203,7 @@ TEST_F(SweepCli, ShardsMergeByteIdentical) {
   r = run("sweep-merge " + dirs + " --no-plots -o " + p("merged"));
   ASSERT_EQ(r.status, 0) << r.out;
   for (const char* f : {"summary.json", "results_patch.bin", "results_direct.bin", "hips.bin", "trajectories.json"})
-    EXPECT_EQ(slurp(dir / "whole" / f), slurp(dir / "merged" / f)) << f;
+    EXPECT_EQ(sf::test::fileBytes(dir / "whole" / f), sf::test::fileBytes(dir / "merged" / f)) << f;
   EXPECT_TRUE(fs::exists(dir / "merged" / "index.html"));
   EXPECT_TRUE(fs::exists(dir / "merged" / "patch_2pct.ply"));
   r = run("sweep-merge " + p("s0") + " " + p("s2") + " -o " + p("gap"));

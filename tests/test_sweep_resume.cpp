@@ -15,6 +15,7 @@
 #include <smoothforce/sweep/sweep_io.h>
 #include <smoothforce/sweep/sweep_run.h>
 #include "test_sweep_support.h"
+#include "file_bytes.h"
 
 namespace sf {
 namespace {
@@ -22,12 +23,6 @@ namespace {
 namespace fs = std::filesystem;
 using sweeptest::FakeSphere;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 const char* const kFiles[] = {"sweep.json", "hips.bin", "results_smooth.bin", "results_faceted.bin",
                               "trajectories.json"};
@@ -97,7 +92,7 @@ TEST_F(SweepResume, StoppedAnywhereAndResumedGivesTheUninterruptedBytes) {
     // what is on disk is what the run ended with; resume from it
     SweepData onDisk = readSweepData(out.string());
     EXPECT_EQ(onDisk.doneCounts(), done);
-    EXPECT_NE(slurp(out / "sweep.json").find("\"complete\": false"), std::string::npos);
+    EXPECT_NE(sf::test::fileBytes(out / "sweep.json").find("\"complete\": false"), std::string::npos);
     SweepInputs again = inputs();
     again.resume = std::move(onDisk);
     SweepTiming tm;
@@ -105,7 +100,7 @@ TEST_F(SweepResume, StoppedAnywhereAndResumedGivesTheUninterruptedBytes) {
     EXPECT_TRUE(resumed.complete());
     EXPECT_EQ(tm.methodDone[0] + tm.methodDone[1], 8000 - done[0] - done[1]) << "only the rest is computed";
     writeSweepData(resumed, out.string());
-    for (const char* f : kFiles) EXPECT_EQ(slurp(dir / "whole" / f), slurp(out / f)) << stopAfter << " " << f;
+    for (const char* f : kFiles) EXPECT_EQ(sf::test::fileBytes(dir / "whole" / f), sf::test::fileBytes(out / f)) << stopAfter << " " << f;
     ++cases;
   }
   EXPECT_EQ(cases, 5);
@@ -186,7 +181,7 @@ TEST_F(SweepResume, TrajectorySeriesAreSpreadOverShards) {
   const SweepData merged = mergeSweepData(shards);
   writeSweepData(whole, (dir / "whole").string());
   writeSweepData(merged, (dir / "merged").string());
-  for (const char* f : kFiles) EXPECT_EQ(slurp(dir / "whole" / f), slurp(dir / "merged" / f)) << f;
+  for (const char* f : kFiles) EXPECT_EQ(sf::test::fileBytes(dir / "whole" / f), sf::test::fileBytes(dir / "merged" / f)) << f;
   // a shard's series missing from the merge is named
   shards[1].trajectories.clear();
   shards[1].trajectoryEnd = shards[1].trajectoryBegin;
@@ -223,9 +218,9 @@ TEST_F(SweepResume, MergeRefusesIncompleteShardsAndNamesThem) {
   }
   writeSweepData(mergeSweepData(shards), (dir / "merged").string());
   writeSweepData(runSweep(inputs(), {}), (dir / "whole").string());
-  for (const char* f : kFiles) EXPECT_EQ(slurp(dir / "whole" / f), slurp(dir / "merged" / f)) << f;
+  for (const char* f : kFiles) EXPECT_EQ(sf::test::fileBytes(dir / "whole" / f), sf::test::fileBytes(dir / "merged" / f)) << f;
   // a hand-edited shard index or count is refused naming the field (a count of 1e308 merged)
-  const std::string meta = slurp(dir / "shard2" / "sweep.json");
+  const std::string meta = sf::test::fileBytes(dir / "shard2" / "sweep.json");
   int refused = 0;
   for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
            {"\"index\": 2", "\"index\": -1"}, {"\"index\": 2", "\"index\": \"2\""},
@@ -311,7 +306,7 @@ TEST_F(SweepResume, ShardsWithoutRecordedFileContents) {
     writeSweepData(d, o.string());
     d.config.trajectoryHashes.clear();  // as written before: no "trajectory_hashes" in sweep.json
     writeSweepData(d, f.string());
-    EXPECT_EQ(slurp(f / "sweep.json").find("trajectory_hashes"), std::string::npos);
+    EXPECT_EQ(sf::test::fileBytes(f / "sweep.json").find("trajectory_hashes"), std::string::npos);
     fresh.push_back(readSweepData(o.string()));
     old.push_back(readSweepData(f.string()));
   }
@@ -336,7 +331,7 @@ TEST_F(SweepResume, MergeRefusesAnotherFormatVersionAndNamesOverlappingShards) {
   const std::string s0 = (dir / "s0").string(), s1 = (dir / "s1").string();
   writeSweepData(runSweep(inputs(0, 2), {}), s0);
   writeSweepData(runSweep(inputs(1, 2), {}), s1);
-  const std::string meta = slurp(dir / "s1" / "sweep.json");
+  const std::string meta = sf::test::fileBytes(dir / "s1" / "sweep.json");
   const std::string from = "\"smoothforce_sweep_data\": 1,";
   ASSERT_NE(meta.find(from), std::string::npos);
   int refused = 0;
@@ -373,7 +368,7 @@ TEST_F(SweepResume, DamagedRecordsAreRefusedNamingTheHip) {
   // iterations 36, contact 38, done 39; 32-byte headers)
   const std::string s0 = (dir / "s0").string();
   writeSweepData(runSweep(inputs(), {}), s0);
-  const std::string hips = slurp(dir / "s0" / "hips.bin"), res = slurp(dir / "s0" / "results_smooth.bin");
+  const std::string hips = sf::test::fileBytes(dir / "s0" / "hips.bin"), res = sf::test::fileBytes(dir / "s0" / "results_smooth.bin");
   auto poke = [](std::string data, size_t at, const void* bytes, size_t n) {
     std::memcpy(&data[at], bytes, n);
     return data;

@@ -9,6 +9,7 @@
 #include <smoothforce/sweep/sweep_io.h>
 #include <smoothforce/sweep/sweep_run.h>
 #include "test_sweep_support.h"
+#include "file_bytes.h"
 
 namespace sf {
 namespace {
@@ -16,12 +17,6 @@ namespace {
 namespace fs = std::filesystem;
 using sweeptest::FakeSphere;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 class SweepRun : public ::testing::Test {
  protected:
@@ -119,7 +114,7 @@ TEST_F(SweepRun, ShardsMergeToTheUnshardedRun) {
   writeSweepSummary(merged, (dir / "merged").string());
   for (const char* f : {"summary.json", "sweep.json", "hips.bin", "results_smooth.bin", "results_faceted.bin",
                         "trajectories.json", "faceted_2pct.ply"})
-    EXPECT_EQ(slurp(dir / "whole" / f), slurp(dir / "merged" / f)) << f;
+    EXPECT_EQ(sf::test::fileBytes(dir / "whole" / f), sf::test::fileBytes(dir / "merged" / f)) << f;
   // A missing shard, and a shard of another run, are refused.
   EXPECT_THROW(mergeSweepData({shards[0], shards[1]}), InputError);
   SweepInputs other = inputs();
@@ -143,7 +138,7 @@ TEST_F(SweepRun, FacetedFieldIsFlaggedSmoothIsNot) {
   const SweepData d = runSweep(inputs(), {});
   writeSweepData(d, dir.string());
   writeSweepSummary(d, dir.string());
-  const std::string s = slurp(dir / "summary.json");
+  const std::string s = sf::test::fileBytes(dir / "summary.json");
   // results[0]: smooth 2%, [2]: faceted 2% (method-major)
   const auto pairsAt = [&](int k) {
     size_t pos = 0;
@@ -172,7 +167,7 @@ TEST_F(SweepRun, StopKeepsWhatIsDoneAndSaysPartial) {
   EXPECT_TRUE(d.trajectories.empty());
   writeSweepData(d, dir.string());
   writeSweepSummary(d, dir.string());
-  EXPECT_NE(slurp(dir / "summary.json").find("\"complete\": false"), std::string::npos);
+  EXPECT_NE(sf::test::fileBytes(dir / "summary.json").find("\"complete\": false"), std::string::npos);
 }
 
 }  // namespace
