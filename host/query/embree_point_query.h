@@ -1,5 +1,5 @@
-// Private to the query module: setting up Embree devices and user-geometry scenes, and one
-// point query around a point (the user geometries' point-query callbacks do the work and keep
+// Private to the query module: setting up Embree devices and user-geometry scenes, one ray, and
+// one point query around a point (the user geometries' point-query callbacks do the work and keep
 // their state in `user`).
 #pragma once
 
@@ -26,6 +26,28 @@ inline void embreePointQuery(RTCScene scene, const Eigen::Vector3d& p, void* use
   RTCPointQueryContext ctx;
   rtcInitPointQueryContext(&ctx);
   rtcPointQuery(scene, &q, &ctx, nullptr, user);
+}
+
+/// A ray from o (m, rounded to float) along d over [0, tfar] (in units of |d|), with no hit yet:
+/// for rtcIntersect1.
+inline RTCRayHit embreeRay(const Eigen::Vector3d& o, const Eigen::Vector3d& d, float tfar) noexcept {
+  RTCRayHit rh;
+  rh.ray.org_x = float(o.x());
+  rh.ray.org_y = float(o.y());
+  rh.ray.org_z = float(o.z());
+  rh.ray.dir_x = float(d.x());
+  rh.ray.dir_y = float(d.y());
+  rh.ray.dir_z = float(d.z());
+  rh.ray.tnear = 0;
+  rh.ray.tfar = tfar;
+  rh.ray.time = 0;
+  rh.ray.mask = 0xFFFFFFFFu;
+  rh.ray.id = 0;
+  rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  return rh;
 }
 
 /// A new Embree device whose errors go to onError(user, ...); throws std::runtime_error with

@@ -180,23 +180,8 @@ PolygonCrossing segmentQuery(const PolygonScene::Impl& impl, const PolygonFacets
   sc.bestT = 2;
   sc.bestFacet = -1;
   sc.bestEntering = true;
-  RTCRayHit rh;
   const Eigen::Vector3d d = b - a, o = a - impl.origin;  // the ray's origin in the BVH's frame
-  rh.ray.org_x = float(o.x());
-  rh.ray.org_y = float(o.y());
-  rh.ray.org_z = float(o.z());
-  rh.ray.dir_x = float(d.x());
-  rh.ray.dir_y = float(d.y());
-  rh.ray.dir_z = float(d.z());
-  rh.ray.tnear = 0;
-  rh.ray.tfar = 1.0f + 1e-5f;
-  rh.ray.time = 0;
-  rh.ray.mask = 0xFFFFFFFFu;
-  rh.ray.id = 0;
-  rh.ray.flags = 0;
-  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-  rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
-  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  RTCRayHit rh = embreeRay(o, d, 1.0f + 1e-5f);
   if (!(d.squaredNorm() > 0)) return out;  // a zero-length segment enters nothing
   rtcIntersect1(impl.scene, &sc.base, &rh);
   if (sc.bestFacet < 0) return out;

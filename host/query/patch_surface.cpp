@@ -412,22 +412,7 @@ int PatchSurface::winding(const Eigen::Vector3d& q) const noexcept {
     wc.clean = true;
     const Eigen::Vector3d o = q - impl_->origin;  // the ray's origin in the BVH's frame
     wc.minDepth = kWindingMinDepth * float(o.cwiseAbs().maxCoeff());
-    RTCRayHit rh;
-    rh.ray.org_x = float(o.x());
-    rh.ray.org_y = float(o.y());
-    rh.ray.org_z = float(o.z());
-    rh.ray.dir_x = float(kDir[k].x());
-    rh.ray.dir_y = float(kDir[k].y());
-    rh.ray.dir_z = float(kDir[k].z());
-    rh.ray.tnear = 0;
-    rh.ray.tfar = std::numeric_limits<float>::infinity();
-    rh.ray.time = 0;
-    rh.ray.mask = 0xFFFFFFFFu;
-    rh.ray.id = 0;
-    rh.ray.flags = 0;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    RTCRayHit rh = embreeRay(o, kDir[k], std::numeric_limits<float>::infinity());
     rtcIntersect1(impl_->rays, &wc.base, &rh);
     w[k] = wc.winding;
     // the scene is watertight (robust mode): a ray whose every crossing is transversal and inside
