@@ -55,7 +55,6 @@ inline PatchCache skeletonFromFile(const std::string& path, Precision precision 
   return preparePatchSkeleton(loadMesh(path, o), o);
 }
 
-inline std::string sharedMesh(const std::string& rel) { return std::string(SF_SHARED_MESHES) + "/" + rel; }
 
 /// One flat unit quad in z = 0 with normals +z: an open mesh, every edge a boundary edge.
 inline PatchCache flatQuadCache() {

@@ -10,6 +10,9 @@
 
 namespace sf::test {
 
+/// The path of a shared mesh from its path under ../shared/meshes ("keenan_crane/spot.obj").
+inline std::string sharedMesh(const std::string& rel) { return std::string(SF_SHARED_MESHES) + "/" + rel; }
+
 /// Every mesh file (.obj, .off, .ply) under ../shared/meshes (SF_SHARED_MESHES) of at most
 /// maxBytes (the larger ones are the dense references, covered by the CLI runs), sorted.
 inline std::vector<std::string> sharedMeshFiles(uintmax_t maxBytes = 3'000'000) {

@@ -9,6 +9,8 @@
 
 #include <smoothforce/mesh/mesh_check.h>
 #include <smoothforce/mesh/mesh_io.h>
+#include "polygon_mesh_support.h"
+#include "shared_mesh_files.h"
 
 namespace {
 
@@ -55,21 +57,9 @@ const Entry kCatalogue[] = {
     {"geomview/snub_dodecahedron.off", 60, 92, {{3, 80}, {5, 12}}, 0, 0},
 };
 
-std::string meshPath(const std::string& rel) { return std::string(SF_SHARED_MESHES) + "/" + rel; }
-
-sf::PolygonMesh make(std::vector<Eigen::Vector3d> p, const std::vector<std::vector<int32_t>>& faces) {
-  sf::PolygonMesh m;
-  m.positions = std::move(p);
-  for (const auto& f : faces) m.addFace(f);
-  return m;
-}
-
-/// [-1,1]^3 with outward quads.
-sf::PolygonMesh cube() {
-  std::vector<Eigen::Vector3d> p;
-  for (int i = 0; i < 8; ++i) p.emplace_back(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1);
-  return make(p, {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}});
-}
+using sf::test::cubeMesh;
+using sf::test::polygonMesh;
+using sf::test::sharedMesh;
 
 }  // namespace
 
@@ -78,7 +68,7 @@ TEST(MeshCatalogue, EveryFileLoadsAndMatchesTheTable) {
   for (const Entry& e : kCatalogue) {
     SCOPED_TRACE(e.file);
     listed.insert(e.file);
-    const sf::PolygonMesh m = sf::readMesh(meshPath(e.file));
+    const sf::PolygonMesh m = sf::readMesh(sharedMesh(e.file));
     const sf::MeshReport r = sf::checkMesh(m);
     EXPECT_EQ(r.numVertices, e.V);
     EXPECT_EQ(r.numFaces, e.F);
@@ -121,13 +111,13 @@ TEST(MeshCatalogue, EveryFileLoadsAndMatchesTheTable) {
 }
 
 TEST(MeshCatalogue, DescribeNamesTheProblems) {
-  const sf::MeshReport r = sf::checkMesh(sf::readMesh(meshPath("stanford/bun_zipper_res4.ply")));
+  const sf::MeshReport r = sf::checkMesh(sf::readMesh(sharedMesh("stanford/bun_zipper_res4.ply")));
   std::string all;
   for (const std::string& line : r.describe(3)) all += line + "\n";
   EXPECT_NE(all.find("non-manifold edges: 70 (first: "), std::string::npos) << all;
   EXPECT_NE(all.find("duplicate faces: 40 (first: "), std::string::npos) << all;
   EXPECT_NE(all.find("face sizes: 948 tri"), std::string::npos) << all;
-  const sf::MeshReport c = sf::checkMesh(cube());
+  const sf::MeshReport c = sf::checkMesh(cubeMesh());
   all.clear();
   for (const std::string& line : c.describe()) all += line + "\n";
   EXPECT_NE(all.find("genus 0"), std::string::npos) << all;
@@ -135,7 +125,7 @@ TEST(MeshCatalogue, DescribeNamesTheProblems) {
 }
 
 TEST(MeshOrientation, Sphere2IsFlippedOutward) {
-  sf::PolygonMesh m = sf::readMesh(meshPath("polygon_laplacian/sphere2.off"));
+  sf::PolygonMesh m = sf::readMesh(sharedMesh("polygon_laplacian/sphere2.off"));
   const sf::MeshReport r = sf::checkMesh(m);
   ASSERT_LT(r.signedVolume, 0);
   sf::PolygonMesh kept = m;
@@ -149,7 +139,7 @@ TEST(MeshOrientation, Sphere2IsFlippedOutward) {
 }
 
 TEST(MeshOrientation, FlipKeepsFirstCornerAndReordersCornerNormals) {
-  sf::PolygonMesh m = make({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {2, 0, 0}}, {{0, 1, 2, 3}, {1, 4, 2}});
+  sf::PolygonMesh m = polygonMesh({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {2, 0, 0}}, {{0, 1, 2, 3}, {1, 4, 2}});
   for (int c = 0; c < m.numCorners(); ++c) m.fileCornerNormals.emplace_back(c, 0, 0);
   const sf::PolygonMesh original = m;
   sf::flipFaces(m);
@@ -162,7 +152,7 @@ TEST(MeshOrientation, FlipKeepsFirstCornerAndReordersCornerNormals) {
 }
 
 TEST(MeshOrientation, OnlyClosedConsistentInwardMeshesFlip) {
-  sf::PolygonMesh c = cube();
+  sf::PolygonMesh c = cubeMesh();
   sf::MeshReport r = sf::checkMesh(c);
   EXPECT_TRUE(r.clean());
   EXPECT_TRUE(r.closed());
@@ -175,7 +165,7 @@ TEST(MeshOrientation, OnlyClosedConsistentInwardMeshesFlip) {
   EXPECT_NEAR(sf::checkMesh(c).signedVolume, 8, 1e-12);
 
   // One face of six turned the wrong way: closed, 4 of 12 edges inconsistent (over 10%), not flipped.
-  sf::PolygonMesh bad = cube();
+  sf::PolygonMesh bad = cubeMesh();
   std::reverse(bad.faceVertices.begin() + 1, bad.faceVertices.begin() + 4);
   sf::flipFaces(bad);
   r = sf::checkMesh(bad);
@@ -183,7 +173,7 @@ TEST(MeshOrientation, OnlyClosedConsistentInwardMeshesFlip) {
   EXPECT_FALSE(sf::applyOrientation(bad, r, sf::OrientPolicy::Outward));
 
   // Open and inward-facing: not flipped either.
-  sf::PolygonMesh open = make({{0, 0, 0}, {0, 1, 0}, {1, 0, 0}}, {{0, 1, 2}});
+  sf::PolygonMesh open = polygonMesh({{0, 0, 0}, {0, 1, 0}, {1, 0, 0}}, {{0, 1, 2}});
   open.positions[0].z() = 1;
   r = sf::checkMesh(open);
   ASSERT_LT(r.signedVolume, 0);
@@ -194,7 +184,7 @@ TEST(MeshOrientation, OnlyClosedConsistentInwardMeshesFlip) {
 // 2-5 of 360 edges inconsistent, the volume the majority's: flipped, so that every face but the
 // one out of line points outward again (before, such a mesh stayed inside out).
 TEST(MeshOrientation, AnInwardMeshWithOneFaceOutOfLineIsFlipped) {
-  const sf::PolygonMesh home = sf::readMesh(meshPath("keenan_crane/spot_control_mesh.obj"));
+  const sf::PolygonMesh home = sf::readMesh(sharedMesh("keenan_crane/spot_control_mesh.obj"));
   sf::PolygonMesh inward = home;
   sf::flipFaces(inward);
   int flipped = 0;
@@ -220,12 +210,12 @@ TEST(MeshOrientation, AnInwardMeshWithOneFaceOutOfLineIsFlipped) {
 TEST(MeshCheck, NonManifoldEdgesAndVertices) {
   const std::vector<Eigen::Vector3d> p = {{0, 0, 0}, {1, 0, 0},  {0, 1, 0}, {0, -1, 0},
                                           {0, 0, 1}, {-1, 0, 0}, {0, 0, -1}};
-  const sf::MeshReport fin = sf::checkMesh(make(p, {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}}));
+  const sf::MeshReport fin = sf::checkMesh(polygonMesh(p, {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}}));
   EXPECT_EQ(fin.nonManifoldEdges, (std::vector<std::array<int, 2>>{{0, 1}}));
   EXPECT_EQ(fin.numEdges, 7);
   EXPECT_EQ(fin.numComponents, 1);
   EXPECT_FALSE(fin.closed());
-  const sf::MeshReport bowtie = sf::checkMesh(make(p, {{0, 1, 2}, {0, 5, 6}}));
+  const sf::MeshReport bowtie = sf::checkMesh(polygonMesh(p, {{0, 1, 2}, {0, 5, 6}}));
   EXPECT_EQ(bowtie.nonManifoldVertices, (std::vector<int>{0}));
   EXPECT_TRUE(bowtie.nonManifoldEdges.empty());
   EXPECT_EQ(bowtie.numComponents, 2);
@@ -235,7 +225,7 @@ TEST(MeshCheck, NonManifoldEdgesAndVertices) {
 
 TEST(MeshCheck, DuplicateAndDegenerateFaces) {
   const std::vector<Eigen::Vector3d> p = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 0, 0}, {2, 0, 0}, {1, 1, 0}};
-  const sf::MeshReport r = sf::checkMesh(make(p, {{0, 1, 2},     // fine
+  const sf::MeshReport r = sf::checkMesh(polygonMesh(p, {{0, 1, 2},     // fine
                                                   {2, 0, 1},     // duplicate (rotated)
                                                   {0, 2, 1},     // duplicate (reversed)
                                                   {0, 1, 1},     // repeated vertex
@@ -250,7 +240,7 @@ TEST(MeshCheck, BoundaryLoopFollowsFaceDirection) {
   std::vector<Eigen::Vector3d> p;
   for (int j = 0; j < 3; ++j)
     for (int i = 0; i < 3; ++i) p.emplace_back(i, j, 0);
-  const sf::MeshReport r = sf::checkMesh(make(p, {{0, 1, 4, 3}, {1, 2, 5, 4}, {3, 4, 7, 6}, {4, 5, 8, 7}}));
+  const sf::MeshReport r = sf::checkMesh(polygonMesh(p, {{0, 1, 4, 3}, {1, 2, 5, 4}, {3, 4, 7, 6}, {4, 5, 8, 7}}));
   ASSERT_EQ(r.boundaryLoops.size(), 1u);
   std::vector<int> loop = r.boundaryLoops[0];
   std::rotate(loop.begin(), std::find(loop.begin(), loop.end(), 0), loop.end());
@@ -265,7 +255,7 @@ TEST(MeshCheck, RandomSoupsTerminateAndCountEveryEdgeOnce) {
     const int nv = 3 + static_cast<int>(rng() % 12);
     std::vector<Eigen::Vector3d> p(nv);
     for (auto& q : p) q = Eigen::Vector3d(rng() % 3, rng() % 3, rng() % 3);
-    sf::PolygonMesh m = make(p, {});
+    sf::PolygonMesh m = polygonMesh(p, {});
     const int nf = 1 + static_cast<int>(rng() % 20);
     for (int f = 0; f < nf; ++f) {
       std::vector<int32_t> face(3 + rng() % 3);
@@ -287,7 +277,7 @@ TEST(MeshCheck, RandomSoupsTerminateAndCountEveryEdgeOnce) {
 }
 
 TEST(MeshCheck, ShortFacesAreDegenerateAndBadIndicesThrow) {
-  sf::PolygonMesh m = make({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}, {0, 1}, {2}, {}});
+  sf::PolygonMesh m = polygonMesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}, {0, 1}, {2}, {}});
   const sf::MeshReport r = sf::checkMesh(m);
   EXPECT_EQ(r.degenerateFaces, (std::vector<int>{1, 2, 3}));
   EXPECT_EQ(r.faceSizeHistogram, (std::vector<int>{1, 1, 1, 1}));

@@ -23,23 +23,14 @@
 #include <smoothforce/patch/mesh_pipeline.h>
 #include "cli_test_support.h"
 #include "file_bytes.h"
+#include "polygon_mesh_support.h"
+#include "shared_mesh_files.h"
 
 namespace {
 
-std::string meshPath(const std::string& rel) { return std::string(SF_SHARED_MESHES) + "/" + rel; }
-
-sf::PolygonMesh make(std::vector<Eigen::Vector3d> p, const std::vector<std::vector<int32_t>>& faces) {
-  sf::PolygonMesh m;
-  m.positions = std::move(p);
-  for (const auto& f : faces) m.addFace(f);
-  return m;
-}
-
-sf::PolygonMesh unitCube() {
-  std::vector<Eigen::Vector3d> p;
-  for (int i = 0; i < 8; ++i) p.emplace_back(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1);
-  return make(p, {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}});
-}
+using sf::test::cubeMesh;
+using sf::test::polygonMesh;
+using sf::test::sharedMesh;
 
 std::string errorOf(const sf::PolygonMesh& m, sf::NormalMode mode) {
   try {
@@ -61,13 +52,13 @@ TEST(Normals, ModeNamesRoundTrip) {
 }
 
 TEST(Normals, NewellNormalIsTwiceTheArea) {
-  const sf::PolygonMesh m = make({{1, 1, 5}, {3, 1, 5}, {3, 4, 5}, {1, 4, 5}}, {{0, 1, 2, 3}, {0, 3, 2, 1}});
+  const sf::PolygonMesh m = polygonMesh({{1, 1, 5}, {3, 1, 5}, {3, 4, 5}, {1, 4, 5}}, {{0, 1, 2, 3}, {0, 3, 2, 1}});
   EXPECT_TRUE(sf::newellNormal(m, 0).isApprox(Eigen::Vector3d(0, 0, 12)));
   EXPECT_TRUE(sf::newellNormal(m, 1).isApprox(Eigen::Vector3d(0, 0, -12)));
 }
 
 TEST(Normals, CubeCornersPointAlongDiagonals) {
-  const sf::PolygonMesh m = unitCube();
+  const sf::PolygonMesh m = cubeMesh();
   for (auto mode : {sf::NormalMode::Angle, sf::NormalMode::Area, sf::NormalMode::Auto}) {
     std::vector<int> fallback{99};
     const auto n = sf::cornerNormals(m, mode, &fallback);
@@ -86,7 +77,7 @@ TEST(Normals, PlanarMeshesGiveThePlaneNormal) {
       {"polygon_laplacian/tetris.obj", Eigen::Vector3d::UnitY()},
       {"polygon_laplacian/L-plane.obj", Eigen::Vector3d::UnitY()}};
   for (const auto& [file, axis] : planes) {
-    const sf::PolygonMesh m = sf::readMesh(meshPath(file));
+    const sf::PolygonMesh m = sf::readMesh(sharedMesh(file));
     for (auto mode : {sf::NormalMode::Angle, sf::NormalMode::Area}) {
       const auto n = sf::cornerNormals(m, mode);
       const double sign = n[0].dot(axis) > 0 ? 1 : -1;
@@ -96,7 +87,7 @@ TEST(Normals, PlanarMeshesGiveThePlaneNormal) {
 }
 
 TEST(Normals, FileCornerNormalsSurvive) {
-  sf::PolygonMesh m = sf::readMesh(meshPath("odedstein/bunny.obj"));
+  sf::PolygonMesh m = sf::readMesh(sharedMesh("odedstein/bunny.obj"));
   ASSERT_EQ(m.fileCornerNormals.size(), static_cast<size_t>(m.numCorners()));
   auto n = sf::cornerNormals(m, sf::NormalMode::File);
   for (int c = 0; c < m.numCorners(); ++c) ASSERT_TRUE(n[c].isApprox(m.fileCornerNormals[c].normalized(), 1e-15));
@@ -112,7 +103,7 @@ TEST(Normals, FileCornerNormalsSurvive) {
 }
 
 TEST(Normals, FileVertexNormalsUsedByAutoAndFile) {
-  sf::PolygonMesh m = make({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}});
+  sf::PolygonMesh m = polygonMesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}});
   m.fileNormals = {{0, 0, 2}, {0, 3, 0}, {4, 0, 0}};
   for (auto mode : {sf::NormalMode::Auto, sf::NormalMode::File}) {
     const auto n = sf::cornerNormals(m, mode);
@@ -122,7 +113,7 @@ TEST(Normals, FileVertexNormalsUsedByAutoAndFile) {
 }
 
 TEST(Normals, BadFileNormalsThrowNamingTheElement) {
-  sf::PolygonMesh m = make({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}}, {{0, 1, 2}, {1, 3, 2}});
+  sf::PolygonMesh m = polygonMesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}}, {{0, 1, 2}, {1, 3, 2}});
   m.sourcePath = "quad.obj";
   EXPECT_NE(errorOf(m, sf::NormalMode::File).find("quad.obj: normal mode 'file' but the file has no normals"),
             std::string::npos);
@@ -140,7 +131,7 @@ TEST(Normals, BadFileNormalsThrowNamingTheElement) {
 TEST(Normals, AngleAndAreaWeightsDiffer) {
   // Vertex 0 is shared by a right triangle in z = 0 (angle pi/2, Newell (0,0,1)) and a
   // steep one (Newell (0,-2,0)); the two weightings give different, known normals.
-  const sf::PolygonMesh m = make({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.5, 0, -2}}, {{0, 1, 2}, {1, 0, 3}});
+  const sf::PolygonMesh m = polygonMesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.5, 0, -2}}, {{0, 1, 2}, {1, 0, 3}});
   const double theta = std::acos(0.5 / std::sqrt(4.25));
   const Eigen::Vector3d angle =
       (std::numbers::pi / 2 * Eigen::Vector3d(0, 0, 1) + theta * Eigen::Vector3d(0, -1, 0)).normalized();
@@ -188,7 +179,7 @@ TEST(Normals, WeightedNormalsMatchAnIndependentSumAtEveryVertex) {
                         {"polygon_laplacian/hexaSphere.off", 1760, 5280, 0}};
   for (const Case& cs : cases) {
     SCOPED_TRACE(cs.file);
-    const sf::PolygonMesh m = sf::readMesh(meshPath(cs.file));
+    const sf::PolygonMesh m = sf::readMesh(sharedMesh(cs.file));
     const int nv = m.numVertices();
     std::vector<Eigen::Vector3d> angleSum(nv, Eigen::Vector3d::Zero()), areaSum(nv, Eigen::Vector3d::Zero());
     std::vector<int> valence(nv, 0);
@@ -247,7 +238,7 @@ TEST(Normals, WeightedNormalsMatchAnIndependentSumAtEveryVertex) {
 TEST(Normals, ReflexCornersWeighTheirFullInteriorAngle) {
   // Vertex 3 is the reflex corner (3pi/2) of an L-shaped hexagon in z = 0, and also a
   // corner of a triangle standing in the plane y = 0.
-  const sf::PolygonMesh m = make({{-1, -1, 0}, {1, -1, 0}, {1, 0, 0}, {0, 0, 0}, {0, 1, 0}, {-1, 1, 0}, {-1, 0, -1}},
+  const sf::PolygonMesh m = polygonMesh({{-1, -1, 0}, {1, -1, 0}, {1, 0, 0}, {0, 0, 0}, {0, 1, 0}, {-1, 1, 0}, {-1, 0, -1}},
                                  {{0, 1, 2, 3, 4, 5}, {3, 2, 6}});
   const Eigen::Vector3d nTri = sf::newellNormal(m, 1).normalized();
   const double theta = std::acos(Eigen::Vector3d(1, 0, 0).dot(Eigen::Vector3d(-1, 0, -1).normalized()));
@@ -258,7 +249,7 @@ TEST(Normals, ReflexCornersWeighTheirFullInteriorAngle) {
 TEST(Normals, FallbackWhenSumsCancelOrFacesAreDegenerate) {
   // A two-sided triangle (its normals cancel) and a collinear "triangle" (zero Newell).
   const sf::PolygonMesh m =
-      make({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {5, 0, 0}, {6, 0, 0}, {7, 0, 0}}, {{0, 1, 2}, {0, 2, 1}, {3, 4, 5}});
+      polygonMesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {5, 0, 0}, {6, 0, 0}, {7, 0, 0}}, {{0, 1, 2}, {0, 2, 1}, {3, 4, 5}});
   for (auto mode : {sf::NormalMode::Angle, sf::NormalMode::Area}) {
     std::vector<int> fallback;
     const auto n = sf::cornerNormals(m, mode, &fallback);
@@ -267,7 +258,7 @@ TEST(Normals, FallbackWhenSumsCancelOrFacesAreDegenerate) {
     for (int c = 6; c < 9; ++c) EXPECT_NEAR(n[c].norm(), 1.0, 1e-15);
   }
   // The Stanford res4 bunny has such two-sided triangles too; all normals stay unit.
-  const sf::PolygonMesh bunny = sf::readMesh(meshPath("stanford/bun_zipper_res4.ply"));
+  const sf::PolygonMesh bunny = sf::readMesh(sharedMesh("stanford/bun_zipper_res4.ply"));
   std::vector<int> fallback;
   for (const auto& n : sf::cornerNormals(bunny, sf::NormalMode::Angle, &fallback)) ASSERT_NEAR(n.norm(), 1.0, 1e-12);
   EXPECT_EQ(fallback.size(), 6u);
@@ -298,8 +289,8 @@ std::string tempPath(const std::string& name) {
 std::vector<sf::PolygonMesh> fileNormalMeshes() {
   std::vector<sf::PolygonMesh> out;
   for (const std::string& path :
-       {std::string(SF_DATA_DIR) + "/spot_control_mesh.obj", meshPath("polygon_laplacian/quad-sphere.off"),
-        meshPath("polygon_laplacian/hexaSphere.off"), meshPath("pmp/hole_capsule.off")}) {
+       {std::string(SF_DATA_DIR) + "/spot_control_mesh.obj", sharedMesh("polygon_laplacian/quad-sphere.off"),
+        sharedMesh("polygon_laplacian/hexaSphere.off"), sharedMesh("pmp/hole_capsule.off")}) {
     sf::PolygonMesh m = sf::readMesh(path);
     sf::applyOrientation(m, sf::checkMesh(m), sf::OrientPolicy::Outward);
     m.sourcePath = fs::path(path).filename().string();
@@ -537,7 +528,7 @@ TEST(NormalsAuto, RealObjFiles) {
   for (const char* file :
        {"keenan_crane/bob_tri.obj", "polygon_laplacian/L-plane.obj", "polygon_laplacian/tetris.obj"}) {
     SCOPED_TRACE(file);
-    const sf::PolygonMesh m = sf::readMesh(meshPath(file));
+    const sf::PolygonMesh m = sf::readMesh(sharedMesh(file));
     ASSERT_EQ(m.fileCornerNormals.size(), static_cast<size_t>(m.numCorners()));
     sf::NormalReport r;
     const auto a = sf::cornerNormals(m, sf::NormalMode::Auto, r);
@@ -550,7 +541,7 @@ TEST(NormalsAuto, RealObjFiles) {
   }
   {
     // bob's exported normals are not the polygons' angle-weighted ones (old auto's result).
-    const sf::PolygonMesh m = sf::readMesh(meshPath("keenan_crane/bob_tri.obj"));
+    const sf::PolygonMesh m = sf::readMesh(sharedMesh("keenan_crane/bob_tri.obj"));
     const auto a = sf::cornerNormals(m, sf::NormalMode::Auto), g = sf::cornerNormals(m, sf::NormalMode::Angle);
     int differ = 0;
     for (int c = 0; c < m.numCorners(); ++c) differ += (a[c] - g[c]).norm() > 1e-3;
@@ -558,7 +549,7 @@ TEST(NormalsAuto, RealObjFiles) {
   }
   for (const char* file : {"odedstein/bunny.obj", "odedstein/spot_low_resolution.obj"}) {
     SCOPED_TRACE(file);
-    const sf::PolygonMesh m = sf::readMesh(meshPath(file));
+    const sf::PolygonMesh m = sf::readMesh(sharedMesh(file));
     // Independently: a vertex is split when some corner's normal is further than 1e-3 rad
     // (by the dot product) from its first corner's.
     std::vector<int> first(m.numVertices(), -1);
@@ -579,7 +570,7 @@ TEST(NormalsAuto, RealObjFiles) {
 
 // Bad per-corner file normals are rejected under auto as under file, naming the corner.
 TEST(NormalsAuto, BadCornerNormalsThrowNamingTheCorner) {
-  sf::PolygonMesh m = make({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}}, {{0, 1, 2}, {1, 3, 2}});
+  sf::PolygonMesh m = polygonMesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}}, {{0, 1, 2}, {1, 3, 2}});
   m.sourcePath = "quad.obj";
   m.fileCornerNormals.assign(6, Eigen::Vector3d(0, 0, 1));
   m.fileCornerNormals[4] = Eigen::Vector3d(0, std::numeric_limits<double>::infinity(), 1);
