@@ -6,7 +6,6 @@
 // singular point, GP_ST_SINGULAR), with the wall time of the queries.
 //   refine_stats [--query-only] [MESH...]   (default: every shared mesh up to 3 MB; --query-only:
 //   only the timed queries, for profiling)
-#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -16,7 +15,6 @@
 #include <smoothforce/base/status.h>
 #include <smoothforce/force/force_tracking.h>
 #include <smoothforce/query/patch_surface.h>
-#include <smoothforce/sweep/sweep_sampling.h>
 #include "../tests/pressed_hips_support.h"  // HeldContact's HIPs
 #include "../tests/shared_mesh_files.h"
 #include "bench_common.h"

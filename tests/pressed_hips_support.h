@@ -1,6 +1,6 @@
-// Shared by the global-query and held-contact tests (and bench/refine_stats.cpp): HIPs pressed into a patch
-// surface along the normals of sampled patch points, whose distance to the surface is known not
-// to exceed the depth, and HIPs uniform in a mesh's box.
+// Shared by the global-query and held-contact tests (and bench/refine_stats.cpp): HIPs pressed
+// into a patch surface along the normals of sampled patch points, whose distance to the surface
+// is known not to exceed the depth, and HIPs uniform in a mesh's box.
 #pragma once
 
 #include <Eigen/Core>

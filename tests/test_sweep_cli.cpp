@@ -11,7 +11,6 @@
 #include <filesystem>
 #include <fstream>
 #include <regex>
-#include <sstream>
 
 #include <smoothforce/base/status.h>
 #include <smoothforce/sweep/sweep.h>

@@ -9,7 +9,6 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
-#include <sstream>
 
 #include <smoothforce/sweep/generators.h>
 #include <smoothforce/sweep/sweep_io.h>

@@ -3,8 +3,6 @@
 #include <unistd.h>
 
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include <smoothforce/sweep/sweep_io.h>
 #include <smoothforce/sweep/sweep_run.h>
