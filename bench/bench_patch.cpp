@@ -6,7 +6,7 @@
 //
 // Run: build/bench/bench_patch [--benchmark_format=json] [--benchmark_filter=Evaluate]
 // Defaults: 3 repetitions, medians reported (pass --benchmark_repetitions=N to change).
-// Peak: SF_BENCH_GHZ (default 2.0) x SIMD width of the widest target x 2 (FMA) x
+// Peak: SF_BENCH_GHZ (default 2.0) x SIMD width of the widest target this CPU runs x 2 (FMA) x
 // SF_BENCH_FMA_UNITS (default 2) per core; the figure is printed with the results.
 #include <benchmark/benchmark.h>
 
@@ -33,9 +33,18 @@ double envOr(const char* name, double dflt) {
   return v && *v ? std::atof(v) : dflt;
 }
 
-/// Peak GFLOP/s of one core in precision p: frequency x lanes of a 512-bit vector x FMA units x 2.
+/// Bits of the widest vector this CPU runs among the build's targets: 512 (AVX-512), 256 (AVX2),
+/// 128 (SSE4 or the scalar path's SSE2).
+int widestVectorBits() {
+  const std::vector<SimdTarget> t = supportedSimdTargets();  // widest first
+  if (t.empty()) return 128;
+  return t.front() == SimdTarget::AVX512 ? 512 : t.front() == SimdTarget::AVX2 ? 256 : 128;
+}
+
+/// Peak GFLOP/s of one core in precision p: frequency x lanes of the widest vector this CPU runs
+/// (widestVectorBits) x FMA units x 2.
 double corePeakGflops(Precision p) {
-  const double lanes = p == Precision::Double ? 8 : 16;
+  const double lanes = widestVectorBits() / (p == Precision::Double ? 64.0 : 32.0);
   return envOr("SF_BENCH_GHZ", 2.0) * lanes * 2 * envOr("SF_BENCH_FMA_UNITS", 2);
 }
 
@@ -272,8 +281,10 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "  n=%-2d evaluation %ld (%ld), construction with quality %ld (%ld)\n", m,
                  flops::countEval(m, false).flops(), flops::countEval(m, true).flops(),
                  flops::countBuild(m, false).flops(), flops::countBuild(m, true).flops());
-  std::fprintf(stderr, "peak per core assumed: %.0f GFLOP/s double, %.0f float (SF_BENCH_GHZ, SF_BENCH_FMA_UNITS)\n",
-               corePeakGflops(Precision::Double), corePeakGflops(Precision::Float));
+  std::fprintf(stderr,
+               "peak per core assumed: %.0f GFLOP/s double, %.0f float (%d-bit vectors, SF_BENCH_GHZ, "
+               "SF_BENCH_FMA_UNITS)\n",
+               corePeakGflops(Precision::Double), corePeakGflops(Precision::Float), widestVectorBits());
 
   RatioReporter rep(json);
   benchmark::RunSpecifiedBenchmarks(&rep);
