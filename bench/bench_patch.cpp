@@ -33,18 +33,10 @@ double envOr(const char* name, double dflt) {
   return v && *v ? std::atof(v) : dflt;
 }
 
-/// Bits of the widest vector this CPU runs among the build's targets: 512 (AVX-512), 256 (AVX2),
-/// 128 (SSE4 or the scalar path's SSE2).
-int widestVectorBits() {
-  const std::vector<SimdTarget> t = supportedSimdTargets();  // widest first
-  if (t.empty()) return 128;
-  return t.front() == SimdTarget::AVX512 ? 512 : t.front() == SimdTarget::AVX2 ? 256 : 128;
-}
-
-/// Peak GFLOP/s of one core in precision p: frequency x lanes of the widest vector this CPU runs
-/// (widestVectorBits) x FMA units x 2.
+/// Peak GFLOP/s of one core in precision p: frequency x lanes of the widest target this CPU runs
+/// (simdLanes of Auto) x FMA units x 2.
 double corePeakGflops(Precision p) {
-  const double lanes = widestVectorBits() / (p == Precision::Double ? 64.0 : 32.0);
+  const double lanes = simdLanes(SimdTarget::Auto, p);
   return envOr("SF_BENCH_GHZ", 2.0) * lanes * 2 * envOr("SF_BENCH_FMA_UNITS", 2);
 }
 
@@ -282,9 +274,10 @@ int main(int argc, char** argv) {
                  flops::countEval(m, false).flops(), flops::countEval(m, true).flops(),
                  flops::countBuild(m, false).flops(), flops::countBuild(m, true).flops());
   std::fprintf(stderr,
-               "peak per core assumed: %.0f GFLOP/s double, %.0f float (%d-bit vectors, SF_BENCH_GHZ, "
+               "peak per core assumed: %.0f GFLOP/s double, %.0f float (%d / %d lanes, SF_BENCH_GHZ, "
                "SF_BENCH_FMA_UNITS)\n",
-               corePeakGflops(Precision::Double), corePeakGflops(Precision::Float), widestVectorBits());
+               corePeakGflops(Precision::Double), corePeakGflops(Precision::Float),
+               simdLanes(SimdTarget::Auto, Precision::Double), simdLanes(SimdTarget::Auto, Precision::Float));
 
   RatioReporter rep(json);
   benchmark::RunSpecifiedBenchmarks(&rep);
