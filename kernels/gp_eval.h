@@ -3,6 +3,22 @@
  * Part of gp_patch.h (after gp_tables.h); no include guard on purpose. Branch-free on
  * per-point data (see gp_vec.h, "Lanes"). */
 
+/* Where the rational blending would lose its range under interval arithmetic, the interval
+ * instantiation of the patch certificate (host patch_certificate.cpp, GP_INTERVAL) evaluates
+ * the same functions in forms that keep it: d_k clamped at 0 as one interval operation, the
+ * edge parameter a / (a + b) from its monotone bounds, and the twist term's rational factors
+ * (u v^2 / (u + v) and the like) from monotone pieces. Every other instantiation computes
+ * the expressions below as written (the same operations, the same bits). */
+#undef GP_CLAMP0
+#undef GP_EDGE_PARAM
+#ifdef GP_INTERVAL
+#define GP_CLAMP0(x) gp_iv_clamp0(x)
+#define GP_EDGE_PARAM(a, b, den, pos) gp_iv_ratio(a, b)
+#else
+#define GP_CLAMP0(x) GP_SEL((x) < GP_R(0.0), GP_R(0.0), (x))
+#define GP_EDGE_PARAM(a, b, den, pos) GP_SEL(pos, (a) / (den), GP_R(0.0))
+#endif
+
 /* Fills d_k(X) = cos(pi/n) - X . m_k (Eq. 3) for the domain dom of an n-gon. Returns the smallest d_k
  * before clamping; d_k are clamped at 0 so that points on the boundary that rounding put a
  * hair outside evaluate as on it. */
@@ -12,7 +28,7 @@ GP_FN_INLINE GP_REAL gp_domain_distances(const gp_domain* dom, const int n, GP_R
   for (int k = 0; k < n; ++k) {
     const GP_REAL dk = dom->apothem - (xi * dom->mx[k] + eta * dom->my[k]);
     dmin = GP_SEL(dk < dmin, dk, dmin);
-    d[k] = GP_SEL(dk < GP_R(0.0), GP_R(0.0), dk);
+    d[k] = GP_CLAMP0(dk);
   }
   return dmin;
 }
@@ -39,7 +55,13 @@ GP_FN_INLINE gp_eval_result gp_patch_eval_dom_n(const gp_domain* dom, const int 
   GP_REAL d[GP_MAX_N];
   const GP_REAL dmin = gp_domain_distances(dom, n, xi, eta, d);
   /* the domain lies in the unit disc; this also rejects NaN and Inf */
+#ifdef GP_INTERVAL
+  /* the certificate evaluates boxes that meet the domain, for their points in it */
+  const GP_MASK outside = (GP_MASK)(0);
+  (void)dmin;
+#else
   const GP_MASK outside = !(GP_FABS(xi) <= GP_R(1.5) && GP_FABS(eta) <= GP_R(1.5)) || dmin < -GP_DOMAIN_TOL;
+#endif
   if (GP_ALL(outside)) {
     out.status = GP_ST_OUTSIDE;
     return out;
@@ -53,7 +75,7 @@ GP_FN_INLINE gp_eval_result gp_patch_eval_dom_n(const gp_domain* dom, const int 
     const GP_REAL den = d[km] + d[kp];
     /* den = 0 only where both corners using this edge have zero weight: t = 0 there */
     const GP_MASK pos = den > GP_R(0.0);
-    t[k] = GP_SEL(pos, d[km] / den, GP_R(0.0));
+    t[k] = GP_EDGE_PARAM(d[km], d[kp], den, pos);
     tx[k] = ty[k] = GP_R(0.0); /* set below where derivatives are wanted (deriv 0 never reads them) */
     if (!deriv) continue;
     const GP_REAL id2 = GP_R(1.0) / (den * den);
@@ -122,13 +144,25 @@ GP_FN_INLINE gp_eval_result gp_patch_eval_dom_n(const gp_domain* dom, const int 
     const GP_MASK sp = s > GP_R(0.0);
     const GP_REAL is = GP_R(1.0) / s;
     /* - u v (v a + u b) / (u + v) where u + v > 0 */
+#ifdef GP_INTERVAL
+    GP_REAL tw[6]; /* u v^2/s, u^2 v/s, v^3/s^2, u v (u+2v)/s^2, u v (2u+v)/s^2, u^3/s^2 */
+    gp_iv_twist_factors(u, v, tw);
+    (void)sp;
+    (void)is;
+    r = gp_sub(r, gp_add(gp_scale(a, tw[0]), gp_scale(b, tw[1])));
+#else
     r = gp_sel3(sp, gp_sub(r, gp_scale(gp_add(gp_scale(a, u * v * v), gp_scale(b, u * u * v)), is)), r);
+#endif
     const GP_REAL w = W[k] * iS;
     out.pos = gp_sel3(has, gp_madd(out.pos, r, w), out.pos);
     if (!deriv) continue;
     const GP_REAL ux = tx[k], uy = ty[k], vx = -tx[km], vy = -ty[km];
     gp_vec3 ru = gp_madd(gp_add(Cd[k], dTQ), Td[k], v);    /* P' + v T_P' + (T_Q - T_Q(0)) */
     gp_vec3 rv = gp_madd(gp_sub(dTP, Cd[km]), Td[km], -u); /* Q' + (T_P - T_P(0)) + u T_Q' */
+#ifdef GP_INTERVAL
+    ru = gp_sub(ru, gp_add(gp_scale(a, tw[2]), gp_scale(b, tw[3])));
+    rv = gp_sub(rv, gp_add(gp_scale(a, tw[4]), gp_scale(b, tw[5])));
+#else
     { /* the partials of the term above, where u + v > 0 */
       const GP_REAL is2 = is * is;
       ru = gp_sel3(
@@ -136,6 +170,7 @@ GP_FN_INLINE gp_eval_result gp_patch_eval_dom_n(const gp_domain* dom, const int 
       rv = gp_sel3(
           sp, gp_sub(rv, gp_scale(gp_add(gp_scale(a, u * v * (GP_R(2.0) * u + v)), gp_scale(b, u * u * u)), is2)), rv);
     }
+#endif
     const GP_REAL wx = (Wx[k] - w * Sx) * iS, wy = (Wy[k] - w * Sy) * iS;
     out.dxi = gp_sel3(has, gp_madd(gp_madd(out.dxi, r, wx), gp_add(gp_scale(ru, ux), gp_scale(rv, vx)), w), out.dxi);
     out.deta = gp_sel3(has, gp_madd(gp_madd(out.deta, r, wy), gp_add(gp_scale(ru, uy), gp_scale(rv, vy)), w), out.deta);

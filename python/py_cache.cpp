@@ -10,6 +10,7 @@
 #include <smoothforce/mesh/mesh_check.h>
 #include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/mesh_arrays.h>
+#include <smoothforce/patch/patch_certificate.h>
 #include <smoothforce/patch/patch_eval.h>
 #include "py_common.h"
 
@@ -199,6 +200,37 @@ void bindCache(pyb::module_& m) {
            "with corners (cos 2 pi k/n, sin 2 pi k/n)) in parallel, GIL released. Returns a structured array\n"
            "(N,) with fields position (3,) m, dxi (3,), deta (3,) (derivatives), normal (3,) (unit), status\n"
            "(GP_ST_* bits; a point outside its domain or a bad face: GP_ST_OUTSIDE = 1, zero vectors).")
+      .def(
+          "certify",
+          [](pyb::object self) {
+            PyCache& c = self.cast<PyCache&>();
+            if (!hasPatchData(*c.cache))
+              throw InputError(c.source +
+                               ": a lazy cache (no patch built) cannot be certified: create it with lazy=False");
+            if (static_cast<int>(c.cache->faceCertificate.size()) != c.cache->numFaces()) {
+              auto copy = std::make_shared<PatchCache>(*c.cache);
+              {
+                pyb::gil_scoped_release release;
+                certifyPatches(*copy, c.threads);
+              }
+              c.cache = std::move(copy);
+            }
+            const auto& m = c.cache->faceCertificate;
+            return view(m.data(), m.size(), 1, self);
+          },
+          "Certifies every patch once (later calls reuse it), GIL released: proves from interval bounds of\n"
+          "its exact derivatives that the patch is regular and never turns over against its polygon. Returns\n"
+          "the (F,) float32 margins (read-only view): > 0 certified (a lower bound on the cosine between\n"
+          "patch and face normal), < 0 proven to turn over, 0 undecided or no patch. About a second of one\n"
+          "core per patch; save() then writes them (cache format 2).")
+      .def_property_readonly(
+          "certificates",
+          [](pyb::object self) -> pyb::object {
+            const auto& c = *self.cast<const PyCache&>().cache;
+            if (static_cast<int>(c.faceCertificate.size()) != c.numFaces()) return pyb::none();
+            return view(c.faceCertificate.data(), c.faceCertificate.size(), 1, self);
+          },
+          "(F,) float32 certificate margins (see certify()), or None when not computed")
       .def_property_readonly("num_faces", [](const PyCache& c) { return c.cache->numFaces(); })
       .def_property_readonly("num_vertices", [](const PyCache& c) { return c.cache->numVertices(); })
       .def_property_readonly("num_corners", [](const PyCache& c) { return c.cache->numSlots(); })

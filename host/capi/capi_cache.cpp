@@ -5,6 +5,7 @@
 #include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/mesh_arrays.h>
 #include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/patch/patch_certificate.h>
 #include <smoothforce/patch/patch_eval.h>
 #include <smoothforce/version.h>
 #include "capi_detail.h"
@@ -155,6 +156,22 @@ sf_status sf_cache_save(sf_cache* cache, const char* path) {
     if (!hasPatchData(*cache->cache))
       throw InputError(cache->source + ": a lazy cache (no patch built) cannot be saved: create it with lazy = 0");
     writePatchCache(*cache->cache, path);
+  });
+}
+
+sf_status sf_cache_certify(sf_cache* cache, float* margins, int32_t* certified) {
+  if (!cache) return SF_ERROR_ARGUMENT;
+  return guarded(cache->error, [&] {
+    if (!hasPatchData(*cache->cache))
+      throw InputError(cache->source + ": a lazy cache (no patch built) cannot be certified: create it with lazy = 0");
+    if (static_cast<int>(cache->cache->faceCertificate.size()) != cache->cache->numFaces()) {
+      auto copy = std::make_shared<PatchCache>(*cache->cache);
+      certifyPatches(*copy, cache->threads);
+      cache->cache = std::move(copy);
+    }
+    const std::vector<float>& m = cache->cache->faceCertificate;
+    if (margins) std::copy(m.begin(), m.end(), margins);
+    if (certified) *certified = summarizeCertificates(*cache->cache).certified;
   });
 }
 

@@ -40,12 +40,14 @@ struct Header {  // 128 bytes on disk
 static_assert(sizeof(Header) == 128);
 
 /// Payload size for the given counts; false on overflow.
-bool payloadSize(uint64_t nv, uint64_t nf, uint64_t ns, Precision p, uint64_t* out) {
+/// Payload size for the given counts and format version (2 adds the certificates); false on
+/// overflow.
+bool payloadSize(uint64_t nv, uint64_t nf, uint64_t ns, Precision p, uint32_t version, uint64_t* out) {
   const uint64_t lim = uint64_t(1) << 40;  // no count of a real mesh comes near this
   if (nv > lim || nf > lim || ns > lim) return false;
   const uint64_t real = p == Precision::Double ? 8 : 4;
-  *out =
-      nv * 3 * 8 + (nf + 1) * 4 + ns * 4 + ns * 3 * 8 + ns * 4 + nf * 4 + nf * 4 + uint64_t(GP_E_NFIELDS) * ns * real;
+  *out = nv * 3 * 8 + (nf + 1) * 4 + ns * 4 + ns * 3 * 8 + ns * 4 + nf * 4 + nf * 4 + (version >= 2 ? nf * 4 : 0) +
+         uint64_t(GP_E_NFIELDS) * ns * real;
   return true;
 }
 
@@ -94,13 +96,16 @@ void writePatchCache(const PatchCache& c, const std::string& path) {
   put(payload, c.slotTwin);
   put(payload, c.faceStatus);
   put(payload, c.faceBulge);
+  // format 2 carries the certificates; a cache without them is written as format 1
+  const bool certified = !c.faceCertificate.empty() && c.faceCertificate.size() == c.faceStatus.size();
+  if (certified) put(payload, c.faceCertificate);
   if (c.options.precision == Precision::Double)
     put(payload, c.edgeDataD);
   else
     put(payload, c.edgeDataF);
   Header h{};
   std::memcpy(h.magic, kMagic, 8);
-  h.version = kCacheFormatVersion;
+  h.version = certified ? kCacheFormatVersion : 1;
   h.headerBytes = sizeof(Header);
   h.meshHash = c.meshHash;
   h.optionsHash = hashPatchOptions(c.options);
@@ -169,7 +174,7 @@ PatchCache readPatchCache(const std::string& path, const CacheExpectation& expec
   opt.keepOrientation = h.keepOrientation != 0;
   if (h.optionsHash != hashPatchOptions(opt)) throw fail("corrupted cache header (options hash)");
   uint64_t expected = 0;
-  if (!payloadSize(h.numVertices, h.numFaces, h.numSlots, opt.precision, &expected) || expected != h.payloadBytes)
+  if (!payloadSize(h.numVertices, h.numFaces, h.numSlots, opt.precision, h.version, &expected) || expected != h.payloadBytes)
     throw fail("corrupted cache header (counts do not match the payload size)");
   if (fileSize - sizeof(Header) < h.payloadBytes)
     throw fail("truncated cache file: payload has " + std::to_string(fileSize - sizeof(Header)) + " of " +
@@ -199,6 +204,7 @@ PatchCache readPatchCache(const std::string& path, const CacheExpectation& expec
   take(p, c.slotTwin, h.numSlots);
   take(p, c.faceStatus, h.numFaces);
   take(p, c.faceBulge, h.numFaces);
+  if (h.version >= 2) take(p, c.faceCertificate, h.numFaces);
   if (opt.precision == Precision::Double)
     take(p, c.edgeDataD, uint64_t(GP_E_NFIELDS) * h.numSlots);
   else
@@ -216,6 +222,10 @@ PatchCache readPatchCache(const std::string& path, const CacheExpectation& expec
   if (!allFinite(c.cornerNormals)) throw fail("non-finite corner normal");
   if (!allFinite(c.faceBulge) || !allFinite(c.edgeDataD) || !allFinite(c.edgeDataF))
     throw fail("non-finite patch record");
+  for (size_t f = 0; f < c.faceCertificate.size(); ++f)  // a cosine bound; none without a patch
+    if (!(std::fabs(c.faceCertificate[f]) <= 1.f) || (c.faceCertificate[f] != 0 && (c.faceStatus[f] & GP_ST_NOT_BUILT)))
+      throw fail("face " + std::to_string(f) + " has a certificate margin the certificate cannot give (" +
+                 std::to_string(c.faceCertificate[f]) + ")");
   if (c.faceOffsets.front() != 0 || c.faceOffsets.back() != static_cast<int32_t>(h.numSlots))
     throw fail("inconsistent face offsets");
   for (uint64_t f = 0; f < h.numFaces; ++f)

@@ -27,6 +27,7 @@ size_t PatchCache::bytes() const {
   return positions.size() * sizeof(double) + faceOffsets.size() * sizeof(int32_t) +
          faceVertices.size() * sizeof(int32_t) + cornerNormals.size() * sizeof(double) +
          slotTwin.size() * sizeof(int32_t) + faceStatus.size() * sizeof(uint32_t) + faceBulge.size() * sizeof(float) +
+         faceCertificate.size() * sizeof(float) +
          edgeDataD.size() * sizeof(double) + edgeDataF.size() * sizeof(float);
 }
 

@@ -1,10 +1,12 @@
 // `smoothforce cache build|info`
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <system_error>
 
 #include <smoothforce/base/hash.h>
 #include <smoothforce/patch/cache_file.h>
+#include <smoothforce/patch/patch_certificate.h>
 #include <smoothforce/query/patch_surface.h>
 #include <smoothforce/query/surface_faults.h>
 #include "cli_common.h"
@@ -30,6 +32,30 @@ void printPatchSummary(const PatchCache& c) {
   list("degenerate", s.degenerateFaces);
 }
 
+void printCertificates(const PatchCache& c) {
+  const CertificateSummary s = summarizeCertificates(c);
+  if (!s.present) {
+    std::printf("certificate: not computed (cache build --certify)\n");
+    return;
+  }
+  std::printf(
+      "certificate: %d of %d patches certified fold-free (smallest margin %.3g), %d undecided, %d proven to fold\n",
+      s.certified, c.numFaces() - s.notBuilt, s.minMargin, s.undecided, s.folded);
+  if (!s.uncertifiedFaces.empty()) std::printf("  uncertified faces:%s\n", faceIdsText(s.uncertifiedFaces).c_str());
+  if (!s.foldedFaces.empty()) std::printf("  proven folded faces:%s\n", faceIdsText(s.foldedFaces).c_str());
+}
+
+nlohmann::ordered_json certificateJson(const PatchCache& c) {
+  const CertificateSummary s = summarizeCertificates(c);
+  if (!s.present) return nullptr;
+  return {{"certified", s.certified},
+          {"undecided", s.undecided},
+          {"folded", s.folded},
+          {"min_margin", s.minMargin},
+          {"uncertified_faces", s.uncertifiedFaces},
+          {"folded_faces", s.foldedFaces}};
+}
+
 std::vector<int> histogram(const PatchCache& c) {
   std::vector<int> h;
   for (int f = 0; f < c.numFaces(); ++f) {
@@ -40,7 +66,7 @@ std::vector<int> histogram(const PatchCache& c) {
   return h;
 }
 
-void build(const std::string& mesh, std::string out, const PatchArgs& args) {
+void build(const std::string& mesh, std::string out, const PatchArgs& args, bool certify) {
   if (isPatchCacheFile(mesh)) throw InputError(mesh + ": is already a patch cache; give a mesh file");
   const PatchOptions opt = args.options();
   LoadedMesh lm = loadMesh(mesh, opt);
@@ -62,6 +88,14 @@ void build(const std::string& mesh, std::string out, const PatchArgs& args) {
   printPatchSummary(cache);
   std::printf("build: %.3f ms on %s: %.0f patches/s\n", secs * 1e3, args.backend.c_str(),
               cache.numFaces() / std::max(secs, 1e-9));
+  if (certify) {
+    const auto t0 = std::chrono::steady_clock::now();
+    certifyPatches(cache, args.threads);
+    throwIfInterrupted("cache build");
+    printCertificates(cache);
+    std::printf("certificate: %.3f s on the CPU (oneTBB)\n",
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
   if (out.empty()) out = std::filesystem::path(mesh).filename().replace_extension(".sfcache").string();
   writePatchCache(cache, out);
   std::error_code ec;  // (a device such as /dev/null, written in place, has no size)
@@ -139,31 +173,34 @@ void info(const std::string& path, bool json, bool faults) {
   int boundary = 0, nonManifold = 0;
   for (int32_t t : c.slotTwin) boundary += t == -1, nonManifold += t == -2;
   const std::vector<int> h = histogram(c);
+  const unsigned format = c.faceCertificate.empty() ? 1u : kCacheFormatVersion;  // what writePatchCache wrote
   if (json) {
     nlohmann::ordered_json sizes = nlohmann::ordered_json::object();
     for (size_t n = 0; n < h.size(); ++n)
       if (h[n]) sizes[std::to_string(n)] = h[n];
-    printJson(stdout, {{"cache", path},
-                       {"format", kCacheFormatVersion},
-                       {"bytes", bytes},
-                       {"mesh_hash", hexHash(c.meshHash)},
-                       {"options_hash", hexHash(hashPatchOptions(c.options))},
-                       {"vertices", c.numVertices()},
-                       {"faces", c.numFaces()},
-                       {"face_sizes", sizes},
-                       {"edge_slots", c.numSlots()},
-                       {"boundary_slots", boundary},
-                       {"non_manifold_slots", nonManifold},
-                       {"options",
-                        {{"precision", toString(c.options.precision)},
-                         {"cross_tangent", toString(c.options.crossTangent)},
-                         {"normals", toString(c.options.normals)},
-                         {"orient", c.options.keepOrientation ? "keep" : "outward"}}},
-                       {"patches", patchSummaryJson(c)},
-                       {"surface_faults", faults ? faultsJson(cacheSurfaceFaults(c)) : nlohmann::ordered_json(nullptr)}});
+    printJson(stdout,
+              {{"cache", path},
+               {"format", format},
+               {"bytes", bytes},
+               {"mesh_hash", hexHash(c.meshHash)},
+               {"options_hash", hexHash(hashPatchOptions(c.options))},
+               {"vertices", c.numVertices()},
+               {"faces", c.numFaces()},
+               {"face_sizes", sizes},
+               {"edge_slots", c.numSlots()},
+               {"boundary_slots", boundary},
+               {"non_manifold_slots", nonManifold},
+               {"options",
+                {{"precision", toString(c.options.precision)},
+                 {"cross_tangent", toString(c.options.crossTangent)},
+                 {"normals", toString(c.options.normals)},
+                 {"orient", c.options.keepOrientation ? "keep" : "outward"}}},
+               {"patches", patchSummaryJson(c)},
+               {"certificate", certificateJson(c)},
+               {"surface_faults", faults ? faultsJson(cacheSurfaceFaults(c)) : nlohmann::ordered_json(nullptr)}});
     return;
   }
-  std::printf("cache: %s, format %u, %llu bytes\n", path.c_str(), kCacheFormatVersion, bytes);
+  std::printf("cache: %s, format %u, %llu bytes\n", path.c_str(), format, bytes);
   std::printf("mesh hash: %s, options hash: %s\n", hexHash(c.meshHash).c_str(),
               hexHash(hashPatchOptions(c.options)).c_str());
   std::printf("mesh: %d vertices, %d faces (%s), %d edge slots\n", c.numVertices(), c.numFaces(),
@@ -173,6 +210,7 @@ void info(const std::string& path, bool json, bool faults) {
               toString(c.options.crossTangent), toString(c.options.normals),
               c.options.keepOrientation ? "keep" : "outward");
   printPatchSummary(c);
+  printCertificates(c);
   if (faults) printFaults(cacheSurfaceFaults(c));
 }
 
@@ -189,7 +227,11 @@ void addCacheCommands(CLI::App& app) {
   b->add_option("MESH", *mesh, "mesh file (.obj, .off, .ply)")->required();
   b->add_option("-o,--output", *out, "cache file to write (default: MESH's name with .sfcache)");
   addPatchArgs(*b, *args);
-  b->callback([=] { build(*mesh, *out, *args); });
+  auto certify = std::make_shared<bool>(false);
+  b->add_flag("--certify", *certify,
+              "also certify every patch: prove from interval bounds of its exact derivatives that it is regular and "
+              "never turns over against its polygon (stored in the cache, format 2; seconds per patch)");
+  b->callback([=] { build(*mesh, *out, *args, *certify); });
 
   auto* i = cache->add_subcommand("info", "Validate a cache file and describe it");
   auto path = std::make_shared<std::string>();
@@ -197,7 +239,8 @@ void addCacheCommands(CLI::App& app) {
   i->add_option("CACHE", *path, "cache file")->required();
   i->add_flag("--json", *json,
               "print one JSON object instead of text: cache, format, bytes, mesh_hash, options_hash, vertices, "
-              "faces, face_sizes, edge_slots, boundary_slots, non_manifold_slots, options, patches, surface_faults");
+              "faces, face_sizes, edge_slots, boundary_slots, non_manifold_slots, options, patches, certificate, "
+              "surface_faults");
   auto faults = std::make_shared<bool>(false);
   i->add_flag("--faults", *faults,
               "also measure where the closed patch surface is at fault: the area of folded and overlapping patch "

@@ -118,6 +118,16 @@ int32_t sf_cache_num_vertices(const sf_cache* cache);
 /** Writes the cache file atomically (a lazy cache cannot be written: SF_ERROR_INPUT). */
 sf_status sf_cache_save(sf_cache* cache, const char* path);
 
+/** Certifies every patch once (the first call; later calls reuse it): proves from interval
+ *  bounds of its exact derivatives that the patch is regular and never turns over against its
+ *  polygon (C++ sf::certifyPatches). margins (num_faces floats, may be NULL) receives per face
+ *  a value > 0 where certified (a lower bound on the cosine between the patch normal and the
+ *  face normal), < 0 where the patch is proven to turn over, 0 where undecided or without
+ *  patch; *certified (may be NULL) the number certified. Costs about a second of one core per
+ *  patch. sf_cache_save then writes them (cache format 2); haptics created before keep the
+ *  cache they were made with. SF_ERROR_INPUT for a lazy cache. */
+sf_status sf_cache_certify(sf_cache* cache, float* margins, int32_t* certified);
+
 /** Evaluates count points on the patches: face (0-based) and (xi, eta) in the face's domain,
  *  the regular n-gon with corners (cos 2 pi k/n, sin 2 pi k/n). Outputs (any may be NULL):
  *  position count x 3 (m), normal count x 3 (unit), status count SF_ST_* bits (a point

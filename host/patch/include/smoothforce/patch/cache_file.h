@@ -9,8 +9,9 @@
 
 namespace sf {
 
-/// Format version this build writes; it reads versions 1 .. kCacheFormatVersion.
-inline constexpr uint32_t kCacheFormatVersion = 1;
+/// Format version this build writes for a cache with certificates (PatchCache::faceCertificate,
+/// stored after faceBulge); a cache without them is written as format 1. Reads 1 .. this.
+inline constexpr uint32_t kCacheFormatVersion = 2;
 
 /// XXH64 of the options that determine the patches (precision, cross tangent, normals,
 /// orientation) and of the record layout.
@@ -19,7 +20,7 @@ uint64_t hashPatchOptions(const PatchOptions& options);
 /// Writes the cache to `path` atomically: to a temporary file beside it, then renamed.
 /// Layout: 128-byte little-endian header (magic "SFPATCH", version, mesh and options hashes,
 /// counts, payload size and XXH64 checksum, header checksum), then the arrays in
-/// PatchCache order. Throws InputError when the file cannot be written.
+/// PatchCache order (faceCertificate only in format 2). Throws InputError when the file cannot be written.
 void writePatchCache(const PatchCache& cache, const std::string& path);
 
 /// True when the file at `path` starts with the cache magic (false when unreadable).

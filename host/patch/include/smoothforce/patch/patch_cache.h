@@ -33,6 +33,10 @@ struct PatchCache {
   std::vector<int32_t> slotTwin;        ///< #C: see topology.h
   std::vector<uint32_t> faceStatus;     ///< #F: GP_ST_* bits of construction and quality
   std::vector<float> faceBulge;         ///< #F: bulge / face diameter (design page)
+  /// #F certificate margins (patch_certificate.h): > 0 certified fold-free (a lower bound on the
+  /// cosine between patch and face normal), < 0 proven to turn over, 0 undecided or no patch.
+  /// Empty until certifyPatches runs (and in caches written before certificates were stored).
+  std::vector<float> faceCertificate;
   /// GP_E_NFIELDS * #C per-edge records, field-major: value of field i of slot s at
   /// [i * #C + s]. Exactly one of the two is filled, per options.precision.
   std::vector<double> edgeDataD;

@@ -1,0 +1,283 @@
+// Enclosure types that stand in for GP_REAL, so that the single-source patch math
+// (kernels/gp_patch.h) evaluated on a box of domain points encloses every value it takes
+// there: the patch certificate (patch_certificate.h) bounds the patch's derivatives with them.
+//
+// Interval: [lo, hi], arithmetic rounded outward (each bound of a correctly rounded operation
+// moved one step away). Plain intervals lose correlation at every operation: over the patch
+// math a box of width w gave derivative bounds about 2000 w wide (measured on the spot cage),
+// so the certificate would need boxes of 1e-6. Affine (below) keeps the first-order part
+// exactly: x = c + gx ex + gy ey + err e, with ex, ey the box's two coordinates scaled to
+// [-1, 1] and e an error symbol in [-1, 1], so the excess of a bound shrinks with the square of
+// the box's size (affine arithmetic: J. Stolfi, L. H. de Figueiredo, "Self-validated numerical
+// methods and applications", IMPA 1997; nonlinear steps by Taylor's theorem with the Lagrange
+// remainder).
+//
+// Comparisons give a three-valued mask (certainly / possibly true); GP_SEL of an undecided mask
+// is the hull of both sides, GP_ANY is "possibly", GP_ALL "certainly", so that the branch-free
+// math (kernels/gp_vec.h, "Lanes") takes every path a point of the box can take.
+#pragma once
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <limits>
+
+#if defined(__GNUC__)
+#define SF_AFFINE_INLINE inline __attribute__((always_inline))
+#else
+#define SF_AFFINE_INLINE inline
+#endif
+
+namespace sf::interval {
+
+inline constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// A bound one rounding step below / above x (x itself where infinite).
+inline double roundDown(double x) {
+  if (!(std::fabs(x) < kInf)) return x;
+  return x - (std::fabs(x) * 0x1p-52 + DBL_TRUE_MIN);
+}
+inline double roundUp(double x) {
+  if (!(std::fabs(x) < kInf)) return x;
+  return x + (std::fabs(x) * 0x1p-52 + DBL_TRUE_MIN);
+}
+
+/// Three-valued comparison result: `possible` (true for some point of the operands),
+/// `certain` (true for every point). certain implies possible.
+struct Mask {
+  bool possible = false, certain = false;
+  Mask() = default;
+  Mask(bool b) : possible(b), certain(b) {}  // NOLINT: a decided condition, like a scalar's
+  Mask(bool p, bool c) : possible(p), certain(c) {}
+  friend Mask operator&&(Mask a, Mask b) { return {a.possible && b.possible, a.certain && b.certain}; }
+  friend Mask operator||(Mask a, Mask b) { return {a.possible || b.possible, a.certain || b.certain}; }
+  friend Mask operator!(Mask a) { return {!a.certain, !a.possible}; }
+  friend bool gp_any(Mask a) { return a.possible; }
+  friend bool gp_all(Mask a) { return a.certain; }
+};
+
+/// A closed interval [lo, hi] of reals (lo <= hi; infinite bounds allowed).
+struct Interval {
+  double lo = 0, hi = 0;
+  Interval() = default;
+  Interval(double x) : lo(x), hi(x) {}  // NOLINT: a constant, like a scalar
+  Interval(double l, double h) : lo(std::isnan(l) ? -kInf : l), hi(std::isnan(h) ? kInf : h) {}
+  static Interval rounded(double l, double h) { return {roundDown(l), roundUp(h)}; }
+  bool contains(double x) const { return lo <= x && x <= hi; }
+  double width() const { return hi - lo; }
+
+  friend Interval operator+(Interval a, Interval b) { return rounded(a.lo + b.lo, a.hi + b.hi); }
+  friend Interval operator-(Interval a, Interval b) { return rounded(a.lo - b.hi, a.hi - b.lo); }
+  friend Interval operator-(Interval a) { return {-a.hi, -a.lo}; }
+  friend Interval operator*(Interval a, Interval b) {
+    // 0 times an infinite bound: the operands are reals, so the product is 0
+    auto m = [](double x, double y) {
+      const double p = x * y;
+      return std::isnan(p) ? 0.0 : p;
+    };
+    const double p0 = m(a.lo, b.lo), p1 = m(a.lo, b.hi), p2 = m(a.hi, b.lo), p3 = m(a.hi, b.hi);
+    return rounded(std::min(std::min(p0, p1), std::min(p2, p3)), std::max(std::max(p0, p1), std::max(p2, p3)));
+  }
+  friend Interval operator/(Interval a, Interval b) {
+    if (b.lo <= 0 && b.hi >= 0) return {-kInf, kInf};
+    const double q0 = a.lo / b.lo, q1 = a.lo / b.hi, q2 = a.hi / b.lo, q3 = a.hi / b.hi;
+    return rounded(std::min(std::min(q0, q1), std::min(q2, q3)), std::max(std::max(q0, q1), std::max(q2, q3)));
+  }
+  Interval& operator+=(Interval b) { return *this = *this + b; }
+  Interval& operator-=(Interval b) { return *this = *this - b; }
+  Interval& operator*=(Interval b) { return *this = *this * b; }
+
+  friend Mask operator<(Interval a, Interval b) { return {a.lo < b.hi, a.hi < b.lo}; }
+  friend Mask operator>(Interval a, Interval b) { return {a.hi > b.lo, a.lo > b.hi}; }
+  friend Mask operator<=(Interval a, Interval b) { return {a.lo <= b.hi, a.hi <= b.lo}; }
+  friend Mask operator>=(Interval a, Interval b) { return {a.hi >= b.lo, a.lo >= b.hi}; }
+
+  friend Interval gp_sqrt(Interval a) {
+    if (!(a.hi >= 0)) return {0.0, 0.0};  // only reached where the exact argument is >= 0
+    return {std::max(0.0, roundDown(std::sqrt(std::max(a.lo, 0.0)))), roundUp(std::sqrt(a.hi))};
+  }
+  friend Interval gp_fabs(Interval a) {
+    if (a.lo >= 0) return a;
+    if (a.hi <= 0) return -a;
+    return {0.0, std::max(-a.lo, a.hi)};
+  }
+  friend Interval gp_sel(Mask m, Interval a, Interval b) {
+    if (m.certain) return a;
+    if (!m.possible) return b;
+    return {std::min(a.lo, b.lo), std::max(a.hi, b.hi)};
+  }
+};
+
+/// Status bits: those of both sides where the mask is undecided.
+inline unsigned gp_sel(Mask m, unsigned a, unsigned b) {
+  if (m.certain) return a;
+  if (!m.possible) return b;
+  return a | b;
+}
+
+/// max(x, 0) over the interval.
+inline Interval gp_iv_clamp0(Interval x) { return {std::max(x.lo, 0.0), std::max(x.hi, 0.0)}; }
+
+/// a / (a + b) for a, b >= 0 (taken as the parts of a and b that are >= 0), where a + b > 0;
+/// where both may be 0 the ratio's whole range [0, 1]. Increasing in a, decreasing in b, so the
+/// bounds come from the corners (no dependency between numerator and denominator).
+inline Interval gp_iv_ratio(Interval a, Interval b) {
+  a = gp_iv_clamp0(a);
+  b = gp_iv_clamp0(b);
+  const double lo = a.lo > 0 ? roundDown(a.lo / roundUp(a.lo + b.hi)) : 0.0;
+  const double hi = a.hi + b.lo > 0 ? roundUp(a.hi / roundDown(a.hi + b.lo)) : 1.0;
+  return {std::max(0.0, lo), std::min(1.0, hi)};
+}
+
+/// The rational factors of the corner interpolator's twist term (Eq. 2) and of its partials,
+/// for u, v in [0, 1] (their parts >= 0 are used), each 0 where u = v = 0:
+///   f[0] = u v^2 / s, f[1] = u^2 v / s, f[2] = v^3 / s^2, f[3] = u v (u + 2v) / s^2,
+///   f[4] = u v (2u + v) / s^2, f[5] = u^3 / s^2, with s = u + v.
+/// Written as m = u v / s (increasing in u and v), p = v / s and q = u / s (gp_iv_ratio):
+/// f = m v, m u, v p^2, m (1 + p), m (1 + q), u q^2.
+inline void gp_iv_twist_factors(Interval u, Interval v, Interval* f) {
+  u = gp_iv_clamp0(u);
+  v = gp_iv_clamp0(v);
+  // u v / s at a corner of the box, rounded down or up; u v / s <= min(u, v) bounds it above too
+  auto mAt = [](double a, double b, bool up) {
+    if (!(a + b > 0)) return 0.0;
+    if (!up) return roundDown(roundDown(a * b) / roundUp(a + b));
+    const double den = roundDown(a + b);
+    return den > 0 ? std::min(roundUp(roundUp(a * b) / den), std::min(a, b)) : std::min(a, b);
+  };
+  const Interval m{std::max(0.0, mAt(u.lo, v.lo, false)), mAt(u.hi, v.hi, true)};
+  const Interval p = gp_iv_ratio(v, u), q = gp_iv_ratio(u, v);
+  f[0] = m * v;
+  f[1] = m * u;
+  f[2] = v * (p * p);
+  f[3] = m * (Interval(1.0) + p);
+  f[4] = m * (Interval(1.0) + q);
+  f[5] = u * (q * q);
+}
+
+/// An affine form c + gx ex + gy ey + err e over a box (ex, ey, e in [-1, 1]); see the top of
+/// this file. Every operation adds its rounding to err (a relative 2^-49 of the magnitudes it
+/// combined, plus the smallest subnormal), so the exact real result on every point of the box
+/// lies in the result's range.
+struct Affine {
+  double c = 0, gx = 0, gy = 0, err = 0;
+  Affine() = default;
+  Affine(double x) : c(x) {}  // NOLINT: a constant, like a scalar
+  Affine(double c_, double gx_, double gy_, double e) : c(c_), gx(gx_), gy(gy_), err(e) {}
+  /// The constant form of an interval (no correlation kept).
+  static Affine of(Interval i) {
+    if (!(i.lo > -kInf && i.hi < kInf)) return {0.0, 0.0, 0.0, kInf};
+    const double m = 0.5 * i.lo + 0.5 * i.hi;
+    return {m, 0.0, 0.0, roundUp(std::max(i.hi - m, m - i.lo))};
+  }
+  double rad() const { return roundUp(std::fabs(gx) + std::fabs(gy) + err); }
+  Interval range() const {
+    if (!(err < kInf) || !(std::fabs(c) < kInf) || !(std::fabs(gx) < kInf) || !(std::fabs(gy) < kInf))
+      return {-kInf, kInf};
+    const double r = rad();
+    return {roundDown(c - r), roundUp(c + r)};
+  }
+  double lo() const { return range().lo; }
+  double hi() const { return range().hi; }
+
+  // A NaN or an infinity anywhere propagates to range(), which then gives the whole line.
+  /// A bound of a sum of non-negative terms, rounded up (infinity stays).
+  static SF_AFFINE_INLINE double up(double x) { return x * (1.0 + 0x1p-51) + DBL_TRUE_MIN; }
+  static SF_AFFINE_INLINE double slop(double mag) { return mag * 0x1p-49 + 4 * DBL_TRUE_MIN; }
+  friend SF_AFFINE_INLINE Affine operator+(Affine a, Affine b) {
+    const double mag = std::fabs(a.c) + std::fabs(a.gx) + std::fabs(a.gy) + a.err + std::fabs(b.c) + std::fabs(b.gx) +
+                       std::fabs(b.gy) + b.err;
+    return {a.c + b.c, a.gx + b.gx, a.gy + b.gy, up(a.err + b.err + slop(mag))};
+  }
+  friend SF_AFFINE_INLINE Affine operator-(Affine a) { return {-a.c, -a.gx, -a.gy, a.err}; }
+  friend SF_AFFINE_INLINE Affine operator-(Affine a, Affine b) { return a + (-b); }
+  /// The product's quadratic part A ex^2 + B ex ey + C ey^2 lies in (A + C) / 2 +- ((|A| + |C|) / 2
+  /// + |B|), since ex^2, ey^2 lie in [0, 1]: its middle goes to the centre.
+  friend SF_AFFINE_INLINE Affine operator*(Affine a, Affine b) {
+    const double la = std::fabs(a.gx) + std::fabs(a.gy), lb = std::fabs(b.gx) + std::fabs(b.gy);
+    const double mag = (std::fabs(a.c) + la + a.err) * (std::fabs(b.c) + lb + b.err);
+    const double A = a.gx * b.gx, B = a.gx * b.gy + a.gy * b.gx, C = a.gy * b.gy;
+    const double e = std::fabs(a.c) * b.err + std::fabs(b.c) * a.err + 0.5 * (std::fabs(A) + std::fabs(C)) +
+                     std::fabs(B) + a.err * lb + b.err * la + a.err * b.err;
+    return {a.c * b.c + 0.5 * (A + C), a.c * b.gx + b.c * a.gx, a.c * b.gy + b.c * a.gy, up(e + slop(mag))};
+  }
+  /// 1 / b: the tangent at b.c plus the Lagrange remainder R^2 / (min|x| c^2); the whole line
+  /// where b's range holds 0.
+  friend Affine recip(Affine b) {
+    const Interval r = b.range();
+    if (r.lo <= 0 && r.hi >= 0) return {0.0, 0.0, 0.0, kInf};
+    const double xmin = std::min(std::fabs(r.lo), std::fabs(r.hi)), c0 = b.c;
+    const double f = 1.0 / c0, d = -f * f, R = b.rad();
+    const double rem = R * R / (xmin * c0 * c0);
+    const double mag = std::fabs(f) + std::fabs(d) * R + rem;
+    return {f, d * b.gx, d * b.gy, up(std::fabs(d) * b.err + rem + slop(mag))};
+  }
+  friend Affine operator/(Affine a, Affine b) { return a * recip(b); }
+  Affine& operator+=(Affine b) { return *this = *this + b; }
+  Affine& operator-=(Affine b) { return *this = *this - b; }
+  Affine& operator*=(Affine b) { return *this = *this * b; }
+
+  friend Mask operator<(Affine a, Affine b) { return a.range() < b.range(); }
+  friend Mask operator>(Affine a, Affine b) { return a.range() > b.range(); }
+  friend Mask operator<=(Affine a, Affine b) { return a.range() <= b.range(); }
+  friend Mask operator>=(Affine a, Affine b) { return a.range() >= b.range(); }
+
+  /// sqrt: the tangent at c plus the remainder R^2 / (8 min(x)^1.5); where the range reaches
+  /// 0, the interval [0, sqrt(hi)].
+  friend Affine gp_sqrt(Affine a) {
+    const Interval r = a.range();
+    if (!(r.lo > 0) || !(a.c > 0)) return of(gp_sqrt(r));
+    const double s = std::sqrt(a.c), d = 0.5 / s, R = a.rad();
+    const double rem = R * R / (8.0 * r.lo * std::sqrt(r.lo));
+    const double mag = s + d * R + rem;
+    return {s, d * a.gx, d * a.gy, up(d * a.err + rem + slop(mag))};
+  }
+  friend Affine gp_fabs(Affine a) {
+    const Interval r = a.range();
+    if (r.lo >= 0) return a;
+    if (r.hi <= 0) return -a;
+    return of(gp_fabs(r));
+  }
+  friend Affine gp_sel(Mask m, Affine a, Affine b) {
+    if (m.certain) return a;
+    if (!m.possible) return b;
+    const Interval ra = a.range(), rb = b.range();
+    return of({std::min(ra.lo, rb.lo), std::max(ra.hi, rb.hi)});
+  }
+};
+
+/// The domain distances' clamp at 0, on affine forms: x itself. At a point of the domain every
+/// d_k >= 0 already (the scalar clamp only absorbs rounding); a box that crosses the domain's
+/// boundary then encloses the unclamped continuation there too, a superset of what its points
+/// in the domain take. Clamping would turn d_k into a constant form and lose the first-order
+/// correlation that keeps the Hermite basis' cancellations (80 times wider bounds, measured).
+inline Affine gp_iv_clamp0(Affine x) { return x; }
+
+/// a / (a + b) for a, b >= 0: as an affine quotient where a + b > 0 on the box, else from the
+/// monotone interval bounds (gp_iv_ratio of the ranges).
+inline Affine gp_iv_ratio(Affine a, Affine b) {
+  const Affine s = a + b;
+  if (s.lo() > 0) return a * recip(s);
+  return Affine::of(gp_iv_ratio(a.range(), b.range()));
+}
+
+/// The twist term's factors (see the Interval version): as affine forms where u + v > 0 on the
+/// box, else from the monotone interval bounds.
+inline void gp_iv_twist_factors(Affine u, Affine v, Affine* f) {
+  const Affine s = u + v;
+  if (s.lo() > 0) {
+    const Affine is = recip(s), m = u * v * is, p = v * is, q = u * is;
+    f[0] = m * v;
+    f[1] = m * u;
+    f[2] = v * (p * p);
+    f[3] = m * (Affine(1.0) + p);
+    f[4] = m * (Affine(1.0) + q);
+    f[5] = u * (q * q);
+    return;
+  }
+  Interval fi[6];
+  gp_iv_twist_factors(u.range(), v.range(), fi);
+  for (int i = 0; i < 6; ++i) f[i] = Affine::of(fi[i]);
+}
+
+}  // namespace sf::interval

@@ -1,0 +1,66 @@
+// A per-patch certificate: a proof, from interval bounds of the exact derivatives, that a
+// Gregory patch is regular and never turns over against its polygon.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <smoothforce/patch/patch_cache.h>
+
+namespace sf {
+
+/// What the certificate of one patch found.
+enum class CertificateVerdict : int {
+  Certified = 0,  ///< dot(dG/dxi x dG/deta, n_face) > 0 proven on the whole domain
+  Undecided = 1,  ///< neither proven nor disproven within the cell budget
+  Folded = 2,     ///< J < 0 proven on a part of the domain: the patch turns over there
+  NotBuilt = 3,   ///< no patch (too many sides, non-finite input) or a zero-area polygon
+};
+
+/// Budget of the adaptive subdivision: the domain's bounding box is cut into a grid of
+/// 2^startDepth x 2^startDepth cells, and a cell that is neither proven nor disproven is split
+/// into quadrants, down to maxDepth levels (cells 2^-maxDepth of the box wide); at most
+/// maxCells evaluations per patch. On the spot cage's patches cells of 2^-7 to 2^-8 of the box
+/// prove J > 0; larger ones almost never do, hence the start.
+struct CertificateOptions {
+  int startDepth = 6;
+  int maxDepth = 9;
+  int maxCells = 100000;
+};
+
+/// The certificate of one patch.
+struct PatchCertificate {
+  CertificateVerdict verdict = CertificateVerdict::NotBuilt;
+  /// Certified: a lower bound > 0 on cos(angle between the patch normal and the face normal)
+  /// over the whole domain. Folded: an upper bound < 0 of it on a proven part. Else 0.
+  double margin = 0;
+  int cells = 0;  ///< interval evaluations spent
+};
+
+/// Certifies the patch with edge records recs (n * GP_E_NFIELDS, record-major, 3 <= n <= 64)
+/// built with cross-tangent mode `mode`: bounds J = dot(dG/dxi x dG/deta, n_face) over boxes of
+/// the domain by evaluating the patch math (Eq. 2-14, kernels/gp_eval.h) in outward-rounded
+/// interval arithmetic, and splits a box in four until J > 0 is proven on it (certified), J < 0
+/// is proven on a box that meets the domain (folded), or the budget runs out (undecided).
+/// n_face is the polygon's unit Newell normal. Conservative: a certified patch has no point
+/// where its normal is perpendicular to or against n_face (so it is regular, and a height
+/// field over the polygon's plane wherever its boundary projects to a simple curve).
+/// Never throws; thread-safe.
+PatchCertificate certifyPatch(int n, const double* recs, CrossTangentMode mode, const CertificateOptions& options = {});
+PatchCertificate certifyPatch(int n, const float* recs, CrossTangentMode mode, const CertificateOptions& options = {});
+
+/// Certifies every built patch of the cache (oneTBB; threads <= 0: oneTBB's default) into
+/// cache.faceCertificate (#F, PatchCertificate::margin as float: > 0 certified, < 0 folded,
+/// 0 undecided or not built). Throws std::invalid_argument for a cache without patch data.
+void certifyPatches(PatchCache& cache, int threads = 0, const CertificateOptions& options = {});
+
+/// Counts of a cache's certificates, and the faces that are not certified (ids, ascending).
+struct CertificateSummary {
+  int certified = 0, undecided = 0, folded = 0, notBuilt = 0;
+  double minMargin = 0;  ///< smallest margin of the certified patches (0 when none)
+  std::vector<int> uncertifiedFaces, foldedFaces;
+  bool present = false;  ///< false for caches written before certificates were stored
+};
+CertificateSummary summarizeCertificates(const PatchCache& cache);
+
+}  // namespace sf

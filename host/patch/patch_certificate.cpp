@@ -1,0 +1,255 @@
+// The per-patch certificate: the patch math of kernels/ instantiated once more with an
+// interval type (detail/gp_interval.h) and bounded on boxes of the domain.
+#include <smoothforce/patch/patch_certificate.h>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <stdexcept>
+
+#include <smoothforce/patch/detail/gp_interval.h>
+#include <smoothforce/patch/detail/gp_math.h>
+#include <smoothforce/patch/detail/patch_enclosure.h>
+
+// ---- the patch math on intervals (GP_INTERVAL: gp_eval.h's range-keeping forms) ----
+#undef GP_SREAL
+#undef GP_MASK
+#undef GP_STATUS
+#undef GP_VID
+#undef GP_SEL
+#undef GP_ANY
+#undef GP_ALL
+#define GP_LANES 1
+#define GP_INTERVAL 1
+#define GP_MASK ::sf::interval::Mask
+#define GP_STATUS unsigned
+#define GP_VID int
+#define GP_SEL(m, a, b) gp_sel(m, a, b)
+#define GP_ANY(m) gp_any(m)
+#define GP_ALL(m) gp_all(m)
+#define GP_DOMAIN_TABLE_DECLARE __attribute__((const)) const gp_domain* gp_domain_table()
+#define GP_DOMAIN_TABLE(n) (gp_domain_table() + (n))
+namespace sf::gpi {
+using ::sf::gpd::gp_domain;
+using ::sf::gpd::gp_domain_of;
+using ::sf::gpd::gp_quality_sample;
+using ::sf::interval::Affine;
+#define GP_SREAL double
+#define GP_REAL ::sf::interval::Affine
+#define GP_IS_DOUBLE 1
+#include "gp_patch.h"
+#undef GP_REAL
+#undef GP_SREAL
+#undef GP_IS_DOUBLE
+}  // namespace sf::gpi
+#undef GP_LANES
+#undef GP_INTERVAL
+#undef GP_MASK
+#undef GP_STATUS
+#undef GP_VID
+#undef GP_SEL
+#undef GP_ANY
+#undef GP_ALL
+#undef GP_DOMAIN_TABLE_DECLARE
+#undef GP_DOMAIN_TABLE
+
+namespace sf {
+namespace {
+
+using interval::Affine;
+using interval::Interval;
+
+struct Box {
+  double x0, x1, y0, y1;
+  int depth;
+};
+
+/// The affine forms of a box: centre plus half-width times its noise symbol.
+void boxForms(double x0, double x1, double y0, double y1, Affine* xi, Affine* eta) {
+  const double cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
+  *xi = Affine(cx, interval::roundUp(std::max(x1 - cx, cx - x0)), 0.0, 0.0);
+  *eta = Affine(cy, 0.0, interval::roundUp(std::max(y1 - cy, cy - y0)), 0.0);
+}
+
+template <class Real>
+PatchCertificate certify(int n, const Real* recs, CrossTangentMode mode, const CertificateOptions& o) {
+  PatchCertificate out;
+  if (n < 3 || n > GP_MAX_N) return out;
+  std::array<Affine, GP_MAX_N * GP_E_NFIELDS> irecs;
+  for (int i = 0; i < n * GP_E_NFIELDS; ++i) {
+    const double x = static_cast<double>(recs[i]);
+    if (!std::isfinite(x)) return out;
+    irecs[i] = Affine(x);
+  }
+  // n_face: the polygon's Newell normal (in double; any fixed direction makes a valid test)
+  double nx = 0, ny = 0, nz = 0;
+  for (int k = 0; k < n; ++k) {
+    const Real* a = recs + k * GP_E_NFIELDS + GP_E_V0;
+    const Real* b = recs + k * GP_E_NFIELDS + GP_E_V1;
+    nx += (double(a[1]) - double(b[1])) * (double(a[2]) + double(b[2]));
+    ny += (double(a[2]) - double(b[2])) * (double(a[0]) + double(b[0]));
+    nz += (double(a[0]) - double(b[0])) * (double(a[1]) + double(b[1]));
+  }
+  const double nl = std::sqrt(nx * nx + ny * ny + nz * nz);
+  out.verdict = CertificateVerdict::Undecided;
+  if (!(nl > 0) || !std::isfinite(nl)) return out;
+  const Affine nf[3] = {Affine(nx / nl), Affine(ny / nl), Affine(nz / nl)};
+
+  gpd::gp_domain scratch;
+  const gpd::gp_domain* dom = gpd::gp_domain_of(n, &scratch, 1);
+  double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+  for (int k = 0; k < n; ++k) {
+    lo[0] = std::min(lo[0], dom->cx[k]), hi[0] = std::max(hi[0], dom->cx[k]);
+    lo[1] = std::min(lo[1], dom->cy[k]), hi[1] = std::max(hi[1], dom->cy[k]);
+  }
+  std::vector<Box> stack;
+  const int start = std::clamp(o.startDepth, 0, std::max(0, o.maxDepth)), g = 1 << std::min(start, 12);
+  for (int j = g - 1; j >= 0; --j)
+    for (int i = g - 1; i >= 0; --i)
+      stack.push_back({lo[0] + (hi[0] - lo[0]) * i / g, lo[0] + (hi[0] - lo[0]) * (i + 1) / g,
+                       lo[1] + (hi[1] - lo[1]) * j / g, lo[1] + (hi[1] - lo[1]) * (j + 1) / g, start});
+  double margin = 1;
+  bool undecided = false;
+  while (!stack.empty()) {
+    const Box b = stack.back();
+    stack.pop_back();
+    const Interval bx(b.x0, b.x1), by(b.y0, b.y1);
+    bool meets = true;  // the box meets the domain (not proven outside one of its edges)
+    for (int k = 0; k < n && meets; ++k) meets = (Interval(dom->apothem) - (bx * dom->mx[k] + by * dom->my[k])).hi >= 0;
+    if (!meets) continue;
+    if (out.cells >= o.maxCells) {
+      undecided = true;
+      break;
+    }
+    ++out.cells;
+    Affine xi, eta;
+    boxForms(b.x0, b.x1, b.y0, b.y1, &xi, &eta);
+    const gpi::gp_eval_result r = gpi::gp_patch_eval_dom_d(dom, irecs.data(), static_cast<int>(mode), xi, eta, 1);
+    const gpi::gp_vec3 N = gpi::gp_cross(r.dxi, r.deta);
+    const Interval J = (N.x * nf[0] + N.y * nf[1] + N.z * nf[2]).range();
+    const double len = gp_sqrt(N.x * N.x + N.y * N.y + N.z * N.z).hi();
+    if (J.lo > 0 && len < interval::kInf) {
+      margin = std::min(margin, interval::roundDown(J.lo / interval::roundUp(len)));
+      continue;
+    }
+    if (J.hi < 0 && len > 0) {  // every point of the box, some of them in the domain, turns over
+      out.verdict = CertificateVerdict::Folded;
+      out.margin = len < interval::kInf ? std::min(-1e-300, J.hi / len) : -1e-300;
+      return out;
+    }
+    if (b.depth >= o.maxDepth) {
+      undecided = true;
+      continue;  // keep looking for a proven fold elsewhere
+    }
+    const double xm = 0.5 * (b.x0 + b.x1), ym = 0.5 * (b.y0 + b.y1);
+    const int d = b.depth + 1;
+    stack.push_back({b.x0, xm, b.y0, ym, d});
+    stack.push_back({xm, b.x1, b.y0, ym, d});
+    stack.push_back({b.x0, xm, ym, b.y1, d});
+    stack.push_back({xm, b.x1, ym, b.y1, d});
+  }
+  if (undecided) return out;
+  out.verdict = CertificateVerdict::Certified;
+  out.margin = std::max(margin, 1e-300);
+  return out;
+}
+
+/// A margin as a float no farther from 0 than the double (so a stored bound stays a bound).
+float towardZero(double m) {
+  float f = static_cast<float>(m);
+  if (std::fabs(static_cast<double>(f)) > std::fabs(m)) f = std::nextafter(f, 0.0f);
+  if (m != 0 && f == 0)
+    f = m > 0 ? std::numeric_limits<float>::denorm_min() : -std::numeric_limits<float>::denorm_min();
+  return f;
+}
+
+}  // namespace
+
+namespace detail {
+PatchEnclosure enclosePatch(int n, const double* recs, CrossTangentMode mode, const double nFace[3], double x0,
+                            double x1, double y0, double y1) {
+  PatchEnclosure out;
+  if (n < 3 || n > GP_MAX_N) return out;
+  std::array<Affine, GP_MAX_N * GP_E_NFIELDS> irecs;
+  for (int i = 0; i < n * GP_E_NFIELDS; ++i) irecs[i] = Affine(recs[i]);
+  gpd::gp_domain scratch;
+  Affine xi, eta;
+  boxForms(x0, x1, y0, y1, &xi, &eta);
+  const gpi::gp_eval_result r =
+      gpi::gp_patch_eval_dom_d(gpd::gp_domain_of(n, &scratch, 1), irecs.data(), static_cast<int>(mode), xi, eta, 1);
+  const gpi::gp_vec3 N = gpi::gp_cross(r.dxi, r.deta);
+  const gpi::gp_vec3* v[3] = {&r.pos, &r.dxi, &r.deta};
+  interval::Interval* o[3] = {out.pos, out.dxi, out.deta};
+  for (int i = 0; i < 3; ++i) o[i][0] = v[i]->x.range(), o[i][1] = v[i]->y.range(), o[i][2] = v[i]->z.range();
+  out.J = (N.x * nFace[0] + N.y * nFace[1] + N.z * nFace[2]).range();
+  return out;
+}
+}  // namespace detail
+
+PatchCertificate certifyPatch(int n, const double* recs, CrossTangentMode mode, const CertificateOptions& options) {
+  return certify(n, recs, mode, options);
+}
+PatchCertificate certifyPatch(int n, const float* recs, CrossTangentMode mode, const CertificateOptions& options) {
+  return certify(n, recs, mode, options);
+}
+
+void certifyPatches(PatchCache& cache, int threads, const CertificateOptions& options) {
+  const int nf = cache.numFaces();
+  if (!hasPatchData(cache) && nf > 0) throw std::invalid_argument("certifyPatches: the cache has no patch data");
+  cache.faceCertificate.assign(nf, 0.f);
+  auto one = [&](int f) {
+    const int n = cache.faceSize(f);
+    if ((cache.faceStatus[f] & GP_ST_NOT_BUILT) || n < 3 || n > GP_MAX_N) return;
+    PatchCertificate c;
+    if (cache.options.precision == Precision::Double) {
+      std::array<double, GP_MAX_N * GP_E_NFIELDS> recs;
+      gatherRecords(cache, f, recs.data());
+      c = certifyPatch(n, recs.data(), cache.options.crossTangent, options);
+    } else {
+      std::array<float, GP_MAX_N * GP_E_NFIELDS> recs;
+      gatherRecords(cache, f, recs.data());
+      c = certifyPatch(n, recs.data(), cache.options.crossTangent, options);
+    }
+    cache.faceCertificate[f] = towardZero(c.margin);
+  };
+  auto run = [&] {
+    tbb::parallel_for(tbb::blocked_range<int>(0, nf, 8), [&](const tbb::blocked_range<int>& r) {
+      for (int f = r.begin(); f != r.end(); ++f) one(f);
+    });
+  };
+  if (threads > 0) {
+    tbb::task_arena arena(threads);
+    arena.execute(run);
+  } else {
+    run();
+  }
+}
+
+CertificateSummary summarizeCertificates(const PatchCache& c) {
+  CertificateSummary s;
+  const int nf = c.numFaces();
+  s.present = static_cast<int>(c.faceCertificate.size()) == nf;
+  if (!s.present) return s;
+  double minMargin = 2;
+  for (int f = 0; f < nf; ++f) {
+    const float m = c.faceCertificate[f];
+    if (c.faceStatus[f] & GP_ST_NOT_BUILT) {
+      ++s.notBuilt;
+    } else if (m > 0) {
+      ++s.certified;
+      minMargin = std::min(minMargin, static_cast<double>(m));
+    } else {
+      (m < 0 ? s.folded : s.undecided) += 1;
+      s.uncertifiedFaces.push_back(f);
+      if (m < 0) s.foldedFaces.push_back(f);
+    }
+  }
+  s.minMargin = s.certified ? minMargin : 0;
+  return s;
+}
+
+}  // namespace sf

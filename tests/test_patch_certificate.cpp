@@ -1,0 +1,270 @@
+// The per-patch certificate (patch_certificate.h) against an independent computation: dense
+// samples of the scalar evaluation (kernels/ in double). The enclosures behind it hold every
+// sampled point of every box (corners, boundary-crossing boxes, triangles to hexagons, folded
+// and non-convex faces); a certified patch has no sampled point whose normal leaves the face's
+// side, and its margin bounds every sampled cosine; a patch whose sampled normal turns over is
+// never certified; a corner normal tilted against the face is proven folded.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <numbers>
+#include <random>
+
+#include <smoothforce/patch/cache_file.h>
+#include <smoothforce/patch/detail/gp_math.h>
+#include <smoothforce/patch/detail/patch_enclosure.h>
+#include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/patch/patch_certificate.h>
+#include "shared_mesh_files.h"
+
+namespace sf {
+namespace {
+
+PatchCache meshCache(const std::string& rel) {
+  PatchOptions o;
+  return buildPatchCache(loadMesh(test::sharedMesh(rel), o), o, Backend::Tbb);
+}
+
+/// The polygon's unit Newell normal, from the mesh's own positions.
+Eigen::Vector3d newellNormal(const PatchCache& c, int f) {
+  Eigen::Vector3d n = Eigen::Vector3d::Zero();
+  const int m = c.faceSize(f), first = c.faceOffsets[f];
+  for (int k = 0; k < m; ++k) {
+    const double* a = &c.positions[3 * size_t(c.faceVertices[first + k])];
+    const double* b = &c.positions[3 * size_t(c.faceVertices[first + (k + 1) % m])];
+    n += Eigen::Vector3d((a[1] - b[1]) * (a[2] + b[2]), (a[2] - b[2]) * (a[0] + b[0]), (a[0] - b[0]) * (a[1] + b[1]));
+  }
+  return n.normalized();
+}
+
+struct Sample {
+  bool inside = false;
+  Eigen::Vector3d pos, dxi, deta;
+};
+
+Sample sampleAt(int n, const double* recs, int mode, double x, double y) {
+  gpd::gp_domain scratch;
+  const gpd::gp_eval_result r = gpd::gp_patch_eval_dom_d(gpd::gp_domain_of(n, &scratch, 1), recs, mode, x, y, 1);
+  Sample s;
+  s.inside = !(r.status & GP_ST_OUTSIDE);
+  s.pos = {r.pos.x, r.pos.y, r.pos.z};
+  s.dxi = {r.dxi.x, r.dxi.y, r.dxi.z};
+  s.deta = {r.deta.x, r.deta.y, r.deta.z};
+  return s;
+}
+
+/// Strictly inside the domain of the n-gon (every d_k > 0), so that the sample is the patch's.
+bool inDomain(int n, double x, double y) {
+  for (int k = 0; k < n; ++k) {
+    const double a = (2 * k + 1) * std::numbers::pi / n;
+    if (!(std::cos(std::numbers::pi / n) - (x * std::cos(a) + y * std::sin(a)) > 0)) return false;
+  }
+  return true;
+}
+
+/// The smallest sampled cosine between the patch normal and the face normal over a grid of
+/// side g on the domain's box (points strictly inside the domain), and the count of samples.
+double smallestSampledCosine(int n, const double* recs, int mode, const Eigen::Vector3d& nf, int g, int* count) {
+  double worst = 2;
+  *count = 0;
+  for (int i = 0; i <= g; ++i)
+    for (int j = 0; j <= g; ++j) {
+      const double x = -1 + 2.0 * i / g, y = -1 + 2.0 * j / g;
+      if (!inDomain(n, x, y)) continue;
+      const Sample s = sampleAt(n, recs, mode, x, y);
+      const Eigen::Vector3d N = s.dxi.cross(s.deta);
+      worst = std::min(worst, N.norm() > 0 ? N.dot(nf) / N.norm() : -1.0);
+      ++*count;
+    }
+  return worst;
+}
+
+TEST(PatchCertificate, EnclosuresHoldEverySampledPointOfEveryBox) {
+  // faces of every size from 3 to 6, convex and not, folded and not
+  const std::vector<std::pair<std::string, int>> meshes = {
+      {"keenan_crane/spot_control_mesh.obj", 9}, {"geomview/dodecahedron.off", 1},
+      {"polygon_laplacian/hexaSphere.off", 7},   {"keenan_crane/bob_tri.obj", 97},
+      {"polygon_laplacian/tetris.obj", 1},       {"pmp/L.off", 1}};
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> U(-1, 1);
+  long boxes = 0, points = 0, violations = 0;
+  for (const auto& [rel, stride] : meshes) {
+    SCOPED_TRACE(rel);
+    const PatchCache c = meshCache(rel);
+    for (int f = 0; f < c.numFaces(); f += stride) {
+      const int n = c.faceSize(f);
+      std::array<double, GP_MAX_N * GP_E_NFIELDS> recs;
+      gatherRecords(c, f, recs.data());
+      const Eigen::Vector3d nf = newellNormal(c, f);
+      gpd::gp_domain scratch;
+      const gpd::gp_domain* dom = gpd::gp_domain_of(n, &scratch, 1);
+      // box centres: two domain corners, an edge midpoint, the centre, two random points
+      std::vector<Eigen::Vector2d> centres = {{dom->cx[0], dom->cy[0]},
+                                              {dom->cx[1], dom->cy[1]},
+                                              {0.5 * (dom->cx[1] + dom->cx[2]), 0.5 * (dom->cy[1] + dom->cy[2])},
+                                              {0, 0}};
+      for (int r = 0; r < 2; ++r) {
+        Eigen::Vector2d p(U(rng), U(rng));
+        while (!inDomain(n, p.x(), p.y())) p = {U(rng), U(rng)};
+        centres.push_back(p);
+      }
+      for (const Eigen::Vector2d& ctr : centres)
+        for (double h : {0.25, 1.0 / 16, 1.0 / 64, 1.0 / 256}) {
+          const double x0 = ctr.x() - h, x1 = ctr.x() + h, y0 = ctr.y() - h, y1 = ctr.y() + h;
+          const detail::PatchEnclosure e =
+              detail::enclosePatch(n, recs.data(), CrossTangentMode::Corrected, nf.data(), x0, x1, y0, y1);
+          ++boxes;
+          for (int i = 0; i <= 6; ++i)
+            for (int j = 0; j <= 6; ++j) {
+              const double x = x0 + (x1 - x0) * i / 6, y = y0 + (y1 - y0) * j / 6;
+              if (!inDomain(n, x, y)) continue;
+              const Sample s = sampleAt(n, recs.data(), 0, x, y);
+              ++points;
+              for (int a = 0; a < 3; ++a)
+                violations +=
+                    !e.pos[a].contains(s.pos[a]) + !e.dxi[a].contains(s.dxi[a]) + !e.deta[a].contains(s.deta[a]);
+              violations += !e.J.contains(s.dxi.cross(s.deta).dot(nf));
+            }
+        }
+    }
+  }
+  EXPECT_EQ(violations, 0);
+  EXPECT_EQ(boxes, 6864);
+  EXPECT_GT(points, 50000);
+}
+
+TEST(PatchCertificate, CertifiedPatchesTurnNowhereAgainstTheirPolygon) {
+  struct Case {
+    std::string rel;
+    int stride, certified, folded;  // expected counts over the faces visited
+  };
+  // the spot cage's faces 0, 30, ..., 150 and its 16 sampled folds; small closed polyhedra; planar
+  // non-convex polygons (most fold)
+  const std::vector<Case> cases = {{"lagrange/cube.obj", 1, 6, 0},
+                                   {"geomview/dodecahedron.off", 1, 12, 0},
+                                   {"polygon_laplacian/tetris.obj", 1, -1, -1},
+                                   {"pmp/L.off", 1, 0, 1},
+                                   {"keenan_crane/spot_control_mesh.obj", 30, -1, -1}};
+  CertificateOptions o;
+  o.maxCells = 20000;
+  long sampled = 0;
+  int certifiedTotal = 0, turnedTotal = 0;
+  for (const Case& cs : cases) {
+    SCOPED_TRACE(cs.rel);
+    const PatchCache c = meshCache(cs.rel);
+    int certified = 0, folded = 0, visited = 0;
+    for (int f = 0; f < c.numFaces(); ++f) {
+      if (f % cs.stride != 0 && !(c.faceStatus[f] & GP_ST_FOLD)) continue;
+      ++visited;
+      const int n = c.faceSize(f);
+      std::array<double, GP_MAX_N * GP_E_NFIELDS> recs;
+      gatherRecords(c, f, recs.data());
+      const PatchCertificate pc = certifyPatch(n, recs.data(), CrossTangentMode::Corrected, o);
+      int count = 0;
+      const double cosine = smallestSampledCosine(n, recs.data(), 0, newellNormal(c, f), 60, &count);
+      sampled += count;
+      ASSERT_GT(count, 1000);
+      if (pc.verdict == CertificateVerdict::Certified) {
+        ++certified;
+        EXPECT_GT(pc.margin, 0);
+        EXPECT_GE(cosine, pc.margin * (1 - 1e-12)) << "face " << f;
+      }
+      if (pc.verdict == CertificateVerdict::Folded) {
+        ++folded;
+        EXPECT_LT(pc.margin, 0);
+      }
+      if (cosine <= 0) {  // a sampled turn-over is never certified
+        ++turnedTotal;
+        EXPECT_NE(pc.verdict, CertificateVerdict::Certified) << "face " << f;
+      }
+    }
+    std::printf("%s: %d faces visited, %d certified, %d proven folded\n", cs.rel.c_str(), visited, certified, folded);
+    if (cs.certified >= 0) {
+      EXPECT_EQ(certified, cs.certified);
+    }
+    if (cs.folded >= 0) {
+      EXPECT_EQ(folded, cs.folded);
+    }
+    certifiedTotal += certified;
+  }
+  EXPECT_GT(certifiedTotal, 18);
+  EXPECT_GT(turnedTotal, 0);
+  EXPECT_GT(sampled, 50000);
+}
+
+/// One square with normal +z at three corners and corner 0's normal tilted by `deg` degrees
+/// away from the face (towards -x -y, past the face's plane beyond 90 degrees).
+PatchCache tiltedSquare(double deg) {
+  PolygonMesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  m.faceVertices = {0, 1, 2, 3};
+  m.faceOffsets = {0, 4};
+  const double a = deg * std::numbers::pi / 180;
+  const Eigen::Vector3d away = Eigen::Vector3d(-1, -1, 0).normalized();
+  std::vector<Eigen::Vector3d> normals = {std::cos(a) * Eigen::Vector3d::UnitZ() + std::sin(a) * away,
+                                          Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitZ()};
+  PatchCache c = preparePatchCache(m, normals, PatchOptions{}, 0);
+  constructPatches(c, Backend::Serial);
+  return c;
+}
+
+TEST(PatchCertificate, ACornerNormalTiltedPastTheFaceIsProvenFolded) {
+  int certified = 0, folded = 0, turned = 0;
+  for (int deg = 0; deg <= 170; deg += 10) {
+    SCOPED_TRACE(deg);
+    const PatchCache c = tiltedSquare(deg);
+    std::array<double, 4 * GP_E_NFIELDS> recs;
+    gatherRecords(c, 0, recs.data());
+    const PatchCertificate pc = certifyPatch(4, recs.data(), CrossTangentMode::Corrected);
+    int count = 0;
+    const double cosine = smallestSampledCosine(4, recs.data(), 0, Eigen::Vector3d::UnitZ(), 80, &count);
+    if (pc.verdict == CertificateVerdict::Certified) {
+      ++certified;
+      EXPECT_GE(cosine, pc.margin);
+    }
+    folded += pc.verdict == CertificateVerdict::Folded;
+    if (cosine <= 0) {
+      ++turned;
+      EXPECT_NE(pc.verdict, CertificateVerdict::Certified);
+    }
+    if (deg > 90) {  // the corner's own normal turns over
+      EXPECT_EQ(pc.verdict, CertificateVerdict::Folded);
+    }
+  }
+  std::printf("tilted square: %d certified, %d proven folded, %d with sampled turn-over of 18\n", certified, folded,
+              turned);
+  EXPECT_GE(certified, 5);
+  EXPECT_GE(folded, 8);
+}
+
+TEST(PatchCertificate, TheCacheFileKeepsThemInFormat2) {
+  PatchCache c = meshCache("lagrange/cube.obj");
+  const std::string plain = ::testing::TempDir() + "/cert_plain.sfcache", cert = ::testing::TempDir() + "/cert.sfcache";
+  writePatchCache(c, plain);
+  EXPECT_TRUE(readPatchCache(plain).faceCertificate.empty());
+  certifyPatches(c);
+  ASSERT_EQ(c.faceCertificate.size(), 6u);
+  writePatchCache(c, cert);
+  const PatchCache back = readPatchCache(cert);
+  EXPECT_EQ(back.faceCertificate, c.faceCertificate);
+  const CertificateSummary s = summarizeCertificates(back);
+  EXPECT_TRUE(s.present);
+  EXPECT_EQ(s.certified, 6);
+  auto version = [](const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    char h[12];
+    in.read(h, 12);
+    uint32_t v;
+    std::memcpy(&v, h + 8, 4);
+    return v;
+  };
+  EXPECT_EQ(version(plain), 1u);
+  EXPECT_EQ(version(cert), 2u);
+}
+
+}  // namespace
+}  // namespace sf
