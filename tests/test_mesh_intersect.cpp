@@ -268,7 +268,7 @@ TEST(MeshIntersections, SpotCageBowTiesAre60And150AndItsEarsIntersect) {
   for (const std::string& line : r.describe()) all += line + "\n";
   EXPECT_NE(all.find("self-crossing polygons: 2 (first: 60, 150)"), std::string::npos) << all;
   // the quads beside each bow-tie pass through each other (under either diagonal split too):
-  // the cage's left and right ear, mirror images
+  // mirror images of each other across x = 0
   std::set<std::array<int, 2>> expected = {{70, 71}, {70, 72}, {160, 161}, {160, 162}};
   EXPECT_EQ(pairSet(r.intersectingPairs), expected);
   EXPECT_NE(all.find("intersecting polygons: 4 pairs (first: 70-71, 70-72, 160-161, 160-162) on 6 faces"),
