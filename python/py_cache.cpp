@@ -2,6 +2,7 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <algorithm>
 #include <cstddef>
 #include <limits>
 
@@ -10,6 +11,7 @@
 #include <smoothforce/mesh/mesh_check.h>
 #include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/mesh_arrays.h>
+#include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/patch/patch_certificate.h>
 #include <smoothforce/patch/patch_eval.h>
 #include "py_common.h"
@@ -162,6 +164,40 @@ pyb::array evaluate(const PyCache& c, const pyb::handle& faces, const pyb::handl
   return out;
 }
 
+/// Intersecting and self-crossing polygons of the cache's base mesh (checkMesh on it), as arrays.
+pyb::dict polygons(const PyCache& c) {
+  MeshReport r;
+  {
+    pyb::gil_scoped_release release;
+    r = checkMesh(cacheBaseMesh(*c.cache));
+  }
+  const auto k = static_cast<ssize_t>(r.intersectingPairs.size());
+  pyb::array_t<int32_t> pairs({k, ssize_t(2)});
+  pyb::array_t<double> areas({k, ssize_t(2)});
+  auto pw = pairs.mutable_unchecked<2>();
+  auto aw = areas.mutable_unchecked<2>();
+  for (ssize_t i = 0; i < k; ++i) {
+    const IntersectingPair& p = r.intersectingPairs[static_cast<size_t>(i)];
+    pw(i, 0) = p.a;
+    pw(i, 1) = p.b;
+    aw(i, 0) = p.areaA;
+    aw(i, 1) = p.areaB;
+  }
+  const auto ids = [](const std::vector<int>& v) {
+    pyb::array_t<int32_t> a(static_cast<ssize_t>(v.size()));
+    std::copy(v.begin(), v.end(), a.mutable_data());
+    return a;
+  };
+  pyb::dict d;
+  d["intersecting_pairs"] = pairs;
+  d["intersecting_pair_areas"] = areas;
+  d["intersecting_faces"] = ids(r.intersectingFaces());
+  d["intersecting_area"] = r.intersectingArea();
+  d["area"] = r.surfaceArea;
+  d["self_crossing_faces"] = ids(r.selfCrossingFaces);
+  return d;
+}
+
 }  // namespace
 
 void bindCache(pyb::module_& m) {
@@ -288,7 +324,17 @@ void bindCache(pyb::module_& m) {
             d["flipped"] = c.flipped;
             return d;
           },
-          "What the checks found (lists of lines, as `cache build` prints; empty for a cache file)");
+          "What the checks found (lists of lines, as `cache build` prints; empty for a cache file)")
+      .def("polygons", &polygons,
+           "Polygons of the mesh (any cache: it keeps its mesh) that intersect others they share no vertex\n"
+           "with, and polygons whose outline crosses itself (docs/mesh-check.md). A dict:\n"
+           "  intersecting_pairs       (K, 2) int32 face ids (0-based, file order), a < b, sorted\n"
+           "  intersecting_pair_areas  (K, 2) float64 the two faces' areas, m^2\n"
+           "  intersecting_faces       (M,) int32 the distinct faces of the pairs, sorted\n"
+           "  intersecting_area        float, m^2: their total area\n"
+           "  area                     float, m^2: all faces'\n"
+           "  self_crossing_faces      (S,) int32 sorted face ids\n"
+           "Reported, never refused. The GIL is released while it runs.");
 }
 
 }  // namespace sf::py

@@ -3,12 +3,15 @@
 #include <gtest/gtest.h>
 #include <smoothforce.h>
 
+#include <array>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <memory>
 #include <string>
 
 #include <smoothforce/force/force_method.h>
+#include <smoothforce/mesh/mesh_check.h>
 #include <smoothforce/mesh/mesh_io.h>
 #include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/patch/patch_eval.h>
@@ -95,6 +98,69 @@ TEST(CApi, ArraysGiveTheFilesPatches) {
   ASSERT_EQ(sf_cache_evaluate(f.get(), faces.size(), faces.data(), x.data(), y.data(), pf.data(), nullptr, nullptr),
             SF_OK);
   EXPECT_EQ(pa, pf);
+}
+
+// Intersecting and self-crossing polygons: the spot cage's bow-ties 60 and 150 and its 4 pairs from
+// a file and from its cache file; two cubes through each other given as arrays: the 6 pairs checkMesh finds, the
+// count asked for first, a short buffer filled as far as it goes.
+TEST(CApi, PolygonsAreThoseOfTheMeshCheck) {
+  CachePtr f = fromFile(kSpot);
+  size_t count = 99;
+  int32_t faces[4] = {-1, -1, -1, -1};
+  ASSERT_EQ(sf_cache_self_crossing_faces(f.get(), nullptr, 0, &count), SF_OK);
+  EXPECT_EQ(count, 2u);
+  ASSERT_EQ(sf_cache_self_crossing_faces(f.get(), faces, 4, &count), SF_OK);
+  EXPECT_EQ(std::vector<int32_t>(faces, faces + 3), (std::vector<int32_t>{60, 150, -1}));
+  ASSERT_EQ(sf_cache_intersecting_pairs(f.get(), nullptr, 0, &count), SF_OK);
+  EXPECT_EQ(count, 4u);  // beside the bow-ties (test_mesh_intersect.cpp)
+  int32_t spotPairs[8];
+  ASSERT_EQ(sf_cache_intersecting_pairs(f.get(), spotPairs, 4, &count), SF_OK);
+  EXPECT_EQ(std::vector<int32_t>(spotPairs, spotPairs + 8), (std::vector<int32_t>{70, 71, 70, 72, 160, 161, 160, 162}));
+  const std::string saved = (std::filesystem::temp_directory_path() / "sf_capi_polygons.sfcache").string();
+  ASSERT_EQ(sf_cache_save(f.get(), saved.c_str()), SF_OK);
+  CachePtr fromCache = fromFile(saved);
+  ASSERT_EQ(sf_cache_self_crossing_faces(fromCache.get(), faces, 4, &count), SF_OK);
+  EXPECT_EQ(count, 2u);
+  EXPECT_EQ(faces[1], 150);
+  std::filesystem::remove(saved);
+
+  std::vector<double> p;
+  std::vector<int32_t> offsets{0}, verts;
+  for (int c = 0; c < 2; ++c) {
+    for (int i = 0; i < 8; ++i)
+      p.insert(p.end(), {(i & 1 ? 2.0 : 0.0) + c, (i & 2 ? 2.0 : 0.0) + c, (i & 4 ? 2.0 : 0.0) + c});
+    for (const auto& q :
+         {std::array<int, 4>{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}}) {
+      for (int v : q) verts.push_back(v + 8 * c);
+      offsets.push_back(static_cast<int32_t>(verts.size()));
+    }
+  }
+  sf_cache_options o;
+  sf_cache_options_init(&o);
+  o.lazy = 1;
+  sf_cache* raw = nullptr;
+  ASSERT_EQ(sf_cache_from_arrays(p.data(), 16, offsets.data(), 12, verts.data(), nullptr, 0, &o, &raw), SF_OK)
+      << sf_last_error();
+  CachePtr cubes(raw);
+  sf::PolygonMesh m;
+  for (int v = 0; v < 16; ++v) m.positions.emplace_back(p[3 * v], p[3 * v + 1], p[3 * v + 2]);
+  m.faceOffsets = offsets;
+  m.faceVertices = verts;
+  const std::vector<sf::IntersectingPair> expected = sf::checkMesh(m).intersectingPairs;
+  ASSERT_EQ(expected.size(), 6u);
+  ASSERT_EQ(sf_cache_intersecting_pairs(cubes.get(), nullptr, 0, &count), SF_OK);
+  EXPECT_EQ(count, 6u);
+  std::vector<int32_t> pairs(8, -1);
+  ASSERT_EQ(sf_cache_intersecting_pairs(cubes.get(), pairs.data(), 4, &count), SF_OK);
+  EXPECT_EQ(count, 6u);
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_EQ(pairs[2 * i], expected[i].a);
+    EXPECT_EQ(pairs[2 * i + 1], expected[i].b);
+  }
+  EXPECT_EQ(sf_cache_intersecting_pairs(cubes.get(), nullptr, 0, nullptr), SF_ERROR_ARGUMENT);
+  EXPECT_EQ(sf_cache_intersecting_pairs(cubes.get(), nullptr, 3, &count), SF_ERROR_ARGUMENT);
+  EXPECT_NE(std::string(sf_cache_error(cubes.get())).find("pairs is NULL"), std::string::npos);
+  EXPECT_EQ(sf_cache_self_crossing_faces(nullptr, nullptr, 0, &count), SF_ERROR_ARGUMENT);
 }
 
 /// HIPs 1 cm inside every face (centre and towards each corner), then 20 outside.

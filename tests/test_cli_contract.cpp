@@ -390,11 +390,25 @@ TEST_F(CliContract, CacheInfoFaultsMeasuresFoldedAndOverlappingSurface) {
   const std::vector<int> faulty = f["fault_faces"], folds = j["patches"]["fold_faces"];
   EXPECT_EQ(folds.size(), 16u);
   for (int face : folds) EXPECT_NE(std::find(faulty.begin(), faulty.end(), face), faulty.end()) << face;
+  // split by the cage's 4 intersecting pairs (around its bow-ties): both parts, adding up, every
+  // fault face in exactly one
+  const double input = f["input_fault_area_m2"], construction = f["construction_fault_area_m2"];
+  EXPECT_GT(input, 0);
+  EXPECT_GT(construction, 0);
+  EXPECT_NEAR(input + construction, fault, 1e-12 * total);
+  std::vector<int> split = f["input_fault_faces"], rest = f["construction_fault_faces"];
+  split.insert(split.end(), rest.begin(), rest.end());
+  std::sort(split.begin(), split.end());
+  std::vector<int> all = faulty;
+  std::sort(all.begin(), all.end());
+  EXPECT_EQ(split, all);
 
   r = run("cache info " + cache() + " --faults");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("surface faults (uniform tessellation level 12, 105408 triangles"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("fault faces (largest area first):"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("the input's (within reach of intersecting polygons): "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("the construction's: "), std::string::npos) << r.out;
 
   // an open mesh has no inside: nothing measured, said so
   const std::string open = (dir / "L-plane.sfcache").string();
@@ -407,6 +421,67 @@ TEST_F(CliContract, CacheInfoFaultsMeasuresFoldedAndOverlappingSurface) {
   EXPECT_NE(r.out.find("surface faults: not measured (the patch surface is not closed"), std::string::npos) << r.out;
 }
 
+// Polygons: the spot cage's two bow-ties and four intersecting pairs in `cache build` and `cache
+// info` (text, JSON); two cubes
+// through each other: 6 intersecting pairs, reported (the cache is built), and with --faults the
+// fault area on the cubes is the input's.
+TEST_F(CliContract, CacheReportsIntersectingAndSelfCrossingPolygons) {
+  CliStreams r = run("cache info " + cache());
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("polygons: 4 intersecting pairs, 2 self-crossing\n  intersecting polygons: 4 pairs (first: "
+                       "70-71, 70-72, 160-161, 160-162) on 6 faces, "),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("\n  self-crossing polygons: 2 (first: 60, 150)\n"), std::string::npos) << r.out;
+  r = run("cache info " + cache() + " --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  json p = json::parse(r.out)["polygons"];
+  EXPECT_EQ(p["self_crossing_faces"], json::parse("[60, 150]"));
+  // the cage's polygons next to its bow-ties pass through each other (checked exactly in rationals too)
+  EXPECT_EQ(p["intersecting_pairs"], json::parse("[[70, 71], [70, 72], [160, 161], [160, 162]]"));
+  EXPECT_EQ(p["intersecting_faces"], json::parse("[70, 71, 72, 160, 161, 162]"));
+  EXPECT_GT(double(p["intersecting_area_m2"]), 0);
+  EXPECT_LT(double(p["intersecting_area_m2"]), 0.1 * double(p["area_m2"]));
+  r = run("cache build " + std::string(SF_DATA_DIR) + "/spot_control_mesh.obj -o " + file("spot2.sfcache"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("  self-crossing polygons: 2 (first: 60, 150)\n"), std::string::npos) << r.out;
+
+  // [0, 2]^3 and (1, 1, 1) + [0, 2]^3, faces -x, +x, -y, +y, -z, +z of each
+  const std::string obj =
+      "v 0 0 0\nv 2 0 0\nv 0 2 0\nv 2 2 0\n"
+      "v 0 0 2\nv 2 0 2\nv 0 2 2\nv 2 2 2\n"
+      "v 1 1 1\nv 3 1 1\nv 1 3 1\nv 3 3 1\n"
+      "v 1 1 3\nv 3 1 3\nv 1 3 3\nv 3 3 3\n"
+      "f 1 5 7 3\nf 2 4 8 6\nf 1 2 6 5\nf 3 7 8 4\n"
+      "f 1 3 4 2\nf 5 6 8 7\nf 9 13 15 11\nf 10 12 16 14\n"
+      "f 9 10 14 13\nf 11 15 16 12\nf 9 11 12 10\nf 13 14 16 15\n";
+  const std::string cubes = file("cubes.obj", obj), cubesCache = file("cubes.sfcache");
+  r = run("cache build " + cubes + " -o " + cubesCache);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("  intersecting polygons: 6 pairs (first: 1-8, 1-10, 3-6, 3-10, 5-6, 5-8) on 6 faces, 24 m^2 "
+                       "(50% of the area)\n"),
+            std::string::npos)
+      << r.out;
+  r = run("cache info " + cubesCache + " --json --faults");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const json j = json::parse(r.out);
+  p = j["polygons"];
+  EXPECT_EQ(p["intersecting_pairs"], json::parse("[[1, 8], [1, 10], [3, 6], [3, 10], [5, 6], [5, 8]]"));
+  EXPECT_EQ(p["intersecting_faces"], json::parse("[1, 3, 5, 6, 8, 10]"));
+  EXPECT_EQ(p["intersecting_pair_areas_m2"][0], json::parse("[4.0, 4.0]"));
+  EXPECT_EQ(p["intersecting_area_m2"], 24.0);
+  EXPECT_EQ(p["area_m2"], 48.0);
+  const json& f = j["surface_faults"];
+  ASSERT_EQ(f["closed"], true);
+  // every face of either cube shares a vertex with a crossing one: all of the fault area is the input's
+  EXPECT_GT(double(f["fault_area_m2"]), 0);
+  EXPECT_NEAR(double(f["input_fault_area_m2"]), double(f["fault_area_m2"]), 1e-12 * double(f["area_m2"]));
+  EXPECT_EQ(f["construction_fault_area_m2"], 0.0);
+  EXPECT_EQ(f["input_fault_faces"], f["fault_faces"]);
+  r = run("cache info " + cubesCache);
+  EXPECT_NE(r.out.find("polygons: 6 intersecting pairs, 0 self-crossing\n"), std::string::npos) << r.out;
+}
+
 TEST_F(CliContract, JsonOutputsParseWithTheDocumentedKeys) {
   auto keys = [](const json& j) {
     std::vector<std::string> k;
@@ -417,8 +492,11 @@ TEST_F(CliContract, JsonOutputsParseWithTheDocumentedKeys) {
   CliStreams r = run("cache info " + cache() + " --json");
   ASSERT_EQ(r.status, 0) << r.err;
   json j = json::parse(r.out);
-  EXPECT_EQ(keys(j), (V{"boundary_slots", "bytes", "cache", "edge_slots", "face_sizes", "faces", "format", "mesh_hash",
-                        "non_manifold_slots", "options", "options_hash", "patches", "surface_faults", "vertices"}));
+  EXPECT_EQ(keys(j),
+            (V{"boundary_slots", "bytes", "cache", "edge_slots", "face_sizes", "faces", "format", "mesh_hash",
+               "non_manifold_slots", "options", "options_hash", "patches", "polygons", "surface_faults", "vertices"}));
+  EXPECT_EQ(keys(j["polygons"]), (V{"area_m2", "intersecting_area_m2", "intersecting_faces",
+                                    "intersecting_pair_areas_m2", "intersecting_pairs", "self_crossing_faces"}));
   EXPECT_TRUE(j["surface_faults"].is_null());  // measured only with --faults
   EXPECT_EQ(j["faces"], 180);
   EXPECT_EQ(j["vertices"], 188);

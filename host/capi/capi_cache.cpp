@@ -60,6 +60,12 @@ sf_cache* finish(const LoadedMesh& lm, const Parsed& p, std::string source) {
   return h;
 }
 
+/// The intersection and self-crossing report of the cache's base mesh, made once per handle.
+const MeshReport& polygons(sf_cache& h) {
+  if (!h.polygons) h.polygons = std::make_unique<MeshReport>(checkMesh(cacheBaseMesh(*h.cache)));
+  return *h.polygons;
+}
+
 template <class F>
 sf_status create(sf_cache** out, F&& make) noexcept {
   if (!out) {
@@ -193,6 +199,31 @@ sf_status sf_cache_evaluate(sf_cache* cache, size_t count, const int32_t* faces,
       }
       if (status) status[i] = pts[i].status;
     }
+  });
+}
+
+sf_status sf_cache_intersecting_pairs(sf_cache* cache, int32_t* pairs, size_t capacity, size_t* count) {
+  if (!cache) return SF_ERROR_ARGUMENT;
+  return guarded(cache->error, [&] {
+    if (!count) throw std::invalid_argument("intersecting pairs: count is NULL");
+    if (capacity && !pairs) throw std::invalid_argument("intersecting pairs: pairs is NULL with a capacity");
+    const std::vector<IntersectingPair>& found = polygons(*cache).intersectingPairs;
+    for (size_t i = 0; i < found.size() && i < capacity; ++i) {
+      pairs[2 * i] = found[i].a;
+      pairs[2 * i + 1] = found[i].b;
+    }
+    *count = found.size();
+  });
+}
+
+sf_status sf_cache_self_crossing_faces(sf_cache* cache, int32_t* faces, size_t capacity, size_t* count) {
+  if (!cache) return SF_ERROR_ARGUMENT;
+  return guarded(cache->error, [&] {
+    if (!count) throw std::invalid_argument("self-crossing faces: count is NULL");
+    if (capacity && !faces) throw std::invalid_argument("self-crossing faces: faces is NULL with a capacity");
+    const std::vector<int>& found = polygons(*cache).selfCrossingFaces;
+    for (size_t i = 0; i < found.size() && i < capacity; ++i) faces[i] = found[i];
+    *count = found.size();
   });
 }
 

@@ -10,6 +10,7 @@
 #include <smoothforce.h>
 #include <smoothforce/base/error.h>
 #include <smoothforce/force/force_method.h>
+#include <smoothforce/mesh/mesh_check.h>
 #include <smoothforce/patch/patch_cache.h>
 #include <smoothforce/runtime/safety.h>
 #include <smoothforce/runtime/scene.h>
@@ -21,6 +22,7 @@ struct sf_cache {
   int threads = 0;
   std::string source;
   std::string error;
+  std::unique_ptr<sf::MeshReport> polygons;  ///< checkMesh of the base mesh, made on first request
 };
 
 struct sf_haptic {

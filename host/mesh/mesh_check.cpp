@@ -1,5 +1,6 @@
 // checkMesh: edges, manifoldness, duplicates, degeneracies, boundary loops, orientation,
-// components and signed volume of a polygon mesh; plus face flipping and orientation.
+// components, signed volume, intersecting and self-crossing polygons of a polygon mesh; plus
+// face flipping and orientation.
 #include <smoothforce/mesh/mesh_check.h>
 
 #include <Eigen/Geometry>
@@ -123,6 +124,52 @@ bool MeshReport::clean() const {
          unreferencedVertices.empty() && inconsistentEdges.empty();
 }
 
+std::vector<int> MeshReport::intersectingFaces() const {
+  std::vector<int> faces;
+  for (const IntersectingPair& p : intersectingPairs) {
+    faces.push_back(p.a);
+    faces.push_back(p.b);
+  }
+  std::sort(faces.begin(), faces.end());
+  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  return faces;
+}
+
+double MeshReport::intersectingArea() const {
+  std::vector<std::pair<int, double>> faces;
+  for (const IntersectingPair& p : intersectingPairs) {
+    faces.emplace_back(p.a, p.areaA);
+    faces.emplace_back(p.b, p.areaB);
+  }
+  std::sort(faces.begin(), faces.end());
+  double area = 0;
+  for (size_t i = 0; i < faces.size(); ++i)
+    if (i == 0 || faces[i].first != faces[i - 1].first) area += faces[i].second;
+  return area;
+}
+
+std::vector<std::string> MeshReport::describeInput(int maxIds) const {
+  std::vector<std::string> out;
+  if (!intersectingPairs.empty()) {
+    std::vector<std::array<int, 2>> pairs;
+    for (const IntersectingPair& p : intersectingPairs) pairs.push_back({p.a, p.b});
+    const double area = intersectingArea();
+    char text[96];
+    std::snprintf(text, sizeof text, "%.6g m^2 (%.4g%% of the area)", area,
+                  surfaceArea > 0 ? 100 * area / surfaceArea : 0.0);
+    out.push_back("intersecting polygons: " + std::to_string(pairs.size()) + " pair" + (pairs.size() == 1 ? "" : "s") +
+                  " (first: " + pairList(pairs, maxIds) + ") on " + std::to_string(intersectingFaces().size()) +
+                  " faces, " + text);
+  }
+  if (!selfCrossingFaces.empty())
+    out.push_back("self-crossing polygons: " + std::to_string(selfCrossingFaces.size()) +
+                  " (first: " + idList(selfCrossingFaces, maxIds) + ")");
+  if (selfCrossingUnchecked > 0)
+    out.push_back("polygons over " + std::to_string(kMaxSelfCrossingCorners) +
+                  " corners not checked for a self-crossing outline: " + std::to_string(selfCrossingUnchecked));
+  return out;
+}
+
 std::vector<std::string> MeshReport::describe(int maxIds) const {
   std::vector<std::string> out;
   out.push_back("vertices: " + std::to_string(numVertices) + ", faces: " + std::to_string(numFaces) +
@@ -158,10 +205,19 @@ std::vector<std::string> MeshReport::describe(int maxIds) const {
   add("degenerate faces", degenerateFaces.size(), idList(degenerateFaces, maxIds));
   add("unreferenced vertices", unreferencedVertices.size(), idList(unreferencedVertices, maxIds));
   add("inconsistently oriented edges", inconsistentEdges.size(), pairList(inconsistentEdges, maxIds));
+  for (std::string& line : describeInput(maxIds)) out.push_back(std::move(line));
   return out;
 }
 
-MeshReport checkMesh(const PolygonMesh& m) {
+bool isDegenerateFace(const PolygonMesh& m, int f) {
+  const int n = m.faceSize(f);
+  if (n < 3) return true;
+  std::vector<int> set(m.faceVertices.begin() + m.faceOffsets[f], m.faceVertices.begin() + m.faceOffsets[f + 1]);
+  std::sort(set.begin(), set.end());
+  return std::adjacent_find(set.begin(), set.end()) != set.end() || degenerate(m, f);
+}
+
+MeshReport checkMesh(const PolygonMesh& m, const MeshCheckOptions& options) {
   validateIndices(m);
   MeshReport r;
   r.numVertices = m.numVertices();
@@ -248,6 +304,13 @@ MeshReport checkMesh(const PolygonMesh& m) {
   }
   for (int f = 0; f < r.numFaces; ++f) r.numComponents += faces.find(f) == f;
   r.boundaryLoops = chainLoops(boundary);
+  if (options.intersections) {
+    const MeshTriangles triangles = polygonTriangles(m);
+    for (const double a : triangles.faceArea) r.surfaceArea += a;
+    r.intersectingPairs = findIntersectingFaces(m, triangles);
+    r.selfCrossingFaces = findSelfCrossingFaces(m, &r.selfCrossingUnchecked);
+    r.intersectionsChecked = true;
+  }
   return r;
 }
 

@@ -41,6 +41,16 @@ PatchCache preparePatchSkeleton(const LoadedMesh& loaded, const PatchOptions& op
   return preparePatchCache(loaded.mesh, loaded.cornerNormals, options, loaded.fileHash, false);
 }
 
+PolygonMesh cacheBaseMesh(const PatchCache& cache) {
+  PolygonMesh m;
+  m.positions.resize(cache.numVertices());
+  for (int v = 0; v < cache.numVertices(); ++v)
+    m.positions[v] = {cache.positions[3 * v], cache.positions[3 * v + 1], cache.positions[3 * v + 2]};
+  m.faceOffsets = cache.faceOffsets;
+  m.faceVertices = cache.faceVertices;
+  return m;
+}
+
 PatchStatusSummary summarizePatchStatus(const PatchCache& cache) {
   PatchStatusSummary s;
   for (int f = 0; f < cache.numFaces(); ++f) {

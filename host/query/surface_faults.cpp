@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include <smoothforce/query/patch_surface.h>
 
@@ -18,6 +20,19 @@ std::vector<int> SurfaceFaults::faultFaces() const {
     if (faceFault[i] > 0) f.push_back(static_cast<int>(i));
   std::stable_sort(f.begin(), f.end(), [&](int a, int b) { return faceFault[a] > faceFault[b]; });
   return f;
+}
+
+FaultAttribution attributeFaults(const SurfaceFaults& faults, const std::vector<char>& near) {
+  if (!near.empty() && near.size() != faults.faceFault.size())
+    throw std::invalid_argument("attributeFaults: " + std::to_string(near.size()) + " face flags for " +
+                                std::to_string(faults.faceFault.size()) + " faces");
+  FaultAttribution a;
+  for (const int f : faults.faultFaces()) {  // largest first, and so are both lists
+    const bool input = !near.empty() && near[f];
+    (input ? a.inputArea : a.constructionArea) += faults.faceFault[f];
+    (input ? a.inputFaces : a.constructionFaces).push_back(f);
+  }
+  return a;
 }
 
 const char* toString(SurfaceVerdict v) {

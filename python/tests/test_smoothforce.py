@@ -354,3 +354,37 @@ def test_sweep_and_read_sweep_agree_with_the_cli(spot, paths, tmp_path):
     assert again["results"]["patch"].tobytes() == r["results"]["patch"].tobytes()
     with pytest.raises(ValueError, match="sweep.json"):
         sf.read_sweep(str(tmp_path / "nothing"))
+
+
+def two_cubes():
+    """[0, 2]^3 and (1, 1, 1) + [0, 2]^3: faces -x, +x, -y, +y, -z, +z of each, outward."""
+    pos, fv = [], []
+    for c in range(2):
+        pos += [[(i & 1) * 2 + c, (i & 2) + c, (i & 4) / 2 + c] for i in range(8)]
+        for q in ([0, 4, 6, 2], [1, 3, 7, 5], [0, 1, 5, 4], [2, 6, 7, 3], [0, 2, 3, 1], [4, 5, 7, 6]):
+            fv += [v + 8 * c for v in q]
+    return np.array(pos, dtype=float), np.arange(0, 49, 4), np.array(fv)
+
+
+def test_polygons_report_bow_ties_and_intersections_as_the_cli_does(spot, paths, tmp_path):
+    cache = sf.Cache.from_file(spot)
+    p = cache.polygons()
+    assert p["self_crossing_faces"].tolist() == [60, 150]
+    assert p["intersecting_pairs"].tolist() == [[70, 71], [70, 72], [160, 161], [160, 162]]
+    assert 0 < p["intersecting_area"] < 0.1 * p["area"]
+    assert any(line == "self-crossing polygons: 2 (first: 60, 150)" for line in cache.report["mesh"])
+    cache.save(tmp_path / "s.sfcache")
+    out = subprocess.run([paths["cli"], "cache", "info", str(tmp_path / "s.sfcache"), "--json"], check=True,
+                         capture_output=True, text=True).stdout
+    cli = json.loads(out)["polygons"]
+    assert cli["self_crossing_faces"] == [60, 150] and cli["area_m2"] == p["area"]
+    assert cli["intersecting_pairs"] == p["intersecting_pairs"].tolist()
+    assert sf.Cache.from_file(str(tmp_path / "s.sfcache")).polygons()["self_crossing_faces"].tolist() == [60, 150]
+
+    cubes = sf.Cache.from_arrays(*two_cubes(), lazy=True)
+    q = cubes.polygons()
+    assert q["intersecting_pairs"].tolist() == [[1, 8], [1, 10], [3, 6], [3, 10], [5, 6], [5, 8]]
+    assert q["intersecting_faces"].tolist() == [1, 3, 5, 6, 8, 10]
+    np.testing.assert_array_equal(q["intersecting_pair_areas"], np.full((6, 2), 4.0))
+    assert q["intersecting_area"] == 24.0 and q["area"] == 48.0 and q["self_crossing_faces"].size == 0
+    assert any(line.startswith("intersecting polygons: 6 pairs") for line in cubes.report["mesh"])

@@ -2,9 +2,11 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <system_error>
 
 #include <smoothforce/base/hash.h>
+#include <smoothforce/mesh/mesh_check.h>
 #include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/patch_certificate.h>
 #include <smoothforce/query/patch_surface.h>
@@ -128,7 +130,29 @@ SurfaceFaults cacheSurfaceFaults(const PatchCache& c) {
   return measureSurfaceFaults(surface);
 }
 
-nlohmann::ordered_json faultsJson(const SurfaceFaults& f) {
+/// Intersecting and self-crossing polygons of the cache's base mesh (checkMesh on it: a cache
+/// keeps its mesh), every pair and face listed.
+nlohmann::ordered_json polygonsJson(const MeshReport& r) {
+  nlohmann::ordered_json pairs = nlohmann::ordered_json::array(), areas = nlohmann::ordered_json::array();
+  for (const IntersectingPair& p : r.intersectingPairs) {
+    pairs.push_back({p.a, p.b});
+    areas.push_back({p.areaA, p.areaB});
+  }
+  return {{"area_m2", r.surfaceArea},
+          {"intersecting_pairs", pairs},
+          {"intersecting_pair_areas_m2", areas},
+          {"intersecting_faces", r.intersectingFaces()},
+          {"intersecting_area_m2", r.intersectingArea()},
+          {"self_crossing_faces", r.selfCrossingFaces}};
+}
+
+void printPolygons(const MeshReport& r) {
+  std::printf("polygons: %zu intersecting pairs, %zu self-crossing\n", r.intersectingPairs.size(),
+              r.selfCrossingFaces.size());
+  for (const std::string& line : r.describeInput()) std::printf("  %s\n", line.c_str());
+}
+
+nlohmann::ordered_json faultsJson(const SurfaceFaults& f, const FaultAttribution& a) {
   if (!f.closed) return {{"closed", false}};
   auto part = [&](SurfaceVerdict v) {
     const auto i = static_cast<size_t>(v);
@@ -145,10 +169,14 @@ nlohmann::ordered_json faultsJson(const SurfaceFaults& f) {
           {"folded", part(SurfaceVerdict::Folded)},
           {"overlapping", part(SurfaceVerdict::Overlapping)},
           {"thin", part(SurfaceVerdict::Thin)},
-          {"fault_faces", f.faultFaces()}};
+          {"fault_faces", f.faultFaces()},
+          {"input_fault_area_m2", a.inputArea},
+          {"input_fault_faces", a.inputFaces},
+          {"construction_fault_area_m2", a.constructionArea},
+          {"construction_fault_faces", a.constructionFaces}};
 }
 
-void printFaults(const SurfaceFaults& f) {
+void printFaults(const SurfaceFaults& f, const FaultAttribution& a) {
   if (!f.closed) {
     std::printf(
         "surface faults: not measured (the patch surface is not closed: a boundary edge, or a face without "
@@ -165,6 +193,13 @@ void printFaults(const SurfaceFaults& f) {
       at(SurfaceVerdict::Overlapping), at(SurfaceVerdict::Thin), faces.size());
   if (faces.empty()) return;
   std::printf("  fault faces (largest area first):%s\n", faceIdsText(faces).c_str());
+  const auto share = [&](double area) { return f.totalArea > 0 ? 100.0 * area / f.totalArea : 0.0; };
+  std::printf("  the input's (within reach of intersecting polygons): %.6g m^2 (%.4f%%), %zu faces%s%s\n", a.inputArea,
+              share(a.inputArea), a.inputFaces.size(), a.inputFaces.empty() ? "" : ":",
+              faceIdsText(a.inputFaces).c_str());
+  std::printf("  the construction's: %.6g m^2 (%.4f%%), %zu faces%s%s\n", a.constructionArea, share(a.constructionArea),
+              a.constructionFaces.size(), a.constructionFaces.empty() ? "" : ":",
+              faceIdsText(a.constructionFaces).c_str());
 }
 
 void info(const std::string& path, bool json, bool faults) {
@@ -174,30 +209,38 @@ void info(const std::string& path, bool json, bool faults) {
   for (int32_t t : c.slotTwin) boundary += t == -1, nonManifold += t == -2;
   const std::vector<int> h = histogram(c);
   const unsigned format = c.faceCertificate.empty() ? 1u : kCacheFormatVersion;  // what writePatchCache wrote
+  const PolygonMesh base = cacheBaseMesh(c);
+  const MeshReport polygons = checkMesh(base);
+  std::optional<SurfaceFaults> sf;
+  FaultAttribution split;
+  if (faults) {
+    sf = cacheSurfaceFaults(c);
+    split = attributeFaults(*sf, facesNearIntersections(base, polygons.intersectingPairs));
+  }
   if (json) {
     nlohmann::ordered_json sizes = nlohmann::ordered_json::object();
     for (size_t n = 0; n < h.size(); ++n)
       if (h[n]) sizes[std::to_string(n)] = h[n];
-    printJson(stdout,
-              {{"cache", path},
-               {"format", format},
-               {"bytes", bytes},
-               {"mesh_hash", hexHash(c.meshHash)},
-               {"options_hash", hexHash(hashPatchOptions(c.options))},
-               {"vertices", c.numVertices()},
-               {"faces", c.numFaces()},
-               {"face_sizes", sizes},
-               {"edge_slots", c.numSlots()},
-               {"boundary_slots", boundary},
-               {"non_manifold_slots", nonManifold},
-               {"options",
-                {{"precision", toString(c.options.precision)},
-                 {"cross_tangent", toString(c.options.crossTangent)},
-                 {"normals", toString(c.options.normals)},
-                 {"orient", c.options.keepOrientation ? "keep" : "outward"}}},
-               {"patches", patchSummaryJson(c)},
-               {"certificate", certificateJson(c)},
-               {"surface_faults", faults ? faultsJson(cacheSurfaceFaults(c)) : nlohmann::ordered_json(nullptr)}});
+    printJson(stdout, {{"cache", path},
+                       {"format", format},
+                       {"bytes", bytes},
+                       {"mesh_hash", hexHash(c.meshHash)},
+                       {"options_hash", hexHash(hashPatchOptions(c.options))},
+                       {"vertices", c.numVertices()},
+                       {"faces", c.numFaces()},
+                       {"face_sizes", sizes},
+                       {"edge_slots", c.numSlots()},
+                       {"boundary_slots", boundary},
+                       {"non_manifold_slots", nonManifold},
+                       {"options",
+                        {{"precision", toString(c.options.precision)},
+                         {"cross_tangent", toString(c.options.crossTangent)},
+                         {"normals", toString(c.options.normals)},
+                         {"orient", c.options.keepOrientation ? "keep" : "outward"}}},
+                       {"polygons", polygonsJson(polygons)},
+                       {"patches", patchSummaryJson(c)},
+                       {"certificate", certificateJson(c)},
+                       {"surface_faults", sf ? faultsJson(*sf, split) : nlohmann::ordered_json(nullptr)}});
     return;
   }
   std::printf("cache: %s, format %u, %llu bytes\n", path.c_str(), format, bytes);
@@ -209,9 +252,10 @@ void info(const std::string& path, bool json, bool faults) {
   std::printf("options: precision %s, cross tangent %s, normals %s, orient %s\n", toString(c.options.precision),
               toString(c.options.crossTangent), toString(c.options.normals),
               c.options.keepOrientation ? "keep" : "outward");
+  printPolygons(polygons);
   printPatchSummary(c);
   printCertificates(c);
-  if (faults) printFaults(cacheSurfaceFaults(c));
+  if (sf) printFaults(*sf, split);
 }
 
 }  // namespace
@@ -239,13 +283,16 @@ void addCacheCommands(CLI::App& app) {
   i->add_option("CACHE", *path, "cache file")->required();
   i->add_flag("--json", *json,
               "print one JSON object instead of text: cache, format, bytes, mesh_hash, options_hash, vertices, "
-              "faces, face_sizes, edge_slots, boundary_slots, non_manifold_slots, options, patches, certificate, "
+              "faces, face_sizes, edge_slots, boundary_slots, non_manifold_slots, options, polygons (intersecting "
+              "and self-crossing polygons of the mesh), patches, certificate (null when not computed), "
               "surface_faults");
   auto faults = std::make_shared<bool>(false);
   i->add_flag("--faults", *faults,
               "also measure where the closed patch surface is at fault: the area of folded and overlapping patch "
               "surface (each triangle of the global query's tessellation probed on both sides by the winding "
-              "number; the faces it lies on); null in --json without it");
+              "number; the faces it lies on), split into the input's (on faces within reach of intersecting "
+              "polygons: one of a pair or sharing a vertex with one) and the construction's; null in --json "
+              "without it");
   i->callback([=] { info(*path, *json, *faults); });
 }
 

@@ -136,6 +136,20 @@ sf_status sf_cache_certify(sf_cache* cache, float* margins, int32_t* certified);
 sf_status sf_cache_evaluate(sf_cache* cache, size_t count, const int32_t* faces, const double* xi, const double* eta,
                             double* position, double* normal, uint32_t* status);
 
+/** Polygons of the cache's mesh (any cache: it keeps its mesh) that intersect other polygons
+ *  they share no vertex with (exact test on the polygons' triangles, touching included;
+ *  docs/mesh-check.md): count pairs of face ids (0-based, file order), a < b, sorted by (a, b).
+ *  pairs: capacity x 2 int32_t, or NULL with capacity 0 to ask for the count; *count receives
+ *  the number of pairs (all of them, also when it exceeds capacity: then the first capacity are
+ *  written). Reported, never refused. Computed on the first call of this function or of
+ *  sf_cache_self_crossing_faces, then kept with the handle. */
+sf_status sf_cache_intersecting_pairs(sf_cache* cache, int32_t* pairs, size_t capacity, size_t* count);
+
+/** Faces of the cache's mesh whose outline, projected on the face's best-fit (Newell) plane,
+ *  crosses itself (a bow-tie quad): face ids sorted, the same conventions as
+ *  sf_cache_intersecting_pairs (faces: capacity int32_t). */
+sf_status sf_cache_self_crossing_faces(sf_cache* cache, int32_t* faces, size_t capacity, size_t* count);
+
 /** Force rendering and safety options. Fill with sf_haptic_options_init first. */
 typedef struct sf_haptic_options {
   const char* method;    /**< "patch" (default), "direct", "shading" */

@@ -40,6 +40,10 @@ PatchCache buildPatchCache(const LoadedMesh& loaded, const PatchOptions& options
 /// lazy construction near the contact point (lazy_patches.h). Cheap: no patch is built.
 PatchCache preparePatchSkeleton(const LoadedMesh& loaded, const PatchOptions& options);
 
+/// The cache's base mesh as a PolygonMesh (positions, faces; after any outward flip; no file
+/// normals), for the checks a cache file alone allows (checkMesh's intersections).
+PolygonMesh cacheBaseMesh(const PatchCache& cache);
+
 /// Counts of construction status bits over all faces, for reports.
 struct PatchStatusSummary {
   int guard = 0, zeroEdge = 0, edgeNormal = 0, crossTangent = 0, fold = 0, bulge = 0, notBuilt = 0;

@@ -55,6 +55,22 @@ SurfaceFaults measureSurfaceFaults(const PatchSurface& surface);
 /// found neither Consistent nor Degenerate, in triangle order.
 std::vector<std::array<Eigen::Vector3d, 3>> faultTriangles(const PatchSurface& surface, const SurfaceFaults& faults);
 
+/// The fault area split by cause. The input's own: fault triangles on faces within reach of
+/// intersecting polygons (`nearIntersections`, #F, from facesNearIntersections in
+/// mesh_intersect.h: a face of an intersecting pair or one sharing a vertex with it), where no
+/// surface through the mesh's vertices can be free of faults. The construction's: the rest.
+/// Areas in m^2 (sums of SurfaceFaults::faceFault; together faultArea() up to rounding); faces
+/// with fault area, largest first. Faults on self-crossing polygons count as the construction's
+/// unless within reach of an intersection (a split of such a polygon can remove them).
+struct FaultAttribution {
+  double inputArea = 0, constructionArea = 0;
+  std::vector<int> inputFaces, constructionFaces;
+};
+
+/// Splits `faults` by `nearIntersections` (#F; an empty vector: every fault is the
+/// construction's). Throws std::invalid_argument when its size is neither 0 nor #F.
+FaultAttribution attributeFaults(const SurfaceFaults& faults, const std::vector<char>& nearIntersections);
+
 /// "consistent", "folded", "overlapping", "thin", "degenerate".
 const char* toString(SurfaceVerdict v);
 
