@@ -493,8 +493,9 @@ TEST_F(CliContract, JsonOutputsParseWithTheDocumentedKeys) {
   ASSERT_EQ(r.status, 0) << r.err;
   json j = json::parse(r.out);
   EXPECT_EQ(keys(j),
-            (V{"boundary_slots", "bytes", "cache", "edge_slots", "face_sizes", "faces", "format", "mesh_hash",
-               "non_manifold_slots", "options", "options_hash", "patches", "polygons", "surface_faults", "vertices"}));
+            (V{"boundary_slots", "bytes", "cache", "certificate", "edge_slots", "face_sizes", "faces", "format",
+               "mesh_hash", "non_manifold_slots", "options", "options_hash", "patches", "polygons", "surface_faults",
+               "vertices"}));
   EXPECT_EQ(keys(j["polygons"]), (V{"area_m2", "intersecting_area_m2", "intersecting_faces",
                                     "intersecting_pair_areas_m2", "intersecting_pairs", "self_crossing_faces"}));
   EXPECT_TRUE(j["surface_faults"].is_null());  // measured only with --faults

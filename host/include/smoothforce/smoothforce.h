@@ -17,8 +17,10 @@
 #include <smoothforce/base/text_encoding.h>
 #include <smoothforce/base/thread_limit.h>
 
+#include <smoothforce/mesh/exact_predicates.h>
 #include <smoothforce/mesh/mesh.h>
 #include <smoothforce/mesh/mesh_check.h>
+#include <smoothforce/mesh/mesh_intersect.h>
 #include <smoothforce/mesh/mesh_io.h>
 #include <smoothforce/mesh/normals.h>
 #include <smoothforce/mesh/topology.h>
@@ -30,6 +32,7 @@
 #include <smoothforce/patch/patch_bounds.h>
 #include <smoothforce/patch/patch_build.h>
 #include <smoothforce/patch/patch_cache.h>
+#include <smoothforce/patch/patch_certificate.h>
 #include <smoothforce/patch/patch_eval.h>
 #include <smoothforce/patch/patch_options.h>
 #include <smoothforce/patch/patch_simd.h>
