@@ -407,6 +407,45 @@ TEST_F(CliContract, CacheInfoFaultsMeasuresFoldedAndOverlappingSurface) {
   EXPECT_NE(r.out.find("surface faults: not measured (the patch surface is not closed"), std::string::npos) << r.out;
 }
 
+TEST_F(CliContract, CageOptionBuildsAndKeepsTheLimitCache) {
+  const std::string cage = file("cage.sfcache");
+  CliStreams r = run("cache build " + mesh + " --cage catmull-clark -o " + cage);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("cage: catmull-clark: 188 vertices moved to their limit positions (0 on a boundary"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("Catmull-Clark limit normals of the cage"), std::string::npos) << r.out;
+  r = run("cache info " + cage);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("orient outward, cage catmull-clark"), std::string::npos) << r.out;
+  r = run("cache info " + cache());
+  EXPECT_NE(r.out.find("orient outward, cage none"), std::string::npos) << r.out;
+  r = run("cache info " + cage + " --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(json::parse(r.out)["options"]["cage"], "catmull-clark");
+  // the cage is an option of the surface: a cache keeps it; a mesh gets it now
+  const std::string points = file("cage_points.csv", "face,xi,eta\n0,1,0\n");
+  r = run("eval " + cage + " --points " + points + " --cage none -o " + file("cage_eval.csv"));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("built with --cage catmull-clark, but --cage none was given"), std::string::npos) << r.err;
+  r = run("eval " + cage + " --points " + points + " -o " + file("cage_eval.csv"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string fromCache = fileBytes(dir / "cage_eval.csv");
+  r = run("eval " + mesh + " --cage catmull-clark --points " + points + " -o " + file("cage_eval_mesh.csv"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(fileBytes(dir / "cage_eval_mesh.csv"), fromCache);
+  // what a cage cannot be is named
+  r = run("cache build " + mesh + " --cage catmull-clark --normals area -o " + file("x.sfcache"));
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--normals area cannot be combined with it"), std::string::npos) << r.err;
+  const std::string fin = file("fin.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n");
+  r = run("cache build " + fin + " --cage catmull-clark -o " + file("fin.sfcache"));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("fin.obj: --cage catmull-clark: non-manifold edge 0-1"), std::string::npos) << r.err;
+  r = run("cache build " + mesh + " --cage loop -o " + file("x.sfcache"));
+  EXPECT_EQ(r.status, 2);
+}
+
 TEST_F(CliContract, JsonOutputsParseWithTheDocumentedKeys) {
   auto keys = [](const json& j) {
     std::vector<std::string> k;
@@ -424,7 +463,7 @@ TEST_F(CliContract, JsonOutputsParseWithTheDocumentedKeys) {
   EXPECT_EQ(j["vertices"], 188);
   EXPECT_EQ(j["face_sizes"], json::parse(R"({"3": 4, "4": 160, "5": 16})"));
   EXPECT_EQ(j["bytes"], fs::file_size(cache()));
-  EXPECT_EQ(keys(j["options"]), (V{"cross_tangent", "normals", "orient", "precision"}));
+  EXPECT_EQ(keys(j["options"]), (V{"cage", "cross_tangent", "normals", "orient", "precision"}));
   EXPECT_EQ(j["patches"]["built"], 180);
   EXPECT_EQ(j["patches"]["folds"], j["patches"]["fold_faces"].size());  // the spot cage's 16 folded patches
   EXPECT_EQ(j["patches"]["folds"], 16);

@@ -53,6 +53,10 @@ void build(const std::string& mesh, std::string out, const PatchArgs& args) {
         "orientation: closed mesh faced inward (signed volume %.6g): flipped to outward "
         "(--orient keep to keep)\n",
         r.signedVolume);
+  if (opt.cage != CageMode::None)
+    std::printf("cage: %s: %d vertices moved to their limit positions (%d on a boundary; boundaries edge-and-corner)\n",
+                toString(opt.cage), r.numVertices - static_cast<int>(r.unreferencedVertices.size()),
+                lm.cageBoundaryVertices);
   std::printf("normals: %s\n", toString(opt.normals));
   for (const std::string& line : lm.normalReport.describe()) std::printf("  %s\n", line.c_str());
   throwIfInterrupted("cache build");
@@ -143,24 +147,26 @@ void info(const std::string& path, bool json, bool faults) {
     nlohmann::ordered_json sizes = nlohmann::ordered_json::object();
     for (size_t n = 0; n < h.size(); ++n)
       if (h[n]) sizes[std::to_string(n)] = h[n];
-    printJson(stdout, {{"cache", path},
-                       {"format", kCacheFormatVersion},
-                       {"bytes", bytes},
-                       {"mesh_hash", hexHash(c.meshHash)},
-                       {"options_hash", hexHash(hashPatchOptions(c.options))},
-                       {"vertices", c.numVertices()},
-                       {"faces", c.numFaces()},
-                       {"face_sizes", sizes},
-                       {"edge_slots", c.numSlots()},
-                       {"boundary_slots", boundary},
-                       {"non_manifold_slots", nonManifold},
-                       {"options",
-                        {{"precision", toString(c.options.precision)},
-                         {"cross_tangent", toString(c.options.crossTangent)},
-                         {"normals", toString(c.options.normals)},
-                         {"orient", c.options.keepOrientation ? "keep" : "outward"}}},
-                       {"patches", patchSummaryJson(c)},
-                       {"surface_faults", faults ? faultsJson(cacheSurfaceFaults(c)) : nlohmann::ordered_json(nullptr)}});
+    printJson(stdout,
+              {{"cache", path},
+               {"format", kCacheFormatVersion},
+               {"bytes", bytes},
+               {"mesh_hash", hexHash(c.meshHash)},
+               {"options_hash", hexHash(hashPatchOptions(c.options))},
+               {"vertices", c.numVertices()},
+               {"faces", c.numFaces()},
+               {"face_sizes", sizes},
+               {"edge_slots", c.numSlots()},
+               {"boundary_slots", boundary},
+               {"non_manifold_slots", nonManifold},
+               {"options",
+                {{"precision", toString(c.options.precision)},
+                 {"cross_tangent", toString(c.options.crossTangent)},
+                 {"normals", toString(c.options.normals)},
+                 {"orient", c.options.keepOrientation ? "keep" : "outward"},
+                 {"cage", toString(c.options.cage)}}},
+               {"patches", patchSummaryJson(c)},
+               {"surface_faults", faults ? faultsJson(cacheSurfaceFaults(c)) : nlohmann::ordered_json(nullptr)}});
     return;
   }
   std::printf("cache: %s, format %u, %llu bytes\n", path.c_str(), kCacheFormatVersion, bytes);
@@ -169,9 +175,9 @@ void info(const std::string& path, bool json, bool faults) {
   std::printf("mesh: %d vertices, %d faces (%s), %d edge slots\n", c.numVertices(), c.numFaces(),
               faceSizeText(h).c_str(), c.numSlots());
   std::printf("edges: %d boundary slots, %d non-manifold slots\n", boundary, nonManifold);
-  std::printf("options: precision %s, cross tangent %s, normals %s, orient %s\n", toString(c.options.precision),
-              toString(c.options.crossTangent), toString(c.options.normals),
-              c.options.keepOrientation ? "keep" : "outward");
+  std::printf("options: precision %s, cross tangent %s, normals %s, orient %s, cage %s\n",
+              toString(c.options.precision), toString(c.options.crossTangent), toString(c.options.normals),
+              c.options.keepOrientation ? "keep" : "outward", toString(c.options.cage));
   printPatchSummary(c);
   if (faults) printFaults(cacheSurfaceFaults(c));
 }
