@@ -53,10 +53,11 @@ struct CageLimit {
 CageLimit catmullClarkLimit(const PolygonMesh& mesh, const MeshReport& report);
 
 /// The limit surface of a Catmull-Clark cage, tessellated face by face with Bfr: positions and
-/// unit normals #P by 3, triangles #T by 3 (counter-clockwise seen from outside), face[t] the
-/// cage face each triangle lies on. faceFirstPoint (#F+1): face f's points are
-/// faceFirstPoint[f] .. faceFirstPoint[f+1]-1; its corners (Bfr::Parameterization vertex
-/// coordinates, corner k at vertex k of the face) come first, in face order.
+/// unit normals (Du x Dv normalised; zero where it vanishes) #P by 3, triangles #T by 3 in Bfr's
+/// parametric order (counter-clockwise in the face's (u, v)), face[t] the cage face each
+/// triangle lies on. faceFirstPoint (#F+1): face f's points are faceFirstPoint[f] ..
+/// faceFirstPoint[f+1]-1, in Bfr::Tessellation::GetCoords order (boundary points first,
+/// starting at the face's corner 0, then interior points); empty for a face without limit surface.
 struct LimitTessellation {
   std::vector<Eigen::Vector3d> positions, normals;
   std::vector<std::array<int32_t, 3>> triangles;
