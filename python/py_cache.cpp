@@ -27,7 +27,8 @@ struct Options {
 };
 
 Options options(const std::string& precision, const std::string& normals, const std::string& crossTangent,
-                const std::string& orient, const std::string& backend, int threads, bool lazy) {
+                const std::string& orient, const std::string& backend, int threads, bool lazy,
+                const std::string& cage) {
   Options o;
   o.patch.precision = parsePrecision(precision);
   o.patch.normals = parseNormalMode(normals);
@@ -35,6 +36,7 @@ Options options(const std::string& precision, const std::string& normals, const 
   if (orient != "outward" && orient != "keep")
     throw InputError("orient: expected outward or keep, got '" + orient + "'");
   o.patch.keepOrientation = orient == "keep";
+  o.patch.cage = parseCageMode(cage);
   o.backend = parseBackend(backend);
   if (o.backend == Backend::OpenCL) throw InputError("backend: the Python module builds on the CPU: tbb or serial");
   requireThreads(threads, "threads");
@@ -91,8 +93,9 @@ Doubles rows3(const pyb::handle& h, const char* field) {
 PyCache fromArrays(const pyb::handle& positions, const pyb::handle& faceOffsets, const pyb::handle& faceVertices,
                    const pyb::object& normals, const std::string& normalLayout, const std::string& name,
                    const std::string& precision, const std::string& normalMode, const std::string& crossTangent,
-                   const std::string& orient, const std::string& backend, int threads, bool lazy) {
-  const Options o = options(precision, normalMode, crossTangent, orient, backend, threads, lazy);
+                   const std::string& orient, const std::string& backend, int threads, bool lazy,
+                   const std::string& cage) {
+  const Options o = options(precision, normalMode, crossTangent, orient, backend, threads, lazy, cage);
   const Doubles pos = rows3(positions, "positions");
   const std::vector<int32_t> offsets = int32Array(faceOffsets, "face_offsets");
   const std::vector<int32_t> verts = int32Array(faceVertices, "face_vertices");
@@ -120,8 +123,8 @@ PyCache fromArrays(const pyb::handle& positions, const pyb::handle& faceOffsets,
 
 PyCache fromFile(const std::filesystem::path& fsPath, const std::string& precision, const std::string& normals,
                  const std::string& crossTangent, const std::string& orient, const std::string& backend, int threads,
-                 bool lazy) {
-  const Options o = options(precision, normals, crossTangent, orient, backend, threads, lazy);
+                 bool lazy, const std::string& cage) {
+  const Options o = options(precision, normals, crossTangent, orient, backend, threads, lazy, cage);
   const std::string path = fsPath.string();
   pyb::gil_scoped_release release;
   if (isPatchCacheFile(path)) {
@@ -207,14 +210,15 @@ void bindCache(pyb::module_& m) {
                                                  "renderer builds near the contact).")
       .def_static("from_file", &fromFile, "path"_a, pyb::kw_only(), "precision"_a = "double", "normals"_a = "auto",
                   "cross_tangent"_a = "corrected", "orient"_a = "outward", "backend"_a = "tbb", "threads"_a = 0,
-                  "lazy"_a = false,
+                  "lazy"_a = false, "cage"_a = "none",
                   "A cache from a patch cache file (checked, kept as it is) or a mesh file (OBJ, OFF, PLY: read,\n"
                   "checked, oriented, normals computed, every patch built unless lazy). Options as `smoothforce\n"
-                  "cache build`'s. Raises ValueError naming the file and line. The GIL is released.")
+                  "cache build`'s (cage: none or catmull-clark, the limit positions and normals of a subdivision\n"
+                  "cage). Raises ValueError naming the file and line. The GIL is released.")
       .def_static("from_arrays", &fromArrays, "positions"_a, "face_offsets"_a, "face_vertices"_a,
                   "normals"_a = pyb::none(), pyb::kw_only(), "normal_layout"_a = "auto", "name"_a = "<arrays>",
                   "precision"_a = "double", "normals_mode"_a = "auto", "cross_tangent"_a = "corrected",
-                  "orient"_a = "outward", "backend"_a = "tbb", "threads"_a = 0, "lazy"_a = false,
+                  "orient"_a = "outward", "backend"_a = "tbb", "threads"_a = 0, "lazy"_a = false, "cage"_a = "none",
                   "A cache from arrays, with the checks and reports of a file:\n"
                   "  positions     (V, 3) float, m\n"
                   "  face_offsets  (F + 1,) int: face f owns corners face_offsets[f] .. face_offsets[f+1]-1\n"
@@ -272,6 +276,9 @@ void bindCache(pyb::module_& m) {
       .def_property_readonly("num_corners", [](const PyCache& c) { return c.cache->numSlots(); })
       .def_property_readonly("lazy", [](const PyCache& c) { return !hasPatchData(*c.cache); })
       .def_property_readonly("precision", [](const PyCache& c) { return toString(c.cache->options.precision); })
+      .def_property_readonly(
+          "cage", [](const PyCache& c) { return toString(c.cache->options.cage); },
+          "\"none\" or \"catmull-clark\" (positions are then the cage's limit positions)")
       .def_property_readonly(
           "mesh_hash", [](const PyCache& c) { return hexHash(c.cache->meshHash); },
           "XXH64 of the mesh file's bytes (arrays: of the arrays), 16 hex digits")

@@ -241,9 +241,9 @@ std::string objectName(const Ctx& c, const json& o, const std::string& w, const 
 }
 
 /// The patch options of a `mesh` object (after its preset): the keys of the command line's
-/// --precision, --normals, --cross-tangent (`cross_tangent`), --orient. A cache keeps its own.
+/// --precision, --normals, --cross-tangent (`cross_tangent`), --orient, --cage. A cache keeps its own.
 void parsePatchKeys(const Ctx& c, const json& o, const std::string& w, bool mesh, PatchOptions& opt) {
-  for (const char* key : {"precision", "normals", "cross_tangent", "orient"}) {
+  for (const char* key : {"precision", "normals", "cross_tangent", "orient", "cage"}) {
     if (!o.contains(key)) continue;
     const std::string where = w + "/" + key;
     if (!mesh) c.fail(where, "applies to mesh objects only (a cache keeps the options it was built with)");
@@ -252,6 +252,7 @@ void parsePatchKeys(const Ctx& c, const json& o, const std::string& w, bool mesh
       if (std::string(key) == "precision") opt.precision = parsePrecision(v);
       if (std::string(key) == "normals") opt.normals = parseNormalMode(v);
       if (std::string(key) == "cross_tangent") opt.crossTangent = parseCrossTangent(v);
+      if (std::string(key) == "cage") opt.cage = parseCageMode(v);
     } catch (const InputError& e) {
       c.fail(where, e.what());
     }
@@ -270,7 +271,8 @@ std::string cacheKey(const std::filesystem::path& file, bool mesh, const PatchOp
   std::string key = (ec ? file : canonical).string();
   key += '\0';
   key += mesh ? "mesh " + std::to_string(int(o.precision)) + ' ' + std::to_string(int(o.crossTangent)) + ' ' +
-                    std::to_string(int(o.normals)) + ' ' + std::to_string(int(o.keepOrientation))
+                    std::to_string(int(o.normals)) + ' ' + std::to_string(int(o.keepOrientation)) + ' ' +
+                    std::to_string(int(o.cage))
               : "cache";
   return key;
 }
@@ -320,8 +322,8 @@ Scene loadScene(const std::string& path, const SceneDefaults& defaults, const Re
     const json& o = objs[i];
     if (!o.is_object()) c.fail(w, "expected an object with \"mesh\" or \"cache\"");
     c.onlyKeys(o, w,
-               {"name", "mesh", "cache", "pose", "stiffness", "method", "preset", "final_step", "precision",
-                "normals", "cross_tangent", "orient", "comment"});
+               {"name", "mesh", "cache", "pose", "stiffness", "method", "preset", "final_step", "precision", "normals",
+                "cross_tangent", "orient", "cage", "comment"});
     const bool hasMesh = o.contains("mesh"), hasCache = o.contains("cache");
     if (hasMesh == hasCache)
       c.fail(w, hasMesh ? "give either \"mesh\" or \"cache\", not both" : "missing \"mesh\" or \"cache\"");

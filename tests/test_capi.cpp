@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <memory>
@@ -13,6 +14,7 @@
 #include <smoothforce/force/force_method.h>
 #include <smoothforce/mesh/mesh_check.h>
 #include <smoothforce/mesh/mesh_io.h>
+#include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/patch/patch_eval.h>
 #include <smoothforce/runtime/safety.h>
@@ -398,6 +400,66 @@ TEST(CApi, EveryErrorClassIsACodeAndAMessage) {
   EXPECT_NE(std::string(sf_cache_error(lz)).find("lazy"), std::string::npos);
   EXPECT_STREQ(sf_status_name(SF_ERROR_MEMORY), "SF_ERROR_MEMORY");
   EXPECT_STREQ(sf_version(), SF_PROJECT_VERSION);
+}
+
+}  // namespace
+
+namespace {
+
+TEST(CApi, CageOptionBuildsTheLimitCacheOfTheCppApi) {
+  sf_cache_options o;
+  sf_cache_options_init(&o);
+  o.cage = "catmull-clark";
+  sf_cache* raw = nullptr;
+  ASSERT_EQ(sf_cache_from_file(kSpot.c_str(), &o, &raw), SF_OK) << sf_last_error();
+  CachePtr c(raw);
+  sf::PatchOptions po;
+  po.cage = sf::CageMode::CatmullClark;
+  const sf::PatchCache ref = sf::buildPatchCache(sf::loadMesh(kSpot, po), po, sf::Backend::Tbb);
+  // every face centre and corner evaluates as the C++ cache does; corners are the limit positions
+  std::vector<int32_t> f;
+  std::vector<double> x, y;
+  for (int face = 0; face < ref.numFaces(); ++face)
+    for (int k = 0; k < ref.faceSize(face); ++k) {
+      const Eigen::Vector2d p = sf::domainCorner(ref.faceSize(face), k);
+      f.push_back(face), x.push_back(p.x()), y.push_back(p.y());
+    }
+  std::vector<double> pos(3 * f.size());
+  ASSERT_EQ(sf_cache_evaluate(c.get(), f.size(), f.data(), x.data(), y.data(), pos.data(), nullptr, nullptr), SF_OK);
+  std::vector<sf::PatchPoint> want(f.size());
+  sf::evaluatePatches(ref, f.data(), x.data(), y.data(), f.size(), want.data(), sf::Backend::Tbb);
+  const double diag = sf::boundingDiagonal(ref);
+  int same = 0, onVertex = 0;
+  for (size_t i = 0; i < f.size(); ++i) {
+    const Eigen::Vector3d got(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]);
+    const int v = ref.faceVertices[i];  // corner i of the faces in order is slot i
+    same += got == want[i].pos;
+    onVertex +=
+        (got - Eigen::Vector3d(ref.positions[3 * v], ref.positions[3 * v + 1], ref.positions[3 * v + 2])).norm() <
+        1e-12 * diag;
+  }
+  EXPECT_EQ(onVertex, ref.numSlots());
+  EXPECT_EQ(same, ref.numSlots());
+  const std::string path = ::testing::TempDir() + "capi_cage.sfcache";
+  ASSERT_EQ(sf_cache_save(c.get(), path.c_str()), SF_OK);
+  EXPECT_EQ(sf::readPatchCache(path).options.cage, sf::CageMode::CatmullClark);
+  std::remove(path.c_str());
+
+  o.cage = "loop";
+  sf_status st;
+  std::string m = createError(kSpot.c_str(), &o, &st);
+  EXPECT_EQ(st, SF_ERROR_INPUT);
+  EXPECT_NE(m.find("--cage: expected none|catmull-clark, got 'loop'"), std::string::npos) << m;
+  // two triangles sharing edge 0-1 with a third: a non-manifold cage
+  const double p[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1};
+  const int32_t off[] = {0, 3, 6, 9}, verts[] = {0, 1, 2, 1, 0, 3, 0, 1, 4};
+  o.cage = "catmull-clark";
+  o.name = "fin";
+  sf_cache* bad = nullptr;
+  EXPECT_EQ(sf_cache_from_arrays(p, 5, off, 3, verts, nullptr, 0, &o, &bad), SF_ERROR_INPUT);
+  EXPECT_EQ(bad, nullptr);
+  EXPECT_NE(std::string(sf_last_error()).find("fin: --cage catmull-clark: non-manifold edge 0-1"), std::string::npos)
+      << sf_last_error();
 }
 
 }  // namespace

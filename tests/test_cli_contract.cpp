@@ -271,9 +271,9 @@ TEST_F(CliContract, DuplicateFacesAreNoted) {
 TEST_F(CliContract, OutputsToADeviceAreWrittenInPlace) {
   const std::string hips = file("dn.csv", sphereHips()), pts = file("dnp.csv", "face,xi,eta\n0,0,0\n");
   int written = 0;
-  for (const std::string& cmd : {"cache build " + sphere + " -o /dev/null", "trace --mesh " + sphere + " --hips " +
-                                                                                 hips + " -o /dev/null",
-                                 "eval " + sphere + " --points " + pts + " -o /dev/null"}) {
+  for (const std::string& cmd :
+       {"cache build " + sphere + " -o /dev/null", "trace --mesh " + sphere + " --hips " + hips + " -o /dev/null",
+        "eval " + sphere + " --points " + pts + " -o /dev/null"}) {
     const CliStreams r = run(cmd);
     EXPECT_EQ(r.status, 0) << cmd << "\n" << r.err;
     EXPECT_TRUE(std::filesystem::is_character_file("/dev/null")) << cmd;
@@ -482,6 +482,45 @@ TEST_F(CliContract, CacheReportsIntersectingAndSelfCrossingPolygons) {
   EXPECT_NE(r.out.find("polygons: 6 intersecting pairs, 0 self-crossing\n"), std::string::npos) << r.out;
 }
 
+TEST_F(CliContract, CageOptionBuildsAndKeepsTheLimitCache) {
+  const std::string cage = file("cage.sfcache");
+  CliStreams r = run("cache build " + mesh + " --cage catmull-clark -o " + cage);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("cage: catmull-clark: 188 vertices moved to their limit positions (0 on a boundary"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("Catmull-Clark limit normals of the cage"), std::string::npos) << r.out;
+  r = run("cache info " + cage);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("orient outward, cage catmull-clark"), std::string::npos) << r.out;
+  r = run("cache info " + cache());
+  EXPECT_NE(r.out.find("orient outward, cage none"), std::string::npos) << r.out;
+  r = run("cache info " + cage + " --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(json::parse(r.out)["options"]["cage"], "catmull-clark");
+  // the cage is an option of the surface: a cache keeps it; a mesh gets it now
+  const std::string points = file("cage_points.csv", "face,xi,eta\n0,1,0\n");
+  r = run("eval " + cage + " --points " + points + " --cage none -o " + file("cage_eval.csv"));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("built with --cage catmull-clark, but --cage none was given"), std::string::npos) << r.err;
+  r = run("eval " + cage + " --points " + points + " -o " + file("cage_eval.csv"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string fromCache = fileBytes(dir / "cage_eval.csv");
+  r = run("eval " + mesh + " --cage catmull-clark --points " + points + " -o " + file("cage_eval_mesh.csv"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(fileBytes(dir / "cage_eval_mesh.csv"), fromCache);
+  // what a cage cannot be is named
+  r = run("cache build " + mesh + " --cage catmull-clark --normals area -o " + file("x.sfcache"));
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--normals area cannot be combined with it"), std::string::npos) << r.err;
+  const std::string fin = file("fin.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n");
+  r = run("cache build " + fin + " --cage catmull-clark -o " + file("fin.sfcache"));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("fin.obj: --cage catmull-clark: non-manifold edge 0-1"), std::string::npos) << r.err;
+  r = run("cache build " + mesh + " --cage loop -o " + file("x.sfcache"));
+  EXPECT_EQ(r.status, 2);
+}
+
 TEST_F(CliContract, JsonOutputsParseWithTheDocumentedKeys) {
   auto keys = [](const json& j) {
     std::vector<std::string> k;
@@ -492,10 +531,9 @@ TEST_F(CliContract, JsonOutputsParseWithTheDocumentedKeys) {
   CliStreams r = run("cache info " + cache() + " --json");
   ASSERT_EQ(r.status, 0) << r.err;
   json j = json::parse(r.out);
-  EXPECT_EQ(keys(j),
-            (V{"boundary_slots", "bytes", "cache", "certificate", "edge_slots", "face_sizes", "faces", "format",
-               "mesh_hash", "non_manifold_slots", "options", "options_hash", "patches", "polygons", "surface_faults",
-               "vertices"}));
+  EXPECT_EQ(keys(j), (V{"boundary_slots", "bytes", "cache", "certificate", "edge_slots", "face_sizes", "faces",
+                        "format", "mesh_hash", "non_manifold_slots", "options", "options_hash", "patches", "polygons",
+                        "surface_faults", "vertices"}));
   EXPECT_EQ(keys(j["polygons"]), (V{"area_m2", "intersecting_area_m2", "intersecting_faces",
                                     "intersecting_pair_areas_m2", "intersecting_pairs", "self_crossing_faces"}));
   EXPECT_TRUE(j["surface_faults"].is_null());  // measured only with --faults
@@ -503,7 +541,7 @@ TEST_F(CliContract, JsonOutputsParseWithTheDocumentedKeys) {
   EXPECT_EQ(j["vertices"], 188);
   EXPECT_EQ(j["face_sizes"], json::parse(R"({"3": 4, "4": 160, "5": 16})"));
   EXPECT_EQ(j["bytes"], fs::file_size(cache()));
-  EXPECT_EQ(keys(j["options"]), (V{"cross_tangent", "normals", "orient", "precision"}));
+  EXPECT_EQ(keys(j["options"]), (V{"cage", "cross_tangent", "normals", "orient", "precision"}));
   EXPECT_EQ(j["patches"]["built"], 180);
   EXPECT_EQ(j["patches"]["folds"], j["patches"]["fold_faces"].size());  // the spot cage's 16 folded patches
   EXPECT_EQ(j["patches"]["folds"], 16);
@@ -519,10 +557,9 @@ TEST_F(CliContract, JsonOutputsParseWithTheDocumentedKeys) {
   r = run("trace --mesh " + sphere + " --hips " + hips + " -o " + out + " --json");
   ASSERT_EQ(r.status, 0) << r.err;
   j = json::parse(r.out);
-  EXPECT_EQ(keys(j),
-            (V{"compute_us_max", "compute_us_mean", "contacts", "faces", "final_step", "in_contact",
-               "max_force_difference_n", "max_force_difference_step", "method", "output", "patches_built", "preset",
-               "refine", "steps"}));
+  EXPECT_EQ(keys(j), (V{"compute_us_max", "compute_us_mean", "contacts", "faces", "final_step", "in_contact",
+                        "max_force_difference_n", "max_force_difference_step", "method", "output", "patches_built",
+                        "preset", "refine", "steps"}));
   EXPECT_EQ(j["final_step"], "evaluated");
   // against the CSV it wrote: steps = rows, in_contact = rows with contact 1
   std::istringstream rows(fileBytes(out));

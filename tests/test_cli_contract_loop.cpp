@@ -129,6 +129,25 @@ TEST_F(LoopContract, SceneObjectsTakeThePatchKeys) {
   }
 }
 
+TEST_F(LoopContract, SceneObjectsTakeTheCageKey) {
+  fs::copy_file(spot, dir / "spot.obj", fs::copy_options::overwrite_existing);
+  file("cage.json", R"({"objects": [{"name": "a", "mesh": "spot.obj", "cage": "catmull-clark"},
+      {"name": "b", "mesh": "spot.obj", "pose": {"translation": [3, 0, 0]}}]})");
+  CliStreams r = run("loop --scene " + file("cage.json") + " --device null --duration 0.02 --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const json j = json::parse(r.out);
+  ASSERT_EQ(j["objects"].size(), 2u);
+  EXPECT_EQ(j["objects"][0]["cage"], "catmull-clark");
+  EXPECT_EQ(j["objects"][1]["cage"], "none");
+  r = run("loop --scene " + file("cage.json") + " --cage catmull-clark --device null --duration 0.02 --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(json::parse(r.out)["objects"][1]["cage"], "catmull-clark");  // the command line gives the default
+  r = run("loop --scene " + file("bad.json", R"({"objects": [{"mesh": "spot.obj", "cage": "loop"}]})") +
+          " --duration 0.02");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("/objects/0/cage: --cage: expected none|catmull-clark, got 'loop'"), std::string::npos) << r.err;
+}
+
 TEST_F(LoopContract, ACacheKeepsItsPatchOptions) {
   const std::string cache = file("auto.sfcache");
   ASSERT_EQ(run("cache build " + spot + " -o " + cache).status, 0);

@@ -40,6 +40,7 @@ Parsed parseOptions(const sf_cache_options* o) {
   if (orient != "outward" && orient != "keep")
     throw InputError("orient: expected outward or keep, got '" + orient + "'");
   p.patch.keepOrientation = orient == "keep";
+  p.patch.cage = parseCageMode(opt(o->cage, "none"));
   p.backend = parseBackend(opt(o->backend, "tbb"));
   if (p.backend == Backend::OpenCL) throw InputError("backend: the C API builds on the CPU: tbb or serial");
   requireThreads(o->threads, "threads");
@@ -105,7 +106,7 @@ const char* sf_status_name(sf_status s) {
 const char* sf_last_error(void) { return lastError().c_str(); }
 
 void sf_cache_options_init(sf_cache_options* o) {
-  if (o) *o = sf_cache_options{nullptr, nullptr, nullptr, nullptr, nullptr, 0, 0, nullptr, nullptr};
+  if (o) *o = sf_cache_options{nullptr, nullptr, nullptr, nullptr, nullptr, 0, 0, nullptr, nullptr, nullptr};
 }
 
 sf_status sf_cache_from_file(const char* path, const sf_cache_options* options, sf_cache** out) {

@@ -252,6 +252,10 @@ std::vector<std::string> NormalReport::describe(int maxIds) const {
       out.push_back(std::string(source == NormalSource::Angle ? "angle" : "area") + "-weighted Newell normals" +
                     (fileHasNormals ? "" : " (the file has no vertex normals)"));
       break;
+    case NormalSource::CageLimit:
+      out.push_back(std::string("Catmull-Clark limit normals of the cage (--cage catmull-clark)") +
+                    (fileHasNormals ? "; the file's normals are not used" : ""));
+      break;
   }
   if (!splitVertices.empty()) {
     char tol[32];

@@ -69,7 +69,9 @@ void take(const char*& p, std::vector<T>& v, uint64_t count) {
 std::string optionsText(const PatchOptions& o) {
   return std::string("precision=") + toString(o.precision) + ";cross-tangent=" + toString(o.crossTangent) +
          ";normals=" + toString(o.normals) + ";orient=" + (o.keepOrientation ? "keep" : "outward") +
-         ";fields=" + std::to_string(GP_E_NFIELDS);
+         ";fields=" + std::to_string(GP_E_NFIELDS) +
+         // named only when not none, so that the hash of every cache built without a cage stays as it was
+         (o.cage == CageMode::None ? std::string() : std::string(";cage=") + toString(o.cage));
 }
 
 }  // namespace
@@ -172,7 +174,11 @@ PatchCache readPatchCache(const std::string& path, const CacheExpectation& expec
   opt.crossTangent = static_cast<CrossTangentMode>(h.crossTangent);
   opt.normals = static_cast<NormalMode>(h.normals);
   opt.keepOrientation = h.keepOrientation != 0;
-  if (h.optionsHash != hashPatchOptions(opt)) throw fail("corrupted cache header (options hash)");
+  // the cage has no header field: the options hash says which one the cache was built with
+  if (h.optionsHash != hashPatchOptions(opt)) {
+    opt.cage = CageMode::CatmullClark;
+    if (h.optionsHash != hashPatchOptions(opt)) throw fail("corrupted cache header (options hash)");
+  }
   uint64_t expected = 0;
   if (!payloadSize(h.numVertices, h.numFaces, h.numSlots, opt.precision, h.version, &expected) || expected != h.payloadBytes)
     throw fail("corrupted cache header (counts do not match the payload size)");

@@ -25,7 +25,27 @@ LoadedMesh loadMesh(PolygonMesh mesh, uint64_t meshHash, const PatchOptions& opt
   out.report = checkMesh(out.mesh);
   out.flipped =
       applyOrientation(out.mesh, out.report, options.keepOrientation ? OrientPolicy::Keep : OrientPolicy::Outward);
-  out.cornerNormals = cornerNormals(out.mesh, options.normals, out.normalReport);
+  if (options.cage == CageMode::None) {
+    out.cornerNormals = cornerNormals(out.mesh, options.normals, out.normalReport);
+  } else {
+    // the cage's limit normals are the surface's own: file or polygon normals would describe the cage
+    if (options.normals != NormalMode::Auto)
+      throw InputError((out.mesh.sourcePath.empty() ? std::string("mesh") : out.mesh.sourcePath) + ": --cage " +
+                       toString(options.cage) + " uses the limit surface's normals: --normals " +
+                       toString(options.normals) + " cannot be combined with it (leave --normals auto)");
+    CageLimit limit = catmullClarkLimit(out.mesh, out.report);
+    out.cagePositions = std::move(out.mesh.positions);
+    out.mesh.positions = std::move(limit.positions);
+    out.cageBoundaryVertices = limit.boundaryVertices;
+    out.cornerNormals.resize(out.mesh.faceVertices.size());
+    for (size_t c = 0; c < out.mesh.faceVertices.size(); ++c)
+      out.cornerNormals[c] = limit.normals[out.mesh.faceVertices[c]];
+    out.normalReport = NormalReport{};
+    out.normalReport.mode = options.normals;
+    out.normalReport.source = NormalSource::CageLimit;
+    out.normalReport.fallbackVertices = std::move(limit.fallbackVertices);
+    out.normalReport.fileHasNormals = !out.mesh.fileNormals.empty() || !out.mesh.fileCornerNormals.empty();
+  }
   out.normalFallbacks = out.normalReport.fallbackVertices;
   out.creaseCorners = out.normalReport.creaseCorners;
   return out;

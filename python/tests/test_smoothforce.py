@@ -388,3 +388,28 @@ def test_polygons_report_bow_ties_and_intersections_as_the_cli_does(spot, paths,
     np.testing.assert_array_equal(q["intersecting_pair_areas"], np.full((6, 2), 4.0))
     assert q["intersecting_area"] == 24.0 and q["area"] == 48.0 and q["self_crossing_faces"].size == 0
     assert any(line.startswith("intersecting polygons: 6 pairs") for line in cubes.report["mesh"])
+
+
+def test_cage_moves_vertices_to_the_limit_and_keeps_it_in_the_cache(spot, paths, tmp_path):
+    plain = sf.Cache.from_file(spot)
+    cage = sf.Cache.from_file(spot, cage="catmull-clark")
+    assert plain.cage == "none" and cage.cage == "catmull-clark"
+    assert cage.num_faces == plain.num_faces == 180
+    moved = np.linalg.norm(np.asarray(cage.positions) - np.asarray(plain.positions), axis=1)
+    assert (moved > 0).sum() == plain.num_vertices  # closed cage: every vertex moves
+    # every patch corner is its vertex's limit position (the cache holds the moved mesh)
+    offsets, verts = np.asarray(cage.face_offsets), np.asarray(cage.face_vertices)
+    faces = np.repeat(np.arange(cage.num_faces), np.diff(offsets))
+    k = np.arange(len(verts)) - offsets[faces]
+    n = np.diff(offsets)[faces]
+    pts = cage.evaluate(faces, np.cos(2 * np.pi * k / n), np.sin(2 * np.pi * k / n))
+    np.testing.assert_allclose(pts["position"], np.asarray(cage.positions)[verts], rtol=0, atol=1e-12)
+    # the arrays path gives the same cache; the file keeps the cage
+    arrays = sf.Cache.from_arrays(plain.positions, plain.face_offsets, plain.face_vertices, cage="catmull-clark")
+    np.testing.assert_array_equal(arrays.positions, cage.positions)
+    cage.save(tmp_path / "cage.sfcache")
+    assert sf.Cache.from_file(str(tmp_path / "cage.sfcache")).cage == "catmull-clark"
+    with pytest.raises(ValueError, match=r"--cage: expected none\|catmull-clark"):
+        sf.Cache.from_file(spot, cage="loop")
+    with pytest.raises(ValueError, match="--normals area cannot be combined"):
+        sf.Cache.from_file(spot, cage="catmull-clark", normals="area")

@@ -1,4 +1,5 @@
 #include "cli_common.h"
+#include "cli_exit.h"
 
 #include <algorithm>
 #include <chrono>
@@ -19,6 +20,11 @@ PatchOptions PatchArgs::options() const {
   if (orient != "outward" && orient != "keep")
     throw InputError("--orient: expected outward|keep, got '" + orient + "'");
   o.keepOrientation = orient == "keep";
+  o.cage = parseCageMode(cage);
+  // loadMesh refuses the pair too (scene files, C API); on the command line it is a usage error
+  if (o.cage != CageMode::None && o.normals != NormalMode::Auto)
+    throw UsageError("--cage " + cage + " uses the limit surface's normals: --normals " + normals +
+                     " cannot be combined with it (leave --normals auto)");
   return o;
 }
 
@@ -96,6 +102,12 @@ void addSurfaceArgs(CLI::App& cmd, PatchArgs& a) {
   a.orientOpt = cmd.add_option("--orient", a.orient, "outward|keep: flip closed meshes whose faces point inward")
                     ->check(CLI::IsMember({"outward", "keep"}))
                     ->capture_default_str();
+  a.cageOpt = cmd.add_option("--cage", a.cage,
+                             "none|catmull-clark: catmull-clark reads the mesh as a subdivision cage and moves every "
+                             "vertex to its Catmull-Clark limit position with its limit normal before building "
+                             "patches (boundaries: edge-and-corner; needs --normals auto; docs/cage.md)")
+                  ->check(CLI::IsMember({"none", "catmull-clark"}))
+                  ->capture_default_str();
 }
 
 void addBackendArgs(CLI::App& cmd, PatchArgs& a) {
@@ -130,6 +142,7 @@ void PatchArgs::checkCache(const PatchCache& c, const std::string& path) const {
   if (given(normalsOpt)) differs("--normals", toString(c.options.normals), normals);
   if (given(crossTangentOpt)) differs("--cross-tangent", toString(c.options.crossTangent), crossTangent);
   if (given(orientOpt)) differs("--orient", c.options.keepOrientation ? "keep" : "outward", orient);
+  if (given(cageOpt)) differs("--cage", toString(c.options.cage), cage);
 }
 
 double construct(PatchCache& cache, const PatchArgs& args) {

@@ -12,14 +12,15 @@
 namespace sf::cli {
 
 /// Options every command that builds patches takes: the patch surface (--precision,
-/// --normals, --cross-tangent, --orient) and where the work runs (--backend, --cl-device,
+/// --normals, --cross-tangent, --orient, --cage) and where the work runs (--backend, --cl-device,
 /// --threads).
 struct PatchArgs {
-  std::string precision = "double", normals = "auto", crossTangent = "corrected", orient = "outward";
+  std::string precision = "double", normals = "auto", crossTangent = "corrected", orient = "outward", cage = "none";
   std::string backend = "tbb", clDevice;
   int threads = 0;
   /// The surface options as registered (null when the command lacks them); count() > 0 when given.
-  CLI::Option *precisionOpt = nullptr, *normalsOpt = nullptr, *crossTangentOpt = nullptr, *orientOpt = nullptr;
+  CLI::Option *precisionOpt = nullptr, *normalsOpt = nullptr, *crossTangentOpt = nullptr, *orientOpt = nullptr,
+              *cageOpt = nullptr;
   PatchOptions options() const;
   Backend backendKind() const { return parseBackend(backend); }
   /// A cache file keeps the options it was built with: throws InputError `PATH: built with
@@ -27,7 +28,7 @@ struct PatchArgs {
   void checkCache(const PatchCache& cache, const std::string& path) const;
 };
 
-/// Registers --precision, --normals, --cross-tangent, --orient (the patch surface).
+/// Registers --precision, --normals, --cross-tangent, --orient, --cage (the patch surface).
 void addSurfaceArgs(CLI::App& cmd, PatchArgs& args);
 /// Registers --backend, --cl-device (the OpenCL device; --device is a hidden, deprecated
 /// alias outside `loop`) and --threads.

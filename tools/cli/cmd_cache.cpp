@@ -81,6 +81,10 @@ void build(const std::string& mesh, std::string out, const PatchArgs& args, bool
         "orientation: closed mesh faced inward (signed volume %.6g): flipped to outward "
         "(--orient keep to keep)\n",
         r.signedVolume);
+  if (opt.cage != CageMode::None)
+    std::printf("cage: %s: %d vertices moved to their limit positions (%d on a boundary; boundaries edge-and-corner)\n",
+                toString(opt.cage), r.numVertices - static_cast<int>(r.unreferencedVertices.size()),
+                lm.cageBoundaryVertices);
   std::printf("normals: %s\n", toString(opt.normals));
   for (const std::string& line : lm.normalReport.describe()) std::printf("  %s\n", line.c_str());
   throwIfInterrupted("cache build");
@@ -236,7 +240,8 @@ void info(const std::string& path, bool json, bool faults) {
                         {{"precision", toString(c.options.precision)},
                          {"cross_tangent", toString(c.options.crossTangent)},
                          {"normals", toString(c.options.normals)},
-                         {"orient", c.options.keepOrientation ? "keep" : "outward"}}},
+                         {"orient", c.options.keepOrientation ? "keep" : "outward"},
+                         {"cage", toString(c.options.cage)}}},
                        {"polygons", polygonsJson(polygons)},
                        {"patches", patchSummaryJson(c)},
                        {"certificate", certificateJson(c)},
@@ -249,9 +254,9 @@ void info(const std::string& path, bool json, bool faults) {
   std::printf("mesh: %d vertices, %d faces (%s), %d edge slots\n", c.numVertices(), c.numFaces(),
               faceSizeText(h).c_str(), c.numSlots());
   std::printf("edges: %d boundary slots, %d non-manifold slots\n", boundary, nonManifold);
-  std::printf("options: precision %s, cross tangent %s, normals %s, orient %s\n", toString(c.options.precision),
-              toString(c.options.crossTangent), toString(c.options.normals),
-              c.options.keepOrientation ? "keep" : "outward");
+  std::printf("options: precision %s, cross tangent %s, normals %s, orient %s, cage %s\n",
+              toString(c.options.precision), toString(c.options.crossTangent), toString(c.options.normals),
+              c.options.keepOrientation ? "keep" : "outward", toString(c.options.cage));
   printPolygons(polygons);
   printPatchSummary(c);
   printCertificates(c);

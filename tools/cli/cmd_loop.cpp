@@ -109,6 +109,7 @@ nlohmann::ordered_json loopJson(const rt::Scene& scene, const rt::HapticDevice& 
                        {"precision", toString(o.cache->options.precision)},
                        {"normals", toString(o.cache->options.normals)},
                        {"cross_tangent", toString(o.cache->options.crossTangent)},
+                       {"cage", toString(o.cache->options.cage)},
                        {"lazy", o.fromMesh}});
   nlohmann::ordered_json records = nullptr;
   if (written >= 0) records = {{"file", a.record}, {"written", written}, {"dropped", s.recordsDropped}};

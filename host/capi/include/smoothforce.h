@@ -89,6 +89,9 @@ typedef struct sf_cache_options {
                                   contact (bounded set); evaluation needs a built cache (0, default) */
   const char* normal_layout; /**< arrays: "auto" (default; by row count), "vertex", "corner" */
   const char* name;          /**< arrays: names the mesh in messages (default "<arrays>") */
+  const char* cage;          /**< "none" (default) or "catmull-clark": the mesh is a subdivision cage whose
+                                  vertices move to their Catmull-Clark limit positions and limit normals
+                                  (needs normals "auto"); a non-manifold cage is SF_ERROR_INPUT */
 } sf_cache_options;
 void sf_cache_options_init(sf_cache_options* options);
 

@@ -17,6 +17,7 @@
 #include <smoothforce/base/text_encoding.h>
 #include <smoothforce/base/thread_limit.h>
 
+#include <smoothforce/mesh/cage_limit.h>
 #include <smoothforce/mesh/exact_predicates.h>
 #include <smoothforce/mesh/mesh.h>
 #include <smoothforce/mesh/mesh_check.h>
@@ -27,6 +28,7 @@
 
 #include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/lazy_patches.h>
+#include <smoothforce/patch/limit_distance.h>
 #include <smoothforce/patch/mesh_arrays.h>
 #include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/patch/patch_bounds.h>

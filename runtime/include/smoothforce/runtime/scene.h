@@ -149,8 +149,9 @@ struct SceneDefaults {
 /// (fast|balanced|accurate, force_presets.h: the refinement options, and the precision of a `mesh` object's patches;
 /// `stiffness` still applies), `final_step` (evaluated|model, RefineOptions::finalStep: as --final-step,
 /// which gives the default), `precision` (float|double), `normals` (auto|file|angle|area),
-/// `cross_tangent` (corrected|paper|blend), `orient` (outward|keep): a `mesh` object's patch
-/// options, as the command line's --precision, --normals, --cross-tangent, --orient (which
+/// `cross_tangent` (corrected|paper|blend), `orient` (outward|keep), `cage` (none|catmull-clark,
+/// cage_limit.h): a `mesh` object's patch options, as the command line's --precision, --normals,
+/// --cross-tangent, --orient, --cage (which
 /// give the defaults; errors on a `cache` object, which keeps its own), `comment`. Unknown keys are
 /// errors. Throws InputError `FILE: /json/path: message` for bad JSON, missing or unknown
 /// fields and bad values; errors inside a mesh or cache file name that file.

@@ -36,7 +36,8 @@ enum class NormalSource {
   FileCorners,      ///< the file's per corner, as given (File)
   FileAndAngle,     ///< Auto: the file's, angle-weighted at the split vertices
   Angle,            ///< angle-weighted Newell normals
-  Area              ///< area-weighted Newell normals
+  Area,             ///< area-weighted Newell normals
+  CageLimit         ///< Catmull-Clark limit normals of a subdivision cage (cage_limit.h)
 };
 
 /// What cornerNormals() did, for reports (`cache build` prints describe()).

@@ -14,7 +14,9 @@ namespace sf {
 inline constexpr uint32_t kCacheFormatVersion = 2;
 
 /// XXH64 of the options that determine the patches (precision, cross tangent, normals,
-/// orientation) and of the record layout.
+/// orientation, and the cage when it is not CageMode::None: without a cage the hash is the one
+/// of caches written before the option existed) and of the record layout. The header has no
+/// field of its own for the cage: readPatchCache recovers it from this hash.
 uint64_t hashPatchOptions(const PatchOptions& options);
 
 /// Writes the cache to `path` atomically: to a temporary file beside it, then renamed.

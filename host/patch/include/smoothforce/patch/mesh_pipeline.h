@@ -21,11 +21,18 @@ struct LoadedMesh {
   NormalReport normalReport;                   ///< where they came from; split, crease and fallback vertices
   std::vector<int> normalFallbacks;            ///< = normalReport.fallbackVertices
   int creaseCorners = 0;                       ///< = normalReport.creaseCorners
+  /// With a cage (PatchOptions::cage): the control points before they moved to their limit
+  /// positions (#V, m; mesh.positions then holds the limit positions). Empty without a cage.
+  std::vector<Eigen::Vector3d> cagePositions;
+  int cageBoundaryVertices = 0;  ///< with a cage: referenced vertices on a boundary
 };
 
 /// Reads `path`, checks it, flips an inward-facing closed mesh unless options.keepOrientation,
 /// and computes corner normals per options.normals (normals.h: NormalMode, NormalReport).
-/// Throws InputError (file:line, element).
+/// With options.cage CatmullClark, then moves every referenced vertex to its Catmull-Clark
+/// limit position and uses its limit normal at every corner (catmullClarkLimit, cage_limit.h;
+/// the report stays the one of the cage as read). Throws InputError (file:line, element; with a
+/// cage also: normals other than Auto, and the topology cageProblem names).
 LoadedMesh loadMesh(const std::string& path, const PatchOptions& options);
 
 /// The same for a mesh already in memory (mesh_arrays.h builds one from arrays): checks it,

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include <smoothforce/mesh/cage_limit.h>
 #include <smoothforce/mesh/mesh.h>
 #include <smoothforce/mesh/normals.h>
 #include <smoothforce/patch/patch_options.h>
@@ -18,6 +19,10 @@ struct PatchOptions {
   CrossTangentMode crossTangent = CrossTangentMode::Corrected;
   NormalMode normals = NormalMode::Auto;
   bool keepOrientation = false;  ///< `--orient keep`: do not flip inward-facing closed meshes
+  /// `--cage catmull-clark`: the mesh is a Catmull-Clark control cage; its vertices move to their
+  /// limit positions and take their limit normals before construction (cage_limit.h), and the
+  /// cache holds the moved mesh. Needs normals Auto (loadMesh refuses another mode).
+  CageMode cage = CageMode::None;
 };
 
 /// All patches of a mesh. Counts: #V vertices, #F faces, #C corners = slots (one slot per
