@@ -521,6 +521,32 @@ TEST_F(CliContract, CageOptionBuildsAndKeepsTheLimitCache) {
   EXPECT_EQ(r.status, 2);
 }
 
+// cache build --certify on every backend: the certificate runs on the host's cores after
+// construction, so an OpenCL-built cache and a oneTBB-built one (the same records) are the same
+// bytes; cache info reports it (text and JSON), and a cache without it says how to get one.
+TEST_F(CliContract, CertifyGivesTheSameCacheOnEveryBackend) {
+  const std::string cube = std::string(SF_SHARED_MESHES) + "/lagrange/cube.obj";
+  const std::string tbb = file("cube_tbb.sfcache"), cl = file("cube_cl.sfcache"), plain = file("cube.sfcache");
+  CliStreams r = run("cache build " + cube + " --certify -o " + tbb);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("certificate: 6 of 6 patches certified fold-free"), std::string::npos) << r.out;
+  r = run("cache info " + tbb + " --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const json j = json::parse(r.out);
+  EXPECT_EQ(j["format"], 2);
+  EXPECT_EQ(j["certificate"]["certified"], 6);
+  EXPECT_EQ(j["certificate"]["uncertified_faces"], json::array());
+  ASSERT_EQ(run("cache build " + cube + " -o " + plain).status, 0);
+  r = run("cache info " + plain);
+  EXPECT_NE(r.out.find("cache: " + plain + ", format 1,"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("certificate: not computed (cache build --certify)"), std::string::npos) << r.out;
+  r = run("cache build " + cube + " --backend opencl --cl-device 0 --certify -o " + cl);
+  if (!SF_HAS_OPENCL || (r.status != 0 && r.err.find("no OpenCL device") != std::string::npos))
+    GTEST_SKIP() << "no OpenCL here: " << r.err;
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(fileBytes(cl), fileBytes(tbb));
+}
+
 TEST_F(CliContract, JsonOutputsParseWithTheDocumentedKeys) {
   auto keys = [](const json& j) {
     std::vector<std::string> k;
