@@ -46,7 +46,7 @@ void setContact(bool contact, const RefineResult& r, const Eigen::Vector3d& hip,
   s.transitions = r.transitions;
   s.status |= r.status;
   if (contact) {
-    state = PatchContactState{true, r.face, {r.xi, r.eta}, r.edge};
+    state = PatchContactState{true, r.face, {r.xi, r.eta}, r.edge, hip, false};
     s.contact = true;
     s.scp = r.scp;
     s.normal = r.normal;
@@ -57,11 +57,19 @@ void setContact(bool contact, const RefineResult& r, const Eigen::Vector3d& hip,
     if (!was) s.status |= SF_TRACK_ENTER;
   } else {
     state.inContact = false;
+    state.verify = false;
     if (was) s.status |= SF_TRACK_LEAVE;
   }
 }
 
 }  // namespace detail
+
+bool markJump(const PolygonScene& scene, const Eigen::Vector3d& hip, PatchContactState& state) noexcept {
+  if (!state.inContact) return state.verify = false;
+  const double jump = kJumpDiagonals * scene.facets().extent();
+  if ((hip - state.hip).squaredNorm() > jump * jump) state.verify = true;
+  return state.verify;
+}
 
 using detail::lazyGlobalStep;
 using detail::setContact;
@@ -122,6 +130,26 @@ void leaveOrHold(const PatchSurface& surface, PatchRefiner& refiner, const Eigen
       nearestOnPatches(surface, refiner, hip, options, from ? &r : nullptr, reach, from ? &start : nullptr, reachFace);
   finishGlobalStep(surface, hip, q, options, state, s, verdict);
   rememberIn(next, q.nearest);
+}
+
+/// Whether a HIP that jumped while its tracked contact holds (r: this step's refinement, the
+/// HIP below it) is inside the surface: the global query's verdict, as at a contact start
+/// (insideByWinding beyond the error bands, else nearestOnPatches from r and insidePatchSurface).
+bool insideAfterJump(const PatchSurface& surface, PatchRefiner& refiner, const Eigen::Vector3d& hip,
+                     const RefineResult& r, const ForceOptions& options, ForceSample& s) noexcept {
+  const bool from = usable(r);
+  double reach = std::numeric_limits<double>::infinity();
+  int reachFace = -1;
+  const int verdict = insideByWinding(surface, hip, &reach, &reachFace, from ? r.face : -1,
+                                      Eigen::Vector2d(r.xi, r.eta), from ? r.scp : Eigen::Vector3d::Constant(NAN));
+  s.status |= SF_TRACK_GLOBAL;
+  if (verdict >= 0) return verdict == 1;
+  SurfaceCandidate start;
+  start.face = r.face;
+  start.X = Eigen::Vector2d(r.xi, r.eta);
+  const PatchNearest q =
+      nearestOnPatches(surface, refiner, hip, options, from ? &r : nullptr, reach, from ? &start : nullptr, reachFace);
+  return insidePatchSurface(surface, hip, q, nullptr, verdict);
 }
 
 class PatchTracker final : public ForceRenderer {
@@ -189,8 +217,21 @@ class PatchTracker final : public ForceRenderer {
                                ? refiner_.refine(hip, start.face, start.X.x(), start.X.y(),
                                                  start.seeded ? seedOptions_ : options_, start.edge)
                                : refiner_.refineNext(hip, start.face, start.X.x(), start.X.y(), options_, start.edge);
+    const bool jumped = state_.verify && !surface_;  // with a surface finishPatchStep asks it
     finishPatchStep(*scene_, surface_.get(), refiner_, hip, start, r, options_, state_, s, &hint_);
-    if (lazySurface_ && !start.global && !state_.inContact) {
+    const bool jumpedOut = jumped && state_.inContact && !start.global && !insideAfterJump(hip);
+    if (jumpedOut) {
+      // the HIP jumped out of the object (no surface to ask in finishPatchStep): the contact ends
+      const ForceSample tracked = s;
+      s = ForceSample{};
+      s.scp = hip;
+      s.iterations = tracked.iterations;
+      s.transitions = tracked.transitions;
+      s.status = (tracked.status & ~SF_TRACK_ENTER) | SF_TRACK_GLOBAL | SF_TRACK_LEAVE;
+      state_.inContact = false;
+    }
+    state_.verify = false;
+    if (lazySurface_ && !start.global && !state_.inContact && !jumpedOut) {
       // a tracked contact ends only where the global query would not start one (leaveOrHold)
       state_.inContact = true;
       s.status = (s.status & ~SF_TRACK_LEAVE) | SF_TRACK_GLOBAL;
@@ -200,7 +241,7 @@ class PatchTracker final : public ForceRenderer {
   }
 
   void reset() noexcept override {
-    state_.inContact = false;
+    state_ = PatchContactState{};
     hint_ = PatchStepHint{};
   }
   void resetNear(int face, double xi, double eta) noexcept override {
@@ -217,6 +258,23 @@ class PatchTracker final : public ForceRenderer {
 
  private:
   void remember(const RefineResult& r) noexcept { rememberIn(&hint_, r); }
+
+  /// The contact-start verdict at `hip` without a prebuilt surface, on a scratch state: the lazy
+  /// global step, or the polygon start (Section 4.1).
+  bool insideAfterJump(const Eigen::Vector3d& hip) noexcept {
+    PatchContactState scratch;
+    ForceSample g;
+    g.scp = hip;
+    if (lazySurface_) {
+      lazyGlobalStep(*lazySurface_, *scene_, *cache_, refiner_, hip, options_, lambda_.data(), scratch, g);
+      return g.contact;
+    }
+    PatchStepStart start;
+    if (!beginPatchStep(*scene_, nullptr, *cache_, hip, scratch, lambda_.data(), start, g)) return false;
+    const RefineResult r = refiner_.refine(hip, start.face, start.X.x(), start.X.y(), options_, start.edge);
+    finishPatchStep(*scene_, nullptr, refiner_, hip, start, r, options_, scratch, g);
+    return g.contact;
+  }
 
   std::shared_ptr<const PatchCache> cache_;
   std::shared_ptr<const PolygonScene> scene_;
@@ -384,6 +442,7 @@ bool beginPatchStep(const PolygonScene& scene, const PatchSurface* surface, cons
     s.status = SF_TRACK_BAD_HIP;
     return false;
   }
+  markJump(scene, hip, state);
   if (state.inContact && surface && surface->farBeyond(hip)) {
     // farther from the surface's box than its size: the contact ends, whatever tracking would
     // find (from 1e14 m away its refinement stalled at a point the HIP was "below"); nearer, a
@@ -478,7 +537,7 @@ void finishPatchStep(const PolygonScene& scene, const PatchSurface* surface, Pat
     r.eta = start.X.y();
   }
   const bool ok = r.scp.allFinite() && r.normal.allFinite() && r.normal.squaredNorm() > 0.5;
-  const bool below = ok && (hip - r.scp).dot(r.normal) < 0;
+  bool below = ok && (hip - r.scp).dot(r.normal) < 0;
   if (!below && state.inContact && surface && !start.global) {
     // a tracked contact ends only where the global query would not start one: inside a surface
     // fault the refinement can slide to a nearer sheet the HIP is above while the HIP is inside
@@ -486,6 +545,11 @@ void finishPatchStep(const PolygonScene& scene, const PatchSurface* surface, Pat
     // half the servo rate). The query runs only on such a step, from the point r ended at.
     leaveOrHold(*surface, refiner, hip, r, options, state, s, next);
     return;
+  }
+  if (below && state.verify && surface && !start.global) {
+    // the HIP jumped: the tracked contact holds only where the HIP is inside
+    state.verify = false;
+    if (!insideAfterJump(*surface, refiner, hip, r, options, s)) below = false;
   }
   setContact(below, r, hip, options, state, s);
 }

@@ -52,10 +52,14 @@ struct SceneObject {
 /// new object-frame position. A slow motion is a slow change of that position, so the force
 /// is as continuous as for a HIP moving slowly over a still object. A pose change that moves
 /// the HIP's object-frame position by more than maxPoseStep() (measured in world metres) in
-/// one step is counted as a jump (motion()). Tracking then still continues locally, as for a
-/// fast HIP: a surface that jumps onto or through the HIP does not let it pop through to
-/// the other side; the penetration, and the force, grow at once, and the safety layer clamps
-/// and rate-limits the commanded force (and counts it).
+/// one step is counted as a jump (motion()). Below the patch method's own jump bound
+/// (kJumpDiagonals of the object's diagonal per step, force_tracking.h) tracking continues
+/// locally, as for a fast HIP: a surface that moves onto or through the HIP does not let it
+/// pop through to the other side; the penetration, and the force, grow at once, and the safety
+/// layer clamps and rate-limits the commanded force (and counts it). Beyond it the patch
+/// method's global query decides (contact iff the HIP is inside), so that a pose reset or a
+/// teleported object leaves no phantom contact; the god-object and force shading keep their
+/// proxy, as published.
 class Scene final : public ForceRenderer {
  public:
   /// Adds an object; its renderer must be set. Poses are checked (scale > 0, finite).

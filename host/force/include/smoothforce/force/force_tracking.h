@@ -131,13 +131,32 @@ int insideByWinding(
     int hintFace = -1, const Eigen::Vector2d& hintX = Eigen::Vector2d::Zero(),
     const Eigen::Vector3d& hintPoint = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN())) noexcept;
 
+/// A HIP that moves farther than this fraction of the mesh's bounding-box diagonal in one step
+/// while in contact has jumped (a device glitch, a re-grab, a scene reset, an object's pose
+/// jump). Local tracking from the held SCP (Algorithm 1 keeps a contact while the HIP is below
+/// the SCP's tangent plane) then held contact for HIPs far outside the surface, so such a step
+/// also asks the global query whether the HIP is inside: the contact holds (at the tracked SCP,
+/// so that a jump into a thin part does not pop through) only where it is, and ends elsewhere.
+/// 0.03 diagonals per step is 3 m/s at a 1 kHz servo loop on a 10 cm object, beyond a hand's
+/// speed; a step that trips it needlessly only pays for the query.
+inline constexpr double kJumpDiagonals = 0.03;
+
 /// Contact state of the patch method between steps (Algorithm 1).
 struct PatchContactState {
   bool inContact = false;
   int face = -1;            ///< face of the last SCP in contact
   Eigen::Vector2d X{0, 0};  ///< its domain point
   int edge = -1;            ///< its held boundary edge (RefineResult::edge)
+  Eigen::Vector3d hip{0, 0, 0};  ///< m, the HIP of the last step in contact
+  /// the HIP of this step jumped (markJump): the contact holds only where the HIP is inside
+  bool verify = false;
 };
+
+/// Marks a contact whose HIP jumped (moved farther than kJumpDiagonals x the diagonal of
+/// `scene`'s box since the last step in contact): state.verify, so that finishPatchStep (or the
+/// renderer) keeps the tracked contact only where the global query finds the HIP inside.
+/// Returns state.verify. Never throws.
+bool markJump(const PolygonScene& scene, const Eigen::Vector3d& hip, PatchContactState& state) noexcept;
 
 /// Where one patch step's refinement starts: in contact the previous SCP; out of contact the
 /// global query's first candidate (surface), or the nearest polygon point mapped into the face's
@@ -196,8 +215,8 @@ struct CandidateList {
 /// searches its candidates only to fill `list`; the hint's point bounds that search (combined
 /// into start.reach; the candidates stay the same, PatchSurface::candidates). list (with
 /// firstCandidate, capacity >= 2): the step's candidates are collected there (its first is the
-/// start unless seeded) for finishPatchStep. Never throws or allocates; the scene and surface
-/// must belong to the cache.
+/// start unless seeded) for finishPatchStep. In contact it marks a HIP that jumped (markJump).
+/// Never throws or allocates; the scene and surface must belong to the cache.
 bool beginPatchStep(const PolygonScene& scene, const PatchSurface* surface, const PatchCache& cache,
                     const Eigen::Vector3d& hip, PatchContactState& state, double* lambda, PatchStepStart& start,
                     ForceSample& s, bool firstCandidate = true, const PatchStepHint& hint = {},
@@ -212,7 +231,10 @@ bool beginPatchStep(const PolygonScene& scene, const PatchSurface* surface, cons
 /// where the global query would not start one (insideByWinding, then nearestOnPatches from r and
 /// insidePatchSurface: inside a surface fault the refinement can reach a nearer sheet the HIP is
 /// above; the contact then holds at the query's SCP, with SF_TRACK_GLOBAL set and no
-/// SF_TRACK_LEAVE). F = stiffness (SCP - HIP) (N/m, m). Updates
+/// SF_TRACK_LEAVE); where the HIP jumped (state.verify) and stays below, the contact holds only
+/// where the global query finds the HIP inside (insideByWinding, else nearestOnPatches from r and
+/// insidePatchSurface; SF_TRACK_GLOBAL), and ends elsewhere (without a surface the renderer
+/// decides). F = stiffness (SCP - HIP) (N/m, m). Updates
 /// state and s. Never throws or allocates.
 /// next, when given: set to the patch point the step ended at (a global step: its query's
 /// nearest point; else the refinement's: face, X and position), where that point is usable
