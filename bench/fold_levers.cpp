@@ -1,0 +1,205 @@
+// Two normal levers against the folds and overlaps of the design page's construction, measured
+// on a mesh: the fault area (surface_faults.h) and the faces whose sampled patch normal turns
+// against the polygon's (24 x 24 domain grid), for the construction as built, after replacing
+// every vertex normal by the minimax normal of its faces (the direction that maximises the
+// smallest cosine to the incident face normals), and after pulling the normals of such faces'
+// corners towards the face normals (12 rounds of 25%, at most 60 degrees from the original).
+// Both keep G1 (every edge curve is still built from its own vertices' normals).
+//   fold_levers MESH [--cage]        (docs/fold-levers.md)
+#include <Eigen/Geometry>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include <smoothforce/patch/detail/gp_traits.h>
+#include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/patch/patch_build.h>
+#include <smoothforce/query/patch_surface.h>
+#include <smoothforce/query/surface_faults.h>
+#include "bench_common.h"
+
+using namespace sf;
+
+namespace {
+Eigen::Vector3d newell(const PatchCache& c, int f) {
+  Eigen::Vector3d n = Eigen::Vector3d::Zero();
+  const int m = c.faceSize(f), first = c.faceOffsets[f];
+  for (int k = 0; k < m; ++k) {
+    const double* a = &c.positions[3 * size_t(c.faceVertices[first + k])];
+    const double* b = &c.positions[3 * size_t(c.faceVertices[first + (k + 1) % m])];
+    n += Eigen::Vector3d((a[1] - b[1]) * (a[2] + b[2]), (a[2] - b[2]) * (a[0] + b[0]), (a[0] - b[0]) * (a[1] + b[1]));
+  }
+  return n.normalized();
+}
+bool inDomain(int n, double x, double y) {
+  for (int k = 0; k < n; ++k) {
+    const double a = (2 * k + 1) * std::numbers::pi / n;
+    if (!(std::cos(std::numbers::pi / n) - (x * std::cos(a) + y * std::sin(a)) > 1e-9)) return false;
+  }
+  return true;
+}
+double minCos(const PatchCache& c, int f, int g) {
+  const int n = c.faceSize(f), first = c.faceOffsets[f];
+  std::vector<double> recs(n * GP_E_NFIELDS);
+  const size_t ns = c.numSlots();
+  for (int k = 0; k < n; ++k)
+    for (int i = 0; i < GP_E_NFIELDS; ++i) recs[k * GP_E_NFIELDS + i] = c.edgeDataD[i * ns + first + k];
+  const Eigen::Vector3d nf = newell(c, f);
+  double worst = 2;
+  for (int i = 0; i <= g; ++i)
+    for (int j = 0; j <= g; ++j) {
+      const double x = -1 + 2.0 * i / g, y = -1 + 2.0 * j / g;
+      if (!inDomain(n, x, y)) continue;
+      const auto r = Gp<double>::eval(n, recs.data(), int(c.options.crossTangent), x, y);
+      const Eigen::Vector3d N = Eigen::Vector3d(r.dxi.x, r.dxi.y, r.dxi.z).cross(Eigen::Vector3d(r.deta.x, r.deta.y, r.deta.z));
+      worst = std::min(worst, N.norm() > 0 ? N.dot(nf) / N.norm() : -1.0);
+    }
+  return worst;
+}
+void report(const char* tag, const PatchCache& c) {
+  int bad = 0;
+  std::string ids;
+  for (int f = 0; f < c.numFaces(); ++f)
+    if (minCos(c, f, 24) <= 0) {
+      ++bad;
+      if (bad <= 12) {
+        ids += ' ';
+        ids += std::to_string(f);
+      }
+    }
+  PatchSurface s(c);
+  const SurfaceFaults sf = measureSurfaceFaults(s);
+  std::string top;
+  if (sf.closed) {
+    const std::vector<int> ff = sf.faultFaces();
+    for (size_t i = 0; i < ff.size() && i < 6; ++i) {
+      char b[48];
+      std::snprintf(b, sizeof b, " %d (%.2f%%)", ff[i], 100 * sf.faceFault[ff[i]] / sf.totalArea);
+      top += b;
+    }
+  }
+  char area[64] = "- (not closed)";
+  if (sf.closed) std::snprintf(area, sizeof area, "%.3f%%, largest:", 100 * sf.faultArea() / sf.totalArea);
+  std::printf("%-24s turned-over faces %3d [%s%s ]  fault area %s%s\n", tag, bad, ids.c_str(), bad > 12 ? " ..." : "",
+              area, top.c_str());
+}
+
+/// Corners at one vertex with one normal (a crease splits them): the unit a normal lever moves.
+struct NormalGroups {
+  std::vector<std::vector<int>> slots;
+  std::vector<int> of;  // #C
+  explicit NormalGroups(const PatchCache& c) : of(c.numSlots()) {
+    std::map<std::tuple<int, double, double, double>, int> id;
+    for (int s = 0; s < c.numSlots(); ++s) {
+      const auto key = std::make_tuple(int(c.faceVertices[s]), c.cornerNormals[3 * s], c.cornerNormals[3 * s + 1],
+                                       c.cornerNormals[3 * s + 2]);
+      auto [it, fresh] = id.emplace(key, int(slots.size()));
+      if (fresh) slots.emplace_back();
+      slots[it->second].push_back(s);
+      of[s] = it->second;
+    }
+  }
+};
+
+Eigen::Vector3d normalAt(const PatchCache& c, int s) {
+  return {c.cornerNormals[3 * s], c.cornerNormals[3 * s + 1], c.cornerNormals[3 * s + 2]};
+}
+void setNormal(PatchCache& c, const std::vector<int>& slots, const Eigen::Vector3d& n) {
+  for (int s : slots)
+    for (int i = 0; i < 3; ++i) c.cornerNormals[3 * s + i] = n[i];
+}
+
+/// Every group's normal replaced by the minimax normal of its faces (projected subgradient
+/// ascent on the sphere from the original), where that raises the smallest cosine.
+void minimaxNormals(PatchCache& c, const std::vector<int>& faceOfSlot) {
+  const NormalGroups g(c);
+  double worstBefore = 1, worstAfter = 1;
+  int changed = 0;
+  for (const std::vector<int>& slots : g.slots) {
+    std::vector<Eigen::Vector3d> fn;
+    for (int s : slots) fn.push_back(newell(c, faceOfSlot[s]));
+    auto minDot = [&](const Eigen::Vector3d& m) {
+      double w = 2;
+      for (const auto& a : fn) w = std::min(w, m.dot(a));
+      return w;
+    };
+    const Eigen::Vector3d n0 = normalAt(c, slots[0]);
+    Eigen::Vector3d m = n0;
+    for (int it = 0; it < 2000; ++it) {
+      size_t arg = 0;
+      for (size_t i = 1; i < fn.size(); ++i)
+        if (m.dot(fn[i]) < m.dot(fn[arg])) arg = i;
+      m = (m + (0.05 / (1 + it * 0.05)) * (fn[arg] - m.dot(fn[arg]) * m)).normalized();
+    }
+    worstBefore = std::min(worstBefore, minDot(n0));
+    worstAfter = std::min(worstAfter, minDot(m));
+    if (minDot(m) > minDot(n0) + 1e-3) {
+      setNormal(c, slots, m);
+      ++changed;
+    }
+  }
+  std::printf("  minimax: %d of %zu normals moved; smallest cosine to an incident face normal %.3f -> %.3f\n", changed,
+              g.slots.size(), worstBefore, worstAfter);
+}
+
+/// Rounds of: every face whose sampled normal turns against its polygon (smallest cosine <= 0.05)
+/// pulls its corners' normals 25% of the way towards its face normal, at most 60 degrees from the
+/// original in all.
+void pullNormals(PatchCache& c, const std::vector<int>& faceOfSlot) {
+  const NormalGroups g(c);
+  const std::vector<double> orig = c.cornerNormals;
+  const double cap = std::cos(60 * std::numbers::pi / 180);
+  (void)faceOfSlot;
+  for (int round = 0; round < 12; ++round) {
+    std::vector<Eigen::Vector3d> pull(g.slots.size(), Eigen::Vector3d::Zero());
+    int bad = 0;
+    for (int f = 0; f < c.numFaces(); ++f) {
+      if (minCos(c, f, 16) > 0.05) continue;
+      ++bad;
+      for (int s = c.faceOffsets[f]; s < c.faceOffsets[f + 1]; ++s) pull[g.of[s]] += newell(c, f);
+    }
+    if (!bad) break;
+    for (size_t i = 0; i < g.slots.size(); ++i) {
+      if (pull[i].squaredNorm() == 0) continue;
+      const int s0 = g.slots[i][0];
+      const Eigen::Vector3d n0(orig[3 * s0], orig[3 * s0 + 1], orig[3 * s0 + 2]);
+      Eigen::Vector3d m = (0.75 * normalAt(c, s0) + 0.25 * pull[i].normalized()).normalized();
+      if (m.dot(n0) < cap) m = cap * n0 + std::sqrt(1 - cap * cap) * (m - m.dot(n0) * n0).normalized();
+      setNormal(c, g.slots[i], m);
+    }
+    constructPatches(c, Backend::Tbb, 0);
+  }
+}
+
+int run(std::vector<std::string> args) {
+  if (args.empty() || args.size() > 2 || (args.size() == 2 && args[1] != "--cage")) {
+    std::fprintf(stderr, "usage: fold_levers MESH [--cage]\n");
+    return 2;
+  }
+  PatchOptions o;
+  if (args.size() == 2) o.cage = CageMode::CatmullClark;
+  const PatchCache built = buildPatchCache(loadMesh(args[0], o), o, Backend::Tbb);
+  std::vector<int> faceOfSlot(built.numSlots());
+  for (int f = 0; f < built.numFaces(); ++f)
+    for (int s = built.faceOffsets[f]; s < built.faceOffsets[f + 1]; ++s) faceOfSlot[s] = f;
+  std::printf("%s%s: %d faces\n", std::filesystem::path(args[0]).filename().string().c_str(),
+              o.cage == CageMode::None ? "" : " (Catmull-Clark limit)", built.numFaces());
+  report("design page", built);
+  PatchCache a = built;
+  minimaxNormals(a, faceOfSlot);
+  constructPatches(a, Backend::Tbb, 0);
+  report("minimax normals", a);
+  PatchCache b = built;
+  pullNormals(b, faceOfSlot);
+  report("normals pulled to faces", b);
+  return 0;
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  return bench::guardedMain("fold_levers", [&] { return run(std::vector<std::string>(argv + 1, argv + argc)); });
+}
