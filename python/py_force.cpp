@@ -1,4 +1,5 @@
-// smoothforce.trace (force traces) and smoothforce.Haptic (the servo step for a foreign loop).
+// smoothforce.trace (force traces), smoothforce.Haptic (the servo step for a foreign loop) and
+// smoothforce.Surface (the stateless batch surface query).
 #include <pybind11/stl.h>
 
 #include <array>
@@ -6,6 +7,7 @@
 
 #include <smoothforce/force/force_presets.h>
 #include <smoothforce/force/force_tracking.h>
+#include <smoothforce/force/surface_query.h>
 #include <smoothforce/runtime/safety.h>
 #include <smoothforce/runtime/scene.h>
 #include <smoothforce/runtime/servo_step.h>
@@ -152,6 +154,47 @@ class Haptic {
   std::unique_ptr<rt::ServoStep> step_;
 };
 
+/// SurfaceQueryResult as a NumPy structured dtype (written in place by SurfaceQuery::query).
+pyb::dtype surfacePointDtype() {
+  using R = SurfaceQueryResult;
+  static_assert(sizeof(Eigen::Vector3d) == 3 * sizeof(double), "Eigen::Vector3d is three packed doubles");
+  return structDtype({{"signed_distance", "f8", offsetof(R, signedDistance)},
+                      {"point", "(3,)f8", offsetof(R, point)},
+                      {"normal", "(3,)f8", offsetof(R, normal)},
+                      {"face", "i4", offsetof(R, face)},
+                      {"xi", "f8", offsetof(R, xi)},
+                      {"eta", "f8", offsetof(R, eta)},
+                      {"status", "u4", offsetof(R, status)}},
+                     sizeof(R));
+}
+
+/// smoothforce.Surface: a SurfaceQuery on a prebuilt cache.
+class Surface {
+ public:
+  Surface(const PyCache& c, const pyb::object& preset) {
+    ForceMethod m{};
+    const ForceOptions f = forceOptions("patch", 500.0, preset, 256, "evaluated", &m);
+    pyb::gil_scoped_release release;
+    query_ = std::make_unique<SurfaceQuery>(c.cache, f);
+  }
+  pyb::array query(const pyb::handle& pointsIn, int threads) const {
+    const Doubles pts = numericArray(pointsIn, "points");
+    if (pts.ndim() != 2 || pts.shape(1) != 3) throw InputError("points: expected shape (N, 3)");
+    const size_t n = static_cast<size_t>(pts.shape(0));
+    pyb::array out(surfacePointDtype(), std::vector<ssize_t>{static_cast<ssize_t>(n)});
+    auto* rows = static_cast<SurfaceQueryResult*>(out.mutable_data());
+    const double* p = pts.data();
+    {
+      pyb::gil_scoped_release release;
+      query_->query(p, n, rows, threads);
+    }
+    return out;
+  }
+
+ private:
+  std::unique_ptr<SurfaceQuery> query_;
+};
+
 }  // namespace
 
 void bindForce(pyb::module_& m) {
@@ -163,6 +206,18 @@ void bindForce(pyb::module_& m) {
         "in order, as `smoothforce trace` does (no safety layer). Returns a structured array (T,): hip (3,),\n"
         "scp (3,) m, force (3,) N, normal (3,), xi, eta,\n"
         "face (-1 out of contact), iterations, status (SF_ST_*/SF_TRACK_* bits), contact. GIL released.");
+  pyb::class_<Surface>(m, "Surface",
+                       "The stateless surface query on a prebuilt cache (C++ SurfaceQuery): for many points, the\n"
+                       "signed distance to the patch surface and its nearest point, as the patch method's global query\n"
+                       "finds them at a contact start. Building it tessellates the patches and builds a BVH once.")
+      .def(pyb::init<const PyCache&, const pyb::object&>(), "cache"_a, pyb::kw_only(), "preset"_a = pyb::none(),
+           "preset: the refinement tolerances (fast, balanced, accurate) or None. Raises ValueError for a lazy\n"
+           "cache (no patches built) or a bad preset.")
+      .def("query", &Surface::query, "points"_a, pyb::kw_only(), "threads"_a = 0,
+           "points (N, 3), m -> structured array (N,): signed_distance m (negative inside; NaN for a point not\n"
+           "finite or beyond 1e15 m), point (3,) m and normal (3,) of the nearest patch point, face (-1: none),\n"
+           "xi, eta (its domain point), status (SF_TRACK_*/SF_ST_* bits; SF_TRACK_INSIDE inside). Stateless: the\n"
+           "answers do not depend on the order or the thread count (threads <= 0: all cores). GIL released.");
   pyb::class_<Haptic>(m, "Haptic",
                       "The servo step for a loop the caller owns (a device SDK's 1 kHz callback): a renderer on the\n"
                       "cache, the safety layer (force clamp, rate limit, ramp-in, non-finite fault) and deadline\n"

@@ -12,6 +12,7 @@
 #include <string>
 
 #include <smoothforce/force/force_method.h>
+#include <smoothforce/force/surface_query.h>
 #include <smoothforce/mesh/mesh_check.h>
 #include <smoothforce/mesh/mesh_io.h>
 #include <smoothforce/patch/cache_file.h>
@@ -460,6 +461,76 @@ TEST(CApi, CageOptionBuildsTheLimitCacheOfTheCppApi) {
   EXPECT_EQ(bad, nullptr);
   EXPECT_NE(std::string(sf_last_error()).find("fin: --cage catmull-clark: non-manifold edge 0-1"), std::string::npos)
       << sf_last_error();
+}
+
+}  // namespace
+
+namespace {
+
+// The surface query through the C API answers as sf::SurfaceQuery does, bit for bit, for points
+// in and around the spot cage (pressed in and out at every face centre, a grid over the box),
+// on one thread and on all; bad points get NaN and SF_TRACK_BAD_HIP; a lazy cache is refused.
+TEST(CApi, SurfaceQueryEqualsTheCppQueryOnEveryPoint) {
+  CachePtr c = fromFile(kSpot);
+  sf_surface* raw = nullptr;
+  ASSERT_EQ(sf_surface_create(c.get(), nullptr, &raw), SF_OK) << sf_last_error();
+  std::unique_ptr<sf_surface, void (*)(sf_surface*)> surface(raw, sf_surface_free);
+  auto ref = std::make_shared<const sf::PatchCache>(cppCache());
+  const sf::SurfaceQuery query(ref);
+  std::vector<double> pts;
+  for (int f = 0; f < ref->numFaces(); ++f) {
+    const sf::PatchPoint p = sf::evaluatePatch(*ref, f, 0, 0);
+    for (const double d : {-0.02, 0.02}) {
+      const Eigen::Vector3d q = p.pos + d * p.normal;
+      pts.insert(pts.end(), {q.x(), q.y(), q.z()});
+    }
+  }
+  Eigen::Vector3d lo, hi;
+  sf::referencedBox(*ref, lo, hi);
+  for (int i = 0; i <= 6; ++i)
+    for (int j = 0; j <= 6; ++j)
+      for (int k = 0; k <= 6; ++k) {
+        const Eigen::Vector3d t(i / 6.0, j / 6.0, k / 6.0);
+        const Eigen::Vector3d q = lo + t.cwiseProduct(hi - lo);
+        pts.insert(pts.end(), {q.x(), q.y(), q.z()});
+      }
+  pts.insert(pts.end(), {std::numeric_limits<double>::quiet_NaN(), 0, 0});
+  const size_t n = pts.size() / 3;
+  std::vector<sf::SurfaceQueryResult> want(n);
+  query.query(pts.data(), n, want.data());
+  size_t inside = 0;
+  for (const int threads : {1, 0}) {
+    std::vector<sf_surface_point> got(n);
+    ASSERT_EQ(sf_surface_query(surface.get(), n, pts.data(), threads, got.data()), SF_OK)
+        << sf_surface_error(surface.get());
+    size_t same = 0;
+    for (size_t i = 0; i < n; ++i) {
+      const sf::SurfaceQueryResult& w = want[i];
+      const sf_surface_point& g = got[i];
+      const bool sd = std::isnan(w.signedDistance) ? std::isnan(g.signed_distance) : w.signedDistance == g.signed_distance;
+      same += sd && g.face == w.face && g.xi == w.xi && g.eta == w.eta && g.status == w.status &&
+              (w.face < 0 || (w.point == Eigen::Vector3d(g.point[0], g.point[1], g.point[2]) &&
+                              w.normal == Eigen::Vector3d(g.normal[0], g.normal[1], g.normal[2])));
+      inside += threads == 1 && g.signed_distance < 0;
+    }
+    EXPECT_EQ(same, n) << threads;
+    EXPECT_TRUE(std::isnan(got[n - 1].signed_distance));
+    EXPECT_EQ(got[n - 1].status, uint32_t(SF_TRACK_BAD_HIP));
+  }
+  EXPECT_GE(inside, size_t(ref->numFaces()) * 9 / 10);  // the points pressed 2% in, and grid points inside
+  EXPECT_EQ(sf_surface_query(surface.get(), 1, nullptr, 0, nullptr), SF_ERROR_ARGUMENT);
+  EXPECT_NE(std::string(sf_surface_error(surface.get())).find("NULL"), std::string::npos);
+  EXPECT_EQ(sf_surface_query(nullptr, 0, nullptr, 0, nullptr), SF_ERROR_ARGUMENT);
+  sf_cache_options lazy;
+  sf_cache_options_init(&lazy);
+  lazy.lazy = 1;
+  sf_cache* lc = nullptr;
+  ASSERT_EQ(sf_cache_from_file(kSpot.c_str(), &lazy, &lc), SF_OK) << sf_last_error();
+  CachePtr lcp(lc);
+  sf_surface* none = nullptr;
+  EXPECT_EQ(sf_surface_create(lc, nullptr, &none), SF_ERROR_INPUT);
+  EXPECT_EQ(none, nullptr);
+  EXPECT_NE(std::string(sf_last_error()).find("prebuilt"), std::string::npos) << sf_last_error();
 }
 
 }  // namespace

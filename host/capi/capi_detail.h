@@ -10,6 +10,7 @@
 #include <smoothforce.h>
 #include <smoothforce/base/error.h>
 #include <smoothforce/force/force_method.h>
+#include <smoothforce/force/surface_query.h>
 #include <smoothforce/mesh/mesh_check.h>
 #include <smoothforce/patch/patch_cache.h>
 #include <smoothforce/runtime/safety.h>
@@ -23,6 +24,11 @@ struct sf_cache {
   std::string source;
   std::string error;
   std::unique_ptr<sf::MeshReport> polygons;  ///< checkMesh of the base mesh, made on first request
+};
+
+struct sf_surface {
+  std::unique_ptr<sf::SurfaceQuery> query;
+  std::string error;
 };
 
 struct sf_haptic {

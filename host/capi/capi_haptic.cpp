@@ -2,6 +2,7 @@
 #include <cmath>
 #include <cstring>
 #include <iterator>
+#include <vector>
 
 #include <smoothforce/force/force_presets.h>
 #include <smoothforce/force/force_tracking.h>
@@ -180,6 +181,49 @@ sf_status sf_cache_trace(sf_cache* cache, const sf_haptic_options* options, size
     for (size_t i = 0; i < count; ++i) {
       const ForceSample s = renderer->step(Eigen::Vector3d(hips[3 * i], hips[3 * i + 1], hips[3 * i + 2]));
       fill(out[i], s, s.force);
+    }
+  });
+}
+
+sf_status sf_surface_create(sf_cache* cache, const sf_haptic_options* options, sf_surface** out) {
+  if (!out) {
+    lastError() = "out: NULL";
+    return SF_ERROR_ARGUMENT;
+  }
+  *out = nullptr;
+  return guarded(lastError(), [&] {
+    if (!cache) throw std::invalid_argument("cache: NULL");
+    const sf_haptic_options o = defaults(options);
+    ForceMethod method{};
+    const ForceOptions force = forceOptions(o, &method);
+    auto s = std::make_unique<sf_surface>();
+    s->query = std::make_unique<SurfaceQuery>(cache->cache, force);
+    *out = s.release();
+  });
+}
+
+void sf_surface_free(sf_surface* surface) { delete surface; }
+
+const char* sf_surface_error(const sf_surface* surface) { return surface ? surface->error.c_str() : "surface: NULL"; }
+
+sf_status sf_surface_query(sf_surface* surface, size_t count, const double* points, int threads,
+                           sf_surface_point* out) {
+  if (!surface) return SF_ERROR_ARGUMENT;
+  return guarded(surface->error, [&] {
+    if (count && (!points || !out)) throw std::invalid_argument("surface query: points and out must not be NULL");
+    std::vector<SurfaceQueryResult> r(count);
+    surface->query->query(points, count, r.data(), threads);
+    for (size_t i = 0; i < count; ++i) {
+      sf_surface_point& o = out[i];
+      o.signed_distance = r[i].signedDistance;
+      for (int a = 0; a < 3; ++a) {
+        o.point[a] = r[i].point[a];
+        o.normal[a] = r[i].normal[a];
+      }
+      o.face = r[i].face;
+      o.xi = r[i].xi;
+      o.eta = r[i].eta;
+      o.status = r[i].status;
     }
   });
 }

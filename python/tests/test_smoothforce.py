@@ -247,6 +247,43 @@ def test_trace_matches_cli_trace_on_every_hip(spot, paths, tmp_path):
             assert (~t["contact"][-50:]).sum() >= 40  # 5 cm outside (a few land inside another part)
 
 
+def test_surface_query_agrees_with_a_contact_start_at_every_point(spot):
+    """Surface.query on the spot cage: every face centre pressed 1 cm in and 5 cm out; the sign of the
+    distance is the patch method's contact verdict at a contact start (a fresh trace of one HIP), and
+    inside, the distance is the depth of that contact (its SCP is the nearest point) except where a
+    nearer sheet sees the HIP from outside (the cage's overlapping sheets: counted, at most 3%).
+    Answers do not depend on the thread count; bad points give NaN; a lazy cache is refused."""
+    cache = sf.Cache.from_file(spot)
+    pts = cache.evaluate(np.arange(cache.num_faces, dtype=np.int32), np.zeros(cache.num_faces),
+                         np.zeros(cache.num_faces))
+    hips = np.vstack([pts["position"] - 0.01 * pts["normal"], pts["position"] + 0.05 * pts["normal"]])
+    surface = sf.Surface(cache)
+    q = surface.query(hips)
+    assert q.shape == (len(hips),)
+    assert q.dtype.names == ("signed_distance", "point", "normal", "face", "xi", "eta", "status")
+    one = surface.query(hips, threads=1)
+    for name in q.dtype.names:
+        np.testing.assert_array_equal(one[name], q[name])
+    other_depth = 0
+    for i, h in enumerate(hips):
+        t = sf.trace(cache, h[None, :])
+        assert bool(t["contact"][0]) == bool(q["signed_distance"][i] < 0), i
+        assert bool(q["status"][i] & sf.SF_TRACK_INSIDE) == bool(q["signed_distance"][i] < 0)
+        np.testing.assert_allclose(np.linalg.norm(q["point"][i] - h), abs(q["signed_distance"][i]), rtol=1e-12)
+        if t["contact"][0]:
+            other_depth += abs(np.linalg.norm(t["scp"][0] - h) + q["signed_distance"][i]) > 1e-9
+    assert (q["signed_distance"][: cache.num_faces] < 0).sum() > 0.9 * cache.num_faces
+    assert (q["signed_distance"][cache.num_faces:] > 0).sum() > 0.9 * cache.num_faces
+    assert other_depth <= 0.03 * len(hips)
+    bad = surface.query(np.array([[np.nan, 0, 0], [1e300, 0, 0]]))
+    assert np.isnan(bad["signed_distance"]).all() and (bad["face"] == -1).all()
+    assert (bad["status"] == sf.SF_TRACK_BAD_HIP).all()
+    with pytest.raises(ValueError, match="points"):
+        surface.query(np.zeros((4, 2)))
+    with pytest.raises(ValueError, match="prebuilt"):
+        sf.Surface(sf.Cache.from_file(spot, lazy=True))
+
+
 def test_status_bits_are_module_constants():
     """Every status bit by its C++ name: one bit each, distinct; SF_ST_* fill 0x1..0x400, SF_TRACK_*
     0x10000..0x10000000, SF_PROBE_* the top three bits (the values status.h and smoothforce.h give)."""

@@ -209,6 +209,33 @@ void sf_haptic_reset(sf_haptic* haptic);
 sf_status sf_cache_trace(sf_cache* cache, const sf_haptic_options* options, size_t count, const double* hips,
                          sf_step_result* out);
 
+/** The stateless surface query on a prebuilt cache (C++ sf::SurfaceQuery): for many points,
+ *  the signed distance to the patch surface and its nearest point, as the patch method's
+ *  global query finds them at a contact start. Built once (tessellation and BVH), then thread-safe. */
+typedef struct sf_surface sf_surface;
+
+/** One point's answer. */
+typedef struct sf_surface_point {
+  double signed_distance; /**< m, to the nearest patch point, negative inside the surface; NaN for a
+                               point not finite or beyond 1e15 m (status SF_TRACK_BAD_HIP) */
+  double point[3];        /**< m, the nearest patch point */
+  double normal[3];       /**< its unit outward patch normal */
+  int32_t face;           /**< its face (-1: none) */
+  double xi, eta;         /**< its domain point */
+  uint32_t status;        /**< SF_TRACK_* bits of its refinement, SF_TRACK_INSIDE inside; SF_ST_* bits */
+} sf_surface_point;
+
+/** A surface query on a prebuilt cache (a lazy cache: SF_ERROR_INPUT). options: only `preset`
+ *  (the refinement tolerances) is used; NULL for the defaults. The cache must outlive it. */
+sf_status sf_surface_create(sf_cache* cache, const sf_haptic_options* options, sf_surface** out);
+void sf_surface_free(sf_surface* surface);
+const char* sf_surface_error(const sf_surface* surface);
+/** Answers count points (count x 3, m) into out (count results), on `threads` threads (<= 0: all
+ *  cores; 1: the calling thread). The answers do not depend on the order, the batch or the thread
+ *  count. Safe to call from several threads at once on one sf_surface. */
+sf_status sf_surface_query(sf_surface* surface, size_t count, const double* points, int threads,
+                           sf_surface_point* out);
+
 #ifdef __cplusplus
 }
 #endif

@@ -56,6 +56,7 @@
 #include <smoothforce/force/force_tracking.h>
 #include <smoothforce/force/god_object.h>
 #include <smoothforce/force/shared_geometry.h>
+#include <smoothforce/force/surface_query.h>
 
 #include <smoothforce/opencl/opencl_backend.h>
 #include <smoothforce/opencl/opencl_refine.h>
