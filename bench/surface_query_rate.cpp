@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include <smoothforce/force/surface_query.h>
+#include <smoothforce/query/surface_query.h>
 #include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/query/embree_scene.h>
 #include <smoothforce/sweep/sweep_sampling.h>

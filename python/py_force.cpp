@@ -7,7 +7,7 @@
 
 #include <smoothforce/force/force_presets.h>
 #include <smoothforce/force/force_tracking.h>
-#include <smoothforce/force/surface_query.h>
+#include <smoothforce/query/surface_query.h>
 #include <smoothforce/runtime/safety.h>
 #include <smoothforce/runtime/scene.h>
 #include <smoothforce/runtime/servo_step.h>

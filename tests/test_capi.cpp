@@ -12,7 +12,7 @@
 #include <string>
 
 #include <smoothforce/force/force_method.h>
-#include <smoothforce/force/surface_query.h>
+#include <smoothforce/query/surface_query.h>
 #include <smoothforce/mesh/mesh_check.h>
 #include <smoothforce/mesh/mesh_io.h>
 #include <smoothforce/patch/cache_file.h>

@@ -16,7 +16,7 @@
 #include <cstring>
 #include <random>
 
-#include <smoothforce/force/surface_query.h>
+#include <smoothforce/query/surface_query.h>
 #include <smoothforce/sweep/sweep_sampling.h>
 #include "gp_config.h"
 #include "query_test_support.h"

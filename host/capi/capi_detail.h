@@ -10,7 +10,7 @@
 #include <smoothforce.h>
 #include <smoothforce/base/error.h>
 #include <smoothforce/force/force_method.h>
-#include <smoothforce/force/surface_query.h>
+#include <smoothforce/query/surface_query.h>
 #include <smoothforce/mesh/mesh_check.h>
 #include <smoothforce/patch/patch_cache.h>
 #include <smoothforce/runtime/safety.h>

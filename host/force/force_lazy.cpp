@@ -95,7 +95,7 @@ void lazyGlobalStep(LazyPatchSurface& surface, const PolygonScene& scene, const 
   c[0].X = polygonToDomain(scene.facets(), cache, np.face, np.point, lambda);
   c[0].lower = -1;
   const RefineResult first = refiner.refine(hip, c[0].face, c[0].X.x(), c[0].X.y(), options);
-  const double upper = usable(first) ? first.distance : std::numeric_limits<double>::infinity();
+  const double upper = usableRefinement(first) ? first.distance : std::numeric_limits<double>::infinity();
   // the faces in batches of kMaxFaces (box distance order), each face batch's cells in batches of
   // kMaxCandidates (lower bound order), each batch refined in turn while what a full one left out
   // could still be nearer than the nearest point found (dense meshes put hundreds of a-priori
@@ -131,7 +131,7 @@ void lazyGlobalStep(LazyPatchSurface& surface, const PolygonScene& scene, const 
   }
   bool inside = false;
   RefineResult scp = q.nearest;
-  if (usable(q.nearest)) {
+  if (usableRefinement(q.nearest)) {
     const bool below = (hip - q.nearest.scp).dot(q.nearest.normal) < 0;
     // held on a fold edge of a closed mesh, the point has two sides by itself: the base polygons'
     // inside test decides (a sheet about as near on the other side is left to the nearest point:

@@ -27,17 +27,7 @@ void validateForceOptions(const ForceOptions& o) {
   validateRefineOptions(o);
 }
 
-PatchSurfaceOptions patchSurfaceOptions(const ForceOptions& o) {
-  PatchSurfaceOptions so;
-  so.level = o.tessellationLevel;
-  return so;
-}
-
 namespace detail {
-
-bool usable(const RefineResult& r) noexcept {
-  return !(r.status & SF_TRACK_DEGENERATE) && r.scp.allFinite() && r.normal.allFinite() && r.normal.squaredNorm() > 0.5;
-}
 
 void setContact(bool contact, const RefineResult& r, const Eigen::Vector3d& hip, const ForceOptions& options,
                 PatchContactState& state, ForceSample& s) noexcept {
@@ -73,27 +63,12 @@ bool markJump(const PolygonScene& scene, const Eigen::Vector3d& hip, PatchContac
 
 using detail::lazyGlobalStep;
 using detail::setContact;
-using detail::usable;
 
 namespace {
 
-/// A refined point on the other side than the nearest one, within this factor of its distance,
-/// makes the side of the nearest point doubtful (overlapping or folded patches).
-constexpr double kConflict = 3.0;
-
 /// *hint = the patch point r ended at, where r is usable; untouched otherwise (or hint null).
 void rememberIn(PatchStepHint* hint, const RefineResult& r) noexcept {
-  if (hint && usable(r)) *hint = PatchStepHint{r.face, Eigen::Vector2d(r.xi, r.eta), r.scp};
-}
-
-/// Keeps the tighter of two bounds on the HIP's distance to the patch surface (m; each with the
-/// face of the patch point it is measured to, -1: unknown): the one whose candidate search
-/// starts at the smaller radius (PatchSurface::searchRadius).
-void tighterReach(const PatchSurface& surface, double r, int face, double& reach, int& reachFace) noexcept {
-  if (surface.searchRadius(r, face) < surface.searchRadius(reach, reachFace)) {
-    reach = r;
-    reachFace = face;
-  }
+  if (hint && usableRefinement(r)) *hint = PatchStepHint{r.face, Eigen::Vector2d(r.xi, r.eta), r.scp};
 }
 
 /// Ends a global step on the patch surface: contact when the HIP is inside it.
@@ -112,7 +87,7 @@ void finishGlobalStep(const PatchSurface& surface, const Eigen::Vector3d& hip, c
 /// query's SCP (no SF_TRACK_LEAVE or SF_TRACK_ENTER), outside it ends.
 void leaveOrHold(const PatchSurface& surface, PatchRefiner& refiner, const Eigen::Vector3d& hip, const RefineResult& r,
                  const ForceOptions& options, PatchContactState& state, ForceSample& s, PatchStepHint* next) noexcept {
-  const bool from = usable(r);
+  const bool from = usableRefinement(r);
   double reach = std::numeric_limits<double>::infinity();
   int reachFace = -1;
   const int verdict = insideByWinding(surface, hip, &reach, &reachFace, from ? r.face : -1,
@@ -137,7 +112,7 @@ void leaveOrHold(const PatchSurface& surface, PatchRefiner& refiner, const Eigen
 /// (insideByWinding beyond the error bands, else nearestOnPatches from r and insidePatchSurface).
 bool insideAfterJump(const PatchSurface& surface, PatchRefiner& refiner, const Eigen::Vector3d& hip,
                      const RefineResult& r, const ForceOptions& options, ForceSample& s) noexcept {
-  const bool from = usable(r);
+  const bool from = usableRefinement(r);
   double reach = std::numeric_limits<double>::infinity();
   int reachFace = -1;
   const int verdict = insideByWinding(surface, hip, &reach, &reachFace, from ? r.face : -1,
@@ -292,144 +267,6 @@ class PatchTracker final : public ForceRenderer {
 };
 
 }  // namespace
-
-void mergeNearest(PatchNearest& q, const PatchNearest& more) noexcept {
-  if (more.nearest.distance < q.nearest.distance) q.nearest = more.nearest;
-  if (more.nearestBelow.distance < q.nearestBelow.distance) q.nearestBelow = more.nearestBelow;
-  q.anyBelow = q.anyBelow || more.anyBelow;
-  q.anyAbove = q.anyAbove || more.anyAbove;
-  q.nearestAbove = std::min(q.nearestAbove, more.nearestAbove);
-  q.minLower = std::min(q.minLower, more.minLower);
-  q.candidates += more.candidates;
-  q.refined += more.refined;
-}
-
-PatchNearest refineCandidates(const SurfaceCandidate* c, int n, double spacing, PatchRefiner& refiner,
-                              const Eigen::Vector3d& hip, const ForceOptions& options,
-                              const RefineResult* first, const SurfaceCandidate* firstStart,
-                              const PatchSurface* surface) noexcept {
-  PatchNearest q;
-  q.nearest.status = q.nearestBelow.status = SF_TRACK_DEGENERATE;
-  q.nearest.distance = q.nearestBelow.distance = std::numeric_limits<double>::infinity();
-  q.candidates = n;
-  q.minLower = n > 0 ? c[0].lower : std::numeric_limits<double>::infinity();
-  constexpr int kSeen = 64;
-  int seenFace[2 * kSeen];
-  Eigen::Vector2d seenX[2 * kSeen];
-  int seen = 0;
-  auto near = [&](int f, const Eigen::Vector2d& X) {
-    for (int j = 0; j < seen; ++j)
-      if (seenFace[j] == f && (seenX[j] - X).norm() < spacing) return true;
-    return false;
-  };
-  auto take = [&](int f, const Eigen::Vector2d& X, const RefineResult& r) {
-    ++q.refined;
-    if (seen + 2 <= 2 * kSeen) {
-      seenFace[seen] = f;
-      seenX[seen++] = X;
-      seenFace[seen] = r.face;
-      seenX[seen++] = Eigen::Vector2d(r.xi, r.eta);
-    }
-    if (!usable(r)) return;
-    const bool below = (hip - r.scp).dot(r.normal) < 0;
-    (below ? q.anyBelow : q.anyAbove) = true;
-    if (!below) q.nearestAbove = std::min(q.nearestAbove, r.distance);
-    if (r.distance < q.nearest.distance) q.nearest = r;
-    if (below && r.distance < q.nearestBelow.distance) q.nearestBelow = r;
-  };
-  // the refinement already done: from c[0]; or from a seed, which stands in for the first
-  // candidate refined whose start lies within `spacing` of the seed's on the same face, only
-  // where it converged at its start to a strict local minimum (RefineResult::startMinimum: a
-  // seed that had to move, or sits at a saddle or maximum of the distance, may have left the
-  // candidate's basin) over that candidate's own triangle (two minima within one small, nearly
-  // flat triangle's region are what the error bounds exclude; within `spacing` they are not)
-  // no farther than the patch can be there (its distance + error bound); otherwise the
-  // candidate's own refinement runs: the candidates refined are those of the query without it.
-  bool pending = first != nullptr;
-  auto matches = [&](int i) {
-    return firstStart ? c[i].face == firstStart->face && (c[i].X - firstStart->X).norm() < spacing : i == 0;
-  };
-  // the order: candidates of a PatchSurface by their triangle's distance (ties: as given), so that
-  // the triangle under the HIP's foot point comes before a neighbour whose wider error bound
-  // gave it a lower bound below its own (sorted by lower bound, that neighbour's refinement ran
-  // first and a seed over the foot point's triangle could not stand in for it); others (cells,
-  // no distance) by lower bound
-  const bool byDistance = surface && n <= static_cast<int>(PatchSurface::kMaxCandidates);
-  int order[PatchSurface::kMaxCandidates];
-  for (int k = 0; byDistance && k < n; ++k) {  // insertion sort: a handful of candidates
-    int at = k;
-    for (; at > 0 && c[order[at - 1]].distance > c[k].distance; --at) order[at] = order[at - 1];
-    order[at] = k;
-  }
-  for (int k = 0; k < n; ++k) {
-    const int i = byDistance ? order[k] : k;
-    if (c[i].lower >= q.nearest.distance) {
-      if (byDistance) continue;  // a later one may still have a lower bound below it
-      break;
-    }
-    if (near(c[i].face, c[i].X)) continue;
-    if (pending && matches(i)) {
-      pending = false;
-      if (!firstStart || (surface && first->startMinimum && first->distance <= 2 * c[i].distance - c[i].lower &&
-                          surface->overTriangle(c[i].triangle, first->face, Eigen::Vector2d(first->xi, first->eta)))) {
-        take(c[i].face, c[i].X, *first);
-        continue;
-      }
-    }
-    take(c[i].face, c[i].X, refiner.refine(hip, c[i].face, c[i].X.x(), c[i].X.y(), options));
-  }
-  return q;
-}
-
-PatchNearest nearestOnPatches(const PatchSurface& surface, PatchRefiner& refiner, const Eigen::Vector3d& hip,
-                              const ForceOptions& options, const RefineResult* first, double reach,
-                              const SurfaceCandidate* firstStart, int reachFace) noexcept {
-  if (first && firstStart && usable(*first)) tighterReach(surface, first->distance, first->face, reach, reachFace);
-  CandidateBuffer<> c;
-  int n = static_cast<int>(surface.candidates(hip, c.data(), c.size(), reach, reachFace));
-  PatchNearest q = refineCandidates(c.data(), n, surface.spacing(), refiner, hip, options, first, firstStart, &surface);
-  // a full buffer holds the candidates of lowest lower bound; those it left out matter where their
-  // lower bounds (at least the last one's) are below the nearest distance found: the next ones,
-  // refined in turn, until none is (a bulging patch's wide error bounds can crowd the buffer), at
-  // most kMaxCandidateBatches batches in all
-  for (int batch = 1;
-       batch < kMaxCandidateBatches && n == static_cast<int>(c.size()) && c[n - 1].lower < q.nearest.distance;
-       ++batch) {
-    const SurfaceCandidate last = c[n - 1];
-    if (usable(q.nearest)) tighterReach(surface, q.nearest.distance, q.nearest.face, reach, reachFace);
-    n = static_cast<int>(surface.candidates(hip, c.data(), c.size(), reach, reachFace, &last));
-    mergeNearest(q,
-                 refineCandidates(c.data(), n, surface.spacing(), refiner, hip, options, nullptr, nullptr, &surface));
-  }
-  return q;
-}
-
-int insideByWinding(const PatchSurface& surface, const Eigen::Vector3d& hip, double* reach, int* reachFace,
-                    int hintFace, const Eigen::Vector2d& hintX, const Eigen::Vector3d& hintPoint) noexcept {
-  if (!surface.closed() || surface.numTriangles() == 0 ||
-      surface.inErrorBand(hip, reach, reachFace, hintFace, hintX, hintPoint))
-    return -1;
-  return surface.winding(hip) >= 1 ? 1 : 0;
-}
-
-bool insidePatchSurface(const PatchSurface& surface, const Eigen::Vector3d& hip, const PatchNearest& q,
-                        RefineResult* scp, int windingVerdict) noexcept {
-  if (scp) *scp = q.nearest;
-  if (!usable(q.nearest)) return false;
-  const bool below = (hip - q.nearest.scp).dot(q.nearest.normal) < 0;
-  if (!surface.closed()) return detail::openInside(q.nearest, hip);
-  // the side of the nearest point decides, unless the winding number is reliable here (outside every
-  // error band) or a refined point about as near sees the other side (overlapping or folded patches)
-  // (a nearest point held on a fold edge has two sides by itself: the two faces disagree there)
-  const bool conflict = (q.nearest.status & SF_TRACK_FOLD_EDGE) ||
-                        (below ? q.anyAbove && q.nearestAbove <= kConflict * q.nearest.distance
-                               : q.anyBelow && q.nearestBelow.distance <= kConflict * q.nearest.distance);
-  const int verdict = windingVerdict == -2 ? insideByWinding(surface, hip) : windingVerdict;
-  const bool useWinding = conflict || verdict >= 0;
-  const bool inside = useWinding ? (verdict >= 0 ? verdict == 1 : surface.winding(hip) >= 1) : below;
-  if (inside && scp && q.anyBelow) *scp = q.nearestBelow;
-  return inside;
-}
 
 bool beginPatchStep(const PolygonScene& scene, const PatchSurface* surface, const PatchCache& cache,
                     const Eigen::Vector3d& hip, PatchContactState& state, double* lambda, PatchStepStart& start,

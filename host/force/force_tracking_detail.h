@@ -29,23 +29,6 @@ std::unique_ptr<ForceRenderer> makeSharedPatchRenderer(std::shared_ptr<const Pat
                                                        std::shared_ptr<const PatchSurface> surface,
                                                        const SharedLazyParts& lazy);
 
-/// A refined point that can carry a contact: not degenerate, finite, with a unit normal.
-bool usable(const RefineResult& r) noexcept;
-
-/// The contact verdict on an open surface, which has no inside: the HIP below the nearest point
-/// and on its normal line (a foot point: the angle between HIP - SCP and the normal within
-/// kOpenFootSine), and that point not held on a boundary or fold edge. Where the nearest point
-/// is not a foot point (a boundary, a fold edge or a corner, e.g. a double-sided sheet's rim: a
-/// HIP 2 m beside a 1 m sheet was "below" one of its sides and got 1 kN of contact), its side
-/// says nothing: no force rather than a guessed side. On a G1 surface every nearest point off
-/// its boundary and folds is a foot point.
-inline constexpr double kOpenFootSine = 1e-3;
-inline bool openInside(const RefineResult& nearest, const Eigen::Vector3d& hip) noexcept {
-  const Eigen::Vector3d r = hip - nearest.scp;
-  return r.dot(nearest.normal) < 0 && r.cross(nearest.normal).norm() <= kOpenFootSine * r.norm() &&
-         !(nearest.status & (SF_TRACK_BOUNDARY | SF_TRACK_FOLD_EDGE));
-}
-
 /// Ends a step: contact at SCP r (F = k (SCP - HIP)) or none; keeps the contact state.
 void setContact(bool contact, const RefineResult& r, const Eigen::Vector3d& hip, const ForceOptions& options,
                 PatchContactState& state, ForceSample& s) noexcept;

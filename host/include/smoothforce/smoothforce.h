@@ -42,6 +42,7 @@
 
 #include <smoothforce/query/embree_scene.h>
 #include <smoothforce/query/lazy_surface.h>
+#include <smoothforce/query/global_query.h>
 #include <smoothforce/query/mean_value.h>
 #include <smoothforce/query/patch_refine.h>
 #include <smoothforce/query/patch_seeds.h>
@@ -50,13 +51,13 @@
 #include <smoothforce/query/polygon_facets.h>
 #include <smoothforce/query/refine_options.h>
 #include <smoothforce/query/surface_faults.h>
+#include <smoothforce/query/surface_query.h>
 
 #include <smoothforce/force/force_method.h>
 #include <smoothforce/force/force_presets.h>
 #include <smoothforce/force/force_tracking.h>
 #include <smoothforce/force/god_object.h>
 #include <smoothforce/force/shared_geometry.h>
-#include <smoothforce/force/surface_query.h>
 
 #include <smoothforce/opencl/opencl_backend.h>
 #include <smoothforce/opencl/opencl_refine.h>

@@ -8,8 +8,8 @@
 #include <memory>
 
 #include <smoothforce/base/status.h>  // SF_TRACK_* bits of the answers
-#include <smoothforce/force/force_method.h>
 #include <smoothforce/query/patch_surface.h>
+#include <smoothforce/query/refine_options.h>
 
 namespace sf {
 
@@ -32,17 +32,17 @@ struct SurfaceQueryResult {
 };
 
 /// The nearest-point and inside query of the patch method (out of contact, as at a contact
-/// start: nearestOnPatches and insidePatchSurface, force_tracking.h) over many points, with no
+/// start: nearestOnPatches and insidePatchSurface, global_query.h) over many points, with no
 /// state between points: the answer for a point does not depend on the others, their order or
-/// the thread count. Exact to the refinement's tolerances (options: RefineOptions; stiffness and
-/// patch capacity are not used): the nearest point is the global one within the candidate
+/// the thread count. Exact to the refinement's tolerances (options; ForceOptions convert, their
+/// stiffness and patch capacity unused): the nearest point is the global one within the candidate
 /// search's error bounds (tests/test_surface_query.cpp against a dense oracle).
 class SurfaceQuery {
  public:
   /// cache: prebuilt (hasPatchData); a skeleton throws InputError. Builds the PatchSurface
   /// (tessellation and BVH, patchSurfaceOptions(options)) unless `surface` (of this cache) is given.
-  /// Throws InputError for bad options (validateForceOptions).
-  explicit SurfaceQuery(std::shared_ptr<const PatchCache> cache, const ForceOptions& options = {},
+  /// Throws InputError for bad options (validateRefineOptions).
+  explicit SurfaceQuery(std::shared_ptr<const PatchCache> cache, const RefineOptions& options = {},
                         std::shared_ptr<const PatchSurface> surface = nullptr);
   ~SurfaceQuery();
   SurfaceQuery(const SurfaceQuery&) = delete;
@@ -62,7 +62,7 @@ class SurfaceQuery {
   struct Impl;
   std::shared_ptr<const PatchCache> cache_;
   std::shared_ptr<const PatchSurface> surface_;
-  ForceOptions options_;
+  RefineOptions options_;
   std::unique_ptr<Impl> impl_;
 };
 

@@ -1,4 +1,4 @@
-#include <smoothforce/force/surface_query.h>
+#include <smoothforce/query/surface_query.h>
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -11,7 +11,7 @@
 
 #include <smoothforce/base/coordinate_range.h>
 #include <smoothforce/base/error.h>
-#include <smoothforce/force/force_tracking.h>
+#include <smoothforce/query/global_query.h>
 #include <smoothforce/query/patch_refine.h>
 
 namespace sf {
@@ -22,13 +22,13 @@ struct SurfaceQuery::Impl {
   mutable tbb::enumerable_thread_specific<std::unique_ptr<PatchRefiner>> refiners;
 };
 
-SurfaceQuery::SurfaceQuery(std::shared_ptr<const PatchCache> cache, const ForceOptions& options,
+SurfaceQuery::SurfaceQuery(std::shared_ptr<const PatchCache> cache, const RefineOptions& options,
                            std::shared_ptr<const PatchSurface> surface)
     : cache_(std::move(cache)), options_(options) {
   if (!cache_) throw std::invalid_argument("SurfaceQuery: no cache");
   if (!hasPatchData(*cache_))
     throw InputError("the surface query needs a prebuilt cache (patches built); this one is a skeleton");
-  validateForceOptions(options_);
+  validateRefineOptions(options_);
   if (surface && &surface->cache() != cache_.get())
     throw InputError("SurfaceQuery: the patch surface must be built from the same cache");
   surface_ = surface ? std::move(surface) : std::make_shared<const PatchSurface>(*cache_, patchSurfaceOptions(options_));
@@ -40,7 +40,7 @@ SurfaceQuery::~SurfaceQuery() = default;
 namespace {
 
 SurfaceQueryResult answer(const PatchSurface& surface, PatchRefiner& refiner, const Eigen::Vector3d& p,
-                          const ForceOptions& options) noexcept {
+                          const RefineOptions& options) noexcept {
   SurfaceQueryResult r;
   const double nan = std::numeric_limits<double>::quiet_NaN();
   if (!inCoordinateRange(p)) {
