@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Inputs shared by the benchmark programs.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Per-step compute time of the force methods (patch with Newton or the paper's descent, patch
 // with Newton on a skeleton whose patches are built lazily, direct god-object, force shading) on
 // the spot cage and the quad-sphere:

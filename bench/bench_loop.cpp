@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Servo loop timing: the loop's own overhead per step (device + safety + ring buffer +
 // statistics, with an analytic plane as the renderer) over 10^5 steps without sleeping, and
 // a short real-clock run at 1 kHz (wake-up lateness, missed deadlines).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // OpenCL backend: program build time, construction (patches/s) and evaluation (points/s),
 // float and double, with kernel time (profiling events) reported apart from transfers and
 // host-side conversion; kernel GFLOP/s from the operations of one evaluation (gp_count.h;

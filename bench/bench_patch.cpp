@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Patch evaluation (points/s: position, dG/dxi, dG/deta, normal) and construction (patches/s
 // by face size, quality included) on the CPU, for every SIMD target this CPU runs (scalar,
 // SSE4, AVX2, AVX-512), float and double, 1 and 2 threads; with the FLOPs of one evaluation

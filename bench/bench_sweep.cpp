@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Sweep throughput: HIP queries per second per force method and backend (reset, approach,
 // pressed-in step) on the spot cage, 1e5 and 1e6 HIPs, all threads. Backends: tbb (all
 // methods), opencl (patch: refinements on the OpenCL device, runPatchProbesOpenCL; skipped

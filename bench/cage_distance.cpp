@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Distance from the patch surface of `--cage catmull-clark` to the cage's Catmull-Clark limit
 // surface (OpenSubdiv Bfr), per mesh file, in percent of the bounding-box diagonal
 // (measureLimitDistance, limit_distance.h; `cache info --faults` gives the surface faults).

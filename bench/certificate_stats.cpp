@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The per-patch certificate on real meshes: for each mesh, how many patches are proven
 // fold-free (certified), proven to turn over (folded) or left undecided within the budget,
 // the smallest certified margin, the interval evaluations spent and the wall time; and the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Two normal levers against the folds and overlaps of the design page's construction, measured
 // on a mesh: the fault area (surface_faults.h) and the faces whose sampled patch normal turns
 // against the polygon's (24 x 24 domain grid), for the construction as built, after replacing

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Operation counts of the patch math: kernels/gp_patch.h compiled with GP_REAL a scalar that
 // counts what it does, once on the scalar path (branches taken as a point needs them) and
 // once on the lane path (GP_LANES: both sides of every select, as each SIMD lane executes).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Issue 11's yardstick in one run: sweep probes (runProbes: reset, a step just outside, the step
 // at the HIP) of the patch method on the spot cage against direct rendering (the god-object) of
 // the dense spot meshes, HIPs pressed in by --depth (fraction of the diagonal) at points of each

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // How the Newton refinement ends on real meshes: for each mesh, HIPs uniform in its box (grown by
 // 5% of the diagonal) and patch points pressed in along their normal (0.5-10% of the diagonal),
 // the HIPs of HeldContact's test. Per mesh: the global queries' nearest points at the iteration

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Speed against accuracy of patch evaluation and of the full SCP query (global query +
 // refinement), issue 6 part 1. A plain main (not Google Benchmark) so that every query is timed
 // on its own and percentiles come out directly.

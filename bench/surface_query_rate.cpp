@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The batch surface query's rate against the dense mesh's: signed distances of the same points
 // from SurfaceQuery on a coarse prebuilt cache (the patch surface: global nearest point and inside
 // test) and from the dense mesh's polygons (Embree's nearest point, PolygonScene::nearest, and its

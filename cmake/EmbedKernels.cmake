@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Turns kernel sources (the restricted-C headers of the patch math and the .cl files) into
 # C++ string constants at build time. Kernel code is never hand-quoted into C++.
 #

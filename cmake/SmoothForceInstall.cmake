@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Install rules: the libraries (SmoothForce::<module>, ::core, ::runtime), the public include
 # trees (sf_add_module), the CMake package (SmoothForceConfig.cmake, its version file,
 # SmoothForceTargets.cmake) and smoothforce.pc for pkg-config. sf_kernels is build-only.
@@ -42,4 +43,7 @@ else()
 endif()
 configure_file(${PROJECT_SOURCE_DIR}/cmake/smoothforce.pc.in ${PROJECT_BINARY_DIR}/smoothforce.pc @ONLY)
 install(FILES ${PROJECT_BINARY_DIR}/smoothforce.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig
+        COMPONENT SmoothForce_Development)
+# The licence and the changelog, where Debian-style installs keep a package's documents.
+install(FILES ${PROJECT_SOURCE_DIR}/LICENSE ${PROJECT_SOURCE_DIR}/CHANGELOG.md DESTINATION ${CMAKE_INSTALL_DOCDIR}
         COMPONENT SmoothForce_Development)

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # sf_add_module(<module> SOURCES <file>... [PUBLIC_DEPS <target>...] [PRIVATE_DEPS <target>...]
 #               [HEADER_EXCLUDE <file name>...])
 #

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // libFuzzer harness for the patch-cache reader (readPatchCache on a .sfcache file).
 //
 // A fuzzer cannot forge XXH64 checksums, so unless bit 0 of byte 96 (the first reserved

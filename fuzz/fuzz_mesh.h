@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The mesh harnesses (fuzz_obj, fuzz_off, fuzz_ply): readMesh on the input, then the
 // guarantees of a PolygonMesh that readMesh returned (host/mesh_io.h, host/mesh.h).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // libFuzzer harness for the OBJ reader (readMesh on a .obj file). See fuzz_common.h.
 #include "fuzz_mesh.h"
 

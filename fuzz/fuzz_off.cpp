@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // libFuzzer harness for the OFF reader (readMesh on a .off file). See fuzz_common.h.
 #include "fuzz_mesh.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // libFuzzer harness for the PLY reader (readMesh on a .ply file). See fuzz_common.h.
 #include "fuzz_mesh.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Patch construction: one work-item per face (gp_build_patch + gp_patch_quality).
  *
  * The host compiles: defines (GP_REAL, GP_IS_DOUBLE, GP_EMBEDDED) + gp_config.h, gp_vec.h,

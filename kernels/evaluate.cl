@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Batch evaluation: one work-item per query (face, xi, eta) -> gp_patch_eval.
  *
  * Compiled like construct.cl (see there). Matches host/patch_eval.cpp evaluatePatches:

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* A box that holds a whole patch, from its edge records alone (no evaluation of the patch).
  * Source: Wu et al., Eq. 2-5 and 6-14, with shared/design/gregory-patch.md.
  *

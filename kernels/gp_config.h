@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Target mapping for the single-source patch math (gp_patch.h).
  *
  * gp_patch.h is restricted C: it compiles as OpenCL C 1.2 (kernels) and as C++ (host),

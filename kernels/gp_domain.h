@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Geometry of the regular n-gon domain (design page, "Domain and blending"; Eq. 3) as the
  * nearest-point refinement uses it: edge normals, the inside test, the first edge a segment
  * leaves through, and the position along a domain edge that Eq. 15 carries across.

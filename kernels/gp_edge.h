@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Edge curves, edge normals and cross tangents of the n-sided Gregory patch, and the
  * construction of a face's per-edge records.
  * Source: Wu et al., "Smooth Force Rendering on Coarse Polygonal Meshes", Eq. 6-14, with

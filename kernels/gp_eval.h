@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Domain, blending and evaluation of the n-sided Gregory patch (Eq. 1-5), with exact first
  * derivatives, and the per-patch quality measures (fold, bulge).
  * Part of gp_patch.h (after gp_tables.h); no include guard on purpose. Branch-free on

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* The n-sided Gregory patch: the one definition of the patch math.
  *
  * Restricted C that compiles as OpenCL C 1.2 and as C++, in float and in double.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Nearest-point refinement on the patches (paper Section 4.2) with Eq. 15 transitions (design
  * page, "Leaving the domain"): the one definition of the Newton refinement, compiled as OpenCL C
  * (refine.cl) and as C++ (host/gp_math.h; host/patch_refine.cpp wraps it).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* The domain of an n-sided patch as data (design page, "Domain and blending"; Eq. 3): the
  * regular n-gon's corners C_k = (cos 2 pi k/n, sin 2 pi k/n), its unit edge normals
  * m_k = (cos (2k+1) pi/n, sin (2k+1) pi/n) and cos(pi/n), the distance from its centre to

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* 3-vectors and forward-mode dual numbers (value + derivative) in restricted C.
  * Part of the single-source patch math; included once per precision by gp_patch.h
  * (no include guard on purpose). Requires GP_REAL and GP_IS_DOUBLE.

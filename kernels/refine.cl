@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* Batch refinement: one work-item per HIP runs gp_refine_newton (gp_refine.h), the Newton
  * variant of host/patch_refine.cpp with Eq. 15 transitions and boundary-edge handling.
  *

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // smoothforce.Cache: from files or NumPy arrays, saved, evaluated in batches.
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Shared pieces of the Python module: numeric array conversion and error messages.
 #include "py_common.h"
 

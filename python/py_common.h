@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Shared pieces of the Python module: the cache wrapper and the binding entry points.
 #pragma once
 

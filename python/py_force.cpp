@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // smoothforce.trace (force traces), smoothforce.Haptic (the servo step for a foreign loop) and
 // smoothforce.Surface (the stateless batch surface query).
 #include <pybind11/stl.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `import smoothforce`: the module, its version and the error mapping.
 #include <filesystem>
 #include <stdexcept>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // smoothforce.sweep (an offset-surface force sweep) and smoothforce.read_sweep (its directory).
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>

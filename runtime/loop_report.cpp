@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include <smoothforce/runtime/loop_report.h>
 
 #include <cstdio>

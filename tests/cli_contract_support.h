@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Runs the `smoothforce` binary under test (SF_CLI_PATH) with stdout and stderr captured
 // apart, optional standard input, and optional signals, for the CLI contract tests.
 #pragma once

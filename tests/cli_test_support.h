@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Runs the `smoothforce` binary under test (SF_CLI_PATH) for end-to-end tests.
 #pragma once
 

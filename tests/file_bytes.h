@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The bytes of a file, for the tests that compare written files byte for byte.
 #pragma once
 

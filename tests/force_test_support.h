@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Shared by the force tests: HIP paths that slide across patch edges at constant depth.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Helpers for the patch tests: caches from in-code shapes or files, G1 measurement.
 #pragma once
 

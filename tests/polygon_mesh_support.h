@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Polygon meshes written in code, for the mesh-level tests (checks, normals).
 #pragma once
 

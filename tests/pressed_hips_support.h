@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Shared by the global-query and held-contact tests (and bench/refine_stats.cpp): HIPs pressed
 // into a patch surface along the normals of sampled patch points, whose distance to the surface
 // is known not to exceed the depth, and HIPs uniform in a mesh's box.

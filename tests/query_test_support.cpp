@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "query_test_support.h"
 
 #include <embree3/rtcore.h>

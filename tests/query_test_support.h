@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Shapes and independent checks for the SCP-query property tests: every closed mesh of
 // ../shared/meshes plus generated analytic shapes, and an oracle built from a dense
 // tessellation of the patches (its own ray parity and its own nearest vertex), independent of

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Counts operator new calls made on a thread while it has counting switched on (the runtime
 // tests' real-time checks). The replacement operator new lives in runtime_alloc_counter.cpp;
 // the other forms of new in libstdc++ (array, nothrow) call it. Off under sanitizers, which

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The list of shared meshes the whole-input tests (and bench/refine_stats.cpp) run over; no
 // dependency beyond the standard library, so that benchmarks can include it.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Cache file: round trip, and rejection of truncated, corrupted, newer and mismatched files.
 #include <gtest/gtest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // --cage catmull-clark: every vertex on OpenSubdiv's limit surface (checked against Bfr's own
 // evaluation, a different code path from the Far limit masks the option uses), every patch corner
 // on it, G1 across every edge, and the patch surface within a measured distance of the limit

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The C API (<smoothforce.h>) against the C++ engine: the same caches, evaluations, traces and
 // servo steps; every error class as a code plus a message naming the element; no exception.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // End-to-end tests of the `smoothforce` command line: exit status, one-line errors, files.
 #include <gtest/gtest.h>
 #include <sys/wait.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The command line's contract, the loop and the signals (issue 13 part 2): `loop` and scene
 // objects take the patch options and render the surface `trace` renders with the same
 // options; a latched safety fault exits 3; SIGINT and SIGTERM stop loop, trace and sweep

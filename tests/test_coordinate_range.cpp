@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Positions beyond the coordinate range (coordinate_range.h: 1e15 m) never reach Embree (whose
 // Debian build aborts on a point beyond 1.8e18 m): every renderer reports such a HIP as
 // SF_TRACK_BAD_HIP with no force and its state reset, every query finds nothing there, and the

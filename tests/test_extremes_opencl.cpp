@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Stability at the extremes on the OpenCL backend (issue 6 part 3): the extreme meshes of
 // tests/test_extremes_patch.cpp and test_extremes_ngon.cpp, constructed and evaluated by
 // OpenCLConstructor / OpenCLEvaluator. Everything stays finite; status words equal the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Stability at the extremes, patch level (issue 6 part 3): each knob swept to its limit on
 // meshes built in code, float and double, CPU backends. Every case must stay finite
 // (positions, derivatives, normals), interpolate its corners, keep its boundary on the edge

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Helpers for the extreme-input tests (tests/test_extremes_*.cpp, issue 6 part 3): meshes
 // built in code with per-corner normals, a sweep that evaluates every face at its corners,
 // on its edges, at the centre and inside, and measures what the tests bound.

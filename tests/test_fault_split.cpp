@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // attributeFaults (surface_faults.h): the spot cage (whose ears already hold 4 intersecting
 // pairs) pierced by a small cube (a part modelled into another, the kind of input no surface
 // through its vertices can render without faults).

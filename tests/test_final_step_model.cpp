@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // RefineOptions::finalStep = FinalStep::Model (kernels/gp_refine.h, gp_rf_model_point): the
 // converging step's point from the refinement's quadratic model instead of a patch evaluation.
 // Over every closed shape (query_test_support.h), constant-depth slides generated on the surface

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `smoothforce trace` end to end.
 #include <gtest/gtest.h>
 #include <unistd.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Contact logic of the three force methods: entering and leaving, no pop-through on a thin
 // plate, the god-object on flat faces and across a convex edge, options and names.
 #include <gtest/gtest.h>

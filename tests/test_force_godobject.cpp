@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The god-object baselines (direct, shading) on closed meshes: contact is kept on a HIP path
 // that moves continuously inside a thin tube, and a first HIP already inside the polygons
 // starts contact on the nearest polygon point (PolygonScene::contains).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A HIP that jumps (a device glitch, a re-grab, a scene reset) never keeps a phantom contact:
 // on every closed mesh of ../shared/meshes and the generated shapes, from contacts of three
 // kinds (a contact start, a tracked press deeper, a tracked slide along the surface), with the

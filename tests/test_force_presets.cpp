@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Speed/accuracy presets (force_presets.h), `--preset` on the CLI, and the tessellation initial
 // guess (ForceOptions::initialGuess). Properties only: no timings are asserted.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // step() of every force method does not allocate. Counted at the C allocator (glibc's
 // __libc_* entry points behind thin interposers that count while armed on this thread), so
 // that operator new (whoever replaces it; test_runtime_loop.cpp does), Eigen and Embree's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Nearest-point refinement on the patches (paper 4.2) against dense sampling, the two
 // variants against each other, Eq. 15 transitions and boundary edges.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Contact tracking (Algorithm 1) and the two baselines: force continuity when sliding across
 // edges at constant depth, no pop-through on a thin plate, contact logic.
 #include <gtest/gtest.h>

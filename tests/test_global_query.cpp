@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The global query on the patch surface leaves out no patch point nearer than the one it returns,
 // on every bundled mesh, where the candidate buffer (256 triangles) fills: a bulging or folded
 // patch's wide error bounds can give hundreds of its triangles a lower bound below the distance

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A HIP held still feels a steady force: after its first step, the patch method's contact
 // verdict does not change from step to step, on every bundled mesh, on the prebuilt cache and
 // on the lazy skeleton. Found on the stock spot cage: at a HIP 0.16 m inside the cow, inside an

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Hostile input (issue 6 part 4): every file of tests/data/hostile/ (made by
 // tools/make_hostile_corpus.py) is rejected by readMesh / readPatchCache with an
 // sf::InputError whose message starts with the file's path: never a crash, never another

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Helpers for the hostile-input tests (tests/test_hostile_*.cpp, issue 6 part 4).
 #pragma once
 

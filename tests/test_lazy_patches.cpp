@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Lazy patch construction: the records equal a prebuilt cache's, the LRU bound holds, and a
 // force renderer over a skeleton renders exactly what it renders over the prebuilt cache.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The lazy global query (patches built on demand, faces chosen by their a-priori boxes) leaves
 // out no patch point nearer than the SCP it returns, on every bundled mesh, where more faces'
 // boxes are within reach than one search returns (LazyPatchSurface::kMaxFaces): on dense meshes

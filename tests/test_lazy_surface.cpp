@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // LazyPatchSurface (lazy_surface.h): its cell, sector and swept boxes hold their patches (checked against dense
 // sampling of every patch of the smaller meshes in shared/meshes and 600 random patches of each
 // larger one), its a-priori box queries agree with brute force, and it needs no built patch.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // checkMesh, flipFaces and applyOrientation: the shared mesh catalogue (every file loads
 // and matches /work/shared/meshes/README.md), plus small hand-made topologies.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Intersecting and self-crossing polygons (mesh_intersect.h, checkMesh): the exact triangle test
 // against separating axes in integer arithmetic; the box hierarchy against every pair (small
 // meshes) or a sweep over x (large ones) on every shared mesh, with the counts per mesh; the spot

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Mesh readers: expected-failure table over tests/data/malformed, and unit tests of what
 // the OBJ, OFF and PLY (ASCII, binary LE/BE) readers accept: line ends (LF, CRLF, CR),
 // encodings, OBJ line continuation and OFF headers whose counts disagree with the file.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Vertex normals: modes, angle and area weights, planar meshes, file normals, fallbacks;
 // auto honouring the file's normals (per vertex or through face references) and its rule at
 // crease vertices.

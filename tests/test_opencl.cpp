@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Cross-check tests of the OpenCL backend against the CPU backends (construction vs
 // constructPatches(Backend::Tbb), evaluation vs evaluatePatches(Backend::Tbb)), float and
 // double, on real meshes and random irregular polytopes; plus the kernels' OpenCL C 1.2

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Unit and expected-failure tests of the OpenCL layer (host/opencl_context.h): device
 // selection, error messages with the build log, the on-disk program-binary cache.
 // Skipped with the reason when no OpenCL device exists.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Cross-check of the OpenCL refinement (kernels/refine.cl, host/opencl_refine.h) against the
 // CPU PatchRefiner (Newton) on real meshes, double and float: starts from the paper's global
 // query, Eq. 15 crossings, a boundary edge; and a sweep with --backend tbb vs opencl.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The a-priori patch boxes (patch_bounds.h, kernels/gp_bound.h) hold their whole patches: every
 // patch of every mesh in shared/meshes, sampled densely over its domain, in every cross-tangent
 // mode and both precisions on the spot cage; computed from vertices and normals alone, so a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The per-patch certificate (patch_certificate.h) against an independent computation: dense
 // samples of the scalar evaluation (kernels/ in double). The enclosures behind it hold every
 // sampled point of every box (corners, boundary-crossing boxes, triangles to hexagons, folded

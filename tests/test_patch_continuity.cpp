@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The patch surface is continuous inside every face (C0), and so are its first derivatives (C1: no
 // crease), on every bundled mesh. Two causes of tears are fixed and checked here:
 // - a cross-tangent direction that turns over along an edge (design page, Robustness 4): pmp/L.off

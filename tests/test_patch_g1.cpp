@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // G1 across shared edges, measured as the tangent-plane angle arccos|n0.n1| at points
 // 1e-3, 1e-4, 1e-5 inside both domains: a G1 surface's angle shrinks about tenfold per
 // decade; a surface that is only G0 keeps a constant jump.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Unit/property tests of the production patch math (kernels/gp_patch.h through the cache):
 // corner interpolation, boundary = edge curve, cross-tangent end identities, derivatives.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Patches on real meshes from shared/meshes: planes reproduced, float against double,
 // every mesh builds (or is refused with a message), quad-sphere accuracy.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Cross-check: the production patch math (kernels/gp_patch.h, double and float, serial and
 // TBB) against the independent double-precision reference (tests/reference/), on in-code
 // shapes and real meshes, in every cross-tangent mode.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The error band test's hint (PatchSurface::inErrorBand with a patch point near the query): the
 // uniform triangle over a domain point is found from the ring layout (uniformTriangleAt), and a
 // hinted band test gives the BVH query's verdict for every query, with a right or a wrong hint.

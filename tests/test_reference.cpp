@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Property tests of the independent reference patch (tests/reference/) against the design
 // page /work/shared/design/gregory-patch.md: interpolation, boundary curves, cross-tangent
 // identities, exact derivatives, the page's sphere numbers, and G1 across shared edges.

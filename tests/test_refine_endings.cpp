@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // How the refinement ends where the angle test cannot be met. (1) At a fold of a patch: where the
 // nearest patch point lies on a fold line (the patch folds over itself and the Jacobian has rank
 // 1 there), G - HIP is along no normal. Found on pmp/L.off: of 600 global queries (HIPs uniform

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The refinement's 2x2 trust-region subproblem (kernels/gp_refine.h): gp_rf_newton_solve, the
 // direct Newton step where the model is comfortably convex and the step lies in the region,
 // against an independent solve of B s = -g in long double, and bit for bit against

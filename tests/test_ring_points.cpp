@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // visitRingPoints (tessellate.h), the bounded-batch evaluation of the level-L ring points that the
 // sweep's section loop and projection seeds use: every built face is visited once, in order, with
 // the very points tessellatePatches evaluates (the same bits), whatever the batches.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // End-to-end tests of `smoothforce loop` (real clock, real force renderer): report lines,
 // record file, one-line option errors. Skipped while the command is not registered.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Simulated devices: replay interpolation and CSV errors; scripted paths' speed and depth.
 #include <gtest/gtest.h>
 #include <unistd.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The servo loop with the fake clock: step counts, percentiles, deadlines, records, no
 // allocation; the latency histogram; the end-of-run report.
 #include <gtest/gtest.h>

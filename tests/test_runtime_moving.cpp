@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Moving objects: Scene::setPose between steps without rebuilding anything. A moving object
 // gives the force of a still one with the HIP moved the other way, a slow motion in contact
 // gives a continuous force, a fast one does not pop through, and poses published from another

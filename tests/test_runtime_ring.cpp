@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The lock-free SPSC ring: FIFO order, full/empty behaviour, producer/consumer stress.
 #include <gtest/gtest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Unit tests of the safety layer: each rule fires, directly and inside the loop (fake clock).
 #include <gtest/gtest.h>
 

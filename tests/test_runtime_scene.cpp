@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Scene files: parsing, poses, force transforms and sums, errors naming file and JSON path.
 #include <gtest/gtest.h>
 #include <unistd.h>

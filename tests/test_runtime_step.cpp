@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The servo step for a foreign loop (times passed in): statistics, deadlines, the own schedule,
 // records, device status, no allocation; ServoLoop gives the same records as a hand-driven step.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The device-to-world transform: a HIP in device coordinates gives the force of the world HIP
 // it maps to, rotated back (not scaled), for rotated, scaled and offset devices; the scene
 // file's "device" key; scripted devices planned in the world and handed over in device frame.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The UDP device on the loopback address with a sender thread: samples and echoed forces,
 // loss, reordering and duplicates, garbage, the watchdog when the sender stops (fixed-rate and
 // device-paced loops), the device-paced step count, and a real-time read/write path.

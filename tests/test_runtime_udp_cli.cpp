@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // End to end on the loopback address: `smoothforce loop --device udp:127.0.0.1:0` with the
 // Python client (tools/udp_client.py) as the sender process: a normal run through a scene-file
 // device transform, the sender stopping (the watchdog), a device-paced run; option errors.

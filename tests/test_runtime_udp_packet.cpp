@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The network bridge's packets: the documented little-endian byte layout, round trips, and
 // every kind of malformed datagram rejected with its reason.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // SharedGeometry (force/shared_geometry.h) and the scenes that use it: renderers of one cache that
 // share their geometry give the forces of renderers made alone, bit for bit, and a scene's
 // copies of one file share one cache.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # ctest slurm_fake: tools/slurm/sweep_array.sh as four array tasks at once under a faked Slurm
 # environment (--array=1-4: SLURM_ARRAY_TASK_ID 1..4, SLURM_ARRAY_TASK_MIN 1). Task 3 is
 # sent SIGTERM mid-run: it must exit 143 with an incomplete checkpoint, sweep_merge.sh must

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # ctest slurm_real: a real single-node Slurm (Debian slurm-wlm + munge) started on localhost
 # in a scratch directory (its own munge key and socket, its own ports and slurm.conf through
 # SLURM_CONF: nothing under /etc is touched), which runs tools/slurm/sweep_array.sh as an

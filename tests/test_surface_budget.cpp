@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The adaptive tessellation of the patch surface stays within its triangle budget
 // (PatchSurfaceOptions::adaptiveBudget). A tetrahedron whose file normals are axis directions
 // that disagree with its faces bulges every patch (up to 512 face sizes); unbounded, its

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // measureSurfaceFaults (surface_faults.h, issue 10: "the area of folded or overlapping patch
 // surface per mesh"): on every closed shape of the query tests, the verdict of sampled triangles
 // of the global query's uniform tessellation checked against an independent computation, the

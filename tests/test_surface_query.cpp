@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The batch surface query (SurfaceQuery) on every closed mesh of ../shared/meshes and the
 // generated shapes, checked against the dense oracle (its own ray parity and nearest point,
 // independent of the production query): for points pressed in and out along the patch normal

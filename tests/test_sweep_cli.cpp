@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // End-to-end: `smoothforce generate`, `sweep` (sharded and whole) and `sweep-merge`.
 #include <gtest/gtest.h>
 

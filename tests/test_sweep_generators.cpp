@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Generators of test objects with exact normals (torus knot, quad-sphere, torus).
 #include <gtest/gtest.h>
 #include <unistd.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Sweeps with the real force methods (makeForceRenderer) on the generated quad-sphere.
 #include <gtest/gtest.h>
 

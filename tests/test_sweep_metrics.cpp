@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Sweep metrics and helpers: discontinuity on synthetic force fields, percentiles, reference
 // distances, parsers, shards, polylines.
 #include <gtest/gtest.h>

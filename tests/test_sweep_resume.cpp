@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Sweep checkpoints and --resume (issue 13 part 3), with fake renderers: a run stopped at any
 // point and resumed from what it wrote gives the bytes of the uninterrupted run; checkpoints
 // are atomic and self-identifying; trajectory series spread over the shards; sweep-merge

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Sweeps with fake renderers: sampling, the probe protocol, shards, threads, interruption.
 #include <gtest/gtest.h>
 #include <unistd.h>

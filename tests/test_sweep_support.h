@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Shared pieces of the sweep tests: a quad-sphere patch cache and analytic fake renderers.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The sweep's default trajectory (defaultTrajectory): a section of the patch surface on every
 // bundled mesh, flat ones included, and a sweep that runs without one where no section exists.
 #include <gtest/gtest.h>

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Checks the include graph of host/ and runtime/ against the layer table (README
 "Architecture"): every #include <smoothforce/<m>/...> must name the file's own module or one
 it may depend on, quoted includes may name only a private header beside the file or a kernels/

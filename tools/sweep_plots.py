@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Plots of a `smoothforce sweep` output directory (called by the sweep; runs on its own too).
 
 usage: tools/sweep_plots.py OUTDIR

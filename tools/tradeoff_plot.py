@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Plot of the speed/accuracy trade-off study (bench/study_tradeoff.cpp; run by tools/tradeoff).
 
 usage: tools/tradeoff_plot.py OUTDIR

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Plays a HIP trajectory to `smoothforce loop --device udp:...` and records the forces.
 
 Standard library only. Reads a CSV trajectory `t,x,y,z` (seconds, metres in the device

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: Apache-2.0 */
 /* SmoothForce from C: a patch cache from a mesh, a force trace, a foreign-loop servo step.
  * Build: cc example.c -lsmoothforce_capi (or CMake: target_link_libraries(x SmoothForce::capi)).
  * Run:   ./example_c MESH.obj      prints what it did; exit status 1 on any failure. */

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // SmoothForce from C++: a patch cache from a mesh (file and in-memory arrays), a force trace,
 // a foreign-loop servo step. CMake: find_package(SmoothForce) and link SmoothForce::core and
 // SmoothForce::runtime. Run: ./example_cpp MESH.obj   (exit status 1 on any failure)

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """SmoothForce from Python: a patch cache from a mesh (file and NumPy arrays), a force trace,
 a foreign-loop servo step. Run: PYTHONPATH=<build>/python python3 example.py MESH.obj"""
 import sys

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The status bits have one definition per language: status.h for C++ users, gp_config.h for
 // the shared patch math (C++ and OpenCL C). They must agree bit for bit.
 #include <smoothforce/base/status.h>

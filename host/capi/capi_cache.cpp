@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // C API: caches from files or arrays, saving, batch evaluation.
 #include <smoothforce/base/status.h>
 #include <smoothforce/base/thread_limit.h>

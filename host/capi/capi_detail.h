@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Internals of the C API: the handles and the exception-to-status boundary.
 #pragma once
 

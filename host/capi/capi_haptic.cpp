@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // C API: the servo step (renderer + safety + ServoStep on a one-object scene) and traces.
 #include <cmath>
 #include <cstring>

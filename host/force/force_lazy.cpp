@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The patch method's global query on a skeleton cache: faces chosen by their patch boxes,
 // patches built only where they can hold the nearest point (force_tracking_detail.h).
 #include <algorithm>

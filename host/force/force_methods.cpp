@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Parsing and naming of the force methods, and the renderer factory.
 #include <string>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The patch method: Algorithm 1 of Wu et al. over PatchSurface (global query on the patches),
 // PolygonScene (the paper's polygon start) and PatchRefiner (local refinement).
 #include <smoothforce/force/force_tracking.h>

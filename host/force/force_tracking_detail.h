@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private to the force module: the pieces of a patch step shared by the tracker's global
 // queries (force_tracking.cpp on a prebuilt cache, force_lazy.cpp on a skeleton).
 #pragma once

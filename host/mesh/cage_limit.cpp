@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Catmull-Clark limit positions and normals of a cage's vertices (OpenSubdiv Far), and the
 // checks that keep unsupported topology away from OpenSubdiv.
 #include <smoothforce/mesh/cage_limit.h>

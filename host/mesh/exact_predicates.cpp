@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // orient2d / orient3d: Shewchuk's static filter, then exact expansion arithmetic (J. R.
 // Shewchuk, "Adaptive Precision Floating-Point Arithmetic and Fast Robust Geometric
 // Predicates", 1997). The build pins -ffp-contract=off, which the error-free transformations

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The Catmull-Clark limit surface of a cage sampled face by face with OpenSubdiv Bfr, for
 // measuring how far another surface lies from it.
 #include <opensubdiv/bfr/refinerSurfaceFactory.h>

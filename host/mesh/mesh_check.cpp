@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // checkMesh: edges, manifoldness, duplicates, degeneracies, boundary loops, orientation,
 // components, signed volume, intersecting and self-crossing polygons of a polygon mesh; plus
 // face flipping and orientation.

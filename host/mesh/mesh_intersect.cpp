@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Polygons that intersect each other (triangulated, a box hierarchy, an exact triangle test)
 // and polygons whose projected outline crosses itself.
 #include <smoothforce/mesh/mesh_intersect.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // readMesh: reads the file and dispatches to the OBJ, OFF or PLY reader by extension.
 #include <smoothforce/mesh/mesh_io.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Shared helpers for the mesh readers: whole-file input, line and token scanning, strict
 // number parsing, and errors that name `path:line`. Internal to host/mesh_io*.cpp.
 #pragma once

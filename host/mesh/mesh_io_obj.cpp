@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Strict Wavefront OBJ reader: v, vn, f (v, v/vt, v//vn, v/vt/vn; 1-based or negative
 // indices). Other statements (vt, o, g, s, usemtl, mtllib, l, p, unknown) are ignored. A
 // line that ends in a backslash continues on the next line.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Strict ASCII OFF reader: [ST][C][N]OFF header (counts on the same line or the next),
 // one vertex per line, one face per line (`n i0 .. i(n-1)` then optional colour values),
 // `#` comments, blank lines. The edge count is ignored. A header whose counts disagree with

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Strict PLY reader: ascii, binary_little_endian and binary_big_endian 1.0. Reads x y z
 // (and nx ny nz) of `vertex` and the `vertex_indices`/`vertex_index` list of `face`; every
 // other property and element is read past (and checked in ASCII).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Vertex normals: file normals (per vertex or per corner), or angle- / area-weighted
 // averages of Newell face normals.
 #include <smoothforce/mesh/normals.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private to mesh: a cage's topology handed to OpenSubdiv (Far::TopologyDescriptor), with the
 // Sdc options every cage computation shares.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Internal to the OpenCL backends (opencl_backend.cpp, opencl_refine.cpp): program sources
 // from the embedded kernel text, a device with the float and double programs of one kernel
 // file, and buffer helpers. Not part of the public API.

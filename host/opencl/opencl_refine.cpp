@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include <smoothforce/opencl/opencl_refine.h>
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The OpenCL backend's public API in a CPU-only build (SF_WITH_OPENCL=OFF, or no OpenCL
 // found at configure time): openclAvailable() is false and says why; every other entry
 // point throws InputError, so that `--backend opencl` fails with one clear line instead of a

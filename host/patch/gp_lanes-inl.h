@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Lane types for the single-source patch math: kernels/gp_patch.h compiled once more per SIMD
 // target (Google Highway's HWY_NAMESPACE) and precision, with GP_REAL a vector of the
 // target's full width (SSE4: 2 doubles / 4 floats, AVX2: 4 / 8, AVX-512: 8 / 16). Each lane

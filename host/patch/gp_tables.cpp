@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The domain tables of the patch math (kernels/gp_tables.h): one gp_domain per n = 3..GP_MAX_N
 // and precision, filled by the kernels' own formulas once, before main (and at first use,
 // should another static initialiser evaluate a patch first).

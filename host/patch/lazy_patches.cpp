@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Lazy patch construction with a bounded LRU set of faces.
 #include <smoothforce/patch/lazy_patches.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Two-sided distance between a cage's patch surface and its Catmull-Clark limit surface.
 #include <smoothforce/patch/limit_distance.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include <smoothforce/patch/mesh_pipeline.h>
 
 #include <smoothforce/base/error.h>

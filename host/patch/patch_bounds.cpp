@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Boxes of whole patches from their edge records (kernels/gp_bound.h).
 #include <smoothforce/patch/patch_bounds.h>
 

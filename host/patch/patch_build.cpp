@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Patch construction on the CPU (serial and oneTBB).
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The per-patch certificate: the patch math of kernels/ instantiated once more with an
 // interval type (detail/gp_interval.h) and bounded on boxes of the domain.
 #include <smoothforce/patch/patch_certificate.h>

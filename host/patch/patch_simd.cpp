@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include <smoothforce/patch/patch_simd.h>
 
 #include <hwy/targets.h>

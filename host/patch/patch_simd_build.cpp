@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Patch construction on SIMD lanes: faces of one size side by side, one per lane; each lane
 // runs gp_build_patch and gp_patch_quality (the same samples, so the same fold and bulge) as
 // the scalar path does. Compiled once per Highway target; patch_build.cpp dispatches.

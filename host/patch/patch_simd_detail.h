@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Internal: the per-target entry points of the SIMD paths (patch_simd_eval.cpp,
 // patch_simd_build.cpp), looked up by target. Not part of the public API.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Batch evaluation on SIMD lanes: the points of one face side by side, one per lane, its
 // records broadcast once per group (read in place from the field-major cache). Compiled once
 // per Highway target (hwy/foreach_target.h); patch_eval.cpp dispatches.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // writeTriangleMesh (tessellate.h): OBJ with a group per patch, binary or ASCII PLY.
 #include <unistd.h>
 

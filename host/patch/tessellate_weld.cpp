@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // weldPatchSeams (tessellate.h): one connected surface from the per-patch tessellations.
 #include <algorithm>
 #include <numeric>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private to the query module: setting up Embree devices and user-geometry scenes, one ray, and
 // one point query around a point (the user geometries' point-query callbacks do the work and keep
 // their state in `user`).

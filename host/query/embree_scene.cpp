@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The only file that calls Embree. Embree works in float: the user primitives' bounds are
 // padded so that BVH culling stays conservative for the double-precision queries, and the
 // query radius / ray tfar are only ever shrunk to values above the exact double result.

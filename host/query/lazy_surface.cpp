@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A-priori boxes of the patches in an Embree BVH, and boxes of patch cells computed on demand: the
 // face selection of the lazy global query (lazy_surface.h).
 #include <smoothforce/query/lazy_surface.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include <smoothforce/query/mean_value.h>
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Embree BVHs over tessellations of the patches: candidates for the global nearest point (point
 // queries on the adaptive triangles, boxes inflated by their error bounds, our exact
 // double-precision point-triangle distance), the error-band test and the winding number (rays on

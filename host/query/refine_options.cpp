@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Parsing, naming and validation of the refinement options.
 #include <smoothforce/query/refine_options.h>
 

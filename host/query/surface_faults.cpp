@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include <smoothforce/query/surface_faults.h>
 
 #include <tbb/parallel_for.h>

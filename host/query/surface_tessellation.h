@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Tessellations of the patch surface with per-triangle error bounds, for PatchSurface: a
 // uniform one (closed where the surface is, for rays) and an adaptive one (subdivided where the
 // patch bends away from its triangles, for point queries).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Private to the sweep module: JSON text that cannot throw on the bytes of a file name.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // NumPy .npy writer and the per-HIP results_METHOD.npy of a sweep (sweep_outputs.h).
 // Format: https://numpy.org/doc/stable/reference/generated/numpy.lib.format.html (version 1.0).
 #include <tbb/parallel_for.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include <smoothforce/sweep/sweep_opencl.h>
 
 #include <tbb/enumerable_thread_specific.h>

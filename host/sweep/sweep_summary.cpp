@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // writeSweepSummary (sweep_io.h): metrics, summary.json, PLY point clouds, the printed table.
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>

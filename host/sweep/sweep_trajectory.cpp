@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Trajectory helpers of sweep_sampling.h: CSV points, polyline resampling, the default section loop.
 #include <Eigen/Geometry>
 #include <algorithm>

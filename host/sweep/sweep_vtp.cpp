@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Point clouds of one method and depth for viewers (sweep_outputs.h): VTK XML .vtp and PLY.
 #include <algorithm>
 #include <cmath>

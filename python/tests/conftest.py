@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Paths for the pytest suite (ctest sets them; defaults for a run from the source tree)."""
 import os
 import pathlib

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The Python module against the engine's command line (the C++ results) and its own invariants:
 properties over every face and every HIP, counts asserted."""
 import csv

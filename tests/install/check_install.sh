@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Install checks of SmoothForce (tests/install/CMakeLists.txt runs them under ctest):
 #   check_install.sh install   BUILD_DIR PREFIX          cmake --install into a fresh PREFIX, check the tree
 #   check_install.sh cmake     PREFIX CONSUMER_DIR WORK MESH   find_package consumer: configure, build, run

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Independent double-precision reference of the n-sided Gregory patch (tests only).
 // Follows /work/shared/design/gregory-patch.md ("the design page") equation by equation;
 // equation numbers are the paper's, as quoted there. All derivatives are complex-step

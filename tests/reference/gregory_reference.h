@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Independent double-precision reference of the n-sided Gregory patch, for tests only.
 // Written from ../shared/design/gregory-patch.md alone, with Eigen, sharing no code with
 // kernels/gp_patch.h. Derivatives by complex-step differentiation (exact to rounding).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Domain sampling and G1 measurement helpers for reference tests (tests only).
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Small closed polyhedra for reference tests: vertices, CCW-from-outside faces, unit
 // vertex normals. Independent of host/ mesh types on purpose (tests only).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Tiny 3-vector templated on the scalar, for the reference patch (double or
 // std::complex<double> for complex-step derivatives). Deliberately not Eigen: Eigen's dot()
 // conjugates its first complex argument, which would break the complex step.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Shared pieces of the `smoothforce` subcommands: patch options, loading MESH|CACHE, backends.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The command line's contract for scripts: exit statuses, usage errors, and SIGINT/SIGTERM,
 // handled alike by every subcommand (README "Exit status and output").
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "cli_output.h"
 
 #include <smoothforce/base/staged_output.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Where a command's results go: files written atomically, `-` for standard output, the
 // report on stdout unless stdout carries the data; JSON reports.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `smoothforce cache build|info`
 #include <chrono>
 #include <cstdio>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `smoothforce eval MESH|CACHE --points IN.csv -o OUT.csv`
 #include <cmath>
 #include <cstdio>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `smoothforce export MESH|CACHE --level L -o OUT.obj|OUT.ply [--ascii] [--no-weld]`: the patches
 // tessellated, welded along shared edges into one surface (tessellate.h).
 #include <cstdio>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `smoothforce generate torus-knot|sphere|torus -o OUT.obj`
 #include "cmd_generate.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `smoothforce generate torus-knot|sphere|torus`: test objects with exact normals.
 #pragma once
 

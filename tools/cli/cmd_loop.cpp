@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `smoothforce loop (--scene S | --cache C | --mesh M) --method M --device D ...`
 #include "cmd_loop.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `smoothforce loop`: the real-time servo loop (runtime/) on a scene, a patch cache or a mesh.
 #pragma once
 

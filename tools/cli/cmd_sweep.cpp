@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `smoothforce sweep (--cache C | --mesh M) --depth D[,D...] ... -o OUTDIR` and
 // `smoothforce sweep-merge DIR... -o OUTDIR`.
 #include "cmd_sweep.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `smoothforce sweep` and `smoothforce sweep-merge`: offset-surface force sweeps (issue 5).
 #pragma once
 

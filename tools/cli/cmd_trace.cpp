@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `smoothforce trace (--cache C | --mesh M) --method M --hips IN.csv -o OUT.csv`
 #include "cmd_trace.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `smoothforce trace`: stateful force rendering over a recorded HIP sequence.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // smoothforce: command line of the SmoothForce engine. Exit status: 0 success, 1 bad input,
 // 2 usage, 3 a safety fault in `loop`, 130/143 interrupted by SIGINT/SIGTERM (cli_exit.h).
 #include <cstdio>

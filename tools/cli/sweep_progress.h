@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Progress of long sweeps on stderr: a bar redrawn in place (count, rate, time left) when
 // stderr is a terminal, else one line every `lineInterval` seconds, so that job logs (Slurm,
 // CI, nohup) show how far a run is. Debian packages no progress-bar library (apt-cache

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Sweep outputs for people: the table on stdout, matplotlib plots (tools/sweep_plots.py) and
 // OUTDIR/index.html.
 #pragma once

@@ -1,4 +1,5 @@
 #!/bin/bash
+# SPDX-License-Identifier: Apache-2.0
 # Submits a sharded sweep: N array tasks (sweep_array.sh) and the merge (sweep_merge.sh) that
 # runs only when every task succeeded (afterok). Prints the two job ids.
 #

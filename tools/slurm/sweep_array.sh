@@ -1,4 +1,5 @@
 #!/bin/bash
+# SPDX-License-Identifier: Apache-2.0
 # One shard of a `smoothforce sweep` per Slurm array task, resumable (docs/sweeps.md):
 #
 #   sbatch --array=1-32 tools/slurm/sweep_array.sh OUTDIR SWEEP_OPTIONS...

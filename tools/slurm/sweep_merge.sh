@@ -1,4 +1,5 @@
 #!/bin/bash
+# SPDX-License-Identifier: Apache-2.0
 # Joins the shards of tools/slurm/sweep_array.sh into OUTDIR/merged (summary, plots, index.html):
 #
 #   sbatch --dependency=afterok:ARRAY_JOB_ID tools/slurm/sweep_merge.sh OUTDIR [--no-plots]

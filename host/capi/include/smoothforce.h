@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 /* SmoothForce C API: patch caches and a servo step behind opaque handles (issue 12 part 5).
  *
  * Plain C (C99 and later; C++ too). Link SmoothForce::capi (CMake) or -lsmoothforce_capi.
@@ -69,7 +70,7 @@ typedef struct sf_cache sf_cache;
 /** A force renderer with the safety layer and the servo step (one object at a pose). */
 typedef struct sf_haptic sf_haptic;
 
-/** "0.3.1": the library's version. */
+/** "0.4.0": the library's version. */
 const char* sf_version(void);
 /** Name of a status code ("SF_ERROR_INPUT"). */
 const char* sf_status_name(sf_status status);

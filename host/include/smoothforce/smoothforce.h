@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // SmoothForce core: every public header of base, mesh, patch, query, force and opencl
 // (link SmoothForce::core). The device loop is SmoothForce::runtime
 // (<smoothforce/runtime/...>), sweeps SmoothForce::sweep (<smoothforce/sweep/...>).

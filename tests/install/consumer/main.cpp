@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A program outside the SmoothForce tree, built against the installed package (CMake
 // find_package or pkg-config): builds the patch cache of a mesh file, checks that a patch
 // corner interpolates its vertex (Eq. 1-5), then runs force steps that press a HIP into the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Analytic force fields behind the ForceRenderer interface: for tests, benchmarks and for
 // exercising devices and the loop without patches.
 #pragma once

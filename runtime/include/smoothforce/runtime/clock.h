@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Clocks for the servo loop: the real monotonic clock (sleep, then spin), a fake clock for
 // deterministic tests, and a fast-forward clock for overhead benchmarks.
 #pragma once

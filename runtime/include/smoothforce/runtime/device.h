@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The haptic device interface and the simulated devices (null, scripted paths, replay).
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Where the device's workspace sits in the scene: the device-to-world similarity.
 #pragma once
 

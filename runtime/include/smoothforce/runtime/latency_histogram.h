@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A fixed-size log-linear histogram of durations, for percentiles of the servo loop.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The end-of-run report of the servo loop.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A similarity transform (uniform scale, rotation, translation): object and device poses.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The writer thread that drains the loop's step records into a CSV file.
 #pragma once
 

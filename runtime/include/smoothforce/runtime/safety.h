@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The safety layer between the force renderer and the device.
 #pragma once
 

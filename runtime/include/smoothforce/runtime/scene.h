@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A scene: several posed objects, each with its own force renderer; forces are summed.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Scripted device paths computed from a scene's base polygons, and the --device factory.
 #pragma once
 

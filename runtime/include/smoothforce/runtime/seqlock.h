@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A latest-value mailbox between threads (seqlock): the writer never waits for readers, and
 // the real-time reader never waits at all.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The servo loop: device -> ServoStep (renderer, safety, statistics, records) -> device, on
 // absolute deadlines (fixed rate) or one step per device sample (device-paced).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // One servo tick as an object: render, safety, deadline and step-time statistics, records.
 // For host applications whose own 1 kHz callback drives the device (OpenHaptics HD scheduler,
 // CHAI3D haptic thread, HAPI, ros2_control update()), and the core of ServoLoop.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `udp:[HOST:]PORT`: a haptic device in another process, over UDP (the network bridge).
 #pragma once
 

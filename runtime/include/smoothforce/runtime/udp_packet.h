@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The network bridge's packet format, version 1: HIP packets in, FORCE packets out.
 // Little-endian, serialised byte by byte (no struct is sent as it lies in memory).
 #pragma once

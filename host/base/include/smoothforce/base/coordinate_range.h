@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The coordinate range of positions the library takes (mesh vertices, HIPs, trajectory points).
 #pragma once
 

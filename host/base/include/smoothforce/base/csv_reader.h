@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The one strict reader for numeric CSV inputs (query points, HIP sequences, trajectories,
 // replay files): every command reads its CSV through it, so they all accept the same files.
 #pragma once

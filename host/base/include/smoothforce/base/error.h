@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Errors of SmoothForce: InputError for bad user input, and CHECK-style macros for
 // invariants (programming errors) that print both operands.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Content hashes (xxHash XXH64) for cache provenance and checksums.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Outputs are written beside their path and renamed into place, so that a failed write (a full
 // disk) leaves no partial file; but an existing path that is not a regular file (/dev/null, a
 // FIFO, a terminal) is written in place: renaming over it would replace the device with a file

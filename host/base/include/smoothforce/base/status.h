@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Status bits of SmoothForce, in one place: the SF_ST_* bits of patch construction and
 // evaluation (PatchCache::faceStatus, PatchPoint::status), and the SF_TRACK_* bits that
 // refinement and every force method add (RefineResult::status, ForceSample::status).

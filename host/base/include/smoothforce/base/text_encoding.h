@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Text files this project reads (meshes, CSVs) must be ASCII or UTF-8.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Worker-thread limits given by users (options of the C API, Python, the command line).
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Force rendering methods and the stateful contact tracker interface (paper Section 4).
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Contact tracking on the Gregory patches (paper Algorithm 1). The SF_TRACK_* status bits
 // that every force method adds to ForceSample::status are in base/status.h (included here).
 #pragma once

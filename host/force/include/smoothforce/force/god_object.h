@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The two baselines on the base polygons: the god-object of Zilles & Salisbury (1995)
 // (`direct`) and force shading on the same proxy (`shading`, Morgenbesser & Srinivasan 1996).
 #pragma once

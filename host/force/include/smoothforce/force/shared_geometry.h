@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The geometry of one cache shared by the renderers made from it: the objects of a scene that
 // use one mesh.
 #pragma once

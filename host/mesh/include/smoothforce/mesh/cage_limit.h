@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Subdivision cages: a polygon mesh read as a Catmull-Clark control cage, its vertices moved to
 // their limit positions with limit normals, and its limit surface sampled for measurements.
 // Computed with OpenSubdiv 3.5 (Far::TopologyRefiner, Far::PrimvarRefiner::Limit, Bfr::Surface).

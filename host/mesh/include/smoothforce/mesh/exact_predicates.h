@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Exact orientation predicates on double coordinates: a floating-point filter (Shewchuk's
 // static error bounds) and, where it cannot decide, exact expansion arithmetic.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Polygon meshes as read from file: n-gons kept as they are, numbered in file order.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Topology and sanity report for a polygon mesh (non-manifold edges, duplicates, ...), and
 // what its polygons themselves allow: intersections between them, outlines crossing themselves.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Polygons that intersect other polygons of the mesh, and polygons whose own outline crosses
 // itself: what the input itself allows a surface through its vertices to be.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Mesh readers: OBJ, OFF, PLY (ASCII, binary little- and big-endian).
 #pragma once
 

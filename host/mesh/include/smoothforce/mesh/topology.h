@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Edge adjacency between faces, per corner slot.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // OpenCL backend: patch construction and batch evaluation on an OpenCL device, with the
 // same single-source math (kernels/gp_patch.h) as the CPU backends.
 //

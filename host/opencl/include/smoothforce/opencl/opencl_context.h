@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Thin RAII layer over the Khronos C++ bindings (CL/opencl.hpp): device selection, context,
 // in-order profiling queue, program build with an on-disk binary cache, and errors that
 // name the call, the error code and (for builds) the full build log.

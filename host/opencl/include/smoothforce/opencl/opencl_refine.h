@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Nearest-point refinement on the patches (paper Section 4.2, Eq. 15 transitions) for a batch
 // of HIPs at once on an OpenCL device: kernels/refine.cl runs gp_refine_newton
 // (kernels/gp_refine.h), the Newton variant of PatchRefiner (patch_refine.h), one work-item

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The patch cache file: versioned header, provenance hashes, checksummed payload.
 #pragma once
 

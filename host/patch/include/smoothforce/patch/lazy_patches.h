@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Patches built on demand near the contact point, kept in a bounded least-recently-used set.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // How far a cage's patch surface lies from the cage's Catmull-Clark limit surface.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // In-memory input: a polygon mesh given as arrays, checked and reported as a mesh file is.
 #pragma once
 

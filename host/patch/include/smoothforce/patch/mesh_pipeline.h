@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // From a mesh file to a patch cache: read, check, orient, normals, construct.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Patch construction on the CPU with options: backend, threads and SIMD target.
 #pragma once
 

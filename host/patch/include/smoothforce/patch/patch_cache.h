@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The patch cache: a whole mesh's Gregory patches as struct-of-arrays, ready to evaluate.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A per-patch certificate: a proof, from interval bounds of the exact derivatives, that a
 // Gregory patch is regular and never turns over against its polygon.
 #pragma once

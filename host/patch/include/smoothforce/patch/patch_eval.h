@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Evaluating cached patches: one point, or batches on the CPU.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Options shared by patch construction, evaluation and the command line.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // SIMD instruction sets of the CPU paths (evaluation, construction), chosen at run time.
 //
 // The build targets generic x86-64; the patch math of kernels/ is compiled once more per

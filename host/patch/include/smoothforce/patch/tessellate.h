@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Tessellating patches into triangles for viewing (MeshLab, ParaView, Blender).
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Global queries on the base polygons with Embree 3 (paper 4.1, step 1): nearest point and
 // first segment crossing. One user-geometry primitive per polygon; the distances and the
 // crossings are computed in double by our own exact callbacks (polygon_facets.h), Embree

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The global contact query on the patch surface (Algorithm 1, lines 1-3): the nearest patch
 // point to a HIP over every patch that can hold it, and whether the HIP is inside the surface.
 // One definition for every caller: the patch method's tracker (force/), the sweep's probers on

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Mean value coordinates on n-gons, and the map from a polygon point to its patch's domain
 // point (design page, "Polygon point -> domain point"; paper Section 4.1, step 3).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Local nearest-point refinement on the patches (paper Section 4.2), crossing patch
 // boundaries by Eq. 15 (design page, "Leaving the domain").
 #pragma once

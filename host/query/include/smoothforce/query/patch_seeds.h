@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Starting points for nearest-point refinement from a coarse tessellation of the patches
 // (sweep projection, tests).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The patch surface as triangle BVHs (Embree): tessellations of every built patch with bounds
 // on their distance from the patches, for the global nearest-point query (candidates and
 // starting points for refinement) and the inside test (winding number) of Algorithm 1, line 3.

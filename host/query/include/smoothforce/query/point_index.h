@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // k-nearest-neighbour queries on 3-D point sets (nanoflann k-d tree), for force sweeps.
 #pragma once
 

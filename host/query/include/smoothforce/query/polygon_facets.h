@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The base polygons as planar pieces ("facets") with exact double-precision point and
 // segment queries: what the Embree scene, the god-object and the MVC mapping share.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Options of the SCP refinement on the patches (paper Section 4.2), shared by the CPU
 // refiner (patch_refine.h), the OpenCL refiner and the force methods (ForceOptions).
 #pragma once

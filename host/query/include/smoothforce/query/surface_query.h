@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The stateless contact query as a batch service: for N points, the signed distance to the
 // patch surface, the nearest surface point with its normal, face and domain coordinates.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Test-object generators with exact normals: torus knot tube, quad-sphere, torus.
 // Their offset surfaces are known exactly, so force sweeps can measure accuracy against them.
 #pragma once

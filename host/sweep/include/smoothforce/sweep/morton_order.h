@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The order of a point set along a Morton (Z-order) curve: points close in space come close in
 // the order, so that queries run in it touch the same parts of a BVH or k-d tree in turn.
 #pragma once

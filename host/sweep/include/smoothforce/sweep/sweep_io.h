@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Sweep results on disk: per-HIP files that shards write and sweep-merge joins, and the
 // summary (summary.json, PLY point clouds, the printed table) computed from them.
 #pragma once

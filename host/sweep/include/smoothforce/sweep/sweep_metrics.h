@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Sweep metrics: force-direction discontinuity over nearest HIP neighbours, consecutive force
 // differences along trajectories, percentiles.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Sweep probes of the patch method with the refinement on an OpenCL device (issue 5):
 // `smoothforce sweep --backend opencl`.
 #pragma once

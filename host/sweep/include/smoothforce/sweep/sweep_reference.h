@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Reference surfaces for sweep accuracy: analytic (sphere, torus, torus-knot tube) or a dense
 // triangle mesh (unsigned distance through a uniform grid).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A whole sweep (or one shard of it): HIPs, probes per method, trajectories -> SweepData.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Haptic interface points (HIPs) for force sweeps: surface samples uniform by area, depths,
 // HIP files, and the nearest patch point of arbitrary points (trajectories, HIP files).
 #pragma once

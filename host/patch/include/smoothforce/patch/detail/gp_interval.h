@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Enclosure types that stand in for GP_REAL, so that the single-source patch math
 // (kernels/gp_patch.h) evaluated on a box of domain points encloses every value it takes
 // there: the patch certificate (patch_certificate.h) bounds the patch's derivatives with them.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // C++ instantiations of the single-source patch math (kernels/gp_patch.h, gp_refine.h):
 // sf::gpf (float) and sf::gpd (double). Both share the layout macros of gp_config.h.
 // The domain tables (kernels/gp_tables.h) are filled once, on first use (gp_tables.cpp).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Picks the float or double instantiation of the shared patch math by type.
 #pragma once
 

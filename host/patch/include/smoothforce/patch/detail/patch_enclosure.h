@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The enclosure behind the patch certificate, for tests: bounds of a patch's position and
 // exact first derivatives over a box of its domain (patch_certificate.cpp).
 #pragma once
