@@ -205,7 +205,7 @@ TEST_F(ForcePresetCli, ExplicitOptionsOverrideThePreset) {
   EXPECT_EQ(maxCapped, 1);
 }
 
-// README "Speed against accuracy", "Checked bounds": on spot, against a converged double
+// docs/results.md "Speed against accuracy", "Checked bounds": on spot, against a converged double
 // reference from the global query on the built cache, with SCP errors over the bounding diagonal and
 // force-direction errors in degrees: failures (no contact, or an SCP error above 1e-3: another
 // local minimum) at most 3% of the HIPs; of the rest, fast: median SCP error <= 1e-5 and max

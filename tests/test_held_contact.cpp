@@ -13,7 +13,7 @@
 // by ProbeInsideTest, from the winding number) lies within 3 times the HIP's distance to it: the
 // lazy path has no winding number and goes by the side of its nearest point. On open meshes the
 // two differ too (146 of 3,600 HIPs on six meshes with folded faces; a folded planar patch gives
-// ties between coincident sheets of opposite sides: README, "The contact query"), counted, not
+// ties between coincident sheets of opposite sides: docs/design.md, "The contact query"), counted, not
 // asserted.
 #include <gtest/gtest.h>
 

@@ -100,7 +100,7 @@ TEST(RuntimeTransform, DeviceHipGivesTheWorldForceRotatedBack) {
         // that apart, times 1 / (1 - depth x curvature) where the slide runs deep under a curved
         // part (forceTol allows 20x in all, 2.8e-6 N of forces of ~5 N; a transform error
         // shows as newtons). One that stopped at the iteration cap
-        // (Newton crawling; README "Speed against accuracy") stops wherever the cap falls, and
+        // (Newton crawling; docs/results.md "Speed against accuracy") stops wherever the cap falls, and
         // rounding-level input differences move that point: counted, not compared, and both
         // trackers restart from a global query so that the difference does not carry on.
         const uint32_t capped = sf::SF_TRACK_MAX_ITER | sf::SF_TRACK_STALLED;

@@ -316,7 +316,7 @@ TEST_F(SweepMissed, MissedContactsLieWithinReachOfSurfaceFaults) {
     EXPECT_EQ(marked, missed);
     EXPECT_EQ(summed, missed);
     EXPECT_EQ(confirmed, missed);
-    if (shape == "keenan_crane/spot_control_mesh.obj") {  // 76 of 60,000 in the README's run
+    if (shape == "keenan_crane/spot_control_mesh.obj") {  // 76 of 60,000 in the run of docs/results.md
       EXPECT_GT(missed, 10u);
     } else {
       EXPECT_EQ(missed, 0u);

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: Apache-2.0
-"""Checks the include graph of host/ and runtime/ against the layer table (README
+"""Checks the include graph of host/ and runtime/ against the layer table (docs/design.md
 "Architecture"): every #include <smoothforce/<m>/...> must name the file's own module or one
 it may depend on, quoted includes may name only a private header beside the file or a kernels/
 header, and the file-level include graph must have no cycle. Library code never uses
@@ -13,7 +13,7 @@ import os
 import re
 import sys
 
-# module -> modules it may include (directly or not); the README's layer table.
+# module -> modules it may include (directly or not); the layer table of docs/design.md.
 ALLOWED = {
     "base": set(),
     "mesh": {"base"},
@@ -87,7 +87,7 @@ def main():
             if target != mod:
                 edges[(mod, target)] = edges.get((mod, target), 0) + 1
                 if target not in ALLOWED[mod]:
-                    errors.append(f"{where}: {mod} may not include {target} (layer order, README)")
+                    errors.append(f"{where}: {mod} may not include {target} (layer order, docs/design.md)")
 
     # cycles in the file graph (iterative DFS)
     state = {}

@@ -28,7 +28,7 @@ MARKERS = {("double", "newton"): ("tab:blue", "o"), ("float", "newton"): ("tab:c
 
 
 def label(r):
-    """A short name of a configuration, as used in the README tables."""
+    """A short name of a configuration, as used in the tables of docs/results.md."""
     if r["part"] == "eval":
         return f'{r["precision"]} {r["cross_tangent"]}'
     fails = int(r["missed"]) + int(r["far"])

@@ -6,7 +6,7 @@ Standard library only. Reads a CSV trajectory `t,x,y,z` (seconds, metres in the 
 frame; an optional header line, blank lines and lines starting with '#' are skipped; times
 strictly increasing), samples it at --rate Hz with linear interpolation (the first and last
 positions held outside it), and sends one HIP packet per sample (protocol version 1, see
-README "Real devices: the network bridge"). Meanwhile it receives the loop's FORCE packets
+docs/guide.md "Real devices: the network bridge"). Meanwhile it receives the loop's FORCE packets
 and writes them to --out as CSV:
 
     seq,sent_t,recv_t,x,y,z,loop_t,fx,fy,fz,status,fault

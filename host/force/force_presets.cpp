@@ -4,7 +4,7 @@
 namespace sf {
 
 const std::vector<ForcePreset>& forcePresets() {
-  // From the Pareto front of the trade-off study (README "Speed against accuracy"): fast = the
+  // From the Pareto front of the trade-off study (docs/results.md "Speed against accuracy"): fast = the
   // fastest point of the front; balanced = the fastest point whose max SCP error is below 1e-5
   // of the bounding diagonal; accurate = the point with the smallest median error.
   static const std::vector<ForcePreset> presets = {

@@ -49,7 +49,7 @@ Precision RefineArgs::precision(Precision given) const {
 void addRefineArgs(CLI::App& cmd, RefineArgs& a) {
   cmd.add_option("--preset", a.preset,
                  "fast|balanced|accurate: refinement options (and the precision of patches built now) from the "
-                 "trade-off study, README 'Speed against accuracy'; explicit options override it")
+                 "trade-off study, docs/results.md 'Speed against accuracy'; explicit options override it")
       ->check(
           [](const std::string& v) {
             return v.empty() ? std::string("expected fast, balanced or accurate, got ''") : "";
@@ -78,7 +78,7 @@ void addRefineArgs(CLI::App& cmd, RefineArgs& a) {
   a.finalStepOpt = cmd.add_option("--final-step", a.finalStep,
                                    "evaluated|model: the Newton refinement's converging step ends on an evaluation of "
                                    "the patch, or on its quadratic model (one evaluation fewer per tracking step; "
-                                   "README 'Speed against accuracy')")
+                                   "docs/results.md 'Speed against accuracy')")
                        ->check(CLI::IsMember({"evaluated", "model"}))
                        ->capture_default_str();
   a.precisionOpt = cmd.get_option_no_throw("--precision");

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // The command line's contract for scripts: exit statuses, usage errors, and SIGINT/SIGTERM,
-// handled alike by every subcommand (README "Exit status and output").
+// handled alike by every subcommand (docs/guide.md "Scripts: exit status, output, JSON").
 #pragma once
 
 #include <atomic>

@@ -91,7 +91,7 @@ nlohmann::ordered_json udpJson(const rt::UdpDevice& udp) {
           {"send_errors", c.sendErrors}};
 }
 
-/// The report of `loop --json` (keys documented in README "Exit status and output"; with a udp
+/// The report of `loop --json` (keys documented in docs/guide.md "Scripts: exit status, output, JSON"; with a udp
 /// device also "udp": udpJson's counters).
 nlohmann::ordered_json loopJson(const rt::Scene& scene, const rt::HapticDevice& device, const LoopArgs& a,
                                 const rt::LoopStats& s, const rt::SafetyCounters& c, long long written, int status) {

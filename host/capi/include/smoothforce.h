@@ -166,7 +166,7 @@ typedef struct sf_haptic_options {
   double rate;           /**< nominal servo rate, Hz (default 1000): deadlines of sf_haptic_step */
   const char* final_step; /**< patch method: "evaluated" (default, NULL) or "model": the Newton
                                refinement's converging step ends on its quadratic model, one patch
-                               evaluation fewer per tracking step (README "The model final step";
+                               evaluation fewer per tracking step (docs/design.md "The model final step";
                                since 0.2.0) */
 } sf_haptic_options;
 void sf_haptic_options_init(sf_haptic_options* options);

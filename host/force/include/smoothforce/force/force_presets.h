@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // Named speed/accuracy presets of the patch method (`--preset fast|balanced|accurate`),
-// chosen from the Pareto front of the trade-off study (bench/study_tradeoff.cpp; README,
+// chosen from the Pareto front of the trade-off study (bench/study_tradeoff.cpp; docs/results.md,
 // "Speed against accuracy", which lists each preset's measured time and error).
 #pragma once
 

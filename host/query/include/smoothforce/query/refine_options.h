@@ -24,7 +24,7 @@ enum class InitialGuess { Surface, Polygon };
 /// point, its derivatives and normal come from the quadratic model there (G + J s + s^T H s / 2,
 /// J + H s; kernels/gp_refine.h, GP_RF_MODEL_STEP) and carry SF_ST_MODEL_POINT: one patch
 /// evaluation fewer per tracking step, at a model error far below the stopping tolerances
-/// (README "Speed against accuracy": measured bounds). Model needs RefineMethod::Newton.
+/// (docs/results.md "Speed against accuracy": measured bounds). Model needs RefineMethod::Newton.
 enum class FinalStep { Evaluated, Model };
 
 /// Parsers throw InputError naming the value; toString gives the option spelling
