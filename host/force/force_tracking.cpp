@@ -86,24 +86,42 @@ void finishGlobalStep(const PatchSurface& surface, const Eigen::Vector3d& hip, c
 /// global query on the surface decides, as at an out-of-contact step (no patch work where the
 /// HIP is outside the closed surface beyond every error band); inside, the contact holds at the
 /// query's SCP (no SF_TRACK_LEAVE or SF_TRACK_ENTER), outside it ends.
-void leaveOrHold(const PatchSurface& surface, PatchRefiner& refiner, const Eigen::Vector3d& hip, const RefineResult& r,
-                 const ForceOptions& options, PatchContactState& state, ForceSample& s, PatchStepHint* next) noexcept {
-  const bool from = usableRefinement(r);
+/// The global query at `hip` from a tracking step's refinement r (leaveOrHold, insideAfterJump):
+/// r, where usable, hints insideByWinding's band test and is the candidate search's first
+/// refinement (its seed). windingVerdict() runs the band test (SF_TRACK_GLOBAL in s), nearest()
+/// the candidate search bounded by what the band test found.
+struct GlobalQueryFrom {
+  const PatchSurface& surface;
+  const Eigen::Vector3d& hip;
+  const RefineResult& r;
+  bool from = usableRefinement(r);
   double reach = std::numeric_limits<double>::infinity();
   int reachFace = -1;
-  const int verdict = insideByWinding(surface, hip, &reach, &reachFace, from ? r.face : -1,
-                                      Eigen::Vector2d(r.xi, r.eta), from ? r.scp : Eigen::Vector3d::Constant(NAN));
-  s.status |= SF_TRACK_GLOBAL;
+
+  int windingVerdict(ForceSample& s) noexcept {
+    s.status |= SF_TRACK_GLOBAL;
+    return insideByWinding(surface, hip, &reach, &reachFace, from ? r.face : -1, Eigen::Vector2d(r.xi, r.eta),
+                           from ? r.scp : Eigen::Vector3d::Constant(NAN));
+  }
+  PatchNearest nearest(PatchRefiner& refiner, const ForceOptions& options) const noexcept {
+    SurfaceCandidate start;
+    start.face = r.face;
+    start.X = Eigen::Vector2d(r.xi, r.eta);
+    return nearestOnPatches(surface, refiner, hip, options, from ? &r : nullptr, reach, from ? &start : nullptr,
+                            reachFace);
+  }
+};
+
+void leaveOrHold(const PatchSurface& surface, PatchRefiner& refiner, const Eigen::Vector3d& hip, const RefineResult& r,
+                 const ForceOptions& options, PatchContactState& state, ForceSample& s, PatchStepHint* next) noexcept {
+  GlobalQueryFrom g{surface, hip, r};
+  const int verdict = g.windingVerdict(s);
   if (verdict == 0) {
     rememberIn(next, r);
     setContact(false, r, hip, options, state, s);
     return;
   }
-  SurfaceCandidate start;
-  start.face = r.face;
-  start.X = Eigen::Vector2d(r.xi, r.eta);
-  const PatchNearest q =
-      nearestOnPatches(surface, refiner, hip, options, from ? &r : nullptr, reach, from ? &start : nullptr, reachFace);
+  const PatchNearest q = g.nearest(refiner, options);
   finishGlobalStep(surface, hip, q, options, state, s, verdict);
   rememberIn(next, q.nearest);
 }
@@ -113,19 +131,10 @@ void leaveOrHold(const PatchSurface& surface, PatchRefiner& refiner, const Eigen
 /// (insideByWinding beyond the error bands, else nearestOnPatches from r and insidePatchSurface).
 bool insideAfterJump(const PatchSurface& surface, PatchRefiner& refiner, const Eigen::Vector3d& hip,
                      const RefineResult& r, const ForceOptions& options, ForceSample& s) noexcept {
-  const bool from = usableRefinement(r);
-  double reach = std::numeric_limits<double>::infinity();
-  int reachFace = -1;
-  const int verdict = insideByWinding(surface, hip, &reach, &reachFace, from ? r.face : -1,
-                                      Eigen::Vector2d(r.xi, r.eta), from ? r.scp : Eigen::Vector3d::Constant(NAN));
-  s.status |= SF_TRACK_GLOBAL;
+  GlobalQueryFrom g{surface, hip, r};
+  const int verdict = g.windingVerdict(s);
   if (verdict >= 0) return verdict == 1;
-  SurfaceCandidate start;
-  start.face = r.face;
-  start.X = Eigen::Vector2d(r.xi, r.eta);
-  const PatchNearest q =
-      nearestOnPatches(surface, refiner, hip, options, from ? &r : nullptr, reach, from ? &start : nullptr, reachFace);
-  return insidePatchSurface(surface, hip, q, nullptr, verdict);
+  return insidePatchSurface(surface, hip, g.nearest(refiner, options), nullptr, verdict);
 }
 
 class PatchTracker final : public ForceRenderer {
