@@ -68,16 +68,6 @@ const MeshReport& polygons(sf_cache& h) {
   return *h.polygons;
 }
 
-template <class F>
-sf_status create(sf_cache** out, F&& make) noexcept {
-  if (!out) {
-    lastError() = "out: NULL";
-    return SF_ERROR_ARGUMENT;
-  }
-  *out = nullptr;
-  return guarded(lastError(), [&] { *out = make(); });
-}
-
 }  // namespace
 }  // namespace sf::capi
 

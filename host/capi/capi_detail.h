@@ -75,6 +75,19 @@ sf_status guarded(std::string& message, F&& f) noexcept {
   }
 }
 
+/// A create function's boundary: NULL `out` is SF_ERROR_ARGUMENT; *out is NULL until make()
+/// returns the new handle (an owning T*); its exception is a status, with the message in the
+/// thread's lastError().
+template <class T, class F>
+sf_status create(T** out, F&& make) noexcept {
+  if (!out) {
+    lastError() = "out: NULL";
+    return SF_ERROR_ARGUMENT;
+  }
+  *out = nullptr;
+  return guarded(lastError(), [&] { *out = make(); });
+}
+
 /// A string option: the default when NULL.
 inline std::string opt(const char* s, const char* fallback) { return s ? std::string(s) : std::string(fallback); }
 

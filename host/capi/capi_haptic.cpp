@@ -100,12 +100,7 @@ void sf_haptic_options_init(sf_haptic_options* o) {
 }
 
 sf_status sf_haptic_create(sf_cache* cache, const sf_haptic_options* options, sf_haptic** out) {
-  if (!out) {
-    lastError() = "out: NULL";
-    return SF_ERROR_ARGUMENT;
-  }
-  *out = nullptr;
-  return guarded(lastError(), [&] {
+  return create(out, [&] {
     if (!cache) throw std::invalid_argument("cache: NULL");
     const sf_haptic_options o = defaults(options);
     ForceMethod method{};
@@ -125,7 +120,7 @@ sf_status sf_haptic_create(sf_cache* cache, const sf_haptic_options* options, sf
                                      });
     h->safety = std::make_unique<rt::SafetyFilter>(so);
     h->step = std::make_unique<rt::ServoStep>(h->scene, *h->safety, step);
-    *out = h.release();
+    return h.release();
   });
 }
 
@@ -187,19 +182,14 @@ sf_status sf_cache_trace(sf_cache* cache, const sf_haptic_options* options, size
 }
 
 sf_status sf_surface_create(sf_cache* cache, const sf_haptic_options* options, sf_surface** out) {
-  if (!out) {
-    lastError() = "out: NULL";
-    return SF_ERROR_ARGUMENT;
-  }
-  *out = nullptr;
-  return guarded(lastError(), [&] {
+  return create(out, [&] {
     if (!cache) throw std::invalid_argument("cache: NULL");
     const sf_haptic_options o = defaults(options);
     ForceMethod method{};
     const ForceOptions force = forceOptions(o, &method);
     auto s = std::make_unique<sf_surface>();
     s->query = std::make_unique<SurfaceQuery>(cache->cache, force);
-    *out = s.release();
+    return s.release();
   });
 }
 
