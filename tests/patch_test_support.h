@@ -49,6 +49,16 @@ inline PatchCache cacheFromFile(const std::string& path, CrossTangentMode mode =
   return buildPatchCache(loadMesh(path, o), o, Backend::Tbb);
 }
 
+/// A built cache as a skeleton of itself: the same mesh, normals and options, no patch data and
+/// no status (lazy construction builds the patches, lazy_patches.h).
+inline PatchCache skeletonOf(const PatchCache& built) {
+  PatchCache s = built;
+  s.edgeDataD.clear();
+  s.edgeDataF.clear();
+  std::fill(s.faceStatus.begin(), s.faceStatus.end(), 0u);
+  return s;
+}
+
 /// The same mesh as a skeleton (no patch built; lazy construction, lazy_patches.h).
 inline PatchCache skeletonFromFile(const std::string& path, Precision precision = Precision::Double) {
   PatchOptions o;

@@ -20,6 +20,7 @@
 #include <smoothforce/force/force_tracking.h>
 #include <smoothforce/query/embree_scene.h>
 #include <smoothforce/sweep/sweep_sampling.h>
+#include "patch_test_support.h"
 #include "query_test_support.h"
 
 namespace sf {
@@ -29,14 +30,7 @@ class ForceJump : public ::testing::TestWithParam<std::string> {};
 
 void checkJumps(const std::string& shape, bool lazy) {
   const auto cache = test::closedShapeCache(shape);
-  std::shared_ptr<const PatchCache> skeleton;
-  if (lazy) {
-    PatchCache s = *cache;
-    s.edgeDataD.clear();
-    s.edgeDataF.clear();
-    std::fill(s.faceStatus.begin(), s.faceStatus.end(), 0u);
-    skeleton = std::make_shared<const PatchCache>(std::move(s));
-  }
+  const auto skeleton = lazy ? std::make_shared<const PatchCache>(test::skeletonOf(*cache)) : nullptr;
   const double diag = boundingDiagonal(*cache);
   const test::DenseOracle oracle(*cache);
   const PatchSurfaceSampler sampler(*cache, cache->numFaces() > 4000 ? 2 : 6);

@@ -22,6 +22,7 @@
 #include <smoothforce/query/embree_scene.h>
 #include <smoothforce/sweep/sweep_sampling.h>
 #include "gp_config.h"
+#include "patch_test_support.h"
 #include "query_test_support.h"
 
 namespace sf {
@@ -45,14 +46,7 @@ class QueryProperties : public ::testing::TestWithParam<std::string> {};
 /// skeleton of it whose patches are built lazily (LazyPatchSurface), on every `stride`-th HIP.
 void checkContactStarts(const std::string& shape, bool lazy, int stride) {
   const auto cache = test::closedShapeCache(shape);
-  std::shared_ptr<const PatchCache> skeleton;
-  if (lazy) {
-    PatchCache s = *cache;
-    s.edgeDataD.clear();
-    s.edgeDataF.clear();
-    std::fill(s.faceStatus.begin(), s.faceStatus.end(), 0u);
-    skeleton = std::make_shared<const PatchCache>(std::move(s));
-  }
+  const auto skeleton = lazy ? std::make_shared<const PatchCache>(test::skeletonOf(*cache)) : nullptr;
   const double diag = boundingDiagonal(*cache);
   const test::DenseOracle oracle(*cache);
   const PatchSurfaceSampler sampler(*cache, cache->numFaces() > 4000 ? 2 : 6);

@@ -20,6 +20,7 @@
 #include <smoothforce/query/surface_query.h>
 #include <smoothforce/sweep/sweep_sampling.h>
 #include "gp_config.h"
+#include "patch_test_support.h"
 #include "query_test_support.h"
 
 namespace sf {
@@ -124,9 +125,7 @@ TEST(SurfaceQuery, BadPointsAndSkeletonsAreNamed) {
   EXPECT_LT(out[3].signedDistance, 0);  // the sphere's centre
   EXPECT_NEAR(out[3].signedDistance, query.query(Eigen::Vector3d::Zero()).signedDistance, 0.0);
   EXPECT_THROW(query.query(nullptr, 1, out.data()), std::invalid_argument);
-  PatchCache skeleton = *cache;
-  skeleton.edgeDataD.clear();
-  EXPECT_THROW(SurfaceQuery(std::make_shared<const PatchCache>(std::move(skeleton))), InputError);
+  EXPECT_THROW(SurfaceQuery(std::make_shared<const PatchCache>(test::skeletonOf(*cache))), InputError);
 }
 
 }  // namespace
