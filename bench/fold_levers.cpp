@@ -16,9 +16,10 @@
 #include <string>
 #include <vector>
 
-#include <smoothforce/patch/detail/gp_traits.h>
+#include <smoothforce/mesh/normals.h>
 #include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/patch/patch_build.h>
+#include <smoothforce/patch/patch_eval.h>
 #include <smoothforce/query/patch_surface.h>
 #include <smoothforce/query/surface_faults.h>
 #include "bench_common.h"
@@ -26,46 +27,40 @@
 using namespace sf;
 
 namespace {
-Eigen::Vector3d newell(const PatchCache& c, int f) {
-  Eigen::Vector3d n = Eigen::Vector3d::Zero();
-  const int m = c.faceSize(f), first = c.faceOffsets[f];
-  for (int k = 0; k < m; ++k) {
-    const double* a = &c.positions[3 * size_t(c.faceVertices[first + k])];
-    const double* b = &c.positions[3 * size_t(c.faceVertices[first + (k + 1) % m])];
-    n += Eigen::Vector3d((a[1] - b[1]) * (a[2] + b[2]), (a[2] - b[2]) * (a[0] + b[0]), (a[0] - b[0]) * (a[1] + b[1]));
+
+/// The polygons' unit Newell normals and the face of every slot (the positions never move here).
+struct Faces {
+  std::vector<Eigen::Vector3d> normal;  // #F
+  std::vector<int> ofSlot;              // #C
+  explicit Faces(const PatchCache& c) : ofSlot(c.numSlots()) {
+    const PolygonMesh base = cacheBaseMesh(c);
+    for (int f = 0; f < c.numFaces(); ++f) {
+      normal.push_back(newellNormal(base, f).normalized());
+      for (int s = c.faceOffsets[f]; s < c.faceOffsets[f + 1]; ++s) ofSlot[s] = f;
+    }
   }
-  return n.normalized();
-}
-bool inDomain(int n, double x, double y) {
-  for (int k = 0; k < n; ++k) {
-    const double a = (2 * k + 1) * std::numbers::pi / n;
-    if (!(std::cos(std::numbers::pi / n) - (x * std::cos(a) + y * std::sin(a)) > 1e-9)) return false;
-  }
-  return true;
-}
-double minCos(const PatchCache& c, int f, int g) {
-  const int n = c.faceSize(f), first = c.faceOffsets[f];
-  std::vector<double> recs(n * GP_E_NFIELDS);
-  const size_t ns = c.numSlots();
-  for (int k = 0; k < n; ++k)
-    for (int i = 0; i < GP_E_NFIELDS; ++i) recs[k * GP_E_NFIELDS + i] = c.edgeDataD[i * ns + first + k];
-  const Eigen::Vector3d nf = newell(c, f);
+};
+
+/// The smallest cosine between the patch normal and the face normal over a g x g grid of the
+/// domain's box (points at least 1e-9 inside the domain).
+double minCos(const PatchCache& c, const Faces& faces, int f, int g) {
+  const int n = c.faceSize(f);
   double worst = 2;
   for (int i = 0; i <= g; ++i)
     for (int j = 0; j <= g; ++j) {
       const double x = -1 + 2.0 * i / g, y = -1 + 2.0 * j / g;
-      if (!inDomain(n, x, y)) continue;
-      const auto r = Gp<double>::eval(n, recs.data(), int(c.options.crossTangent), x, y);
-      const Eigen::Vector3d N = Eigen::Vector3d(r.dxi.x, r.dxi.y, r.dxi.z).cross(Eigen::Vector3d(r.deta.x, r.deta.y, r.deta.z));
-      worst = std::min(worst, N.norm() > 0 ? N.dot(nf) / N.norm() : -1.0);
+      if (!insideDomain(n, x, y, -1e-9)) continue;
+      const PatchPoint p = evaluatePatch(c, f, x, y);
+      const Eigen::Vector3d N = p.dxi.cross(p.deta);
+      worst = std::min(worst, N.norm() > 0 ? N.dot(faces.normal[f]) / N.norm() : -1.0);
     }
   return worst;
 }
-void report(const char* tag, const PatchCache& c) {
+void report(const char* tag, const PatchCache& c, const Faces& faces) {
   int bad = 0;
   std::string ids;
   for (int f = 0; f < c.numFaces(); ++f)
-    if (minCos(c, f, 24) <= 0) {
+    if (minCos(c, faces, f, 24) <= 0) {
       ++bad;
       if (bad <= 12) {
         ids += ' ';
@@ -116,13 +111,13 @@ void setNormal(PatchCache& c, const std::vector<int>& slots, const Eigen::Vector
 
 /// Every group's normal replaced by the minimax normal of its faces (projected subgradient
 /// ascent on the sphere from the original), where that raises the smallest cosine.
-void minimaxNormals(PatchCache& c, const std::vector<int>& faceOfSlot) {
+void minimaxNormals(PatchCache& c, const Faces& faces) {
   const NormalGroups g(c);
   double worstBefore = 1, worstAfter = 1;
   int changed = 0;
   for (const std::vector<int>& slots : g.slots) {
     std::vector<Eigen::Vector3d> fn;
-    for (int s : slots) fn.push_back(newell(c, faceOfSlot[s]));
+    for (int s : slots) fn.push_back(faces.normal[faces.ofSlot[s]]);
     auto minDot = [&](const Eigen::Vector3d& m) {
       double w = 2;
       for (const auto& a : fn) w = std::min(w, m.dot(a));
@@ -150,18 +145,17 @@ void minimaxNormals(PatchCache& c, const std::vector<int>& faceOfSlot) {
 /// Rounds of: every face whose sampled normal turns against its polygon (smallest cosine <= 0.05)
 /// pulls its corners' normals 25% of the way towards its face normal, at most 60 degrees from the
 /// original in all.
-void pullNormals(PatchCache& c, const std::vector<int>& faceOfSlot) {
+void pullNormals(PatchCache& c, const Faces& faces) {
   const NormalGroups g(c);
   const std::vector<double> orig = c.cornerNormals;
   const double cap = std::cos(60 * std::numbers::pi / 180);
-  (void)faceOfSlot;
   for (int round = 0; round < 12; ++round) {
     std::vector<Eigen::Vector3d> pull(g.slots.size(), Eigen::Vector3d::Zero());
     int bad = 0;
     for (int f = 0; f < c.numFaces(); ++f) {
-      if (minCos(c, f, 16) > 0.05) continue;
+      if (minCos(c, faces, f, 16) > 0.05) continue;
       ++bad;
-      for (int s = c.faceOffsets[f]; s < c.faceOffsets[f + 1]; ++s) pull[g.of[s]] += newell(c, f);
+      for (int s = c.faceOffsets[f]; s < c.faceOffsets[f + 1]; ++s) pull[g.of[s]] += faces.normal[f];
     }
     if (!bad) break;
     for (size_t i = 0; i < g.slots.size(); ++i) {
@@ -184,19 +178,17 @@ int run(std::vector<std::string> args) {
   PatchOptions o;
   if (args.size() == 2) o.cage = CageMode::CatmullClark;
   const PatchCache built = buildPatchCache(loadMesh(args[0], o), o, Backend::Tbb);
-  std::vector<int> faceOfSlot(built.numSlots());
-  for (int f = 0; f < built.numFaces(); ++f)
-    for (int s = built.faceOffsets[f]; s < built.faceOffsets[f + 1]; ++s) faceOfSlot[s] = f;
+  const Faces faces(built);
   std::printf("%s%s: %d faces\n", std::filesystem::path(args[0]).filename().string().c_str(),
               o.cage == CageMode::None ? "" : " (Catmull-Clark limit)", built.numFaces());
-  report("design page", built);
+  report("design page", built, faces);
   PatchCache a = built;
-  minimaxNormals(a, faceOfSlot);
+  minimaxNormals(a, faces);
   constructPatches(a, Backend::Tbb, 0);
-  report("minimax normals", a);
+  report("minimax normals", a, faces);
   PatchCache b = built;
-  pullNormals(b, faceOfSlot);
-  report("normals pulled to faces", b);
+  pullNormals(b, faces);
+  report("normals pulled to faces", b, faces);
   return 0;
 }
 }  // namespace
