@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 // Strict Wavefront OBJ reader: v, vn, f (v, v/vt, v//vn, v/vt/vn; 1-based or negative
-// indices). Other statements (vt, o, g, s, usemtl, mtllib, l, p, unknown) are ignored. A
-// line that ends in a backslash continues on the next line.
+// indices), s (smoothing groups: `s N`, `s off`) and OpenSubdiv's tags `t name i/f/s args`
+// (`crease` and `corner` are kept, with 0-based vertex ids; the others are checked and
+// ignored). Other statements (vt, o, g, usemtl, mtllib, l, p, unknown) are ignored. A line
+// that ends in a backslash continues on the next line.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -90,6 +92,12 @@ struct ObjState {
   std::vector<int32_t> cornerVn;  ///< per corner, while faces carry normal indices
   int faceNormals = -1;           ///< -1 unknown, 0 faces have no vn, 1 faces have vn
   size_t firstFaceLine = 0;
+  bool smoothing = false;      ///< the file has an `s` statement (so faces get a group each)
+  int64_t smoothingGroup = 0;  ///< group of the faces that follow
+  /// The largest vertex id of a crease or corner tag and the line it is on: tags may come
+  /// before the `v` lines they refer to, so ids are checked against the final count.
+  int64_t maxTagVertex = -1;
+  size_t maxTagVertexLine = 0;
 };
 
 void readVertex(const LineCtx& c, StatementTokens& t, PolygonMesh& m) {
@@ -157,6 +165,119 @@ void readFace(const LineCtx& c, StatementTokens& t, ObjState& s, PolygonMesh& m,
   s.cornerVn.insert(s.cornerVn.end(), vns.begin(), vns.end());
 }
 
+/// `s N` or `s off`: the smoothing group (N >= 0; off is 0) of the faces that follow. The first
+/// one gives the faces before it group 0.
+void readSmoothingGroup(const LineCtx& c, StatementTokens& t, ObjState& s, PolygonMesh& m) {
+  const std::string_view tok = c.need(t, "smoothing group (a number >= 0 or 'off')");
+  int64_t group = 0;
+  if (tok != "off" && (!parseInt(tok, group) || group < 0))
+    c.fail("bad smoothing group " + quoted(tok) + " (expected a number >= 0 or 'off')");
+  std::string_view extra;
+  if (t.next(extra)) c.fail("unexpected " + quoted(extra) + " after the smoothing group");
+  if (!s.smoothing) m.faceSmoothingGroups.assign(static_cast<size_t>(m.numFaces()), 0);
+  s.smoothing = true;
+  s.smoothingGroup = group;
+}
+
+/// A tag's argument counts `nint/nfloat/nstring`, each a number >= 0.
+void tagCounts(const LineCtx& c, std::string_view tok, const std::string& tag, int64_t counts[3]) {
+  constexpr size_t npos = std::string_view::npos;
+  const size_t a = tok.find('/');
+  const size_t b = a == npos ? npos : tok.find('/', a + 1);
+  bool ok = b != npos && tok.find('/', b + 1) == npos && parseInt(tok.substr(0, a), counts[0]) &&
+            parseInt(tok.substr(a + 1, b - a - 1), counts[1]) && parseInt(tok.substr(b + 1), counts[2]);
+  for (int k = 0; ok && k < 3; ++k) ok = counts[k] >= 0 && counts[k] <= kMaxCount;
+  if (!ok) {
+    c.fail("bad argument counts " + quoted(tok) + " for tag " + tag +
+           " (expected three numbers >= 0, ints/floats/strings, as in 2/1/0)");
+  }
+}
+
+/// Notes a tag vertex id, for the range check at the end of the file.
+void noteTagVertex(const LineCtx& c, ObjState& s, int64_t v) {
+  if (v > s.maxTagVertex) {
+    s.maxTagVertex = v;
+    s.maxTagVertexLine = c.line;
+  }
+}
+
+/// `t name nint/nfloat/nstring ints.. floats.. strings..`: OpenSubdiv's tag statement (its
+/// regression/common/shape_utils.cpp reads it; far_utils.h applies it). The counts must match
+/// the arguments that follow, for every tag. Kept, with 0-based vertex ids:
+///   crease: pairs of vertex ids `a b c d ..`, each pair one edge (a-b, c-d: no chain), and one
+///           sharpness for all of them;
+///   corner: vertex ids, and one sharpness for all of them or one per vertex.
+/// Sharpness is finite and >= 0. OpenSubdiv reads a crease tag with more than one sharpness by
+/// the position of each edge's first id (edge a-b takes value 0, c-d value 2), which is no value
+/// per edge; such tags are refused, as are crease tags without a sharpness or with an odd id
+/// count. Other tags (hole, interpolateboundary, creasemethod, unknown ones) are ignored.
+void readTag(const LineCtx& c, StatementTokens& t, ObjState& s, PolygonMesh& m) {
+  const size_t line = c.line;
+  const std::string_view name = c.need(t, "tag name");
+  const std::string tag = quoted(name);
+  int64_t n[3];
+  tagCounts(c, c.need(t, "tag argument counts (ints/floats/strings, as in 2/1/0)"), tag, n);
+  const bool crease = name == "crease", corner = name == "corner";
+  const std::string counts = std::to_string(n[0]) + "/" + std::to_string(n[1]) + "/" + std::to_string(n[2]);
+  if (crease || corner) {
+    if (n[2] != 0) c.fail("tag " + tag + " takes no string arguments (counts " + counts + ")");
+    if (crease && (n[0] == 0 || n[0] % 2 != 0))
+      c.fail("crease tag with " + std::to_string(n[0]) + " vertex ids (counts " + counts +
+             "): it takes pairs of vertex ids, one pair per edge");
+    if (corner && n[0] == 0) c.fail("corner tag without vertex ids (counts " + counts + ")");
+    if (n[1] == 0) c.fail("tag " + tag + " without a sharpness (counts " + counts + ")");
+    if (crease && n[1] != 1)
+      c.fail("crease tag with " + std::to_string(n[1]) + " sharpness values (counts " + counts +
+             "): give one, for all its edges, or write one tag per edge");
+    if (corner && n[1] != 1 && n[1] != n[0])
+      c.fail("corner tag with " + std::to_string(n[0]) + " vertex ids and " + std::to_string(n[1]) +
+             " sharpness values (counts " + counts + "): give one for all of them or one per vertex");
+  }
+  const auto arg = [&](const char* kind, int64_t i, int64_t of) {
+    std::string_view tok;
+    if (!t.next(tok)) {
+      c.fail("tag " + tag + " declares " + counts + " arguments but has only " + std::to_string(i) + " of its " +
+             std::to_string(of) + " " + kind + " argument" + (of == 1 ? "" : "s"));
+    }
+    return tok;
+  };
+  const char* idWhat = crease ? "crease vertex id" : corner ? "corner vertex id" : "tag integer argument";
+  std::vector<int64_t> ids;
+  for (int64_t i = 0; i < n[0]; ++i) {
+    const int64_t v = c.integer(arg("integer", i, n[0]), idWhat);
+    if (crease || corner) {
+      if (v < 0 || v > kMaxCount)
+        c.fail(std::string(idWhat) + " " + std::to_string(v) + " out of range (tag vertex ids are 0-based)");
+      noteTagVertex(c, s, v);
+      if (crease && i % 2 == 1 && v == ids.back())
+        c.fail("crease tag edge " + std::to_string(v) + "-" + std::to_string(v) + " joins a vertex to itself");
+      ids.push_back(v);
+    }
+  }
+  const char* sharpWhat = crease ? "crease sharpness" : "corner sharpness";
+  std::vector<double> sharpness;
+  for (int64_t i = 0; i < n[1]; ++i) {
+    const std::string_view tok = arg("float", i, n[1]);
+    if (!crease && !corner) {
+      c.number(tok, "tag float argument");
+      continue;
+    }
+    const double v = c.finite(tok, sharpWhat);
+    if (v < 0) c.fail("negative " + std::string(sharpWhat) + " " + quoted(tok));
+    sharpness.push_back(v);
+  }
+  for (int64_t i = 0; i < n[2]; ++i) arg("string", i, n[2]);
+  std::string_view extra;
+  if (t.next(extra)) c.fail("unexpected " + quoted(extra) + " after the " + counts + " arguments of tag " + tag);
+  if (crease) {
+    for (size_t i = 0; i + 1 < ids.size(); i += 2)
+      m.creaseTags.push_back({static_cast<int32_t>(ids[i]), static_cast<int32_t>(ids[i + 1]), sharpness[0], line});
+  } else if (corner) {
+    for (size_t i = 0; i < ids.size(); ++i)
+      m.cornerTags.push_back({static_cast<int32_t>(ids[i]), sharpness[sharpness.size() == 1 ? 0 : i], line});
+  }
+}
+
 }  // namespace
 
 PolygonMesh readObj(const std::string& path, std::string_view data) {
@@ -180,15 +301,25 @@ PolygonMesh readObj(const std::string& path, std::string_view data) {
       ++s.vt.count;  // contents are not used
     } else if (kw == "f" || kw == "fo") {
       readFace(c, t, s, m, verts, vns);
+      if (s.smoothing) m.faceSmoothingGroups.push_back(s.smoothingGroup);
+    } else if (kw == "s") {
+      readSmoothingGroup(c, t, s, m);
+    } else if (kw == "t") {
+      readTag(c, t, s, m);
     }
-    // Everything else (o, g, s, usemtl, mtllib, l, p, vp, unknown extensions) is ignored,
-    // with the lines it continues on.
+    // Everything else (o, g, usemtl, mtllib, l, p, vp, unknown extensions) is ignored, with
+    // the lines it continues on.
     t.skipRest();
   }
   if (m.numFaces() == 0) failAt(path, lines.lineNo(), "no faces in file");
   s.v.checkFinal(path);
   s.vt.checkFinal(path);
   s.vn.checkFinal(path);
+  if (s.maxTagVertex >= m.numVertices()) {
+    failAt(path, s.maxTagVertexLine,
+           "tag vertex id " + std::to_string(s.maxTagVertex) + " out of range (file has " +
+               std::to_string(m.numVertices()) + " vertices; tag vertex ids are 0-based)");
+  }
   if (s.faceNormals == 1) {
     m.fileCornerNormals.reserve(s.cornerVn.size());
     for (int32_t i : s.cornerVn) m.fileCornerNormals.push_back(s.normals[i]);

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // Strict PLY reader: ascii, binary_little_endian and binary_big_endian 1.0. Reads x y z
-// (and nx ny nz) of `vertex` and the `vertex_indices`/`vertex_index` list of `face`; every
-// other property and element is read past (and checked in ASCII).
+// (and nx ny nz) of `vertex`, the `vertex_indices`/`vertex_index` list of `face`, and crease
+// edges: `vertex1`, `vertex2` and `crease` (or `sharpness`) of `edge`. Every other property
+// and element is read past (and checked in ASCII).
 #include <algorithm>
 #include <bit>
 #include <cstdint>
@@ -261,7 +262,8 @@ PolygonMesh readPly(const std::string& path, std::string_view data) {
   if (vi < 0) failAt(path, h.lines, "no 'vertex' element");
   if (fi < 0 || h.elements[fi].count == 0) failAt(path, h.lines, "no faces");
 
-  // What each property is for: -1 nothing, 0-2 x y z, 3-5 nx ny nz, 6 face vertex indices.
+  // What each property is for: -1 nothing, 0-2 x y z, 3-5 nx ny nz, 6 face vertex indices,
+  // 7-9 crease edge vertex1, vertex2 and sharpness.
   std::vector<std::vector<int>> role(h.elements.size());
   for (size_t ei = 0; ei < h.elements.size(); ++ei) role[ei].assign(h.elements[ei].props.size(), -1);
   const Element &ve = h.elements[vi], &fe = h.elements[fi];
@@ -281,6 +283,34 @@ PolygonMesh readPly(const std::string& path, std::string_view data) {
   if (pi < 0 || !fe.props[pi].list)
     failAt(path, fe.line, "face element lacks a 'vertex_indices' or 'vertex_index' list");
   role[fi][pi] = 6;
+  // An `edge` element with a `crease` or `sharpness` value: 7 vertex1, 8 vertex2, 9 the value.
+  // Without such a value the element is read past, whatever else it holds.
+  int ei = -1;
+  bool edgeCreases = false;
+  for (size_t k = 0; k < h.elements.size(); ++k) {
+    if (h.elements[k].name == "edge") ei = static_cast<int>(k);
+  }
+  if (ei >= 0) {
+    const Element& ee = h.elements[ei];
+    const int ci = findProp(ee, "crease"), si = findProp(ee, "sharpness");
+    if (ci >= 0 && si >= 0) failAt(path, ee.line, "edge element has both a 'crease' and a 'sharpness' property");
+    const int ki = ci >= 0 ? ci : si;
+    if (ki >= 0) {
+      const std::string value = quoted(ee.props[ki].name);
+      if (ee.props[ki].list) failAt(path, ee.line, "edge property " + value + " is a list");
+      const int ends[2] = {findProp(ee, "vertex1"), findProp(ee, "vertex2")};
+      if (ends[0] < 0 || ends[1] < 0)
+        failAt(path, ee.line, "edge element has a " + value + " property but lacks 'vertex1' or 'vertex2'");
+      for (int k = 0; k < 2; ++k) {
+        const Prop& p = ee.props[ends[k]];
+        if (p.list || !isInteger(p.type))
+          failAt(path, ee.line, "edge property " + quoted(p.name) + " is not an integer scalar");
+        role[ei][ends[k]] = 7 + k;
+      }
+      role[ei][ki] = 9;
+      edgeCreases = true;
+    }
+  }
 
   PolygonMesh m;
   const int64_t nv = ve.count;
@@ -289,15 +319,33 @@ PolygonMesh readPly(const std::string& path, std::string_view data) {
   m.faceOffsets.reserve(static_cast<size_t>(fe.count) + 1);
   Source src(path, data, h.dataStart, h.lines, h.format);
   std::vector<int32_t> verts;
-  for (size_t ei = 0; ei < h.elements.size(); ++ei) {
-    const Element& e = h.elements[ei];
+  CreaseTag edge;  // the crease edge being read
+  for (size_t ek = 0; ek < h.elements.size(); ++ek) {
+    const Element& e = h.elements[ek];
+    const bool creases = edgeCreases && static_cast<int>(ek) == ei;
+    if (creases) m.creaseTags.reserve(static_cast<size_t>(e.count));  // the count fits the file (checked above)
+    edge.line = e.line;
     for (int64_t i = 0; i < e.count; ++i) {
       src.beginRow(e, i);
       for (size_t p = 0; p < e.props.size(); ++p) {
         const Prop& prop = e.props[p];
-        const int r = role[ei][p];
+        const int r = role[ek][p];
         if (!prop.list) {
           const double v = src.scalar(prop.type, prop.name);
+          if (r == 7 || r == 8) {
+            if (!(v >= 0 && v < static_cast<double>(nv))) {
+              src.fail("edge " + std::to_string(i) + ": " + prop.name + " " + formatNumber(v) +
+                       " out of range (file has " + std::to_string(nv) + " vertices)");
+            }
+            (r == 7 ? edge.v0 : edge.v1) = static_cast<int32_t>(v);
+            continue;
+          }
+          if (r == 9) {
+            if (!std::isfinite(v)) src.fail("non-finite " + prop.name + " in edge " + std::to_string(i));
+            if (v < 0) src.fail("negative " + prop.name + " " + formatNumber(v) + " in edge " + std::to_string(i));
+            edge.sharpness = v;
+            continue;
+          }
           if (r >= 0 && !std::isfinite(v)) src.fail("non-finite " + prop.name + " in vertex " + std::to_string(i));
           if (r >= 0 && r < 3 && !(std::fabs(v) <= kMaxCoordinate))
             src.fail(prop.name + " in vertex " + std::to_string(i) + " is beyond the coordinate range +-1e15");
@@ -325,6 +373,10 @@ PolygonMesh readPly(const std::string& path, std::string_view data) {
         m.addFace(verts);
       }
       src.endRow();
+      if (!creases) continue;
+      if (edge.v0 == edge.v1)
+        src.fail("edge " + std::to_string(i) + " joins vertex " + std::to_string(edge.v0) + " to itself");
+      m.creaseTags.push_back(edge);
     }
   }
   src.finish();
