@@ -15,10 +15,13 @@
 
 /* numFaces: #F. numSlots: #C. mode: GP_CT_*.
  * positions: #V*3, cornerNormals: #C*3 (unit), faceOffsets: #F+1, faceVertices: #C.
+ * across: #C*2, for slot c (edge k of its face): the corners of the face across the edge at V_k
+ * and V_{k+1} (the face's own corners without a neighbour; host acrossCorners). A face whose
+ * normals differ from the face across somewhere has a crease: gp_build_patch_creased.
  * edgeData: GP_E_NFIELDS*#C (out), faceStatus, faceBulge: #F (out). */
 __kernel void gp_construct(const int numFaces, const int numSlots, const int mode, __global const GP_REAL* positions,
                            __global const GP_REAL* cornerNormals, __global const int* faceOffsets,
-                           __global const int* faceVertices, __global GP_REAL* edgeData, __global uint* faceStatus,
+                           __global const int* faceVertices, __global const int* across, __global GP_REAL* edgeData, __global uint* faceStatus,
                            __global float* faceBulge) {
   const int f = (int)get_global_id(0);
   if (f >= numFaces) return;
@@ -41,7 +44,16 @@ __kernel void gp_construct(const int numFaces, const int numSlots, const int mod
     V[k] = gp_v3(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]);
     N[k] = gp_v3(cornerNormals[3 * c], cornerNormals[3 * c + 1], cornerNormals[3 * c + 2]);
   }
-  gp_uint st = gp_build_patch(n, V, N, vid, mode, recs);
+  gp_vec3 PS[GP_MAX_N], PE[GP_MAX_N];
+  int creased = 0;
+  for (int k = 0; k < n; ++k) {
+    const int a = across[2 * (first + k)], b = across[2 * (first + k) + 1];
+    PS[k] = gp_v3(cornerNormals[3 * a], cornerNormals[3 * a + 1], cornerNormals[3 * a + 2]);
+    PE[k] = gp_v3(cornerNormals[3 * b], cornerNormals[3 * b + 1], cornerNormals[3 * b + 2]);
+    const int k1 = k + 1 == n ? 0 : k + 1;
+    creased |= gp_differs3(PS[k], N[k]) || gp_differs3(PE[k], N[k1]);
+  }
+  gp_uint st = creased ? gp_build_patch_creased(n, V, N, PS, PE, vid, mode, recs) : gp_build_patch(n, V, N, vid, mode, recs);
   GP_REAL bulge = GP_R(0.0);
   if (st & GP_ST_NOT_BUILT) {
     /* gp_build_patch wrote nothing: store zeros rather than stale private memory */

@@ -239,31 +239,56 @@ GP_FN void gp_finish_edge_record(GP_REAL* rec, gp_vec3 d0, gp_vec3 d1, int mode,
   }
 }
 
-/* Builds the n edge records of one polygon into recs (n * GP_E_NFIELDS, record-major).
- * V, N: n positions and unit normals, CCW from outside. vid: the global vertex ids, used
- * to evaluate each edge's end tangents in one canonical direction (lower id first) so that
- * both faces of an edge build the same curve. Returns the patch status bits. A lane with a
- * non-finite V or N gets zero records and GP_ST_NONFINITE alone. */
-GP_FN GP_STATUS gp_build_patch(int n, const gp_vec3* V, const gp_vec3* N, const GP_VID* vid, int mode, GP_REAL* recs) {
-  GP_STATUS st = 0u;
-  if (n < 3 || n > GP_MAX_N) return GP_ST_TOO_MANY_SIDES;
-  GP_MASK bad = !gp_finite3(V[0]) || !gp_finite3(N[0]);
-  for (int k = 1; k < n; ++k) bad = bad || !gp_finite3(V[k]) || !gp_finite3(N[k]);
-  if (GP_ALL(bad)) {
-    for (int i = 0; i < n * GP_E_NFIELDS; ++i) recs[i] = GP_R(0.0); /* defined output */
-    return GP_ST_NONFINITE;
-  }
-  gp_vec3 ts[GP_MAX_N], te[GP_MAX_N];
-  for (int k = 0; k < n; ++k) {
-    const int k1 = k + 1 == n ? 0 : k + 1;
-    /* the edge from its lower vertex id; reversed, its tangents swap and change sign */
-    const GP_MASK fwd = vid[k] <= vid[k1];
-    gp_vec3 a, b;
-    gp_edge_tangents(gp_sel3(fwd, V[k], V[k1]), gp_sel3(fwd, V[k1], V[k]), gp_sel3(fwd, N[k], N[k1]),
-                     gp_sel3(fwd, N[k1], N[k]), &a, &b, &st);
-    ts[k] = gp_sel3(fwd, a, gp_neg(b));
-    te[k] = gp_sel3(fwd, b, gp_neg(a));
-  }
+/* True where some component of a and b differs (the lanes where two normals are not one). */
+GP_FN GP_MASK gp_differs3(gp_vec3 a, gp_vec3 b) {
+  return GP_FABS(a.x - b.x) > GP_R(0.0) || GP_FABS(a.y - b.y) > GP_R(0.0) || GP_FABS(a.z - b.z) > GP_R(0.0);
+}
+
+/* The unit tangent along the crease at one end of edge e: unit(n x p) (perpendicular to both
+ * faces' normals there), turned to run along e. n x p and p x n differ only in sign, so both
+ * faces of the edge get the same bits; where it is perpendicular to e, the sign of its first
+ * nonzero component decides, again the same from both sides. */
+GP_FN gp_vec3 gp_crease_direction(gp_vec3 c, GP_REAL len, gp_vec3 e) {
+  const gp_vec3 u = gp_scale(c, GP_R(1.0) / len);
+  const GP_REAL s = gp_dot(u, e);
+  const GP_REAL first = GP_SEL(GP_FABS(u.x) > GP_R(0.0), u.x, GP_SEL(GP_FABS(u.y) > GP_R(0.0), u.y, u.z));
+  const GP_MASK flip = s < GP_R(0.0) || (!(GP_FABS(s) > GP_R(0.0)) && first < GP_R(0.0));
+  return gp_sel3(flip, gp_neg(u), u);
+}
+
+/* Unit end tangents (t_s, t_e) of an edge Va -> Vb that both of its faces build from the data they
+ * share: na, nb are this face's normals at Va, Vb and pa, pb the other face's there (pa = na, pb = nb
+ * on a boundary). Where the two faces' normals are one (bit for bit) at both ends, this is
+ * gp_edge_tangents(va, vb, na, nb) exactly. Else, at a crease end (normals that differ, |n x p| >
+ * tiny) the tangent runs along the crease, unit(n x p), in both faces' tangent planes, so that each
+ * face's patch keeps its own normal there; at a smooth end (equal or parallel normals) the tangent is
+ * gp_edge_tangents' of the shared normals unit(n + p). The host merges normals that are one up to
+ * rounding (normals.h, kSameNormalAngle) before they get here. Every operation is symmetric in (n, p) up to an exact sign, so the two faces
+ * build one curve, bit for bit: no gap along a crease (design page, Creases). Opposite normals
+ * (n + p ~ 0 at an end that is no crease) set GP_ST_EDGE_NORMAL and take the edge's direction. */
+GP_FN void gp_crease_edge_tangents(gp_vec3 va, gp_vec3 vb, gp_vec3 na, gp_vec3 nb, gp_vec3 pa, gp_vec3 pb,
+                                   gp_vec3* ts, gp_vec3* te, GP_STATUS* st) {
+  const GP_MASK sameA = !gp_differs3(na, pa), sameB = !gp_differs3(nb, pb);
+  GP_STATUS sa = 0u, sb = 0u;
+  const gp_vec3 ma = gp_sel3(sameA, na, gp_unit_or(gp_add(na, pa), gp_zero3(), GP_TINY, &sa, GP_ST_EDGE_NORMAL));
+  const gp_vec3 mb = gp_sel3(sameB, nb, gp_unit_or(gp_add(nb, pb), gp_zero3(), GP_TINY, &sb, GP_ST_EDGE_NORMAL));
+  gp_vec3 ra, rb;
+  gp_edge_tangents(va, vb, ma, mb, &ra, &rb, st);
+  const gp_vec3 e = gp_sub(vb, va);
+  const gp_vec3 ca = gp_cross(na, pa), cb = gp_cross(nb, pb);
+  const GP_REAL la = gp_len(ca), lb = gp_len(cb);
+  const GP_MASK creaseA = la > GP_TINY, creaseB = lb > GP_TINY;
+  /* a zero edge keeps gp_edge_tangents' zero tangents */
+  const GP_MASK edge = gp_dot(ra, ra) > GP_R(0.0);
+  *ts = gp_sel3(creaseA && edge, gp_crease_direction(ca, gp_max(la, GP_TINY), e), ra);
+  *te = gp_sel3(creaseB && edge, gp_crease_direction(cb, gp_max(lb, GP_TINY), e), rb);
+  *st |= GP_SEL(!sameA && !creaseA, sa, (GP_STATUS)0u) | GP_SEL(!sameB && !creaseB, sb, (GP_STATUS)0u);
+}
+
+/* Fills the records of a polygon whose unit end tangents ts[k], te[k] (edge k, V_k -> V_{k+1}) are
+ * known: geometry fields, then each edge's cross-tangent data (gp_finish_edge_record). */
+GP_FN void gp_build_records(int n, const gp_vec3* V, const gp_vec3* N, const gp_vec3* ts, const gp_vec3* te, int mode,
+                            GP_REAL* recs, GP_STATUS* st) {
   for (int k = 0; k < n; ++k) {
     const int km = k == 0 ? n - 1 : k - 1, k1 = k + 1 == n ? 0 : k + 1, k2 = k1 + 1 == n ? 0 : k1 + 1;
     GP_REAL* rec = recs + k * GP_E_NFIELDS;
@@ -283,11 +308,82 @@ GP_FN GP_STATUS gp_build_patch(int n, const gp_vec3* V, const gp_vec3* N, const 
   }
   for (int k = 0; k < n; ++k) {
     const int km = k == 0 ? n - 1 : k - 1, k1 = k + 1 == n ? 0 : k + 1;
-    gp_finish_edge_record(recs + k * GP_E_NFIELDS, gp_neg(te[km]), ts[k1], mode, &st);
+    gp_finish_edge_record(recs + k * GP_E_NFIELDS, gp_neg(te[km]), ts[k1], mode, st);
   }
+}
+
+/* The checks every build starts with: a defined answer for a bad side count, and the lanes with a
+ * non-finite V or N (all of them: zero records, returns 1). */
+GP_FN int gp_build_refused(int n, const gp_vec3* V, const gp_vec3* N, GP_REAL* recs, GP_MASK* bad, GP_STATUS* st) {
+  if (n < 3 || n > GP_MAX_N) {
+    *st = GP_ST_TOO_MANY_SIDES;
+    return 1;
+  }
+  GP_MASK b = !gp_finite3(V[0]) || !gp_finite3(N[0]);
+  for (int k = 1; k < n; ++k) b = b || !gp_finite3(V[k]) || !gp_finite3(N[k]);
+  *bad = b;
+  if (GP_ALL(b)) {
+    for (int i = 0; i < n * GP_E_NFIELDS; ++i) recs[i] = GP_R(0.0); /* defined output */
+    *st = GP_ST_NONFINITE;
+    return 1;
+  }
+  return 0;
+}
+
+/* Zero records and GP_ST_NONFINITE alone on the lanes with non-finite input. */
+GP_FN GP_STATUS gp_build_clear_bad(int n, GP_MASK bad, GP_REAL* recs, GP_STATUS st) {
   if (GP_ANY(bad)) { /* lanes only: some lanes non-finite */
     for (int i = 0; i < n * GP_E_NFIELDS; ++i) recs[i] = GP_SEL(bad, GP_R(0.0), recs[i]);
     st = GP_SEL(bad, (GP_STATUS)GP_ST_NONFINITE, st);
   }
   return st;
+}
+
+/* Builds the n edge records of one polygon into recs (n * GP_E_NFIELDS, record-major).
+ * V, N: n positions and unit normals, CCW from outside. vid: the global vertex ids, used
+ * to evaluate each edge's end tangents in one canonical direction (lower id first) so that
+ * both faces of an edge build the same curve. Returns the patch status bits. A lane with a
+ * non-finite V or N gets zero records and GP_ST_NONFINITE alone. */
+GP_FN GP_STATUS gp_build_patch(int n, const gp_vec3* V, const gp_vec3* N, const GP_VID* vid, int mode, GP_REAL* recs) {
+  GP_STATUS st = 0u;
+  GP_MASK bad;
+  if (gp_build_refused(n, V, N, recs, &bad, &st)) return st;
+  gp_vec3 ts[GP_MAX_N], te[GP_MAX_N];
+  for (int k = 0; k < n; ++k) {
+    const int k1 = k + 1 == n ? 0 : k + 1;
+    /* the edge from its lower vertex id; reversed, its tangents swap and change sign */
+    const GP_MASK fwd = vid[k] <= vid[k1];
+    gp_vec3 a, b;
+    gp_edge_tangents(gp_sel3(fwd, V[k], V[k1]), gp_sel3(fwd, V[k1], V[k]), gp_sel3(fwd, N[k], N[k1]),
+                     gp_sel3(fwd, N[k1], N[k]), &a, &b, &st);
+    ts[k] = gp_sel3(fwd, a, gp_neg(b));
+    te[k] = gp_sel3(fwd, b, gp_neg(a));
+  }
+  gp_build_records(n, V, N, ts, te, mode, recs, &st);
+  return gp_build_clear_bad(n, bad, recs, st);
+}
+
+/* gp_build_patch for a polygon whose edges may be creases: PS[k], PE[k] are the unit normals that
+ * the face across edge k has at V_k and V_{k+1} (N[k], N[k+1] where edge k has no neighbour).
+ * Each edge's curve comes from gp_crease_edge_tangents, so both faces of a crease build the same
+ * curve while each keeps its own normals N (and so its own tangent plane along the crease). Where
+ * PS = N and PE = N[k+1] everywhere, the records equal gp_build_patch's bit for bit. */
+GP_FN GP_STATUS gp_build_patch_creased(int n, const gp_vec3* V, const gp_vec3* N, const gp_vec3* PS, const gp_vec3* PE,
+                                       const GP_VID* vid, int mode, GP_REAL* recs) {
+  GP_STATUS st = 0u;
+  GP_MASK bad;
+  if (gp_build_refused(n, V, N, recs, &bad, &st)) return st;
+  gp_vec3 ts[GP_MAX_N], te[GP_MAX_N];
+  for (int k = 0; k < n; ++k) {
+    const int k1 = k + 1 == n ? 0 : k + 1;
+    const GP_MASK fwd = vid[k] <= vid[k1];
+    gp_vec3 a, b;
+    gp_crease_edge_tangents(gp_sel3(fwd, V[k], V[k1]), gp_sel3(fwd, V[k1], V[k]), gp_sel3(fwd, N[k], N[k1]),
+                            gp_sel3(fwd, N[k1], N[k]), gp_sel3(fwd, PS[k], PE[k]), gp_sel3(fwd, PE[k], PS[k]), &a, &b,
+                            &st);
+    ts[k] = gp_sel3(fwd, a, gp_neg(b));
+    te[k] = gp_sel3(fwd, b, gp_neg(a));
+  }
+  gp_build_records(n, V, N, ts, te, mode, recs, &st);
+  return gp_build_clear_bad(n, bad, recs, st);
 }

@@ -4,9 +4,12 @@
 #include <smoothforce/mesh/normals.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+
+#include <smoothforce/mesh/topology.h>
 
 namespace sf {
 namespace {
@@ -105,14 +108,17 @@ Eigen::Vector3d newellNormal(const PolygonMesh& mesh, int f) {
 
 namespace {
 
-/// Angle- or area-weighted unit normal per vertex (#V by 3; +z for unreferenced vertices).
-/// Vertices that needed the first-incident-face fallback are appended to `fallbackVertices`.
-std::vector<Eigen::Vector3d> weightedVertexNormals(const PolygonMesh& mesh, NormalMode mode,
-                                                   std::vector<int>& fallbackVertices) {
-  const int nv = mesh.numVertices();
-  std::vector<Eigen::Vector3d> sum(nv, Eigen::Vector3d::Zero());
-  std::vector<double> weight(nv, 0.0);
-  std::vector<int> firstGood(nv, -1), firstNonZero(nv, -1);
+/// Angle- or area-weighted unit normal per group of corners (cornerGroup: #C ids in
+/// [0, numGroups); the vertex id for one normal per vertex, a smoothing sector at creases): the
+/// weighted sum of the face normals over the group's corners. Unused groups get +z. Groups that
+/// needed the first-incident-face fallback add their vertex to `fallbackVertices` (once).
+std::vector<Eigen::Vector3d> weightedNormals(const PolygonMesh& mesh, NormalMode mode,
+                                             const std::vector<int32_t>& cornerGroup, int numGroups,
+                                             std::vector<int>& fallbackVertices) {
+  const int ng = numGroups;
+  std::vector<Eigen::Vector3d> sum(ng, Eigen::Vector3d::Zero());
+  std::vector<double> weight(ng, 0.0);
+  std::vector<int> firstGood(ng, -1), firstNonZero(ng, -1), vertexOf(ng, -1);
   std::vector<Eigen::Vector3d> faceUnit(mesh.numFaces(), Eigen::Vector3d::Zero());
   for (int f = 0; f < mesh.numFaces(); ++f) {
     const Eigen::Vector3d N = newellNormal(mesh, f);
@@ -121,13 +127,14 @@ std::vector<Eigen::Vector3d> weightedVertexNormals(const PolygonMesh& mesh, Norm
     if (len > 0 && std::isfinite(len)) faceUnit[f] = N / len;
     const bool skip = zeroArea(mesh, f, N);
     for (int k = 0; k < n; ++k) {
-      const int v = mesh.faceVertex(f, k);
-      if (firstNonZero[v] < 0 && len > 0 && std::isfinite(len)) firstNonZero[v] = f;
+      const int v = mesh.faceVertex(f, k), g = cornerGroup[mesh.faceOffsets[f] + k];
+      vertexOf[g] = v;
+      if (firstNonZero[g] < 0 && len > 0 && std::isfinite(len)) firstNonZero[g] = f;
       if (skip) continue;
-      if (firstGood[v] < 0) firstGood[v] = f;
+      if (firstGood[g] < 0) firstGood[g] = f;
       if (mode == NormalMode::Area) {
-        sum[v] += N;
-        weight[v] += len;
+        sum[g] += N;
+        weight[g] += len;
         continue;
       }
       // Interior angle at the corner; reflex (> pi) where the corner turns against N.
@@ -137,31 +144,66 @@ std::vector<Eigen::Vector3d> weightedVertexNormals(const PolygonMesh& mesh, Norm
       const Eigen::Vector3d c = eNext.cross(ePrev);
       double angle = std::atan2(c.norm(), eNext.dot(ePrev));
       if (c.dot(N) < 0) angle = 2 * std::numbers::pi - angle;
-      sum[v] += angle * faceUnit[f];
-      weight[v] += angle;
+      sum[g] += angle * faceUnit[f];
+      weight[g] += angle;
     }
   }
 
-  std::vector<Eigen::Vector3d> vertexNormal(nv, Eigen::Vector3d::UnitZ());
-  std::vector<char> used(nv, 0);
-  for (int v : mesh.faceVertices) used[v] = 1;
-  for (int v = 0; v < nv; ++v) {
-    if (!used[v]) continue;
-    const double len = sum[v].norm();
-    if (weight[v] > 0 && len > 1e-12 * weight[v] && std::isfinite(len)) {
-      vertexNormal[v] = sum[v] / len;
+  std::vector<Eigen::Vector3d> normal(ng, Eigen::Vector3d::UnitZ());
+  std::vector<char> reported(mesh.numVertices(), 0);
+  for (int g = 0; g < ng; ++g) {
+    if (vertexOf[g] < 0) continue;
+    const double len = sum[g].norm();
+    if (weight[g] > 0 && len > 1e-12 * weight[g] && std::isfinite(len)) {
+      normal[g] = sum[g] / len;
       continue;
     }
-    const int f = firstGood[v] >= 0 ? firstGood[v] : firstNonZero[v];
-    if (f >= 0) vertexNormal[v] = faceUnit[f];  // else +z: every incident face has zero Newell
-    fallbackVertices.push_back(v);
+    const int f = firstGood[g] >= 0 ? firstGood[g] : firstNonZero[g];
+    if (f >= 0) normal[g] = faceUnit[f];  // else +z: every incident face has zero Newell
+    if (!reported[vertexOf[g]]) fallbackVertices.push_back(vertexOf[g]);
+    reported[vertexOf[g]] = 1;
   }
-  return vertexNormal;
+  std::sort(fallbackVertices.begin(), fallbackVertices.end());
+  return normal;
+}
+
+/// One weighted normal per vertex (#V; +z for unreferenced vertices).
+std::vector<Eigen::Vector3d> weightedVertexNormals(const PolygonMesh& mesh, NormalMode mode,
+                                                   std::vector<int>& fallbackVertices) {
+  return weightedNormals(mesh, mode, mesh.faceVertices, mesh.numVertices(), fallbackVertices);
+}
+
+/// Corner groups for weightedNormals: the vertex, except at the vertices that crease edges or
+/// corner tags touch, where each smoothing sector (corners joined across edges that are not
+/// creases; a corner vertex's corners all apart) is a group of its own.
+std::vector<int32_t> creaseGroups(const PolygonMesh& mesh, const std::vector<int32_t>& twins, const CreaseSet& cs,
+                                  int& numGroups) {
+  std::vector<char> touched(mesh.numVertices(), 0), corner(mesh.numVertices(), 0);
+  for (const auto& e : cs.edges) touched[e[0]] = touched[e[1]] = 1;
+  for (int32_t v : cs.corners) touched[v] = corner[v] = 1;
+  int sectors = 0;
+  const std::vector<int32_t> sector = cornerSectors(
+      mesh, twins,
+      [&](int32_t a, int32_t, int32_t slot) {
+        const int32_t v = mesh.faceVertices[a];
+        const int f = slotFace(mesh.faceOffsets, slot);
+        const int k = slot - mesh.faceOffsets[f];
+        return !corner[v] && !isCrease(cs, mesh.faceVertex(f, k), mesh.faceVertex(f, k + 1));
+      },
+      &sectors);
+  std::vector<int32_t> group(mesh.numCorners());
+  for (int c = 0; c < mesh.numCorners(); ++c) {
+    const int v = mesh.faceVertices[c];
+    group[c] = touched[v] ? mesh.numVertices() + sector[c] : v;
+  }
+  numGroups = mesh.numVertices() + sectors;
+  return group;
 }
 
 }  // namespace
 
-std::vector<Eigen::Vector3d> cornerNormals(const PolygonMesh& mesh, NormalMode mode, NormalReport& report) {
+std::vector<Eigen::Vector3d> cornerNormals(const PolygonMesh& mesh, NormalMode mode, NormalReport& report,
+                                           const CreaseOptions& creaseOptions) {
   report = NormalReport{};
   report.mode = mode;
   report.fileHasNormals = !mesh.fileNormals.empty() || !mesh.fileCornerNormals.empty();
@@ -173,10 +215,33 @@ std::vector<Eigen::Vector3d> cornerNormals(const PolygonMesh& mesh, NormalMode m
       }
     }
   }
+  report.creases = findCreases(mesh, creaseOptions);
+  const CreaseSet& cs = report.creases;
   const std::vector<int> first = firstCorners(mesh);
   std::vector<Eigen::Vector3d> out;
   const bool usable = !mesh.fileCornerNormals.empty() || mesh.fileNormals.size() == mesh.positions.size();
   const bool fileMode = mode == NormalMode::File || (mode == NormalMode::Auto && usable);
+  std::vector<int32_t> twins;
+  if (!cs.empty() || !mesh.fileCornerNormals.empty()) twins = computeSlotTwins(mesh);
+  // the marked creases' smoothing sectors, angle-weighted, at the vertices they touch
+  std::vector<char> touched(mesh.numVertices(), 0);
+  std::vector<int32_t> groups;
+  std::vector<Eigen::Vector3d> sectorNormal;
+  std::vector<int> sectorFallbacks;
+  if (!cs.empty() && mode != NormalMode::File) {
+    for (const auto& e : cs.edges) touched[e[0]] = touched[e[1]] = 1;
+    for (int32_t v : cs.corners) touched[v] = 1;
+    int ng = 0;
+    groups = creaseGroups(mesh, twins, cs, ng);
+    const NormalMode weight = mode == NormalMode::Area ? NormalMode::Area : NormalMode::Angle;
+    sectorNormal = weightedNormals(mesh, weight, groups, ng, sectorFallbacks);
+  }
+  const auto sectorsAtCreases = [&] {
+    for (int c = 0; c < mesh.numCorners(); ++c)
+      if (touched[mesh.faceVertices[c]]) out[c] = sectorNormal[groups[c]];
+    for (int v : sectorFallbacks)
+      if (touched[v]) report.fallbackVertices.push_back(v);
+  };
   if (fileMode && !mesh.fileCornerNormals.empty()) {
     out = fileNormals(mesh, false);
     std::vector<char> split(mesh.numVertices(), 0);
@@ -188,31 +253,54 @@ std::vector<Eigen::Vector3d> cornerNormals(const PolygonMesh& mesh, NormalMode m
       if (split[v]) report.splitVertices.push_back(v);
     if (mode == NormalMode::File) {
       report.source = NormalSource::FileCorners;
-    } else if (report.splitVertices.empty()) {
+    } else if (report.splitVertices.empty() && cs.empty()) {
       report.source = NormalSource::FileFaceRefs;
       for (int c = 0; c < mesh.numCorners(); ++c) out[c] = out[first[mesh.faceVertices[c]]];  // first <= c
-    } else {
+    } else if (!creaseOptions.normals) {
       // Split vertices take the angle-weighted normal; every other vertex its first corner's.
-      report.source = NormalSource::FileAndAngle;
+      report.source = report.splitVertices.empty() ? NormalSource::FileFaceRefs : NormalSource::FileAndAngle;
       std::vector<int> fallbacks;
       const std::vector<Eigen::Vector3d> angle = weightedVertexNormals(mesh, NormalMode::Angle, fallbacks);
       for (int v : fallbacks)
-        if (split[v]) report.fallbackVertices.push_back(v);
+        if (split[v] && !touched[v]) report.fallbackVertices.push_back(v);
       for (int c = 0; c < mesh.numCorners(); ++c) {  // in place: first[v] <= c keeps its value
         const int v = mesh.faceVertices[c];
         out[c] = split[v] ? angle[v] : out[first[v]];
       }
+      if (!cs.empty()) sectorsAtCreases();
+    } else {
+      // One file normal per smoothing sector: corners joined across edges where their file
+      // normals agree; the sector takes its first corner's normal. Split vertices keep their
+      // creases; the marked creases take angle-weighted sector normals.
+      report.source = NormalSource::FileSectors;
+      int count = 0;
+      const std::vector<int32_t> sector = cornerSectors(
+          mesh, twins,
+          [&](int32_t a, int32_t b, int32_t) { return angleBetween(out[a], out[b]) <= kSameNormalAngle; }, &count);
+      std::vector<int32_t> firstOf(count, -1);
+      for (int c = 0; c < mesh.numCorners(); ++c)
+        if (firstOf[sector[c]] < 0) firstOf[sector[c]] = c;
+      for (int c = 0; c < mesh.numCorners(); ++c) out[c] = out[firstOf[sector[c]]];  // firstOf <= c
+      if (!cs.empty()) sectorsAtCreases();
     }
   } else if (fileMode) {
     out = fileNormals(mesh, true);
     report.source = NormalSource::FileVertexOrder;
+    if (!cs.empty() && mode != NormalMode::File) sectorsAtCreases();
   } else {
     if (mode == NormalMode::Auto) mode = NormalMode::Angle;
     report.source = mode == NormalMode::Area ? NormalSource::Area : NormalSource::Angle;
     const std::vector<Eigen::Vector3d> vn = weightedVertexNormals(mesh, mode, report.fallbackVertices);
     out.resize(mesh.numCorners());
     for (int c = 0; c < mesh.numCorners(); ++c) out[c] = vn[mesh.faceVertices[c]];
+    if (!cs.empty()) {
+      report.fallbackVertices.erase(std::remove_if(report.fallbackVertices.begin(), report.fallbackVertices.end(),
+                                                   [&](int v) { return touched[v] != 0; }),
+                                    report.fallbackVertices.end());
+      sectorsAtCreases();
+    }
   }
+  std::sort(report.fallbackVertices.begin(), report.fallbackVertices.end());
   if (fileMode) {
     for (int v = 0; v < mesh.numVertices(); ++v) report.fileVertices += first[v] >= 0;
     report.fileVertices -= static_cast<int>(report.splitVertices.size());
@@ -248,6 +336,10 @@ std::vector<std::string> NormalReport::describe(int maxIds) const {
       out.push_back("the file's normals at " + std::to_string(fileVertices) + " vertices; angle-weighted at " + nSplit +
                     " vertices whose corners carry different file normals");
       break;
+    case NormalSource::FileSectors:
+      out.push_back("the file's normals at " + std::to_string(fileVertices) + " vertices; one per smoothing sector at " +
+                    nSplit + " vertices whose corners carry different file normals (creases)");
+      break;
     case NormalSource::Angle:
     case NormalSource::Area:
       out.push_back(std::string(source == NormalSource::Angle ? "angle" : "area") + "-weighted Newell normals" +
@@ -264,12 +356,28 @@ std::vector<std::string> NormalReport::describe(int maxIds) const {
     out.push_back(
         "split vertices: " + nSplit + " (first: " + ids(splitVertices) +
         "): their corners carry file normals more than " + tol + " rad apart" +
-        (mode == NormalMode::Auto ? "; auto used the angle-weighted normal there (--normals file keeps them)" : ""));
+        (source == NormalSource::FileAndAngle
+             ? "; auto used the angle-weighted normal there (--creases with normals, or --normals file, keeps them as "
+               "creases)"
+             : " (creases)"));
+  }
+  if (!creases.empty()) {
+    std::string from;
+    const auto add = [&](int n, const char* what) {
+      if (n) from += std::string(from.empty() ? "" : ", ") + std::to_string(n) + " " + what;
+    };
+    add(creases.fromTags, "by tags");
+    add(creases.fromGroups, "by smoothing groups");
+    add(creases.fromAngle, "by the crease angle");
+    add(static_cast<int>(creases.corners.size()), "corner tags");
+    out.push_back("marked creases: " + std::to_string(creases.edges.size()) + " edges (" + from + ")" +
+                  (creases.semiSharp ? "; " + std::to_string(creases.semiSharp) + " semi-sharp tags made sharp" : "") +
+                  (mode == NormalMode::File ? "; not applied: --normals file uses the file's normals as given" : ""));
   }
   if (creaseCorners) {
     out.push_back("crease corners: " + std::to_string(creaseCorners) +
-                  " (normal differs from another corner of the same vertex): the edges there are not shared "
-                  "curves, so the surface is open along them");
+                  " (normal differs from another corner of the same vertex): each crease edge is one curve "
+                  "shared by its two faces, with a tangent plane per side");
   }
   if (!fallbackVertices.empty()) {
     out.push_back("no well-defined normal: " + std::to_string(fallbackVertices.size()) +
@@ -281,7 +389,7 @@ std::vector<std::string> NormalReport::describe(int maxIds) const {
 std::vector<Eigen::Vector3d> cornerNormals(const PolygonMesh& mesh, NormalMode mode,
                                            std::vector<int>* fallbackVertices) {
   NormalReport report;
-  std::vector<Eigen::Vector3d> out = cornerNormals(mesh, mode, report);
+  std::vector<Eigen::Vector3d> out = cornerNormals(mesh, mode, report, CreaseOptions{});
   if (fallbackVertices) *fallbackVertices = std::move(report.fallbackVertices);
   return out;
 }

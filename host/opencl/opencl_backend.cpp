@@ -55,6 +55,13 @@ struct OpenCLConstructor::Impl {
     cl::Buffer nrm = upload(ctx, nrmR, up);
     cl::Buffer offs = upload(ctx, c.faceOffsets, up);
     cl::Buffer verts = upload(ctx, c.faceVertices, up);
+    std::vector<int32_t> acrossC(2 * ns);
+    for (size_t f = 0; f < nf; ++f)
+      for (int k = 0, n = c.faceSize(static_cast<int>(f)); k < n; ++k) {
+        const size_t s = static_cast<size_t>(c.faceOffsets[f]) + k;
+        acrossCorners(c, static_cast<int>(f), k, acrossC[2 * s], acrossC[2 * s + 1]);
+      }
+    cl::Buffer across = upload(ctx, acrossC, up);
     cl::Buffer rec(ctx.context(), CL_MEM_WRITE_ONLY, edgeData.size() * sizeof(Real));
     cl::Buffer st(ctx.context(), CL_MEM_WRITE_ONLY, nf * sizeof(uint32_t));
     cl::Buffer bulge(ctx.context(), CL_MEM_WRITE_ONLY, nf * sizeof(float));
@@ -65,9 +72,10 @@ struct OpenCLConstructor::Impl {
     k.setArg(4, nrm);
     k.setArg(5, offs);
     k.setArg(6, verts);
-    k.setArg(7, rec);
-    k.setArg(8, st);
-    k.setArg(9, bulge);
+    k.setArg(7, across);
+    k.setArg(8, rec);
+    k.setArg(9, st);
+    k.setArg(10, bulge);
     cl::Event kev;
     const size_t g = dev.groupSize();
     ctx.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(roundUp(nf, g)), cl::NDRange(g), nullptr, &kev);

@@ -35,7 +35,9 @@ struct Header {  // 128 bytes on disk
   uint32_t recordFields, maxSides;
   uint64_t numVertices, numFaces, numSlots;
   uint64_t payloadBytes, payloadChecksum;
-  uint64_t reserved[3];
+  uint64_t creaseAngleBits;  // CreaseOptions::angleDeg as IEEE double bits (0: off)
+  uint64_t creaseMarks;      // bit 0: tags off, bit 1: smoothing groups off, bit 2: normals on (0: default)
+  uint64_t reserved;
   uint64_t headerChecksum;  // XXH64 of the bytes before this field
 };
 static_assert(sizeof(Header) == 128);
@@ -67,12 +69,22 @@ void take(const char*& p, std::vector<T>& v, uint64_t count) {
   p += count * sizeof(T);
 }
 
+/// A double's exact text (%a), so that the options hash tells every angle apart.
+std::string hexDouble(double x) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%a", x);
+  return buf;
+}
+
 std::string optionsText(const PatchOptions& o) {
   return std::string("precision=") + toString(o.precision) + ";cross-tangent=" + toString(o.crossTangent) +
          ";normals=" + toString(o.normals) + ";orient=" + (o.keepOrientation ? "keep" : "outward") +
          ";fields=" + std::to_string(GP_E_NFIELDS) +
          // named only when not none, so that the hash of every cache built without a cage stays as it was
-         (o.cage == CageMode::None ? std::string() : std::string(";cage=") + toString(o.cage));
+         (o.cage == CageMode::None ? std::string() : std::string(";cage=") + toString(o.cage)) +
+         // the same for the crease options: named only when not the default
+         (o.creases.tags && o.creases.groups && !o.creases.normals ? std::string() : ";creases=" + creaseMarksText(o.creases)) +
+         (o.creases.angleDeg == 0 ? std::string() : ";crease-angle=" + hexDouble(o.creases.angleDeg));
 }
 
 }  // namespace
@@ -116,6 +128,9 @@ void writePatchCache(const PatchCache& c, const std::string& path) {
   h.crossTangent = static_cast<uint32_t>(c.options.crossTangent);
   h.normals = static_cast<uint32_t>(c.options.normals);
   h.keepOrientation = c.options.keepOrientation ? 1 : 0;
+  std::memcpy(&h.creaseAngleBits, &c.options.creases.angleDeg, sizeof(double));
+  h.creaseMarks = (c.options.creases.tags ? 0u : 1u) | (c.options.creases.groups ? 0u : 2u) |
+                  (c.options.creases.normals ? 4u : 0u);
   h.recordFields = GP_E_NFIELDS;
   h.maxSides = GP_MAX_N;
   h.numVertices = c.numVertices();
@@ -175,6 +190,13 @@ PatchCache readPatchCache(const std::string& path, const CacheExpectation& expec
   opt.crossTangent = static_cast<CrossTangentMode>(h.crossTangent);
   opt.normals = static_cast<NormalMode>(h.normals);
   opt.keepOrientation = h.keepOrientation != 0;
+  if (h.creaseMarks > 7) throw fail("corrupted cache header (crease option codes out of range)");
+  opt.creases.tags = !(h.creaseMarks & 1u);
+  opt.creases.groups = !(h.creaseMarks & 2u);
+  opt.creases.normals = (h.creaseMarks & 4u) != 0;
+  std::memcpy(&opt.creases.angleDeg, &h.creaseAngleBits, sizeof(double));
+  if (!(opt.creases.angleDeg >= 0 && opt.creases.angleDeg < 180))
+    throw fail("corrupted cache header (crease angle out of range)");
   // the cage has no header field: the options hash says which one the cache was built with
   if (h.optionsHash != hashPatchOptions(opt)) {
     opt.cage = CageMode::CatmullClark;

@@ -27,7 +27,7 @@ LoadedMesh loadMesh(PolygonMesh mesh, uint64_t meshHash, const PatchOptions& opt
   out.flipped =
       applyOrientation(out.mesh, out.report, options.keepOrientation ? OrientPolicy::Keep : OrientPolicy::Outward);
   if (options.cage == CageMode::None) {
-    out.cornerNormals = cornerNormals(out.mesh, options.normals, out.normalReport);
+    out.cornerNormals = cornerNormals(out.mesh, options.normals, out.normalReport, options.creases);
   } else {
     // the cage's limit normals are the surface's own: file or polygon normals would describe the cage
     if (options.normals != NormalMode::Auto)

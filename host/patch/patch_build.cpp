@@ -32,6 +32,37 @@ size_t PatchCache::bytes() const {
          edgeDataD.size() * sizeof(double) + edgeDataF.size() * sizeof(float);
 }
 
+void acrossCorners(const PatchCache& c, int f, int k, int32_t& atStart, int32_t& atEnd) {
+  const int first = c.faceOffsets[f], n = c.faceSize(f), s = first + k;
+  atStart = s;
+  atEnd = first + (k + 1 == n ? 0 : k + 1);
+  const int32_t t = c.slotTwin[s];
+  if (t < 0) return;
+  // the twin runs V_{k+1} -> V_k in its face g: its slot is g's corner at V_{k+1}, the next one V_k
+  const int g = slotFace(c.faceOffsets, t);
+  atEnd = t;
+  atStart = t + 1 == c.faceOffsets[g + 1] ? c.faceOffsets[g] : t + 1;
+}
+
+bool cornerNormalsDiffer(const PatchCache& c, int32_t a, int32_t b) {
+  const double *na = &c.cornerNormals[3 * static_cast<size_t>(a)], *nb = &c.cornerNormals[3 * static_cast<size_t>(b)];
+  return na[0] != nb[0] || na[1] != nb[1] || na[2] != nb[2];
+}
+
+bool isCreaseEdge(const PatchCache& c, int f, int k) {
+  const int first = c.faceOffsets[f], n = c.faceSize(f);
+  if (c.slotTwin[first + k] < 0) return false;
+  int32_t a, b;
+  acrossCorners(c, f, k, a, b);
+  return cornerNormalsDiffer(c, first + k, a) || cornerNormalsDiffer(c, first + (k + 1 == n ? 0 : k + 1), b);
+}
+
+bool faceHasCrease(const PatchCache& c, int f) {
+  for (int k = 0, n = c.faceSize(f); k < n; ++k)
+    if (isCreaseEdge(c, f, k)) return true;
+  return false;
+}
+
 double boundingDiagonal(const PatchCache& cache) {
   Eigen::Vector3d lo, hi;
   referencedBox(cache, lo, hi);
@@ -115,7 +146,20 @@ uint32_t buildRecords(const PatchCache& c, int f, Real* recs, float* bulgeOut, b
     N[k] = G::v3(nn[0], nn[1], nn[2]);
   }
   const int mode = static_cast<int>(c.options.crossTangent);
-  gp_uint st = G::build(n, V, N, vid, mode, recs);
+  gp_uint st;
+  if (faceHasCrease(c, f)) {
+    typename G::vec3 PS[GP_MAX_N], PE[GP_MAX_N];
+    for (int k = 0; k < n; ++k) {
+      int32_t a, b;
+      acrossCorners(c, f, k, a, b);
+      const double *na = &c.cornerNormals[3 * static_cast<size_t>(a)], *nb = &c.cornerNormals[3 * static_cast<size_t>(b)];
+      PS[k] = G::v3(na[0], na[1], na[2]);
+      PE[k] = G::v3(nb[0], nb[1], nb[2]);
+    }
+    st = G::buildCreased(n, V, N, PS, PE, vid, mode, recs);
+  } else {
+    st = G::build(n, V, N, vid, mode, recs);
+  }
   Real bulge = 0;
   if (quality && !(st & GP_ST_NOT_BUILT)) st |= G::quality(n, recs, mode, &bulge);
   if (bulgeOut) *bulgeOut = static_cast<float>(bulge);
@@ -135,25 +179,32 @@ void buildFace(PatchCache& c, int f) {
     for (int i = 0; i < GP_E_NFIELDS; ++i) data[i * ns + first + k] = recs[k * GP_E_NFIELDS + i];
 }
 
-/// Faces by size: the SIMD path builds faces of one size side by side.
+/// Faces by size: the SIMD path builds faces of one size side by side. Faces with a crease edge
+/// are listed apart (creased): they are built one at a time, with the other faces' normals.
 struct SizeGroups {
-  std::vector<int32_t> faces;  // grouped by size n (3..GP_MAX_N), then in order
-  std::vector<size_t> start;   // faces of size n: [start[n], start[n + 1])
+  std::vector<int32_t> faces;    // grouped by size n (3..GP_MAX_N), then in order
+  std::vector<size_t> start;     // faces of size n: [start[n], start[n + 1])
+  std::vector<int32_t> creased;  // faces with a crease edge, in order
 };
 SizeGroups groupBySize(const PatchCache& c) {
   SizeGroups g;
   g.start.assign(GP_MAX_N + 2, 0);
+  std::vector<char> plain(c.numFaces(), 0);
   for (int f = 0; f < c.numFaces(); ++f) {
     const int n = c.faceSize(f);
-    if (n >= 3 && n <= GP_MAX_N) ++g.start[n + 1];
+    if (n < 3 || n > GP_MAX_N) continue;
+    if (faceHasCrease(c, f)) {
+      g.creased.push_back(f);
+      continue;
+    }
+    plain[f] = 1;
+    ++g.start[n + 1];
   }
   for (int n = 0; n <= GP_MAX_N; ++n) g.start[n + 1] += g.start[n];
   g.faces.resize(g.start[GP_MAX_N + 1]);
   std::vector<size_t> pos(g.start.begin(), g.start.end() - 1);
-  for (int f = 0; f < c.numFaces(); ++f) {
-    const int n = c.faceSize(f);
-    if (n >= 3 && n <= GP_MAX_N) g.faces[pos[n]++] = f;
-  }
+  for (int f = 0; f < c.numFaces(); ++f)
+    if (plain[f]) g.faces[pos[c.faceSize(f)]++] = f;
   return g;
 }
 
@@ -192,7 +243,16 @@ void buildAll(PatchCache& c, const BuildOptions& o) {
   std::vector<std::pair<size_t, size_t>> items;
   for (int n = 3; n <= GP_MAX_N; ++n)
     for (size_t b = g.start[n]; b < g.start[n + 1]; b += 64) items.emplace_back(b, std::min(b + 64, g.start[n + 1]));
-  auto one = [&](size_t i) { fn(c, g.faces.data() + items[i].first, items[i].second - items[i].first); };
+  // then the faces with a crease, one at a time, as items of 64
+  const size_t runs = items.size();
+  for (size_t b = 0; b < g.creased.size(); b += 64) items.emplace_back(b, std::min(b + 64, g.creased.size()));
+  auto one = [&](size_t i) {
+    if (i >= runs) {
+      for (size_t j = items[i].first; j < items[i].second; ++j) buildFace<Real>(c, g.creased[j]);
+      return;
+    }
+    fn(c, g.faces.data() + items[i].first, items[i].second - items[i].first);
+  };
   if (o.backend == Backend::Serial) {
     for (size_t i = 0; i < items.size(); ++i) one(i);
     return;

@@ -22,6 +22,9 @@ PatchOptions PatchArgs::options() const {
     throw InputError("--orient: expected outward|keep, got '" + orient + "'");
   o.keepOrientation = orient == "keep";
   o.cage = parseCageMode(cage);
+  parseCreaseMarks(creases, o.creases);
+  o.creases.angleDeg = creaseAngle;
+  checkCreaseOptions(o.creases);
   // loadMesh refuses the pair too (scene files, C API); on the command line it is a usage error
   if (o.cage != CageMode::None && o.normals != NormalMode::Auto)
     throw UsageError("--cage " + cage + " uses the limit surface's normals: --normals " + normals +
@@ -91,9 +94,10 @@ void addSurfaceArgs(CLI::App& cmd, PatchArgs& a) {
   a.normalsOpt = cmd.add_option("--normals", a.normals,
                                 "auto|file|angle|area: vertex normals. auto: the file's wherever it gives one normal "
                                 "per vertex (in vertex order, or through face references f v//vn whose corners agree "
-                                "within 1e-3 rad); at vertices whose corners carry different normals, and without file "
-                                "normals, angle-weighted (cache build reports how many). file: the file's, per corner "
-                                "as given (creases open the surface). angle|area: angle- or area-weighted Newell normals")
+                                "within 1e-3 rad); at vertices whose corners carry different normals, one per smoothing "
+                                "sector (creases); without file normals, angle-weighted (cache build reports how many). "
+                                "file: the file's, per corner as given. angle|area: angle- or area-weighted Newell "
+                                "normals")
                      ->check(CLI::IsMember({"auto", "file", "angle", "area"}))
                      ->capture_default_str();
   a.crossTangentOpt = cmd.add_option("--cross-tangent", a.crossTangent,
@@ -109,6 +113,18 @@ void addSurfaceArgs(CLI::App& cmd, PatchArgs& a) {
                              "patches (boundaries: edge-and-corner; needs --normals auto; docs/cage.md)")
                   ->check(CLI::IsMember({"none", "catmull-clark"}))
                   ->capture_default_str();
+  a.creasesOpt = cmd.add_option("--creases", a.creases,
+                                "LIST|none: which marks make crease edges, a comma-separated list of: tags (OBJ 't "
+                                "crease'/'t corner', PLY edge crease properties), groups (OBJ smoothing-group "
+                                "borders), normals (split file normals under --normals auto; --normals file always "
+                                "keeps them). A crease is one curve both faces share, sharp between them "
+                                "(docs/guide.md 'Creases')")
+                     ->capture_default_str();
+  a.creaseAngleOpt = cmd.add_option("--crease-angle", a.creaseAngle,
+                                    "DEG: also make a crease of every edge whose two faces' normals are more than DEG "
+                                    "degrees apart (0: off)")
+                         ->check(CLI::Range(0.0, 179.999999))
+                         ->capture_default_str();
 }
 
 void addBackendArgs(CLI::App& cmd, PatchArgs& a) {
@@ -144,6 +160,13 @@ void PatchArgs::checkCache(const PatchCache& c, const std::string& path) const {
   if (given(crossTangentOpt)) differs("--cross-tangent", toString(c.options.crossTangent), crossTangent);
   if (given(orientOpt)) differs("--orient", c.options.keepOrientation ? "keep" : "outward", orient);
   if (given(cageOpt)) differs("--cage", toString(c.options.cage), cage);
+  if (given(creasesOpt)) {
+    CreaseOptions wanted;
+    parseCreaseMarks(creases, wanted);
+    differs("--creases", creaseMarksText(c.options.creases), creaseMarksText(wanted));
+  }
+  if (given(creaseAngleOpt) && c.options.creases.angleDeg != creaseAngle)
+    differs("--crease-angle", std::to_string(c.options.creases.angleDeg), std::to_string(creaseAngle));
 }
 
 double construct(PatchCache& cache, const PatchArgs& args) {

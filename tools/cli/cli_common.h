@@ -13,15 +13,17 @@
 namespace sf::cli {
 
 /// Options every command that builds patches takes: the patch surface (--precision,
-/// --normals, --cross-tangent, --orient, --cage) and where the work runs (--backend, --cl-device,
+/// --normals, --cross-tangent, --orient, --cage, --creases, --crease-angle) and where the work runs (--backend, --cl-device,
 /// --threads).
 struct PatchArgs {
-  std::string precision = "double", normals = "auto", crossTangent = "corrected", orient = "outward", cage = "none";
+  std::string precision = "double", normals = "auto", crossTangent = "corrected", orient = "outward", cage = "none",
+              creases = "tags,groups";
+  double creaseAngle = 0;
   std::string backend = "tbb", clDevice;
   int threads = 0;
   /// The surface options as registered (null when the command lacks them); count() > 0 when given.
   CLI::Option *precisionOpt = nullptr, *normalsOpt = nullptr, *crossTangentOpt = nullptr, *orientOpt = nullptr,
-              *cageOpt = nullptr;
+              *cageOpt = nullptr, *creasesOpt = nullptr, *creaseAngleOpt = nullptr;
   PatchOptions options() const;
   Backend backendKind() const { return parseBackend(backend); }
   /// A cache file keeps the options it was built with: throws InputError `PATH: built with

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include <smoothforce/mesh/creases.h>
 #include <smoothforce/mesh/mesh.h>
 
 namespace sf {
@@ -16,10 +17,15 @@ namespace sf {
 ///        every corner of the vertex references the same normal (normalised, within
 ///        kSameNormalAngle of the vertex's first corner in face order; that corner's normal is
 ///        used). At a vertex whose corners carry different file normals (a crease, or flat
-///        shading) the angle-weighted normal (Angle) is used instead, and the vertex is listed in
-///        NormalReport::splitVertices. Without file normals: Angle everywhere.
-/// File:  the file's normals: per vertex, or per corner (OBJ `f v//vn`), kept per corner;
-///        throws InputError when the file has none.
+///        shading) the angle-weighted normal (Angle) is used instead; with CreaseOptions::normals,
+///        each smoothing sector (corners joined across edges where the normals agree) keeps its
+///        first corner's file normal instead, and the edges between sectors are creases. The
+///        vertex is listed in NormalReport::splitVertices. Without file normals: Angle everywhere.
+/// File:  the file's normals: per vertex, or per corner (OBJ `f v//vn`), kept per corner as
+///        given (marked creases are not applied); throws InputError when the file has none.
+/// In every mode but File, at the vertices that marked creases touch (creases.h: tags,
+/// smoothing groups, --crease-angle), each smoothing sector takes the Angle (Area in Area mode)
+/// normal of its own faces: the faces on either side of a crease keep their own tangent plane.
 /// Angle: angle-weighted average of Newell face normals (Thürmer & Wüthrich 1998).
 /// Area:  area-weighted (the Newell vector's length is twice the area).
 enum class NormalMode { Auto, File, Angle, Area };
@@ -36,6 +42,7 @@ enum class NormalSource {
   FileFaceRefs,     ///< the file's, one per vertex through face references (Auto)
   FileCorners,      ///< the file's per corner, as given (File)
   FileAndAngle,     ///< Auto: the file's, angle-weighted at the split vertices
+  FileSectors,      ///< Auto with CreaseOptions::normals: the file's, one per smoothing sector
   Angle,            ///< angle-weighted Newell normals
   Area,             ///< area-weighted Newell normals
   CageLimit         ///< Catmull-Clark limit normals of a subdivision cage (cage_limit.h)
@@ -48,6 +55,7 @@ struct NormalReport {
   std::vector<int> splitVertices;             ///< vertices whose corners carry file normals more than
                                               ///< kSameNormalAngle apart (Auto and File, per-corner files)
   std::vector<int> fallbackVertices;          ///< vertices whose weighted normal needed a fallback
+  CreaseSet creases;                          ///< the marked creases (findCreases)
   int fileVertices = 0;         ///< referenced vertices whose corners agree on one file normal (file sources)
   int creaseCorners = 0;        ///< corners whose normal differs from the first corner of their vertex
   bool fileHasNormals = false;  ///< the mesh carries per-vertex or per-corner file normals
@@ -63,13 +71,15 @@ const char* toString(NormalMode m);
 /// Newell normal of face f (not normalised; length = 2 x area for planar faces).
 Eigen::Vector3d newellNormal(const PolygonMesh& mesh, int f);
 
-/// Unit normal per corner (#C by 3, same order as mesh.faceVertices). For every mode but
-/// File with per-corner normals, all corners of one vertex carry the same normal.
+/// Unit normal per corner (#C by 3, same order as mesh.faceVertices). Corners of one vertex
+/// carry the same normal except across creases (split file normals, marked creases).
+/// creaseOptions: which marks make creases (findCreases; its InputErrors propagate).
 /// A vertex whose weighted normal cannot be formed (all incident faces degenerate, or the
 /// weighted sum cancels) gets the normal of its first non-degenerate incident face, and is
 /// listed in `report.fallbackVertices`. Throws InputError for non-finite or zero file normals
 /// (naming the vertex or corner) and for file normal counts that do not match the mesh.
-std::vector<Eigen::Vector3d> cornerNormals(const PolygonMesh& mesh, NormalMode mode, NormalReport& report);
+std::vector<Eigen::Vector3d> cornerNormals(const PolygonMesh& mesh, NormalMode mode, NormalReport& report,
+                                           const CreaseOptions& creaseOptions = {});
 
 /// As above, keeping only the fallback vertices of the report (if `fallbackVertices` is given).
 std::vector<Eigen::Vector3d> cornerNormals(const PolygonMesh& mesh, NormalMode mode,

@@ -24,6 +24,9 @@ struct PatchOptions {
   /// limit positions and take their limit normals before construction (cage_limit.h), and the
   /// cache holds the moved mesh. Needs normals Auto (loadMesh refuses another mode).
   CageMode cage = CageMode::None;
+  /// Which marks make creases (`--creases`, `--crease-angle`; creases.h). A crease edge is one
+  /// curve both faces share, with each face's own tangent plane along it.
+  CreaseOptions creases;
 };
 
 /// All patches of a mesh. Counts: #V vertices, #F faces, #C corners = slots (one slot per
@@ -90,6 +93,23 @@ uint32_t buildPatchRecords(const PatchCache& skeleton, int f, float* recs, float
 /// Face f's edge records as buildPatchRecords builds them, in double, without the quality
 /// sampling (status: the construction's bits only, no GP_ST_FOLD or bulge). Allocation-free.
 uint32_t buildPatchEdges(const PatchCache& skeleton, int f, double* recs) noexcept;
+
+/// For edge k of face f (V_k -> V_{k+1}): the corner indices (into faceVertices and
+/// cornerNormals) of the face across the edge at V_k (atStart) and at V_{k+1} (atEnd); face f's
+/// own corners there when the edge has no single neighbour (boundary, non-manifold).
+void acrossCorners(const PatchCache& cache, int f, int k, int32_t& atStart, int32_t& atEnd);
+
+/// True when corners a and b carry different normals (any component, exactly).
+bool cornerNormalsDiffer(const PatchCache& cache, int32_t a, int32_t b);
+
+/// True when edge k of face f is a crease: it has one neighbour face, and the two faces' corner
+/// normals differ at one of its ends (creases.h: every way a crease is marked ends as split
+/// corner normals). Such an edge is built from what both faces share (gp_build_patch_creased):
+/// one curve, two tangent planes along it.
+bool isCreaseEdge(const PatchCache& cache, int f, int k);
+
+/// True when some edge of face f is a crease (isCreaseEdge).
+bool faceHasCrease(const PatchCache& cache, int f);
 
 /// The box (lo, hi, m) of the base mesh's referenced vertices (topology.h referencedBox);
 /// false, lo = hi = 0, without faces.

@@ -17,6 +17,10 @@ struct Gp<float> {
   static gp_uint build(int n, const vec3* V, const vec3* N, const int* vid, int mode, float* recs) {
     return gpf::gp_build_patch(n, V, N, vid, mode, recs);
   }
+  static gp_uint buildCreased(int n, const vec3* V, const vec3* N, const vec3* PS, const vec3* PE, const int* vid,
+                              int mode, float* recs) {
+    return gpf::gp_build_patch_creased(n, V, N, PS, PE, vid, mode, recs);
+  }
   static gp_uint quality(int n, const float* recs, int mode, float* bulge) {
     return gpf::gp_patch_quality(n, recs, mode, bulge);
   }
@@ -41,6 +45,10 @@ struct Gp<double> {
   static vec3 v3(double x, double y, double z) { return gpd::gp_v3(x, y, z); }
   static gp_uint build(int n, const vec3* V, const vec3* N, const int* vid, int mode, double* recs) {
     return gpd::gp_build_patch(n, V, N, vid, mode, recs);
+  }
+  static gp_uint buildCreased(int n, const vec3* V, const vec3* N, const vec3* PS, const vec3* PE, const int* vid,
+                              int mode, double* recs) {
+    return gpd::gp_build_patch_creased(n, V, N, PS, PE, vid, mode, recs);
   }
   static gp_uint quality(int n, const double* recs, int mode, double* bulge) {
     return gpd::gp_patch_quality(n, recs, mode, bulge);
