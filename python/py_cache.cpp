@@ -29,7 +29,7 @@ struct Options {
 
 Options options(const std::string& precision, const std::string& normals, const std::string& crossTangent,
                 const std::string& orient, const std::string& backend, int threads, bool lazy,
-                const std::string& cage) {
+                const std::string& cage, const std::string& creases = "tags,groups", double creaseAngle = 0) {
   Options o;
   o.patch.precision = parsePrecision(precision);
   o.patch.normals = parseNormalMode(normals);
@@ -38,6 +38,9 @@ Options options(const std::string& precision, const std::string& normals, const 
     throw InputError("orient: expected outward or keep, got '" + orient + "'");
   o.patch.keepOrientation = orient == "keep";
   o.patch.cage = parseCageMode(cage);
+  parseCreaseMarks(creases, o.patch.creases);
+  o.patch.creases.angleDeg = creaseAngle;
+  checkCreaseOptions(o.patch.creases);
   o.backend = parseBackend(backend);
   if (o.backend == Backend::OpenCL) throw InputError("backend: the Python module builds on the CPU: tbb or serial");
   requireThreads(threads, "threads");
@@ -95,8 +98,10 @@ PyCache fromArrays(const pyb::handle& positions, const pyb::handle& faceOffsets,
                    const pyb::object& normals, const std::string& normalLayout, const std::string& name,
                    const std::string& precision, const std::string& normalMode, const std::string& crossTangent,
                    const std::string& orient, const std::string& backend, int threads, bool lazy,
-                   const std::string& cage) {
-  const Options o = options(precision, normalMode, crossTangent, orient, backend, threads, lazy, cage);
+                   const std::string& cage, const std::string& creases, double creaseAngle,
+                   const pyb::object& creaseEdges, const pyb::object& creaseSharpness) {
+  const Options o = options(precision, normalMode, crossTangent, orient, backend, threads, lazy, cage, creases,
+                            creaseAngle);
   const Doubles pos = rows3(positions, "positions");
   const std::vector<int32_t> offsets = int32Array(faceOffsets, "face_offsets");
   const std::vector<int32_t> verts = int32Array(faceVertices, "face_vertices");
@@ -118,14 +123,31 @@ PyCache fromArrays(const pyb::handle& positions, const pyb::handle& faceOffsets,
   a.faceOffsets = offsets.data();
   a.numFaces = offsets.size() - 1;
   a.faceVertices = verts.data();
+  std::vector<int32_t> creaseIds;
+  std::vector<double> sharpness;
+  if (!creaseEdges.is_none()) {
+    const pyb::array k = pyb::array::ensure(creaseEdges);
+    if (!k || k.ndim() != 2 || k.shape(1) != 2)
+      throw InputError(name + ": crease_edges: expected a (K, 2) array of vertex ids");
+    creaseIds = int32Array(k.attr("reshape")(-1), "crease_edges");
+    a.creaseEdges = creaseIds.data();
+    a.numCreases = creaseIds.size() / 2;
+    if (!creaseSharpness.is_none()) {
+      sharpness = creaseSharpness.cast<std::vector<double>>();
+      if (sharpness.size() != a.numCreases)
+        throw InputError(name + ": crease_sharpness: " + std::to_string(sharpness.size()) + " values for " +
+                         std::to_string(a.numCreases) + " crease edges");
+      a.creaseSharpness = sharpness.data();
+    }
+  }
   pyb::gil_scoped_release release;
   return fromLoaded(loadMeshArrays(a, o.patch), o, name);
 }
 
 PyCache fromFile(const std::filesystem::path& fsPath, const std::string& precision, const std::string& normals,
                  const std::string& crossTangent, const std::string& orient, const std::string& backend, int threads,
-                 bool lazy, const std::string& cage) {
-  const Options o = options(precision, normals, crossTangent, orient, backend, threads, lazy, cage);
+                 bool lazy, const std::string& cage, const std::string& creases, double creaseAngle) {
+  const Options o = options(precision, normals, crossTangent, orient, backend, threads, lazy, cage, creases, creaseAngle);
   const std::string path = fsPath.string();
   pyb::gil_scoped_release release;
   if (isPatchCacheFile(path)) {
@@ -211,21 +233,26 @@ void bindCache(pyb::module_& m) {
                                                  "renderer builds near the contact).")
       .def_static("from_file", &fromFile, "path"_a, pyb::kw_only(), "precision"_a = "double", "normals"_a = "auto",
                   "cross_tangent"_a = "corrected", "orient"_a = "outward", "backend"_a = "tbb", "threads"_a = 0,
-                  "lazy"_a = false, "cage"_a = "none",
+                  "lazy"_a = false, "cage"_a = "none", "creases"_a = "tags,groups", "crease_angle"_a = 0.0,
                   "A cache from a patch cache file (checked, kept as it is) or a mesh file (OBJ, OFF, PLY: read,\n"
                   "checked, oriented, normals computed, every patch built unless lazy). Options as `smoothforce\n"
                   "cache build`'s (cage: none or catmull-clark, the limit positions and normals of a subdivision\n"
-                  "cage). Raises ValueError naming the file and line. The GIL is released.")
+                  "cage; creases: which marks make crease edges, a list of tags, groups, normals, or none;\n"
+                  "crease_angle: degrees, 0 off). Raises ValueError naming the file and line. The GIL is released.")
       .def_static("from_arrays", &fromArrays, "positions"_a, "face_offsets"_a, "face_vertices"_a,
                   "normals"_a = pyb::none(), pyb::kw_only(), "normal_layout"_a = "auto", "name"_a = "<arrays>",
                   "precision"_a = "double", "normals_mode"_a = "auto", "cross_tangent"_a = "corrected",
                   "orient"_a = "outward", "backend"_a = "tbb", "threads"_a = 0, "lazy"_a = false, "cage"_a = "none",
+                  "creases"_a = "tags,groups", "crease_angle"_a = 0.0, "crease_edges"_a = pyb::none(),
+                  "crease_sharpness"_a = pyb::none(),
                   "A cache from arrays, with the checks and reports of a file:\n"
                   "  positions     (V, 3) float, m\n"
                   "  face_offsets  (F + 1,) int: face f owns corners face_offsets[f] .. face_offsets[f+1]-1\n"
                   "  face_vertices (C,) int vertex indices, counter-clockwise seen from outside\n"
                   "  normals       (V, 3) per vertex or (C, 3) per corner, or None (normal_layout: auto, vertex,\n"
                   "                corner); used as a file's normals are (normals_mode: auto, file, angle, area)\n"
+                  "  crease_edges  (K, 2) int vertex ids (0-based) of edges marked sharp, or None; crease_sharpness\n"
+                  "                (K,) float (> 0 sharp) or None (10): read as a file's crease tags\n"
                   "Raises ValueError naming the field and element ('<arrays>: faceVertices[9] (face 2, corner 1):\n"
                   "vertex index 8 out of range [0, 8)'). The GIL is released while the patches are built.")
       .def(

@@ -4,11 +4,16 @@
 #include <gtest/gtest.h>
 #include <smoothforce.h>
 
+#include <unistd.h>
+
 #include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <limits>
+#include <set>
 #include <memory>
 #include <string>
 
@@ -535,3 +540,68 @@ TEST(CApi, SurfaceQueryEqualsTheCppQueryOnEveryPoint) {
 }
 
 }  // namespace
+
+namespace {
+
+/// The payload of a cache file (after its 128-byte header, which names the mesh's provenance).
+std::string cachePayload(sf_cache* c, const std::string& path) {
+  EXPECT_EQ(sf_cache_save(c, path.c_str()), SF_OK) << sf_cache_error(c);
+  std::ifstream in(path, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::filesystem::remove(path);
+  return bytes.size() > 128 ? bytes.substr(128) : std::string();
+}
+
+}  // namespace
+
+// Crease edges as arrays build the surface that the same creases from the file's dihedral angle
+// do (every cube edge), and bad crease arrays and options are errors naming the field.
+TEST(CApi, CreaseEdgesAsArraysMatchTheCreaseAngle) {
+  const sf::PolygonMesh m = sf::readMesh(std::string(SF_SHARED_MESHES) + "/lagrange/cube.obj");
+  std::vector<double> p;
+  for (const auto& v : m.positions) p.insert(p.end(), {v.x(), v.y(), v.z()});
+  std::set<std::pair<int, int>> edges;
+  for (int f = 0; f < m.numFaces(); ++f)
+    for (int k = 0; k < m.faceSize(f); ++k)
+      edges.insert(std::minmax(m.faceVertex(f, k), m.faceVertex(f, k + 1)));
+  std::vector<int32_t> creases;
+  for (const auto& [a, b] : edges) creases.insert(creases.end(), {a, b});
+  ASSERT_EQ(creases.size(), 24u);
+  sf_cache_options o, angle;
+  sf_cache_options_init(&o);
+  sf_cache_options_init(&angle);
+  o.crease_edges = creases.data();
+  o.num_creases = 12;
+  angle.crease_angle = 30;
+  sf_cache *a = nullptr, *b = nullptr, *plain = nullptr;
+  ASSERT_EQ(sf_cache_from_arrays(p.data(), m.numVertices(), m.faceOffsets.data(), m.numFaces(), m.faceVertices.data(),
+                                 nullptr, 0, &o, &a),
+            SF_OK)
+      << sf_last_error();
+  CachePtr ca(a);
+  const std::string file = std::string(SF_SHARED_MESHES) + "/lagrange/cube.obj";
+  ASSERT_EQ(sf_cache_from_file(file.c_str(), &angle, &b), SF_OK) << sf_last_error();
+  CachePtr cb(b);
+  ASSERT_EQ(sf_cache_from_file(file.c_str(), nullptr, &plain), SF_OK) << sf_last_error();
+  CachePtr cp(plain);
+  const std::string tmp = (std::filesystem::temp_directory_path() / ("sf_capi_crease_" + std::to_string(::getpid()))).string();
+  const std::string pa = cachePayload(a, tmp), pb = cachePayload(b, tmp), pp = cachePayload(plain, tmp);
+  EXPECT_FALSE(pa.empty());
+  EXPECT_EQ(pa, pb);
+  EXPECT_NE(pa, pp);  // without creases the cube is rounded
+  // errors name the field
+  creases[3] = 99;
+  sf_cache* bad = nullptr;
+  EXPECT_EQ(sf_cache_from_arrays(p.data(), m.numVertices(), m.faceOffsets.data(), m.numFaces(), m.faceVertices.data(),
+                                 nullptr, 0, &o, &bad),
+            SF_ERROR_INPUT);
+  EXPECT_NE(std::string(sf_last_error()).find("creaseEdges[1]: vertex index 99 out of range"), std::string::npos)
+      << sf_last_error();
+  angle.crease_angle = 200;
+  EXPECT_EQ(sf_cache_from_file(file.c_str(), &angle, &bad), SF_ERROR_INPUT);
+  EXPECT_NE(std::string(sf_last_error()).find("crease angle"), std::string::npos) << sf_last_error();
+  angle.crease_angle = 0;
+  angle.creases = "sharp";
+  EXPECT_EQ(sf_cache_from_file(file.c_str(), &angle, &bad), SF_ERROR_INPUT);
+  EXPECT_NE(std::string(sf_last_error()).find("--creases"), std::string::npos) << sf_last_error();
+}

@@ -42,6 +42,9 @@ Parsed parseOptions(const sf_cache_options* o) {
     throw InputError("orient: expected outward or keep, got '" + orient + "'");
   p.patch.keepOrientation = orient == "keep";
   p.patch.cage = parseCageMode(opt(o->cage, "none"));
+  parseCreaseMarks(opt(o->creases, "tags,groups"), p.patch.creases);
+  p.patch.creases.angleDeg = o->crease_angle;
+  checkCreaseOptions(p.patch.creases);
   p.backend = parseBackend(opt(o->backend, "tbb"));
   if (p.backend == Backend::OpenCL) throw InputError("backend: the C API builds on the CPU: tbb or serial");
   requireThreads(o->threads, "threads");
@@ -97,7 +100,9 @@ const char* sf_status_name(sf_status s) {
 const char* sf_last_error(void) { return lastError().c_str(); }
 
 void sf_cache_options_init(sf_cache_options* o) {
-  if (o) *o = sf_cache_options{nullptr, nullptr, nullptr, nullptr, nullptr, 0, 0, nullptr, nullptr, nullptr};
+  if (o)
+    *o = sf_cache_options{nullptr, nullptr, nullptr, nullptr, nullptr, 0, 0,   nullptr,
+                          nullptr, nullptr, nullptr, 0.0,     nullptr, 0, nullptr};
 }
 
 sf_status sf_cache_from_file(const char* path, const sf_cache_options* options, sf_cache** out) {
@@ -136,6 +141,13 @@ sf_status sf_cache_from_arrays(const double* positions, int32_t num_vertices, co
     a.faceVertices = face_vertices;
     a.normals = normals;
     a.numNormals = static_cast<size_t>(num_normals);
+    if (options) {
+      if (options->num_creases < 0)
+        throw InputError(a.name + ": num_creases: " + std::to_string(options->num_creases) + " (< 0)");
+      a.creaseEdges = options->crease_edges;
+      a.numCreases = static_cast<size_t>(options->num_creases);
+      a.creaseSharpness = options->crease_sharpness;
+    }
     return finish(loadMeshArrays(a, p.patch), p, a.name);
   });
 }

@@ -108,6 +108,19 @@ PolygonMesh meshFromArrays(const MeshArrays& in) {
     for (size_t i = 0; i < in.numNormals; ++i)
       dst[i] = Eigen::Vector3d(in.normals[3 * i], in.normals[3 * i + 1], in.normals[3 * i + 2]);
   }
+  if (in.numCreases > 0 && !in.creaseEdges) fail(in, "creaseEdges: null with " + std::to_string(in.numCreases) + " rows");
+  for (size_t i = 0; i < in.numCreases; ++i) {
+    const int32_t a = in.creaseEdges[2 * i], b = in.creaseEdges[2 * i + 1];
+    const double s = in.creaseSharpness ? in.creaseSharpness[i] : kInfiniteSharpness;
+    const std::string row = "creaseEdges[" + std::to_string(i) + "]: ";
+    for (int32_t v : {a, b})
+      if (v < 0 || static_cast<size_t>(v) >= in.numVertices)
+        fail(in, row + "vertex index " + std::to_string(v) + " out of range [0, " + std::to_string(in.numVertices) + ")");
+    if (a == b) fail(in, row + "both ends are vertex " + std::to_string(a));
+    if (!(s >= 0) || !std::isfinite(s))
+      fail(in, "creaseSharpness[" + std::to_string(i) + "]: " + std::to_string(s) + " (expected a finite value >= 0)");
+    m.creaseTags.push_back({a, b, s, 0});
+  }
   return m;
 }
 
@@ -120,6 +133,10 @@ uint64_t meshArraysHash(const MeshArrays& in) {
   h = hashBytes(in.faceOffsets, (in.numFaces + 1) * sizeof(int32_t), h);
   h = hashBytes(in.faceVertices, corners * sizeof(int32_t), h);
   if (in.normals) h = hashBytes(in.normals, in.numNormals * 3 * sizeof(double), h);
+  if (in.numCreases) {  // only then: the hash of arrays without creases stays as it was
+    h = hashBytes(in.creaseEdges, in.numCreases * 2 * sizeof(int32_t), h);
+    if (in.creaseSharpness) h = hashBytes(in.creaseSharpness, in.numCreases * sizeof(double), h);
+  }
   return h;
 }
 

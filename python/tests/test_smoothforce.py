@@ -451,3 +451,25 @@ def test_cage_moves_vertices_to_the_limit_and_keeps_it_in_the_cache(spot, paths,
         sf.Cache.from_file(spot, cage="loop")
     with pytest.raises(ValueError, match="--normals area cannot be combined"):
         sf.Cache.from_file(spot, cage="catmull-clark", normals="area")
+
+
+def test_crease_edges_as_arrays_match_the_crease_angle(paths):
+    """Every edge of the cube marked sharp as arrays gives the surface of --crease-angle 30."""
+    path = paths["shared"] / "lagrange/cube.obj"
+    a = sf.Cache.from_file(path)
+    edges = sorted({tuple(sorted((int(fv[k]), int(fv[(k + 1) % len(fv)]))))
+                    for fv in np.split(np.asarray(a.face_vertices), np.asarray(a.face_offsets)[1:-1])
+                    for k in range(len(fv))})
+    assert len(edges) == 12
+    b = sf.Cache.from_arrays(np.array(a.positions), np.array(a.face_offsets), np.array(a.face_vertices),
+                             crease_edges=np.array(edges, dtype=np.int32))
+    c = sf.Cache.from_file(path, crease_angle=30.0)
+    f, xi, eta = domain_points(a)
+    pa, pb, pc = a.evaluate(f, xi, eta), b.evaluate(f, xi, eta), c.evaluate(f, xi, eta)
+    assert np.array_equal(pb["position"], pc["position"])
+    assert not np.array_equal(pa["position"], pb["position"])  # uncreased, the cube is rounded
+    with pytest.raises(ValueError, match="crease_sharpness: 1 values for 12 crease edges"):
+        sf.Cache.from_arrays(np.array(a.positions), np.array(a.face_offsets), np.array(a.face_vertices),
+                             crease_edges=np.array(edges, dtype=np.int32), crease_sharpness=[10.0])
+    with pytest.raises(ValueError, match="crease angle"):
+        sf.Cache.from_file(path, crease_angle=-1.0)

@@ -7,6 +7,7 @@
 #include <system_error>
 
 #include <smoothforce/base/hash.h>
+#include <smoothforce/mesh/creases.h>
 #include <smoothforce/mesh/mesh_check.h>
 #include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/patch_certificate.h>
@@ -46,6 +47,26 @@ void printCertificates(const PatchCache& c) {
       s.certified, c.numFaces() - s.notBuilt, s.minMargin, s.undecided, s.folded);
   if (!s.uncertifiedFaces.empty()) std::printf("  uncertified faces:%s\n", faceIdsText(s.uncertifiedFaces).c_str());
   if (!s.foldedFaces.empty()) std::printf("  proven folded faces:%s\n", faceIdsText(s.foldedFaces).c_str());
+}
+
+/// The crease edges and vertices of a built surface (summarizeCreases), as `cache build` and
+/// `cache info` print them.
+CreaseSummary creasesOf(const PatchCache& c) {
+  return summarizeCreases(cacheBaseMesh(c), c.slotTwin, c.cornerNormals.data());
+}
+
+void printCreases(const PatchCache& c) {
+  const CreaseSummary s = creasesOf(c);
+  if (s.edges.empty()) {
+    std::printf("creases: none\n");
+    return;
+  }
+  for (const std::string& line : s.describe()) std::printf("%s\n", line.c_str());
+}
+
+nlohmann::ordered_json creasesJson(const PatchCache& c) {
+  const CreaseSummary s = creasesOf(c);
+  return {{"edges", s.edges}, {"crease_vertices", s.creaseVertices}, {"corners", s.corners}, {"darts", s.darts}};
 }
 
 nlohmann::ordered_json certificateJson(const PatchCache& c) {
@@ -93,6 +114,7 @@ void build(const std::string& mesh, std::string out, const PatchArgs& args, bool
   const double secs = construct(cache, args);
   throwIfInterrupted("cache build");
   printPatchSummary(cache);
+  printCreases(cache);
   std::printf("build: %.3f ms on %s: %.0f patches/s\n", secs * 1e3, args.backend.c_str(),
               cache.numFaces() / std::max(secs, 1e-9));
   if (certify) {
@@ -242,7 +264,10 @@ void info(const std::string& path, bool json, bool faults) {
                          {"cross_tangent", toString(c.options.crossTangent)},
                          {"normals", toString(c.options.normals)},
                          {"orient", c.options.keepOrientation ? "keep" : "outward"},
-                         {"cage", toString(c.options.cage)}}},
+                         {"cage", toString(c.options.cage)},
+                         {"creases", creaseMarksText(c.options.creases)},
+                         {"crease_angle", c.options.creases.angleDeg}}},
+                       {"creases", creasesJson(c)},
                        {"polygons", polygonsJson(polygons)},
                        {"patches", patchSummaryJson(c)},
                        {"certificate", certificateJson(c)},
@@ -255,9 +280,11 @@ void info(const std::string& path, bool json, bool faults) {
   std::printf("mesh: %d vertices, %d faces (%s), %d edge slots\n", c.numVertices(), c.numFaces(),
               faceSizeText(h).c_str(), c.numSlots());
   std::printf("edges: %d boundary slots, %d non-manifold slots\n", boundary, nonManifold);
-  std::printf("options: precision %s, cross tangent %s, normals %s, orient %s, cage %s\n",
+  std::printf("options: precision %s, cross tangent %s, normals %s, orient %s, cage %s, creases %s, crease angle %g\n",
               toString(c.options.precision), toString(c.options.crossTangent), toString(c.options.normals),
-              c.options.keepOrientation ? "keep" : "outward", toString(c.options.cage));
+              c.options.keepOrientation ? "keep" : "outward", toString(c.options.cage),
+              creaseMarksText(c.options.creases).c_str(), c.options.creases.angleDeg);
+  printCreases(c);
   printPolygons(polygons);
   printPatchSummary(c);
   printCertificates(c);

@@ -93,6 +93,14 @@ typedef struct sf_cache_options {
   const char* cage;          /**< "none" (default) or "catmull-clark": the mesh is a subdivision cage whose
                                   vertices move to their Catmull-Clark limit positions and limit normals
                                   (needs normals "auto"); a non-manifold cage is SF_ERROR_INPUT */
+  const char* creases;       /**< which marks make crease edges: "tags,groups" (default), any
+                                  comma-separated list of tags, groups, normals, or "none" */
+  double crease_angle;       /**< degrees in [0, 180): also a crease where the faces' normals are
+                                  further apart; 0 (default) off */
+  const int32_t* crease_edges; /**< arrays: num_creases x 2 vertex ids (0-based) of edges marked
+                                    sharp, or NULL; read as a file's crease tags */
+  int32_t num_creases;         /**< arrays: rows of crease_edges */
+  const double* crease_sharpness; /**< arrays: num_creases sharpness values (> 0 sharp), or NULL: 10 */
 } sf_cache_options;
 void sf_cache_options_init(sf_cache_options* options);
 

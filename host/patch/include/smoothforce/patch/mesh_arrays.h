@@ -26,6 +26,9 @@ NormalLayout parseNormalLayout(const std::string& s);
 ///   faceVertices #C int32 vertex indices in [0, numVertices), counter-clockwise from outside
 ///   normals      numNormals x 3 doubles or null: per vertex (numNormals = #V) or per corner
 ///                (numNormals = #C), see NormalLayout; used as a file's normals are (NormalMode)
+///   creaseEdges  numCreases x 2 int32 or null: edges marked sharp, 0-based vertex ids (as a
+///                file's crease tags, creases.h; read unless PatchOptions::creases.tags is off)
+///   creaseSharpness numCreases doubles (OpenSubdiv's sharpness, > 0 sharp) or null: all 10
 struct MeshArrays {
   const double* positions = nullptr;
   size_t numVertices = 0;
@@ -35,6 +38,9 @@ struct MeshArrays {
   const double* normals = nullptr;
   size_t numNormals = 0;
   NormalLayout normalLayout = NormalLayout::Auto;
+  const int32_t* creaseEdges = nullptr;
+  size_t numCreases = 0;
+  const double* creaseSharpness = nullptr;
   std::string name = "<arrays>";     ///< names the mesh in messages, as a file's path does
   std::optional<uint64_t> meshHash;  ///< provenance hash of the cache; unset: meshArraysHash()
 };
