@@ -558,7 +558,7 @@ TEST_F(CliContract, JsonOutputsParseWithTheDocumentedKeys) {
   CliStreams r = run("cache info " + cache() + " --json");
   ASSERT_EQ(r.status, 0) << r.err;
   json j = json::parse(r.out);
-  EXPECT_EQ(keys(j), (V{"boundary_slots", "bytes", "cache", "certificate", "edge_slots", "face_sizes", "faces",
+  EXPECT_EQ(keys(j), (V{"boundary_slots", "bytes", "cache", "certificate", "creases", "edge_slots", "face_sizes", "faces",
                         "format", "mesh_hash", "non_manifold_slots", "options", "options_hash", "patches", "polygons",
                         "surface_faults", "vertices"}));
   EXPECT_EQ(keys(j["polygons"]), (V{"area_m2", "intersecting_area_m2", "intersecting_faces",
@@ -568,7 +568,9 @@ TEST_F(CliContract, JsonOutputsParseWithTheDocumentedKeys) {
   EXPECT_EQ(j["vertices"], 188);
   EXPECT_EQ(j["face_sizes"], json::parse(R"({"3": 4, "4": 160, "5": 16})"));
   EXPECT_EQ(j["bytes"], fs::file_size(cache()));
-  EXPECT_EQ(keys(j["options"]), (V{"cage", "cross_tangent", "normals", "orient", "precision"}));
+  EXPECT_EQ(keys(j["options"]), (V{"cage", "crease_angle", "creases", "cross_tangent", "normals", "orient", "precision"}));
+  EXPECT_EQ(keys(j["creases"]), (V{"corners", "crease_vertices", "darts", "edges"}));
+  EXPECT_TRUE(j["creases"]["edges"].empty());  // the spot cage has no marks
   EXPECT_EQ(j["patches"]["built"], 180);
   EXPECT_EQ(j["patches"]["folds"], j["patches"]["fold_faces"].size());  // the spot cage's 16 folded patches
   EXPECT_EQ(j["patches"]["folds"], 16);

@@ -10,7 +10,7 @@ Needs python3-vtk9 and python3-numpy (tools/setup). Checks, against independent 
   (no open seam), no two vertices closer than the weld tolerance, and the same vertex count as a
   positional merge (vtkCleanPolyData) of the unwelded export; binary PLY per-vertex status, fold
   and bulge against `cache info --json`; OBJ groups per patch; a flat-shaded mesh on its file normals
-  (creases everywhere) welds only its corners and reports every edge open.
+  (creases everywhere) welds closed: each crease edge is one curve both patches share.
 - sweep: every .vtp array against results_METHOD.bin (read with the documented dtype) for every
   HIP, the discontinuity against a brute-force k-nearest computation, the PLY's quality and
   `element face 0`, results_METHOD.npy against the .bin files, a PDF beside every PNG.
@@ -170,8 +170,8 @@ def check_export(sf, mesh, work, level, closed, name):
 
 
 def check_crease_export(sf, work):
-    """A flat-shaded mesh built on its file normals (--normals file): the two patches of every edge
-    build different curves, so the weld joins the corners only and leaves every edge open."""
+    """A flat-shaded mesh built on its file normals (--normals file): every edge is a crease, one
+    curve both patches build bit for bit, so the export welds closed: no edge left open."""
     knot, flat = os.path.join(work, "knot.obj"), os.path.join(work, "knot_flat.obj")
     run(sf, "generate", "torus-knot", "--segments", 24, "--sides", 6, "-o", knot)
     nv, faces = read_mesh_faces(knot)
@@ -187,10 +187,10 @@ def check_crease_export(sf, work):
     run(sf, "cache", "build", flat, "--normals", "file", "-o", cache)
     text = run(sf, "export", cache, "--level", L, "-o", ply)
     edges = {tuple(sorted((fv[k], fv[(k + 1) % len(fv)]))) for fv in faces for k in range(len(fv))}
-    expected = sum(1 + len(fv) * L * (L + 1) // 2 for fv in faces) - sum(len(fv) for fv in faces) + nv
+    expected = nv + len(edges) * (L - 1) + sum(1 + len(fv) * L * (L - 1) // 2 for fv in faces)
     n = read_vtk(vtk.vtkPLYReader, ply).GetNumberOfPoints()
-    check(f"{len(edges)} edges left open" in text and n == expected,
-          f"crease: {n} vertices = unwelded less the merged corners ({expected}), all {len(edges)} edges open")
+    check(f"{len(edges)} shared edges" in text and " 0 edges left open" in text and n == expected,
+          f"crease: {n} vertices = V + E (L-1) + sum_f (1 + n L (L-1)/2) ({expected}), all {len(edges)} edges welded")
 
 
 RESULT_DTYPE = np.dtype([("force", "<f4", (3,)), ("scp", "<f4", (3,)), ("ref_distance", "<f4"), ("face", "<i4"),

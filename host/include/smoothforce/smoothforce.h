@@ -19,6 +19,7 @@
 #include <smoothforce/base/thread_limit.h>
 
 #include <smoothforce/mesh/cage_limit.h>
+#include <smoothforce/mesh/creases.h>
 #include <smoothforce/mesh/exact_predicates.h>
 #include <smoothforce/mesh/mesh.h>
 #include <smoothforce/mesh/mesh_check.h>
