@@ -263,8 +263,9 @@ GP_FN gp_vec3 gp_crease_direction(gp_vec3 c, GP_REAL len, gp_vec3 e) {
  * tiny) the tangent runs along the crease, unit(n x p), in both faces' tangent planes, so that each
  * face's patch keeps its own normal there; at a smooth end (equal or parallel normals) the tangent is
  * gp_edge_tangents' of the shared normals unit(n + p). The host merges normals that are one up to
- * rounding (normals.h, kSameNormalAngle) before they get here. Every operation is symmetric in (n, p) up to an exact sign, so the two faces
- * build one curve, bit for bit: no gap along a crease (design page, Creases). Opposite normals
+ * rounding (normals.h, kSameNormalAngle) before they get here. Every operation is symmetric in
+ * (n, p) up to an exact sign, so the two faces build one curve, bit for bit: no gap along a crease
+ * (docs/guide.md, Creases). Opposite normals
  * (n + p ~ 0 at an end that is no crease) set GP_ST_EDGE_NORMAL and take the edge's direction. */
 GP_FN void gp_crease_edge_tangents(gp_vec3 va, gp_vec3 vb, gp_vec3 na, gp_vec3 nb, gp_vec3 pa, gp_vec3 pb,
                                    gp_vec3* ts, gp_vec3* te, GP_STATUS* st) {
@@ -285,10 +286,34 @@ GP_FN void gp_crease_edge_tangents(gp_vec3 va, gp_vec3 vb, gp_vec3 na, gp_vec3 n
   *st |= GP_SEL(!sameA && !creaseA, sa, (GP_STATUS)0u) | GP_SEL(!sameB && !creaseB, sb, (GP_STATUS)0u);
 }
 
-/* Fills the records of a polygon whose unit end tangents ts[k], te[k] (edge k, V_k -> V_{k+1}) are
- * known: geometry fields, then each edge's cross-tangent data (gp_finish_edge_record). */
-GP_FN void gp_build_records(int n, const gp_vec3* V, const gp_vec3* N, const gp_vec3* ts, const gp_vec3* te, int mode,
-                            GP_REAL* recs, GP_STATUS* st) {
+/* The body of gp_build_patch and gp_build_patch_creased: each edge's end tangents from
+ * gp_crease_edge_tangents where `creased` (PS, PE: the other faces' normals), else from
+ * gp_edge_tangents (PS, PE unused), then the records. */
+GP_FN GP_STATUS gp_build_patch_with(int n, const gp_vec3* V, const gp_vec3* N, const gp_vec3* PS, const gp_vec3* PE,
+                                    int creased, const GP_VID* vid, int mode, GP_REAL* recs) {
+  GP_STATUS st = 0u;
+  if (n < 3 || n > GP_MAX_N) return GP_ST_TOO_MANY_SIDES;
+  GP_MASK bad = !gp_finite3(V[0]) || !gp_finite3(N[0]);
+  for (int k = 1; k < n; ++k) bad = bad || !gp_finite3(V[k]) || !gp_finite3(N[k]);
+  if (GP_ALL(bad)) {
+    for (int i = 0; i < n * GP_E_NFIELDS; ++i) recs[i] = GP_R(0.0); /* defined output */
+    return GP_ST_NONFINITE;
+  }
+  gp_vec3 ts[GP_MAX_N], te[GP_MAX_N];
+  for (int k = 0; k < n; ++k) {
+    const int k1 = k + 1 == n ? 0 : k + 1;
+    /* the edge from its lower vertex id; reversed, its tangents swap and change sign */
+    const GP_MASK fwd = vid[k] <= vid[k1];
+    const gp_vec3 va = gp_sel3(fwd, V[k], V[k1]), vb = gp_sel3(fwd, V[k1], V[k]);
+    const gp_vec3 na = gp_sel3(fwd, N[k], N[k1]), nb = gp_sel3(fwd, N[k1], N[k]);
+    gp_vec3 a, b;
+    if (creased)
+      gp_crease_edge_tangents(va, vb, na, nb, gp_sel3(fwd, PS[k], PE[k]), gp_sel3(fwd, PE[k], PS[k]), &a, &b, &st);
+    else
+      gp_edge_tangents(va, vb, na, nb, &a, &b, &st);
+    ts[k] = gp_sel3(fwd, a, gp_neg(b));
+    te[k] = gp_sel3(fwd, b, gp_neg(a));
+  }
   for (int k = 0; k < n; ++k) {
     const int km = k == 0 ? n - 1 : k - 1, k1 = k + 1 == n ? 0 : k + 1, k2 = k1 + 1 == n ? 0 : k1 + 1;
     GP_REAL* rec = recs + k * GP_E_NFIELDS;
@@ -308,30 +333,8 @@ GP_FN void gp_build_records(int n, const gp_vec3* V, const gp_vec3* N, const gp_
   }
   for (int k = 0; k < n; ++k) {
     const int km = k == 0 ? n - 1 : k - 1, k1 = k + 1 == n ? 0 : k + 1;
-    gp_finish_edge_record(recs + k * GP_E_NFIELDS, gp_neg(te[km]), ts[k1], mode, st);
+    gp_finish_edge_record(recs + k * GP_E_NFIELDS, gp_neg(te[km]), ts[k1], mode, &st);
   }
-}
-
-/* The checks every build starts with: a defined answer for a bad side count, and the lanes with a
- * non-finite V or N (all of them: zero records, returns 1). */
-GP_FN int gp_build_refused(int n, const gp_vec3* V, const gp_vec3* N, GP_REAL* recs, GP_MASK* bad, GP_STATUS* st) {
-  if (n < 3 || n > GP_MAX_N) {
-    *st = GP_ST_TOO_MANY_SIDES;
-    return 1;
-  }
-  GP_MASK b = !gp_finite3(V[0]) || !gp_finite3(N[0]);
-  for (int k = 1; k < n; ++k) b = b || !gp_finite3(V[k]) || !gp_finite3(N[k]);
-  *bad = b;
-  if (GP_ALL(b)) {
-    for (int i = 0; i < n * GP_E_NFIELDS; ++i) recs[i] = GP_R(0.0); /* defined output */
-    *st = GP_ST_NONFINITE;
-    return 1;
-  }
-  return 0;
-}
-
-/* Zero records and GP_ST_NONFINITE alone on the lanes with non-finite input. */
-GP_FN GP_STATUS gp_build_clear_bad(int n, GP_MASK bad, GP_REAL* recs, GP_STATUS st) {
   if (GP_ANY(bad)) { /* lanes only: some lanes non-finite */
     for (int i = 0; i < n * GP_E_NFIELDS; ++i) recs[i] = GP_SEL(bad, GP_R(0.0), recs[i]);
     st = GP_SEL(bad, (GP_STATUS)GP_ST_NONFINITE, st);
@@ -345,22 +348,7 @@ GP_FN GP_STATUS gp_build_clear_bad(int n, GP_MASK bad, GP_REAL* recs, GP_STATUS 
  * both faces of an edge build the same curve. Returns the patch status bits. A lane with a
  * non-finite V or N gets zero records and GP_ST_NONFINITE alone. */
 GP_FN GP_STATUS gp_build_patch(int n, const gp_vec3* V, const gp_vec3* N, const GP_VID* vid, int mode, GP_REAL* recs) {
-  GP_STATUS st = 0u;
-  GP_MASK bad;
-  if (gp_build_refused(n, V, N, recs, &bad, &st)) return st;
-  gp_vec3 ts[GP_MAX_N], te[GP_MAX_N];
-  for (int k = 0; k < n; ++k) {
-    const int k1 = k + 1 == n ? 0 : k + 1;
-    /* the edge from its lower vertex id; reversed, its tangents swap and change sign */
-    const GP_MASK fwd = vid[k] <= vid[k1];
-    gp_vec3 a, b;
-    gp_edge_tangents(gp_sel3(fwd, V[k], V[k1]), gp_sel3(fwd, V[k1], V[k]), gp_sel3(fwd, N[k], N[k1]),
-                     gp_sel3(fwd, N[k1], N[k]), &a, &b, &st);
-    ts[k] = gp_sel3(fwd, a, gp_neg(b));
-    te[k] = gp_sel3(fwd, b, gp_neg(a));
-  }
-  gp_build_records(n, V, N, ts, te, mode, recs, &st);
-  return gp_build_clear_bad(n, bad, recs, st);
+  return gp_build_patch_with(n, V, N, N, N, 0, vid, mode, recs);
 }
 
 /* gp_build_patch for a polygon whose edges may be creases: PS[k], PE[k] are the unit normals that
@@ -370,20 +358,5 @@ GP_FN GP_STATUS gp_build_patch(int n, const gp_vec3* V, const gp_vec3* N, const 
  * PS = N and PE = N[k+1] everywhere, the records equal gp_build_patch's bit for bit. */
 GP_FN GP_STATUS gp_build_patch_creased(int n, const gp_vec3* V, const gp_vec3* N, const gp_vec3* PS, const gp_vec3* PE,
                                        const GP_VID* vid, int mode, GP_REAL* recs) {
-  GP_STATUS st = 0u;
-  GP_MASK bad;
-  if (gp_build_refused(n, V, N, recs, &bad, &st)) return st;
-  gp_vec3 ts[GP_MAX_N], te[GP_MAX_N];
-  for (int k = 0; k < n; ++k) {
-    const int k1 = k + 1 == n ? 0 : k + 1;
-    const GP_MASK fwd = vid[k] <= vid[k1];
-    gp_vec3 a, b;
-    gp_crease_edge_tangents(gp_sel3(fwd, V[k], V[k1]), gp_sel3(fwd, V[k1], V[k]), gp_sel3(fwd, N[k], N[k1]),
-                            gp_sel3(fwd, N[k1], N[k]), gp_sel3(fwd, PS[k], PE[k]), gp_sel3(fwd, PE[k], PS[k]), &a, &b,
-                            &st);
-    ts[k] = gp_sel3(fwd, a, gp_neg(b));
-    te[k] = gp_sel3(fwd, b, gp_neg(a));
-  }
-  gp_build_records(n, V, N, ts, te, mode, recs, &st);
-  return gp_build_clear_bad(n, bad, recs, st);
+  return gp_build_patch_with(n, V, N, PS, PE, 1, vid, mode, recs);
 }
