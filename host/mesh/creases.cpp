@@ -40,7 +40,10 @@ void checkCreaseOptions(const CreaseOptions& o) {
 std::string creaseMarksText(const CreaseOptions& o) {
   std::string s;
   for (auto [on, name] : {std::pair{o.tags, "tags"}, {o.groups, "groups"}, {o.normals, "normals"}})
-    if (on) s += (s.empty() ? "" : ",") + std::string(name);
+    if (on) {
+      if (!s.empty()) s += ',';
+      s += name;
+    }
   return s.empty() ? "none" : s;
 }
 
@@ -160,12 +163,11 @@ std::vector<int32_t> cornerSectors(const PolygonMesh& mesh, const std::vector<in
     for (int k = 0; k < n; ++k) {
       const int32_t s = first + k, t = slotTwin[s];
       if (t < 0 || t < s) continue;  // each shared edge once
-      const int g = slotFace(mesh.faceOffsets, t);
       const int32_t sNext = first + (k + 1 == n ? 0 : k + 1);
-      const int32_t tNext = t + 1 == mesh.faceOffsets[g + 1] ? mesh.faceOffsets[g] : t + 1;
-      // s is at V_k, tNext too; sNext is at V_{k+1}, t too
-      if (join(s, tNext, s)) unite(s, tNext);
-      if (join(sNext, t, s)) unite(sNext, t);
+      int32_t atStart, atEnd;  // the other face's corners at V_k (as s) and V_{k+1} (as sNext)
+      acrossCorners(mesh.faceOffsets, slotTwin, f, k, atStart, atEnd);
+      if (join(s, atStart, s)) unite(s, atStart);
+      if (join(sNext, atEnd, s)) unite(sNext, atEnd);
     }
   }
   // sectors numbered in order of first corner
@@ -193,11 +195,10 @@ CreaseSummary summarizeCreases(const PolygonMesh& mesh, const std::vector<int32_
     for (int k = 0; k < n; ++k) {
       const int32_t s = first + k, t = slotTwin[s];
       if (t < 0 || t < s) continue;
-      const int g = slotFace(mesh.faceOffsets, t);
       const int32_t sNext = first + (k + 1 == n ? 0 : k + 1);
-      const int32_t tNext = t + 1 == mesh.faceOffsets[g + 1] ? mesh.faceOffsets[g] : t + 1;
-      const bool atStart = differ(s, tNext), atEnd = differ(sNext, t);
-      if (!atStart && !atEnd) continue;
+      int32_t atStart, atEnd;
+      acrossCorners(mesh.faceOffsets, slotTwin, f, k, atStart, atEnd);
+      if (!differ(s, atStart) && !differ(sNext, atEnd)) continue;
       const int32_t a = mesh.faceVertices[s], b = mesh.faceVertices[sNext];
       out.edges.push_back(key(a, b));
       ++touching[a], ++touching[b];
@@ -217,12 +218,20 @@ std::vector<std::string> CreaseSummary::describe(int maxIds) const {
   if (edges.empty()) return out;
   const auto ids = [&](const std::vector<int32_t>& v) {
     std::string s;
-    for (size_t i = 0; i < v.size() && static_cast<int>(i) < maxIds; ++i) s += " " + std::to_string(v[i]);
-    return s + (v.size() > static_cast<size_t>(maxIds) ? " ..." : "");
+    for (size_t i = 0; i < v.size() && static_cast<int>(i) < maxIds; ++i) {
+      s += ' ';
+      s += std::to_string(v[i]);
+    }
+    if (v.size() > static_cast<size_t>(maxIds)) s += " ...";
+    return s;
   };
   std::string e;
-  for (size_t i = 0; i < edges.size() && static_cast<int>(i) < maxIds; ++i)
-    e += " " + std::to_string(edges[i][0]) + "-" + std::to_string(edges[i][1]);
+  for (size_t i = 0; i < edges.size() && static_cast<int>(i) < maxIds; ++i) {
+    e += ' ';
+    e += std::to_string(edges[i][0]);
+    e += '-';
+    e += std::to_string(edges[i][1]);
+  }
   if (edges.size() > static_cast<size_t>(maxIds)) e += " ...";
   out.push_back("crease edges: " + std::to_string(edges.size()) + " (vertex pairs:" + e +
                 "): one shared curve, a tangent plane per side");

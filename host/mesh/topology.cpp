@@ -63,4 +63,17 @@ int slotFace(const std::vector<int32_t>& faceOffsets, int32_t slot) {
   return static_cast<int>(it - faceOffsets.begin()) - 1;
 }
 
+void acrossCorners(const std::vector<int32_t>& faceOffsets, const std::vector<int32_t>& slotTwin, int f, int k,
+                   int32_t& atStart, int32_t& atEnd) {
+  const int32_t first = faceOffsets[f], s = first + k;
+  atStart = s;
+  atEnd = s + 1 == faceOffsets[f + 1] ? first : s + 1;
+  const int32_t t = slotTwin[s];
+  if (t < 0) return;
+  // the twin runs V_{k+1} -> V_k in its face g: its slot is g's corner at V_{k+1}, the next one V_k
+  const int g = slotFace(faceOffsets, t);
+  atEnd = t;
+  atStart = t + 1 == faceOffsets[g + 1] ? faceOffsets[g] : t + 1;
+}
+
 }  // namespace sf

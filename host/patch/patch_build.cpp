@@ -33,15 +33,7 @@ size_t PatchCache::bytes() const {
 }
 
 void acrossCorners(const PatchCache& c, int f, int k, int32_t& atStart, int32_t& atEnd) {
-  const int first = c.faceOffsets[f], n = c.faceSize(f), s = first + k;
-  atStart = s;
-  atEnd = first + (k + 1 == n ? 0 : k + 1);
-  const int32_t t = c.slotTwin[s];
-  if (t < 0) return;
-  // the twin runs V_{k+1} -> V_k in its face g: its slot is g's corner at V_{k+1}, the next one V_k
-  const int g = slotFace(c.faceOffsets, t);
-  atEnd = t;
-  atStart = t + 1 == c.faceOffsets[g + 1] ? c.faceOffsets[g] : t + 1;
+  acrossCorners(c.faceOffsets, c.slotTwin, f, k, atStart, atEnd);
 }
 
 bool cornerNormalsDiffer(const PatchCache& c, int32_t a, int32_t b) {

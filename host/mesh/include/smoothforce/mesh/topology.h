@@ -34,4 +34,10 @@ bool referencedBox(const PolygonMesh& mesh, Eigen::Vector3d& lo, Eigen::Vector3d
 /// Face owning slot s (binary search in faceOffsets).
 int slotFace(const std::vector<int32_t>& faceOffsets, int32_t slot);
 
+/// For edge k of face f (slot faceOffsets[f] + k, V_k -> V_{k+1}): the corners of the face
+/// across the edge (computeSlotTwins) at V_k (atStart) and at V_{k+1} (atEnd); face f's own
+/// corners there when the edge has no single neighbour (boundary, non-manifold).
+void acrossCorners(const std::vector<int32_t>& faceOffsets, const std::vector<int32_t>& slotTwin, int f, int k,
+                   int32_t& atStart, int32_t& atEnd);
+
 }  // namespace sf
