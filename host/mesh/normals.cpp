@@ -167,18 +167,13 @@ std::vector<Eigen::Vector3d> weightedNormals(const PolygonMesh& mesh, NormalMode
   return normal;
 }
 
-/// One weighted normal per vertex (#V; +z for unreferenced vertices).
-std::vector<Eigen::Vector3d> weightedVertexNormals(const PolygonMesh& mesh, NormalMode mode,
-                                                   std::vector<int>& fallbackVertices) {
-  return weightedNormals(mesh, mode, mesh.faceVertices, mesh.numVertices(), fallbackVertices);
-}
-
 /// Corner groups for weightedNormals: the vertex, except at the vertices that crease edges or
-/// corner tags touch, where each smoothing sector (corners joined across edges that are not
-/// creases; a corner vertex's corners all apart) is a group of its own.
+/// corner tags touch (touched[v] = 1 on return), where each smoothing sector (corners joined
+/// across edges that are not creases; a corner vertex's corners all apart) is a group of its own.
 std::vector<int32_t> creaseGroups(const PolygonMesh& mesh, const std::vector<int32_t>& twins, const CreaseSet& cs,
-                                  int& numGroups) {
-  std::vector<char> touched(mesh.numVertices(), 0), corner(mesh.numVertices(), 0);
+                                  std::vector<char>& touched, int& numGroups) {
+  std::vector<char> corner(mesh.numVertices(), 0);
+  touched.assign(mesh.numVertices(), 0);
   for (const auto& e : cs.edges) touched[e[0]] = touched[e[1]] = 1;
   for (int32_t v : cs.corners) touched[v] = corner[v] = 1;
   int sectors = 0;
@@ -223,25 +218,27 @@ std::vector<Eigen::Vector3d> cornerNormals(const PolygonMesh& mesh, NormalMode m
   const bool fileMode = mode == NormalMode::File || (mode == NormalMode::Auto && usable);
   std::vector<int32_t> twins;
   if (!cs.empty() || !mesh.fileCornerNormals.empty()) twins = computeSlotTwins(mesh);
-  // the marked creases' smoothing sectors, angle-weighted, at the vertices they touch
+  // Weighted normals per group of corners: one per vertex, and one per smoothing sector at the
+  // vertices that marked creases touch (every mode but File); computed once, where needed.
   std::vector<char> touched(mesh.numVertices(), 0);
-  std::vector<int32_t> groups;
-  std::vector<Eigen::Vector3d> sectorNormal;
-  std::vector<int> sectorFallbacks;
-  if (!cs.empty() && mode != NormalMode::File) {
-    for (const auto& e : cs.edges) touched[e[0]] = touched[e[1]] = 1;
-    for (int32_t v : cs.corners) touched[v] = 1;
-    int ng = 0;
-    groups = creaseGroups(mesh, twins, cs, ng);
+  std::vector<int32_t> sectorGroups;
+  int numGroups = mesh.numVertices();
+  if (!cs.empty() && mode != NormalMode::File) sectorGroups = creaseGroups(mesh, twins, cs, touched, numGroups);
+  const std::vector<int32_t>& groups = sectorGroups.empty() ? mesh.faceVertices : sectorGroups;
+  std::vector<Eigen::Vector3d> weighted;
+  std::vector<int> weightedFallbacks;
+  const auto weigh = [&] {
     const NormalMode weight = mode == NormalMode::Area ? NormalMode::Area : NormalMode::Angle;
-    sectorNormal = weightedNormals(mesh, weight, groups, ng, sectorFallbacks);
-  }
-  const auto sectorsAtCreases = [&] {
-    for (int c = 0; c < mesh.numCorners(); ++c)
-      if (touched[mesh.faceVertices[c]]) out[c] = sectorNormal[groups[c]];
-    for (int v : sectorFallbacks)
-      if (touched[v]) report.fallbackVertices.push_back(v);
+    weighted = weightedNormals(mesh, weight, groups, numGroups, weightedFallbacks);
   };
+  // the corners where keep(v) holds take their group's weighted normal
+  const auto useWeighted = [&](auto keep) {
+    for (int c = 0; c < mesh.numCorners(); ++c)
+      if (keep(mesh.faceVertices[c])) out[c] = weighted[groups[c]];
+    for (int v : weightedFallbacks)
+      if (keep(v)) report.fallbackVertices.push_back(v);
+  };
+  const auto atCreases = [&](int v) { return touched[v] != 0; };
   if (fileMode && !mesh.fileCornerNormals.empty()) {
     out = fileNormals(mesh, false);
     std::vector<char> split(mesh.numVertices(), 0);
@@ -257,17 +254,12 @@ std::vector<Eigen::Vector3d> cornerNormals(const PolygonMesh& mesh, NormalMode m
       report.source = NormalSource::FileFaceRefs;
       for (int c = 0; c < mesh.numCorners(); ++c) out[c] = out[first[mesh.faceVertices[c]]];  // first <= c
     } else if (!creaseOptions.normals) {
-      // Split vertices take the angle-weighted normal; every other vertex its first corner's.
+      // Split vertices (and crease sectors) take the angle-weighted normal; every other vertex
+      // its first corner's.
       report.source = report.splitVertices.empty() ? NormalSource::FileFaceRefs : NormalSource::FileAndAngle;
-      std::vector<int> fallbacks;
-      const std::vector<Eigen::Vector3d> angle = weightedVertexNormals(mesh, NormalMode::Angle, fallbacks);
-      for (int v : fallbacks)
-        if (split[v] && !touched[v]) report.fallbackVertices.push_back(v);
-      for (int c = 0; c < mesh.numCorners(); ++c) {  // in place: first[v] <= c keeps its value
-        const int v = mesh.faceVertices[c];
-        out[c] = split[v] ? angle[v] : out[first[v]];
-      }
-      if (!cs.empty()) sectorsAtCreases();
+      for (int c = 0; c < mesh.numCorners(); ++c) out[c] = out[first[mesh.faceVertices[c]]];  // first <= c
+      weigh();
+      useWeighted([&](int v) { return split[v] || touched[v]; });
     } else {
       // One file normal per smoothing sector: corners joined across edges where their file
       // normals agree; the sector takes its first corner's normal. Split vertices keep their
@@ -281,24 +273,23 @@ std::vector<Eigen::Vector3d> cornerNormals(const PolygonMesh& mesh, NormalMode m
       for (int c = 0; c < mesh.numCorners(); ++c)
         if (firstOf[sector[c]] < 0) firstOf[sector[c]] = c;
       for (int c = 0; c < mesh.numCorners(); ++c) out[c] = out[firstOf[sector[c]]];  // firstOf <= c
-      if (!cs.empty()) sectorsAtCreases();
+      if (!sectorGroups.empty()) {
+        weigh();
+        useWeighted(atCreases);
+      }
     }
   } else if (fileMode) {
     out = fileNormals(mesh, true);
     report.source = NormalSource::FileVertexOrder;
-    if (!cs.empty() && mode != NormalMode::File) sectorsAtCreases();
-  } else {
-    if (mode == NormalMode::Auto) mode = NormalMode::Angle;
-    report.source = mode == NormalMode::Area ? NormalSource::Area : NormalSource::Angle;
-    const std::vector<Eigen::Vector3d> vn = weightedVertexNormals(mesh, mode, report.fallbackVertices);
-    out.resize(mesh.numCorners());
-    for (int c = 0; c < mesh.numCorners(); ++c) out[c] = vn[mesh.faceVertices[c]];
-    if (!cs.empty()) {
-      report.fallbackVertices.erase(std::remove_if(report.fallbackVertices.begin(), report.fallbackVertices.end(),
-                                                   [&](int v) { return touched[v] != 0; }),
-                                    report.fallbackVertices.end());
-      sectorsAtCreases();
+    if (!sectorGroups.empty()) {
+      weigh();
+      useWeighted(atCreases);
     }
+  } else {
+    report.source = mode == NormalMode::Area ? NormalSource::Area : NormalSource::Angle;
+    out.resize(mesh.numCorners());
+    weigh();
+    useWeighted([](int) { return true; });
   }
   std::sort(report.fallbackVertices.begin(), report.fallbackVertices.end());
   if (fileMode) {
