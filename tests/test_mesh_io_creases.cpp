@@ -18,23 +18,15 @@
 
 #include <smoothforce/mesh/mesh_io.h>
 
+#include "test_hostile_support.h"
+
 namespace fs = std::filesystem;
 
 namespace {
 
-/// A temporary folder for this process, removed at exit.
-struct TempDir {
-  fs::path path = fs::temp_directory_path() / ("sf_test_mesh_io_creases_" + std::to_string(::getpid()));
-  TempDir() { fs::create_directories(path); }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-};
-
-/// Writes `bytes` to a file in the temporary folder; returns its path.
+/// Writes `bytes` to a file in this process's temporary folder (removed at exit); returns its path.
 std::string writeTemp(const std::string& name, const std::string& bytes) {
-  static const TempDir dir;
+  static const sf::hostile::TempDir dir("sf_test_mesh_io_creases");
   const std::string path = (dir.path / name).string();
   std::ofstream(path, std::ios::binary) << bytes;
   return path;
