@@ -7,7 +7,8 @@ usage: tools/sweep_plots.py OUTDIR
 Reads OUTDIR/summary.json and OUTDIR/trajectories.json and writes, each as PNG and, beside it,
 as PDF (vector, for papers):
   traj_<trajectory>_<depth>.png  consecutive force differences |F_i+1 - F_i| along the trajectory,
-                                 one bar graph per method (the paper's bar graphs)
+                                 one bar graph per method (the paper's bar graphs), with a dashed
+                                 line where the path crosses a crease
   disc_hist_<depth>.png          histogram of the local force-direction discontinuity, all methods
   disc_summary.png               p50 / p99 / p99.9 / max of the discontinuity per method and depth
 Needs matplotlib (Debian: python3-matplotlib).
@@ -61,10 +62,17 @@ def plot_trajectories(outdir, trajectories):
         ymax = max([max(differences(s["force"]) or [0]) for s in series] + [1e-12])
         for ax, s in zip(axes[:, 0], series):
             d = differences(s["force"])
+            # difference j lies between points j and j + 1: a crossing at point i marks bar i - 1
+            creases = [i - 1 for i, c in enumerate(s.get("crease") or []) if c and i > 0]
+            for j, x in enumerate(creases):
+                ax.axvline(x, color="0.6", linestyle="--", linewidth=0.8, zorder=0,
+                           label="crease crossed" if j == 0 else None)
             ax.bar(range(len(d)), d, width=1.0, color=COLORS.get(s["method"], "tab:blue"))
             ax.set_ylim(0, 1.05 * ymax)
             ax.set_ylabel("|dF| (N)")
             ax.set_title(f"{s['method']}: max {max(d or [0]):.3g} N", fontsize=9, loc="left")
+            if creases:
+                ax.legend(loc="upper right", fontsize=8)
         axes[-1, 0].set_xlabel(f"step along '{name}' (step {series[0]['step'] * 1000:.3g} mm)")
         fig.suptitle(f"Consecutive force differences, depth {depth}")
         fig.tight_layout()

@@ -12,6 +12,8 @@
 
 #include <smoothforce/base/hash.h>
 #include <smoothforce/base/thread_limit.h>
+#include <smoothforce/mesh/topology.h>
+#include <smoothforce/patch/patch_build.h>
 #include <smoothforce/sweep/morton_order.h>
 
 namespace sf {
@@ -169,6 +171,53 @@ void runTrajectory(const std::vector<SurfaceSample>& path, double depth, double 
     for (int a = 0; a < 3; ++a) out.force[3 * i + a] = static_cast<float>(s.force[a]);
     out.contact[i] = s.contact ? 1 : 0;
   }
+}
+
+void markCreaseCrossings(const std::vector<SurfaceSample>& path, const PatchCache& cache, TrajectorySeries& out) {
+  out.crease.assign(path.size(), 0);
+  std::vector<char> creaseVertex(cache.numVertices(), 0);
+  bool any = false;
+  for (int f = 0; f < cache.numFaces(); ++f)
+    for (int k = 0, n = cache.faceSize(f); k < n; ++k)
+      if (isCreaseEdge(cache, f, k)) {
+        any = true;
+        creaseVertex[cache.faceVertices[cache.faceOffsets[f] + k]] = 1;
+        creaseVertex[cache.faceVertices[cache.faceOffsets[f] + (k + 1) % n]] = 1;
+      }
+  if (!any) return;
+  for (size_t i = 1; i < path.size(); ++i) {
+    const int a = path[i - 1].face, b = path[i].face;
+    if (a < 0 || b < 0 || a == b || a >= cache.numFaces() || b >= cache.numFaces()) continue;
+    bool shareEdge = false, crease = false, sharedCreaseVertex = false;
+    for (int k = 0, n = cache.faceSize(a); k < n; ++k) {
+      const int t = cache.slotTwin[cache.faceOffsets[a] + k];
+      if (t >= 0 && slotFace(cache.faceOffsets, t) == b) {
+        shareEdge = true;
+        crease = crease || isCreaseEdge(cache, a, k);
+      }
+      const int v = cache.faceVertices[cache.faceOffsets[a] + k];
+      for (int j = cache.faceOffsets[b]; j < cache.faceOffsets[b + 1]; ++j)
+        sharedCreaseVertex = sharedCreaseVertex || (cache.faceVertices[j] == v && creaseVertex[v]);
+    }
+    out.crease[i] = shareEdge ? crease : sharedCreaseVertex;
+  }
+}
+
+std::array<double, 2> maxDifferenceByCreases(const TrajectorySeries& series, size_t window) {
+  const size_t n = series.force.size() / 3;
+  std::array<double, 2> mx{NAN, NAN};
+  std::vector<char> near(n, 0);
+  for (size_t i = 0; i < series.crease.size() && i < n; ++i)
+    if (series.crease[i])
+      for (size_t j = i > window ? i - window : 0; j <= i + window && j < n; ++j) near[j] = 1;
+  for (size_t j = 0; j + 1 < n; ++j) {
+    const float* a = &series.force[3 * j];
+    const double d = std::sqrt(double(a[3] - a[0]) * (a[3] - a[0]) + double(a[4] - a[1]) * (a[4] - a[1]) +
+                               double(a[5] - a[2]) * (a[5] - a[2]));
+    double& m = mx[near[j] || near[j + 1] ? 1 : 0];
+    if (!(m >= d)) m = d;
+  }
+  return mx;
 }
 
 void markPastMedialAxis(const std::vector<SurfaceSample>& path, double depth, const PatchProjector& projector,

@@ -202,7 +202,8 @@ std::string trajectoriesJson(const SweepData& d) {
                        {"half", t.half},
                        {"force", t.force},
                        {"contact", t.contact},
-                       {"past_medial_axis", t.pastMedialAxis}});
+                       {"past_medial_axis", t.pastMedialAxis},
+                       {"crease", t.crease}});
   return jsonText(ojson{{"config_hash", hexHash(sweepConfigHash(d.config))}, {"series", tr}}) + "\n";
 }
 
@@ -395,6 +396,7 @@ SweepData readSweepData(const std::string& dir) {
       s.force = t.at("force").get<std::vector<float>>();
       s.contact = t.at("contact").get<std::vector<uint8_t>>();
       if (t.contains("past_medial_axis")) s.pastMedialAxis = t.at("past_medial_axis").get<std::vector<uint8_t>>();
+      if (t.contains("crease")) s.crease = t.at("crease").get<std::vector<uint8_t>>();
       d.trajectories.push_back(std::move(s));
     }
     if (j.contains("trajectory_series")) {

@@ -441,6 +441,7 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
       auto r = in.makeRenderer(s.method);
       runTrajectory(walk[2 * t + h], s.depth, c.approach, *r, s);
       markPastMedialAxis(walk[2 * t + h], s.depth, projector, s);
+      markCreaseCrossings(walk[2 * t + h], *in.cache, s);
       ran[i] = 1;
     });
     for (size_t i = 0; i < fresh.size(); ++i)

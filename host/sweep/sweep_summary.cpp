@@ -72,6 +72,7 @@ std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
   std::vector<CloudJob> clouds;
   std::string faultRows;  // per row with missed contacts: how many were pressed in from surface faults
   std::string medialRows;  // per trajectory series with points past the medial axis
+  std::string creaseRows;  // per trajectory series that crosses creases
   // Per method, per HIP of the whole run: the discontinuity for the .npy files (NaN: none).
   std::vector<std::vector<double>> hipDisc(c.methods.size(), std::vector<double>(d.hips.size(), NAN));
   std::vector<double> colourRef(c.groupLabels.size(), 0.0);
@@ -241,6 +242,15 @@ std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
     if (past > 0)
       medialRows += (medialRows.empty() ? "" : ", ") + t.method + " " + t.depthLabel + " " + std::to_string(past) +
                     " of " + std::to_string(t.contact.size());
+    size_t crossings = 0;
+    for (auto x : t.crease) crossings += x;
+    // a crease's force jump lies where the nearest point switches sides: up to about 2 depths
+    // along the path from where the path crosses it
+    const auto byCrease = maxDifferenceByCreases(t, static_cast<size_t>(std::ceil(2 * t.depth / t.step)) + 1);
+    if (crossings > 0)
+      creaseRows += (creaseRows.empty() ? "" : ", ") + t.method + " " + t.depthLabel + " " +
+                    std::to_string(crossings) + " (max |dF| " + fmt("%.3g", byCrease[1]) + " N at them, " +
+                    fmt("%.3g", byCrease[0]) + " N elsewhere)";
     trajs.push_back(ojson{{"trajectory", t.trajectory},
                           {"method", t.method},
                           {"depth", t.depthLabel},
@@ -251,7 +261,10 @@ std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
                           {"mean_diff_N", num(mean)},
                           {"max_diff_half_step_N", num(mh)},
                           {"half_to_full_ratio", num(mh / mx)},
-                          {"past_medial_axis", t.pastMedialAxis.empty() ? ojson(nullptr) : ojson(past)}});
+                          {"past_medial_axis", t.pastMedialAxis.empty() ? ojson(nullptr) : ojson(past)},
+                          {"crease_crossings", t.crease.empty() ? ojson(nullptr) : ojson(crossings)},
+                          {"max_diff_near_creases_N", num(byCrease[1])},
+                          {"max_diff_away_from_creases_N", num(byCrease[0])}});
   }
   ojson s{{"smoothforce_sweep_summary", 1},
           {"complete", complete},
@@ -294,6 +307,9 @@ std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
     table += "trajectory points past the medial axis (nearer to another part of the surface than the depth: the "
              "depth exceeds the local feature size there, and |F|, traj|dF| and ratio measure the loop, not the "
              "method): " + medialRows + "\n";
+  if (!creaseRows.empty())
+    table += "trajectory crease crossings (the force direction jumps where a ridge's nearer side changes, "
+             "within 2 depths of the crossing): " + creaseRows + "\n";
   if (!faultRows.empty())
     table += "missed within reach of surface faults (patch surface that folds or overlaps itself no farther from "
              "the HIP than its depth; cache info --faults): " + faultRows + "\n";
