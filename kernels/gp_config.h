@@ -97,7 +97,7 @@ static inline double gp_sin(double x) { return std::sin(x); }
 #define GP_TRACK_STALLED 0x40000u    /* the step shrank to nothing before the tolerance */
 #define GP_TRACK_BOUNDARY 0x80000u   /* iterate held on a boundary / non-manifold edge */
 #define GP_TRACK_DEGENERATE 0x100000u /* start patch not evaluable (or non-finite input) */
-#define GP_TRACK_FOLD_EDGE 0x10000000u /* iterate held on a patch edge where the surface folds back */
+#define GP_TRACK_FOLD_EDGE 0x10000000u /* iterate held on a patch edge where the surface turns back (fold, valley crease) */
 
 /* Per-edge record: everything evaluation needs about edge k of a face (edge V_k -> V_{k+1}).
  * Offsets of 3-vectors unless noted. Stored field-major in the cache (struct of arrays). */

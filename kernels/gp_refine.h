@@ -25,7 +25,9 @@
  *   released when the free step points back inside.
  * Converged when the tangential residual (|r x n|, or |r . G_e| / |G_e| along a held edge) is at
  * most min(sin(angleTol) |r|, positionTol), or at most the evaluation noise of positions
- * (64 eps times the coordinate magnitude); at a singular point of the patch (a fold line, where
+ * (64 eps times the coordinate magnitude), and, on a held edge, f does not decrease into the
+ * face faster than that tolerance (a KKT point of the held problem: the iterate of a tracker
+ * whose HIP moved back over the face leaves the edge); at a singular point of the patch (a fold line, where
  * r lies along no normal), also when the point is a strict local minimum of the model whose
  * Newton step would decrease f by at most that tolerance squared over 2 (gp_rf_stationary).
  *
@@ -340,7 +342,19 @@ GP_FN GP_REAL gp_rf_tolerance(const gp_refine_mesh* m, const gp_refine_work* w, 
 }
 
 GP_FN int gp_rf_converged(const gp_refine_mesh* m, const gp_refine_work* w, const gp_rf_iterate* it, gp_vec3 hip) {
-  return gp_rf_residual(m, it) <= gp_rf_tolerance(m, w, gp_len(it->r), hip);
+  const GP_REAL tol = gp_rf_tolerance(m, w, gp_len(it->r), hip);
+  if (!(gp_rf_residual(m, it) <= tol)) return 0;
+  if (it->edge < 0) return 1;
+  /* held on an edge: also a KKT point of the held problem, f not decreasing into the domain
+   * faster than the tolerance allows (a HIP that moved back over the face leaves the edge; at a
+   * crease whose sides meet at a valley the iterate rests on the edge while the HIP turns under
+   * it, and leaves it once the HIP is under one side's interior) */
+  GP_REAL ex, ey;
+  const int n = gp_rf_size(m, it->face);
+  (void)gp_rf_edge_tangent(n, it->edge, &it->p, &ex, &ey);
+  const gp_vec3 ju = gp_add(gp_scale(it->p.dxi, -ey), gp_scale(it->p.deta, ex)); /* J of the inward normal */
+  const GP_REAL jl = gp_len(ju);
+  return !(jl > GP_R(0.0)) || gp_dot(ju, it->r) >= -tol * jl;
 }
 
 /* Whether iterate it is a strict local minimum of f by the model there: B = J^T J + sum r_i d2G_i

@@ -9,6 +9,7 @@
 #include <string>
 
 #include <smoothforce/base/coordinate_range.h>
+#include <smoothforce/mesh/topology.h>
 #include <smoothforce/patch/lazy_patches.h>
 #include <smoothforce/query/embree_scene.h>
 #include <smoothforce/query/lazy_surface.h>
@@ -70,6 +71,73 @@ namespace {
 /// *hint = the patch point r ended at, where r is usable; untouched otherwise (or hint null).
 void rememberIn(PatchStepHint* hint, const RefineResult& r) noexcept {
   if (hint && usableRefinement(r)) *hint = PatchStepHint{r.face, Eigen::Vector2d(r.xi, r.eta), r.scp};
+}
+
+/// How near the crease (in tracked distances) a HIP must be for the other side's sheet to be
+/// asked (nearerAcrossCreases): where a sheet that turns away by theta (a ridge) becomes the
+/// nearer one, the HIP is 1 / cos(theta / 2) tracked distances from the crease, 4 up to about
+/// 150 degrees.
+inline constexpr double kCreaseReach = 4.0;
+
+/// At a crease the two faces are separate sheets meeting at an angle, and the local refinement
+/// keeps the sheet it tracks for as long as its own nearest point exists: at a ridge it stayed
+/// on one face while the HIP slid under the other, far past where that sheet was nearer (the
+/// force grew with the slide). For each crease edge of r's face within reach (the HIP within
+/// kCreaseReach x r.distance of the crease curve's point nearest r in the domain, and below the
+/// other face's tangent plane there), the refinement runs on the other face from that point;
+/// a nearer converged point below which the HIP lies wins, so that the nearer of the two sheets
+/// holds the contact (at a valley both end on the crease curve itself: no change). One patch
+/// evaluation per crease edge near r, and a refinement only where the HIP is below the other
+/// sheet; nothing on faces without creases.
+/// The point of the crease curve under edge k of face f nearest X in f's domain (by edge
+/// parameter), seen from the other face: that face in *g, its domain point in *Y, and its patch
+/// point there (the same position, the other side's normal). False where there is no usable one.
+bool acrossCrease(const PatchCache& c, PatchRefiner& refiner, int f, int k, const Eigen::Vector2d& X, int* g,
+                  Eigen::Vector2d* Y, PatchPoint* p) noexcept {
+  const int n = c.faceSize(f);
+  const Eigen::Vector2d a = domainCorner(n, k), e = domainCorner(n, (k + 1) % n) - a;
+  const double t = std::clamp((X - a).dot(e) / e.squaredNorm(), 0.0, 1.0);
+  const int twin = c.slotTwin[c.faceOffsets[f] + k];
+  if (twin < 0) return false;
+  *g = slotFace(c.faceOffsets, twin);
+  const int m = c.faceSize(*g), i = twin - c.faceOffsets[*g];
+  if (!refiner.evaluable(*g)) return false;
+  const Eigen::Vector2d b = domainCorner(m, i);
+  *Y = b + (1 - t) * (domainCorner(m, (i + 1) % m) - b);
+  *p = refiner.eval(*g, *Y);
+  return p->pos.allFinite() && p->normal.allFinite();
+}
+
+RefineResult nearerAcrossCreases(const PatchCache& c, PatchRefiner& refiner, const Eigen::Vector3d& hip,
+                                 const RefineResult& r, const ForceOptions& options) noexcept {
+  if (!usableRefinement(r) || r.face < 0 || r.face >= c.numFaces() || !faceHasCrease(c, r.face)) return r;
+  RefineResult best = r;
+  for (int k = 0, n = c.faceSize(r.face); k < n; ++k) {
+    int g;
+    Eigen::Vector2d Y;
+    PatchPoint p;
+    if (!isCreaseEdge(c, r.face, k) || !acrossCrease(c, refiner, r.face, k, {r.xi, r.eta}, &g, &Y, &p)) continue;
+    if ((hip - p.pos).norm() > kCreaseReach * r.distance || (hip - p.pos).dot(p.normal) >= 0) continue;
+    const RefineResult o = refiner.refine(hip, g, Y.x(), Y.y(), options);
+    if (usableRefinement(o) && (o.status & SF_TRACK_CONVERGED) && o.distance < best.distance * (1 - 1e-9) &&
+        (hip - o.scp).dot(o.normal) < 0)
+      best = o;
+  }
+  return best;
+}
+
+/// Whether a HIP is below a tracked SCP held on crease edge r.edge by the other side's tangent
+/// plane there: at a valley the SCP rests on the crease curve while the HIP turns under it, and
+/// the HIP is then below at least one of the two sides (not always the one r is on).
+bool belowOtherSide(const PatchCache& c, PatchRefiner& refiner, const Eigen::Vector3d& hip,
+                    const RefineResult& r) noexcept {
+  if (r.edge < 0 || r.face < 0 || r.face >= c.numFaces() || r.edge >= c.faceSize(r.face) ||
+      !isCreaseEdge(c, r.face, r.edge))
+    return false;
+  int g;
+  Eigen::Vector2d Y;
+  PatchPoint p;
+  return acrossCrease(c, refiner, r.face, r.edge, {r.xi, r.eta}, &g, &Y, &p) && (hip - r.scp).dot(p.normal) < 0;
 }
 
 /// Ends a global step on the patch surface: contact when the HIP is inside it.
@@ -374,6 +442,7 @@ void finishPatchStep(const PolygonScene& scene, const PatchSurface* surface, Pat
     rememberIn(next, q.nearest);
     return;
   }
+  if (!start.global && state.inContact) r = nearerAcrossCreases(scene.cache(), refiner, hip, r, options);
   rememberIn(next, r);
   if (start.global && start.facet >= 0 && (r.status & SF_TRACK_DEGENERATE)) {  // no patch here: the polygon
     r.scp = start.polygonPoint;
@@ -385,6 +454,7 @@ void finishPatchStep(const PolygonScene& scene, const PatchSurface* surface, Pat
   }
   const bool ok = r.scp.allFinite() && r.normal.allFinite() && r.normal.squaredNorm() > 0.5;
   bool below = ok && (hip - r.scp).dot(r.normal) < 0;
+  if (ok && !below && !start.global && state.inContact) below = belowOtherSide(scene.cache(), refiner, hip, r);
   if (!below && state.inContact && surface && !start.global) {
     // a tracked contact ends only where the global query would not start one: inside a surface
     // fault the refinement can slide to a nearer sheet the HIP is above while the HIP is inside

@@ -62,7 +62,7 @@ enum sf_status_bits {
   SF_TRACK_BAD_HIP = 0x2000000,     /**< HIP not finite or beyond 1e15 m: not rendered, state reset */
   SF_TRACK_PROXY_LIMIT = 0x4000000, /**< god-object: more than 3 constraints or the pass limit */
   SF_TRACK_INSIDE = 0x8000000,      /**< contact started: the HIP is inside the surface */
-  SF_TRACK_FOLD_EDGE = 0x10000000   /**< the SCP is held on an edge where the surface folds back */
+  SF_TRACK_FOLD_EDGE = 0x10000000   /**< the SCP is held on an edge where the surface turns back (a fold, or a crease at a valley) */
 };
 
 /** A whole-mesh patch cache (or a mesh whose patches are built on demand). */

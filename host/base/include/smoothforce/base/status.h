@@ -46,8 +46,9 @@ inline constexpr uint32_t SF_TRACK_NO_POLYGON = 0x1000000u;   ///< the mesh has 
 inline constexpr uint32_t SF_TRACK_BAD_HIP = 0x2000000u;
 inline constexpr uint32_t SF_TRACK_PROXY_LIMIT = 0x4000000u;  ///< god-object: > 3 constraints or pass limit
 inline constexpr uint32_t SF_TRACK_INSIDE = 0x8000000u;       ///< contact started: the HIP is inside the surface
-/// the SCP is held on a patch edge where the surface folds back over itself (the neighbour's
-/// side turns back: a crease of the folded surface); stationary along the edge only
+/// the SCP is held on a patch edge where the surface turns back on the HIP's side: a fold of the
+/// surface, or a crease edge at a valley whose curve is the nearest point of a wedge of HIPs;
+/// stationary along the edge, and no nearer point lies into the face
 inline constexpr uint32_t SF_TRACK_FOLD_EDGE = 0x10000000u;
 inline constexpr uint32_t SF_TRACK_MASK = 0x1FFF0000u;
 

@@ -1,0 +1,348 @@
+// SPDX-License-Identifier: Apache-2.0
+// Force across creases: a HIP pressed in at 0.1%, 0.25% and 1% of the diagonal slides across
+// every crease edge of every creased mesh (generated solids with ridges and valleys, the prism's
+// curved rims, shared CAD-like meshes under a crease angle), from one face's interior over the
+// edge's midpoint to the other's. On every step: contact held, no refinement stopped by its
+// iteration cap, and the SCP as near as the nearest point of the patch surface by an independent
+// dense oracle (at a valley the SCP rests on the crease curve while the HIP turns under it; at a
+// ridge the nearer of the two sheets wins). The force changes faster than the HIP moves only at
+// the crease.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include <smoothforce/force/force_tracking.h>
+#include <smoothforce/query/embree_scene.h>
+#include <smoothforce/mesh/creases.h>
+#include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/opencl/opencl_backend.h>
+#include <smoothforce/patch/patch_build.h>
+#include <smoothforce/sweep/sweep_run.h>
+
+#include "patch_test_support.h"
+#include "query_test_support.h"
+#include "test_hostile_support.h"
+
+namespace sf {
+namespace {
+
+/// The closed quad mesh of the boundary of a union of unit voxels (integer cells), outward
+/// faces; vertex ids by lattice point. Coplanar neighbours share a smooth edge; every other
+/// edge is a ridge or a valley of 90 degrees.
+std::string voxelObj(const std::vector<std::array<int, 3>>& cells) {
+  std::map<std::array<int, 3>, int> cell, vertex;
+  for (const auto& c : cells) cell[c] = 1;
+  std::string v, f;
+  auto id = [&](std::array<int, 3> p) {
+    auto [it, fresh] = vertex.emplace(p, static_cast<int>(vertex.size()) + 1);
+    if (fresh) v += "v " + std::to_string(p[0]) + " " + std::to_string(p[1]) + " " + std::to_string(p[2]) + "\n";
+    return it->second;
+  };
+  for (const auto& c : cells)
+    for (int axis = 0; axis < 3; ++axis)
+      for (int side : {0, 1}) {
+        std::array<int, 3> nb = c;
+        nb[axis] += side ? 1 : -1;
+        if (cell.count(nb)) continue;
+        const int u = (axis + 1) % 3, w = (axis + 2) % 3;
+        std::array<int, 3> p[4];
+        for (int j = 0; j < 4; ++j) {
+          p[j] = c;
+          p[j][axis] += side;
+        }
+        p[1][u] += 1;
+        p[2][u] += 1;
+        p[2][w] += 1;
+        p[3][w] += 1;
+        // (u, w, axis) is right-handed: p0 p1 p2 p3 faces +axis; reversed for the -axis side
+        int q[4];
+        for (int j = 0; j < 4; ++j) q[j] = id(p[side ? j : 3 - j]);
+        f += "f " + std::to_string(q[0]) + " " + std::to_string(q[1]) + " " + std::to_string(q[2]) + " " +
+             std::to_string(q[3]) + "\n";
+      }
+  return v + f;
+}
+
+/// A closed solid of revolution over a regular n-gon: rings of n vertices at the profile's
+/// (radius, height) points, side quads between consecutive rings, an n-gon cap at each end.
+/// The rings listed in `creased` are tagged crease rims (OpenSubdiv `t crease`, 0-based), as
+/// are the caps' rims: flat caps and annuli meet curved sides at ridges, and a step in (a
+/// smaller radius above a larger) at a valley.
+std::string turnedObj(int n, const std::vector<std::array<double, 2>>& profile, const std::vector<int>& creased) {
+  std::string s;
+  const int rings = static_cast<int>(profile.size());
+  for (const auto& [radius, z] : profile)
+    for (int i = 0; i < n; ++i) {
+      const double a = 2 * std::numbers::pi * i / n;
+      char buf[96];
+      std::snprintf(buf, sizeof buf, "v %.17g %.17g %.17g\n", radius * std::cos(a), radius * std::sin(a), z);
+      s += buf;
+    }
+  for (int r : creased)
+    for (int i = 0; i < n; ++i)
+      s += "t crease 2/1/0 " + std::to_string(r * n + i) + " " + std::to_string(r * n + (i + 1) % n) + " 10\n";
+  s += "f";
+  for (int i = n - 1; i >= 0; --i) s += " " + std::to_string(i + 1);
+  s += "\nf";
+  for (int i = 0; i < n; ++i) s += " " + std::to_string((rings - 1) * n + i + 1);
+  s += "\n";
+  for (int r = 0; r + 1 < rings; ++r)
+    for (int i = 0; i < n; ++i) {
+      const int j = (i + 1) % n;
+      s += "f " + std::to_string(r * n + i + 1) + " " + std::to_string(r * n + j + 1) + " " +
+           std::to_string((r + 1) * n + j + 1) + " " + std::to_string((r + 1) * n + i + 1) + "\n";
+    }
+  return s;
+}
+
+struct CreasedMesh {
+  std::string name;
+  std::shared_ptr<const PatchCache> cache, skeleton;  // prebuilt patches; built on demand
+};
+
+CreasedMesh load(const std::string& name, const std::string& path, double creaseAngle) {
+  PatchOptions o;
+  o.creases.angleDeg = creaseAngle;
+  const LoadedMesh l = loadMesh(path, o);
+  return {name, std::make_shared<const PatchCache>(buildPatchCache(l, o, Backend::Tbb)),
+          std::make_shared<const PatchCache>(preparePatchSkeleton(l, o))};
+}
+
+/// One slide across the crease edge k of face f at depth d: over f's patch from 0.7 of the way
+/// to its centre to the edge's midpoint M, then around M (the HIP at M - d n, n turning from f's
+/// normal there to the neighbour's), then over the neighbour's patch to 0.7 of the way to its
+/// centre; HIP = G(X) - d N(X) on the patches. Preceded by an approach along f's normal from d
+/// outside. `nearCrease[i]`: HIP i is within 2 d of M.
+struct CreaseSlide {
+  std::vector<Eigen::Vector3d> hips;
+  std::vector<char> nearCrease;
+  size_t slideBegin = 0;
+  bool valley = false;  ///< the neighbour's sheet turns up towards the HIP's side
+};
+CreaseSlide creaseSlide(const PatchCache& c, int f, int k, double d, double step) {
+  CreaseSlide s;
+  const int t = c.slotTwin[c.faceOffsets[f] + k];
+  const int g = slotFace(c.faceOffsets, t), i = t - c.faceOffsets[g];
+  const Eigen::Vector2d ef = test::edgePoint(c.faceSize(f), k, 0.5, 0), eg = test::edgePoint(c.faceSize(g), i, 0.5, 0);
+  const PatchPoint mf = evaluatePatch(c, f, ef.x(), ef.y()), mg = evaluatePatch(c, g, eg.x(), eg.y());
+  const Eigen::Vector3d M = mf.pos, nL = mf.normal, nR = mg.normal;
+  // the neighbour's side seen from f: a point just inside g lies above f's tangent plane at M
+  const PatchPoint inG = evaluatePatch(c, g, 0.9 * eg.x(), 0.9 * eg.y());
+  s.valley = (inG.pos - M).dot(nL) > 0;
+  auto add = [&](const Eigen::Vector3d& h) {
+    s.hips.push_back(h);
+    s.nearCrease.push_back((h - M).norm() <= 2 * d);
+  };
+  auto sheet = [&](int face, const Eigen::Vector2d& e, bool toEdge) {
+    const PatchPoint a = evaluatePatch(c, face, 0.3 * e.x(), 0.3 * e.y());
+    const int n = std::max(8, static_cast<int>(std::ceil((a.pos - M).norm() / step)));
+    for (int j = 0; j <= n; ++j) {
+      const double u = toEdge ? double(j) / n : 1 - double(j) / n;  // 0 at 0.3 e, 1 at the edge
+      const Eigen::Vector2d X = (0.3 + 0.7 * u) * e;
+      const PatchPoint p = evaluatePatch(c, face, X.x(), X.y());
+      add(p.pos - d * p.normal);
+    }
+  };
+  const PatchPoint a = evaluatePatch(c, f, 0.3 * ef.x(), 0.3 * ef.y());
+  for (int j = 0; j < 8; ++j) add(a.pos + d * (1 - j / 4.0) * a.normal);
+  s.slideBegin = s.hips.size();
+  sheet(f, ef, true);
+  const double turn = std::atan2(nL.cross(nR).norm(), nL.dot(nR));
+  const int n = std::max(8, static_cast<int>(std::ceil(d * turn / step)));
+  for (int j = 1; j < n; ++j) {  // slerp from nL to nR
+    const double u = double(j) / n;
+    const Eigen::Vector3d nn =
+        (std::sin((1 - u) * turn) * nL + std::sin(u * turn) * nR) / std::sin(turn);
+    add(M - d * nn.normalized());
+  }
+  sheet(g, eg, false);
+  return s;
+}
+
+
+/// What one tracker met over every slide of a mesh.
+struct Counts {
+  int steps = 0, onSurface = 0;
+  int noContact = 0, falseContact = 0, capStops = 0, notNearest = 0;
+  int jumpsAtRidges = 0, jumpsAtValleys = 0, jumpsAway = 0;
+  double worstExcess = 0;  // largest (SCP distance - oracle distance) / depth
+};
+
+/// Every step of a slide at depth d for one tracker's sample r (prev: its previous step's),
+/// against the oracle's nearest point o and inside verdict.
+void countStep(const CreaseSlide& p, size_t i, double d, const ForceSample& r, const ForceSample& prev,
+               const test::DenseOracle::Nearest& o, bool inside, double stiffness, Counts& n) {
+  ++n.steps;
+  // a HIP on the surface itself (within 1e-3 depths) may go either way: pressed in at a
+  // 90-degree ridge, M - d n lies on the other side's sheet
+  const bool onSurface = o.distance <= 1e-3 * d;
+  n.onSurface += onSurface;
+  if (!onSurface && inside != r.contact) {
+    if (n.noContact + n.falseContact < 8)
+      std::printf("  step %zu/%zu near %d valley %d: contact %d inside %d, nearest %.3g depths face %d; status %x face %d\n", i,
+                  p.hips.size(), p.nearCrease[i], p.valley, r.contact, inside, o.distance / d, o.face, r.status, r.face);
+    (inside ? n.noContact : n.falseContact) += 1;
+  }
+  n.capStops += (r.status & SF_TRACK_MAX_ITER) != 0;
+  if (r.contact) {
+    const double excess = ((r.scp - p.hips[i]).norm() - o.distance) / d;
+    n.worstExcess = std::max(n.worstExcess, excess);
+    n.notNearest += excess > 1e-6;
+  }
+  if (i > p.slideBegin && r.contact && prev.contact) {
+    // the force changing faster than the HIP moves, by a margin: a jump
+    const double dF = (r.force - prev.force).norm(), dH = (p.hips[i] - p.hips[i - 1]).norm();
+    if (dF > 4 * stiffness * dH) {
+      if (!p.nearCrease[i] && !p.nearCrease[i - 1])
+        ++n.jumpsAway;
+      else
+        (p.valley ? n.jumpsAtValleys : n.jumpsAtRidges) += 1;
+    }
+  }
+}
+
+/// Slides across both directions of every crease edge at 0.1%, 0.25% and 1% of the diagonal,
+/// with the prebuilt and the lazy tracker; returns {valley slides, ridge slides}.
+std::array<int, 2> slideAcrossEveryCrease(const CreasedMesh& m) {
+  const PatchCache& c = *m.cache;
+  const double diag = boundingDiagonal(c);
+  ForceOptions fo;
+  std::unique_ptr<ForceRenderer> renderer[2] = {
+      makePatchForceRenderer(m.cache, std::make_shared<const PolygonScene>(c), fo),
+      makePatchForceRenderer(m.skeleton, std::make_shared<const PolygonScene>(*m.skeleton), fo)};
+  test::DenseOracle oracle(c);
+  PatchRefiner refiner(c);
+  Counts n[2];
+  std::array<int, 2> kinds{0, 0};
+  for (double frac : {0.001, 0.0025, 0.01}) {
+    const double d = frac * diag, step = d / 4;
+    for (int s = 0; s < c.numSlots(); ++s) {
+      const int f = slotFace(c.faceOffsets, s), k = s - c.faceOffsets[f];
+      if (!isCreaseEdge(c, f, k)) continue;
+      const CreaseSlide p = creaseSlide(c, f, k, d, step);
+      kinds[p.valley ? 0 : 1] += 1;
+      ForceSample prev[2];
+      for (auto& r : renderer) r->reset();
+      for (size_t i = 0; i < p.hips.size(); ++i) {
+        ForceSample r[2];
+        for (int j = 0; j < 2; ++j) r[j] = renderer[j]->step(p.hips[i]);
+        if (i >= p.slideBegin) {
+          const test::DenseOracle::Nearest o = oracle.nearest(p.hips[i], refiner);
+          const bool inside = oracle.winding(p.hips[i]) >= 1;
+          for (int j = 0; j < 2; ++j) countStep(p, i, d, r[j], prev[j], o, inside, fo.stiffness, n[j]);
+        }
+        prev[0] = r[0];
+        prev[1] = r[1];
+      }
+    }
+  }
+  for (int j = 0; j < 2; ++j) {
+    SCOPED_TRACE(m.name + (j ? " (lazy)" : " (prebuilt)"));
+    std::printf("crease slides %-26s %-9s %3d valley, %3d ridge slides, %6d steps: no contact %d, false contact %d "
+                "(%d HIPs on the surface), cap stops %d, not nearest %d (worst %.1g depths); force jumps at ridges "
+                "%d, at valleys %d, elsewhere %d\n",
+                m.name.c_str(), j ? "lazy" : "prebuilt", kinds[0], kinds[1], n[j].steps, n[j].noContact,
+                n[j].falseContact, n[j].onSurface, n[j].capStops, n[j].notNearest, n[j].worstExcess,
+                n[j].jumpsAtRidges, n[j].jumpsAtValleys, n[j].jumpsAway);
+    EXPECT_GT(n[j].steps, 0);
+    EXPECT_EQ(n[j].noContact, 0);
+    EXPECT_EQ(n[j].falseContact, 0);
+    EXPECT_EQ(n[j].capStops, 0);
+    EXPECT_EQ(n[j].notNearest, 0);
+    EXPECT_EQ(n[j].jumpsAway, 0);
+    EXPECT_EQ(n[j].jumpsAtValleys, 0);  // under a valley the force turns with the HIP
+  }
+  return kinds;
+}
+
+TEST(CreaseSlides, EveryCreaseHoldsContactAndTheNearestSheet) {
+  hostile::TempDir dir("sf_crease_slides");
+  const std::vector<std::array<int, 3>> ell{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  const std::vector<std::array<int, 3>> stairs{{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {1, 0, 1}, {2, 0, 1}, {2, 0, 2},
+                                               {0, 1, 0}, {1, 1, 0}, {2, 1, 0}, {1, 1, 1}, {2, 1, 1}, {2, 1, 2}};
+  std::ofstream(dir.path / "ell.obj") << voxelObj(ell);
+  std::ofstream(dir.path / "stairs.obj") << voxelObj(stairs);
+  std::ofstream(dir.path / "prism.obj") << turnedObj(12, {{1, 0}, {1, 0.5}, {1, 1}}, {0, 2});
+  // a cylinder on a wider one: the annulus between them meets the upper side at a curved valley
+  std::ofstream(dir.path / "stepped.obj") << turnedObj(10, {{1, 0}, {1, 0.6}, {0.5, 0.6}, {0.5, 1.2}}, {0, 1, 2, 3});
+  std::array<int, 2> total{0, 0};
+  auto add = [&](const std::array<int, 2>& k) { total[0] += k[0], total[1] += k[1]; };
+  add(slideAcrossEveryCrease(load("L block (voxels)", (dir.path / "ell.obj").string(), 30)));
+  add(slideAcrossEveryCrease(load("stairs (voxels)", (dir.path / "stairs.obj").string(), 30)));
+  add(slideAcrossEveryCrease(load("prism (tagged rims)", (dir.path / "prism.obj").string(), 0)));
+  add(slideAcrossEveryCrease(load("stepped cylinder (tagged)", (dir.path / "stepped.obj").string(), 0)));
+  add(slideAcrossEveryCrease(load("cube", test::sharedMesh("lagrange/cube.obj"), 30)));
+  add(slideAcrossEveryCrease(load("chamfer-cube", test::sharedMesh("pmp/chamfer-cube.off"), 30)));
+  std::printf("crease slides: %d across valleys, %d across ridges\n", total[0], total[1]);
+  EXPECT_GT(total[0], 0);
+  EXPECT_GT(total[1], 0);
+}
+
+/// Sweeps over creased solids, on the oneTBB and the OpenCL backends: no HIP inside the surface
+/// (the sweep's own inside test) is left without contact, the backends agree on every contact,
+/// and along the default trajectory (the section at half height, across the blocks' ridges and
+/// the L's valley) the patch force's consecutive differences away from the crease crossings
+/// stay below those at them.
+TEST(CreaseSlides, SweepsFindEveryContactAndJumpOnlyAtCreases) {
+  hostile::TempDir dir("sf_crease_sweeps");
+  std::ofstream(dir.path / "ell.obj") << voxelObj({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+  std::string why;
+  const bool opencl = openclAvailable(&why);
+  if (!opencl) std::printf("crease sweeps: OpenCL backend skipped (%s)\n", why.c_str());
+  for (const auto& [name, path, angle] : {std::tuple<std::string, std::string, double>{"L block", (dir.path / "ell.obj").string(), 30.0},
+                                          {"chamfer-cube", test::sharedMesh("pmp/chamfer-cube.off"), 30.0}}) {
+    SCOPED_TRACE(name);
+    const CreasedMesh m = load(name, path, angle);
+    SweepData d[2];
+    for (int b = 0; b < (opencl ? 2 : 1); ++b) {
+      SweepInputs in;
+      in.cache = m.cache;
+      in.config.source = name;
+      in.config.methods = {"patch"};
+      in.config.samples = 2000;
+      in.config.seed = 3;
+      in.config.backend = b ? "opencl" : "tbb";
+      in.depths = parseDepthList("0.1%,1%");
+      d[b] = runSweep(in, {});
+      size_t missed = 0, inside = 0;
+      for (const HipResult& r : d[b].results[0]) {
+        ASSERT_TRUE(r.done);
+        inside += (r.status & SF_PROBE_INSIDE) != 0;
+        missed += (r.status & SF_PROBE_INSIDE) && !r.contact;
+      }
+      size_t series = 0;
+      for (const TrajectorySeries& t : d[b].trajectories) {
+        if (t.half) continue;
+        ++series;
+        size_t crossings = 0;
+        for (auto x : t.crease) crossings += x;
+        EXPECT_GT(crossings, 0u) << t.depthLabel;
+        const auto mx = maxDifferenceByCreases(t, static_cast<size_t>(std::ceil(2 * t.depth / t.step)) + 1);
+        std::printf("crease sweeps %-16s %-6s %s: %zu crease crossings, max |dF| %.3g N near them, %.3g N elsewhere\n",
+                    name.c_str(), in.config.backend.c_str(), t.depthLabel.c_str(), crossings, mx[1], mx[0]);
+        EXPECT_LT(mx[0], mx[1]) << t.depthLabel;
+      }
+      std::printf("crease sweeps %-16s %-6s %zu HIPs, %zu inside, missed %zu\n", name.c_str(),
+                  in.config.backend.c_str(), d[b].results[0].size(), inside, missed);
+      EXPECT_GT(inside, d[b].results[0].size() / 2);
+      EXPECT_EQ(missed, 0u);
+      EXPECT_EQ(series, 2u);
+    }
+    if (!opencl) continue;
+    size_t contactDiff = 0;
+    for (size_t i = 0; i < d[0].results[0].size(); ++i) contactDiff += d[0].results[0][i].contact != d[1].results[0][i].contact;
+    EXPECT_EQ(contactDiff, 0u);
+  }
+}
+
+}  // namespace
+}  // namespace sf
