@@ -26,6 +26,9 @@
 #include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/opencl/opencl_backend.h>
 #include <smoothforce/patch/patch_build.h>
+#include <smoothforce/patch/patch_certificate.h>
+#include <smoothforce/query/patch_surface.h>
+#include <smoothforce/query/surface_faults.h>
 #include <smoothforce/sweep/sweep_run.h>
 
 #include "patch_test_support.h"
@@ -219,6 +222,22 @@ std::array<int, 2> slideAcrossEveryCrease(const CreasedMesh& m) {
   std::unique_ptr<ForceRenderer> renderer[2] = {
       makePatchForceRenderer(m.cache, std::make_shared<const PolygonScene>(c), fo),
       makePatchForceRenderer(m.skeleton, std::make_shared<const PolygonScene>(*m.skeleton), fo)};
+  {
+    // the creased surface as a whole: no fault (folded or overlapping sheets) on the closed
+    // surface, and no patch proven to turn over against its polygon
+    const SurfaceFaults faults = measureSurfaceFaults(PatchSurface(c));
+    EXPECT_TRUE(faults.closed) << m.name;
+    EXPECT_EQ(faults.faultArea(), 0.0) << m.name;
+    PatchCache certified = c;
+    CertificateOptions budget;
+    budget.maxCells = 12000;  // a patch it leaves undecided costs at most this many cells
+    certifyPatches(certified, 0, budget);
+    const CertificateSummary cs = summarizeCertificates(certified);
+    std::printf("crease slides %-26s surface faults %.3g m^2 of %.3g; certificate: %d of %d certified, %d undecided, "
+                "%d proven to fold\n",
+                m.name.c_str(), faults.faultArea(), faults.totalArea, cs.certified, c.numFaces(), cs.undecided, cs.folded);
+    EXPECT_EQ(cs.folded, 0) << m.name;
+  }
   test::DenseOracle oracle(c);
   PatchRefiner refiner(c);
   Counts n[2];
