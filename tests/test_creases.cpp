@@ -19,6 +19,8 @@
 #include <smoothforce/patch/detail/gp_math.h>
 #include <smoothforce/patch/patch_build.h>
 #include <smoothforce/patch/tessellate.h>
+#include <smoothforce/query/patch_surface.h>
+#include <smoothforce/query/surface_faults.h>
 
 #include "patch_test_support.h"
 #include "test_hostile_support.h"
@@ -342,6 +344,7 @@ TEST(Creases, DartsAndCornersFromTagsPlyAndSplitNormals) {
 
 /// Every shared mesh that has sharp edges, and a cage, with the dihedral threshold.
 TEST(Creases, SharedMeshesWithACreaseAngle) {
+  hostile::TempDir dir("sf_creases_shared");
   struct M {
     const char* file;
     double degrees;
@@ -368,8 +371,26 @@ TEST(Creases, SharedMeshesWithACreaseAngle) {
       EXPECT_EQ(static_cast<int>(sharp.size()), m.creases) << m.file;
     }
     ASSERT_FALSE(sharp.empty()) << m.file;
-    expectCreasedSurface(build(l, o), std::vector<Edge>(sharp.begin(), sharp.end()),
+    const PatchCache c = build(l, o);
+    expectCreasedSurface(c, std::vector<Edge>(sharp.begin(), sharp.end()),
                          std::string(m.file) + " --crease-angle " + std::to_string(int(m.degrees)));
+    // re-exported as an exporter writes a creased part (a normal per corner, split at the
+    // creases) and read with --normals file: the same creased surface, with the same corner
+    // normals up to the reader's renormalisation
+    PatchOptions file;
+    file.normals = NormalMode::File;
+    writeFile(dir.path / "split.obj", objWithCornerNormals(l.mesh, l.cornerNormals));
+    const PatchCache split = build(loadMesh((dir.path / "split.obj").string(), file), file);
+    ASSERT_EQ(split.cornerNormals.size(), c.cornerNormals.size());
+    double worst = 0;
+    for (size_t i = 0; i < c.cornerNormals.size(); ++i)
+      worst = std::max(worst, std::abs(split.cornerNormals[i] - c.cornerNormals[i]));
+    EXPECT_LE(worst, 1e-15) << m.file;
+    expectCreasedSurface(split, std::vector<Edge>(sharp.begin(), sharp.end()),
+                         std::string(m.file) + " re-exported with split normals");
+    // the closed ones as a whole: no fold or overlap of the patch surface
+    const SurfaceFaults faults = measureSurfaceFaults(PatchSurface(c));
+    if (faults.closed) EXPECT_EQ(faults.faultArea(), 0.0) << m.file;
   }
 }
 
