@@ -49,7 +49,7 @@ def test_evaluate_matches_cli_eval_on_every_face(spot, paths, tmp_path):
     with open(tmp_path / "points.csv", "w") as f:
         f.write("face,xi,eta\n")
         for i in range(len(faces)):
-            f.write(f"{faces[i]},{xi[i]!r},{eta[i]!r}\n")
+            f.write(f"{faces[i]},{float(xi[i])!r},{float(eta[i])!r}\n")  # float: NumPy 2 scalars repr as np.float64(...)
     run(paths["cli"], "eval", tmp_path / "spot.sfcache", "--points", tmp_path / "points.csv", "-o", tmp_path / "e.csv")
     rows = read_csv(tmp_path / "e.csv")
     assert len(rows) == len(faces)
@@ -229,7 +229,7 @@ def test_trace_matches_cli_trace_on_every_hip(spot, paths, tmp_path):
         with open(tmp_path / "hips.csv", "w") as f:
             f.write("x,y,z\n")
             for h in hips:
-                f.write(f"{h[0]!r},{h[1]!r},{h[2]!r}\n")
+                f.write(f"{float(h[0])!r},{float(h[1])!r},{float(h[2])!r}\n")
         cache.save(tmp_path / "spot.sfcache")
         run(paths["cli"], "trace", "--cache", tmp_path / "spot.sfcache", "--method", method, "--hips",
             tmp_path / "hips.csv", "-o", tmp_path / "t.csv")
@@ -473,3 +473,30 @@ def test_crease_edges_as_arrays_match_the_crease_angle(paths):
                              crease_edges=np.array(edges, dtype=np.int32), crease_sharpness=[10.0])
     with pytest.raises(ValueError, match="crease angle"):
         sf.Cache.from_file(path, crease_angle=-1.0)
+
+
+def test_type_stubs_name_exactly_what_the_module_defines():
+    """python/smoothforce.pyi (installed beside the module) parses, and names every public function,
+    class, method, property and constant of the compiled module, and nothing it lacks."""
+    import ast
+    import pathlib
+    stub = pathlib.Path(__file__).resolve().parents[1] / "smoothforce.pyi"
+    tree = ast.parse(stub.read_text())
+    stubbed = {}
+    for node in tree.body:
+        if isinstance(node, ast.ClassDef):
+            stubbed[node.name] = {n.name for n in node.body if isinstance(n, ast.FunctionDef)}
+        elif isinstance(node, ast.FunctionDef):
+            stubbed[node.name] = None
+        elif isinstance(node, ast.AnnAssign) and isinstance(node.target, ast.Name):
+            stubbed[node.target.id] = None
+    public = {k for k in dir(sf) if not k.startswith("_")} | {"__version__"}
+    stubbed.pop("__all__", None)
+    assert set(stubbed) == public
+    for name, members in stubbed.items():
+        if members is None:
+            continue
+        cls = getattr(sf, name)
+        defined = {k for k in vars(cls) if not k.startswith("_") or k == "__init__"}
+        defined.discard("__init__") if "__init__" not in members else None
+        assert members == defined, name

@@ -178,6 +178,7 @@ case $cmd in
     prefix=$(cd "$1" && pwd) example=$2 mesh=$3
     mod=$(find "$prefix" -name 'smoothforce.cpython-*.so' | head -n1)
     [[ -n $mod ]] || fail "no installed Python module under $prefix"
+    [[ -f $(dirname "$mod")/smoothforce.pyi ]] || fail "no type stubs (smoothforce.pyi) beside $mod"
     out=$(cd / && PYTHONPATH=$(dirname "$mod") "${SF_PYTHON:-python3}" "$example" "$mesh") || { echo "$out"; fail "example.py"; }
     echo "$out"
     grep -q "^example_py: OK$" <<<"$out" || fail "example.py did not report OK"
