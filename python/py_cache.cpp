@@ -14,6 +14,7 @@
 #include <smoothforce/patch/mesh_arrays.h>
 #include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/patch/patch_certificate.h>
+#include <smoothforce/patch/patch_option_text.h>
 #include <smoothforce/patch/patch_eval.h>
 #include "py_common.h"
 
@@ -31,16 +32,7 @@ Options options(const std::string& precision, const std::string& normals, const 
                 const std::string& orient, const std::string& backend, int threads, bool lazy,
                 const std::string& cage, const std::string& creases = "tags,groups", double creaseAngle = 0) {
   Options o;
-  o.patch.precision = parsePrecision(precision);
-  o.patch.normals = parseNormalMode(normals);
-  o.patch.crossTangent = parseCrossTangent(crossTangent);
-  if (orient != "outward" && orient != "keep")
-    throw InputError("orient: expected outward or keep, got '" + orient + "'");
-  o.patch.keepOrientation = orient == "keep";
-  o.patch.cage = parseCageMode(cage);
-  parseCreaseMarks(creases, o.patch.creases);
-  o.patch.creases.angleDeg = creaseAngle;
-  checkCreaseOptions(o.patch.creases);
+  o.patch = parsePatchOptions(PatchOptionText{precision, normals, crossTangent, orient, cage, creases, creaseAngle});
   o.backend = parseBackend(backend);
   if (o.backend == Backend::OpenCL) throw InputError("backend: the Python module builds on the CPU: tbb or serial");
   requireThreads(threads, "threads");

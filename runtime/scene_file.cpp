@@ -19,6 +19,7 @@
 #include <smoothforce/force/force_tracking.h>
 #include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/patch/patch_option_text.h>
 
 namespace sf::rt {
 
@@ -130,25 +131,25 @@ std::string objectName(const Ctx& c, const json& o, const std::string& w, const 
   return name;
 }
 
-/// The patch options of a `mesh` object (after its preset): the keys of the command line's
-/// --precision, --normals, --cross-tangent (`cross_tangent`), --orient, --cage. A cache keeps its own.
+/// The patch options of a `mesh` object (after its preset): the keys of patch_option_text.h
+/// (precision, normals, cross_tangent, orient, cage, creases: strings; crease_angle: degrees),
+/// read by the parser every front end shares. A cache keeps its own.
 void parsePatchKeys(const Ctx& c, const json& o, const std::string& w, bool mesh, PatchOptions& opt) {
-  for (const char* key : {"precision", "normals", "cross_tangent", "orient", "cage"}) {
+  for (const PatchOptionSpec& spec : kPatchOptionSpecs) {
+    const std::string key = spec.key;
     if (!o.contains(key)) continue;
     const std::string where = w + "/" + key;
     if (!mesh) c.fail(where, "applies to mesh objects only (a cache keeps the options it was built with)");
-    const std::string v = stringField(c, o[key], where);
     try {
-      if (std::string(key) == "precision") opt.precision = parsePrecision(v);
-      if (std::string(key) == "normals") opt.normals = parseNormalMode(v);
-      if (std::string(key) == "cross_tangent") opt.crossTangent = parseCrossTangent(v);
-      if (std::string(key) == "cage") opt.cage = parseCageMode(v);
+      if (key == "crease_angle") {
+        if (!o[key].is_number()) c.fail(where, "expected a number (degrees)");
+        setCreaseAngle(opt, o[key].get<double>());
+      } else {
+        setPatchOption(opt, key, stringField(c, o[key], where));
+      }
     } catch (const InputError& e) {
+      if (std::string(e.what()).rfind(c.file + ": ", 0) == 0) throw;  // c.fail's own
       c.fail(where, e.what());
-    }
-    if (std::string(key) == "orient") {
-      if (v != "outward" && v != "keep") c.fail(where, "expected \"outward\" or \"keep\", got \"" + v + "\"");
-      opt.keepOrientation = v == "keep";
     }
   }
 }
@@ -160,10 +161,12 @@ std::string cacheKey(const std::filesystem::path& file, bool mesh, const PatchOp
   const std::filesystem::path canonical = std::filesystem::weakly_canonical(file, ec);
   std::string key = (ec ? file : canonical).string();
   key += '\0';
-  key += mesh ? "mesh " + std::to_string(int(o.precision)) + ' ' + std::to_string(int(o.crossTangent)) + ' ' +
-                    std::to_string(int(o.normals)) + ' ' + std::to_string(int(o.keepOrientation)) + ' ' +
-                    std::to_string(int(o.cage))
-              : "cache";
+  if (!mesh) return key + "cache";
+  const PatchOptionText t = patchOptionText(o);
+  char angle[32];
+  std::snprintf(angle, sizeof angle, "%.17g", t.creaseAngle);
+  key += "mesh " + t.precision + ' ' + t.crossTangent + ' ' + t.normals + ' ' + t.orient + ' ' + t.cage + ' ' +
+         t.creases + ' ' + angle;
   return key;
 }
 }  // namespace
@@ -204,7 +207,7 @@ Scene loadScene(const std::string& path, const SceneDefaults& defaults, const Re
     if (!o.is_object()) c.fail(w, "expected an object with \"mesh\" or \"cache\"");
     c.onlyKeys(o, w,
                {"name", "mesh", "cache", "pose", "stiffness", "method", "preset", "final_step", "precision", "normals",
-                "cross_tangent", "orient", "cage", "comment"});
+                "cross_tangent", "orient", "cage", "creases", "crease_angle", "comment"});
     const bool hasMesh = o.contains("mesh"), hasCache = o.contains("cache");
     if (hasMesh == hasCache)
       c.fail(w, hasMesh ? "give either \"mesh\" or \"cache\", not both" : "missing \"mesh\" or \"cache\"");

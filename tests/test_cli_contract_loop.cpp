@@ -146,7 +146,7 @@ TEST_F(LoopContract, SceneObjectsTakeTheCageKey) {
   r = run("loop --scene " + file("bad.json", R"({"objects": [{"mesh": "spot.obj", "cage": "loop"}]})") +
           " --duration 0.02");
   EXPECT_EQ(r.status, 1);
-  EXPECT_NE(r.err.find("/objects/0/cage: --cage: expected none|catmull-clark, got 'loop'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("/objects/0/cage: cage: expected none|catmull-clark, got 'loop'"), std::string::npos) << r.err;
 }
 
 TEST_F(LoopContract, ACacheKeepsItsPatchOptions) {

@@ -7,6 +7,7 @@
 #include <smoothforce/patch/mesh_arrays.h>
 #include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/patch/patch_certificate.h>
+#include <smoothforce/patch/patch_option_text.h>
 #include <smoothforce/patch/patch_eval.h>
 #include <smoothforce/version.h>
 #include "capi_detail.h"
@@ -34,17 +35,15 @@ Parsed parseOptions(const sf_cache_options* o) {
   sf_cache_options_init(&d);
   if (!o) o = &d;
   Parsed p;
-  p.patch.precision = parsePrecision(opt(o->precision, "double"));
-  p.patch.normals = parseNormalMode(opt(o->normals, "auto"));
-  p.patch.crossTangent = parseCrossTangent(opt(o->cross_tangent, "corrected"));
-  const std::string orient = opt(o->orient, "outward");
-  if (orient != "outward" && orient != "keep")
-    throw InputError("orient: expected outward or keep, got '" + orient + "'");
-  p.patch.keepOrientation = orient == "keep";
-  p.patch.cage = parseCageMode(opt(o->cage, "none"));
-  parseCreaseMarks(opt(o->creases, "tags,groups"), p.patch.creases);
-  p.patch.creases.angleDeg = o->crease_angle;
-  checkCreaseOptions(p.patch.creases);
+  PatchOptionText text;
+  text.precision = opt(o->precision, "double");
+  text.normals = opt(o->normals, "auto");
+  text.crossTangent = opt(o->cross_tangent, "corrected");
+  text.orient = opt(o->orient, "outward");
+  text.cage = opt(o->cage, "none");
+  text.creases = opt(o->creases, "tags,groups");
+  text.creaseAngle = o->crease_angle;
+  p.patch = parsePatchOptions(text);
   p.backend = parseBackend(opt(o->backend, "tbb"));
   if (p.backend == Backend::OpenCL) throw InputError("backend: the C API builds on the CPU: tbb or serial");
   requireThreads(o->threads, "threads");

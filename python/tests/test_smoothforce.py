@@ -447,7 +447,7 @@ def test_cage_moves_vertices_to_the_limit_and_keeps_it_in_the_cache(spot, paths,
     np.testing.assert_array_equal(arrays.positions, cage.positions)
     cage.save(tmp_path / "cage.sfcache")
     assert sf.Cache.from_file(str(tmp_path / "cage.sfcache")).cage == "catmull-clark"
-    with pytest.raises(ValueError, match=r"--cage: expected none\|catmull-clark"):
+    with pytest.raises(ValueError, match=r"^cage: expected none\|catmull-clark"):
         sf.Cache.from_file(spot, cage="loop")
     with pytest.raises(ValueError, match="--normals area cannot be combined"):
         sf.Cache.from_file(spot, cage="catmull-clark", normals="area")
@@ -471,7 +471,7 @@ def test_crease_edges_as_arrays_match_the_crease_angle(paths):
     with pytest.raises(ValueError, match="crease_sharpness: 1 values for 12 crease edges"):
         sf.Cache.from_arrays(np.array(a.positions), np.array(a.face_offsets), np.array(a.face_vertices),
                              crease_edges=np.array(edges, dtype=np.int32), crease_sharpness=[10.0])
-    with pytest.raises(ValueError, match="crease angle"):
+    with pytest.raises(ValueError, match=r"^crease_angle: expected degrees in \[0, 180\)"):
         sf.Cache.from_file(path, crease_angle=-1.0)
 
 
@@ -500,3 +500,27 @@ def test_type_stubs_name_exactly_what_the_module_defines():
         defined = {k for k in vars(cls) if not k.startswith("_") or k == "__init__"}
         defined.discard("__init__") if "__init__" not in members else None
         assert members == defined, name
+
+
+@pytest.mark.parametrize("key,value,expected", [
+    ("precision", "half", "float|double"),
+    ("normals", "fancy", "auto|file|angle|area"),
+    ("cross_tangent", "sideways", "corrected|paper|blend"),
+    ("orient", "inward", "outward|keep"),
+    ("cage", "loop", "none|catmull-clark"),
+    ("creases", "tags,foo", "a list of tags, groups, normals (each once), or none"),
+    ("crease_angle", 200.0, "degrees in [0, 180) (0: off)"),
+])
+def test_every_bad_patch_option_gets_the_shared_message(spot, key, value, expected):
+    """The message the command line, scene files and the C API give for the same bad value
+    (patch_option_text.h; tests/test_option_layer.cpp and test_capi.cpp use the same table), for
+    both constructors, naming the keyword argument."""
+    shown = "200" if key == "crease_angle" else value
+    message = f"{key}: expected {expected}, got '{shown}'"
+    cache = sf.Cache.from_file(spot)
+    for make in (lambda: sf.Cache.from_file(spot, **{key: value}),
+                 lambda: sf.Cache.from_arrays(cache.positions, cache.face_offsets, cache.face_vertices,
+                                              **({"normals_mode" if key == "normals" else key: value}))):
+        with pytest.raises(ValueError) as e:
+            make()
+        assert str(e.value) == message

@@ -10,21 +10,18 @@
 #include <smoothforce/force/force_presets.h>
 #include <smoothforce/opencl/opencl_backend.h>
 #include <smoothforce/patch/cache_file.h>
+#include <smoothforce/patch/patch_option_text.h>
 
 namespace sf::cli {
 
 PatchOptions PatchArgs::options() const {
   PatchOptions o;
-  o.precision = parsePrecision(precision);
-  o.normals = parseNormalMode(normals);
-  o.crossTangent = parseCrossTangent(crossTangent);
-  if (orient != "outward" && orient != "keep")
-    throw InputError("--orient: expected outward|keep, got '" + orient + "'");
-  o.keepOrientation = orient == "keep";
-  o.cage = parseCageMode(cage);
-  parseCreaseMarks(creases, o.creases);
-  o.creases.angleDeg = creaseAngle;
-  checkCreaseOptions(o.creases);
+  try {  // the values every front end accepts, with the same message (patch_option_text.h)
+    o = parsePatchOptions(PatchOptionText{precision, normals, crossTangent, orient, cage, creases, creaseAngle},
+                          OptionSpelling::Flag);
+  } catch (const InputError& e) {
+    throw UsageError(e.what());  // on the command line a bad value is a usage error
+  }
   // loadMesh refuses the pair too (scene files, C API); on the command line it is a usage error
   if (o.cage != CageMode::None && o.normals != NormalMode::Auto)
     throw UsageError("--cage " + cage + " uses the limit surface's normals: --normals " + normals +
@@ -87,9 +84,32 @@ void addRefineArgs(CLI::App& cmd, RefineArgs& a) {
   a.precisionOpt = cmd.get_option_no_throw("--precision");
 }
 
+namespace {
+
+/// The check of a patch option's value on the command line: the shared parser's
+/// (patch_option_text.h), so that the command line rejects a bad value with the message every
+/// front end gives ("--orient: expected outward|keep, got 'inward'"; CLI11 puts the flag first).
+CLI::Validator patchOptionCheck(const char* key) {
+  return CLI::Validator(
+      [key](std::string& value) -> std::string {
+        try {
+          PatchOptions scratch;
+          setPatchOption(scratch, key, value, OptionSpelling::Flag);
+          return {};
+        } catch (const InputError& e) {
+          const std::string m = e.what();
+          const size_t colon = m.find(": ");
+          return colon == std::string::npos ? m : m.substr(colon + 2);
+        }
+      },
+      "", key);
+}
+
+}  // namespace
+
 void addSurfaceArgs(CLI::App& cmd, PatchArgs& a) {
   a.precisionOpt = cmd.add_option("--precision", a.precision, "float|double: precision of the patch records")
-                       ->check(CLI::IsMember({"float", "double"}))
+                       ->check(patchOptionCheck("precision"))
                        ->capture_default_str();
   a.normalsOpt = cmd.add_option("--normals", a.normals,
                                 "auto|file|angle|area: vertex normals. auto: the file's wherever it gives one normal "
@@ -98,20 +118,20 @@ void addSurfaceArgs(CLI::App& cmd, PatchArgs& a) {
                                 "sector (creases); without file normals, angle-weighted (cache build reports how many). "
                                 "file: the file's, per corner as given. angle|area: angle- or area-weighted Newell "
                                 "normals")
-                     ->check(CLI::IsMember({"auto", "file", "angle", "area"}))
+                     ->check(patchOptionCheck("normals"))
                      ->capture_default_str();
   a.crossTangentOpt = cmd.add_option("--cross-tangent", a.crossTangent,
                                      "corrected|paper|blend: cross-tangent construction (design page, Robustness)")
-                          ->check(CLI::IsMember({"corrected", "paper", "blend"}))
+                          ->check(patchOptionCheck("cross_tangent"))
                           ->capture_default_str();
   a.orientOpt = cmd.add_option("--orient", a.orient, "outward|keep: flip closed meshes whose faces point inward")
-                    ->check(CLI::IsMember({"outward", "keep"}))
+                    ->check(patchOptionCheck("orient"))
                     ->capture_default_str();
   a.cageOpt = cmd.add_option("--cage", a.cage,
                              "none|catmull-clark: catmull-clark reads the mesh as a subdivision cage and moves every "
                              "vertex to its Catmull-Clark limit position with its limit normal before building "
                              "patches (boundaries: edge-and-corner; needs --normals auto; docs/cage.md)")
-                  ->check(CLI::IsMember({"none", "catmull-clark"}))
+                  ->check(patchOptionCheck("cage"))
                   ->capture_default_str();
   a.creasesOpt = cmd.add_option("--creases", a.creases,
                                 "LIST|none: which marks make crease edges, a comma-separated list of: tags (OBJ 't "
@@ -119,11 +139,12 @@ void addSurfaceArgs(CLI::App& cmd, PatchArgs& a) {
                                 "borders), normals (split file normals under --normals auto; --normals file always "
                                 "keeps them). A crease is one curve both faces share, sharp between them "
                                 "(docs/guide.md 'Creases')")
+                     ->check(patchOptionCheck("creases"))
                      ->capture_default_str();
   a.creaseAngleOpt = cmd.add_option("--crease-angle", a.creaseAngle,
                                     "DEG: also make a crease of every edge whose two faces' normals are more than DEG "
                                     "degrees apart (0: off)")
-                         ->check(CLI::Range(0.0, 179.999999))
+                         ->check(patchOptionCheck("crease_angle"))
                          ->capture_default_str();
 }
 

@@ -38,6 +38,7 @@
 #include <smoothforce/patch/patch_cache.h>
 #include <smoothforce/patch/patch_certificate.h>
 #include <smoothforce/patch/patch_eval.h>
+#include <smoothforce/patch/patch_option_text.h>
 #include <smoothforce/patch/patch_options.h>
 #include <smoothforce/patch/patch_simd.h>
 #include <smoothforce/patch/tessellate.h>

@@ -155,9 +155,11 @@ struct SceneDefaults {
 /// `stiffness` still applies), `final_step` (evaluated|model, RefineOptions::finalStep: as --final-step,
 /// which gives the default), `precision` (float|double), `normals` (auto|file|angle|area),
 /// `cross_tangent` (corrected|paper|blend), `orient` (outward|keep), `cage` (none|catmull-clark,
-/// cage_limit.h): a `mesh` object's patch options, as the command line's --precision, --normals,
-/// --cross-tangent, --orient, --cage (which
-/// give the defaults; errors on a `cache` object, which keeps its own), `comment`. Unknown keys are
+/// cage_limit.h), `creases` (a list of tags, groups, normals, or none; creases.h), `crease_angle`
+/// (a number, degrees in [0, 180)): a `mesh` object's patch options, as the command line's
+/// --precision, --normals, --cross-tangent, --orient, --cage, --creases, --crease-angle (which
+/// give the defaults; errors on a `cache` object, which keeps its own; values read by
+/// patch_option_text.h, with its messages), `comment`. Unknown keys are
 /// errors. Throws InputError `FILE: /json/path: message` for bad JSON, missing or unknown
 /// fields and bad values; errors inside a mesh or cache file name that file.
 Scene loadScene(const std::string& path, const SceneDefaults& defaults, const RendererFactory& factory);
