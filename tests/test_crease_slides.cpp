@@ -107,21 +107,54 @@ std::string turnedObj(int n, const std::vector<std::array<double, 2>>& profile, 
   return s;
 }
 
+/// A closed cylinder (radius 1, height 2, n sides) as CAD exports write one: triangles only (the
+/// caps as fans around a centre vertex, two long thin triangles per side panel) and a normal
+/// per corner, split at the rims (f v//vn): read with --normals file, the rims are creases.
+std::string triangulatedCylinderObj(int n) {
+  std::string s;
+  char buf[128];
+  for (int z : {0, 2})
+    for (int i = 0; i < n; ++i) {
+      std::snprintf(buf, sizeof buf, "v %.17g %.17g %d\n", std::cos(2 * std::numbers::pi * i / n),
+                    std::sin(2 * std::numbers::pi * i / n), z);
+      s += buf;
+    }
+  s += "v 0 0 0\nv 0 0 2\nvn 0 0 -1\nvn 0 0 1\n";
+  for (int i = 0; i < n; ++i) {
+    std::snprintf(buf, sizeof buf, "vn %.17g %.17g 0\n", std::cos(2 * std::numbers::pi * i / n),
+                  std::sin(2 * std::numbers::pi * i / n));
+    s += buf;
+  }
+  auto corner = [](int v, int vn) { return " " + std::to_string(v + 1) + "//" + std::to_string(vn + 1); };
+  const int bottomCentre = 2 * n, topCentre = 2 * n + 1;
+  for (int i = 0; i < n; ++i) {
+    const int j = (i + 1) % n;
+    s += "f" + corner(bottomCentre, 0) + corner(j, 0) + corner(i, 0) + "\n";
+    s += "f" + corner(topCentre, 1) + corner(n + i, 1) + corner(n + j, 1) + "\n";
+    s += "f" + corner(i, 2 + i) + corner(j, 2 + j) + corner(n + j, 2 + j) + "\n";
+    s += "f" + corner(i, 2 + i) + corner(n + j, 2 + j) + corner(n + i, 2 + i) + "\n";
+  }
+  return s;
+}
+
 struct CreasedMesh {
   std::string name;
   std::shared_ptr<const PatchCache> cache, skeleton;  // prebuilt patches; built on demand
 };
 
-CreasedMesh load(const std::string& name, const std::string& path, double creaseAngle) {
+CreasedMesh load(const std::string& name, const std::string& path, double creaseAngle,
+                 NormalMode normals = NormalMode::Auto) {
   PatchOptions o;
   o.creases.angleDeg = creaseAngle;
+  o.normals = normals;
   const LoadedMesh l = loadMesh(path, o);
   return {name, std::make_shared<const PatchCache>(buildPatchCache(l, o, Backend::Tbb)),
           std::make_shared<const PatchCache>(preparePatchSkeleton(l, o))};
 }
 
-/// One slide across the crease edge k of face f at depth d: over f's patch from 0.7 of the way
-/// to its centre to the edge's midpoint M, then around M (the HIP at M - d n, n turning from f's
+/// One slide across the crease edge k of face f at depth d, through the point M of the edge at
+/// parameter t (0.5: its midpoint; 0: its first vertex, where other sheets may meet): over f's
+/// patch from 0.7 of the way to its centre to M, then around M (the HIP at M - d n, n turning from f's
 /// normal there to the neighbour's), then over the neighbour's patch to 0.7 of the way to its
 /// centre; HIP = G(X) - d N(X) on the patches. Preceded by an approach along f's normal from d
 /// outside. `nearCrease[i]`: HIP i is within 2 d of M.
@@ -130,12 +163,14 @@ struct CreaseSlide {
   std::vector<char> nearCrease;
   size_t slideBegin = 0;
   bool valley = false;  ///< the neighbour's sheet turns up towards the HIP's side
+  bool throughVertex = false;  ///< t = 0: through the edge's vertex, where other creases may meet
 };
-CreaseSlide creaseSlide(const PatchCache& c, int f, int k, double d, double step) {
+CreaseSlide creaseSlide(const PatchCache& c, int f, int k, double d, double step, double t) {
   CreaseSlide s;
-  const int t = c.slotTwin[c.faceOffsets[f] + k];
-  const int g = slotFace(c.faceOffsets, t), i = t - c.faceOffsets[g];
-  const Eigen::Vector2d ef = test::edgePoint(c.faceSize(f), k, 0.5, 0), eg = test::edgePoint(c.faceSize(g), i, 0.5, 0);
+  s.throughVertex = t == 0;
+  const int twin = c.slotTwin[c.faceOffsets[f] + k];
+  const int g = slotFace(c.faceOffsets, twin), i = twin - c.faceOffsets[g];
+  const Eigen::Vector2d ef = test::edgePoint(c.faceSize(f), k, t, 0), eg = test::edgePoint(c.faceSize(g), i, 1 - t, 0);
   const PatchPoint mf = evaluatePatch(c, f, ef.x(), ef.y()), mg = evaluatePatch(c, g, eg.x(), eg.y());
   const Eigen::Vector3d M = mf.pos, nL = mf.normal, nR = mg.normal;
   // the neighbour's side seen from f: a point just inside g lies above f's tangent plane at M
@@ -177,7 +212,8 @@ struct Counts {
   int steps = 0, onSurface = 0;
   int noContact = 0, falseContact = 0, capStops = 0, notNearest = 0;
   int jumpsAtRidges = 0, jumpsAtValleys = 0, jumpsAway = 0;
-  double worstExcess = 0;  // largest (SCP distance - oracle distance) / depth
+  double worstExcess = 0;        // largest (SCP distance - oracle distance) / depth, through edge midpoints
+  double worstVertexExcess = 0;  // the same through crease vertices
 };
 
 /// Every step of a slide at depth d for one tracker's sample r (prev: its previous step's),
@@ -196,10 +232,13 @@ void countStep(const CreaseSlide& p, size_t i, double d, const ForceSample& r, c
     (inside ? n.noContact : n.falseContact) += 1;
   }
   n.capStops += (r.status & SF_TRACK_MAX_ITER) != 0;
-  if (r.contact) {
+  if (r.contact && !onSurface) {
+    // the SCP is the nearest surface point: within 1e-6 depths through an edge's midpoint;
+    // through a vertex where three or more sheets meet, within 1% of the depth
     const double excess = ((r.scp - p.hips[i]).norm() - o.distance) / d;
-    n.worstExcess = std::max(n.worstExcess, excess);
-    n.notNearest += excess > 1e-6;
+    double& worst = p.throughVertex ? n.worstVertexExcess : n.worstExcess;
+    worst = std::max(worst, excess);
+    n.notNearest += excess > (p.throughVertex ? 1e-2 : 1e-6);
   }
   if (i > p.slideBegin && r.contact && prev.contact) {
     // the force changing faster than the HIP moves, by a margin: a jump
@@ -207,8 +246,8 @@ void countStep(const CreaseSlide& p, size_t i, double d, const ForceSample& r, c
     if (dF > 4 * stiffness * dH) {
       if (!p.nearCrease[i] && !p.nearCrease[i - 1])
         ++n.jumpsAway;
-      else
-        (p.valley ? n.jumpsAtValleys : n.jumpsAtRidges) += 1;
+      else  // a vertex of a valley can be a ridge's too
+        (p.valley && !p.throughVertex ? n.jumpsAtValleys : n.jumpsAtRidges) += 1;
     }
   }
 }
@@ -242,12 +281,14 @@ std::array<int, 2> slideAcrossEveryCrease(const CreasedMesh& m) {
   PatchRefiner refiner(c);
   Counts n[2];
   std::array<int, 2> kinds{0, 0};
-  for (double frac : {0.001, 0.0025, 0.01}) {
+  // through every crease edge's midpoint at three depths, and through its first vertex (where a
+  // sheet that meets the face only there may be the nearer one) at one
+  for (const auto& [frac, t] : {std::pair{0.001, 0.5}, {0.0025, 0.5}, {0.01, 0.5}, {0.0025, 0.0}}) {
     const double d = frac * diag, step = d / 4;
     for (int s = 0; s < c.numSlots(); ++s) {
       const int f = slotFace(c.faceOffsets, s), k = s - c.faceOffsets[f];
       if (!isCreaseEdge(c, f, k)) continue;
-      const CreaseSlide p = creaseSlide(c, f, k, d, step);
+      const CreaseSlide p = creaseSlide(c, f, k, d, step, t);
       kinds[p.valley ? 0 : 1] += 1;
       ForceSample prev[2];
       for (auto& r : renderer) r->reset();
@@ -267,10 +308,10 @@ std::array<int, 2> slideAcrossEveryCrease(const CreasedMesh& m) {
   for (int j = 0; j < 2; ++j) {
     SCOPED_TRACE(m.name + (j ? " (lazy)" : " (prebuilt)"));
     std::printf("crease slides %-26s %-9s %3d valley, %3d ridge slides, %6d steps: no contact %d, false contact %d "
-                "(%d HIPs on the surface), cap stops %d, not nearest %d (worst %.1g depths); force jumps at ridges "
+                "(%d HIPs on the surface), cap stops %d, not nearest %d (worst %.1g depths, %.1g through vertices); force jumps at ridges "
                 "%d, at valleys %d, elsewhere %d\n",
                 m.name.c_str(), j ? "lazy" : "prebuilt", kinds[0], kinds[1], n[j].steps, n[j].noContact,
-                n[j].falseContact, n[j].onSurface, n[j].capStops, n[j].notNearest, n[j].worstExcess,
+                n[j].falseContact, n[j].onSurface, n[j].capStops, n[j].notNearest, n[j].worstExcess, n[j].worstVertexExcess,
                 n[j].jumpsAtRidges, n[j].jumpsAtValleys, n[j].jumpsAway);
     EXPECT_GT(n[j].steps, 0);
     EXPECT_EQ(n[j].noContact, 0);
@@ -291,6 +332,7 @@ TEST(CreaseSlides, EveryCreaseHoldsContactAndTheNearestSheet) {
   std::ofstream(dir.path / "ell.obj") << voxelObj(ell);
   std::ofstream(dir.path / "stairs.obj") << voxelObj(stairs);
   std::ofstream(dir.path / "prism.obj") << turnedObj(12, {{1, 0}, {1, 0.5}, {1, 1}}, {0, 2});
+  std::ofstream(dir.path / "cylinder.obj") << triangulatedCylinderObj(16);
   // a cylinder on a wider one: the annulus between them meets the upper side at a curved valley
   std::ofstream(dir.path / "stepped.obj") << turnedObj(10, {{1, 0}, {1, 0.6}, {0.5, 0.6}, {0.5, 1.2}}, {0, 1, 2, 3});
   std::array<int, 2> total{0, 0};
@@ -299,6 +341,8 @@ TEST(CreaseSlides, EveryCreaseHoldsContactAndTheNearestSheet) {
   add(slideAcrossEveryCrease(load("stairs (voxels)", (dir.path / "stairs.obj").string(), 30)));
   add(slideAcrossEveryCrease(load("prism (tagged rims)", (dir.path / "prism.obj").string(), 0)));
   add(slideAcrossEveryCrease(load("stepped cylinder (tagged)", (dir.path / "stepped.obj").string(), 0)));
+  add(slideAcrossEveryCrease(
+      load("triangulated cylinder (split)", (dir.path / "cylinder.obj").string(), 0, NormalMode::File)));
   add(slideAcrossEveryCrease(load("cube", test::sharedMesh("lagrange/cube.obj"), 30)));
   add(slideAcrossEveryCrease(load("chamfer-cube", test::sharedMesh("pmp/chamfer-cube.off"), 30)));
   std::printf("crease slides: %d across valleys, %d across ridges\n", total[0], total[1]);
@@ -309,18 +353,23 @@ TEST(CreaseSlides, EveryCreaseHoldsContactAndTheNearestSheet) {
 /// Sweeps over creased solids, on the oneTBB and the OpenCL backends: no HIP inside the surface
 /// (the sweep's own inside test) is left without contact, the backends agree on every contact,
 /// and along the default trajectory (the section at half height, across the blocks' ridges and
-/// the L's valley) the patch force's consecutive differences away from the crease crossings
-/// stay below those at them.
+/// the L's valley; the section through the axis of a triangulated cylinder with split normals,
+/// across its rims and through its caps' centres) the patch force's consecutive differences away
+/// from the crease crossings stay below those at them.
 TEST(CreaseSlides, SweepsFindEveryContactAndJumpOnlyAtCreases) {
   hostile::TempDir dir("sf_crease_sweeps");
   std::ofstream(dir.path / "ell.obj") << voxelObj({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+  std::ofstream(dir.path / "cylinder.obj") << triangulatedCylinderObj(24);
   std::string why;
   const bool opencl = openclAvailable(&why);
   if (!opencl) std::printf("crease sweeps: OpenCL backend skipped (%s)\n", why.c_str());
-  for (const auto& [name, path, angle] : {std::tuple<std::string, std::string, double>{"L block", (dir.path / "ell.obj").string(), 30.0},
-                                          {"chamfer-cube", test::sharedMesh("pmp/chamfer-cube.off"), 30.0}}) {
+  for (const auto& [name, path, angle, normals] :
+       {std::tuple<std::string, std::string, double, NormalMode>{"L block", (dir.path / "ell.obj").string(), 30.0,
+                                                                 NormalMode::Auto},
+        {"chamfer-cube", test::sharedMesh("pmp/chamfer-cube.off"), 30.0, NormalMode::Auto},
+        {"tri. cylinder", (dir.path / "cylinder.obj").string(), 0.0, NormalMode::File}}) {
     SCOPED_TRACE(name);
-    const CreasedMesh m = load(name, path, angle);
+    const CreasedMesh m = load(name, path, angle, normals);
     SweepData d[2];
     for (int b = 0; b < (opencl ? 2 : 1); ++b) {
       SweepInputs in;

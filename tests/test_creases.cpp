@@ -70,8 +70,12 @@ Prism prism(int n, int rings) {
 std::string faceLine(const PolygonMesh& m, int f, bool withNormals) {
   std::string s = "f";
   for (int c = m.faceOffsets[f]; c < m.faceOffsets[f + 1]; ++c) {
-    s += " " + std::to_string(m.faceVertices[c] + 1);
-    if (withNormals) s += "//" + std::to_string(c + 1);
+    s += ' ';  // appended piecewise: GCC 12 warns (-Wrestrict) about " " + std::to_string(...)
+    s += std::to_string(m.faceVertices[c] + 1);
+    if (withNormals) {
+      s += "//";
+      s += std::to_string(c + 1);
+    }
   }
   return s + "\n";
 }
@@ -131,7 +135,10 @@ std::string plyWithEdgeCreases(const PolygonMesh& m, const std::vector<Edge>& cr
   }
   for (int f = 0; f < m.numFaces(); ++f) {
     s += std::to_string(m.faceSize(f));
-    for (int k = 0; k < m.faceSize(f); ++k) s += " " + std::to_string(m.faceVertex(f, k));
+    for (int k = 0; k < m.faceSize(f); ++k) {
+      s += ' ';
+      s += std::to_string(m.faceVertex(f, k));
+    }
     s += "\n";
   }
   for (const Edge& e : creases) s += std::to_string(e[0]) + " " + std::to_string(e[1]) + " 10\n";
@@ -390,7 +397,9 @@ TEST(Creases, SharedMeshesWithACreaseAngle) {
                          std::string(m.file) + " re-exported with split normals");
     // the closed ones as a whole: no fold or overlap of the patch surface
     const SurfaceFaults faults = measureSurfaceFaults(PatchSurface(c));
-    if (faults.closed) EXPECT_EQ(faults.faultArea(), 0.0) << m.file;
+    if (faults.closed) {
+      EXPECT_EQ(faults.faultArea(), 0.0) << m.file;
+    }
   }
 }
 

@@ -55,6 +55,19 @@ bool faceHasCrease(const PatchCache& c, int f) {
   return false;
 }
 
+std::vector<uint8_t> creaseVertexFlags(const PatchCache& c) {
+  std::vector<uint8_t> flags(c.numVertices(), 0);
+  std::vector<int32_t> first(c.numVertices(), -1);  // a corner of each vertex
+  for (int32_t s = 0; s < c.numSlots(); ++s) {
+    const int32_t v = c.faceVertices[s];
+    if (first[v] < 0)
+      first[v] = s;
+    else if (cornerNormalsDiffer(c, first[v], s))
+      flags[v] = 1;
+  }
+  return flags;
+}
+
 double boundingDiagonal(const PatchCache& cache) {
   Eigen::Vector3d lo, hi;
   referencedBox(cache, lo, hi);

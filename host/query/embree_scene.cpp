@@ -131,7 +131,9 @@ PolygonScene::PolygonScene(const PatchCache& cache, double planarTolerance)
     : cache_(cache),
       planarTolerance_(planarTolerance),
       facets_(buildPolygonFacets(cache, planarTolerance)),
+      creaseVertex_(creaseVertexFlags(cache)),
       impl_(std::make_unique<Impl>()) {
+  hasCreases_ = std::find(creaseVertex_.begin(), creaseVertex_.end(), 1) != creaseVertex_.end();
   impl_->facets = &facets_;
   impl_->origin = localOrigin(facets_.boxMin, facets_.boxMax);
   const double scale = facets_.extent() + std::max((facets_.boxMax - impl_->origin).cwiseAbs().maxCoeff(),

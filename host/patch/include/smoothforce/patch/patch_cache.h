@@ -111,6 +111,10 @@ bool isCreaseEdge(const PatchCache& cache, int f, int k);
 /// True when some edge of face f is a crease (isCreaseEdge).
 bool faceHasCrease(const PatchCache& cache, int f);
 
+/// #V flags: 1 where the corners of a vertex carry more than one normal (the vertex a crease
+/// touches: its faces form two or more smoothing sectors there), else 0.
+std::vector<uint8_t> creaseVertexFlags(const PatchCache& cache);
+
 /// The box (lo, hi, m) of the base mesh's referenced vertices (topology.h referencedBox);
 /// false, lo = hi = 0, without faces.
 bool referencedBox(const PatchCache& cache, Eigen::Vector3d& lo, Eigen::Vector3d& hi);

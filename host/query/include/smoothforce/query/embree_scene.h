@@ -6,8 +6,10 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <limits>
 #include <memory>
+#include <vector>
 
 #include <smoothforce/query/polygon_facets.h>
 
@@ -61,6 +63,11 @@ class PolygonScene {
   /// The planarTolerance the facets were built with (buildPolygonFacets).
   double planarTolerance() const noexcept { return planarTolerance_; }
   const PatchCache& cache() const noexcept { return cache_; }
+  /// Whether the corners of vertex v carry more than one normal (creaseVertexFlags): a crease
+  /// touches it, and its faces meet as separate sheets there.
+  bool creaseVertex(int v) const noexcept { return creaseVertex_[v] != 0; }
+  /// Whether the mesh has a crease vertex at all.
+  bool hasCreases() const noexcept { return hasCreases_; }
 
   struct Impl;  ///< Embree device and scene (opaque; embree_scene.cpp)
 
@@ -68,6 +75,8 @@ class PolygonScene {
   const PatchCache& cache_;
   double planarTolerance_;
   PolygonFacets facets_;
+  std::vector<uint8_t> creaseVertex_;  ///< #V: creaseVertexFlags
+  bool hasCreases_ = false;
   std::unique_ptr<Impl> impl_;
 };
 
