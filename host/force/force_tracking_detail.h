@@ -30,6 +30,18 @@ std::unique_ptr<ForceRenderer> makeSharedPatchRenderer(std::shared_ptr<const Pat
                                                        std::shared_ptr<const PatchSurface> surface,
                                                        const SharedLazyParts& lazy);
 
+/// A tracking step's refinement r, or a nearer point on another sheet where r's face touches a
+/// crease (crease_sheets.cpp): across its crease edges and around its corners where creases meet,
+/// each sheet whose tangent plane the HIP is below within 4 tracked distances is refined from
+/// there, and a nearer converged point below which the HIP lies wins. Never throws or allocates.
+RefineResult nearerAcrossCreases(const PolygonScene& scene, PatchRefiner& refiner, const Eigen::Vector3d& hip,
+                                 const RefineResult& r, const ForceOptions& options) noexcept;
+
+/// Whether the HIP is below the other side's tangent plane at an SCP held on a crease edge
+/// (r.edge): under a valley the HIP is below at least one of the two sides.
+bool belowOtherSide(const PatchCache& cache, PatchRefiner& refiner, const Eigen::Vector3d& hip,
+                    const RefineResult& r) noexcept;
+
 /// Ends a step: contact at SCP r (F = k (SCP - HIP)) or none; keeps the contact state.
 void setContact(bool contact, const RefineResult& r, const Eigen::Vector3d& hip, const ForceOptions& options,
                 PatchContactState& state, ForceSample& s) noexcept;
