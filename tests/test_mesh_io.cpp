@@ -17,6 +17,7 @@
 
 #include <smoothforce/mesh/mesh_io.h>
 #include "file_bytes.h"
+#include "mesh_file_support.h"
 
 namespace fs = std::filesystem;
 
@@ -24,34 +25,8 @@ namespace {
 
 const std::string kMalformed = std::string(SF_TEST_DATA) + "/malformed/";
 
-/// A temporary folder for this process, removed at exit.
-struct TempDir {
-  fs::path path = fs::temp_directory_path() / ("sf_test_mesh_io_" + std::to_string(::getpid()));
-  TempDir() { fs::create_directories(path); }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-};
-
-/// Writes `bytes` to a file in the temporary folder; returns its path.
-std::string writeTemp(const std::string& name, const std::string& bytes) {
-  static const TempDir dir;
-  const std::string path = (dir.path / name).string();
-  std::ofstream(path, std::ios::binary) << bytes;
-  return path;
-}
-
-/// The InputError message readMesh(path) throws, or "" (a test failure) when it does not.
-std::string errorOf(const std::string& path) {
-  try {
-    sf::readMesh(path);
-  } catch (const sf::InputError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << path << " was read without error";
-  return "";
-}
+using sf::test::errorOf;
+using sf::test::writeTemp;
 
 struct Malformed {
   const char* file;

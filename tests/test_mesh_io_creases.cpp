@@ -18,33 +18,17 @@
 
 #include <smoothforce/mesh/mesh_io.h>
 
-#include "test_hostile_support.h"
+#include "mesh_file_support.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-/// Writes `bytes` to a file in this process's temporary folder (removed at exit); returns its path.
-std::string writeTemp(const std::string& name, const std::string& bytes) {
-  static const sf::hostile::TempDir dir("sf_test_mesh_io_creases");
-  const std::string path = (dir.path / name).string();
-  std::ofstream(path, std::ios::binary) << bytes;
-  return path;
-}
+using sf::test::errorOf;
+using sf::test::writeTemp;
 
 sf::PolygonMesh readText(const std::string& name, const std::string& text) {
   return sf::readMesh(writeTemp(name, text));
-}
-
-/// The InputError message readMesh(path) throws, or "" (a test failure) when it does not.
-std::string errorOf(const std::string& path) {
-  try {
-    sf::readMesh(path);
-  } catch (const sf::InputError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << path << " was read without error";
-  return "";
 }
 
 /// Expects reading `text` as file `name` to fail with "path:line: " followed by a message
@@ -65,7 +49,10 @@ const int kCubeFaces[6][4] = {{1, 3, 4, 2}, {5, 6, 8, 7}, {1, 2, 6, 5}, {3, 7, 8
 
 std::string cubeFace(int f) {
   std::string s = "f";
-  for (int v : kCubeFaces[f]) s += " " + std::to_string(v);
+  for (int v : kCubeFaces[f]) {
+    s += ' ';  // appended piecewise: GCC 12 warns (-Wrestrict) about " " + std::to_string(...)
+    s += std::to_string(v);
+  }
   return s + "\n";
 }
 
