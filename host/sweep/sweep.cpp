@@ -173,8 +173,8 @@ void runTrajectory(const std::vector<SurfaceSample>& path, double depth, double 
   }
 }
 
-void markCreaseCrossings(const std::vector<SurfaceSample>& path, const PatchCache& cache, TrajectorySeries& out) {
-  out.crease.assign(path.size(), 0);
+std::vector<uint8_t> creaseCrossings(const std::vector<SurfaceSample>& path, const PatchCache& cache) {
+  std::vector<uint8_t> crease(path.size(), 0);
   std::vector<char> creaseVertex(cache.numVertices(), 0);
   bool any = false;
   for (int f = 0; f < cache.numFaces(); ++f)
@@ -184,23 +184,24 @@ void markCreaseCrossings(const std::vector<SurfaceSample>& path, const PatchCach
         creaseVertex[cache.faceVertices[cache.faceOffsets[f] + k]] = 1;
         creaseVertex[cache.faceVertices[cache.faceOffsets[f] + (k + 1) % n]] = 1;
       }
-  if (!any) return;
+  if (!any) return crease;
   for (size_t i = 1; i < path.size(); ++i) {
     const int a = path[i - 1].face, b = path[i].face;
     if (a < 0 || b < 0 || a == b || a >= cache.numFaces() || b >= cache.numFaces()) continue;
-    bool shareEdge = false, crease = false, sharedCreaseVertex = false;
+    bool shareEdge = false, creaseEdge = false, sharedCreaseVertex = false;
     for (int k = 0, n = cache.faceSize(a); k < n; ++k) {
       const int t = cache.slotTwin[cache.faceOffsets[a] + k];
       if (t >= 0 && slotFace(cache.faceOffsets, t) == b) {
         shareEdge = true;
-        crease = crease || isCreaseEdge(cache, a, k);
+        creaseEdge = creaseEdge || isCreaseEdge(cache, a, k);
       }
       const int v = cache.faceVertices[cache.faceOffsets[a] + k];
       for (int j = cache.faceOffsets[b]; j < cache.faceOffsets[b + 1]; ++j)
         sharedCreaseVertex = sharedCreaseVertex || (cache.faceVertices[j] == v && creaseVertex[v]);
     }
-    out.crease[i] = shareEdge ? crease : sharedCreaseVertex;
+    crease[i] = shareEdge ? creaseEdge : sharedCreaseVertex;
   }
+  return crease;
 }
 
 std::array<double, 2> maxDifferenceByCreases(const TrajectorySeries& series, size_t window) {

@@ -419,10 +419,13 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
     const size_t per = M * G * 2;
     const PatchProjector projector(*in.cache, c.level);
     std::vector<std::vector<SurfaceSample>> walk(2 * paths.size());  // [2 t + half]: only those needed
+    std::vector<std::vector<uint8_t>> crossings(walk.size());        // their crease crossings
     for (uint64_t k : pendingSeries) {
       const size_t t = k / per, h = k % 2;
-      if (walk[2 * t + h].empty())
+      if (walk[2 * t + h].empty()) {
         walk[2 * t + h] = trajectorySamples(paths[t].second, h ? c.trajectoryStep / 2 : c.trajectoryStep, projector);
+        crossings[2 * t + h] = creaseCrossings(walk[2 * t + h], *in.cache);
+      }
     }
     std::vector<TrajectorySeries> fresh(pendingSeries.size());
     std::vector<uint8_t> ran(pendingSeries.size(), 0);
@@ -441,7 +444,7 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
       auto r = in.makeRenderer(s.method);
       runTrajectory(walk[2 * t + h], s.depth, c.approach, *r, s);
       markPastMedialAxis(walk[2 * t + h], s.depth, projector, s);
-      markCreaseCrossings(walk[2 * t + h], *in.cache, s);
+      s.crease = crossings[2 * t + h];
       ran[i] = 1;
     });
     for (size_t i = 0; i < fresh.size(); ++i)

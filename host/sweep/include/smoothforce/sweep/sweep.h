@@ -151,7 +151,7 @@ struct TrajectorySeries {
   /// x depth (PatchProjector), so another part of the surface is nearer than the point it was
   /// pressed in from (the depth exceeds the local feature size there); empty: not computed
   std::vector<uint8_t> pastMedialAxis;
-  /// per point: 1 where the path crossed a crease since the previous point (markCreaseCrossings);
+  /// per point: 1 where the path crossed a crease since the previous point (creaseCrossings);
   /// empty: not computed
   std::vector<uint8_t> crease;
 };
@@ -168,10 +168,11 @@ void runTrajectory(const std::vector<SurfaceSample>& path, double depth, double 
 /// (a nearer part the projector misses leaves its point unflagged).
 void markPastMedialAxis(const std::vector<SurfaceSample>& path, double depth, const PatchProjector& projector,
                         TrajectorySeries& out);
-/// Fills out.crease: 1 at point i > 0 where its patch point and point i-1's lie on two faces
-/// that meet at a crease edge (isCreaseEdge), or that share only a vertex a crease edge ends
-/// at; 0 elsewhere (the same face, a smooth edge, faces that do not touch).
-void markCreaseCrossings(const std::vector<SurfaceSample>& path, const PatchCache& cache, TrajectorySeries& out);
+/// Per point of `path` (TrajectorySeries::crease): 1 at point i > 0 where its patch point and
+/// point i-1's lie on two faces that meet at a crease edge (isCreaseEdge), or that share only a
+/// vertex a crease edge ends at; 0 elsewhere (the same face, a smooth edge, faces that do not
+/// touch). It depends on the path alone: one computation serves every series along it.
+std::vector<uint8_t> creaseCrossings(const std::vector<SurfaceSample>& path, const PatchCache& cache);
 
 /// The consecutive differences |F_{j+1} - F_j| of a series that lie away from its crease
 /// crossings: difference j is near one when a crossing is at a point within `window` points of
