@@ -6,7 +6,7 @@
 #include <array>
 #include <cstddef>
 
-#include <smoothforce/force/force_presets.h>
+#include <smoothforce/force/force_option_text.h>
 #include <smoothforce/force/force_tracking.h>
 #include <smoothforce/query/surface_query.h>
 #include <smoothforce/runtime/safety.h>
@@ -42,17 +42,18 @@ pyb::dtype traceDtype() {
 
 ForceOptions forceOptions(const std::string& method, double stiffness, const pyb::object& preset, int capacity,
                           const std::string& finalStep, ForceMethod* m) {
-  ForceOptions f;
-  *m = parseForceMethod(method);
+  ForceSettings f;  // the shared reader (force_option_text.h): the keyword arguments are its keys
+  setForceOption(f, "method", method);
   if (!preset.is_none() && !pyb::isinstance<pyb::str>(preset))
     throw pyb::type_error("preset: expected a str (fast, balanced, accurate) or None, got " +
                           std::string(pyb::str(preset.get_type().attr("__name__"))));
-  if (!preset.is_none()) applyForcePreset(findForcePreset(preset.cast<std::string>()), f);
-  f.stiffness = stiffness;
-  f.patchCapacity = capacity;
-  f.finalStep = parseFinalStep(finalStep);
-  validateForceOptions(f);
-  return f;
+  if (!preset.is_none()) setForceOption(f, "preset", preset.cast<std::string>());
+  setForceOption(f, "stiffness", stiffness);
+  setForceOption(f, "patch_capacity", static_cast<double>(capacity));
+  setForceOption(f, "final_step", finalStep);
+  validateForceOptions(f.options);
+  *m = f.method;
+  return f.options;
 }
 
 pyb::array trace(const PyCache& c, const pyb::handle& hipsIn, const std::string& method, double stiffness,

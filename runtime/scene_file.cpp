@@ -15,6 +15,7 @@
 #include <vector>
 
 #include <smoothforce/base/coordinate_range.h>
+#include <smoothforce/force/force_option_text.h>
 #include <smoothforce/force/force_presets.h>
 #include <smoothforce/force/force_tracking.h>
 #include <smoothforce/patch/cache_file.h>
@@ -45,13 +46,13 @@ struct Ctx {
     for (int k = 0; k < 3; ++k) v[k] = number(j[k], where + "/" + std::to_string(k), "a finite number");
     return v;
   }
-  void onlyKeys(const json& j, const std::string& where, std::initializer_list<const char*> keys) const {
+  void onlyKeys(const json& j, const std::string& where, const std::vector<std::string>& keys) const {
     for (auto it = j.begin(); it != j.end(); ++it) {
       bool ok = false;
-      for (const char* k : keys) ok = ok || it.key() == k;
+      for (const std::string& k : keys) ok = ok || it.key() == k;
       if (!ok) {
         std::string list;
-        for (const char* k : keys) list += (list.empty() ? "" : ", ") + std::string(k);
+        for (const std::string& k : keys) list += (list.empty() ? "" : ", ") + k;
         fail(where + "/" + it.key(), "unknown key (expected one of: " + list + ")");
       }
     }
@@ -154,6 +155,34 @@ void parsePatchKeys(const Ctx& c, const json& o, const std::string& w, bool mesh
   }
 }
 
+/// The force options of an object: the keys of force_option_text.h in their order (method and
+/// preset first, explicit options after the preset), strings or numbers as each takes, read by the
+/// parser every front end shares.
+void parseForceKeys(const Ctx& c, const json& o, const std::string& w, ForceSettings& force) {
+  for (const OptionSpec& spec : kForceOptionSpecs) {
+    const std::string key = spec.key;
+    if (!o.contains(key)) continue;
+    const std::string where = w + "/" + key;
+    try {
+      if (o[key].is_number())
+        setForceOption(force, key, o[key].get<double>());
+      else
+        setForceOption(force, key, stringField(c, o[key], where));
+    } catch (const InputError& e) {
+      if (std::string(e.what()).rfind(c.file + ": ", 0) == 0) throw;  // c.fail's own
+      c.fail(where, e.what());
+    }
+  }
+}
+
+/// Every key an object may have: its source, name and pose, the force and the patch options.
+std::vector<std::string> objectKeys() {
+  std::vector<std::string> keys = {"name", "mesh", "cache", "pose", "comment"};
+  for (const OptionSpec& s : kForceOptionSpecs) keys.push_back(s.key);
+  for (const OptionSpec& s : kPatchOptionSpecs) keys.push_back(s.key);
+  return keys;
+}
+
 /// The key of an object's cache in loadScene: the file (its canonical path where it exists),
 /// its kind, and for a mesh the options its patches are built with.
 std::string cacheKey(const std::filesystem::path& file, bool mesh, const PatchOptions& o) {
@@ -205,9 +234,7 @@ Scene loadScene(const std::string& path, const SceneDefaults& defaults, const Re
     const std::string w = "/objects/" + std::to_string(i);
     const json& o = objs[i];
     if (!o.is_object()) c.fail(w, "expected an object with \"mesh\" or \"cache\"");
-    c.onlyKeys(o, w,
-               {"name", "mesh", "cache", "pose", "stiffness", "method", "preset", "final_step", "precision", "normals",
-                "cross_tangent", "orient", "cage", "creases", "crease_angle", "comment"});
+    c.onlyKeys(o, w, objectKeys());
     const bool hasMesh = o.contains("mesh"), hasCache = o.contains("cache");
     if (hasMesh == hasCache)
       c.fail(w, hasMesh ? "give either \"mesh\" or \"cache\", not both" : "missing \"mesh\" or \"cache\"");
@@ -223,46 +250,13 @@ Scene loadScene(const std::string& path, const SceneDefaults& defaults, const Re
                                 (o.contains("name") ? "" : " (this object's default name: its file's stem)"));
     names.emplace_back(obj.name, o.contains("name"));
     if (o.contains("pose")) obj.pose = parsePose(c, o["pose"], w + "/pose");
-    obj.method = defaults.method;
-    if (o.contains("method")) {
-      const json& m = o["method"];
-      bool ok = m.is_string();
-      if (ok) {
-        try {
-          obj.method = parseForceMethod(m.get<std::string>());
-        } catch (const InputError&) {
-          ok = false;
-        }
-      }
-      if (!ok) c.fail(w + "/method", "expected \"patch\", \"direct\" or \"shading\", got " + m.dump());
-    }
-    obj.force = defaults.force;
+    ForceSettings force{defaults.method, defaults.force, ""};
     PatchOptions patchOptions = defaults.patchOptions;
-    if (o.contains("preset")) {  // before "stiffness"; a preset leaves the stiffness alone
-      const std::string name = stringField(c, o["preset"], w + "/preset");
-      const ForcePreset* preset = nullptr;
-      try {
-        preset = &findForcePreset(name);
-      } catch (const InputError& e) {
-        c.fail(w + "/preset", e.what());
-      }
-      applyForcePreset(*preset, obj.force);
-      patchOptions.precision = preset->precision;
-    }
-    if (o.contains("final_step")) {  // after "preset", which leaves it alone
-      const std::string v = stringField(c, o["final_step"], w + "/final_step");
-      try {
-        obj.force.finalStep = parseFinalStep(v);
-      } catch (const InputError& e) {
-        c.fail(w + "/final_step", e.what());
-      }
-    }
+    parseForceKeys(c, o, w, force);
+    if (!force.preset.empty()) patchOptions.precision = findForcePreset(force.preset).precision;
+    obj.method = force.method;
+    obj.force = force.options;
     parsePatchKeys(c, o, w, hasMesh, patchOptions);
-    if (o.contains("stiffness")) {
-      obj.force.stiffness = c.number(o["stiffness"], w + "/stiffness", "a stiffness in (0, 1e12] N/m");
-      if (!(obj.force.stiffness > 0 && obj.force.stiffness <= kMaxStiffness))
-        c.fail(w + "/stiffness", "expected a stiffness in (0, 1e12] N/m, got " + o["stiffness"].dump());
-    }
     try {  // here, not in the renderer's factory, whose errors name the file
       validateForceOptions(obj.force);
     } catch (const InputError& e) {

@@ -362,7 +362,7 @@ TEST(CApi, EveryErrorClassIsACodeAndAMessage) {
   sf_haptic_options_init(&ho);
   ho.final_step = "modelled";
   st = sf_haptic_create(spot.get(), &ho, &h);
-  expect(st, SF_ERROR_INPUT, sf_last_error(), "final step: expected evaluated|model, got 'modelled'");
+  expect(st, SF_ERROR_INPUT, sf_last_error(), "final_step: expected evaluated|model, got 'modelled'");
   sf_haptic_options_init(&ho);
   ho.stiffness = -5;
   st = sf_cache_trace(spot.get(), &ho, 0, nullptr, nullptr);
@@ -584,6 +584,43 @@ TEST(CApi, EveryBadPatchOptionGetsTheSharedMessage) {
     EXPECT_EQ(std::string(sf_last_error()), k + ": expected " + b.expected + ", got '" + b.value + "'");
     sf_cache_free(c);
   }
+}
+
+// The force options of sf_haptic_options: the same values as tests/test_option_layer.cpp and
+// python/tests, the same message as every front end (force_option_text.h), naming the field.
+TEST(CApi, EveryBadForceOptionGetsTheSharedMessage) {
+  struct Bad {
+    const char* key;
+    const char* value;  ///< as text (method, preset, final_step) or a number (stiffness)
+    const char* shown;
+    const char* expected;
+  };
+  const Bad bad[] = {{"method", "magic", "magic", "patch|direct|shading"},
+                     {"preset", "turbo", "turbo", "fast|balanced|accurate"},
+                     {"stiffness", "1e13", "1e+13", "a stiffness in (0, 1e12] N/m"},
+                     {"stiffness", "0", "0", "a stiffness in (0, 1e12] N/m"},
+                     {"final_step", "turbo", "turbo", "evaluated|model"}};
+  sf_cache_options co;
+  sf_cache_options_init(&co);
+  sf_cache* cache = nullptr;
+  ASSERT_EQ(sf_cache_from_file(kSpot.c_str(), &co, &cache), SF_OK) << sf_last_error();
+  int checked = 0;
+  for (const Bad& b : bad) {
+    sf_haptic_options o;
+    sf_haptic_options_init(&o);
+    const std::string k = b.key;
+    if (k == "method") o.method = b.value;
+    if (k == "preset") o.preset = b.value;
+    if (k == "final_step") o.final_step = b.value;
+    if (k == "stiffness") o.stiffness = std::strtod(b.value, nullptr);
+    sf_haptic* h = nullptr;
+    EXPECT_EQ(sf_haptic_create(cache, &o, &h), SF_ERROR_INPUT) << k;
+    EXPECT_EQ(std::string(sf_last_error()), k + ": expected " + b.expected + ", got '" + b.shown + "'");
+    checked += h == nullptr;
+    sf_haptic_free(h);
+  }
+  EXPECT_EQ(checked, 5);
+  sf_cache_free(cache);
 }
 
 }  // namespace

@@ -137,7 +137,7 @@ TEST_F(CliContract, ExitStatusPerSubcommandAndKindOfMistake) {
       {"generate torus --R 1 --r 2 -o " + file("t.obj"), 2, "0 < r < R"},
       {"generate torus-knot --turns nan --trajectory-out " + file("t.csv") + " -o " + file("t.obj"), 2, "--turns"},
       {"trace --mesh " + sphere + " --stiffness 1e308 --hips " + hips + " -o " + o, 2,
-       "stiffness must be in (0, 1e12] N/m, got 1e+308"},
+       "--stiffness: expected a stiffness in (0, 1e12] N/m, got '1e+308'"},
       // an option value out of range is a usage error, also where the mesh decides it (the depth
       // or approach factor puts HIPs beyond the coordinate range) and for nan
       {sw + "--depth 2% --approach nan -o " + file("s"), 2, "--approach must be positive"},

@@ -1,14 +1,16 @@
 // SPDX-License-Identifier: Apache-2.0
-// The patch options have one reader (patch_option_text.h): every bad value of every option gets
-// the same message from the parser, the command line (exit 2, a usage error) and scene files,
-// naming the option as each spells it; test_capi.cpp and python/tests check the C API and
-// Python against the same table, and every good value reads back as it was written.
+// The patch and force options have one reader each (patch_option_text.h, force_option_text.h):
+// every bad value of every option gets the same message from the parser, the command line (exit
+// 2, a usage error) and scene files, naming the option as each spells it; test_capi.cpp and
+// python/tests check the C API and Python against the same tables, and every good value reads
+// back as it was written.
 #include <gtest/gtest.h>
 
 #include <fstream>
 #include <string>
 #include <vector>
 
+#include <smoothforce/force/force_option_text.h>
 #include <smoothforce/patch/patch_option_text.h>
 #include <smoothforce/runtime/scene.h>
 
@@ -100,6 +102,130 @@ TEST(OptionLayer, TheCommandLineAndSceneFilesGiveTheSameMessage) {
                 scene + ": /objects/0/" + b.key + ": " + b.key + ": " + core(b));
     }
   }
+}
+
+/// A bad value of each force option, as text (the command line, scene-file strings) and, for
+/// the numeric ones, as the number a typed front end passes; `shown` is how messages show it.
+struct BadForceValue {
+  const char* key;
+  const char* value;
+  const char* shown;
+};
+constexpr BadForceValue kBadForce[] = {
+    {"method", "magic", "magic"},          {"preset", "turbo", "turbo"},
+    {"stiffness", "1e13", "1e+13"},        {"refine", "gauss", "gauss"},
+    {"angle_tolerance", "-1", "-1"},       {"position_tolerance", "0", "0"},
+    {"max_iterations", "0", "0"},          {"initial_guess", "random", "random"},
+    {"guess_level", "65", "65"},           {"final_step", "turbo", "turbo"},
+    {"patch_capacity", "2.5", "2.5"},
+};
+
+const OptionSpec& forceSpec(const std::string& key) {
+  for (const OptionSpec& s : kForceOptionSpecs)
+    if (key == s.key) return s;
+  throw std::logic_error("no spec " + key);
+}
+
+std::string forceCore(const BadForceValue& b) {
+  return std::string("expected ") + forceSpec(b.key).values + ", got '" + b.shown + "'";
+}
+
+TEST(ForceOptionLayer, EveryOptionHasABadValueHere) {
+  ASSERT_EQ(std::size(kBadForce), std::size(kForceOptionSpecs));
+  for (size_t i = 0; i < std::size(kBadForce); ++i) EXPECT_STREQ(kBadForce[i].key, kForceOptionSpecs[i].key);
+}
+
+TEST(ForceOptionLayer, TextAndNumbersGetOneMessageNamingTheKeyOrTheFlag) {
+  int numeric = 0;
+  for (const BadForceValue& b : kBadForce) {
+    for (OptionSpelling sp : {OptionSpelling::Key, OptionSpelling::Flag}) {
+      const std::string want = std::string(optionName(forceSpec(b.key), sp)) + ": " + forceCore(b);
+      ForceSettings f;
+      try {
+        setForceOption(f, b.key, b.value, sp);
+        ADD_FAILURE() << b.key << " accepted " << b.value;
+      } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()), want);
+      }
+      if (forceSpec(b.key).type == OptionType::Text) continue;
+      numeric += sp == OptionSpelling::Key;
+      try {
+        setForceOption(f, b.key, std::strtod(b.value, nullptr), sp);
+        ADD_FAILURE() << b.key << " accepted " << b.value << " as a number";
+      } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()), want);
+      }
+    }
+  }
+  EXPECT_EQ(numeric, 6);
+  ForceSettings f;
+  EXPECT_THROW(setForceOption(f, "colour", "red"), InputError);
+  EXPECT_THROW(setForceOption(f, "method", 1.0), InputError);  // a text option takes no number
+}
+
+TEST(ForceOptionLayer, EveryGoodValueReadsBackAsWritten) {
+  const std::vector<std::vector<std::pair<const char*, const char*>>> sets = {
+      {{"method", "direct"}, {"stiffness", "800"}, {"refine", "paper"}, {"angle_tolerance", "1e-07"},
+       {"position_tolerance", "3e-09"}, {"max_iterations", "7"}, {"initial_guess", "polygon"}, {"guess_level", "5"},
+       {"final_step", "evaluated"}, {"patch_capacity", "-1"}},
+      {{"method", "shading"}, {"preset", "fast"}, {"stiffness", "0.1"}, {"final_step", "model"},
+       {"patch_capacity", "64"}, {"angle_tolerance", "0.25"}},
+  };
+  int checked = 0;
+  for (const auto& set : sets) {
+    ForceSettings f;
+    for (const auto& [key, value] : set) setForceOption(f, key, value);
+    checkForceOptions(f.options);
+    ForceSettings back;
+    for (const OptionSpec& s : kForceOptionSpecs) {
+      const std::string text = forceOptionValue(f, s.key);
+      if (!text.empty()) setForceOption(back, s.key, text);
+    }
+    for (const OptionSpec& s : kForceOptionSpecs) {
+      EXPECT_EQ(forceOptionValue(back, s.key), forceOptionValue(f, s.key)) << s.key;
+      ++checked;
+    }
+    for (const auto& [key, value] : set) EXPECT_EQ(forceOptionValue(f, key), value) << key;
+  }
+  EXPECT_EQ(checked, 2 * 11);
+  // the pair the values must agree on, by key and by flag
+  ForceSettings f;
+  setForceOption(f, "refine", "paper");
+  setForceOption(f, "final_step", "model");
+  EXPECT_THROW(checkForceOptions(f.options), InputError);
+  try {
+    checkForceOptions(f.options, OptionSpelling::Flag);
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--final-step: 'model'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("needs --refine newton"), std::string::npos) << e.what();
+  }
+}
+
+TEST(ForceOptionLayer, TheCommandLineAndSceneFilesGiveTheSameMessage) {
+  hostile::TempDir dir("sf_force_option_layer");
+  const std::string mesh = std::string(SF_DATA_DIR) + "/chamfer-cube.off";
+  const std::string hips = (dir.path / "hips.csv").string();
+  std::ofstream(hips) << "x,y,z\n0,0,0\n";
+  int checked = 0;
+  for (const BadForceValue& b : kBadForce) {
+    SCOPED_TRACE(b.key);
+    const OptionSpec& s = forceSpec(b.key);
+    const test::CliResult r = test::smoothforce("trace --mesh " + mesh + " --hips " + hips + " " + s.flag + " " +
+                                                b.value + " -o " + (dir.path / "t.csv").string());
+    EXPECT_EQ(r.status, 2) << r.out;  // a usage error
+    EXPECT_NE(r.out.find(std::string(s.flag) + ": " + forceCore(b)), std::string::npos) << r.out;
+    const std::string scene = (dir.path / "scene.json").string();
+    const std::string value = s.type == OptionType::Text ? "\"" + std::string(b.value) + "\"" : b.value;
+    std::ofstream(scene) << R"({"objects": [{"mesh": ")" << mesh << R"(", ")" << b.key << "\": " << value << "}]}";
+    try {
+      rt::loadScene(scene, rt::SceneDefaults{}, rt::sharedRendererFactory());
+      ADD_FAILURE() << "the scene file was read";
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()), scene + ": /objects/0/" + b.key + ": " + b.key + ": " + forceCore(b));
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 11);
 }
 
 }  // namespace

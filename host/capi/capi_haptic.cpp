@@ -5,7 +5,7 @@
 #include <iterator>
 #include <vector>
 
-#include <smoothforce/force/force_presets.h>
+#include <smoothforce/force/force_option_text.h>
 #include <smoothforce/force/force_tracking.h>
 #include <smoothforce/runtime/pose.h>
 #include "capi_detail.h"
@@ -43,14 +43,15 @@ SF_CAPI_SAME_BIT(SF_TRACK_FOLD_EDGE);
 static_assert(std::size(sf::kStatusBits) == 24 + 3, "a status bit of status.h is missing from smoothforce.h");
 
 ForceOptions forceOptions(const sf_haptic_options& o, ForceMethod* method) {
-  ForceOptions f;
-  *method = parseForceMethod(opt(o.method, "patch"));
-  if (o.preset) applyForcePreset(findForcePreset(o.preset), f);
-  if (o.final_step) f.finalStep = parseFinalStep(o.final_step);
-  f.stiffness = o.stiffness;
-  f.patchCapacity = o.patch_capacity;
-  validateForceOptions(f);
-  return f;
+  ForceSettings f;  // the shared reader (force_option_text.h): the fields are its keys
+  if (o.method) setForceOption(f, "method", o.method);
+  if (o.preset) setForceOption(f, "preset", o.preset);
+  if (o.final_step) setForceOption(f, "final_step", o.final_step);
+  setForceOption(f, "stiffness", o.stiffness);
+  setForceOption(f, "patch_capacity", static_cast<double>(o.patch_capacity));
+  validateForceOptions(f.options);
+  *method = f.method;
+  return f.options;
 }
 
 namespace {

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <smoothforce/force/force_presets.h>
 
+#include <smoothforce/force/force_option_text.h>
+
 namespace sf {
 
 const std::vector<ForcePreset>& forcePresets() {
@@ -15,14 +17,7 @@ const std::vector<ForcePreset>& forcePresets() {
   return presets;
 }
 
-const ForcePreset& findForcePreset(const std::string& name) {
-  std::string names;
-  for (const ForcePreset& p : forcePresets()) {
-    if (p.name == name) return p;
-    names += (names.empty() ? "" : "|") + p.name;
-  }
-  throw InputError("--preset: expected " + names + ", got '" + name + "'");
-}
+const ForcePreset& findForcePreset(const std::string& name) { return findForcePreset(name, OptionSpelling::Flag); }
 
 void applyForcePreset(const ForcePreset& p, ForceOptions& o) {
   o.refine = p.refine;

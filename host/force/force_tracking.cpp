@@ -19,15 +19,6 @@
 
 namespace sf {
 
-void validateForceOptions(const ForceOptions& o) {
-  if (!(o.stiffness > 0) || !(o.stiffness <= kMaxStiffness)) {
-    char v[32];
-    std::snprintf(v, sizeof v, "%g", o.stiffness);
-    throw InputError(std::string("stiffness must be in (0, 1e12] N/m, got ") + v);
-  }
-  validateRefineOptions(o);
-}
-
 namespace detail {
 
 void setContact(bool contact, const RefineResult& r, const Eigen::Vector3d& hip, const ForceOptions& options,

@@ -1,34 +1,32 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <smoothforce/patch/patch_option_text.h>
 
-#include <cmath>
-#include <cstdio>
+#include <iterator>
 
 #include <smoothforce/base/error.h>
 
 namespace sf {
 
 const PatchOptionSpec kPatchOptionSpecs[7] = {
-    {"precision", "--precision", "float|double"},
-    {"normals", "--normals", "auto|file|angle|area"},
-    {"cross_tangent", "--cross-tangent", "corrected|paper|blend"},
-    {"orient", "--orient", "outward|keep"},
-    {"cage", "--cage", "none|catmull-clark"},
-    {"creases", "--creases", "a list of tags, groups, normals (each once), or none"},
-    {"crease_angle", "--crease-angle", "degrees in [0, 180) (0: off)"},
+    {"precision", "--precision", OptionType::Text, "float|double", "precision of the patch records"},
+    {"normals", "--normals", OptionType::Text, "auto|file|angle|area", "vertex normals"},
+    {"cross_tangent", "--cross-tangent", OptionType::Text, "corrected|paper|blend", "cross-tangent construction"},
+    {"orient", "--orient", OptionType::Text, "outward|keep", "flip closed meshes whose faces point inward"},
+    {"cage", "--cage", OptionType::Text, "none|catmull-clark", "read the mesh as a subdivision cage"},
+    {"creases", "--creases", OptionType::Text, "a list of tags, groups, normals (each once), or none",
+     "which marks make crease edges"},
+    {"crease_angle", "--crease-angle", OptionType::Number, "degrees in [0, 180) (0: off)",
+     "also a crease where adjacent faces turn by more than this angle"},
 };
 
 namespace {
 
 const PatchOptionSpec* specOf(const std::string& key) {
-  for (const PatchOptionSpec& s : kPatchOptionSpecs)
-    if (key == s.key) return &s;
-  return nullptr;
+  return findOptionSpec(kPatchOptionSpecs, std::size(kPatchOptionSpecs), key);
 }
 
 [[noreturn]] void bad(const PatchOptionSpec& s, OptionSpelling spelling, const std::string& value) {
-  throw InputError(std::string(spelling == OptionSpelling::Flag ? s.flag : s.key) + ": expected " + s.values +
-                   ", got '" + value + "'");
+  throwBadOption(s, spelling, value);
 }
 
 }  // namespace
@@ -51,10 +49,7 @@ void setPatchOption(PatchOptions& o, const std::string& key, const std::string& 
     } else if (key == "creases") {
       parseCreaseMarks(value, o.creases);
     } else {  // crease_angle
-      char* end = nullptr;
-      const double degrees = std::strtod(value.c_str(), &end);
-      if (value.empty() || *end != '\0') bad(*s, spelling, value);
-      setCreaseAngle(o, degrees, spelling);
+      setCreaseAngle(o, parseOptionNumber(*s, spelling, value), spelling);
     }
   } catch (const InputError&) {
     bad(*s, spelling, value);  // one message, whoever parsed it
@@ -67,9 +62,7 @@ void setCreaseAngle(PatchOptions& o, double degrees, OptionSpelling spelling) {
   try {
     checkCreaseOptions(c);
   } catch (const InputError&) {
-    char v[32];
-    std::snprintf(v, sizeof v, "%g", degrees);
-    bad(kPatchOptionSpecs[6], spelling, v);
+    bad(kPatchOptionSpecs[6], spelling, optionNumberText(degrees));
   }
   o.creases.angleDeg = degrees;
 }

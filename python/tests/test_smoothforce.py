@@ -323,7 +323,7 @@ def test_final_step_model_marks_model_points_and_stays_near_evaluated(spot):
     h = sf.Haptic(cache, final_step="model", ramp_time=0.0)
     assert h.step(hips[0], 0.0)["contact"]
     assert h.step(hips[1], 1e-3)["status"] & model_bit
-    with pytest.raises(ValueError, match="final step"):
+    with pytest.raises(ValueError, match=r"final_step: expected evaluated\|model, got 'turbo'"):
         sf.trace(cache, hips, final_step="turbo")
 
 
@@ -521,6 +521,26 @@ def test_every_bad_patch_option_gets_the_shared_message(spot, key, value, expect
     for make in (lambda: sf.Cache.from_file(spot, **{key: value}),
                  lambda: sf.Cache.from_arrays(cache.positions, cache.face_offsets, cache.face_vertices,
                                               **({"normals_mode" if key == "normals" else key: value}))):
+        with pytest.raises(ValueError) as e:
+            make()
+        assert str(e.value) == message
+
+
+@pytest.mark.parametrize("key,value,shown,expected", [
+    ("method", "magic", "magic", "patch|direct|shading"),
+    ("preset", "turbo", "turbo", "fast|balanced|accurate"),
+    ("stiffness", 1e13, "1e+13", "a stiffness in (0, 1e12] N/m"),
+    ("stiffness", 0.0, "0", "a stiffness in (0, 1e12] N/m"),
+    ("final_step", "turbo", "turbo", "evaluated|model"),
+])
+def test_every_bad_force_option_gets_the_shared_message(spot, key, value, shown, expected):
+    """The message the command line, scene files and the C API give for the same bad value
+    (force_option_text.h; tests/test_option_layer.cpp and test_capi.cpp use the same values), for
+    the servo step and the trace, naming the keyword argument."""
+    message = f"{key}: expected {expected}, got '{shown}'"
+    cache = sf.Cache.from_file(spot)
+    for make in (lambda: sf.Haptic(cache, **{key: value}),
+                 lambda: sf.trace(cache, np.zeros((2, 3)), **{key: value})):
         with pytest.raises(ValueError) as e:
             make()
         assert str(e.value) == message

@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include <smoothforce/base/status.h>
+#include <smoothforce/force/force_option_text.h>
 #include <smoothforce/force/force_presets.h>
 #include <smoothforce/opencl/opencl_backend.h>
 #include <smoothforce/patch/cache_file.h>
@@ -30,15 +31,20 @@ PatchOptions PatchArgs::options() const {
 }
 
 void RefineArgs::apply(ForceOptions& o) const {
-  if (!preset.empty()) applyForcePreset(findForcePreset(preset), o);
+  ForceSettings f;
+  f.options = o;
+  // the shared reader (force_option_text.h): the preset first, the options given after it
+  if (!preset.empty()) setForceOption(f, "preset", preset, OptionSpelling::Flag);
   auto given = [](const CLI::Option* opt) { return opt && opt->count() > 0; };
-  if (given(refineOpt)) o.refine = parseRefineMethod(refine);
-  if (given(tolOpt)) o.angleTolerance = angleTol;
-  if (given(posTolOpt)) o.positionTolerance = posTol;
-  if (given(iterOpt)) o.maxIterations = maxIter;
-  if (given(guessOpt)) o.initialGuess = parseInitialGuess(guess);
-  if (given(levelOpt)) o.tessellationLevel = guessLevel;
-  if (given(finalStepOpt)) o.finalStep = parseFinalStep(finalStep);
+  if (given(refineOpt)) setForceOption(f, "refine", refine, OptionSpelling::Flag);
+  if (given(tolOpt)) setForceOption(f, "angle_tolerance", angleTol, OptionSpelling::Flag);
+  if (given(posTolOpt)) setForceOption(f, "position_tolerance", posTol, OptionSpelling::Flag);
+  if (given(iterOpt)) setForceOption(f, "max_iterations", maxIter, OptionSpelling::Flag);
+  if (given(guessOpt)) setForceOption(f, "initial_guess", guess, OptionSpelling::Flag);
+  if (given(levelOpt)) setForceOption(f, "guess_level", guessLevel, OptionSpelling::Flag);
+  if (given(finalStepOpt)) setForceOption(f, "final_step", finalStep, OptionSpelling::Flag);
+  checkForceOptions(f.options, OptionSpelling::Flag);  // the pairs, by flag (--final-step model needs --refine newton)
+  o = f.options;
 }
 
 Precision RefineArgs::precision(Precision given) const {
@@ -50,51 +56,46 @@ void addRefineArgs(CLI::App& cmd, RefineArgs& a) {
   cmd.add_option("--preset", a.preset,
                  "fast|balanced|accurate: refinement options (and the precision of patches built now) from the "
                  "trade-off study, docs/results.md 'Speed against accuracy'; explicit options override it")
-      ->check(
-          [](const std::string& v) {
-            return v.empty() ? std::string("expected fast, balanced or accurate, got ''") : "";
-          },
-          "PRESET");
+      ->check(forceOptionCheck("preset"));
   a.refineOpt = cmd.add_option("--refine", a.refine, "newton|paper: SCP refinement on the patches")
-                    ->check(CLI::IsMember({"newton", "paper"}))
+                    ->check(forceOptionCheck("refine"))
                     ->capture_default_str();
   a.tolOpt =
-      cmd.add_option("--angle-tol", a.angleTol, "refinement stops below this angle (rad)")->capture_default_str();
+      cmd.add_option("--angle-tol", a.angleTol, "refinement stops below this angle (rad)")
+          ->check(forceOptionCheck("angle_tolerance"))
+          ->capture_default_str();
   a.posTolOpt = cmd.add_option("--position-tol", a.posTol,
                                "refinement also stops only when the SCP's tangential residual |(HIP - SCP) x n| is "
                                "below this fraction of the bounding-box diagonal")
+                     ->check(forceOptionCheck("position_tolerance"))
                      ->capture_default_str();
-  a.iterOpt = cmd.add_option("--max-iter", a.maxIter, "refinement iteration cap")->capture_default_str();
+  a.iterOpt = cmd.add_option("--max-iter", a.maxIter, "refinement iteration cap")
+                  ->check(forceOptionCheck("max_iterations"))
+                  ->capture_default_str();
   a.guessOpt = cmd.add_option("--initial-guess", a.guess,
                               "surface|polygon: the global query out of contact (the nearest point of the patch "
                               "surface, contact when the HIP is inside it; or the paper's nearest base-polygon "
                               "point, contact when below its patch's tangent plane)")
-                   ->check(CLI::IsMember({"surface", "polygon", "tessellation"}))
+                   ->check(forceOptionCheck("initial_guess"))
                    ->capture_default_str();
   a.levelOpt = cmd.add_option("--guess-level", a.guessLevel,
                               "tessellation level of the patch surface for the global query (0: chosen)")
-                   ->check(CLI::Range(0, 64))
+                   ->check(forceOptionCheck("guess_level"))
                    ->capture_default_str();
   a.finalStepOpt = cmd.add_option("--final-step", a.finalStep,
                                    "evaluated|model: the Newton refinement's converging step ends on an evaluation of "
                                    "the patch, or on its quadratic model (one evaluation fewer per tracking step; "
                                    "docs/results.md 'Speed against accuracy')")
-                       ->check(CLI::IsMember({"evaluated", "model"}))
+                       ->check(forceOptionCheck("final_step"))
                        ->capture_default_str();
   a.precisionOpt = cmd.get_option_no_throw("--precision");
 }
 
-namespace {
-
-/// The check of a patch option's value on the command line: the shared parser's
-/// (patch_option_text.h), so that the command line rejects a bad value with the message every
-/// front end gives ("--orient: expected outward|keep, got 'inward'"; CLI11 puts the flag first).
-CLI::Validator patchOptionCheck(const char* key) {
+CLI::Validator optionCheck(const char* key, std::function<void(const std::string&)> set) {
   return CLI::Validator(
-      [key](std::string& value) -> std::string {
+      [set = std::move(set)](std::string& value) -> std::string {
         try {
-          PatchOptions scratch;
-          setPatchOption(scratch, key, value, OptionSpelling::Flag);
+          set(value);
           return {};
         } catch (const InputError& e) {
           const std::string m = e.what();
@@ -105,7 +106,19 @@ CLI::Validator patchOptionCheck(const char* key) {
       "", key);
 }
 
-}  // namespace
+CLI::Validator patchOptionCheck(const char* key) {
+  return optionCheck(key, [key](const std::string& value) {
+    PatchOptions scratch;
+    setPatchOption(scratch, key, value, OptionSpelling::Flag);
+  });
+}
+
+CLI::Validator forceOptionCheck(const char* key) {
+  return optionCheck(key, [key](const std::string& value) {
+    ForceSettings scratch;
+    setForceOption(scratch, key, value, OptionSpelling::Flag);
+  });
+}
 
 void addSurfaceArgs(CLI::App& cmd, PatchArgs& a) {
   a.precisionOpt = cmd.add_option("--precision", a.precision, "float|double: precision of the patch records")

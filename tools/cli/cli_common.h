@@ -3,6 +3,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -50,13 +51,23 @@ struct RefineArgs {
   CLI::Option *refineOpt = nullptr, *tolOpt = nullptr, *posTolOpt = nullptr, *iterOpt = nullptr, *guessOpt = nullptr,
               *levelOpt = nullptr, *finalStepOpt = nullptr;
   CLI::Option* precisionOpt = nullptr;  ///< --precision of addPatchArgs, when the command has it
-  /// Fills o's refinement fields (stiffness untouched). Throws InputError for an unknown
+  /// Fills o's refinement fields (stiffness untouched) through the shared reader
+  /// (force_option_text.h, by flag). Throws InputError for an unknown
   /// preset, refinement or initial guess.
   void apply(ForceOptions& o) const;
   /// The preset's precision advice for patches built now, unless --precision was given;
   /// `given` is the precision otherwise used.
   Precision precision(Precision given) const;
 };
+
+/// The check of an option's value on the command line: `set` is the shared reader's setter
+/// (option_spec.h), so that the command line rejects a bad value with the message every front
+/// end gives ("--orient: expected outward|keep, got 'inward'"; CLI11 puts the flag first).
+CLI::Validator optionCheck(const char* key, std::function<void(const std::string&)> set);
+/// optionCheck of a patch option (patch_option_text.h) and of a force option (force_option_text.h),
+/// by key.
+CLI::Validator patchOptionCheck(const char* key);
+CLI::Validator forceOptionCheck(const char* key);
 
 /// Registers the RefineArgs options; call after addPatchArgs (to see --precision).
 void addRefineArgs(CLI::App& cmd, RefineArgs& args);

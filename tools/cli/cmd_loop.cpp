@@ -151,18 +151,13 @@ void run(const LoopArgs& a) {
   checkOptions([&] {  // every mistake on the command line: exit 2
     const int sources = !a.scene.empty() + !a.cache.empty() + !a.mesh.empty();
     if (sources != 1) throw UsageError("loop: give exactly one of --scene, --cache, --mesh");
-    try {
-      method = parseForceMethod(a.method);
-    } catch (const InputError&) {
-      throw UsageError("--method: expected patch, direct or shading, got '" + a.method + "'");
-    }
+    method = parseForceMethod(a.method);  // checked by its option (forceOptionCheck)
     lo.rate = a.rate;
     lo.duration = a.duration;
     lo.stop = &stopFlag();
     lo.devicePaced = a.paced;
     rt::validate(lo);
     rt::validate(a.safety);
-    requireFinitePositive(a.stiffness, "--stiffness", "a finite stiffness > 0 N/m");
     rt::checkScriptedSpeed(a.speed);
     if (a.depthGiven) requireFinitePositive(a.depth, "--depth", "a finite depth > 0 m");
     rt::checkDeviceSpec(a.device);
@@ -291,11 +286,12 @@ void addLoopCommand(CLI::App& app) {
   auto* mesh = c->add_option("--mesh", a->mesh, "mesh file (patches built lazily near the contact point)");
   c->add_option("--patch-capacity", a->patchCapacity,
                 "with a mesh: patches held at once, least recently used evicted (<= 0: no bound)")
+      ->check(forceOptionCheck("patch_capacity"))
       ->capture_default_str();
   scene->excludes(cache)->excludes(mesh);
   cache->excludes(mesh);
   c->add_option("--method", a->method, "patch|direct|shading (default for scene objects)")
-      ->check(CLI::IsMember({"patch", "direct", "shading"}))
+      ->check(forceOptionCheck("method"))
       ->capture_default_str();
   c->add_option("--device", a->device,
                 "haptic device: null|scripted|scripted:slide|scripted:circle|replay:FILE (CSV t,x,y,z; - reads "
@@ -310,7 +306,9 @@ void addLoopCommand(CLI::App& app) {
       ->capture_default_str();
   c->add_option("--rate", a->rate, "servo rate, Hz, 1..10000")->capture_default_str();
   c->add_option("--duration", a->duration, "seconds (> 0)")->capture_default_str();
-  c->add_option("--stiffness", a->stiffness, "N/m (> 0; default for scene objects)")->capture_default_str();
+  c->add_option("--stiffness", a->stiffness, "N/m, in (0, 1e12] (default for scene objects)")
+      ->check(forceOptionCheck("stiffness"))
+      ->capture_default_str();
   c->add_option("--speed", a->speed,
                 "scripted device speed along its path, m/s (0 < speed <= 10: a hand's speed, with room to spare)")
       ->capture_default_str();

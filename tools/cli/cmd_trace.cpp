@@ -138,11 +138,12 @@ void addTraceCommand(CLI::App& app) {
   auto* mesh = t->add_option("--mesh", a->mesh, "mesh file (patches built lazily where the HIPs go)");
   t->add_option("--patch-capacity", a->patchCapacity,
                 "with --mesh: patches held at once, least recently used evicted (<= 0: no bound)")
+      ->check(forceOptionCheck("patch_capacity"))
       ->capture_default_str();
   cache->excludes(mesh);
   mesh->excludes(cache);
   t->add_option("--method", a->method, "patch|direct|shading")
-      ->check(CLI::IsMember({"patch", "direct", "shading"}))
+      ->check(forceOptionCheck("method"))
       ->capture_default_str();
   t->add_option("--hips", a->hips, "CSV with header x,y,z (or # x,y,z): one HIP (m) per servo step; - reads stdin")
       ->required();
@@ -153,7 +154,9 @@ void addTraceCommand(CLI::App& app) {
               "summary as one JSON object (steps, method, refine, preset, in_contact, contacts, "
               "max_force_difference_n, max_force_difference_step, compute_us_mean, compute_us_max, output, faces, "
               "patches_built); on stderr with -o -");
-  t->add_option("--stiffness", a->stiffness, "k in N/m (F = k (SCP - HIP))")->capture_default_str();
+  t->add_option("--stiffness", a->stiffness, "k in N/m (F = k (SCP - HIP)), in (0, 1e12]")
+      ->check(forceOptionCheck("stiffness"))
+      ->capture_default_str();
   addPatchArgs(*t, a->patch);
   addRefineArgs(*t, a->refine);
   t->callback([a] { run(*a); });

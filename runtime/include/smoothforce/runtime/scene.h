@@ -150,10 +150,14 @@ struct SceneDefaults {
 /// object's name), `pose` (translation in m; rotation as axis-angle with a non-zero axis
 /// (normalised) and an angle in radians, or as a quaternion [w, x, y, z] (normalised;
 /// non-zero); uniform scale in [kMinSceneScale, kMaxSceneScale] = [1e-9, 1e9], pose.h; the
-/// device transform's too), `stiffness` (N/m, in (0, 1e12]), `method` (patch|direct|shading), `preset`
-/// (fast|balanced|accurate, force_presets.h: the refinement options, and the precision of a `mesh` object's patches;
-/// `stiffness` still applies), `final_step` (evaluated|model, RefineOptions::finalStep: as --final-step,
-/// which gives the default), `precision` (float|double), `normals` (auto|file|angle|area),
+/// device transform's too); the force options, keys of force_option_text.h read by its parser
+/// with its messages (strings, or numbers where they are numbers): `method`
+/// (patch|direct|shading), `preset` (fast|balanced|accurate, force_presets.h: the refinement
+/// options, and the precision of a `mesh` object's patches; options given beside it override it),
+/// `stiffness` (N/m, in (0, 1e12]), `refine`, `angle_tolerance`, `position_tolerance`,
+/// `max_iterations`, `initial_guess`, `guess_level`, `final_step`, `patch_capacity` (as the
+/// command line's --method, --stiffness, ..., which give the defaults);
+/// `precision` (float|double), `normals` (auto|file|angle|area),
 /// `cross_tangent` (corrected|paper|blend), `orient` (outward|keep), `cage` (none|catmull-clark,
 /// cage_limit.h), `creases` (a list of tags, groups, normals, or none; creases.h), `crease_angle`
 /// (a number, degrees in [0, 180)): a `mesh` object's patch options, as the command line's

@@ -18,9 +18,9 @@ namespace sf {
 
 class PolygonScene;
 
-/// Checks options (stiffness > 0 and finite, then validateRefineOptions: angleTolerance > 0,
-/// positionTolerance > 0, maxIterations >= 1, all finite, tessellationLevel in 0..64); throws
-/// InputError naming the bad value.
+/// Checks options: every value in its range and final_step model only with refine newton
+/// (checkForceOptions, force_option_text.h: the message every front end gives, by key), then
+/// validateRefineOptions; throws InputError naming the bad value.
 void validateForceOptions(const ForceOptions& options);
 
 /// The patch method (Algorithm 1) over a shared scene of the same cache.

@@ -6,21 +6,13 @@
 
 #include <string>
 
+#include <smoothforce/base/option_spec.h>
 #include <smoothforce/patch/patch_cache.h>
 
 namespace sf {
 
-/// How a front end names an option in its messages: by its key (scene files, the C API's
-/// fields, Python's keyword arguments: `cross_tangent`) or by its command-line flag
-/// (`--cross-tangent`).
-enum class OptionSpelling { Key, Flag };
-
-/// One patch option: its key, its flag, and the values it takes (as messages spell them).
-struct PatchOptionSpec {
-  const char* key;
-  const char* flag;
-  const char* values;
-};
+/// One patch option: its key, its flag, the values it takes (as messages spell them), its help.
+using PatchOptionSpec = OptionSpec;
 /// Every patch option that is text or a number: precision, normals, cross_tangent, orient, cage,
 /// creases, crease_angle.
 extern const PatchOptionSpec kPatchOptionSpecs[7];
