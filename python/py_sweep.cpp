@@ -11,6 +11,7 @@
 
 #include <smoothforce/base/hash.h>
 #include <smoothforce/base/thread_limit.h>
+#include <smoothforce/force/force_option_text.h>
 #include <smoothforce/sweep/sweep_io.h>
 #include <smoothforce/sweep/sweep_run.h>
 #include "py_common.h"
@@ -113,14 +114,16 @@ pyb::dict sweep(const PyCache& c, const std::string& depths, const std::vector<s
   SweepConfig& cfg = in.config;
   cfg.source = c.source;
   if (methods.empty()) throw InputError("methods: empty list");
-  for (const auto& m : methods) parseForceMethod(m);
+  ForceSettings force;  // the shared reader (force_option_text.h), its messages by key
+  for (const auto& m : methods) setForceOption(force, "method", m);
   cfg.methods = methods;
   if (samples == 0 || samples > (uint64_t(1) << 32))  // the command line's bound
     throw InputError("samples: expected 1 to 4294967296, got " + std::to_string(samples));
   cfg.samples = samples;
   cfg.seed = seed;
   cfg.level = level;
-  cfg.stiffness = stiffness;
+  setForceOption(force, "stiffness", stiffness);
+  cfg.force = force.options;
   cfg.sampleOn = sampleOn;
   cfg.backend = toString(c.backend);
   in.depths = parseDepthList(depths, "depths");

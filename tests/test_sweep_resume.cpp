@@ -140,7 +140,7 @@ TEST_F(SweepResume, ResumeRefusesAnotherSweepOrShard) {
   cases.push_back({inputs(), "seed (5 vs 9)"});
   cases.back().in.config.seed = 9;
   cases.push_back({inputs(), "stiffness (500.0 vs 800.0)"});
-  cases.back().in.config.stiffness = 800;
+  cases.back().in.config.force.stiffness = 800;
   cases.push_back({inputs(1, 2), "holds shard 0/1, not 1/2"});
   for (Case& c : cases) {
     c.in.resume = readSweepData(out.string());

@@ -14,9 +14,10 @@
 #include <smoothforce/base/coordinate_range.h>
 #include <smoothforce/base/hash.h>
 #include <smoothforce/base/staged_output.h>
-#include <smoothforce/force/force_method.h>
+#include <smoothforce/force/force_option_text.h>
 
 #include "json_text.h"
+#include "sweep_config_json.h"
 
 namespace sf {
 
@@ -29,83 +30,132 @@ constexpr char kHipMagic[8] = {'S', 'F', 'S', 'W', 'H', 'I', 'P', '1'};
 constexpr char kResMagic[8] = {'S', 'F', 'S', 'W', 'R', 'E', 'S', '1'};
 constexpr char kNrmMagic[8] = {'S', 'F', 'S', 'W', 'N', 'R', 'M', '1'};
 
-ojson configJson(const SweepConfig& c) {
-  ojson j{{"source", c.source},
-          {"mesh_hash", c.meshHash},
-          {"faces", c.faces},
-          {"sample_on", c.sampleOn},
-          {"samples", c.samples},
-          {"seed", c.seed},
-          {"level", c.level},
-          {"methods", c.methods},
-          {"stiffness", c.stiffness},
-          {"approach", c.approach},
-          {"refine", c.refine},
-          {"angle_tolerance", c.angleTolerance},
-          {"max_iterations", c.maxIterations},
-          {"position_tolerance", c.positionTolerance},
-          {"initial_guess", c.initialGuess},
-          {"guess_level", c.guessLevel},
-          {"preset", c.preset},
-          {"backend", c.backend},
-          {"reference", c.reference},
-          {"analytic", c.analytic},
-          {"knn", c.knn},
-          {"threshold_deg", c.thresholdDeg},
-          {"trajectories", c.trajectories},
-          {"trajectory_step", c.trajectoryStep},
-          {"diagonal", c.diagonal},
-          {"area", c.area},
-          {"hip_hash", c.hipHash},
-          {"depth_labels", c.groupLabels},
-          {"depths", c.groupDepths}};
+/// The one description of a sweep's configuration as JSON: every key in the order written (the
+/// configuration hash is over this text, so the order and the keys stay), what a reader takes
+/// when a key is absent (sweeps written before it existed), and when a writer leaves it out.
+/// `io` is ConfigWriter or ConfigReader; the force options go through force_option_text.h.
+template <class Config, class Io>
+void describeConfig(Config& c, Io& io) {
+  io.field("source", c.source);
+  io.field("mesh_hash", c.meshHash);
+  io.field("faces", c.faces);
+  io.field("sample_on", c.sampleOn);
+  io.field("samples", c.samples);
+  io.field("seed", c.seed);
+  io.field("level", c.level);
+  io.field("methods", c.methods);
+  io.force("stiffness", c, true);
+  io.field("approach", c.approach);
+  io.force("refine", c, true);
+  // absent in sweeps written before the presets: the defaults of that time (ForceOptions{})
+  io.force("angle_tolerance", c, false);
+  io.force("max_iterations", c, false);
+  io.force("position_tolerance", c, false);
+  io.force("initial_guess", c, false);
+  io.force("guess_level", c, false);
+  io.optional("preset", c.preset, std::string());
+  io.field("backend", c.backend);
+  io.field("reference", c.reference);
+  io.field("analytic", c.analytic);
+  io.field("knn", c.knn);
+  io.field("threshold_deg", c.thresholdDeg);
+  io.field("trajectories", c.trajectories);
+  io.field("trajectory_step", c.trajectoryStep);
+  io.field("diagonal", c.diagonal);
+  io.field("area", c.area);
+  io.field("hip_hash", c.hipHash);
+  io.field("depth_labels", c.groupLabels);
+  io.field("depths", c.groupDepths);
   // only where there are files: a sweep without them keeps the configuration (and hash) it had
   // before the contents were recorded
-  if (!c.trajectoryHashes.empty()) j["trajectory_hashes"] = c.trajectoryHashes;
-  if (!c.referenceHash.empty()) j["reference_hash"] = c.referenceHash;
+  io.unlessEmpty("trajectory_hashes", c.trajectoryHashes);
+  io.unlessEmpty("reference_hash", c.referenceHash);
   // only where not the default: a sweep of evaluated final steps keeps the configuration (and
   // hash) it had before the option existed
-  if (c.finalStep != "evaluated") j["final_step"] = c.finalStep;
-  return j;
+  io.forceUnlessDefault("final_step", c);
+}
+
+ForceSettings forceSettings(const SweepConfig& c) { return ForceSettings{ForceMethod::Patch, c.force, c.preset}; }
+
+struct ConfigWriter {
+  ojson j = ojson::object();
+  template <class T>
+  void field(const char* key, const T& v) {
+    j[key] = v;
+  }
+  template <class T>
+  void optional(const char* key, const T& v, const T&) {
+    j[key] = v;
+  }
+  template <class T>
+  void unlessEmpty(const char* key, const T& v) {
+    if (!v.empty()) j[key] = v;
+  }
+  /// A force option as its type: text, a real number or an integer.
+  void force(const char* key, const SweepConfig& c, bool) {
+    const OptionSpec* spec = findOptionSpec(kForceOptionSpecs, std::size(kForceOptionSpecs), key);
+    const std::string text = forceOptionValue(forceSettings(c), key);
+    if (spec->type == OptionType::Text)
+      j[key] = text;
+    else if (spec->type == OptionType::Integer)
+      j[key] = std::stoll(text);
+    else
+      j[key] = std::strtod(text.c_str(), nullptr);
+  }
+  void forceUnlessDefault(const char* key, const SweepConfig& c) {
+    if (forceOptionValue(forceSettings(c), key) != forceOptionValue(ForceSettings{}, key)) force(key, c, false);
+  }
+};
+
+struct ConfigReader {
+  const ojson& j;
+  ForceSettings settings;
+  template <class T>
+  void field(const char* key, T& v) {
+    v = j.at(key).get<T>();
+  }
+  template <class T>
+  void optional(const char* key, T& v, const T& absent) {
+    v = j.contains(key) ? j.at(key).get<T>() : absent;
+  }
+  template <class T>
+  void unlessEmpty(const char* key, T& v) {
+    if (j.contains(key)) v = j.at(key).get<T>();
+  }
+  /// A force option through the shared reader: its checks and its message, by key.
+  void force(const char* key, SweepConfig&, bool required) {
+    if (!j.contains(key)) {
+      if (required) (void)j.at(key);  // throws naming the key
+      return;
+    }
+    const ojson& v = j.at(key);
+    if (v.is_number())
+      setForceOption(settings, key, v.get<double>());
+    else
+      setForceOption(settings, key, v.get<std::string>());
+  }
+  void forceUnlessDefault(const char* key, SweepConfig& c) { force(key, c, false); }
+};
+
+ojson configJson(const SweepConfig& c) {
+  ConfigWriter w;
+  describeConfig(c, w);
+  return w.j;
 }
 
 SweepConfig configFrom(const ojson& j) {
   SweepConfig c;
-  c.source = j.at("source");
-  c.meshHash = j.at("mesh_hash");
-  c.faces = j.at("faces");
-  c.sampleOn = j.at("sample_on");
-  c.samples = j.at("samples");
-  c.seed = j.at("seed");
-  c.level = j.at("level");
-  c.methods = j.at("methods").get<std::vector<std::string>>();
-  c.stiffness = j.at("stiffness");
-  c.approach = j.at("approach");
-  c.refine = j.at("refine");
-  // absent in sweeps written before the presets: the defaults of that time
-  c.angleTolerance = j.value("angle_tolerance", ForceOptions{}.angleTolerance);
-  c.maxIterations = j.value("max_iterations", ForceOptions{}.maxIterations);
-  c.positionTolerance = j.value("position_tolerance", ForceOptions{}.positionTolerance);
-  c.initialGuess = j.value("initial_guess", std::string("surface"));
-  c.guessLevel = j.value("guess_level", ForceOptions{}.tessellationLevel);
-  c.finalStep = j.value("final_step", std::string("evaluated"));
-  c.preset = j.value("preset", std::string());
-  c.backend = j.at("backend");
-  c.reference = j.at("reference");
-  c.analytic = j.at("analytic");
-  c.knn = j.at("knn");
-  c.thresholdDeg = j.at("threshold_deg");
-  c.trajectories = j.at("trajectories").get<std::vector<std::string>>();
-  if (j.contains("trajectory_hashes")) c.trajectoryHashes = j.at("trajectory_hashes").get<std::vector<std::string>>();
-  c.referenceHash = j.value("reference_hash", std::string());
-  c.trajectoryStep = j.at("trajectory_step");
-  c.diagonal = j.at("diagonal");
-  c.area = j.at("area");
-  c.hipHash = j.at("hip_hash");
-  c.groupLabels = j.at("depth_labels").get<std::vector<std::string>>();
-  c.groupDepths = j.at("depths").get<std::vector<double>>();
+  ConfigReader r{j, {}};
+  describeConfig(c, r);
+  c.force = r.settings.options;
   return c;
 }
+
+}  // namespace
+
+ojson sweepConfigJson(const SweepConfig& c) { return configJson(c); }
+
+namespace {
 
 /// Writes through PATH.tmp.PID: data, flush, fsync, close, rename over PATH.
 template <class F>

@@ -272,15 +272,8 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
   if (const std::string why = methodListProblem(in.config.methods); !why.empty()) throw InputError(why);
   if (control.checkpoint && !(control.checkpointSeconds > 0))
     throw InputError("--checkpoint-every: expected a time > 0 s");
-  ForceOptions opt;
-  opt.stiffness = in.config.stiffness;
-  opt.refine = parseRefineMethod(in.config.refine);
-  opt.angleTolerance = in.config.angleTolerance;
-  opt.positionTolerance = in.config.positionTolerance;
-  opt.maxIterations = in.config.maxIterations;
-  opt.initialGuess = parseInitialGuess(in.config.initialGuess);
-  opt.tessellationLevel = in.config.guessLevel;
-  opt.finalStep = parseFinalStep(in.config.finalStep);
+  ForceOptions opt = in.config.force;
+  validateForceOptions(opt);
   // A skeleton cache (sweep --mesh with --sample-on reference): every worker's patch renderer
   // builds the patches its HIPs touch, none evicted; nothing else may evaluate patches.
   const bool lazy = !hasPatchData(*in.cache);

@@ -19,6 +19,7 @@
 #include <smoothforce/sweep/sweep_outputs.h>
 
 #include "json_text.h"
+#include "sweep_config_json.h"
 
 namespace sf {
 
@@ -251,31 +252,6 @@ ojson trajectoriesJson(const SweepData& d, TrajectoryNotes& notes) {
   return trajs;
 }
 
-/// summary.json's "config": the settings that decide the results.
-ojson configJson(const SweepConfig& c) {
-  return ojson{{"source", c.source},
-               {"mesh_hash", c.meshHash},
-               {"faces", c.faces},
-               {"sample_on", c.sampleOn},
-               {"seed", c.seed},
-               {"level", c.level},
-               {"methods", c.methods},
-               {"stiffness", c.stiffness},
-               {"approach", c.approach},
-               {"refine", c.refine},
-               {"preset", c.preset},
-               {"backend", c.backend},
-               {"reference", c.reference},
-               {"analytic", c.analytic},
-               {"knn", c.knn},
-               {"threshold_deg", c.thresholdDeg},
-               {"trajectories", c.trajectories},
-               {"trajectory_step_m", c.trajectoryStep},
-               {"diagonal_m", c.diagonal},
-               {"area_m2", c.area},
-               {"hip_hash", c.hipHash}};
-}
-
 /// The point clouds (.ply, .vtp) and the .npy files, side by side (independent files; 1.6 GB for
 /// 10^6 samples at two depths and three methods, 3.8 s one after the other).
 void writeClouds(const SweepData& d, const std::vector<CloudJob>& clouds, const std::vector<double>& colourRef,
@@ -375,7 +351,7 @@ std::string writeSweepSummary(const SweepData& d, const std::string& dir) {
           {"hips_total", d.total()},
           {"samples_per_depth", N},
           {"spacing_m", spacing},
-          {"config", configJson(c)},
+          {"config", sweepConfigJson(c)},
           {"results", results},
           {"trajectories", trajs}};
   std::ofstream o(dir + "/summary.json", std::ios::binary);

@@ -80,20 +80,13 @@ void sweepInputs(const SweepArgs& a, SweepInputs& in) {
   c.samples = a.samples;
   c.seed = parseUnsigned64(a.seed, "--seed");
   c.level = a.level;
-  c.stiffness = a.stiffness;
   if (!(a.approach > 0) || !std::isfinite(a.approach)) throw UsageError("--approach must be positive");
   c.approach = a.approach;
   ForceOptions fo;
   a.refine.apply(fo);
   fo.stiffness = a.stiffness;
   validateForceOptions(fo);
-  c.refine = toString(fo.refine);
-  c.angleTolerance = fo.angleTolerance;
-  c.maxIterations = fo.maxIterations;
-  c.positionTolerance = fo.positionTolerance;
-  c.initialGuess = toString(fo.initialGuess);
-  c.guessLevel = fo.tessellationLevel;
-  c.finalStep = toString(fo.finalStep);
+  c.force = fo;
   c.preset = a.refine.preset;
   c.backend = a.patch.backend;
   c.reference = a.reference;
@@ -278,7 +271,9 @@ void addSweepCommands(CLI::App& app) {
   s->add_option("--methods", a->methods, "comma-separated: patch, direct, shading")->capture_default_str();
   s->add_option("--seed", a->seed, "sampling seed (std::mt19937_64), an integer in [0, 2^64 - 1]")
       ->capture_default_str();
-  s->add_option("--stiffness", a->stiffness, "N/m")->capture_default_str();
+  s->add_option("--stiffness", a->stiffness, "N/m, in (0, 1e12]")
+      ->check(forceOptionCheck("stiffness"))
+      ->capture_default_str();
   s->add_option("--approach", a->approach, "probes first step at p + APPROACH * depth * n (outside), then at the HIP")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();

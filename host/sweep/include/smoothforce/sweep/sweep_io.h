@@ -8,11 +8,14 @@
 #include <string>
 #include <vector>
 
+#include <smoothforce/force/force_method.h>
 #include <smoothforce/sweep/sweep.h>
 
 namespace sf {
 
-/// Everything that determines a sweep's HIPs and results; shards must agree on all of it.
+/// Everything that determines a sweep's HIPs and results; shards must agree on all of it. As
+/// JSON (config.json's and summary.json's "config"), written and read by one description of its
+/// keys (sweep_io.cpp, describeConfig).
 struct SweepConfig {
   std::string source;    ///< mesh or cache file as given
   std::string meshHash;  ///< hex XXH64 of the mesh file (from the cache)
@@ -21,16 +24,11 @@ struct SweepConfig {
   uint64_t samples = 0, seed = 1;
   int level = 8;  ///< tessellation level used for sampling and projection
   std::vector<std::string> methods;
-  double stiffness = 500;  ///< N/m
+  /// Stiffness (N/m) and the refinement options (method-independent; patchCapacity unused: a
+  /// sweep keeps every patch a worker touches). Written and read through force_option_text.h.
+  ForceOptions force;
   double approach = 1e-3;  ///< probes first step at p + approach * depth * n
-  std::string refine = "newton";
-  double angleTolerance = 1e-5;          ///< rad, patch refinement (ForceOptions)
-  int maxIterations = 50;                ///< patch refinement cap (ForceOptions)
-  double positionTolerance = 1e-10;      ///< fraction of the diagonal (ForceOptions)
-  std::string initialGuess = "surface";  ///< surface | polygon (ForceOptions)
-  std::string finalStep = "evaluated";   ///< evaluated | model (ForceOptions::finalStep)
-  int guessLevel = 0;                    ///< patch surface tessellation level (0: chosen)
-  std::string preset;                    ///< --preset as given ("" when none)
+  std::string preset;      ///< --preset as given ("" when none)
   std::string backend = "tbb";           ///< tbb | serial | opencl (construction, patch refinement)
   std::string reference, analytic;       ///< reference mesh path, analytic spec ("" when none)
   int knn = 8;
