@@ -9,6 +9,7 @@
 #include <smoothforce/force/force_option_text.h>
 #include <smoothforce/force/force_tracking.h>
 #include <smoothforce/query/surface_query.h>
+#include <smoothforce/runtime/loop_option_text.h>
 #include <smoothforce/runtime/safety.h>
 #include <smoothforce/runtime/scene.h>
 #include <smoothforce/runtime/servo_step.h>
@@ -101,10 +102,10 @@ class Haptic {
     so.maxForce = maxForce;
     so.maxForceStep = maxForceStep;
     so.rampTime = rampTime;
-    rt::validate(so);
+    rt::checkSafetyOptions(so);  // the shared check (loop_option_text.h): the keyword arguments are its keys
+    rt::checkLoopOption("rate", rate);
     rt::StepOptions step;
     step.rate = rate;
-    rt::validate(step);
     scene_ = rt::singleObjectScene(c.cache, c.source, m, f,
                                    [](std::shared_ptr<const PatchCache> cc, ForceMethod mm, const ForceOptions& ff) {
                                      return makeForceRenderer(std::move(cc), mm, ff);

@@ -6,24 +6,11 @@
 #include <string>
 
 #include <smoothforce/mesh/mesh.h>
+#include <smoothforce/runtime/loop_option_text.h>
 
 namespace sf::rt {
 
-void validate(const SafetyOptions& o) {
-  auto num = [](double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%g", v);
-    return std::string(buf);
-  };
-  if (!(o.maxForce > 0) || !std::isfinite(o.maxForce))
-    throw InputError("--max-force: expected a finite force > 0 N, got " + num(o.maxForce));
-  if (!(o.maxForceStep > 0))
-    throw InputError("--max-force-step: expected a force step > 0 N, got " + num(o.maxForceStep));
-  if (!(o.rampTime >= 0) || !std::isfinite(o.rampTime))
-    throw InputError("--ramp: expected a finite time >= 0 s, got " + num(o.rampTime));
-  if (o.maxConsecutiveMisses < 1)
-    throw InputError("--max-missed: expected at least 1, got " + std::to_string(o.maxConsecutiveMisses));
-}
+void validate(const SafetyOptions& o) { checkSafetyOptions(o, OptionSpelling::Flag); }
 
 const char* toString(Fault f) {
   switch (f) {

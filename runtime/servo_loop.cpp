@@ -7,19 +7,13 @@
 #include <string>
 
 #include <smoothforce/mesh/mesh.h>
+#include <smoothforce/runtime/loop_option_text.h>
 
 namespace sf::rt {
 
 void validate(const LoopOptions& o) {
-  auto num = [](double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%g", v);
-    return std::string(buf);
-  };
-  if (!(o.rate >= 1 && o.rate <= 10000))
-    throw InputError("--rate: expected a rate in [1, 10000] Hz, got " + num(o.rate));
-  if (!(o.duration > 0) || !std::isfinite(o.duration))
-    throw InputError("--duration: expected a finite duration > 0 s, got " + num(o.duration));
+  checkLoopOption("rate", o.rate, OptionSpelling::Flag);
+  checkLoopOption("duration", o.duration, OptionSpelling::Flag);
   if (o.duration * o.rate > 9e15) throw InputError("--duration: too long");
 }
 

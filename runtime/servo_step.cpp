@@ -7,16 +7,11 @@
 #include <string>
 
 #include <smoothforce/mesh/mesh.h>
+#include <smoothforce/runtime/loop_option_text.h>
 
 namespace sf::rt {
 
-void validate(const StepOptions& o) {
-  if (!(o.rate >= 1 && o.rate <= 10000)) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%g", o.rate);
-    throw InputError(std::string("--rate: expected a rate in [1, 10000] Hz, got ") + buf);
-  }
-}
+void validate(const StepOptions& o) { checkLoopOption("rate", o.rate, OptionSpelling::Flag); }
 
 namespace {
 std::unique_ptr<Clock> ownClock(Clock* given) { return given ? nullptr : std::make_unique<SteadyClock>(0.0); }

@@ -586,7 +586,7 @@ TEST(CApi, EveryBadPatchOptionGetsTheSharedMessage) {
   }
 }
 
-// The force options of sf_haptic_options: the same values as tests/test_option_layer.cpp and
+// The force and loop options of sf_haptic_options: the same values as tests/test_option_layer.cpp and
 // python/tests, the same message as every front end (force_option_text.h), naming the field.
 TEST(CApi, EveryBadForceOptionGetsTheSharedMessage) {
   struct Bad {
@@ -620,6 +620,27 @@ TEST(CApi, EveryBadForceOptionGetsTheSharedMessage) {
     sf_haptic_free(h);
   }
   EXPECT_EQ(checked, 5);
+  // the loop options of sf_haptic_options (loop_option_text.h), by field name
+  const std::pair<const char*, const char*> loop[] = {{"rate", "a rate in [1, 10000] Hz"},
+                                                      {"max_force", "a finite force > 0 N"},
+                                                      {"max_force_step", "a force step > 0 N"},
+                                                      {"ramp_time", "a finite time >= 0 s"}};
+  for (const auto& [key, values] : loop) {
+    sf_haptic_options o;
+    sf_haptic_options_init(&o);
+    const std::string k = key;
+    double bad = k == "ramp_time" ? -1 : 0;
+    if (k == "rate") o.rate = bad;
+    if (k == "max_force") o.max_force = bad;
+    if (k == "max_force_step") o.max_force_step = bad;
+    if (k == "ramp_time") o.ramp_time = bad;
+    sf_haptic* h = nullptr;
+    EXPECT_EQ(sf_haptic_create(cache, &o, &h), SF_ERROR_INPUT) << k;
+    EXPECT_EQ(std::string(sf_last_error()), k + ": expected " + values + ", got '" + (bad < 0 ? "-1" : "0") + "'");
+    checked += h == nullptr;
+    sf_haptic_free(h);
+  }
+  EXPECT_EQ(checked, 9);
   sf_cache_free(cache);
 }
 

@@ -12,6 +12,7 @@
 
 #include <smoothforce/force/force_option_text.h>
 #include <smoothforce/patch/patch_option_text.h>
+#include <smoothforce/runtime/loop_option_text.h>
 #include <smoothforce/runtime/scene.h>
 
 #include "cli_test_support.h"
@@ -226,6 +227,53 @@ TEST(ForceOptionLayer, TheCommandLineAndSceneFilesGiveTheSameMessage) {
     }
   }
   EXPECT_EQ(checked, 11);
+}
+
+/// A bad value of each loop option, as the command line gives it (and as a number).
+constexpr BadValue kBadLoop[] = {{"rate", "0"},           {"duration", "-1"},   {"max_force", "0"},
+                                 {"max_force_step", "0"}, {"ramp_time", "-1"}, {"max_missed", "0"}};
+
+const OptionSpec& loopSpec(const std::string& key) {
+  for (const OptionSpec& s : rt::kLoopOptionSpecs)
+    if (key == s.key) return s;
+  throw std::logic_error("no spec " + key);
+}
+
+TEST(LoopOptionLayer, EveryOptionGetsOneMessageFromTheParserAndTheCommandLine) {
+  ASSERT_EQ(std::size(kBadLoop), std::size(rt::kLoopOptionSpecs));
+  const std::string mesh = std::string(SF_DATA_DIR) + "/chamfer-cube.off";
+  int checked = 0;
+  for (size_t i = 0; i < std::size(kBadLoop); ++i) {
+    const BadValue& b = kBadLoop[i];
+    SCOPED_TRACE(b.key);
+    EXPECT_STREQ(b.key, rt::kLoopOptionSpecs[i].key);
+    const OptionSpec& s = loopSpec(b.key);
+    const std::string core = std::string("expected ") + s.values + ", got '" + b.value + "'";
+    for (OptionSpelling sp : {OptionSpelling::Key, OptionSpelling::Flag}) {
+      const std::string want = std::string(optionName(s, sp)) + ": " + core;
+      for (int asNumber = 0; asNumber < 2; ++asNumber) {
+        try {
+          if (asNumber)
+            rt::checkLoopOption(b.key, std::strtod(b.value, nullptr), sp);
+          else
+            rt::checkLoopOption(b.key, std::string(b.value), sp);
+          ADD_FAILURE() << "accepted " << b.value;
+        } catch (const InputError& e) {
+          EXPECT_EQ(std::string(e.what()), want);
+          ++checked;
+        }
+      }
+    }
+    const test::CliResult r = test::smoothforce("loop --mesh " + mesh + " --device null --duration 0.01 " + s.flag +
+                                                " " + b.value);
+    EXPECT_EQ(r.status, 2) << r.out;
+    EXPECT_NE(r.out.find(std::string(s.flag) + ": " + core), std::string::npos) << r.out;
+  }
+  EXPECT_EQ(checked, 6 * 4);
+  EXPECT_THROW(rt::checkLoopOption("rate", std::string("fast")), InputError);
+  EXPECT_THROW(rt::checkLoopOption("colour", 1.0), InputError);
+  // the good values of the defaults pass
+  rt::checkSafetyOptions(rt::SafetyOptions{});
 }
 
 }  // namespace

@@ -136,7 +136,7 @@ TEST_F(RuntimeCli, ReportCountsPatchConstructions) {
 }
 
 TEST_F(RuntimeCli, OptionErrorsAreOneLine) {
-  expectError("--rate 0", "--rate: expected a rate in [1, 10000] Hz, got 0");
+  expectError("--rate 0", "--rate: expected a rate in [1, 10000] Hz, got '0'");
   expectError("--rate 20000", "--rate:");
   expectError("--duration -1", "--duration:");
   expectError("--stiffness 0", "--stiffness:");

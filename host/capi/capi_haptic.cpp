@@ -7,6 +7,7 @@
 
 #include <smoothforce/force/force_option_text.h>
 #include <smoothforce/force/force_tracking.h>
+#include <smoothforce/runtime/loop_option_text.h>
 #include <smoothforce/runtime/pose.h>
 #include "capi_detail.h"
 
@@ -110,10 +111,10 @@ sf_status sf_haptic_create(sf_cache* cache, const sf_haptic_options* options, sf
     so.maxForce = o.max_force;
     so.maxForceStep = o.max_force_step;
     so.rampTime = o.ramp_time;
-    rt::validate(so);
+    rt::checkSafetyOptions(so);  // the shared check (loop_option_text.h): the fields are its keys
+    rt::checkLoopOption("rate", o.rate);
     rt::StepOptions step;
     step.rate = o.rate;
-    rt::validate(step);
     auto h = std::make_unique<sf_haptic>();
     h->scene = rt::singleObjectScene(cache->cache, cache->source, method, force,
                                      [](std::shared_ptr<const PatchCache> c, ForceMethod m, const ForceOptions& f) {

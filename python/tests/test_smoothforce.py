@@ -532,15 +532,20 @@ def test_every_bad_patch_option_gets_the_shared_message(spot, key, value, expect
     ("stiffness", 1e13, "1e+13", "a stiffness in (0, 1e12] N/m"),
     ("stiffness", 0.0, "0", "a stiffness in (0, 1e12] N/m"),
     ("final_step", "turbo", "turbo", "evaluated|model"),
+    ("rate", 0.0, "0", "a rate in [1, 10000] Hz"),
+    ("max_force", 0.0, "0", "a finite force > 0 N"),
+    ("max_force_step", 0.0, "0", "a force step > 0 N"),
+    ("ramp_time", -1.0, "-1", "a finite time >= 0 s"),
 ])
 def test_every_bad_force_option_gets_the_shared_message(spot, key, value, shown, expected):
     """The message the command line, scene files and the C API give for the same bad value
-    (force_option_text.h; tests/test_option_layer.cpp and test_capi.cpp use the same values), for
-    the servo step and the trace, naming the keyword argument."""
+    (force_option_text.h, loop_option_text.h; tests/test_option_layer.cpp and test_capi.cpp use the
+    same values), for the servo step and the trace, naming the keyword argument."""
     message = f"{key}: expected {expected}, got '{shown}'"
     cache = sf.Cache.from_file(spot)
+    loop = key in ("rate", "max_force", "max_force_step", "ramp_time")  # Haptic's alone (loop_option_text.h)
     for make in (lambda: sf.Haptic(cache, **{key: value}),
-                 lambda: sf.trace(cache, np.zeros((2, 3)), **{key: value})):
+                 *(() if loop else (lambda: sf.trace(cache, np.zeros((2, 3)), **{key: value}),))):
         with pytest.raises(ValueError) as e:
             make()
         assert str(e.value) == message

@@ -12,6 +12,7 @@
 #include <smoothforce/opencl/opencl_backend.h>
 #include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/patch_option_text.h>
+#include <smoothforce/runtime/loop_option_text.h>
 
 namespace sf::cli {
 
@@ -111,6 +112,10 @@ CLI::Validator patchOptionCheck(const char* key) {
     PatchOptions scratch;
     setPatchOption(scratch, key, value, OptionSpelling::Flag);
   });
+}
+
+CLI::Validator loopOptionCheck(const char* key) {
+  return optionCheck(key, [key](const std::string& value) { rt::checkLoopOption(key, value, OptionSpelling::Flag); });
 }
 
 CLI::Validator forceOptionCheck(const char* key) {

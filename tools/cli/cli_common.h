@@ -64,10 +64,11 @@ struct RefineArgs {
 /// (option_spec.h), so that the command line rejects a bad value with the message every front
 /// end gives ("--orient: expected outward|keep, got 'inward'"; CLI11 puts the flag first).
 CLI::Validator optionCheck(const char* key, std::function<void(const std::string&)> set);
-/// optionCheck of a patch option (patch_option_text.h) and of a force option (force_option_text.h),
-/// by key.
+/// optionCheck of a patch option (patch_option_text.h), a force option (force_option_text.h) and
+/// a loop option (loop_option_text.h), by key.
 CLI::Validator patchOptionCheck(const char* key);
 CLI::Validator forceOptionCheck(const char* key);
+CLI::Validator loopOptionCheck(const char* key);
 
 /// Registers the RefineArgs options; call after addPatchArgs (to see --precision).
 void addRefineArgs(CLI::App& cmd, RefineArgs& args);

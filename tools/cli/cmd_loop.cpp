@@ -304,8 +304,8 @@ void addLoopCommand(CLI::App& app) {
   c->add_option("--watchdog-ms", a->watchdogMs,
                 "udp: no fresh sample for this long latches a stale-device fault (zero force), ms")
       ->capture_default_str();
-  c->add_option("--rate", a->rate, "servo rate, Hz, 1..10000")->capture_default_str();
-  c->add_option("--duration", a->duration, "seconds (> 0)")->capture_default_str();
+  c->add_option("--rate", a->rate, "servo rate, Hz, 1..10000")->check(loopOptionCheck("rate"))->capture_default_str();
+  c->add_option("--duration", a->duration, "seconds (> 0)")->check(loopOptionCheck("duration"))->capture_default_str();
   c->add_option("--stiffness", a->stiffness, "N/m, in (0, 1e12] (default for scene objects)")
       ->check(forceOptionCheck("stiffness"))
       ->capture_default_str();
@@ -315,11 +315,18 @@ void addLoopCommand(CLI::App& app) {
   auto* depth = c->add_option("--depth", a->depth,
                               "scripted depth below the surface, m (default: 1% of the bounding-box diagonal)");
   c->add_option("--record", a->record, "write per-step records to this CSV (a writer thread; the loop never blocks)");
-  c->add_option("--max-force", a->safety.maxForce, "force limit, N")->capture_default_str();
-  c->add_option("--max-force-step", a->safety.maxForceStep, "force change limit per step, N")->capture_default_str();
-  c->add_option("--ramp", a->safety.rampTime, "force ramp-in at start, s (0: none)")->capture_default_str();
+  c->add_option("--max-force", a->safety.maxForce, "force limit, N")
+      ->check(loopOptionCheck("max_force"))
+      ->capture_default_str();
+  c->add_option("--max-force-step", a->safety.maxForceStep, "force change limit per step, N")
+      ->check(loopOptionCheck("max_force_step"))
+      ->capture_default_str();
+  c->add_option("--ramp", a->safety.rampTime, "force ramp-in at start, s (0: none)")
+      ->check(loopOptionCheck("ramp_time"))
+      ->capture_default_str();
   c->add_option("--max-missed", a->safety.maxConsecutiveMisses,
                 "consecutive missed deadlines that latch a zero-force fault")
+      ->check(loopOptionCheck("max_missed"))
       ->capture_default_str();
   c->add_option("--spin-us", a->spinUs, "busy-wait before each deadline, us")->capture_default_str();
   addSurfaceArgs(*c, a->patch);  // not addBackendArgs: --device is the haptic device here
