@@ -13,6 +13,7 @@
 #include <smoothforce/base/thread_limit.h>
 #include <smoothforce/force/force_option_text.h>
 #include <smoothforce/sweep/sweep_io.h>
+#include <smoothforce/sweep/sweep_option_text.h>
 #include <smoothforce/sweep/sweep_run.h>
 #include "py_common.h"
 
@@ -117,14 +118,13 @@ pyb::dict sweep(const PyCache& c, const std::string& depths, const std::vector<s
   ForceSettings force;  // the shared reader (force_option_text.h), its messages by key
   for (const auto& m : methods) setForceOption(force, "method", m);
   cfg.methods = methods;
-  if (samples == 0 || samples > (uint64_t(1) << 32))  // the command line's bound
-    throw InputError("samples: expected 1 to 4294967296, got " + std::to_string(samples));
-  cfg.samples = samples;
-  cfg.seed = seed;
-  cfg.level = level;
+  // the shared readers (sweep_option_text.h, force_option_text.h), their messages by key
+  setSweepOption(cfg, "samples", std::to_string(samples));
+  setSweepOption(cfg, "seed", std::to_string(seed));
+  setSweepOption(cfg, "level", std::to_string(level));
   setForceOption(force, "stiffness", stiffness);
   cfg.force = force.options;
-  cfg.sampleOn = sampleOn;
+  setSweepOption(cfg, "sample_on", sampleOn);
   cfg.backend = toString(c.backend);
   in.depths = parseDepthList(depths, "depths");
   requireThreads(threads, "threads");

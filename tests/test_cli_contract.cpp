@@ -140,12 +140,12 @@ TEST_F(CliContract, ExitStatusPerSubcommandAndKindOfMistake) {
        "--stiffness: expected a stiffness in (0, 1e12] N/m, got '1e+308'"},
       // an option value out of range is a usage error, also where the mesh decides it (the depth
       // or approach factor puts HIPs beyond the coordinate range) and for nan
-      {sw + "--depth 2% --approach nan -o " + file("s"), 2, "--approach must be positive"},
+      {sw + "--depth 2% --approach nan -o " + file("s"), 2, "--approach: expected a finite factor > 0, got 'nan'"},
       {sw + "--depth 1e308 -o " + file("s"), 2, "--depth 1e308: HIP 0 lies beyond the coordinate range"},
       {sw + "--depth 2% --approach 1e308 -o " + file("s"), 2, "--approach 1e+308: the approach point of HIP 0"},
       {sw + "--depth 2% --threshold-deg nan -o " + file("s"), 2, "--threshold-deg: expected an angle in (0, 180]"},
-      {sw + "--depth 2% --threshold-deg -5 -o " + file("s"), 2, "degrees, got -5"},
-      {sw + "--depth 2% --threshold-deg 1e308 -o " + file("s"), 2, "degrees, got 1e+308"},
+      {sw + "--depth 2% --threshold-deg -5 -o " + file("s"), 2, "degrees, got '-5'"},
+      {sw + "--depth 2% --threshold-deg 1e308 -o " + file("s"), 2, "degrees, got '1e+308'"},
       {sw + "--depth 0x10 -o " + file("s"), 2, "--depth: '0x10' is not a positive length"},
       {sw + "--depth 2% --seed -1 -o " + file("s"), 2, "--seed: expected an integer in [0, 18446744073709551615]"},
       {sw + "--depth 2% --seed 99999999999999999999999 -o " + file("s"), 2, "got '99999999999999999999999'"},

@@ -14,6 +14,7 @@
 #include <smoothforce/patch/patch_option_text.h>
 #include <smoothforce/runtime/loop_option_text.h>
 #include <smoothforce/runtime/scene.h>
+#include <smoothforce/sweep/sweep_option_text.h>
 
 #include "cli_test_support.h"
 #include "test_hostile_support.h"
@@ -274,6 +275,58 @@ TEST(LoopOptionLayer, EveryOptionGetsOneMessageFromTheParserAndTheCommandLine) {
   EXPECT_THROW(rt::checkLoopOption("colour", 1.0), InputError);
   // the good values of the defaults pass
   rt::checkSafetyOptions(rt::SafetyOptions{});
+}
+
+/// A bad value of each sweep option, as the command line gives it.
+constexpr BadValue kBadSweep[] = {{"samples", "0"},     {"seed", "-1"}, {"level", "65"},          {"approach", "nan"},
+                                  {"sample_on", "mesh"}, {"knn", "0"},   {"threshold_deg", "200"}};
+
+TEST(SweepOptionLayer, EveryOptionGetsOneMessageFromTheParserAndTheCommandLine) {
+  ASSERT_EQ(std::size(kBadSweep), std::size(kSweepOptionSpecs));
+  hostile::TempDir dir("sf_sweep_option_layer");
+  const std::string mesh = std::string(SF_DATA_DIR) + "/chamfer-cube.off";
+  int checked = 0;
+  for (size_t i = 0; i < std::size(kBadSweep); ++i) {
+    const BadValue& b = kBadSweep[i];
+    SCOPED_TRACE(b.key);
+    const OptionSpec& s = kSweepOptionSpecs[i];
+    EXPECT_STREQ(b.key, s.key);
+    const std::string core = std::string("expected ") + s.values + ", got '" + b.value + "'";
+    for (OptionSpelling sp : {OptionSpelling::Key, OptionSpelling::Flag}) {
+      SweepConfig c;
+      try {
+        setSweepOption(c, b.key, std::string(b.value), sp);
+        ADD_FAILURE() << "accepted " << b.value;
+      } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()), std::string(optionName(s, sp)) + ": " + core);
+        ++checked;
+      }
+      if (s.type == OptionType::Text || std::string(b.key) == "seed") continue;
+      try {
+        setSweepOption(c, b.key, std::strtod(b.value, nullptr), sp);
+        ADD_FAILURE() << "accepted " << b.value << " as a number";
+      } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()), std::string(optionName(s, sp)) + ": " + core);
+        ++checked;
+      }
+    }
+    const test::CliResult r = test::smoothforce("sweep --mesh " + mesh + " --depth 1% --no-plots " + s.flag + " " +
+                                                b.value + " -o " + (dir.path / "s").string());
+    EXPECT_EQ(r.status, 2) << r.out;
+    EXPECT_NE(r.out.find(std::string(s.flag) + ": " + core), std::string::npos) << r.out;
+  }
+  EXPECT_EQ(checked, 7 * 2 + 5 * 2);
+  // a seed takes all 64 bits as text; checkSweepOptions passes good values, and a HIP file's
+  // sweep (sample_on file) counts its own HIPs
+  SweepConfig c;
+  setSweepOption(c, "seed", std::string("18446744073709551615"));
+  EXPECT_EQ(c.seed, 18446744073709551615ull);
+  EXPECT_THROW(checkSweepOptions(c), InputError);  // samples 0
+  c.samples = 1000;
+  checkSweepOptions(c);
+  c.samples = 0;
+  c.sampleOn = "file";
+  checkSweepOptions(c);
 }
 
 }  // namespace

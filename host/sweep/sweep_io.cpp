@@ -15,6 +15,7 @@
 #include <smoothforce/base/hash.h>
 #include <smoothforce/base/staged_output.h>
 #include <smoothforce/force/force_option_text.h>
+#include <smoothforce/sweep/sweep_option_text.h>
 
 #include "json_text.h"
 #include "sweep_config_json.h"
@@ -148,6 +149,7 @@ SweepConfig configFrom(const ojson& j) {
   ConfigReader r{j, {}};
   describeConfig(c, r);
   c.force = r.settings.options;
+  checkSweepOptions(c);  // the shared reader's checks, as every front end's
   return c;
 }
 

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <smoothforce/sweep/sweep_run.h>
 
+#include <smoothforce/sweep/sweep_option_text.h>
+
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -42,6 +44,8 @@ double since(std::chrono::steady_clock::time_point t0) {
 
 HipSet buildHipSet(SweepInputs& in, std::unique_ptr<ReferenceSurface>* reference) {
   SweepConfig& c = in.config;
+  if (!in.hipsFile.empty()) c.sampleOn = "file";
+  checkSweepOptions(c);  // the shared reader's checks and messages (sweep_option_text.h)
   const PatchCache& cache = *in.cache;
   c.diagonal = boundingDiagonal(cache);
   c.faces = cache.numFaces();

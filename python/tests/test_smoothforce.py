@@ -549,3 +549,17 @@ def test_every_bad_force_option_gets_the_shared_message(spot, key, value, shown,
         with pytest.raises(ValueError) as e:
             make()
         assert str(e.value) == message
+
+
+@pytest.mark.parametrize("key,value,expected", [
+    ("samples", 0, "an integer in [1, 4294967296]"),
+    ("level", 65, "an integer in 1..64"),
+    ("sample_on", "mesh", "patch|reference"),
+])
+def test_every_bad_sweep_option_gets_the_shared_message(spot, key, value, expected):
+    """The message of `smoothforce sweep` for the same bad value (sweep_option_text.h;
+    tests/test_option_layer.cpp), naming the keyword argument."""
+    cache = sf.Cache.from_file(spot)
+    with pytest.raises(ValueError) as e:
+        sf.sweep(cache, depths="1%", **{key: value})
+    assert str(e.value) == f"{key}: expected {expected}, got '{value}'"

@@ -18,6 +18,7 @@
 
 #include <smoothforce/force/force_tracking.h>
 #include <smoothforce/patch/cache_file.h>
+#include <smoothforce/sweep/sweep_option_text.h>
 #include <smoothforce/sweep/sweep_run.h>
 #include "cli_common.h"
 #include "cli_exit.h"
@@ -54,14 +55,12 @@ std::vector<std::string> splitList(const std::string& s, const char* option) {
   }
 }
 
-/// A decimal integer in [0, 2^64 - 1], all of the text (no sign, no hex): CLI11 would wrap -1
-/// and saturate a larger number to 2^64 - 1. Throws UsageError naming the option and the text.
-uint64_t parseUnsigned64(const std::string& text, const char* option) {
-  uint64_t v = 0;
-  const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
-  if (text.empty() || r.ec != std::errc() || r.ptr != text.data() + text.size())
-    throw UsageError(std::string(option) + ": expected an integer in [0, 18446744073709551615], got '" + text + "'");
-  return v;
+/// optionCheck of a sweep option (sweep_option_text.h), by key.
+CLI::Validator sweepOptionCheck(const char* key) {
+  return optionCheck(key, [key](const std::string& value) {
+    SweepConfig scratch;
+    setSweepOption(scratch, key, value, OptionSpelling::Flag);
+  });
 }
 
 double seconds(std::chrono::steady_clock::time_point t0) {
@@ -77,11 +76,11 @@ void sweepInputs(const SweepArgs& a, SweepInputs& in) {
   c.methods = splitList(a.methods, "--methods");
   if (const std::string why = methodListProblem(c.methods); !why.empty()) throw UsageError(why);
   for (const auto& m : c.methods) parseForceMethod(m);
-  c.samples = a.samples;
-  c.seed = parseUnsigned64(a.seed, "--seed");
-  c.level = a.level;
-  if (!(a.approach > 0) || !std::isfinite(a.approach)) throw UsageError("--approach must be positive");
-  c.approach = a.approach;
+  // the sweep's options through the shared reader (sweep_option_text.h), by flag
+  setSweepOption(c, "samples", static_cast<double>(a.samples), OptionSpelling::Flag);
+  setSweepOption(c, "seed", a.seed, OptionSpelling::Flag);
+  setSweepOption(c, "level", a.level, OptionSpelling::Flag);
+  setSweepOption(c, "approach", a.approach, OptionSpelling::Flag);
   ForceOptions fo;
   a.refine.apply(fo);
   fo.stiffness = a.stiffness;
@@ -92,15 +91,10 @@ void sweepInputs(const SweepArgs& a, SweepInputs& in) {
   c.reference = a.reference;
   c.analytic = a.analytic;
   if (!c.analytic.empty()) makeAnalyticSurface(c.analytic);  // the spec's errors now
-  c.knn = a.knn;
-  if (!(a.thresholdDeg > 0 && a.thresholdDeg <= 180)) {  // an angle between two directions; nan too
-    char got[32];
-    std::snprintf(got, sizeof got, "%g", a.thresholdDeg);
-    throw UsageError(std::string("--threshold-deg: expected an angle in (0, 180] degrees, got ") + got);
-  }
-  c.thresholdDeg = a.thresholdDeg;
+  setSweepOption(c, "knn", a.knn, OptionSpelling::Flag);
+  setSweepOption(c, "threshold_deg", a.thresholdDeg, OptionSpelling::Flag);
   c.trajectories = a.trajectories;
-  c.sampleOn = a.sampleOn;
+  setSweepOption(c, "sample_on", a.sampleOn, OptionSpelling::Flag);
   parseShard(a.shard, in.shardIndex, in.shardCount);
   if (!a.hips.empty() && (!a.trajectories.empty() || !a.trajectoryStep.empty()))
     throw UsageError(std::string("sweep: --hips with ") +
@@ -266,19 +260,20 @@ void addSweepCommands(CLI::App& app) {
   s->add_option("--hips", a->hips,
                 "CSV with header x,y,z (or # x,y,z): explicit HIPs instead of --depth; - reads stdin");
   s->add_option("--samples", a->samples, "surface samples per depth")
-      ->check(CLI::Range(uint64_t(1), uint64_t(1) << 32))
+      ->check(sweepOptionCheck("samples"))
       ->capture_default_str();
   s->add_option("--methods", a->methods, "comma-separated: patch, direct, shading")->capture_default_str();
   s->add_option("--seed", a->seed, "sampling seed (std::mt19937_64), an integer in [0, 2^64 - 1]")
+      ->check(sweepOptionCheck("seed"))
       ->capture_default_str();
   s->add_option("--stiffness", a->stiffness, "N/m, in (0, 1e12]")
       ->check(forceOptionCheck("stiffness"))
       ->capture_default_str();
   s->add_option("--approach", a->approach, "probes first step at p + APPROACH * depth * n (outside), then at the HIP")
-      ->check(CLI::PositiveNumber)
+      ->check(sweepOptionCheck("approach"))
       ->capture_default_str();
   s->add_option("--level", a->level, "tessellation level for sampling and projection")
-      ->check(CLI::Range(1, 64))
+      ->check(sweepOptionCheck("level"))
       ->capture_default_str();
   s->add_option(
       "--trajectory", a->trajectories,
@@ -286,13 +281,14 @@ void addSweepCommands(CLI::App& app) {
   s->add_option("--trajectory-step", a->trajectoryStep, "resampling step: metres or percent (default 0.25%)");
   s->add_option("--reference", a->reference, "dense reference mesh: SCP accuracy (and --sample-on reference)");
   s->add_option("--sample-on", a->sampleOn, "patch|reference: where surface samples are drawn")
-      ->check(CLI::IsMember({"patch", "reference"}))
+      ->check(sweepOptionCheck("sample_on"))
       ->capture_default_str();
   s->add_option("--analytic", a->analytic, "exact surface: sphere:R, torus:R,r or torus-knot:p,q,R,r,tube[,scale]");
   s->add_option("--knn", a->knn, "neighbours per HIP for the discontinuity metric")
-      ->check(CLI::Range(1, 64))
+      ->check(sweepOptionCheck("knn"))
       ->capture_default_str();
   s->add_option("--threshold-deg", a->thresholdDeg, "flag neighbour pairs above this angle, in (0, 180]")
+      ->check(sweepOptionCheck("threshold_deg"))
       ->capture_default_str();
   s->add_option("--shard", a->shard,
                 "I/N: compute slice I (0-based) of N of the HIP list and of the trajectory series (join with "
