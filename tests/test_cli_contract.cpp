@@ -559,11 +559,12 @@ TEST_F(CliContract, JsonOutputsParseWithTheDocumentedKeys) {
   ASSERT_EQ(r.status, 0) << r.err;
   json j = json::parse(r.out);
   EXPECT_EQ(keys(j), (V{"boundary_slots", "bytes", "cache", "certificate", "creases", "edge_slots", "face_sizes", "faces",
-                        "format", "mesh_hash", "non_manifold_slots", "options", "options_hash", "patches", "polygons",
-                        "surface_faults", "vertices"}));
+                        "format", "memory", "mesh_hash", "non_manifold_slots", "options", "options_hash", "patches",
+                        "polygons", "surface_faults", "vertices"}));
   EXPECT_EQ(keys(j["polygons"]), (V{"area_m2", "intersecting_area_m2", "intersecting_faces",
                                     "intersecting_pair_areas_m2", "intersecting_pairs", "self_crossing_faces"}));
   EXPECT_TRUE(j["surface_faults"].is_null());  // measured only with --faults
+  EXPECT_TRUE(j["memory"].is_null());          // and only with --memory
   EXPECT_EQ(j["faces"], 180);
   EXPECT_EQ(j["vertices"], 188);
   EXPECT_EQ(j["face_sizes"], json::parse(R"({"3": 4, "4": 160, "5": 16})"));

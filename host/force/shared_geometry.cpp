@@ -84,4 +84,14 @@ std::unique_ptr<ForceRenderer> SharedGeometry::makeRenderer(ForceMethod method, 
   return detail::makeSharedPatchRenderer(cache_, scene, options, nullptr, lazy);
 }
 
+std::vector<SharedGeometry::Part> SharedGeometry::memory() const {
+  std::vector<Part> parts{{"cache", cache_->bytes()}};
+  if (parts_->patchScene) parts.push_back({"polygon_scene", parts_->patchScene->bytes()});
+  for (const Parts::Surface& s : parts_->surfaces) parts.push_back({"patch_surface", s.surface->bytes()});
+  if (parts_->lazySurface) parts.push_back({"lazy_surface", parts_->lazySurface->bytes()});
+  for (const Parts::Store& s : parts_->stores) parts.push_back({"lazy_patches", s.patches->bytes()});
+  if (parts_->godObjectScene) parts.push_back({"god_object_scene", parts_->godObjectScene->bytes()});
+  return parts;
+}
+
 }  // namespace sf

@@ -7,6 +7,8 @@
 #include <embree3/rtcore.h>
 
 #include <Eigen/Core>
+#include <atomic>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -51,14 +53,29 @@ inline RTCRayHit embreeRay(const Eigen::Vector3d& o, const Eigen::Vector3d& d, f
   return rh;
 }
 
-/// A new Embree device whose errors go to onError(user, ...); throws std::runtime_error with
-/// Embree's error code when it cannot be made.
-inline RTCDevice newEmbreeDevice(RTCErrorFunction onError, void* user) {
+/// A new Embree device whose errors go to onError(user, ...), and whose allocations and frees
+/// (BVHs, geometry buffers) are added to *bytes when given (Embree's memory monitor: the bytes
+/// the device holds now); throws std::runtime_error with Embree's error code when it cannot be made.
+inline RTCDevice newEmbreeDevice(RTCErrorFunction onError, void* user, std::atomic<int64_t>* bytes = nullptr) {
   RTCDevice device = rtcNewDevice(nullptr);
   if (!device)
     throw std::runtime_error("rtcNewDevice failed: Embree error " + std::to_string(int(rtcGetDeviceError(nullptr))));
   rtcSetDeviceErrorFunction(device, onError, user);
+  if (bytes)
+    rtcSetDeviceMemoryMonitorFunction(
+        device,
+        [](void* counter, ssize_t delta, bool) {
+          static_cast<std::atomic<int64_t>*>(counter)->fetch_add(delta, std::memory_order_relaxed);
+          return true;  // never refuse an allocation
+        },
+        bytes);
   return device;
+}
+
+/// The bytes a device's memory monitor counted, 0 when it counted none (or a negative sum).
+inline size_t embreeBytes(const std::atomic<int64_t>& bytes) noexcept {
+  const int64_t b = bytes.load(std::memory_order_relaxed);
+  return b > 0 ? static_cast<size_t>(b) : 0;
 }
 
 inline void embreeNoIntersect(const RTCIntersectFunctionNArguments*) {}

@@ -20,6 +20,7 @@ namespace sf {
 
 struct PolygonScene::Impl {
   RTCDevice device = nullptr;
+  std::atomic<int64_t> embreeBytes{0};  ///< what the device holds (its memory monitor)
   RTCScene scene = nullptr;
   const PolygonFacets* facets = nullptr;
   float pad = 0;          ///< m, added around every primitive box and to shrunk radii
@@ -139,7 +140,7 @@ PolygonScene::PolygonScene(const PatchCache& cache, double planarTolerance)
   const double scale = facets_.extent() + std::max((facets_.boxMax - impl_->origin).cwiseAbs().maxCoeff(),
                                                    (facets_.boxMin - impl_->origin).cwiseAbs().maxCoeff());
   impl_->pad = float(1e-5 * scale) + 1e-30f;
-  impl_->device = newEmbreeDevice(onError, impl_.get());
+  impl_->device = newEmbreeDevice(onError, impl_.get(), &impl_->embreeBytes);
   impl_->scene = sceneOf(impl_->device,
                          cache.numFaces() > 0 ? userGeometry(impl_->device, cache.numFaces(), impl_.get(), boundsFn,
                                                              pointQueryFn, intersectFn, occludedFn)
@@ -150,6 +151,10 @@ PolygonScene::PolygonScene(const PatchCache& cache, double planarTolerance)
 }
 
 PolygonScene::~PolygonScene() = default;
+
+size_t PolygonScene::bytes() const noexcept {
+  return facets_.bytes() + vectorBytes(creaseVertex_) + embreeBytes(impl_->embreeBytes);
+}
 
 NearestPolygonPoint PolygonScene::nearest(const Eigen::Vector3d& p) const noexcept {
   NearestPolygonPoint out;

@@ -28,6 +28,7 @@ namespace sf {
 
 struct LazyPatchSurface::Impl {
   RTCDevice device = nullptr;
+  std::atomic<int64_t> embreeBytes{0};  ///< what the device holds (its memory monitor)
   RTCScene scene = nullptr;
   const std::vector<PatchBox>* boxes = nullptr;
   float pad = 0;                    ///< m: float rounding of the BVH
@@ -159,7 +160,7 @@ LazyPatchSurface::LazyPatchSurface(const PatchCache& cache, const PolygonFacets&
       lo.allFinite() && hi.allFinite() ? (hi - lo).norm() + llo.cwiseAbs().cwiseMax(lhi.cwiseAbs()).norm() : 1.0;
   impl_->pad = float(1e-5 * scale) + 1e-30f;
   impl_->boxes = &apriori_;
-  impl_->device = newEmbreeDevice(onError, impl_.get());
+  impl_->device = newEmbreeDevice(onError, impl_.get(), &impl_->embreeBytes);
   impl_->scene =
       sceneOf(impl_->device,
               cache.numFaces() > 0 ? userGeometry(impl_->device, cache.numFaces(), impl_.get(), boundsFn, pointQueryFn)
@@ -175,6 +176,11 @@ LazyPatchSurface::LazyPatchSurface(const PatchCache& cache, const PolygonFacets&
 }
 
 LazyPatchSurface::~LazyPatchSurface() = default;
+
+size_t LazyPatchSurface::bytes() const noexcept {
+  return vectorBytes(apriori_, cellBoxes_, sectorBoxes_, sectorState_, sweptBoxes_, facetTolerance_, cellCount_) +
+         embreeBytes(impl_->embreeBytes);
+}
 
 size_t LazyPatchSurface::facesWithin(const Eigen::Vector3d& q, double radius, FaceDistance* out, size_t cap,
                                      size_t* found, const FaceDistance* after) const noexcept {

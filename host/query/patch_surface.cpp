@@ -25,6 +25,7 @@ namespace sf {
 
 struct PatchSurface::Impl {
   RTCDevice device = nullptr;
+  std::atomic<int64_t> embreeBytes{0};  ///< what the device holds (its memory monitor)
   RTCScene points = nullptr;  ///< user geometry: the adaptive triangles, boxes inflated by their error
   RTCScene band = nullptr;    ///< user geometry: the uniform triangles, boxes inflated by their error
   RTCScene rays = nullptr;    ///< the uniform triangles as Embree triangles
@@ -300,7 +301,7 @@ PatchSurface::PatchSurface(const PatchCache& cache, const PatchSurfaceOptions& o
   for (const auto& p : uniform_->vertex) extent = std::max(extent, (p - impl_->origin).cwiseAbs().maxCoeff());
   impl_->surface = this;
   impl_->pad = float(1e-5 * extent) + 1e-30f;
-  impl_->device = newEmbreeDevice(onError, impl_.get());
+  impl_->device = newEmbreeDevice(onError, impl_.get(), &impl_->embreeBytes);
   const UniformTessellation& u = *uniform_;
   RTCGeometry gp =
       points_.empty() ? nullptr : userGeometry(impl_->device, points_.size(), impl_.get(), pointBounds, candidateFn);
@@ -327,6 +328,10 @@ PatchSurface::PatchSurface(const PatchCache& cache, const PatchSurfaceOptions& o
 }
 
 PatchSurface::~PatchSurface() = default;
+
+size_t PatchSurface::bytes() const noexcept {
+  return vectorBytes(error_, bandError_, points_) + uniform_->bytes() + embreeBytes(impl_->embreeBytes);
+}
 
 int PatchSurface::level() const noexcept { return uniform_->level; }
 size_t PatchSurface::numTriangles() const noexcept { return uniform_->tri.size(); }

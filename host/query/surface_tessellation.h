@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include <smoothforce/base/memory_bytes.h>
 #include <smoothforce/patch/patch_cache.h>
 
 namespace sf {
@@ -24,6 +25,7 @@ struct UniformTessellation {
   std::vector<int32_t> triFace;
   std::vector<double> error;          ///< m, per triangle
   std::vector<int64_t> faceFirstTri;  ///< #F: index of each face's first triangle, -1 for a face not built
+  size_t bytes() const noexcept { return vectorBytes(vertex, domain, tri, triFace, error, faceFirstTri); }
 };
 
 /// The triangle of `u` on face f whose domain triangle holds X (found from the ring layout, no

@@ -12,6 +12,7 @@
 #include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/patch_certificate.h>
 #include <smoothforce/query/patch_surface.h>
+#include <smoothforce/force/shared_geometry.h>
 #include <smoothforce/query/surface_faults.h>
 #include "cli_common.h"
 #include "cli_exit.h"
@@ -229,8 +230,35 @@ void printFaults(const SurfaceFaults& f, const FaultAttribution& a) {
               faceIdsText(a.constructionFaces).c_str());
 }
 
-void info(const std::string& path, bool json, bool faults) {
+/// The runtime structures the renderers of every method build from the cache (default options;
+/// SharedGeometry), each with the bytes it holds: `cache info --memory`.
+std::vector<SharedGeometry::Part> runtimeMemory(const PatchCache& c) {
+  SharedGeometry g(std::make_shared<const PatchCache>(c));
+  for (ForceMethod m : {ForceMethod::Patch, ForceMethod::Direct}) g.makeRenderer(m, ForceOptions{});
+  return g.memory();
+}
+
+nlohmann::ordered_json memoryJson(const std::vector<SharedGeometry::Part>& parts, int faces) {
+  nlohmann::ordered_json list = nlohmann::ordered_json::array();
+  size_t total = 0;
+  for (const SharedGeometry::Part& p : parts) {
+    list.push_back({{"name", p.name}, {"bytes", p.bytes}, {"bytes_per_face", double(p.bytes) / std::max(faces, 1)}});
+    total += p.bytes;
+  }
+  return {{"parts", list}, {"total_bytes", total}};
+}
+
+void printMemory(const std::vector<SharedGeometry::Part>& parts, int faces) {
+  std::printf("runtime memory (bytes held, per face of %d):", faces);
+  for (const SharedGeometry::Part& p : parts)
+    std::printf(" %s %zu (%.0f)", p.name.c_str(), p.bytes, double(p.bytes) / std::max(faces, 1));
+  std::printf("\n");
+}
+
+void info(const std::string& path, bool json, bool faults, bool memory) {
   const PatchCache c = readPatchCache(path);
+  std::vector<SharedGeometry::Part> parts;
+  if (memory) parts = runtimeMemory(c);
   const auto bytes = static_cast<unsigned long long>(std::filesystem::file_size(path));
   int boundary = 0, nonManifold = 0;
   for (int32_t t : c.slotTwin) boundary += t == -1, nonManifold += t == -2;
@@ -271,7 +299,8 @@ void info(const std::string& path, bool json, bool faults) {
                        {"polygons", polygonsJson(polygons)},
                        {"patches", patchSummaryJson(c)},
                        {"certificate", certificateJson(c)},
-                       {"surface_faults", sf ? faultsJson(*sf, split) : nlohmann::ordered_json(nullptr)}});
+                       {"surface_faults", sf ? faultsJson(*sf, split) : nlohmann::ordered_json(nullptr)},
+                       {"memory", memory ? memoryJson(parts, c.numFaces()) : nlohmann::ordered_json(nullptr)}});
     return;
   }
   std::printf("cache: %s, format %u, %llu bytes\n", path.c_str(), format, bytes);
@@ -289,6 +318,7 @@ void info(const std::string& path, bool json, bool faults) {
   printPatchSummary(c);
   printCertificates(c);
   if (sf) printFaults(*sf, split);
+  if (memory) printMemory(parts, c.numFaces());
 }
 
 }  // namespace
@@ -318,7 +348,7 @@ void addCacheCommands(CLI::App& app) {
               "print one JSON object instead of text: cache, format, bytes, mesh_hash, options_hash, vertices, "
               "faces, face_sizes, edge_slots, boundary_slots, non_manifold_slots, options, polygons (intersecting "
               "and self-crossing polygons of the mesh), patches, certificate (null when not computed), "
-              "surface_faults");
+              "surface_faults, memory");
   auto faults = std::make_shared<bool>(false);
   i->add_flag("--faults", *faults,
               "also measure where the closed patch surface is at fault: the area of folded and overlapping patch "
@@ -326,7 +356,13 @@ void addCacheCommands(CLI::App& app) {
               "number; the faces it lies on), split into the input's (on faces within reach of intersecting "
               "polygons: one of a pair or sharing a vertex with one) and the construction's; null in --json "
               "without it");
-  i->callback([=] { info(*path, *json, *faults); });
+  auto memory = std::make_shared<bool>(false);
+  i->add_flag("--memory", *memory,
+              "also build what the renderers build from the cache (the patch method's polygon scene and, for a "
+              "prebuilt cache, its global query's patch surface, or its lazy parts; the god-object's polygon "
+              "scene) and report the bytes each holds, in all and per face (Embree's BVHs as its memory "
+              "monitor counts them); null in --json without it");
+  i->callback([=] { info(*path, *json, *faults, *memory); });
 }
 
 }  // namespace sf::cli

@@ -4,6 +4,8 @@
 #pragma once
 
 #include <memory>
+#include <string>
+#include <vector>
 
 #include <smoothforce/force/force_method.h>
 
@@ -31,6 +33,20 @@ class SharedGeometry {
   std::unique_ptr<ForceRenderer> makeRenderer(ForceMethod method, const ForceOptions& options);
 
   const std::shared_ptr<const PatchCache>& cache() const noexcept { return cache_; }
+
+  /// One runtime structure and the bytes it holds on the heap (Embree's BVHs as its memory
+  /// monitor counts them).
+  struct Part {
+    std::string name;
+    size_t bytes = 0;
+  };
+  /// Every structure the renderers made so far hold, the cache first: "cache" (the patch records
+  /// and mesh, PatchCache::bytes), "polygon_scene" (the patch method's polygons and BVH),
+  /// "patch_surface" (the prebuilt global query's tessellations and BVHs, one per option set),
+  /// "lazy_surface" and "lazy_patches" (the lazy path's boxes and patch entries; they grow as
+  /// contact reaches new faces, up to the capacity), "god_object_scene" (the direct and shading
+  /// methods' polygons and BVH). Not thread-safe, as makeRenderer.
+  std::vector<Part> memory() const;
 
  private:
   struct Parts;

@@ -6,6 +6,7 @@
 #include <memory>
 #include <vector>
 
+#include <smoothforce/base/memory_bytes.h>
 #include <smoothforce/patch/patch_cache.h>
 
 namespace sf {
@@ -40,6 +41,10 @@ class LazyPatches {
   /// Distinct faces ever constructed.
   int distinctFaces() const noexcept { return distinct_; }
   const PatchCache& skeleton() const noexcept { return *skeleton_; }
+  /// Bytes held by the entries and the face tables (the skeleton cache not counted).
+  size_t bytes() const noexcept {
+    return vectorBytes(poolD_, poolF_, faceEntry_, entryFace_, entryUsed_, entryStatus_, everBuilt_);
+  }
 
  private:
   template <class Real>

@@ -68,6 +68,9 @@ class PolygonScene {
   bool creaseVertex(int v) const noexcept { return creaseVertex_[v] != 0; }
   /// Whether the mesh has a crease vertex at all.
   bool hasCreases() const noexcept { return hasCreases_; }
+  /// Bytes the scene holds: its facets, its tables and its BVH (Embree's own count of what its
+  /// device allocated); the cache not counted.
+  size_t bytes() const noexcept;
 
   struct Impl;  ///< Embree device and scene (opaque; embree_scene.cpp)
 

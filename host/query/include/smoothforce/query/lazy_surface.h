@@ -118,6 +118,9 @@ class LazyPatchSurface {
   Eigen::Vector2d cellStart(int f, int i, const Eigen::Vector3d& q) const noexcept;
 
   const PatchBox& aprioriBox(int f) const noexcept { return apriori_[f]; }
+  /// Bytes the surface holds: the boxes computed so far (cells and sectors are computed as
+  /// contact reaches their faces) and the BVH of the a-priori boxes (Embree's own count).
+  size_t bytes() const noexcept;
   /// Every edge has a twin: the patch surface is closed where every face has a patch.
   bool closed() const noexcept { return closed_; }
   /// Faces whose cells have been computed.

@@ -158,6 +158,9 @@ class PatchSurface {
   const PatchCache& cache() const noexcept { return cache_; }
 
   const UniformTessellation& uniform() const noexcept { return *uniform_; }
+  /// Bytes the surface holds: both tessellations, their error bounds and the three BVHs (Embree's
+  /// own count of what its device allocated); the cache not counted.
+  size_t bytes() const noexcept;
   const std::vector<SurfaceTriangle>& pointTriangles() const noexcept { return points_; }
 
   struct Impl;  ///< Embree device and scenes (opaque)

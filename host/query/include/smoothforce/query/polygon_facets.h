@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include <smoothforce/base/memory_bytes.h>
 #include <smoothforce/patch/patch_cache.h>
 
 namespace sf {
@@ -48,6 +49,12 @@ struct PolygonFacets {
 
   int numFaces() const { return static_cast<int>(faceFacetOffsets.size()) - 1; }
   int numFacets() const { return static_cast<int>(facetFace.size()); }
+  /// Bytes held by the arrays.
+  size_t bytes() const noexcept {
+    return vectorBytes(faceCentroid, faceNormal, faceU, faceV, facePlanarity, faceDiameter, faceFacetOffsets, corner2d,
+                       facetOrigin, facetNormal, facetU, facetV, facetFace, facetTolerance, facetVertOffsets,
+                       facetVert3d, facetVert2d);
+  }
   bool isFan(int f) const { return faceFacetOffsets[f + 1] - faceFacetOffsets[f] > 1; }
   double extent() const { return (boxMax - boxMin).norm(); }
 };
