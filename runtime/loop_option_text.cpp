@@ -22,11 +22,7 @@ const OptionSpec kLoopOptionSpecs[6] = {
 
 namespace {
 
-const OptionSpec& specOf(const std::string& key) {
-  const OptionSpec* s = findOptionSpec(kLoopOptionSpecs, std::size(kLoopOptionSpecs), key);
-  if (!s) throw InputError("unknown loop option '" + key + "'");
-  return *s;
-}
+const OptionSpec& specOf(const std::string& key) { return optionSpec(kLoopOptionSpecs, key, "loop"); }
 
 }  // namespace
 

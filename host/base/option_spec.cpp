@@ -13,6 +13,10 @@ const char* optionName(const OptionSpec& s, OptionSpelling spelling) {
   return spelling == OptionSpelling::Flag ? s.flag : s.key;
 }
 
+void throwUnknownOption(const char* kind, const std::string& key) {
+  throw InputError(std::string("unknown ") + kind + " option '" + key + "'");
+}
+
 void throwBadOption(const OptionSpec& s, OptionSpelling spelling, const std::string& value) {
   throw InputError(std::string(optionName(s, spelling)) + ": expected " + s.values + ", got '" + value + "'");
 }

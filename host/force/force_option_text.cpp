@@ -31,11 +31,7 @@ const OptionSpec kForceOptionSpecs[11] = {
 
 namespace {
 
-const OptionSpec& specOf(const std::string& key) {
-  const OptionSpec* s = findOptionSpec(kForceOptionSpecs, std::size(kForceOptionSpecs), key);
-  if (!s) throw InputError("unknown force option '" + key + "'");
-  return *s;
-}
+const OptionSpec& specOf(const std::string& key) { return optionSpec(kForceOptionSpecs, key, "force"); }
 
 bool numeric(const std::string& key) { return specOf(key).type != OptionType::Text; }
 

@@ -33,7 +33,7 @@ const PatchOptionSpec* specOf(const std::string& key) {
 
 void setPatchOption(PatchOptions& o, const std::string& key, const std::string& value, OptionSpelling spelling) {
   const PatchOptionSpec* s = specOf(key);
-  if (!s) throw InputError("unknown patch option '" + key + "'");
+  if (!s) throwUnknownOption("patch", key);
   try {
     if (key == "precision") {
       o.precision = parsePrecision(value);

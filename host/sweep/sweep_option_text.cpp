@@ -24,11 +24,7 @@ const OptionSpec kSweepOptionSpecs[7] = {
 
 namespace {
 
-const OptionSpec& specOf(const std::string& key) {
-  const OptionSpec* s = findOptionSpec(kSweepOptionSpecs, std::size(kSweepOptionSpecs), key);
-  if (!s) throw InputError("unknown sweep option '" + key + "'");
-  return *s;
-}
+const OptionSpec& specOf(const std::string& key) { return optionSpec(kSweepOptionSpecs, key, "sweep"); }
 
 }  // namespace
 

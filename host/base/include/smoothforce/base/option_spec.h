@@ -33,6 +33,9 @@ struct OptionSpec {
 /// The option's name as `spelling` gives it.
 const char* optionName(const OptionSpec& spec, OptionSpelling spelling);
 
+/// Throws InputError "unknown KIND option 'KEY'".
+[[noreturn]] void throwUnknownOption(const char* kind, const std::string& key);
+
 /// Throws InputError "NAME: expected VALUES, got 'VALUE'".
 [[noreturn]] void throwBadOption(const OptionSpec& spec, OptionSpelling spelling, const std::string& value);
 
@@ -50,5 +53,13 @@ long long parseOptionInteger(const OptionSpec& spec, OptionSpelling spelling, co
 
 /// The spec of `key` in `table` (n entries), or nullptr.
 const OptionSpec* findOptionSpec(const OptionSpec* table, size_t n, const std::string& key);
+
+/// The spec of `key` in `table`; throws InputError "unknown KIND option 'KEY'" (kind: "force").
+template <size_t N>
+const OptionSpec& optionSpec(const OptionSpec (&table)[N], const std::string& key, const char* kind) {
+  const OptionSpec* s = findOptionSpec(table, N, key);
+  if (!s) throwUnknownOption(kind, key);
+  return *s;
+}
 
 }  // namespace sf
