@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 
 #include <smoothforce/base/status.h>
 #include <smoothforce/patch/detail/gp_math.h>
@@ -16,15 +15,8 @@
 namespace sf {
 namespace {
 
-Eigen::Vector2d corner(int n, int k) {
-  const double a = 2.0 * std::numbers::pi * ((k % n + n) % n) / n;
-  return {std::cos(a), std::sin(a)};
-}
-
-bool outsideDomain(int n, const Eigen::Vector2d& X) {
-  int k;
-  return domainEdgeMax(n, X, k) > std::cos(std::numbers::pi / n);
-}
+/// Domain corner C_k of an n-gon with a patch, k in [0, n] (C_n = C_0)
+Eigen::Vector2d corner(int n, int k) { return domainCorner(n, k % n); }
 
 constexpr double kInitialRadius = 0.5;  // domain units (circumradius 1)
 
@@ -223,7 +215,7 @@ void PatchRefiner::transfer(int& f, Eigen::Vector2d& X, int& edge, int& transiti
   edge = -1;
   const int n = cache_.faceSize(f);
   int k;
-  const double m = domainEdgeMax(n, X, k), c = std::cos(std::numbers::pi / n);
+  const double m = domainEdgeMax(n, X, k), c = gpd::gp_dom_apothem(n);
   if (!(m > c)) return;
   const Eigen::Vector2d I0 = X * (c / m);  // the ray from the origin meets domain edge k
   const Eigen::Vector2d Ck = corner(n, k), Ck1 = corner(n, k + 1);
@@ -243,14 +235,6 @@ void PatchRefiner::transfer(int& f, Eigen::Vector2d& X, int& edge, int& transiti
   X = clampToDomain(ng, Ci + s * (Ci1 - Ci));
   f = g;
   ++transitions;
-}
-
-Eigen::Vector2d PatchRefiner::interior(int n, const Eigen::Vector2d& X, double eps) const noexcept {
-  int k;
-  const double dmin = std::cos(std::numbers::pi / n) - domainEdgeMax(n, X, k);
-  if (dmin > 2 * eps) return X;
-  const double r = X.norm();     // >= cos(pi/n) - 2 eps > 0.4 near the boundary
-  return X * (1 - 3 * eps / r);  // an eps-disc around it fits in the domain for n >= 3
 }
 
 bool PatchRefiner::converged(const Iterate& it, const Eigen::Vector3d& hip, const RefineOptions& o) const noexcept {
@@ -289,7 +273,7 @@ bool PatchRefiner::tryStep(Iterate& cur, const Eigen::Vector2d& step, const Eige
   int face = cur.face, tr = 0, edge = -1;
   uint32_t st = 0;
   Eigen::Vector2d X = cur.X + step;
-  if (outsideDomain(cache_.faceSize(cur.face), X)) transfer(face, X, edge, tr, st);
+  if (!gpd::gp_dom_inside(cache_.faceSize(cur.face), X.x(), X.y())) transfer(face, X, edge, tr, st);
   Iterate trial = at(face, X, hip);
   trial.edge = edge;
   if (!better(trial, cur, hip)) return false;
@@ -302,7 +286,8 @@ bool PatchRefiner::tryStep(Iterate& cur, const Eigen::Vector2d& step, const Eige
 void PatchRefiner::descentStep(Iterate& cur, const Eigen::Vector3d& hip, int& transitions, uint32_t& status,
                                bool& stalled) noexcept {
   const int n = cache_.faceSize(cur.face);
-  const Eigen::Vector2d Xc = interior(n, cur.X, eps_);
+  Eigen::Vector2d Xc = cur.X;
+  gpd::gp_dom_interior(n, &Xc.x(), &Xc.y(), eps_);
   const Eigen::Vector3d gxp = eval(cur.face, Xc + Eigen::Vector2d(eps_, 0)).pos;
   const Eigen::Vector3d gxm = eval(cur.face, Xc - Eigen::Vector2d(eps_, 0)).pos;
   const Eigen::Vector3d gyp = eval(cur.face, Xc + Eigen::Vector2d(0, eps_)).pos;

@@ -102,7 +102,6 @@ class PatchRefiner {
   Iterate at(int f, const Eigen::Vector2d& X, const Eigen::Vector3d& hip) noexcept;
   /// Eq. 15: maps an X outside face f's domain onto the neighbour (or onto the edge).
   void transfer(int& f, Eigen::Vector2d& X, int& edge, int& transitions, uint32_t& status) const noexcept;
-  Eigen::Vector2d interior(int n, const Eigen::Vector2d& X, double eps) const noexcept;
   bool converged(const Iterate& it, const Eigen::Vector3d& hip, const RefineOptions& options) const noexcept;
   /// Step acceptance: f decreases, or stays within its evaluation noise while the angle
   /// between G - HIP and the normal shrinks.
