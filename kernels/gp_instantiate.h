@@ -8,8 +8,8 @@
  *   GP_REAL          the real type: float, double, a SIMD lane, a counting or an interval type
  *   GP_IS_DOUBLE     1 when GP_REAL rounds as double, 0 as float (constants, tolerances)
  * and where wanted:
- *   GP_INST_FULL     1: also the patch's box and the nearest-point refinement (gp_bound.h,
- *                    gp_domain.h, gp_refine.h); else gp_patch.h alone
+ *   GP_INST_FULL     1: also the patch's box and the nearest-point refinements (gp_bound.h,
+ *                    gp_domain.h, gp_refine.h, gp_descent.h); else gp_patch.h alone
  *   GP_INST_TABLE    1: the domain reads the includer's table, a function of this namespace
  *                    `const gp_domain* gp_domain_table()` indexed by n (3..GP_MAX_N; gp_tables.h)
  *                    whose address and contents never change once it returns (it is declared
@@ -44,6 +44,7 @@
 #include "gp_bound.h"
 #include "gp_domain.h"
 #include "gp_refine.h"
+#include "gp_descent.h"
 #endif
 // clang-format on
 
