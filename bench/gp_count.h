@@ -2,8 +2,8 @@
 // Operation counts of the patch math: kernels/gp_patch.h compiled with GP_REAL a scalar that
 // counts what it does, once on the scalar path (branches taken as a point needs them) and
 // once on the lane path (GP_LANES: both sides of every select, as each SIMD lane executes).
-// The instantiation goes through the same hooks as the SIMD lanes (host/patch/gp_lanes-inl.h:
-// overloadable gp_sqrt etc., GP_SEL, GP_MASK), so it follows the math as it changes.
+// The instantiation goes through the same prologue as the SIMD lanes (kernels/gp_instantiate.h:
+// overloadable gp_sqrt etc., gp_sel, gp_lane_mask), so it follows the math as it changes.
 #pragma once
 
 #include <cmath>
@@ -41,30 +41,18 @@ struct R {
   friend R gp_sin(R a) { return ++g.trig, R(std::sin(a.v)); }
   friend R gp_fabs(R a) { return R(std::fabs(a.v)); }
 };
-/// A select of the lane path: both sides were computed; counts one.
-inline R sel(bool m, R a, R b) { return ++g.sel, m ? a : b; }
-inline gp_uint sel(bool m, gp_uint a, gp_uint b) { return m ? a : b; }
-
-// ---- the scalar path, with its own domain table (filled once, not counted) ----
+// ---- the scalar path, with its own domain table (filled before main, not counted) ----
 namespace scalar {
-#define GP_DOMAIN_TABLE_DECLARE const gp_domain* gp_domain_table()
-#define GP_DOMAIN_TABLE(n) (gp_domain_table() + (n))
 #define GP_REAL R
 #define GP_IS_DOUBLE 1
-#include "gp_patch.h"
-#undef GP_REAL
-#undef GP_IS_DOUBLE
-#undef GP_DOMAIN_TABLE_DECLARE
-#undef GP_DOMAIN_TABLE
-inline const gp_domain* gp_domain_table() {
-  static gp_domain t[GP_MAX_N + 1];
-  static const bool filled = [] {
-    for (int n = 3; n <= GP_MAX_N; ++n) gp_domain_init(n, &t[n], 1);
-    return true;
-  }();
-  (void)filled;
-  return t;
-}
+#define GP_INST_TABLE 1
+#include "gp_instantiate.h"
+inline gp_domain domainTable[GP_MAX_N + 1];
+inline const bool domainTableFilled = [] {
+  for (int n = 3; n <= GP_MAX_N; ++n) gp_domain_init(n, &domainTable[n], 1);
+  return true;
+}();
+inline const gp_domain* gp_domain_table() { return domainTable; }
 }  // namespace scalar
 
 // ---- the lane path: one lane of the SIMD evaluation, selects instead of branches ----
@@ -72,35 +60,19 @@ namespace lanes {
 using sf::gpd::gp_domain;
 using sf::gpd::gp_domain_of;
 using sf::gpd::gp_quality_sample;
-// the scalar instantiations left their definitions of these
-#undef GP_SREAL
-#undef GP_MASK
-#undef GP_STATUS
-#undef GP_VID
-#undef GP_SEL
-#undef GP_ANY
-#undef GP_ALL
+using gp_lane_mask = bool;
+using gp_lane_status = gp_uint;
+using gp_lane_vid = int;
+/// A select of the lane path: both sides were computed; counts one.
+inline R gp_sel(bool m, R a, R b) { return ++g.sel, m ? a : b; }
+inline gp_uint gp_sel(bool m, gp_uint a, gp_uint b) { return m ? a : b; }
+inline bool gp_any(bool m) { return m; }
+inline bool gp_all(bool m) { return m; }
 #define GP_LANES 1
 #define GP_SREAL double
-#define GP_MASK bool
-#define GP_STATUS gp_uint
-#define GP_VID int
-#define GP_SEL(m, a, b) sel(m, a, b)
-#define GP_ANY(m) (m)
-#define GP_ALL(m) (m)
 #define GP_REAL R
 #define GP_IS_DOUBLE 1
-#include "gp_patch.h"
-#undef GP_REAL
-#undef GP_IS_DOUBLE
-#undef GP_LANES
-#undef GP_SREAL
-#undef GP_MASK
-#undef GP_STATUS
-#undef GP_VID
-#undef GP_SEL
-#undef GP_ANY
-#undef GP_ALL
+#include "gp_instantiate.h"
 }  // namespace lanes
 
 /// A regular n-gon (unit circle, normals tilted outward, so no fallback runs): V, N, vid.
@@ -122,7 +94,6 @@ inline Counts countEval(int n, bool lanes) {
   regularPolygon(n, V, N, vid, scalar::gp_v3);
   static R recs[GP_MAX_N * GP_E_NFIELDS];
   scalar::gp_build_patch(n, V, N, vid, GP_CT_CORRECTED, recs);
-  scalar::gp_domain_table();
   g = Counts{};
   const R x = 0.13, y = -0.21;
   if (lanes)
@@ -136,7 +107,6 @@ inline Counts countEval(int n, bool lanes) {
 /// the records and 15 n quality samples).
 inline Counts countBuild(int n, bool lanes) {
   static R recs[GP_MAX_N * GP_E_NFIELDS];
-  scalar::gp_domain_table();
   int vid[GP_MAX_N];
   R bulge = 0;
   if (lanes) {

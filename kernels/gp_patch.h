@@ -3,7 +3,7 @@
  *
  * Restricted C that compiles as OpenCL C 1.2 and as C++, in float and in double.
  * The includer defines GP_REAL (float|double) and GP_IS_DOUBLE (0|1) first; C++ includes it
- * once per precision inside a namespace (host/gp_math.h), OpenCL once per program build.
+ * once per precision inside a namespace through gp_instantiate.h, OpenCL once per program build.
  * No include guard on purpose. Source: Wu, Leung, Wang, Wang, Zhang, "Smooth Force Rendering
  * on Coarse Polygonal Meshes" (Sections 2.2, 3), with shared/design/gregory-patch.md.
  *

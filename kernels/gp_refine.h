@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* Nearest-point refinement on the patches (paper Section 4.2) with Eq. 15 transitions (design
- * page, "Leaving the domain"): the one definition of the Newton refinement, compiled as OpenCL C
- * (refine.cl) and as C++ (host/gp_math.h; host/patch_refine.cpp wraps it).
+ * page, "Leaving the domain"): the one definition of the Newton refinement, and what the paper's
+ * descent (gp_descent.h) shares with it, compiled as OpenCL C (refine.cl) and as C++
+ * (host/patch detail/gp_math.h; host/query/patch_refine.cpp wraps them).
  *
  * Minimises f(X) = |G(X) - HIP|^2 / 2 over the patch surface by a trust-region Newton method:
  * - model: gradient g = J^T r (exact), Hessian B = J^T J + sum_i r_i d2G_i, the second-order part
@@ -78,6 +79,9 @@ typedef struct {
   GP_GLOBAL const int* slotFace;       /* #C: face owning each slot; 0: found by binary search */
   int numFaces, numSlots, mode;        /* mode: GP_CT_* */
   GP_REAL scale;                       /* bounding-box diagonal of the mesh, m */
+  /* 1: the cache's records are float's (its evaluations round as float): the paper's descent
+   * takes its finite-difference step and position noise from that precision, not GP_REAL's */
+  int floatRecords;
 #ifndef GP_OPENCL
   /* Host only: when set, face records come from here instead of edgeData/faceStatus. Writes
    * face f's n records (record-major) to recs, or only reports when recs is null; returns the
@@ -89,6 +93,11 @@ typedef struct {
    * edgeData) into out[0..count). */
   void (*evalPoints)(void* pointsUser, int f, const GP_REAL* x, const GP_REAL* y, int count, gp_eval_result* out);
   void* pointsUser;
+  /* Host only: when set, the paper's descent evaluates face f at (x, y) through it instead of
+   * gp_rf_eval: in the records' own precision (a float cache in float), its status with the
+   * face's GP_ST_* bits. */
+  gp_eval_result (*evalNative)(void* nativeUser, int f, GP_REAL x, GP_REAL y);
+  void* nativeUser;
 #endif
 } gp_refine_mesh;
 
@@ -799,6 +808,46 @@ GP_FN int gp_rf_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* 
   return *D < floor ? GP_RF_STEP_STALLED : GP_RF_STEP_OK;
 }
 
+/* The start of a refinement (Newton or the paper's descent, gp_descent.h): the stopping
+ * tolerances in w (the residual allowed, at most, and the sine of the angle tolerance, computed
+ * once per tolerance) and *out for `face` with nothing found. Returns 0, with *out's status
+ * GP_TRACK_DEGENERATE, where the start cannot be refined (a HIP or start point not finite, a
+ * face not evaluable). */
+GP_FN int gp_rf_begin(const gp_refine_mesh* m, gp_refine_work* w, gp_vec3 hip, int face, GP_REAL xi, GP_REAL eta,
+                      const gp_refine_options* o, gp_refine_result* out) {
+  w->tol = o->positionTol; /* it also decides what the Newton steps evaluate ahead */
+  if (!(w->sinOf == o->angleTol)) {
+    w->sinAngle = GP_SIN(o->angleTol);
+    w->sinOf = o->angleTol;
+  }
+  out->scp = out->normal = gp_zero3();
+  out->xi = out->eta = out->distance = GP_R(0.0);
+  out->face = face;
+  out->edge = -1;
+  out->iterations = out->transitions = 0;
+  out->status = 0u;
+  out->startMinimum = 0;
+  if (!gp_finite3(hip) || !gp_rf_evaluable(m, face) || !(GP_FABS(xi) <= GP_BIG) || !(GP_FABS(eta) <= GP_BIG)) {
+    out->status = GP_TRACK_DEGENERATE;
+    return 0;
+  }
+  return 1;
+}
+
+/* The result's point, iterations and status (GP_TRACK_* bits | the point's GP_ST_* bits) from
+ * the final iterate. */
+GP_FN void gp_rf_finish(const gp_rf_iterate* cur, int iterations, gp_uint status, gp_refine_result* out) {
+  out->scp = cur->p.pos;
+  out->normal = cur->p.normal;
+  out->face = cur->face;
+  out->edge = cur->edge;
+  out->xi = cur->x;
+  out->eta = cur->y;
+  out->distance = gp_len(cur->r);
+  out->iterations = iterations;
+  out->status = status | cur->p.status;
+}
+
 /* Refines from (face, xi, eta) (clamped into the domain; startEdge: the domain edge the start
  * is held on, -1 for none) towards the patch point nearest `hip` (m). A start that is not
  * evaluable (bad face, non-finite input) returns GP_TRACK_DEGENERATE with zeros. The result is
@@ -813,24 +862,9 @@ GP_FN gp_refine_result gp_refine_newton_warm(const gp_refine_mesh* m, gp_refine_
                                              int warm) {
   if (!warm) w->kept.d2Face = w->kept.lastFace = -1;
   w->lastLen = GP_R(0.0);
-  w->tol = o->positionTol; /* the residual allowed, at most (it only decides what to evaluate ahead) */
   w->modelFinal = o->modelFinal;
-  if (!(w->sinOf == o->angleTol)) {
-    w->sinAngle = GP_SIN(o->angleTol);
-    w->sinOf = o->angleTol;
-  }
   gp_refine_result out;
-  out.scp = out.normal = gp_zero3();
-  out.xi = out.eta = out.distance = GP_R(0.0);
-  out.face = face;
-  out.edge = -1;
-  out.iterations = out.transitions = 0;
-  out.status = 0u;
-  out.startMinimum = 0;
-  if (!gp_finite3(hip) || !gp_rf_evaluable(m, face) || !(GP_FABS(xi) <= GP_BIG) || !(GP_FABS(eta) <= GP_BIG)) {
-    out.status = GP_TRACK_DEGENERATE;
-    return out;
-  }
+  if (!gp_rf_begin(m, w, hip, face, xi, eta, o, &out)) return out;
   const int n0 = gp_rf_size(m, face);
   /* a start at exactly the last refinement's final point (warm) is that iterate, a corner
    * included: moving it off the corner would walk it back there, an evaluation or more a step */
@@ -887,15 +921,7 @@ GP_FN gp_refine_result gp_refine_newton_warm(const gp_refine_mesh* m, gp_refine_
   if (!conv) conv = gp_rf_converged(m, w, &cur, hip);
   if (cur.edge < 0) status &= ~(GP_TRACK_BOUNDARY | GP_TRACK_FOLD_EDGE);
   status |= conv ? GP_TRACK_CONVERGED : (stalled ? GP_TRACK_STALLED : GP_TRACK_MAX_ITER);
-  out.scp = cur.p.pos;
-  out.normal = cur.p.normal;
-  out.face = cur.face;
-  out.edge = cur.edge;
-  out.xi = cur.x;
-  out.eta = cur.y;
-  out.distance = gp_len(cur.r);
-  out.iterations = it;
-  out.status = status | cur.p.status;
+  gp_rf_finish(&cur, it, status, &out);
   out.startMinimum = it == 0 && conv && cur.edge < 0 && gp_rf_minimum(m, w, &cur);
   w->kept.lastFace = cur.face;
   w->kept.lastX = cur.x;

@@ -4,10 +4,11 @@
  * (no include guard on purpose). Requires GP_REAL and GP_IS_DOUBLE.
  *
  * Lanes. The math is written without branches on per-point data, so that GP_REAL may also be
- * a SIMD lane type (one point, or one face, per lane; host/gp_lanes-inl.h): a condition on data is
- * a GP_MASK, a choice is GP_SEL(mask, a, b) (both sides computed), status bits are set with
- * GP_BITS(mask, bits). Branches on uniform values (n, k, mode) stay ordinary C. An includer
- * with lane types defines GP_LANES and the macros below; otherwise they are the scalar ones:
+ * a SIMD lane type (one point, or one face, per lane; host/patch/gp_lanes-inl.h): a condition on
+ * data is a GP_MASK, a choice is GP_SEL(mask, a, b) (both sides computed), status bits are set
+ * with GP_BITS(mask, bits). Branches on uniform values (n, k, mode) stay ordinary C. With
+ * GP_LANES, the macros below come from the includer's lane types (gp_instantiate.h); otherwise
+ * they are the scalar ones:
  *   GP_SREAL           the scalar real of the lanes (tables, uniform constants)
  *   GP_MASK            the type of a comparison of GP_REALs; &&, ||, ! combine masks
  *   GP_STATUS          status bits per lane (gp_uint for scalars)
@@ -17,14 +18,8 @@
  * Every lane computes exactly the operations a scalar evaluation of its point computes, so
  * a lane result is bit-identical to the scalar result (contraction is off everywhere). */
 
+/* (a C++ instantiation undefines them again when it ends: gp_instantiate.h) */
 #ifndef GP_LANES
-#undef GP_SREAL
-#undef GP_MASK
-#undef GP_STATUS
-#undef GP_VID
-#undef GP_SEL
-#undef GP_ANY
-#undef GP_ALL
 #define GP_SREAL GP_REAL
 #define GP_MASK int
 #define GP_STATUS gp_uint

@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* Batch refinement: one work-item per HIP runs gp_refine_newton (gp_refine.h), the Newton
- * variant of host/patch_refine.cpp with Eq. 15 transitions and boundary-edge handling.
+/* Batch refinement: one work-item per HIP runs gp_refine_newton or the paper's descent
+ * gp_refine_descent (gp_refine.h), as host/query/patch_refine.cpp does on the CPU.
  *
- * Compiled like construct.cl (see there), with gp_refine.h after gp_eval.h
- * (host/opencl_refine.cpp). Standalone (clang syntax check, -I kernels) the includes below
+ * Compiled like construct.cl (see there), with gp_domain.h, gp_refine.h and gp_descent.h after
+ * gp_eval.h (host/opencl/opencl_program.cpp). Standalone (clang syntax check, -I kernels) the includes below
  * pull in the same headers. */
 #if GP_IS_DOUBLE
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
@@ -12,10 +12,12 @@
 #include "gp_patch.h"
 #include "gp_domain.h"
 #include "gp_refine.h"
+#include "gp_descent.h"
 #endif
 
 /* numFaces: #F. numSlots: #C. mode: GP_CT_*. count: N HIPs. maxIterations >= 1.
  * angleTolerance: rad. positionTolerance: m. modelFinal: gp_refine_options.modelFinal (0 or 1).
+ * descent: 0 Newton, 1 the paper's descent (RefineMethod::PaperDescent).
  * scale: bounding-box diagonal, m.
  * faceOffsets: #F+1. edgeData: GP_E_NFIELDS*#C, field-major. faceStatus: #F. slotTwin: #C.
  * hips: 3*N component-major (hips[c * N + q], m). qFace, qXi, qEta, qEdge: N (start; qEdge
@@ -27,7 +29,7 @@
  * outStatus: N, GP_TRACK_* | GP_ST_*. */
 __kernel void gp_refine(const int numFaces, const int numSlots, const int mode, const int count,
                         const int maxIterations, const GP_REAL angleTolerance, const GP_REAL positionTolerance,
-                        const int modelFinal, const GP_REAL scale,
+                        const int modelFinal, const int descent, const GP_REAL scale,
                         __global const int* faceOffsets, __global const GP_REAL* edgeData,
                         __global const uint* faceStatus, __global const int* slotTwin, __global const GP_REAL* hips,
                         __global const int* qFace, __global const GP_REAL* qXi, __global const GP_REAL* qEta,
@@ -47,6 +49,7 @@ __kernel void gp_refine(const int numFaces, const int numSlots, const int mode, 
   mesh.numSlots = numSlots;
   mesh.mode = mode;
   mesh.scale = scale;
+  mesh.floatRecords = !GP_IS_DOUBLE; /* the records are in the program's precision */
   gp_refine_work work;
   work.loaded = -1;
   work.sinOf = (GP_REAL)NAN; /* no sine computed yet */
@@ -56,7 +59,8 @@ __kernel void gp_refine(const int numFaces, const int numSlots, const int mode, 
   opt.angleTol = angleTolerance;
   opt.positionTol = positionTolerance;
   opt.modelFinal = modelFinal;
-  const gp_refine_result r = gp_refine_newton(&mesh, &work, hip, qFace[q], qXi[q], qEta[q], qEdge[q], &opt);
+  const gp_refine_result r = descent ? gp_refine_descent(&mesh, &work, hip, qFace[q], qXi[q], qEta[q], qEdge[q], &opt)
+                                     : gp_refine_newton(&mesh, &work, hip, qFace[q], qXi[q], qEta[q], qEdge[q], &opt);
   outReal[q] = r.scp.x;
   outReal[m + q] = r.scp.y;
   outReal[2 * m + q] = r.scp.z;

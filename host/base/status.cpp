@@ -21,5 +21,7 @@ static_assert(SF_TRACK_CONVERGED == GP_TRACK_CONVERGED && SF_TRACK_MAX_ITER == G
 static_assert(GP_MAX_N == 64 && SF_MAX_PATCH_SIDES == GP_MAX_N, "status.h: SF_ST_TOO_MANY_SIDES documents n > 64");
 static_assert((SF_TRACK_MASK & 0xFFFFu) == 0 && (SF_TRACK_MASK & (GP_ST_MODEL_POINT * 2 - 1)) == 0,
               "SF_TRACK_* bits lie above the GP_ST_* bits");
+static_assert((SF_PROBE_MASK & SF_TRACK_MASK) == 0 && SF_PROBE_MASK > SF_TRACK_MASK,
+              "the sweep's SF_PROBE_* bits lie above the SF_TRACK_* bits (one status word)");
 
 }  // namespace sf

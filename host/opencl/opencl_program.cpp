@@ -40,6 +40,7 @@ std::vector<std::string> programSources(const char* kernelFile, const char* kern
   if (withRefine) {
     s.push_back(withLine("gp_domain.h", kernels::gp_domain_h));
     s.push_back(withLine("gp_refine.h", kernels::gp_refine_h));
+    s.push_back(withLine("gp_descent.h", kernels::gp_descent_h));
   }
   s.push_back(withLine(kernelFile, kernelText));
   return s;

@@ -71,8 +71,6 @@ struct OpenCLRefiner::Impl {
   void run(const RefineQuery* q, size_t n, const RefineOptions& o, RefineResult* res, std::vector<Real>& real) {
     kernel = transfer = 0;
     if (n == 0) return;
-    if (o.refine != RefineMethod::Newton)
-      throw std::invalid_argument("OpenCLRefiner: only RefineMethod::Newton runs on the device");
     validateRefineOptions(o);
     reserve(n);
     real.resize(8 * n);  // inputs use 5n
@@ -107,6 +105,7 @@ struct OpenCLRefiner::Impl {
     k.setArg(a++, static_cast<Real>(o.angleTolerance));
     k.setArg(a++, static_cast<Real>(o.positionTolerance * scale));
     k.setArg(a++, static_cast<cl_int>(o.finalStep == FinalStep::Model));
+    k.setArg(a++, static_cast<cl_int>(o.refine == RefineMethod::PaperDescent));
     k.setArg(a++, static_cast<Real>(scale));
     for (cl::Buffer* b : {&offs, &rec, &fst, &twin, &hips, &qf, &qx, &qy, &qe, &qi, &outR, &outI, &outSt})
       k.setArg(a++, *b);

@@ -94,56 +94,34 @@ HWY_INLINE size_t gpLanes() {
   return hn::Lanes(hn::ScalableTag<T>());
 }
 
-// ---- the patch math on lanes, once per precision ----
-// the scalar instantiations left their definitions of these
-#undef GP_SREAL
-#undef GP_MASK
-#undef GP_STATUS
-#undef GP_VID
-#undef GP_SEL
-#undef GP_ANY
-#undef GP_ALL
-#define GP_LANES 1
-#define GP_MASK GpMask<GP_SREAL>
-#define GP_STATUS GpUint<GP_SREAL>
-#define GP_VID GpInt<GP_SREAL>
-#define GP_SEL(m, a, b) gp_sel(m, a, b)
-#define GP_ANY(m) gp_any(m)
-#define GP_ALL(m) gp_all(m)
-
+// ---- the patch math on lanes, once per precision (kernels/gp_instantiate.h) ----
 namespace gd {
 using sf::gpd::gp_domain;
 using sf::gpd::gp_domain_of;
 using sf::gpd::gp_quality_sample;
+using gp_lane_mask = GpMask<double>;
+using gp_lane_status = GpUint<double>;
+using gp_lane_vid = GpInt<double>;
+#define GP_LANES 1
 #define GP_SREAL double
 #define GP_REAL GpLane<double>
 #define GP_IS_DOUBLE 1
-#include "gp_patch.h"
-#undef GP_REAL
-#undef GP_SREAL
-#undef GP_IS_DOUBLE
+#include "gp_instantiate.h"
 }  // namespace gd
 
 namespace gf {
 using sf::gpf::gp_domain;
 using sf::gpf::gp_domain_of;
 using sf::gpf::gp_quality_sample;
+using gp_lane_mask = GpMask<float>;
+using gp_lane_status = GpUint<float>;
+using gp_lane_vid = GpInt<float>;
+#define GP_LANES 1
 #define GP_SREAL float
 #define GP_REAL GpLane<float>
 #define GP_IS_DOUBLE 0
-#include "gp_patch.h"
-#undef GP_REAL
-#undef GP_SREAL
-#undef GP_IS_DOUBLE
+#include "gp_instantiate.h"
 }  // namespace gf
-
-#undef GP_LANES
-#undef GP_MASK
-#undef GP_STATUS
-#undef GP_VID
-#undef GP_SEL
-#undef GP_ANY
-#undef GP_ALL
 
 }  // namespace sf::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();

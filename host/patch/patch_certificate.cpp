@@ -17,46 +17,21 @@
 #include <smoothforce/patch/detail/patch_enclosure.h>
 
 // ---- the patch math on intervals (GP_INTERVAL: gp_eval.h's range-keeping forms) ----
-#undef GP_SREAL
-#undef GP_MASK
-#undef GP_STATUS
-#undef GP_VID
-#undef GP_SEL
-#undef GP_ANY
-#undef GP_ALL
-#define GP_LANES 1
-#define GP_INTERVAL 1
-#define GP_MASK ::sf::interval::Mask
-#define GP_STATUS unsigned
-#define GP_VID int
-#define GP_SEL(m, a, b) gp_sel(m, a, b)
-#define GP_ANY(m) gp_any(m)
-#define GP_ALL(m) gp_all(m)
-#define GP_DOMAIN_TABLE_DECLARE __attribute__((const)) const gp_domain* gp_domain_table()
-#define GP_DOMAIN_TABLE(n) (gp_domain_table() + (n))
 namespace sf::gpi {
 using ::sf::gpd::gp_domain;
 using ::sf::gpd::gp_domain_of;
 using ::sf::gpd::gp_quality_sample;
 using ::sf::interval::Affine;
+using gp_lane_mask = ::sf::interval::Mask;
+using gp_lane_status = unsigned;
+using gp_lane_vid = int;
+#define GP_LANES 1
+#define GP_INTERVAL 1
 #define GP_SREAL double
 #define GP_REAL ::sf::interval::Affine
 #define GP_IS_DOUBLE 1
-#include "gp_patch.h"
-#undef GP_REAL
-#undef GP_SREAL
-#undef GP_IS_DOUBLE
+#include "gp_instantiate.h"
 }  // namespace sf::gpi
-#undef GP_LANES
-#undef GP_INTERVAL
-#undef GP_MASK
-#undef GP_STATUS
-#undef GP_VID
-#undef GP_SEL
-#undef GP_ANY
-#undef GP_ALL
-#undef GP_DOMAIN_TABLE_DECLARE
-#undef GP_DOMAIN_TABLE
 
 namespace sf {
 namespace {

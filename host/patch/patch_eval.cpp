@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <stdexcept>
 #include <string>
 
@@ -18,19 +17,47 @@
 
 namespace sf {
 
+namespace {
+/// n has an entry in the kernels' domain table (gp_tables.cpp)
+bool tabled(int n) { return n >= 3 && n <= GP_MAX_N; }
+/// cos(pi/n): the distance from the centre to every domain edge
+double apothem(int n) { return tabled(n) ? gpd::gp_dom_apothem(n) : gpd::gp_domain_calc_apothem(n); }
+}  // namespace
+
 Eigen::Vector2d domainCorner(int n, int k) {
-  const double a = 2.0 * std::numbers::pi * k / n;
-  return {std::cos(a), std::sin(a)};
+  double x, y;
+  if (tabled(n) && k >= 0 && k < n)
+    gpd::gp_domain_corner(n, k, &x, &y);
+  else  // the table's formula for the same corner (k outside [0, n) rounds its angle differently)
+    gpd::gp_domain_calc_corner(n, k, &x, &y);
+  return {x, y};
+}
+
+double domainEdgeMax(int n, const Eigen::Vector2d& X, int& k) noexcept {
+  if (tabled(n)) return gpd::gp_dom_edge_max(n, X.x(), X.y(), &k);
+  // no table entry: gp_dom_edge_max's loop over the normals the table would hold
+  double best = -1e300;  // -GP_BIG of double
+  k = 0;
+  for (int j = 0; j < n; ++j) {
+    double mx, my;
+    gpd::gp_domain_calc_normal(n, j, &mx, &my);
+    if (const double v = X.x() * mx + X.y() * my; v > best) best = v, k = j;
+  }
+  return best;
 }
 
 bool insideDomain(int n, double xi, double eta, double tol) {
   if (!std::isfinite(xi) || !std::isfinite(eta) || n < 3) return false;
-  const double c = std::cos(std::numbers::pi / n);
-  for (int k = 0; k < n; ++k) {
-    const double a = (2 * k + 1) * std::numbers::pi / n;
-    if (c - (xi * std::cos(a) + eta * std::sin(a)) < -tol) return false;
-  }
-  return true;
+  int k;
+  // cos(pi/n) - max_k X . m_k < -tol exactly when some edge has cos(pi/n) - X . m_k < -tol
+  // (rounding is monotonic), so this is the test per edge with the kernels' normals
+  return !(apothem(n) - domainEdgeMax(n, {xi, eta}, k) < -tol);
+}
+
+Eigen::Vector2d clampToDomain(int n, const Eigen::Vector2d& X) noexcept {
+  int k;  // gp_dom_clamp, for any n
+  const double m = domainEdgeMax(n, X, k), c = apothem(n);
+  return m > c ? Eigen::Vector2d(X * (c / m)) : X;
 }
 
 namespace {

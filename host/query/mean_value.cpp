@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
 namespace sf {
 
@@ -57,36 +56,13 @@ void meanValueCoordinates(const Eigen::Vector2d* poly, int n, const Eigen::Vecto
   for (int i = 0; i < n; ++i) lambda[i] /= W;
 }
 
-double domainEdgeMax(int n, const Eigen::Vector2d& X, int& k) noexcept {
-  double best = -1e300;
-  k = 0;
-  for (int j = 0; j < n; ++j) {
-    const double a = (2 * j + 1) * std::numbers::pi / n;
-    const double v = X.x() * std::cos(a) + X.y() * std::sin(a);
-    if (v > best) {
-      best = v;
-      k = j;
-    }
-  }
-  return best;
-}
-
-Eigen::Vector2d clampToDomain(int n, const Eigen::Vector2d& X) noexcept {
-  int k;
-  const double m = domainEdgeMax(n, X, k), c = std::cos(std::numbers::pi / n);
-  return m > c ? Eigen::Vector2d(X * (c / m)) : X;
-}
-
 Eigen::Vector2d polygonToDomain(const PolygonFacets& pf, const PatchCache& cache, int f, const Eigen::Vector3d& p,
                                 double* lambda) noexcept {
   const int n = cache.faceSize(f), first = cache.faceOffsets[f];
   const Eigen::Vector3d d = p - pf.faceCentroid[f];
   meanValueCoordinates(&pf.corner2d[first], n, {d.dot(pf.faceU[f]), d.dot(pf.faceV[f])}, lambda);
   Eigen::Vector2d X(0, 0);
-  for (int k = 0; k < n; ++k) {
-    const double a = 2.0 * std::numbers::pi * k / n;
-    X += lambda[k] * Eigen::Vector2d(std::cos(a), std::sin(a));
-  }
+  for (int k = 0; k < n; ++k) X += lambda[k] * domainCorner(n, k);
   return clampToDomain(n, X);
 }
 

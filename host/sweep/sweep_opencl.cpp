@@ -52,17 +52,9 @@ struct OpenCLPatchProber::Impl {
   std::vector<CandidateList> candidates;
 };
 
-namespace {
-void validateProbeOptions(const ForceOptions& options) {
-  validateForceOptions(options);
-  if (options.refine != RefineMethod::Newton)
-    throw InputError("--backend opencl refines with --refine newton only (the paper's descent runs on the CPU)");
-}
-}  // namespace
-
 OpenCLPatchProber::OpenCLPatchProber(std::shared_ptr<const PatchCache> cache, const ForceOptions& options,
                                      const OpenCLOptions& opencl) {
-  validateProbeOptions(options);
+  validateForceOptions(options);
   impl_ = std::make_unique<Impl>(std::move(cache), options, opencl);
 }
 
@@ -129,7 +121,7 @@ size_t OpenCLPatchProber::run(const HipSet& set, size_t begin, size_t end, const
 size_t runPatchProbesOpenCL(const HipSet& set, size_t begin, size_t end, std::shared_ptr<const PatchCache> cache,
                             const ForceOptions& options, const ReferenceSurface* ref, HipResult* out,
                             const SweepControl& control, const OpenCLOptions& opencl, size_t chunk) {
-  validateProbeOptions(options);
+  validateForceOptions(options);
   if (begin >= end) return 0;
   OpenCLPatchProber prober(std::move(cache), options, opencl);
   return prober.run(set, begin, end, ref, out, control, chunk);

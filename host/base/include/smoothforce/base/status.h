@@ -1,9 +1,18 @@
 // SPDX-License-Identifier: Apache-2.0
 // Status bits of SmoothForce, in one place: the SF_ST_* bits of patch construction and
-// evaluation (PatchCache::faceStatus, PatchPoint::status), and the SF_TRACK_* bits that
-// refinement and every force method add (RefineResult::status, ForceSample::status).
-// The shared patch math (kernels/gp_config.h) spells them GP_ST_* and GP_TRACK_*; status.cpp
-// asserts at compile time that the values are equal.
+// evaluation (PatchCache::faceStatus, PatchPoint::status), the SF_TRACK_* bits that
+// refinement and every force method add (RefineResult::status, ForceSample::status), and the
+// SF_PROBE_* bits of a sweep's probe record (HipResult::status).
+// The shared patch math (kernels/gp_config.h) spells the first two GP_ST_* and GP_TRACK_*;
+// status.cpp asserts at compile time that the values are equal.
+//
+// Why base holds bits that upper modules set (SF_TRACK_PROXY_LIMIT: the god-object, force/;
+// SF_PROBE_*: the sweep's inside test, sweep/): all of them share one 32-bit word (a probe
+// record carries its force sample's bits), so they are allocated in one table, where their
+// ranges are seen to be disjoint; and kStatusBits, the registry that the Python module and the
+// C API publish, must name every bit, while the C API may not include sweep/ (layer table,
+// docs/design.md). Only the values live here; what each bit means is documented beside the code
+// that sets it (god_object.h, probe_inside.h).
 #pragma once
 
 #include <cstdint>
@@ -53,7 +62,7 @@ inline constexpr uint32_t SF_TRACK_FOLD_EDGE = 0x10000000u;
 inline constexpr uint32_t SF_TRACK_MASK = 0x1FFF0000u;
 
 /// SF_PROBE_* bits: set by sweeps in a probe's record (HipResult::status), never by a force
-/// method: the verdict of the sweep's own inside test on the HIP (probe_inside.h), independent of
+/// method: the verdict of the sweep's own inside test on the HIP (sweep/probe_inside.h), independent of
 /// the method's tracking. A probe is a missed contact when INSIDE is set and it has no contact.
 inline constexpr uint32_t SF_PROBE_INSIDE = 0x20000000u;  ///< the HIP is inside the method's surface
 inline constexpr uint32_t SF_PROBE_UNDECIDED =

@@ -38,11 +38,12 @@ struct RefineQuery {
 /// Reusable batch refiner over one cache: uploads the cache (face offsets, records, face
 /// status, slot twins) once, then refine() runs N queries per call. Device and host staging
 /// buffers grow only when N exceeds their capacity. The kernel works in the cache's precision
-/// (double needs cl_khr_fp64). Only RefineMethod::Newton runs on the device.
+/// (double needs cl_khr_fp64). Both RefineMethods run on the device (kernels/gp_refine.h, as
+/// PatchRefiner runs them on the CPU).
 /// Errors: OpenCLError (opencl_context.h) naming the call, the error code and, for builds, the
 /// build log; "device X has no cl_khr_fp64; use --precision float" for a double cache on such
-/// a device; std::invalid_argument for a cache without records of its precision or options
-/// that ask for the paper's descent variant; InputError for invalid options (validateRefineOptions).
+/// a device; std::invalid_argument for a cache without records of its precision; InputError
+/// for invalid options (validateRefineOptions).
 class OpenCLRefiner {
  public:
   /// The cache must outlive the refiner (its bounding box and face sizes are read here).

@@ -21,10 +21,23 @@ struct PatchPoint {
   uint32_t status = 0;
 };
 
-/// Domain corner C_k = (cos 2 pi k/n, sin 2 pi k/n) (design page, "Domain").
+/// Geometry of the regular n-gon domain of circumradius 1 (design page, "Domain"; Eq. 3), in
+/// double: the kernels' definitions (kernels/gp_tables.h, gp_domain.h), read from their domain
+/// table for 3 <= n <= GP_MAX_N and computed by the same formulas for any other n (faces that
+/// get no patch, which the god-object still maps onto their domain).
+///
+/// Domain corner C_k = (cos 2 pi k/n, sin 2 pi k/n); any k (taken modulo n by the formula).
 Eigen::Vector2d domainCorner(int n, int k);
-/// True when (xi, eta) lies in the regular n-gon domain, up to `tol` in distance.
+/// True when (xi, eta) lies in the domain up to `tol` in distance: cos(pi/n) - X . m_k >= -tol
+/// for every unit edge normal m_k (a negative tol demands that much inside). False for n < 3
+/// and for non-finite coordinates. The kernels' inside test (gp_dom_inside) has tolerance 0.
 bool insideDomain(int n, double xi, double eta, double tol = 1e-12);
+/// Largest X . m_k over the domain's edges; k receives its edge (0 when n < 1). X is inside
+/// iff this is <= cos(pi/n) (gp_dom_edge_max).
+double domainEdgeMax(int n, const Eigen::Vector2d& X, int& k) noexcept;
+/// X scaled towards the origin onto the domain boundary when outside (the ray of Eq. 15);
+/// unchanged inside (gp_dom_clamp).
+Eigen::Vector2d clampToDomain(int n, const Eigen::Vector2d& X) noexcept;
 
 /// Evaluates face f's patch at (xi, eta) in the cache's precision.
 /// Throws std::out_of_range for a face index outside [0, #F). A point outside the domain

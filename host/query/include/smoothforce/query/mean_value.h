@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 
+#include <smoothforce/patch/patch_eval.h>  // the domain: domainCorner, clampToDomain
 #include <smoothforce/query/polygon_facets.h>
 
 namespace sf {
@@ -15,13 +16,6 @@ namespace sf {
 /// gives the unit vector, a point on an edge the linear interpolation of its two ends (no
 /// NaN). A degenerate configuration (zero total weight) gives the nearest vertex.
 void meanValueCoordinates(const Eigen::Vector2d* poly, int n, const Eigen::Vector2d& x, double* lambda) noexcept;
-
-/// Domain helpers for the regular n-gon domain of circumradius 1 (design page, "Domain").
-/// Largest X . m_k over the edges; k receives its edge. X is inside iff this <= cos(pi/n).
-double domainEdgeMax(int n, const Eigen::Vector2d& X, int& k) noexcept;
-/// X scaled towards the origin onto the domain boundary when outside (the ray of Eq. 15);
-/// unchanged inside.
-Eigen::Vector2d clampToDomain(int n, const Eigen::Vector2d& X) noexcept;
 
 /// The domain point of a point p on (or near) face f: p is projected on the face's best-fit
 /// plane, lambda = its mean value coordinates w.r.t. the projected polygon (lambda: scratch of

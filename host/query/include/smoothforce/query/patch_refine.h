@@ -43,14 +43,15 @@ struct RefineResult {
 /// carry the rest of a step into the neighbour's domain, boundary edges held (1-D Newton along
 /// them). On the CPU it always computes in double: a float cache's records are widened on load,
 /// so the float surface is refined to the same tolerance as a double one.
-/// RefineMethod::PaperDescent: the descent direction -grad f from central differences of
-/// |G - HIP|^2 (positions only, 4 evaluations); step length: the paper's Fig. 8 is not
-/// reproduced exactly - we take the step that moves G, along the numerical tangent G_d of the
-/// direction d, to the foot of the perpendicular from the HIP (alpha = -(r . G_d) / |G_d|^2),
-/// capped at 0.5 domain units, halved until f decreases (backtracking); an iterate leaving the
-/// domain crosses domain edge k at I0 on the ray from the origin and continues at
-/// I1 = C_i + s (C_{i+1} - C_i) on the neighbour (Eq. 15 as printed); on a boundary or
-/// non-manifold edge it stays at the edge's nearest point. The Fig. 8 reconstruction is ours.
+/// RefineMethod::PaperDescent runs gp_refine_descent (kernels/gp_refine.h, which the OpenCL
+/// kernel runs too): the descent direction -grad f from central differences of |G - HIP|^2
+/// (positions only, 4 evaluations); step length: the paper's Fig. 8 is not reproduced exactly -
+/// we take the step that moves G, along the numerical tangent G_d of the direction d, to the
+/// foot of the perpendicular from the HIP (alpha = -(r . G_d) / |G_d|^2), capped at 0.5 domain
+/// units, halved until f decreases (backtracking); an iterate leaving the domain crosses domain
+/// edge k at I0 on the ray from the origin and continues at I1 = C_i + s (C_{i+1} - C_i) on the
+/// neighbour (Eq. 15 as printed); on a boundary or non-manifold edge it stays at the edge's
+/// nearest point. The Fig. 8 reconstruction is ours. It evaluates a float cache in float.
 /// Both stop when the tangential residual |(G - HIP) x n| is at most
 /// min(sin(angleTolerance) |G - HIP|, positionTolerance x diagonal) (along a held edge: the
 /// residual along the edge), after maxIterations, or when no step can decrease f. Newton also
@@ -85,13 +86,6 @@ class PatchRefiner {
   PatchPoint eval(int f, const Eigen::Vector2d& X) noexcept;
 
  private:
-  struct Iterate {
-    int face;
-    int edge;  // domain edge the iterate is held on (boundary), else -1
-    Eigen::Vector2d X;
-    PatchPoint p;
-    double f;  // |G - HIP|^2 / 2
-  };
   void load(int f) noexcept;
   RefineResult refineNewton(const Eigen::Vector3d& hip, int face, double xi, double eta, const RefineOptions& options,
                             int edge, bool warm) noexcept;
@@ -99,32 +93,16 @@ class PatchRefiner {
                              int edge) noexcept;
   /// GP_ST_* construction bits of face f (from the lazy store when there is one).
   uint32_t faceStatus(int f) const noexcept;
-  Iterate at(int f, const Eigen::Vector2d& X, const Eigen::Vector3d& hip) noexcept;
-  /// Eq. 15: maps an X outside face f's domain onto the neighbour (or onto the edge).
-  void transfer(int& f, Eigen::Vector2d& X, int& edge, int& transitions, uint32_t& status) const noexcept;
-  Eigen::Vector2d interior(int n, const Eigen::Vector2d& X, double eps) const noexcept;
-  bool converged(const Iterate& it, const Eigen::Vector3d& hip, const RefineOptions& options) const noexcept;
-  /// Step acceptance: f decreases, or stays within its evaluation noise while the angle
-  /// between G - HIP and the normal shrinks.
-  bool better(const Iterate& trial, const Iterate& cur, const Eigen::Vector3d& hip) const noexcept;
-  /// Moves cur by `step` in its domain (across an edge by Eq. 15 via transfer) and keeps the
-  /// result when better() accepts it; transitions and status then take the move's.
-  bool tryStep(Iterate& cur, const Eigen::Vector2d& step, const Eigen::Vector3d& hip, int& transitions,
-               uint32_t& status) noexcept;
-  void descentStep(Iterate& cur, const Eigen::Vector3d& hip, int& transitions, uint32_t& status,
-                   bool& stalled) noexcept;
 
   const PatchCache& cache_;
   LazyPatches* lazy_ = nullptr;
   std::vector<int32_t> slotFace_;  ///< #C: face owning each slot
-  struct NewtonState;              ///< gp_refine_newton's view of the cache, and its scratch
-  std::unique_ptr<NewtonState> newton_;
+  struct RefineState;              ///< the kernels' refinement (gp_refine.h): its view of the cache, its scratch
+  std::unique_ptr<RefineState> state_;
   std::vector<double> recsD_;
   std::vector<float> recsF_;
   int loaded_ = -1;
-  double scale_ = 1;     ///< bounding-box diagonal, m
-  double eps_ = 1e-6;    ///< finite-difference step in the domain (1e-3 for float caches)
-  double posNoise_ = 0;  ///< m: evaluation noise of positions (1e-14 / 1e-6 of the mesh size)
+  double scale_ = 1;  ///< bounding-box diagonal, m
 };
 
 /// One-shot refinement (allocates a PatchRefiner).

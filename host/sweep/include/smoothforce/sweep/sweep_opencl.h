@@ -21,8 +21,7 @@ namespace sf {
 /// any number of HIP ranges. Not thread-safe (one run at a time).
 class OpenCLPatchProber {
  public:
-  /// Throws InputError for invalid options or RefineMethod::PaperDescent (Newton only on the
-  /// device), OpenCLError for device failures.
+  /// Throws InputError for invalid options, OpenCLError for device failures.
   OpenCLPatchProber(std::shared_ptr<const PatchCache> cache, const ForceOptions& options,
                     const OpenCLOptions& opencl = {});
   ~OpenCLPatchProber();

@@ -8,39 +8,18 @@
 
 #include "gp_config.h"
 
-// const: the table's address never changes (its one-time fill is idempotent), so the compiler may
-// hoist the call out of the domain loops instead of calling across the library for every edge
-#define GP_DOMAIN_TABLE_DECLARE __attribute__((const)) const gp_domain* gp_domain_table()
-#define GP_DOMAIN_TABLE(n) (gp_domain_table() + (n))
-
 namespace sf::gpf {
 #define GP_REAL float
 #define GP_IS_DOUBLE 0
-// order matters: each part uses the ones before it
-// clang-format off
-#include "gp_patch.h"
-#include "gp_bound.h"
-#include "gp_domain.h"
-#include "gp_refine.h"
-// clang-format on
-#undef GP_REAL
-#undef GP_IS_DOUBLE
+#define GP_INST_FULL 1
+#define GP_INST_TABLE 1
+#include "gp_instantiate.h"
 }  // namespace sf::gpf
 
 namespace sf::gpd {
 #define GP_REAL double
 #define GP_IS_DOUBLE 1
-// order matters: each part uses the ones before it
-// clang-format off
-#include "gp_patch.h"
-#include "gp_bound.h"
-#include "gp_domain.h"
-#include "gp_refine.h"
-// clang-format on
-#undef GP_REAL
-#undef GP_IS_DOUBLE
+#define GP_INST_FULL 1
+#define GP_INST_TABLE 1
+#include "gp_instantiate.h"
 }  // namespace sf::gpd
-
-// the table hooks are expanded inside the functions above; nothing else needs them
-#undef GP_DOMAIN_TABLE_DECLARE
-#undef GP_DOMAIN_TABLE
