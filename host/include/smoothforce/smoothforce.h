@@ -13,6 +13,8 @@
 #include <smoothforce/base/csv_reader.h>
 #include <smoothforce/base/error.h>
 #include <smoothforce/base/hash.h>
+#include <smoothforce/base/memory_bytes.h>
+#include <smoothforce/base/option_spec.h>
 #include <smoothforce/base/staged_output.h>
 #include <smoothforce/base/status.h>
 #include <smoothforce/base/text_encoding.h>
@@ -57,6 +59,7 @@
 #include <smoothforce/query/surface_query.h>
 
 #include <smoothforce/force/force_method.h>
+#include <smoothforce/force/force_option_text.h>
 #include <smoothforce/force/force_presets.h>
 #include <smoothforce/force/force_tracking.h>
 #include <smoothforce/force/god_object.h>
