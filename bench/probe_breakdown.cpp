@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Where a sweep probe of the patch method spends its time (issue 11 part 4): the parts of the
+// Where a sweep probe of the patch method spends its time: the parts of the
 // two out-of-contact steps a probe runs (runProbes: reset, a step 0.1% of the depth outside the
 // surface, then the step at the HIP), each timed alone on one thread with steady_clock:
 //   seed        the seed's evaluation (PatchRefiner::refine with no iteration), as the tracker

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: Apache-2.0
-"""The SCP query before and after, per closed mesh (issue 10): README table rows.
+"""The SCP query before and after, per closed mesh: README table rows.
 
 For every mesh, runs `smoothforce sweep --methods patch --depth 0.1%,0.25%,1%` with the
 binary under test (AFTER) and, when given, an older binary (BEFORE) on the same HIPs (the

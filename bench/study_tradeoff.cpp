@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // Speed against accuracy of patch evaluation and of the full SCP query (global query +
-// refinement), issue 6 part 1. A plain main (not Google Benchmark) so that every query is timed
+// refinement). A plain main (not Google Benchmark) so that every query is timed
 // on its own and percentiles come out directly.
 //
 //   build/bench/study_tradeoff [--out DIR] [--samples N] [--reps R] [--seed S]

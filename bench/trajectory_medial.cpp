@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Where the patch force leaves k x depth along the sweep's default constant-depth loop (issue 10):
+// Where the patch force leaves k x depth along the sweep's default constant-depth loop:
 // runs the loop as `sweep` does (the section loop resampled every diagonal / 400, each point
 // pressed in along its normal by the depth, one tracker without reset) and, at every point,
 // the global nearest patch point of the HIP (nearestOnPatches). A HIP nearer to the surface than

@@ -2,7 +2,7 @@
 # sf_add_module(<module> SOURCES <file>... [PUBLIC_DEPS <target>...] [PRIVATE_DEPS <target>...]
 #               [HEADER_EXCLUDE <file name>...])
 #
-# One library per folder (issue 12): target sf_<module>, alias SmoothForce::<module>, file
+# One library per folder: target sf_<module>, alias SmoothForce::<module>, file
 # libsmoothforce_<module>.so.<SOVERSION> (or .a with BUILD_SHARED_LIBS OFF), position-
 # independent. Public headers are <folder>/include/smoothforce/<module>/*.h: a module sees
 # another module's headers only when it links it, so CMake enforces the layering. Headers

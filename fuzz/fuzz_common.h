@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Shared parts of the libFuzzer harnesses (issue 6 part 4). The readers take a path, so each
+// Shared parts of the libFuzzer harnesses. The readers take a path, so each
 // input is written to one temporary file per process (on /dev/shm when it exists) with the
 // extension that selects the reader. A crash is: any sanitizer report, any exception other
 // than sf::InputError (printed, then abort()), and a returned object that breaks the

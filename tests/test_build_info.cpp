@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Build information (issue 12): the generated version header against CMake's project version,
+// Build information: the generated version header against CMake's project version,
 // the CLI's --version, the OpenCL switch (a CPU-only build's OpenCL entry points fail with
 // "built without OpenCL"), and the base module's CHECK macros and status bits.
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// The command line's contract for scripts (issue 13 part 2): exit status per subcommand and
+// The command line's contract for scripts: exit status per subcommand and
 // kind of mistake, results on stdout and diagnostics on stderr, --json, `-` for standard
 // input and output, one CSV reader (NumPy `# x,y,z` headers), --cl-device.
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// The command line's contract, the loop and the signals (issue 13 part 2): `loop` and scene
+// The command line's contract, the loop and the signals: `loop` and scene
 // objects take the patch options and render the surface `trace` renders with the same
 // options; a latched safety fault exits 3; SIGINT and SIGTERM stop loop, trace and sweep
 // alike with 130 and 143.

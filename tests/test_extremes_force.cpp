@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Force queries at the extremes (issue 6, part 3): HIPs exactly at patch corners, on edges, at
+// Force queries at the extremes: HIPs exactly at patch corners, on edges, at
 // domain centres, far outside and deep inside (beyond the medial axis); coordinates scaled by
 // 1e-6 and 1e6; a 10^7-step trajectory on a float cache without drift. Every output finite.
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Stability at the extremes, polygon size (issue 6 part 3): every n from 3 to GP_MAX_N = 64,
+// Stability at the extremes, polygon size: every n from 3 to GP_MAX_N = 64,
 // regular and irregular, planar and not, float and double; n = 65 is reported as not built.
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Stability at the extremes on the OpenCL backend (issue 6 part 3): the extreme meshes of
+// Stability at the extremes on the OpenCL backend: the extreme meshes of
 // tests/test_extremes_patch.cpp and test_extremes_ngon.cpp, constructed and evaluated by
 // OpenCLConstructor / OpenCLEvaluator. Everything stays finite; status words equal the
 // CPU's; where the CPU does not flag the face or point as degenerate, records and positions

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Stability at the extremes, patch level (issue 6 part 3): each knob swept to its limit on
+// Stability at the extremes, patch level: each knob swept to its limit on
 // meshes built in code, float and double, CPU backends. Every case must stay finite
 // (positions, derivatives, normals), interpolate its corners, keep its boundary on the edge
 // curves and give unit normals within the bounds of test_extremes_support.h; the status
@@ -286,7 +286,7 @@ TEST(ExtremePatch, EvaluationOutsideTheDomain) {
 // domain test compares with `<`, which is false for NaN: it goes on, every weight test
 // (W > 0) fails too, and it returns position 0, derivatives 0 and normal N_0 with only
 // GP_ST_SINGULAR - a finite point that is not on the patch, without GP_ST_OUTSIDE. Known
-// bug in kernels/gp_eval.h (gp_domain_distances / gp_patch_eval; issue 6 report); skipped
+// bug in kernels/gp_eval.h (gp_domain_distances / gp_patch_eval); skipped
 // until fixed.
 TEST(ExtremePatch, NanDomainPointIsOutside) {
   const double nan = std::numeric_limits<double>::quiet_NaN();

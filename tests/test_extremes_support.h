@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Helpers for the extreme-input tests (tests/test_extremes_*.cpp, issue 6 part 3): meshes
+// Helpers for the extreme-input tests (tests/test_extremes_*.cpp): meshes
 // built in code with per-corner normals, a sweep that evaluates every face at its corners,
 // on its edges, at the centre and inside, and measures what the tests bound.
 #pragma once

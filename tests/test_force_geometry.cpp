@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // Mean value coordinates, the polygon facets' exact queries and the Embree scene against
-// brute force (issue 4, paper 4.1).
+// brute force (paper 4.1).
 #include <gtest/gtest.h>
 
 #include <numbers>

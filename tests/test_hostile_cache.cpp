@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Hostile cache files made at run time (issue 6 part 4): a real small cache is written with
+// Hostile cache files made at run time: a real small cache is written with
 // the library, then damaged: a bit flipped in every header bit and in every payload array,
 // every header field changed with the header checksum recomputed (so that the checks after
 // the checksum are reached), structure broken with both checksums recomputed, truncations,

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Hostile input (issue 6 part 4): every file of tests/data/hostile/ (made by
+// Hostile input: every file of tests/data/hostile/ (made by
 // tools/make_hostile_corpus.py) is rejected by readMesh / readPatchCache with an
 // sf::InputError whose message starts with the file's path: never a crash, never another
 // exception type. The cache variants that need valid XXH64 checksums are made here at run

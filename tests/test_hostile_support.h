@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Helpers for the hostile-input tests (tests/test_hostile_*.cpp, issue 6 part 4).
+// Helpers for the hostile-input tests (tests/test_hostile_*.cpp).
 #pragma once
 
 #include <gtest/gtest.h>

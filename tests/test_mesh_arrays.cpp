@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// In-memory input (issue 12 part 3): a mesh given as arrays builds the same cache, byte for
+// In-memory input: a mesh given as arrays builds the same cache, byte for
 // byte, as the file it came from, and every bad-input class gets its error naming the field.
 #include <gtest/gtest.h>
 

@@ -389,7 +389,7 @@ Eigen::Vector3d unit(const Eigen::Vector3d& n) { return n / n.norm(); }
 
 }  // namespace
 
-// Done-when of issue 10 part 4: on OBJ files whose faces reference one normal per vertex,
+// On OBJ files whose faces reference one normal per vertex,
 // `--normals auto` builds the same cache as `--normals file`: every array of the two caches
 // (positions, faces, corner normals, adjacency, status, bulge, edge records) is bitwise
 // equal, and the written .sfcache files are equal after the 128-byte header (the header

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// The SIMD paths (patch_simd.h; issue 11 parts 2, 5): for every dispatch target this CPU runs,
+// The SIMD paths (patch_simd.h): for every dispatch target this CPU runs,
 // construction and batch evaluation give the same bits as the scalar path over whole meshes
 // (every face, both precisions, every cross-tangent mode), and the batch evaluator agrees with
 // the independent reference (tests/reference/) within the bounds PatchVsReference states.

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Properties of the SCP query over whole meshes (issue 10, part 5): for every closed mesh of
+// Properties of the SCP query over whole meshes: for every closed mesh of
 // ../shared/meshes and generated analytic shapes, 10^4 HIPs pressed in along the patch normal at
 // three depths, each a contact start; and constant-depth trajectories across many patch
 // boundaries. Checked against DenseOracle (its own ray parity and nearest point on a dense

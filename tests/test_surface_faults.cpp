@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// measureSurfaceFaults (surface_faults.h, issue 10: "the area of folded or overlapping patch
-// surface per mesh"): on every closed shape of the query tests, the verdict of sampled triangles
+// measureSurfaceFaults (surface_faults.h: the area of folded or overlapping patch surface per
+// mesh): on every closed shape of the query tests, the verdict of sampled triangles
 // of the global query's uniform tessellation checked against an independent computation, the
 // generalized winding number (solid angles, summed over every triangle of the same tessellation,
 // rebuilt by tessellatePatches) on either side; the totals add up; the faults lie where the

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// The sweep's inside test and the columns built on it (issue 10 part 6): `missed` (HIPs inside
+// The sweep's inside test and the columns built on it: `missed` (HIPs inside
 // the surface without contact), `spurious`, and the discontinuity metric leaving out neighbours
 // on opposite sides of a thin part.
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Sweep checkpoints and --resume (issue 13 part 3), with fake renderers: a run stopped at any
+// Sweep checkpoints and --resume, with fake renderers: a run stopped at any
 // point and resumed from what it wrote gives the bytes of the uninterrupted run; checkpoints
 // are atomic and self-identifying; trajectory series spread over the shards; sweep-merge
 // refuses incomplete shards and names them; damaged per-HIP records are refused naming the HIP.

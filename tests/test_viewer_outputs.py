@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: Apache-2.0
-"""Opens every viewer-facing output of `smoothforce` in VTK's readers and NumPy (issue 13 part 4).
+"""Opens every viewer-facing output of `smoothforce` in VTK's readers and NumPy.
 
 usage: test_viewer_outputs.py SMOOTHFORCE DATA_DIR SHARED_MESHES WORK_DIR
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// `smoothforce sweep` and `smoothforce sweep-merge`: offset-surface force sweeps (issue 5).
+// `smoothforce sweep` and `smoothforce sweep-merge`: offset-surface force sweeps.
 #pragma once
 
 #include <CLI/CLI.hpp>

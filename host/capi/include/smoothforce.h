@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-/* SmoothForce C API: patch caches and a servo step behind opaque handles (issue 12 part 5).
+/* SmoothForce C API: patch caches and a servo step behind opaque handles.
  *
  * Plain C (C99 and later; C++ too). Link SmoothForce::capi (CMake) or -lsmoothforce_capi.
  * Units: metres, newtons, N/m, seconds. Arrays are row-major (C order): "n x 3" means

@@ -11,8 +11,8 @@
 
 namespace sf {
 
-/// Lazy patch construction (issue 4: "given only a mesh, it constructs patches lazily near the
-/// contact point and keeps them in a bounded cache"). Holds at most `capacity` faces' edge
+/// Lazy patch construction: given only a mesh, patches are built near the contact point and kept
+/// in a bounded cache. Holds at most `capacity` faces' edge
 /// records (n * GP_E_NFIELDS each, record-major, in the skeleton's precision); a miss builds the
 /// face with buildPatchRecords (the same construction as a prebuilt cache, bit for bit) and
 /// evicts the least recently used face when full. Memory: capacity * maxFaceSize *

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // Boxes that hold whole patches, computed without building or evaluating them: what the lazy
-// global query uses to decide which patches can hold the nearest point (issue 10, part 1).
+// global query uses to decide which patches can hold the nearest point.
 #pragma once
 
 #include <Eigen/Core>

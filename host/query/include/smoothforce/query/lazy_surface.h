@@ -1,8 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // The patch surface of a skeleton cache (patches built lazily, lazy_patches.h) for the global
 // nearest-point query: which faces can hold the patch point nearest a HIP, without building
-// every patch (issue 10, part 1: "only patches whose bound is within the current best distance
-// are built").
+// every patch: only patches whose bound is within the current best distance are built.
 #pragma once
 
 #include <Eigen/Core>

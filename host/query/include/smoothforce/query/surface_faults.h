@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Where the closed patch surface itself is at fault (issue 10): the area of folded and of
+// Where the closed patch surface itself is at fault: the area of folded and of
 // overlapping patch surface, where no nearest-point rule can render a consistent force.
 #pragma once
 

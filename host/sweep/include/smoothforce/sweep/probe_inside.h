@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// The sweep's own inside test of a HIP (issue 10): the reference for the `missed` column, a
+// The sweep's own inside test of a HIP: the reference for the `missed` column, a
 // computation independent of each force method's contact decision.
 #pragma once
 

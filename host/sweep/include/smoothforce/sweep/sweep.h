@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Offset-surface force sweeps (issue 5): many independent probes pressed into the surface
+// Offset-surface force sweeps: many independent probes pressed into the surface
 // along its normal, run in parallel, with per-HIP results that shards can write and merge.
 #pragma once
 

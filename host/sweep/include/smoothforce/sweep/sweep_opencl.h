@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Sweep probes of the patch method with the refinement on an OpenCL device (issue 5):
+// Sweep probes of the patch method with the refinement on an OpenCL device:
 // `smoothforce sweep --backend opencl`.
 #pragma once
 

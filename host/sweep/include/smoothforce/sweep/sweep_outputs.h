@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Viewer-ready per-HIP outputs of a sweep (issue 13 part 4): VTK XML point clouds (.vtp) with
+// Viewer-ready per-HIP outputs of a sweep: VTK XML point clouds (.vtp) with
 // real point arrays, PLY point clouds with a `quality` scalar, and NumPy arrays (.npy).
 // writeSweepSummary (sweep_io.h) writes them next to summary.json; formats in docs/guide.md "Output formats".
 #pragma once
