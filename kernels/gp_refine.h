@@ -512,7 +512,7 @@ GP_FN GP_REAL gp_rf_tr_solve(GP_REAL g0, GP_REAL g1, GP_REAL b00, GP_REAL b01, G
  * the Cholesky factor of M, the eigenvectors and their chain of square roots and divisions
  * (about a tenth of a tracking step on the CPU). The same step up to rounding, and no less
  * accurate: the eigenvalues of L^-1 B L^-T lose the smaller one to cancellation where M is
- * badly scaled (tests/test_refine_solve.cpp). Elsewhere gp_rf_tr_solve. */
+ * badly scaled (tests/query/test_refine_solve.cpp). Elsewhere gp_rf_tr_solve. */
 GP_FN GP_REAL gp_rf_newton_solve(GP_REAL g0, GP_REAL g1, GP_REAL b00, GP_REAL b01, GP_REAL b11, GP_REAL m00,
                                  GP_REAL m01, GP_REAL m11, GP_REAL D, GP_REAL* s0, GP_REAL* s1, int* newton) {
   const GP_REAL det = b00 * b11 - b01 * b01;

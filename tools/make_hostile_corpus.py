@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: Apache-2.0
 """Regenerates tests/data/hostile/: malformed mesh and cache files that every reader must
-reject with sf::InputError naming the file (tests/test_hostile_corpus.cpp), never a crash
+reject with sf::InputError naming the file (tests/robustness/test_hostile_corpus.cpp), never a crash
 and never another exception type. Issue 6 part 4.
 
 Usage: tools/make_hostile_corpus.py [OUTPUT_DIR]   (default: tests/data/hostile)

@@ -26,7 +26,7 @@ constexpr int kMaxCandidates = 512;
 /// (kMaxCandidates each) per batch of faces: they bound a step's time where patches that bulge
 /// far beyond their faces put thousands of boxes within reach. On the bundled meshes a HIP 5% of
 /// the diagonal deep takes up to 22 face batches and never a second cell batch
-/// (tests/test_lazy_query.cpp, test_held_contact.cpp).
+/// (tests/query/test_lazy_query.cpp, test_held_contact.cpp).
 constexpr int kMaxFaceBatches = 64;
 constexpr int kMaxCellBatches = 16;
 

@@ -513,7 +513,7 @@ def test_type_stubs_name_exactly_what_the_module_defines():
 ])
 def test_every_bad_patch_option_gets_the_shared_message(spot, key, value, expected):
     """The message the command line, scene files and the C API give for the same bad value
-    (patch_option_text.h; tests/test_option_layer.cpp and test_capi.cpp use the same table), for
+    (patch_option_text.h; tests/cli/test_option_layer.cpp and test_capi.cpp use the same table), for
     both constructors, naming the keyword argument."""
     shown = "200" if key == "crease_angle" else value
     message = f"{key}: expected {expected}, got '{shown}'"
@@ -539,7 +539,7 @@ def test_every_bad_patch_option_gets_the_shared_message(spot, key, value, expect
 ])
 def test_every_bad_force_option_gets_the_shared_message(spot, key, value, shown, expected):
     """The message the command line, scene files and the C API give for the same bad value
-    (force_option_text.h, loop_option_text.h; tests/test_option_layer.cpp and test_capi.cpp use the
+    (force_option_text.h, loop_option_text.h; tests/cli/test_option_layer.cpp and test_capi.cpp use the
     same values), for the servo step and the trace, naming the keyword argument."""
     message = f"{key}: expected {expected}, got '{shown}'"
     cache = sf.Cache.from_file(spot)
@@ -558,7 +558,7 @@ def test_every_bad_force_option_gets_the_shared_message(spot, key, value, shown,
 ])
 def test_every_bad_sweep_option_gets_the_shared_message(spot, key, value, expected):
     """The message of `smoothforce sweep` for the same bad value (sweep_option_text.h;
-    tests/test_option_layer.cpp), naming the keyword argument."""
+    tests/cli/test_option_layer.cpp), naming the keyword argument."""
     cache = sf.Cache.from_file(spot)
     with pytest.raises(ValueError) as e:
         sf.sweep(cache, depths="1%", **{key: value})

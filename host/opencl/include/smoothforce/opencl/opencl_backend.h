@@ -9,7 +9,7 @@
 // device's cos/sin (PoCL: SLEEF) against the host libm's, which enter through the domain
 // (gp_domain_distances, gp_domain_corner): evaluation and the quality samples.
 // Measured on PoCL 3.1 (CPU, LLVM 15) against constructPatches / evaluatePatches
-// (Backend::Tbb) on the meshes of tests/test_opencl.cpp (spot cage, hexaSphere,
+// (Backend::Tbb) on the meshes of tests/opencl/test_opencl.cpp (spot cage, hexaSphere,
 // dodecahedron, random prisms and antiprisms), 64 random interior points per face:
 //   construction, double and float: records bit-identical, status words equal; bulge
 //     equal in double, within 1.4e-6 in float.
@@ -19,7 +19,7 @@
 //   evaluation, float: position and derivatives within 7.1e-7 x diagonal; unit normals
 //     within 1.6e-4, at a folded point of the spot cage where the CPU's own float normal is
 //     7.2e-4 from its double one; elsewhere within 1e-5; status words equal.
-// tests/test_opencl.cpp asserts: construction records equal (double; float where / and sqrt
+// tests/opencl/test_opencl.cpp asserts: construction records equal (double; float where / and sqrt
 // are correctly rounded), status equal, bulge within 1e-5; evaluation within 1e-12 (double)
 // and 2e-5 (float) x diagonal, status equal, double normals within 1e-12 x condition number,
 // float normals within 2 x (CPU float vs double) + 2e-5.

@@ -4,7 +4,7 @@
 // (kernels/gp_refine.h), the Newton variant of PatchRefiner (patch_refine.h), one work-item
 // per HIP.
 //
-// Agreement with PatchRefiner (RefineMethod::Newton), asserted by tests/test_opencl_refine.cpp
+// Agreement with PatchRefiner (RefineMethod::Newton), asserted by tests/opencl/test_opencl_refine.cpp
 // on the spot cage and the quad sphere: double caches: SCP within 1e-9 x bounding-box diagonal
 // and the same face except at ties; float caches: the kernel computes in float (PatchRefiner
 // in double around float evaluations), SCP within 1e-4 x diagonal (see the test for the

@@ -65,7 +65,7 @@ PatchNearest refineCandidates(const SurfaceCandidate* c, int n, double spacing, 
                               const PatchSurface* surface = nullptr) noexcept;
 
 /// The most candidate batches (of PatchSurface::kMaxCandidates) nearestOnPatches refines.
-/// The 28 bundled meshes need at most 23 (tests/test_global_query.cpp); patches that bulge
+/// The 28 bundled meshes need at most 23 (tests/query/test_global_query.cpp); patches that bulge
 /// hundreds of face sizes (normals that disagree with the geometry) give nearly every triangle a
 /// lower bound below the nearest distance, and this bounds a query's time there.
 inline constexpr int kMaxCandidateBatches = 64;

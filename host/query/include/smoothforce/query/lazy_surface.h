@@ -40,7 +40,7 @@ struct FaceDistance {
 /// deviation of a quadratic from its bilinear interpolant), 1e-6 of the sector's size, 1e-7 of
 /// the distance from the local origin (localOrigin: (0,0,0) unless the mesh is far from it, about
 /// which the boxes are stored) and 64 epsilons of that origin's distance from (0,0,0). An
-/// estimate, not a proof: tests/test_lazy_surface.cpp
+/// estimate, not a proof: tests/query/test_lazy_surface.cpp
 /// checks that every patch point lies in one of its face's cell, sector and swept boxes, 10 x 11
 /// samples per edge of every patch of every mesh in ../shared/meshes (600 random patches of the
 /// larger ones), and of the spot cage and the quad-sphere moved by 1e4 to 1e13 m.

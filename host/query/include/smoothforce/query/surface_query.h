@@ -37,7 +37,7 @@ struct SurfaceQueryResult {
 /// state between points: the answer for a point does not depend on the others, their order or
 /// the thread count. Exact to the refinement's tolerances (options; ForceOptions convert, their
 /// stiffness and patch capacity unused): the nearest point is the global one within the candidate
-/// search's error bounds (tests/test_surface_query.cpp against a dense oracle).
+/// search's error bounds (tests/query/test_surface_query.cpp against a dense oracle).
 class SurfaceQuery {
  public:
   /// cache: prebuilt (hasPatchData); a skeleton throws InputError. Builds the PatchSurface

@@ -586,7 +586,7 @@ TEST(CApi, EveryBadPatchOptionGetsTheSharedMessage) {
   }
 }
 
-// The force and loop options of sf_haptic_options: the same values as tests/test_option_layer.cpp and
+// The force and loop options of sf_haptic_options: the same values as tests/cli/test_option_layer.cpp and
 // python/tests, the same message as every front end (force_option_text.h), naming the field.
 TEST(CApi, EveryBadForceOptionGetsTheSharedMessage) {
   struct Bad {

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // Stability at the extremes on the OpenCL backend: the extreme meshes of
-// tests/test_extremes_patch.cpp and test_extremes_ngon.cpp, constructed and evaluated by
+// tests/robustness/test_extremes_patch.cpp and test_extremes_ngon.cpp, constructed and evaluated by
 // OpenCLConstructor / OpenCLEvaluator. Everything stays finite; status words equal the
 // CPU's; where the CPU does not flag the face or point as degenerate, records and positions
 // agree with the CPU (Backend::Serial) within the tolerances of host/opencl_backend.h

@@ -282,12 +282,9 @@ TEST(ExtremePatch, EvaluationOutsideTheDomain) {
     }
 }
 
-// A NaN domain point is not inside the domain (insideDomain() says so), but gp_patch_eval's
-// domain test compares with `<`, which is false for NaN: it goes on, every weight test
-// (W > 0) fails too, and it returns position 0, derivatives 0 and normal N_0 with only
-// GP_ST_SINGULAR - a finite point that is not on the patch, without GP_ST_OUTSIDE. Known
-// bug in kernels/gp_eval.h (gp_domain_distances / gp_patch_eval); skipped
-// until fixed.
+// A NaN domain point is not inside the domain: the evaluation says GP_ST_OUTSIDE and returns
+// finite zeros, never a finite point that is not on the patch (a domain test written with `<`
+// alone is false for NaN and would go on; gp_patch_eval's bound test is written to reject it).
 TEST(ExtremePatch, NanDomainPointIsOutside) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (Precision p : kBoth) {

@@ -3,7 +3,7 @@
 // tools/make_hostile_corpus.py) is rejected by readMesh / readPatchCache with an
 // sf::InputError whose message starts with the file's path: never a crash, never another
 // exception type. The cache variants that need valid XXH64 checksums are made here at run
-// time from a freshly written cache (tests/test_hostile_cache.cpp).
+// time from a freshly written cache (tests/robustness/test_hostile_cache.cpp).
 #include <gtest/gtest.h>
 
 #include <filesystem>
