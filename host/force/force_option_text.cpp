@@ -100,7 +100,7 @@ void setForceOption(ForceSettings& f, const std::string& key, double value, Opti
 }
 
 std::string forceOptionValue(const ForceSettings& f, const std::string& key) {
-  const OptionSpec& s = specOf(key);
+  specOf(key);  // an unknown key throws
   const ForceOptions& o = f.options;
   if (key == "method") return toString(f.method);
   if (key == "preset") return f.preset;
@@ -112,7 +112,6 @@ std::string forceOptionValue(const ForceSettings& f, const std::string& key) {
   if (key == "initial_guess") return toString(o.initialGuess);
   if (key == "guess_level") return std::to_string(o.tessellationLevel);
   if (key == "final_step") return toString(o.finalStep);
-  (void)s;
   return std::to_string(o.patchCapacity);
 }
 
@@ -135,9 +134,8 @@ void checkForceOptions(const ForceOptions& o, OptionSpelling sp) {
                      toString(o.refine));
 }
 
-void validateForceOptions(const ForceOptions& o) {
-  checkForceOptions(o);
-  validateRefineOptions(o);
-}
+// checkForceOptions covers every check of validateRefineOptions (the refinement options' ranges
+// and the final-step pair), with the message every front end gives
+void validateForceOptions(const ForceOptions& o) { checkForceOptions(o); }
 
 }  // namespace sf

@@ -19,8 +19,8 @@ namespace sf {
 class PolygonScene;
 
 /// Checks options: every value in its range and final_step model only with refine newton
-/// (checkForceOptions, force_option_text.h: the message every front end gives, by key), then
-/// validateRefineOptions; throws InputError naming the bad value.
+/// (checkForceOptions, force_option_text.h: the message every front end gives, by key; it
+/// covers validateRefineOptions' checks); throws InputError naming the bad value.
 void validateForceOptions(const ForceOptions& options);
 
 /// The patch method (Algorithm 1) over a shared scene of the same cache.
