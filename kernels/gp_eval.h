@@ -8,8 +8,11 @@
  * instantiation of the patch certificate (host patch_certificate.cpp, GP_INTERVAL) evaluates
  * the same functions in forms that keep it: d_k clamped at 0 as one interval operation, the
  * edge parameter a / (a + b) from its monotone bounds, and the twist term's rational factors
- * (u v^2 / (u + v) and the like) from monotone pieces. Every other instantiation computes
- * the expressions below as written (the same operations, the same bits). */
+ * (u v^2 / (u + v) and the like) from monotone pieces; the blending weight times the edge
+ * parameter's derivative with the weight's factor cancelled against the parameter's denominator
+ * (which vanishes at a triangle's corners), and the edge functions over a wide parameter range as
+ * the hull of pieces. Every other instantiation computes the expressions below as written (the
+ * same operations, the same bits). */
 #undef GP_CLAMP0
 #undef GP_EDGE_PARAM
 #ifdef GP_INTERVAL
@@ -37,6 +40,35 @@ GP_FN_INLINE GP_REAL gp_domain_distances(const gp_domain* dom, const int n, GP_R
 /* Tolerance on d_k below zero for a point still counted as inside the domain. */
 #undef GP_DOMAIN_TOL
 #define GP_DOMAIN_TOL (GP_R(1024.0) * GP_EPS)
+
+/* Edge record rec at t: the edge curve C and C', the cross tangent T and T' (Eq. 6-14), with the
+ * edge's status bits added to *est. */
+GP_FN_INLINE void gp_edge_at(const GP_REAL* rec, GP_REAL t, int mode, gp_vec3* C, gp_vec3* Cd, gp_vec3* T, gp_vec3* Td,
+                             GP_STATUS* est) {
+  gp_dvec3 c, cp;
+  gp_edge_curve(rec, t, &c, &cp);
+  const GP_REAL L = gp_edge_length(rec);
+  const gp_dvec3 nc = gp_edge_normal(rec, t, cp, L, est);
+  const gp_dvec3 tt = gp_cross_tangent(rec, t, mode, c, cp, nc, L, est);
+  *C = c.v;
+  *Cd = c.d;
+  *T = tt.v;
+  *Td = tt.d;
+}
+
+#ifdef GP_INTERVAL
+/* True when every component's enclosure is bounded. */
+GP_FN_INLINE int gp_iv_bounded3(gp_vec3 a) { return gp_iv_bounded(a.x) && gp_iv_bounded(a.y) && gp_iv_bounded(a.z); }
+/* Componentwise hull of two enclosures as constant forms (the certificate's wide edge
+ * parameters: the pieces' forms run on a symbol of their own, gp_iv_piece). */
+GP_FN_INLINE gp_vec3 gp_iv_hull3(gp_vec3 a, gp_vec3 b) {
+  gp_vec3 h;
+  h.x = gp_iv_hull(a.x, b.x);
+  h.y = gp_iv_hull(a.y, b.y);
+  h.z = gp_iv_hull(a.z, b.z);
+  return h;
+}
+#endif
 
 /* The result of one patch evaluation. */
 typedef struct {
@@ -79,10 +111,17 @@ GP_FN_INLINE gp_eval_result gp_patch_eval_dom_n(const gp_domain* dom, const int 
     t[k] = GP_EDGE_PARAM(d[km], d[kp], den, pos);
     tx[k] = ty[k] = GP_R(0.0); /* set below where derivatives are wanted (deriv 0 never reads them) */
     if (!deriv) continue;
+#ifdef GP_INTERVAL
+    /* the numerators alone: the corner loop divides by (a+b)^2 where the weight cancels it */
+    (void)pos;
+    tx[k] = d[kp] * -dom->mx[km] - d[km] * -dom->mx[kp];
+    ty[k] = d[kp] * -dom->my[km] - d[km] * -dom->my[kp];
+#else
     const GP_REAL id2 = GP_R(1.0) / (den * den);
     /* d(a/(a+b)) = (b da - a db) / (a+b)^2 */
     tx[k] = GP_SEL(pos, (d[kp] * -dom->mx[km] - d[km] * -dom->mx[kp]) * id2, GP_R(0.0));
     ty[k] = GP_SEL(pos, (d[kp] * -dom->my[km] - d[km] * -dom->my[kp]) * id2, GP_R(0.0));
+#endif
   }
   /* W_k = prod_{j != k-1, k} d_j^2 and its gradient; S = sum W (Eq. 5). */
   GP_REAL W[GP_MAX_N], Wx[GP_MAX_N], Wy[GP_MAX_N];
@@ -114,15 +153,26 @@ GP_FN_INLINE gp_eval_result gp_patch_eval_dom_n(const gp_domain* dom, const int 
     const int kp = k + 1 == n ? 0 : k + 1;
     const GP_REAL* rec = recs + k * GP_E_NFIELDS;
     GP_STATUS est = 0u;
-    gp_dvec3 c, cp;
-    gp_edge_curve(rec, t[k], &c, &cp);
-    const GP_REAL L = gp_edge_length(rec);
-    const gp_dvec3 nc = gp_edge_normal(rec, t[k], cp, L, &est);
-    const gp_dvec3 tt = gp_cross_tangent(rec, t[k], mode, c, cp, nc, L, &est);
-    C[k] = c.v;
-    Cd[k] = c.d;
-    T[k] = tt.v;
-    Td[k] = tt.d;
+    gp_edge_at(rec, t[k], mode, &C[k], &Cd[k], &T[k], &Td[k], &est);
+#ifdef GP_INTERVAL
+    /* Where t_k takes a wide range on the box (near a triangle's corner t_k takes all of [0, 1]
+     * on any box, and the corners using edge k have no weight there), one evaluation over the
+     * whole range can be unbounded (the normalised edge normal's length reaches 0): then the
+     * hull of the evaluations over pieces of the range at most 1/32 wide encloses the same
+     * functions. */
+    if (gp_iv_wide(t[k]) && !(gp_iv_bounded3(C[k]) && gp_iv_bounded3(Cd[k]) && gp_iv_bounded3(T[k]) &&
+                              gp_iv_bounded3(Td[k]))) {
+      const int m = gp_iv_pieces(t[k]);
+      for (int i = 0; i < m; ++i) {
+        gp_vec3 pc, pcd, pt, ptd;
+        gp_edge_at(rec, gp_iv_piece(t[k], i, m), mode, &pc, &pcd, &pt, &ptd, &est);
+        C[k] = gp_iv_hull3(i == 0 ? pc : C[k], pc);
+        Cd[k] = gp_iv_hull3(i == 0 ? pcd : Cd[k], pcd);
+        T[k] = gp_iv_hull3(i == 0 ? pt : T[k], pt);
+        Td[k] = gp_iv_hull3(i == 0 ? ptd : Td[k], ptd);
+      }
+    }
+#endif
     out.status |= GP_BITS(W[k] > GP_R(0.0) || W[kp] > GP_R(0.0), est);
   }
   const GP_REAL iS = GP_R(1.0) / S;
@@ -173,8 +223,34 @@ GP_FN_INLINE gp_eval_result gp_patch_eval_dom_n(const gp_domain* dom, const int 
     }
 #endif
     const GP_REAL wx = (Wx[k] - w * Sx) * iS, wy = (Wy[k] - w * Sy) * iS;
+#ifdef GP_INTERVAL
+    /* w t_k' and w t_{k-1}' with t' = numerator / den^2: den_k = d_{k-1} + d_{k+1} and
+     * den_{k-1} = d_{k-2} + d_k vanish at a triangle's corners (inside its domain), where any
+     * enclosure of 1 / den^2 is unbounded. W_k holds d_{k+1}^2 and d_{k-2}^2, so
+     * W_k / den_k^2 = (1 - t_k)^2 prod_{i=2..n-2} d_{k+i}^2 and
+     * W_k / den_{k-1}^2 = t_{k-1}^2 prod_{i=1..n-3} d_{k+i}^2: bounded, the same function. */
+    (void)vx;
+    (void)vy;
+    GP_REAL pu = GP_R(1.0), pv = GP_R(1.0);
+    for (int i = 2; i <= n - 2; ++i) {
+      const int j = (k + i) % n;
+      pu = pu * (d[j] * d[j]);
+    }
+    for (int i = 1; i <= n - 3; ++i) {
+      const int j = (k + i) % n;
+      pv = pv * (d[j] * d[j]);
+    }
+    const GP_REAL ou = (GP_R(1.0) - u) * (GP_R(1.0) - u) * pu * iS, ov = (GP_R(1.0) - v) * (GP_R(1.0) - v) * pv * iS;
+    out.dxi = gp_sel3(has, gp_madd(gp_madd(out.dxi, r, wx), gp_sub(gp_scale(ru, ux * ou), gp_scale(rv, tx[km] * ov)),
+                                   GP_R(1.0)),
+                      out.dxi);
+    out.deta = gp_sel3(has, gp_madd(gp_madd(out.deta, r, wy), gp_sub(gp_scale(ru, uy * ou), gp_scale(rv, ty[km] * ov)),
+                                    GP_R(1.0)),
+                       out.deta);
+#else
     out.dxi = gp_sel3(has, gp_madd(gp_madd(out.dxi, r, wx), gp_add(gp_scale(ru, ux), gp_scale(rv, vx)), w), out.dxi);
     out.deta = gp_sel3(has, gp_madd(gp_madd(out.deta, r, wy), gp_add(gp_scale(ru, uy), gp_scale(rv, vy)), w), out.deta);
+#endif
     nfb = gp_sel3(has, gp_madd(nfb, gp_get3(rk, GP_E_N0), w), nfb);
   }
   if (deriv) {

@@ -83,7 +83,8 @@ PatchCertificate certify(int n, const Real* recs, CrossTangentMode mode, const C
     lo[1] = std::min(lo[1], dom->cy[k]), hi[1] = std::max(hi[1], dom->cy[k]);
   }
   std::vector<Box> stack;
-  const int start = std::clamp(o.startDepth, 0, std::max(0, o.maxDepth)), g = 1 << std::min(start, 12);
+  const int maxDepth = n == 3 ? o.triangleMaxDepth : o.maxDepth, maxCells = n == 3 ? o.triangleMaxCells : o.maxCells;
+  const int start = std::clamp(o.startDepth, 0, std::max(0, maxDepth)), g = 1 << std::min(start, 12);
   for (int j = g - 1; j >= 0; --j)
     for (int i = g - 1; i >= 0; --i)
       stack.push_back({lo[0] + (hi[0] - lo[0]) * i / g, lo[0] + (hi[0] - lo[0]) * (i + 1) / g,
@@ -97,7 +98,7 @@ PatchCertificate certify(int n, const Real* recs, CrossTangentMode mode, const C
     bool meets = true;  // the box meets the domain (not proven outside one of its edges)
     for (int k = 0; k < n && meets; ++k) meets = (Interval(dom->apothem) - (bx * dom->mx[k] + by * dom->my[k])).hi >= 0;
     if (!meets) continue;
-    if (out.cells >= o.maxCells) {
+    if (out.cells >= maxCells) {
       undecided = true;
       break;
     }
@@ -117,7 +118,7 @@ PatchCertificate certify(int n, const Real* recs, CrossTangentMode mode, const C
       out.margin = len < interval::kInf ? std::min(-1e-300, J.hi / len) : -1e-300;
       return out;
     }
-    if (b.depth >= o.maxDepth) {
+    if (b.depth >= maxDepth) {
       undecided = true;
       continue;  // keep looking for a proven fold elsewhere
     }

@@ -269,7 +269,7 @@ std::array<int, 2> slideAcrossEveryCrease(const CreasedMesh& m) {
     EXPECT_EQ(faults.faultArea(), 0.0) << m.name;
     PatchCache certified = c;
     CertificateOptions budget;
-    budget.maxCells = 12000;  // a patch it leaves undecided costs at most this many cells
+    budget.maxCells = budget.triangleMaxCells = 12000;  // an undecided patch costs at most this many cells
     certifyPatches(certified, 0, budget);
     const CertificateSummary cs = summarizeCertificates(certified);
     std::printf("crease slides %-26s surface faults %.3g m^2 of %.3g; certificate: %d of %d certified, %d undecided, "

@@ -142,21 +142,25 @@ TEST(PatchCertificate, CertifiedPatchesTurnNowhereAgainstTheirPolygon) {
   struct Case {
     std::string rel;
     int stride, certified, folded;  // expected counts over the faces visited
+    int cells = 20000;              // the budget per patch (triangles: triangleMaxCells)
   };
   // the spot cage's faces 0, 30, ..., 150 and its 16 sampled folds; small closed polyhedra; planar
-  // non-convex polygons (most fold)
+  // non-convex polygons (most fold); triangles of a sphere (their domain's corners are where the
+  // edge parameters' denominators vanish)
   const std::vector<Case> cases = {{"lagrange/cube.obj", 1, 6, 0},
                                    {"geomview/dodecahedron.off", 1, 12, 0},
                                    {"polygon_laplacian/tetris.obj", 1, -1, -1},
                                    {"pmp/L.off", 1, 0, 1},
-                                   {"keenan_crane/spot_control_mesh.obj", 30, -1, -1}};
-  CertificateOptions o;
-  o.maxCells = 20000;
+                                   {"keenan_crane/spot_control_mesh.obj", 30, -1, -1},
+                                   {"odedstein/sphere.obj", 320, 2, 0}};
   long sampled = 0;
   int certifiedTotal = 0, turnedTotal = 0;
   for (const Case& cs : cases) {
     SCOPED_TRACE(cs.rel);
     const PatchCache c = meshCache(cs.rel);
+    CertificateOptions o;
+    o.maxCells = cs.cells;
+    o.triangleMaxCells = std::max(cs.cells, 200000);
     int certified = 0, folded = 0, visited = 0;
     for (int f = 0; f < c.numFaces(); ++f) {
       if (f % cs.stride != 0 && !(c.faceStatus[f] & GP_ST_FOLD)) continue;
@@ -197,17 +201,23 @@ TEST(PatchCertificate, CertifiedPatchesTurnNowhereAgainstTheirPolygon) {
   EXPECT_GT(sampled, 50000);
 }
 
-/// One square with normal +z at three corners and corner 0's normal tilted by `deg` degrees
-/// away from the face (towards -x -y, past the face's plane beyond 90 degrees).
-PatchCache tiltedSquare(double deg) {
+/// One square (sides 4) or equilateral triangle (sides 3) in the plane z = 0 with normal +z at
+/// every corner but corner 0, whose normal is tilted by `deg` degrees away from the face
+/// (outwards from the polygon's centre, past the face's plane beyond 90 degrees).
+PatchCache tiltedPolygon(int sides, double deg) {
   PolygonMesh m;
-  m.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
-  m.faceVertices = {0, 1, 2, 3};
-  m.faceOffsets = {0, 4};
+  if (sides == 4)
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  else
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {0.5, std::sqrt(0.75), 0}};
+  for (int k = 0; k < sides; ++k) m.faceVertices.push_back(k);
+  m.faceOffsets = {0, sides};
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& p : m.positions) centre += p / sides;
   const double a = deg * std::numbers::pi / 180;
-  const Eigen::Vector3d away = Eigen::Vector3d(-1, -1, 0).normalized();
-  std::vector<Eigen::Vector3d> normals = {std::cos(a) * Eigen::Vector3d::UnitZ() + std::sin(a) * away,
-                                          Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitZ()};
+  const Eigen::Vector3d away = (m.positions[0] - centre).normalized();
+  std::vector<Eigen::Vector3d> normals(sides, Eigen::Vector3d::UnitZ());
+  normals[0] = std::cos(a) * Eigen::Vector3d::UnitZ() + std::sin(a) * away;
   PatchCache c = preparePatchCache(m, normals, PatchOptions{}, 0);
   constructPatches(c, Backend::Serial);
   return c;
@@ -217,7 +227,7 @@ TEST(PatchCertificate, ACornerNormalTiltedPastTheFaceIsProvenFolded) {
   int certified = 0, folded = 0, turned = 0;
   for (int deg = 0; deg <= 170; deg += 10) {
     SCOPED_TRACE(deg);
-    const PatchCache c = tiltedSquare(deg);
+    const PatchCache c = tiltedPolygon(4, deg);
     std::array<double, 4 * GP_E_NFIELDS> recs;
     gatherRecords(c, 0, recs.data());
     const PatchCertificate pc = certifyPatch(4, recs.data(), CrossTangentMode::Corrected);
@@ -240,6 +250,35 @@ TEST(PatchCertificate, ACornerNormalTiltedPastTheFaceIsProvenFolded) {
               turned);
   EXPECT_GE(certified, 5);
   EXPECT_GE(folded, 8);
+}
+
+TEST(PatchCertificate, ATriangleIsCertifiedUntilItsTiltedCornerTurnsOver) {
+  // The edge parameters' denominators vanish at a triangle's domain corners: the certificate
+  // must bound J there (before, no triangle was ever certified). Flat up to a tilt of 40 degrees;
+  // proven folded from 100.
+  int certified = 0, folded = 0;
+  for (int deg : {0, 20, 40, 100, 140}) {
+    SCOPED_TRACE(deg);
+    const PatchCache c = tiltedPolygon(3, deg);
+    std::array<double, 3 * GP_E_NFIELDS> recs;
+    gatherRecords(c, 0, recs.data());
+    const PatchCertificate pc = certifyPatch(3, recs.data(), CrossTangentMode::Corrected);
+    int count = 0;
+    const double cosine = smallestSampledCosine(3, recs.data(), 0, Eigen::Vector3d::UnitZ(), 80, &count);
+    ASSERT_GT(count, 1000);
+    if (pc.verdict == CertificateVerdict::Certified) {
+      ++certified;
+      EXPECT_GE(cosine, pc.margin);
+    }
+    folded += pc.verdict == CertificateVerdict::Folded;
+    if (cosine <= 0) {
+      EXPECT_NE(pc.verdict, CertificateVerdict::Certified);
+    }
+    EXPECT_EQ(pc.verdict, deg <= 40 ? CertificateVerdict::Certified : CertificateVerdict::Folded)
+        << "smallest sampled cosine " << cosine;
+  }
+  EXPECT_EQ(certified, 3);
+  EXPECT_EQ(folded, 2);
 }
 
 TEST(PatchCertificate, TheCacheFileKeepsThemInFormat2) {

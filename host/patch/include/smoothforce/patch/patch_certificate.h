@@ -22,11 +22,16 @@ enum class CertificateVerdict : int {
 /// 2^startDepth x 2^startDepth cells, and a cell that is neither proven nor disproven is split
 /// into quadrants, down to maxDepth levels (cells 2^-maxDepth of the box wide); at most
 /// maxCells evaluations per patch. On the spot cage's patches cells of 2^-7 to 2^-8 of the box
-/// prove J > 0; larger ones almost never do, hence the start.
+/// prove J > 0; larger ones almost never do, hence the start. Triangles get their own, deeper
+/// budget: their blending's gradients are steeper (the edge parameters' denominators vanish at
+/// their domain's corners), and the bounds of a nearly flat triangle of a sphere (odedstein
+/// sphere.obj) prove J > 0 only on cells of 2^-10 to 2^-11 of the box.
 struct CertificateOptions {
   int startDepth = 6;
   int maxDepth = 9;
   int maxCells = 100000;
+  int triangleMaxDepth = 11;
+  int triangleMaxCells = 400000;
 };
 
 /// The certificate of one patch.

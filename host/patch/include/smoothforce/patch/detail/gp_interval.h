@@ -281,4 +281,44 @@ inline void gp_iv_twist_factors(Affine u, Affine v, Affine* f) {
   for (int i = 0; i < 6; ++i) f[i] = Affine::of(fi[i]);
 }
 
+/// Pieces of a wide edge parameter range (gp_eval.h): a range wider than 1/16 is cut into
+/// pieces at most 1/32 wide (gp_iv_pieces of them) whose evaluations' hull encloses the edge
+/// functions on it.
+inline bool gp_iv_wide(Affine t) {
+  const Interval r = t.range();
+  return !(r.hi - r.lo <= 1.0 / 16);
+}
+/// t's range clipped to [0, 1] (t's part in the domain: t_k lies in [0, 1] at every point of it).
+inline Interval gp_iv_unit_part(Affine t) {
+  const Interval r = t.range();
+  double lo = std::max(0.0, r.lo), hi = std::min(1.0, r.hi);
+  if (!(lo <= hi)) lo = hi = std::clamp(r.lo, 0.0, 1.0);  // no point of the domain: any value
+  return {lo, hi};
+}
+inline int gp_iv_pieces(Affine t) {
+  const Interval r = gp_iv_unit_part(t);
+  return std::max(1, static_cast<int>(std::ceil((r.hi - r.lo) * 32)));
+}
+/// Piece i of m of t's unit part; neighbouring pieces share their bound. The form runs on the
+/// first noise symbol, so that what is computed from it keeps its first-order dependence on t:
+/// it must not meet the box's forms, only its range may (gp_iv_hull).
+inline Affine gp_iv_piece(Affine t, int i, int m) {
+  const Interval r = gp_iv_unit_part(t);
+  const double lo = r.lo, hi = r.hi, w = hi - lo;
+  const double a = i == 0 ? lo : lo + w * i / m;
+  const double b = i + 1 == m ? hi : lo + w * (i + 1) / m;
+  const double c = 0.5 * a + 0.5 * b;
+  return Affine(c, roundUp(std::max(b - c, c - a)), 0.0, 0.0);
+}
+/// True when the form's range is bounded.
+inline bool gp_iv_bounded(Affine a) {
+  const Interval r = a.range();
+  return r.lo > -kInf && r.hi < kInf;
+}
+/// The hull of two forms' ranges, as a constant form.
+inline Affine gp_iv_hull(Affine a, Affine b) {
+  const Interval ra = a.range(), rb = b.range();
+  return Affine::of({std::min(ra.lo, rb.lo), std::max(ra.hi, rb.hi)});
+}
+
 }  // namespace sf::interval
