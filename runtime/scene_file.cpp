@@ -133,7 +133,7 @@ std::string objectName(const Ctx& c, const json& o, const std::string& w, const 
 }
 
 /// The patch options of a `mesh` object (after its preset): the keys of patch_option_text.h
-/// (precision, normals, cross_tangent, orient, cage, creases: strings; crease_angle: degrees),
+/// (precision, normals, cross_tangent, orient, cage, creases, fold_repair: strings; crease_angle: degrees),
 /// read by the parser every front end shares. A cache keeps its own.
 void parsePatchKeys(const Ctx& c, const json& o, const std::string& w, bool mesh, PatchOptions& opt) {
   for (const PatchOptionSpec& spec : kPatchOptionSpecs) {
@@ -195,7 +195,7 @@ std::string cacheKey(const std::filesystem::path& file, bool mesh, const PatchOp
   char angle[32];
   std::snprintf(angle, sizeof angle, "%.17g", t.creaseAngle);
   key += "mesh " + t.precision + ' ' + t.crossTangent + ' ' + t.normals + ' ' + t.orient + ' ' + t.cage + ' ' +
-         t.creases + ' ' + angle;
+         t.creases + ' ' + angle + ' ' + t.foldRepair;
   return key;
 }
 }  // namespace

@@ -43,6 +43,7 @@ Parsed parseOptions(const sf_cache_options* o) {
   text.cage = opt(o->cage, "none");
   text.creases = opt(o->creases, "tags,groups");
   text.creaseAngle = o->crease_angle;
+  text.foldRepair = opt(o->fold_repair, "off");
   p.patch = parsePatchOptions(text);
   p.backend = parseBackend(opt(o->backend, "tbb"));
   if (p.backend == Backend::OpenCL) throw InputError("backend: the C API builds on the CPU: tbb or serial");
@@ -101,7 +102,7 @@ const char* sf_last_error(void) { return lastError().c_str(); }
 void sf_cache_options_init(sf_cache_options* o) {
   if (o)
     *o = sf_cache_options{nullptr, nullptr, nullptr, nullptr, nullptr, 0, 0,   nullptr,
-                          nullptr, nullptr, nullptr, 0.0,     nullptr, 0, nullptr};
+                          nullptr, nullptr, nullptr, 0.0,     nullptr, 0, nullptr, nullptr};
 }
 
 sf_status sf_cache_from_file(const char* path, const sf_cache_options* options, sf_cache** out) {
@@ -157,6 +158,10 @@ const char* sf_cache_error(const sf_cache* cache) { return cache ? cache->error.
 
 int32_t sf_cache_num_faces(const sf_cache* cache) { return cache ? cache->cache->numFaces() : 0; }
 int32_t sf_cache_num_vertices(const sf_cache* cache) { return cache ? cache->cache->numVertices() : 0; }
+int32_t sf_cache_face_source(const sf_cache* cache, int32_t face) {
+  if (!cache || face < 0 || face >= cache->cache->numFaces()) return -1;
+  return cache->cache->sourceFace(face);
+}
 
 sf_status sf_cache_save(sf_cache* cache, const char* path) {
   if (!cache) return SF_ERROR_ARGUMENT;

@@ -37,20 +37,22 @@ struct Header {  // 128 bytes on disk
   uint64_t payloadBytes, payloadChecksum;
   uint64_t creaseAngleBits;  // CreaseOptions::angleDeg as IEEE double bits (0: off)
   uint64_t creaseMarks;      // bit 0: tags off, bit 1: smoothing groups off, bit 2: normals on (0: default)
-  uint64_t reserved;
+  uint64_t sections;  // format 3: bit 0 certificates, bit 1 face sources (fold repair split); else 0
   uint64_t headerChecksum;  // XXH64 of the bytes before this field
 };
 static_assert(sizeof(Header) == 128);
 
-/// Payload size for the given counts; false on overflow.
-/// Payload size for the given counts and format version (2 adds the certificates); false on
-/// overflow.
-bool payloadSize(uint64_t nv, uint64_t nf, uint64_t ns, Precision p, uint32_t version, uint64_t* out) {
+/// Payload size for the given counts and format version (2 adds the certificates; 3 adds what
+/// its sections say: certificates, face sources); false on overflow.
+bool payloadSize(uint64_t nv, uint64_t nf, uint64_t ns, Precision p, uint32_t version, uint64_t sections,
+                 uint64_t* out) {
   const uint64_t lim = uint64_t(1) << 40;  // no count of a real mesh comes near this
   if (nv > lim || nf > lim || ns > lim) return false;
   const uint64_t real = p == Precision::Double ? 8 : 4;
-  *out = nv * 3 * 8 + (nf + 1) * 4 + ns * 4 + ns * 3 * 8 + ns * 4 + nf * 4 + nf * 4 + (version >= 2 ? nf * 4 : 0) +
-         uint64_t(GP_E_NFIELDS) * ns * real;
+  const bool certificates = version == 2 || (version >= 3 && (sections & 1u));
+  const bool sources = version >= 3 && (sections & 2u);
+  *out = nv * 3 * 8 + (nf + 1) * 4 + ns * 4 + ns * 3 * 8 + ns * 4 + nf * 4 + nf * 4 + (certificates ? nf * 4 : 0) +
+         (sources ? nf * 4 : 0) + uint64_t(GP_E_NFIELDS) * ns * real;
   return true;
 }
 
@@ -84,7 +86,8 @@ std::string optionsText(const PatchOptions& o) {
          (o.cage == CageMode::None ? std::string() : std::string(";cage=") + toString(o.cage)) +
          // the same for the crease options: named only when not the default
          (o.creases.tags && o.creases.groups && !o.creases.normals ? std::string() : ";creases=" + creaseMarksText(o.creases)) +
-         (o.creases.angleDeg == 0 ? std::string() : ";crease-angle=" + hexDouble(o.creases.angleDeg));
+         (o.creases.angleDeg == 0 ? std::string() : ";crease-angle=" + hexDouble(o.creases.angleDeg)) +
+         (o.foldRepair == FoldRepairMode::Off ? std::string() : std::string(";fold-repair=") + toString(o.foldRepair));
 }
 
 }  // namespace
@@ -101,6 +104,11 @@ uint64_t hashPatchOptions(const PatchOptions& options) {
   return hashBytes(s.data(), s.size());
 }
 
+uint32_t cacheFormatVersion(const PatchCache& c) {
+  if (c.options.foldRepair != FoldRepairMode::Off) return 3;
+  return !c.faceCertificate.empty() && c.faceCertificate.size() == c.faceStatus.size() ? 2 : 1;
+}
+
 void writePatchCache(const PatchCache& c, const std::string& path) {
   std::vector<char> payload;
   payload.reserve(c.bytes());
@@ -111,16 +119,22 @@ void writePatchCache(const PatchCache& c, const std::string& path) {
   put(payload, c.slotTwin);
   put(payload, c.faceStatus);
   put(payload, c.faceBulge);
-  // format 2 carries the certificates; a cache without them is written as format 1
+  // format 2 carries the certificates, format 3 the face sources of a split (and the
+  // certificates where there are some); a cache without either is written as format 1
   const bool certified = !c.faceCertificate.empty() && c.faceCertificate.size() == c.faceStatus.size();
+  const bool sourced = c.options.foldRepair != FoldRepairMode::Off;
+  if (sourced && c.faceSource.size() != c.faceStatus.size())
+    throw std::invalid_argument("writePatchCache: a fold-repaired cache needs one source face per face");
   if (certified) put(payload, c.faceCertificate);
+  if (sourced) put(payload, c.faceSource);
   if (c.options.precision == Precision::Double)
     put(payload, c.edgeDataD);
   else
     put(payload, c.edgeDataF);
   Header h{};
   std::memcpy(h.magic, kMagic, 8);
-  h.version = certified ? kCacheFormatVersion : 1;
+  h.version = cacheFormatVersion(c);
+  h.sections = sourced ? (certified ? 1u : 0u) | 2u : 0u;
   h.headerBytes = sizeof(Header);
   h.meshHash = c.meshHash;
   h.optionsHash = hashPatchOptions(c.options);
@@ -195,6 +209,9 @@ PatchCache readPatchCache(const std::string& path, const CacheExpectation& expec
   opt.creases.groups = !(h.creaseMarks & 2u);
   opt.creases.normals = (h.creaseMarks & 4u) != 0;
   std::memcpy(&opt.creases.angleDeg, &h.creaseAngleBits, sizeof(double));
+  if ((h.version < 3 && h.sections != 0) || h.sections > 3 || (h.version >= 3 && !(h.sections & 2u)))
+    throw fail("corrupted cache header (section bits out of range)");
+  opt.foldRepair = (h.sections & 2u) ? FoldRepairMode::Split : FoldRepairMode::Off;
   if (!(opt.creases.angleDeg >= 0 && opt.creases.angleDeg < 180))
     throw fail("corrupted cache header (crease angle out of range)");
   // the cage has no header field: the options hash says which one the cache was built with
@@ -203,7 +220,8 @@ PatchCache readPatchCache(const std::string& path, const CacheExpectation& expec
     if (h.optionsHash != hashPatchOptions(opt)) throw fail("corrupted cache header (options hash)");
   }
   uint64_t expected = 0;
-  if (!payloadSize(h.numVertices, h.numFaces, h.numSlots, opt.precision, h.version, &expected) || expected != h.payloadBytes)
+  if (!payloadSize(h.numVertices, h.numFaces, h.numSlots, opt.precision, h.version, h.sections, &expected) ||
+      expected != h.payloadBytes)
     throw fail("corrupted cache header (counts do not match the payload size)");
   if (fileSize - sizeof(Header) < h.payloadBytes)
     throw fail("truncated cache file: payload has " + std::to_string(fileSize - sizeof(Header)) + " of " +
@@ -233,7 +251,8 @@ PatchCache readPatchCache(const std::string& path, const CacheExpectation& expec
   take(p, c.slotTwin, h.numSlots);
   take(p, c.faceStatus, h.numFaces);
   take(p, c.faceBulge, h.numFaces);
-  if (h.version >= 2) take(p, c.faceCertificate, h.numFaces);
+  if (h.version == 2 || (h.sections & 1u)) take(p, c.faceCertificate, h.numFaces);
+  if (h.sections & 2u) take(p, c.faceSource, h.numFaces);
   if (opt.precision == Precision::Double)
     take(p, c.edgeDataD, uint64_t(GP_E_NFIELDS) * h.numSlots);
   else
@@ -255,6 +274,10 @@ PatchCache readPatchCache(const std::string& path, const CacheExpectation& expec
     if (!(std::fabs(c.faceCertificate[f]) <= 1.f) || (c.faceCertificate[f] != 0 && (c.faceStatus[f] & GP_ST_NOT_BUILT)))
       throw fail("face " + std::to_string(f) + " has a certificate margin the certificate cannot give (" +
                  std::to_string(c.faceCertificate[f]) + ")");
+  for (size_t f = 0; f < c.faceSource.size(); ++f)  // pieces follow their faces as read, in order
+    if (c.faceSource[f] < 0 || (f > 0 && c.faceSource[f] < c.faceSource[f - 1]) || c.faceSource[f] > int64_t(f))
+      throw fail("face " + std::to_string(f) + " has a source face the split cannot give (" +
+                 std::to_string(c.faceSource[f]) + ")");
   if (c.faceOffsets.front() != 0 || c.faceOffsets.back() != static_cast<int32_t>(h.numSlots))
     throw fail("inconsistent face offsets");
   for (uint64_t f = 0; f < h.numFaces; ++f)

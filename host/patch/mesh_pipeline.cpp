@@ -47,6 +47,7 @@ LoadedMesh loadMesh(PolygonMesh mesh, uint64_t meshHash, const PatchOptions& opt
     out.normalReport.fallbackVertices = std::move(limit.fallbackVertices);
     out.normalReport.fileHasNormals = !out.mesh.fileNormals.empty() || !out.mesh.fileCornerNormals.empty();
   }
+  if (options.foldRepair == FoldRepairMode::Split) out.split = splitBadCorners(out.mesh, &out.cornerNormals);
   out.normalFallbacks = out.normalReport.fallbackVertices;
   out.creaseCorners = out.normalReport.creaseCorners;
   return out;
@@ -69,6 +70,7 @@ PolygonMesh cacheBaseMesh(const PatchCache& cache) {
     m.positions[v] = {cache.positions[3 * v], cache.positions[3 * v + 1], cache.positions[3 * v + 2]};
   m.faceOffsets = cache.faceOffsets;
   m.faceVertices = cache.faceVertices;
+  m.faceSource = cache.faceSource;
   return m;
 }
 

@@ -28,7 +28,7 @@ size_t PatchCache::bytes() const {
   return positions.size() * sizeof(double) + faceOffsets.size() * sizeof(int32_t) +
          faceVertices.size() * sizeof(int32_t) + cornerNormals.size() * sizeof(double) +
          slotTwin.size() * sizeof(int32_t) + faceStatus.size() * sizeof(uint32_t) + faceBulge.size() * sizeof(float) +
-         faceCertificate.size() * sizeof(float) +
+         faceCertificate.size() * sizeof(float) + faceSource.size() * sizeof(int32_t) +
          edgeDataD.size() * sizeof(double) + edgeDataF.size() * sizeof(float);
 }
 
@@ -103,6 +103,10 @@ PatchCache preparePatchCache(const PolygonMesh& mesh, const std::vector<Eigen::V
   for (const auto& p : mesh.positions) c.positions.insert(c.positions.end(), {p.x(), p.y(), p.z()});
   c.faceOffsets = mesh.faceOffsets;
   c.faceVertices = mesh.faceVertices;
+  if (static_cast<int>(mesh.faceSource.size()) == mesh.numFaces() && options.foldRepair != FoldRepairMode::Off)
+    c.faceSource = mesh.faceSource;
+  else if (options.foldRepair != FoldRepairMode::Off)
+    for (int f = 0; f < mesh.numFaces(); ++f) c.faceSource.push_back(f);
   c.cornerNormals.reserve(cornerNormals.size() * 3);
   for (const auto& n : cornerNormals) c.cornerNormals.insert(c.cornerNormals.end(), {n.x(), n.y(), n.z()});
   {

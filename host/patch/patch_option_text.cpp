@@ -7,7 +7,7 @@
 
 namespace sf {
 
-const PatchOptionSpec kPatchOptionSpecs[7] = {
+const PatchOptionSpec kPatchOptionSpecs[8] = {
     {"precision", "--precision", OptionType::Text, "float|double", "precision of the patch records"},
     {"normals", "--normals", OptionType::Text, "auto|file|angle|area", "vertex normals"},
     {"cross_tangent", "--cross-tangent", OptionType::Text, "corrected|paper|blend", "cross-tangent construction"},
@@ -17,6 +17,8 @@ const PatchOptionSpec kPatchOptionSpecs[7] = {
      "which marks make crease edges"},
     {"crease_angle", "--crease-angle", OptionType::Number, "degrees in [0, 180) (0: off)",
      "also a crease where adjacent faces turn by more than this angle"},
+    {"fold_repair", "--fold-repair", OptionType::Text, "off|split",
+     "split: cut polygons with a reflex or straight corner into convex pieces"},
 };
 
 namespace {
@@ -48,6 +50,8 @@ void setPatchOption(PatchOptions& o, const std::string& key, const std::string& 
       o.cage = parseCageMode(value);
     } else if (key == "creases") {
       parseCreaseMarks(value, o.creases);
+    } else if (key == "fold_repair") {
+      o.foldRepair = parseFoldRepairMode(value);
     } else {  // crease_angle
       setCreaseAngle(o, parseOptionNumber(*s, spelling, value), spelling);
     }
@@ -76,6 +80,7 @@ PatchOptions parsePatchOptions(const PatchOptionText& t, OptionSpelling spelling
   setPatchOption(o, "cage", t.cage, spelling);
   setPatchOption(o, "creases", t.creases, spelling);
   setCreaseAngle(o, t.creaseAngle, spelling);
+  setPatchOption(o, "fold_repair", t.foldRepair, spelling);
   return o;
 }
 
@@ -88,6 +93,7 @@ PatchOptionText patchOptionText(const PatchOptions& o) {
   t.cage = toString(o.cage);
   t.creases = creaseMarksText(o.creases);
   t.creaseAngle = o.creases.angleDeg;
+  t.foldRepair = toString(o.foldRepair);
   return t;
 }
 

@@ -697,3 +697,35 @@ TEST(CApi, CreaseEdgesAsArraysMatchTheCreaseAngle) {
   EXPECT_EQ(sf_cache_from_file(file.c_str(), &angle, &bad), SF_ERROR_INPUT);
   EXPECT_NE(std::string(sf_last_error()).find("creases: expected a list"), std::string::npos) << sf_last_error();
 }
+
+namespace {
+
+TEST(CApi, FoldRepairSplitCutsAndNamesEveryPiecesSource) {
+  const std::string path = std::string(SF_SHARED_MESHES) + "/polygon_laplacian/L-plane.obj";
+  sf_cache_options o;
+  sf_cache_options_init(&o);
+  EXPECT_EQ(o.fold_repair, nullptr);
+  sf_cache* raw = nullptr;
+  ASSERT_EQ(sf_cache_from_file(path.c_str(), &o, &raw), SF_OK) << sf_last_error();
+  CachePtr plain(raw);
+  o.fold_repair = "split";
+  ASSERT_EQ(sf_cache_from_file(path.c_str(), &o, &raw), SF_OK) << sf_last_error();
+  CachePtr cut(raw);
+  sf::PatchOptions po;
+  po.foldRepair = sf::FoldRepairMode::Split;
+  const sf::PatchCache ref = sf::buildPatchCache(sf::loadMesh(path, po), po, sf::Backend::Tbb);
+  EXPECT_EQ(sf_cache_num_faces(plain.get()), 16);
+  ASSERT_EQ(sf_cache_num_faces(cut.get()), ref.numFaces());
+  EXPECT_EQ(ref.numFaces(), 40);
+  for (int f = 0; f < ref.numFaces(); ++f) EXPECT_EQ(sf_cache_face_source(cut.get(), f), ref.faceSource[f]);
+  for (int f = 0; f < 16; ++f) EXPECT_EQ(sf_cache_face_source(plain.get(), f), f);
+  EXPECT_EQ(sf_cache_face_source(cut.get(), 40), -1);
+  EXPECT_EQ(sf_cache_face_source(nullptr, 0), -1);
+  o.fold_repair = "on";
+  sf_status st;
+  const std::string m = createError(path.c_str(), &o, &st);
+  EXPECT_EQ(st, SF_ERROR_INPUT);
+  EXPECT_NE(m.find("fold_repair: expected off|split, got 'on'"), std::string::npos) << m;
+}
+
+}  // namespace

@@ -559,7 +559,7 @@ TEST_F(CliContract, JsonOutputsParseWithTheDocumentedKeys) {
   ASSERT_EQ(r.status, 0) << r.err;
   json j = json::parse(r.out);
   EXPECT_EQ(keys(j), (V{"boundary_slots", "bytes", "cache", "certificate", "creases", "edge_slots", "face_sizes", "faces",
-                        "format", "memory", "mesh_hash", "non_manifold_slots", "options", "options_hash", "patches",
+                        "fold_repair", "format", "memory", "mesh_hash", "non_manifold_slots", "options", "options_hash", "patches",
                         "polygons", "surface_faults", "vertices"}));
   EXPECT_EQ(keys(j["polygons"]), (V{"area_m2", "intersecting_area_m2", "intersecting_faces",
                                     "intersecting_pair_areas_m2", "intersecting_pairs", "self_crossing_faces"}));
@@ -569,7 +569,9 @@ TEST_F(CliContract, JsonOutputsParseWithTheDocumentedKeys) {
   EXPECT_EQ(j["vertices"], 188);
   EXPECT_EQ(j["face_sizes"], json::parse(R"({"3": 4, "4": 160, "5": 16})"));
   EXPECT_EQ(j["bytes"], fs::file_size(cache()));
-  EXPECT_EQ(keys(j["options"]), (V{"cage", "crease_angle", "creases", "cross_tangent", "normals", "orient", "precision"}));
+  EXPECT_EQ(keys(j["options"]),
+            (V{"cage", "crease_angle", "creases", "cross_tangent", "fold_repair", "normals", "orient", "precision"}));
+  EXPECT_TRUE(j["fold_repair"].is_null());  // built without it
   EXPECT_EQ(keys(j["creases"]), (V{"corners", "crease_vertices", "darts", "edges"}));
   EXPECT_TRUE(j["creases"]["edges"].empty());  // the spot cage has no marks
   EXPECT_EQ(j["patches"]["built"], 180);

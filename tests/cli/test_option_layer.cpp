@@ -29,7 +29,7 @@ struct BadValue {
 };
 constexpr BadValue kBad[] = {{"precision", "half"},     {"normals", "fancy"},     {"cross_tangent", "sideways"},
                              {"orient", "inward"},      {"cage", "loop"},         {"creases", "tags,foo"},
-                             {"crease_angle", "200"}};
+                             {"crease_angle", "200"},   {"fold_repair", "sometimes"}};
 
 const PatchOptionSpec& spec(const std::string& key) {
   for (const PatchOptionSpec& s : kPatchOptionSpecs)

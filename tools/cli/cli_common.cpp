@@ -19,8 +19,9 @@ namespace sf::cli {
 PatchOptions PatchArgs::options() const {
   PatchOptions o;
   try {  // the values every front end accepts, with the same message (patch_option_text.h)
-    o = parsePatchOptions(PatchOptionText{precision, normals, crossTangent, orient, cage, creases, creaseAngle},
-                          OptionSpelling::Flag);
+    o = parsePatchOptions(
+        PatchOptionText{precision, normals, crossTangent, orient, cage, creases, creaseAngle, foldRepair},
+        OptionSpelling::Flag);
   } catch (const InputError& e) {
     throw UsageError(e.what());  // on the command line a bad value is a usage error
   }
@@ -164,6 +165,14 @@ void addSurfaceArgs(CLI::App& cmd, PatchArgs& a) {
                                     "degrees apart (0: off)")
                          ->check(patchOptionCheck("crease_angle"))
                          ->capture_default_str();
+  a.foldRepairOpt = cmd.add_option("--fold-repair", a.foldRepair,
+                                   "off|split: split cuts every flat polygon (vertices and normals those of its plane) "
+                                   "with a reflex or straight corner (within 1 degree) into convex pieces on diagonals "
+                                   "between its own vertices before building patches: the patch of such a polygon "
+                                   "folds, or is singular at the straight corner. The cache holds the pieces; cache "
+                                   "info names the faces cut and the pieces of each (docs/fold-levers.md)")
+                      ->check(patchOptionCheck("fold_repair"))
+                      ->capture_default_str();
 }
 
 void addBackendArgs(CLI::App& cmd, PatchArgs& a) {
@@ -204,6 +213,7 @@ void PatchArgs::checkCache(const PatchCache& c, const std::string& path) const {
     parseCreaseMarks(creases, wanted);
     differs("--creases", creaseMarksText(c.options.creases), creaseMarksText(wanted));
   }
+  if (given(foldRepairOpt)) differs("--fold-repair", toString(c.options.foldRepair), foldRepair);
   if (given(creaseAngleOpt) && c.options.creases.angleDeg != creaseAngle)
     differs("--crease-angle", std::to_string(c.options.creases.angleDeg), std::to_string(creaseAngle));
 }

@@ -14,17 +14,18 @@
 namespace sf::cli {
 
 /// Options every command that builds patches takes: the patch surface (--precision,
-/// --normals, --cross-tangent, --orient, --cage, --creases, --crease-angle) and where the work runs (--backend, --cl-device,
-/// --threads).
+/// --normals, --cross-tangent, --orient, --cage, --creases, --crease-angle, --fold-repair) and where the work runs
+/// (--backend, --cl-device, --threads).
 struct PatchArgs {
   std::string precision = "double", normals = "auto", crossTangent = "corrected", orient = "outward", cage = "none",
               creases = "tags,groups";
   double creaseAngle = 0;
+  std::string foldRepair = "off";
   std::string backend = "tbb", clDevice;
   int threads = 0;
   /// The surface options as registered (null when the command lacks them); count() > 0 when given.
   CLI::Option *precisionOpt = nullptr, *normalsOpt = nullptr, *crossTangentOpt = nullptr, *orientOpt = nullptr,
-              *cageOpt = nullptr, *creasesOpt = nullptr, *creaseAngleOpt = nullptr;
+              *cageOpt = nullptr, *creasesOpt = nullptr, *creaseAngleOpt = nullptr, *foldRepairOpt = nullptr;
   PatchOptions options() const;
   Backend backendKind() const { return parseBackend(backend); }
   /// A cache file keeps the options it was built with: throws InputError `PATH: built with
@@ -32,7 +33,8 @@ struct PatchArgs {
   void checkCache(const PatchCache& cache, const std::string& path) const;
 };
 
-/// Registers --precision, --normals, --cross-tangent, --orient, --cage (the patch surface).
+/// Registers --precision, --normals, --cross-tangent, --orient, --cage, --creases, --crease-angle,
+/// --fold-repair (the patch surface).
 void addSurfaceArgs(CLI::App& cmd, PatchArgs& args);
 /// Registers --backend, --cl-device (the OpenCL device; --device is a hidden, deprecated
 /// alias outside `loop`) and --threads.

@@ -70,6 +70,42 @@ nlohmann::ordered_json creasesJson(const PatchCache& c) {
   return {{"edges", s.edges}, {"crease_vertices", s.creaseVertices}, {"corners", s.corners}, {"darts", s.darts}};
 }
 
+/// The faces as read that a fold repair split cut (ascending), with the cache's faces of each.
+std::vector<std::pair<int, std::vector<int>>> cutFaces(const PatchCache& c) {
+  std::vector<std::pair<int, std::vector<int>>> out;
+  for (int f = 0; f < static_cast<int>(c.faceSource.size()); ++f) {
+    const int s = c.faceSource[f];
+    const bool alone = (f == 0 || c.faceSource[f - 1] != s) &&
+                       (f + 1 == static_cast<int>(c.faceSource.size()) || c.faceSource[f + 1] != s);
+    if (alone) continue;
+    if (out.empty() || out.back().first != s) out.push_back({s, {}});
+    out.back().second.push_back(f);
+  }
+  return out;
+}
+
+void printFoldRepair(const PatchCache& c) {
+  if (c.options.foldRepair == FoldRepairMode::Off) return;
+  const auto cut = cutFaces(c);
+  size_t pieces = 0;
+  for (const auto& [s, fs] : cut) pieces += fs.size();
+  std::printf("fold repair: %s: %zu faces as read cut into %zu convex pieces; the cache's faces are the pieces\n",
+              toString(c.options.foldRepair), cut.size(), pieces);
+  for (size_t i = 0; i < cut.size() && i < 10; ++i) {
+    std::string ids;
+    for (int f : cut[i].second) (ids += ' ') += std::to_string(f);
+    std::printf("  face %d as read: faces%s\n", cut[i].first, ids.c_str());
+  }
+  if (cut.size() > 10) std::printf("  ... (cache info --json: every one)\n");
+}
+
+nlohmann::ordered_json foldRepairJson(const PatchCache& c) {
+  if (c.options.foldRepair == FoldRepairMode::Off) return nullptr;
+  nlohmann::ordered_json cut = nlohmann::ordered_json::array();
+  for (const auto& [s, fs] : cutFaces(c)) cut.push_back({{"face_as_read", s}, {"faces", fs}});
+  return {{"mode", toString(c.options.foldRepair)}, {"cut", cut}};
+}
+
 nlohmann::ordered_json certificateJson(const PatchCache& c) {
   const CertificateSummary s = summarizeCertificates(c);
   if (!s.present) return nullptr;
@@ -110,6 +146,13 @@ void build(const std::string& mesh, std::string out, const PatchArgs& args, bool
                 lm.cageBoundaryVertices);
   std::printf("normals: %s\n", toString(opt.normals));
   for (const std::string& line : lm.normalReport.describe()) std::printf("  %s\n", line.c_str());
+  if (opt.foldRepair == FoldRepairMode::Split) {
+    std::printf("fold repair: split: %zu polygons with a reflex or straight corner cut into %d convex pieces (faces as read:%s)\n",
+                lm.split.splitFaces.size(), lm.split.pieces, faceIdsText(lm.split.splitFaces).c_str());
+    if (!lm.split.unsplitFaces.empty())
+      std::printf("  left whole (outline not simple, or no diagonal cuts them):%s\n",
+                  faceIdsText(lm.split.unsplitFaces).c_str());
+  }
   throwIfInterrupted("cache build");
   PatchCache cache = preparePatchCache(lm.mesh, lm.cornerNormals, opt, lm.fileHash);
   const double secs = construct(cache, args);
@@ -263,7 +306,7 @@ void info(const std::string& path, bool json, bool faults, bool memory) {
   int boundary = 0, nonManifold = 0;
   for (int32_t t : c.slotTwin) boundary += t == -1, nonManifold += t == -2;
   const std::vector<int> h = histogram(c);
-  const unsigned format = c.faceCertificate.empty() ? 1u : kCacheFormatVersion;  // what writePatchCache wrote
+  const unsigned format = cacheFormatVersion(c);  // what writePatchCache wrote
   const PolygonMesh base = cacheBaseMesh(c);
   const MeshReport polygons = checkMesh(base);
   std::optional<SurfaceFaults> sf;
@@ -294,7 +337,9 @@ void info(const std::string& path, bool json, bool faults, bool memory) {
                          {"orient", c.options.keepOrientation ? "keep" : "outward"},
                          {"cage", toString(c.options.cage)},
                          {"creases", creaseMarksText(c.options.creases)},
-                         {"crease_angle", c.options.creases.angleDeg}}},
+                         {"crease_angle", c.options.creases.angleDeg},
+                         {"fold_repair", toString(c.options.foldRepair)}}},
+                       {"fold_repair", foldRepairJson(c)},
                        {"creases", creasesJson(c)},
                        {"polygons", polygonsJson(polygons)},
                        {"patches", patchSummaryJson(c)},
@@ -309,10 +354,13 @@ void info(const std::string& path, bool json, bool faults, bool memory) {
   std::printf("mesh: %d vertices, %d faces (%s), %d edge slots\n", c.numVertices(), c.numFaces(),
               faceSizeText(h).c_str(), c.numSlots());
   std::printf("edges: %d boundary slots, %d non-manifold slots\n", boundary, nonManifold);
-  std::printf("options: precision %s, cross tangent %s, normals %s, orient %s, cage %s, creases %s, crease angle %g\n",
-              toString(c.options.precision), toString(c.options.crossTangent), toString(c.options.normals),
-              c.options.keepOrientation ? "keep" : "outward", toString(c.options.cage),
-              creaseMarksText(c.options.creases).c_str(), c.options.creases.angleDeg);
+  std::printf(
+      "options: precision %s, cross tangent %s, normals %s, orient %s, cage %s, creases %s, crease angle %g, fold "
+      "repair %s\n",
+      toString(c.options.precision), toString(c.options.crossTangent), toString(c.options.normals),
+      c.options.keepOrientation ? "keep" : "outward", toString(c.options.cage),
+      creaseMarksText(c.options.creases).c_str(), c.options.creases.angleDeg, toString(c.options.foldRepair));
+  printFoldRepair(c);
   printCreases(c);
   printPolygons(polygons);
   printPatchSummary(c);
@@ -346,7 +394,8 @@ void addCacheCommands(CLI::App& app) {
   i->add_option("CACHE", *path, "cache file")->required();
   i->add_flag("--json", *json,
               "print one JSON object instead of text: cache, format, bytes, mesh_hash, options_hash, vertices, "
-              "faces, face_sizes, edge_slots, boundary_slots, non_manifold_slots, options, polygons (intersecting "
+              "faces, face_sizes, edge_slots, boundary_slots, non_manifold_slots, options, fold_repair (null when off; "
+              "else the faces as read that were cut, each with its pieces), polygons (intersecting "
               "and self-crossing polygons of the mesh), patches, certificate (null when not computed), "
               "surface_faults, memory");
   auto faults = std::make_shared<bool>(false);

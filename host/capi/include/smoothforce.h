@@ -101,6 +101,9 @@ typedef struct sf_cache_options {
                                     sharp, or NULL; read as a file's crease tags */
   int32_t num_creases;         /**< arrays: rows of crease_edges */
   const double* crease_sharpness; /**< arrays: num_creases sharpness values (> 0 sharp), or NULL: 10 */
+  const char* fold_repair;     /**< "off" (default) or "split": every polygon with a reflex or straight
+                                    corner on its plane is cut into convex pieces first; the cache's faces
+                                    are then the pieces (sf_cache_face_source) */
 } sf_cache_options;
 void sf_cache_options_init(sf_cache_options* options);
 
@@ -127,6 +130,10 @@ const char* sf_cache_error(const sf_cache* cache);
 /** Counts (0 for a NULL cache). */
 int32_t sf_cache_num_faces(const sf_cache* cache);
 int32_t sf_cache_num_vertices(const sf_cache* cache);
+/** The face of the mesh as read that face `face` of the cache comes from: itself unless the
+ *  cache was built with fold_repair "split", which cuts polygons into pieces; -1 for a NULL
+ *  cache or a face out of range. */
+int32_t sf_cache_face_source(const sf_cache* cache, int32_t face);
 /** Writes the cache file atomically (a lazy cache cannot be written: SF_ERROR_INPUT). */
 sf_status sf_cache_save(sf_cache* cache, const char* path);
 

@@ -53,6 +53,9 @@ struct PolygonMesh {
   std::vector<CreaseTag> creaseTags;
   std::vector<CornerTag> cornerTags;
   std::vector<int64_t> faceSmoothingGroups;
+  /// #F: the face of the mesh as read that each face comes from, where faces were split
+  /// (polygon_split.h); empty when every face is the one read.
+  std::vector<int32_t> faceSource;
   std::string sourcePath;  ///< file it came from, for messages
 
   int numVertices() const { return static_cast<int>(positions.size()); }

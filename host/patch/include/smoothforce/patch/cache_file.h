@@ -10,20 +10,27 @@
 
 namespace sf {
 
-/// Format version this build writes for a cache with certificates (PatchCache::faceCertificate,
-/// stored after faceBulge); a cache without them is written as format 1. Reads 1 .. this.
-inline constexpr uint32_t kCacheFormatVersion = 2;
+/// Newest format version this build writes: 3 for a fold-repaired cache (PatchCache::faceSource
+/// after faceBulge and the certificates, which the header's section bits name), 2 for a cache
+/// with certificates (PatchCache::faceCertificate, after faceBulge), else 1. Reads 1 .. this.
+inline constexpr uint32_t kCacheFormatVersion = 3;
+
+/// The format version writePatchCache writes `cache` in: 3 with fold repair, else 2 with
+/// certificates, else 1.
+uint32_t cacheFormatVersion(const PatchCache& cache);
 
 /// XXH64 of the options that determine the patches (precision, cross tangent, normals,
-/// orientation, and the cage when it is not CageMode::None: without a cage the hash is the one
-/// of caches written before the option existed) and of the record layout. The header has no
+/// orientation, and the cage, creases and fold repair where they are not the default: without
+/// them the hash is the one of caches written before those options existed) and of the record
+/// layout. The header has no
 /// field of its own for the cage: readPatchCache recovers it from this hash.
 uint64_t hashPatchOptions(const PatchOptions& options);
 
 /// Writes the cache to `path` atomically: to a temporary file beside it, then renamed.
 /// Layout: 128-byte little-endian header (magic "SFPATCH", version, mesh and options hashes,
 /// counts, payload size and XXH64 checksum, header checksum), then the arrays in
-/// PatchCache order (faceCertificate only in format 2). Throws InputError when the file cannot be written.
+/// PatchCache order (faceCertificate in format 2 and where format 3's sections say, faceSource in
+/// format 3). Throws InputError when the file cannot be written.
 void writePatchCache(const PatchCache& cache, const std::string& path);
 
 /// True when the file at `path` starts with the cache magic (false when unreadable).

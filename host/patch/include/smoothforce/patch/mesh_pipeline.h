@@ -26,13 +26,18 @@ struct LoadedMesh {
   /// positions (#V, m; mesh.positions then holds the limit positions). Empty without a cage.
   std::vector<Eigen::Vector3d> cagePositions;
   int cageBoundaryVertices = 0;  ///< with a cage: referenced vertices on a boundary
+  /// With fold repair Split: the faces that were cut into convex pieces (mesh then holds the
+  /// pieces, mesh.faceSource their faces as read; report and normals were made before the cut).
+  PolygonSplitReport split;
 };
 
 /// Reads `path`, checks it, flips an inward-facing closed mesh unless options.keepOrientation,
 /// and computes corner normals per options.normals (normals.h: NormalMode, NormalReport).
 /// With options.cage CatmullClark, then moves every referenced vertex to its Catmull-Clark
 /// limit position and uses its limit normal at every corner (catmullClarkLimit, cage_limit.h;
-/// the report stays the one of the cage as read). Throws InputError (file:line, element; with a
+/// the report stays the one of the cage as read). With options.foldRepair Split, last cuts the
+/// polygons with a reflex or straight corner into convex pieces (splitBadCorners; their corners
+/// keep the normals computed above). Throws InputError (file:line, element; with a
 /// cage also: normals other than Auto, and the topology cageProblem names).
 LoadedMesh loadMesh(const std::string& path, const PatchOptions& options);
 

@@ -10,6 +10,7 @@
 #include <smoothforce/mesh/cage_limit.h>
 #include <smoothforce/mesh/mesh.h>
 #include <smoothforce/mesh/normals.h>
+#include <smoothforce/mesh/polygon_split.h>
 #include <smoothforce/patch/patch_options.h>
 
 namespace sf {
@@ -27,6 +28,10 @@ struct PatchOptions {
   /// Which marks make creases (`--creases`, `--crease-angle`; creases.h). A crease edge is one
   /// curve both faces share, with each face's own tangent plane along it.
   CreaseOptions creases;
+  /// `--fold-repair` (polygon_split.h): Split cuts polygons with a reflex or straight corner into
+  /// convex pieces before construction; the cache then holds the pieces (faceSource maps them
+  /// to the faces as read).
+  FoldRepairMode foldRepair = FoldRepairMode::Off;
 };
 
 /// All patches of a mesh. Counts: #V vertices, #F faces, #C corners = slots (one slot per
@@ -46,6 +51,9 @@ struct PatchCache {
   /// cosine between patch and face normal), < 0 proven to turn over, 0 undecided or no patch.
   /// Empty until certifyPatches runs (and in caches written before certificates were stored).
   std::vector<float> faceCertificate;
+  /// #F with fold repair Split: the face of the mesh as read that each face (piece) comes from;
+  /// empty otherwise (every face is the one read).
+  std::vector<int32_t> faceSource;
   /// GP_E_NFIELDS * #C per-edge records, field-major: value of field i of slot s at
   /// [i * #C + s]. Exactly one of the two is filled, per options.precision.
   std::vector<double> edgeDataD;
@@ -55,6 +63,8 @@ struct PatchCache {
   int numFaces() const { return static_cast<int>(faceOffsets.size()) - 1; }
   int numSlots() const { return static_cast<int>(faceVertices.size()); }
   int faceSize(int f) const { return faceOffsets[f + 1] - faceOffsets[f]; }
+  /// The face of the mesh as read that face f comes from (f itself without a split).
+  int sourceFace(int f) const { return faceSource.empty() ? f : faceSource[f]; }
   /// Bytes held by the arrays.
   size_t bytes() const;
 };

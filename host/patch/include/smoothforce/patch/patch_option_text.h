@@ -14,8 +14,8 @@ namespace sf {
 /// One patch option: its key, its flag, the values it takes (as messages spell them), its help.
 using PatchOptionSpec = OptionSpec;
 /// Every patch option that is text or a number: precision, normals, cross_tangent, orient, cage,
-/// creases, crease_angle.
-extern const PatchOptionSpec kPatchOptionSpecs[7];
+/// creases, crease_angle, fold_repair.
+extern const PatchOptionSpec kPatchOptionSpecs[8];
 
 /// The patch options as text, with their defaults.
 struct PatchOptionText {
@@ -26,6 +26,7 @@ struct PatchOptionText {
   std::string cage = "none";             ///< none|catmull-clark (cage_limit.h)
   std::string creases = "tags,groups";   ///< a list of tags, groups, normals, or none (creases.h)
   double creaseAngle = 0;                ///< degrees in [0, 180); 0: off
+  std::string foldRepair = "off";        ///< off|split (polygon_split.h)
 };
 
 /// The options of `text`. Throws InputError "NAME: expected VALUES, got 'VALUE'" for the first

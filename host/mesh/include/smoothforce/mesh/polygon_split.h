@@ -1,0 +1,62 @@
+// SPDX-License-Identifier: Apache-2.0
+// The fold repair's split: polygons with a reflex or straight corner cut into convex pieces on
+// diagonals between their own vertices.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include <smoothforce/mesh/mesh.h>
+
+namespace sf {
+
+/// How construction repairs patches that fold (`--fold-repair`, key `fold_repair`).
+/// Off: the design page's construction on the polygons as read. Split: every flat polygon (its
+/// vertices on its Newell plane and its corner normals the plane's, within kFlatHeight and
+/// kFlatNormalDeg) with a corner of at least 180 - kStraightCornerDeg degrees is cut into convex
+/// pieces first (splitBadCorners): the patch of a flat polygon lies in its plane, and the map of
+/// the regular n-gon domain onto a polygon with a reflex corner folds there (no normal or tangent
+/// length changes that: docs/fold-levers.md); at a straight corner the patch's Jacobian vanishes.
+/// Curved polygons are left whole: on the spot cage, cutting its quads with a reflex corner on
+/// their plane (4 of them within 0.5% of planar) raised the fault area from 1.577% to 1.630%.
+enum class FoldRepairMode { Off = 0, Split = 1 };
+/// "off" or "split"; throws InputError for anything else.
+FoldRepairMode parseFoldRepairMode(const std::string& s);
+const char* toString(FoldRepairMode m);
+
+/// A corner whose interior angle on the polygon's Newell plane is at least 180 degrees minus
+/// this (degrees) is a bad corner: reflex, or straight within it.
+inline constexpr double kStraightCornerDeg = 1.0;
+/// A flat polygon: no vertex farther from its Newell plane than this fraction of its diameter...
+inline constexpr double kFlatHeight = 1e-4;
+/// ... and every corner normal within this many degrees of the plane's normal.
+inline constexpr double kFlatNormalDeg = 1.0;
+
+/// What splitBadCorners did.
+struct PolygonSplitReport {
+  std::vector<int> splitFaces;  ///< faces as read that were cut (ascending)
+  int pieces = 0;               ///< faces they became
+  /// Faces with a bad corner left whole: their outline on their plane is not simple (a bow-tie)
+  /// or has no area, or no diagonal cuts them (ascending).
+  std::vector<int> unsplitFaces;
+};
+
+/// Flat faces (kFlatHeight; with cornerNormals also kFlatNormalDeg) of `mesh` with a bad corner
+/// (kStraightCornerDeg) are replaced, in place and in order,
+/// by convex pieces: each cut is a diagonal between two of the polygon's own vertices, inside
+/// it on its Newell plane (exact orientation tests), chosen at a bad corner so that most
+/// pieces have no bad corner and then so that the smallest angle it makes is largest; pieces
+/// with a bad corner are cut again. No vertex is added or moved, so every piece's edge curves
+/// are built from the same vertex data and the surface stays G1 across the cuts.
+/// Per-corner and per-face arrays follow their corners and faces: mesh.fileCornerNormals,
+/// mesh.faceSmoothingGroups, *cornerNormals (#C) when given; mesh.faceSource maps each face to
+/// the face as read (filled whenever this runs, identity where nothing was cut).
+/// Faces checkMesh would call degenerate or self-crossing are left whole (reported).
+PolygonSplitReport splitBadCorners(PolygonMesh& mesh, std::vector<Eigen::Vector3d>* cornerNormals = nullptr);
+
+/// The interior angles (radians) of face f's corners on its Newell plane, in corner order
+/// (empty for a face without area).
+std::vector<double> planarCornerAngles(const PolygonMesh& mesh, int f);
+
+}  // namespace sf

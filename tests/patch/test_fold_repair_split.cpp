@@ -1,0 +1,212 @@
+// SPDX-License-Identifier: Apache-2.0
+// The fold repair's split (polygon_split.h): over every shared mesh, the pieces of every cut
+// polygon tile it (areas), keep its own corners and normals, and have no reflex or straight
+// corner; faces left whole are untouched; on the planar non-convex meshes the repaired surface
+// has no sampled fold and its patches certify; the cache keeps the pieces' sources (format 3)
+// and a cache built without the repair is the one built before the option existed.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+#include <Eigen/Geometry>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <numbers>
+
+#include <smoothforce/patch/cache_file.h>
+#include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/patch/patch_certificate.h>
+#include <nlohmann/json.hpp>
+
+#include "cli_test_support.h"
+#include "file_bytes.h"
+#include "patch_test_support.h"
+#include "shared_mesh_files.h"
+
+namespace sf {
+namespace {
+
+PatchOptions splitOptions() {
+  PatchOptions o;
+  o.foldRepair = FoldRepairMode::Split;
+  return o;
+}
+
+/// Polygon area from the cross products of a fan about its first corner, projected on the unit
+/// normal n (independent of the Newell vector the split uses).
+double fanArea(const PolygonMesh& m, int f, const Eigen::Vector3d& n) {
+  double a = 0;
+  const Eigen::Vector3d p0 = m.positions[m.faceVertex(f, 0)];
+  for (int k = 1; k + 1 < m.faceSize(f); ++k)
+    a += 0.5 * (m.positions[m.faceVertex(f, k)] - p0).cross(m.positions[m.faceVertex(f, k + 1)] - p0).dot(n);
+  return a;
+}
+
+TEST(FoldRepairSplit, PiecesTileTheirPolygonKeepItsCornersAndHaveNoBadCorner) {
+  int meshes = 0, cut = 0, pieces = 0, whole = 0;
+  std::map<std::string, int> cutPerMesh;
+  for (const std::string& path : test::sharedMeshFiles()) {
+    SCOPED_TRACE(path);
+    const LoadedMesh before = loadMesh(path, PatchOptions{});
+    const LoadedMesh after = loadMesh(path, splitOptions());
+    ++meshes;
+    const PolygonMesh &a = before.mesh, &b = after.mesh;
+    ASSERT_EQ(static_cast<int>(b.faceSource.size()), b.numFaces());
+    ASSERT_EQ(b.positions, a.positions);  // no vertex added or moved
+    ASSERT_EQ(static_cast<int>(after.cornerNormals.size()), b.numCorners());
+    int g = 0;  // the first piece of face f
+    for (int f = 0; f < a.numFaces(); ++f) {
+      int h = g;
+      while (h < b.numFaces() && b.faceSource[h] == f) ++h;
+      ASSERT_GT(h, g) << "face " << f << " has no piece";
+      const int first = a.faceOffsets[f];
+      if (h == g + 1) {  // left whole: the same corners and normals
+        ++whole;
+        for (int k = 0; k < a.faceSize(f); ++k) {
+          EXPECT_EQ(b.faceVertex(g, k), a.faceVertex(f, k));
+          EXPECT_EQ(after.cornerNormals[b.faceOffsets[g] + k], before.cornerNormals[first + k]);
+        }
+        g = h;
+        continue;
+      }
+      ++cut, ++cutPerMesh[std::filesystem::path(path).filename().string()];
+      const Eigen::Vector3d n = newellNormal(a, f).normalized();
+      double area = 0;
+      std::vector<int> seen(a.faceSize(f), 0);
+      for (int p = g; p < h; ++p) {
+        ++pieces;
+        area += fanArea(b, p, n);
+        EXPECT_GT(fanArea(b, p, n), 0) << "piece " << p << " of face " << f << " turns the other way";
+        for (double ang : planarCornerAngles(b, p))
+          EXPECT_LT(ang, std::numbers::pi * (1 - kStraightCornerDeg / 180)) << "piece " << p << " of face " << f;
+        for (int k = 0; k < b.faceSize(p); ++k) {
+          int local = -1;  // the corner of face f it is
+          for (int j = 0; j < a.faceSize(f); ++j)
+            if (a.faceVertex(f, j) == b.faceVertex(p, k)) local = j;
+          ASSERT_GE(local, 0) << "piece " << p << " has a corner face " << f << " lacks";
+          ++seen[local];
+          EXPECT_EQ(after.cornerNormals[b.faceOffsets[p] + k], before.cornerNormals[first + local]);
+        }
+      }
+      for (int j = 0; j < a.faceSize(f); ++j) EXPECT_GT(seen[j], 0) << "corner " << j << " of face " << f << " lost";
+      EXPECT_NEAR(area, fanArea(a, f, n), 1e-9 * std::fabs(fanArea(a, f, n))) << "face " << f;
+      g = h;
+    }
+    EXPECT_EQ(g, b.numFaces());
+    EXPECT_EQ(static_cast<int>(after.split.splitFaces.size()),
+              cutPerMesh[std::filesystem::path(path).filename().string()]);
+  }
+  std::printf("fold repair split over %d meshes: %d faces cut into %d pieces, %d left whole\n", meshes, cut, pieces,
+              whole);
+  // the planar non-convex meshes: tetris 15 of 16 faces, L-plane all 16, pmp L its one hexagon;
+  // no curved mesh is cut
+  EXPECT_EQ(cutPerMesh["tetris.obj"], 15);
+  EXPECT_EQ(cutPerMesh["L-plane.obj"], 16);
+  EXPECT_EQ(cutPerMesh["L.off"], 1);
+  EXPECT_EQ(cut, 32);
+  EXPECT_GT(meshes, 20);
+}
+
+TEST(FoldRepairSplit, PlanarNonConvexMeshesNeitherFoldNorTearAndCertify) {
+  struct Case {
+    const char* rel;
+    int foldsBefore, certified, faces;  // with the repair: certified of faces
+    bool certify;                       // tetris: 51 of 52 certified, 34 s on 2 cores (docs/fold-levers.md)
+  };
+  const Case cases[] = {{"polygon_laplacian/tetris.obj", 11, 51, 52, false},
+                        {"polygon_laplacian/L-plane.obj", 16, 40, 40, true},
+                        {"pmp/L.off", 1, 2, 2, true}};
+  for (const Case& cs : cases) {
+    SCOPED_TRACE(cs.rel);
+    const std::string path = test::sharedMesh(cs.rel);
+    const PatchCache off = buildPatchCache(loadMesh(path, PatchOptions{}), PatchOptions{}, Backend::Tbb);
+    PatchCache on = buildPatchCache(loadMesh(path, splitOptions()), splitOptions(), Backend::Tbb);
+    int foldsOff = 0, foldsOn = 0;
+    for (uint32_t st : off.faceStatus) foldsOff += (st & GP_ST_FOLD) != 0;
+    for (uint32_t st : on.faceStatus) foldsOn += (st & GP_ST_FOLD) != 0;
+    EXPECT_EQ(foldsOff, cs.foldsBefore);
+    EXPECT_EQ(foldsOn, 0);
+    // the cuts are shared edges like any other: no gap, and (flat) no angle between the patches
+    const test::G1Stats g1 = test::measureG1(on, 1e-7);
+    EXPECT_GT(g1.edges, 0);
+    EXPECT_LT(g1.maxGap, 1e-6);
+    EXPECT_LT(g1.maxAngle, 1e-6);
+    if (!cs.certify) continue;
+    certifyPatches(on);
+    const CertificateSummary s = summarizeCertificates(on);
+    std::printf("%s: %d sampled folds without the repair, %d with; certified %d of %d\n", cs.rel, foldsOff, foldsOn,
+                s.certified, on.numFaces());
+    EXPECT_EQ(on.numFaces(), cs.faces);
+    EXPECT_EQ(s.certified, cs.certified);
+    EXPECT_EQ(s.folded, 0);
+  }
+}
+
+TEST(FoldRepairSplit, TheCacheKeepsThePiecesSourcesAndOffIsUnchanged) {
+  const std::string path = test::sharedMesh("pmp/L.off");
+  const auto dir = std::filesystem::temp_directory_path() / ("sf_fold_repair_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  PatchCache on = buildPatchCache(loadMesh(path, splitOptions()), splitOptions(), Backend::Tbb);
+  writePatchCache(on, (dir / "on.sfcache").string());
+  const PatchCache back = readPatchCache((dir / "on.sfcache").string());
+  EXPECT_EQ(back.options.foldRepair, FoldRepairMode::Split);
+  EXPECT_EQ(back.faceSource, on.faceSource);
+  EXPECT_EQ(back.faceVertices, on.faceVertices);
+  EXPECT_EQ(back.edgeDataD, on.edgeDataD);
+  EXPECT_EQ(test::fileBytes(dir / "on.sfcache").substr(8, 4), std::string("\x03\0\0\0", 4));  // format 3
+  // with certificates too
+  certifyPatches(on);
+  writePatchCache(on, (dir / "on2.sfcache").string());
+  const PatchCache back2 = readPatchCache((dir / "on2.sfcache").string());
+  EXPECT_EQ(back2.faceCertificate, on.faceCertificate);
+  EXPECT_EQ(back2.faceSource, on.faceSource);
+  // off: the options hash of a default cache is the one of caches written before the option
+  // existed, and so the file is too (format 1, no sources)
+  const PatchCache off = buildPatchCache(loadMesh(path, PatchOptions{}), PatchOptions{}, Backend::Tbb);
+  EXPECT_TRUE(off.faceSource.empty());
+  EXPECT_NE(hashPatchOptions(splitOptions()), hashPatchOptions(PatchOptions{}));
+  EXPECT_EQ(hashPatchOptions(PatchOptions{}), 0x6e7e34f945976932ull);  // as written by earlier builds
+  writePatchCache(off, (dir / "off.sfcache").string());
+  EXPECT_EQ(test::fileBytes(dir / "off.sfcache").substr(8, 4), std::string("\x01\0\0\0", 4));
+  // a reader that expects the repair refuses a cache built without it
+  CacheExpectation e;
+  e.options = splitOptions();
+  EXPECT_THROW(readPatchCache((dir / "off.sfcache").string(), e), InputError);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(FoldRepairSplit, TheCommandLineBuildsReportsAndKeepsIt) {
+  const auto dir = std::filesystem::temp_directory_path() / ("sf_fold_repair_cli_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string mesh = test::sharedMesh("pmp/L.off"), cache = (dir / "L.sfcache").string();
+  test::CliResult r = test::smoothforce("cache build " + mesh + " --fold-repair split -o " + cache);
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("fold repair: split: 1 polygons with a reflex or straight corner cut into 2 convex pieces"),
+            std::string::npos)
+      << r.out;
+  r = test::smoothforce("cache info " + cache + " --json");
+  ASSERT_EQ(r.status, 0) << r.out;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["format"], 3);
+  EXPECT_EQ(j["options"]["fold_repair"], "split");
+  EXPECT_EQ(j["fold_repair"]["cut"], nlohmann::json::parse(R"([{"face_as_read": 0, "faces": [0, 1]}])"));
+  EXPECT_EQ(j["patches"]["folds"], 0);
+  // the cache keeps its options; a bad value is a usage error with the shared message
+  const std::string points = (dir / "points.csv").string();
+  {
+    std::FILE* f = std::fopen(points.c_str(), "w");
+    std::fputs("face,xi,eta\n0,0,0\n", f);
+    std::fclose(f);
+  }
+  r = test::smoothforce("eval " + cache + " --fold-repair off --points " + points + " -o -");
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_NE(r.out.find("built with --fold-repair split, but --fold-repair off was given"), std::string::npos) << r.out;
+  r = test::smoothforce("cache build " + mesh + " --fold-repair on -o " + cache);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.out.find("--fold-repair: expected off|split, got 'on'"), std::string::npos) << r.out;
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace sf
