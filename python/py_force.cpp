@@ -43,16 +43,13 @@ pyb::dtype traceDtype() {
 
 ForceOptions forceOptions(const std::string& method, double stiffness, const pyb::object& preset, int capacity,
                           const std::string& finalStep, ForceMethod* m) {
-  ForceSettings f;  // the shared reader (force_option_text.h): the keyword arguments are its keys
-  setForceOption(f, "method", method);
   if (!preset.is_none() && !pyb::isinstance<pyb::str>(preset))
     throw pyb::type_error("preset: expected a str (fast, balanced, accurate) or None, got " +
                           std::string(pyb::str(preset.get_type().attr("__name__"))));
-  if (!preset.is_none()) setForceOption(f, "preset", preset.cast<std::string>());
-  setForceOption(f, "stiffness", stiffness);
-  setForceOption(f, "patch_capacity", static_cast<double>(capacity));
-  setForceOption(f, "final_step", finalStep);
-  validateForceOptions(f.options);
+  const std::string name = preset.is_none() ? std::string() : preset.cast<std::string>();
+  // the shared reader (force_option_text.h): the keyword arguments are its keys
+  const ForceSettings f = readHapticForceSettings(method.c_str(), preset.is_none() ? nullptr : name.c_str(), stiffness,
+                                                  capacity, finalStep.c_str());
   *m = f.method;
   return f.options;
 }

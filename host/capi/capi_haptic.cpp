@@ -44,13 +44,8 @@ SF_CAPI_SAME_BIT(SF_TRACK_FOLD_EDGE);
 static_assert(std::size(sf::kStatusBits) == 24 + 3, "a status bit of status.h is missing from smoothforce.h");
 
 ForceOptions forceOptions(const sf_haptic_options& o, ForceMethod* method) {
-  ForceSettings f;  // the shared reader (force_option_text.h): the fields are its keys
-  if (o.method) setForceOption(f, "method", o.method);
-  if (o.preset) setForceOption(f, "preset", o.preset);
-  if (o.final_step) setForceOption(f, "final_step", o.final_step);
-  setForceOption(f, "stiffness", o.stiffness);
-  setForceOption(f, "patch_capacity", static_cast<double>(o.patch_capacity));
-  validateForceOptions(f.options);
+  // the shared reader (force_option_text.h): the fields are its keys
+  const ForceSettings f = readHapticForceSettings(o.method, o.preset, o.stiffness, o.patch_capacity, o.final_step);
   *method = f.method;
   return f.options;
 }

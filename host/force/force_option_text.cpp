@@ -134,6 +134,18 @@ void checkForceOptions(const ForceOptions& o, OptionSpelling sp) {
                      toString(o.refine));
 }
 
+ForceSettings readHapticForceSettings(const char* method, const char* preset, double stiffness, int patchCapacity,
+                                      const char* finalStep) {
+  ForceSettings f;
+  if (method) setForceOption(f, "method", method);
+  if (preset) setForceOption(f, "preset", preset);
+  setForceOption(f, "stiffness", stiffness);
+  setForceOption(f, "patch_capacity", static_cast<double>(patchCapacity));
+  if (finalStep) setForceOption(f, "final_step", finalStep);
+  checkForceOptions(f.options);
+  return f;
+}
+
 // checkForceOptions covers every check of validateRefineOptions (the refinement options' ranges
 // and the final-step pair), with the message every front end gives
 void validateForceOptions(const ForceOptions& o) { checkForceOptions(o); }

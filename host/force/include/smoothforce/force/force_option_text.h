@@ -43,6 +43,12 @@ void setForceOption(ForceSettings& settings, const std::string& key, double valu
 /// The text of one option of `settings` (setForceOption of it gives it back; preset: "" when none).
 std::string forceOptionValue(const ForceSettings& settings, const std::string& key);
 
+/// The settings a C or Python haptic takes, through the reader above in the front ends' order:
+/// method (null: patch), preset (null: none), stiffness (N/m), patch_capacity, final_step (null:
+/// the preset's or the default), then checkForceOptions. Throws InputError by key.
+ForceSettings readHapticForceSettings(const char* method, const char* preset, double stiffness, int patchCapacity,
+                                      const char* finalStep);
+
 /// Checks every option's value and the pair the values must agree on (final_step model needs
 /// refine newton); throws InputError with the message setForceOption gives (by key or flag).
 void checkForceOptions(const ForceOptions& options, OptionSpelling spelling = OptionSpelling::Key);
