@@ -184,7 +184,7 @@ PolygonSplitReport splitBadCorners(PolygonMesh& mesh, std::vector<Eigen::Vector3
     for (int k = 0; k < m && flat && cornerNormals; ++k)
       flat = (*cornerNormals)[first + k].normalized().dot(n) >= std::cos(kFlatNormalDeg * std::numbers::pi / 180);
     if (m > 3 && flat && projectFace(mesh, f, q, &planarity) && planarity <= kFlatHeight && hasBadCorner(q, idx)) {
-      bool degenerate = std::binary_search(crossing.begin(), crossing.end(), f);
+      bool degenerate = m > kMaxSplitCorners || std::binary_search(crossing.begin(), crossing.end(), f);
       for (int k = 0; k < m && !degenerate; ++k) degenerate = q[k] == q[(k + 1) % m];
       if (!degenerate) {
         const bool done = cut(q, idx, pieces);

@@ -11,9 +11,11 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <numbers>
 
+#include <smoothforce/mesh/polygon_split.h>
 #include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/patch/patch_certificate.h>
@@ -106,6 +108,54 @@ TEST(FoldRepairSplit, PiecesTileTheirPolygonKeepItsCornersAndHaveNoBadCorner) {
   EXPECT_EQ(cutPerMesh["L.off"], 1);
   EXPECT_EQ(cut, 32);
   EXPECT_GT(meshes, 20);
+}
+
+/// A flat star polygon in z = 0 with `points` tips (2 * points corners, reflex between tips).
+PolygonMesh star(int points) {
+  PolygonMesh m;
+  for (int k = 0; k < 2 * points; ++k) {
+    const double a = std::numbers::pi * k / points, r = k % 2 ? 0.4 : 1.0;
+    m.positions.push_back({r * std::cos(a), r * std::sin(a), 0});
+    m.faceVertices.push_back(k);
+  }
+  m.faceOffsets = {0, 2 * points};
+  return m;
+}
+
+TEST(FoldRepairSplit, HostilePolygonsAreCutOrLeftWholeNeverBroken) {
+  // stars up to kMaxSplitCorners corners are cut into pieces without a bad corner; larger ones,
+  // a flat bow-tie and a polygon with a non-finite vertex are left whole and reported
+  for (int points : {3, 8, 32, 33, 200}) {
+    SCOPED_TRACE(points);
+    PolygonMesh m = star(points);
+    std::vector<Eigen::Vector3d> normals(m.numCorners(), Eigen::Vector3d::UnitZ());
+    const PolygonSplitReport r = splitBadCorners(m, &normals);
+    ASSERT_EQ(static_cast<int>(normals.size()), m.numCorners());
+    if (2 * points <= kMaxSplitCorners) {
+      EXPECT_EQ(r.splitFaces, std::vector<int>{0});
+      EXPECT_TRUE(r.unsplitFaces.empty());
+      EXPECT_EQ(r.pieces, m.numFaces());
+      for (int f = 0; f < m.numFaces(); ++f)
+        for (double ang : planarCornerAngles(m, f)) EXPECT_LT(ang, std::numbers::pi * (1 - kStraightCornerDeg / 180));
+    } else {
+      EXPECT_TRUE(r.splitFaces.empty());
+      EXPECT_EQ(r.unsplitFaces, std::vector<int>{0});
+      EXPECT_EQ(m.numFaces(), 1);
+    }
+  }
+  PolygonMesh bow;  // its outline crosses itself: (0,0) (1,1) (1,0) (0,1)
+  bow.positions = {{0, 0, 0}, {1, 1, 0}, {1, 0, 0}, {0, 1, 0}, {0.5, 2, 0}};
+  bow.faceVertices = {0, 1, 4, 2, 3};
+  bow.faceOffsets = {0, 5};
+  PolygonSplitReport r = splitBadCorners(bow);
+  EXPECT_TRUE(r.splitFaces.empty());
+  EXPECT_EQ(bow.numFaces(), 1);
+  PolygonMesh bad = star(4);
+  bad.positions[3].x() = std::numeric_limits<double>::quiet_NaN();
+  r = splitBadCorners(bad);
+  EXPECT_TRUE(r.splitFaces.empty());
+  EXPECT_EQ(bad.numFaces(), 1);
+  EXPECT_EQ(bad.faceSource, std::vector<int32_t>{0});
 }
 
 TEST(FoldRepairSplit, PlanarNonConvexMeshesNeitherFoldNorTearAndCertify) {

@@ -32,13 +32,17 @@ inline constexpr double kStraightCornerDeg = 1.0;
 inline constexpr double kFlatHeight = 1e-4;
 /// ... and every corner normal within this many degrees of the plane's normal.
 inline constexpr double kFlatNormalDeg = 1.0;
+/// Faces with more corners are left whole (no patch is built for them either: GP_MAX_N), which
+/// bounds the search for diagonals (cubic in the corners, per cut).
+inline constexpr int kMaxSplitCorners = 64;
 
 /// What splitBadCorners did.
 struct PolygonSplitReport {
   std::vector<int> splitFaces;  ///< faces as read that were cut (ascending)
   int pieces = 0;               ///< faces they became
-  /// Faces with a bad corner left whole: their outline on their plane is not simple (a bow-tie)
-  /// or has no area, or no diagonal cuts them (ascending).
+  /// Flat faces with a bad corner left whole: their outline on their plane is not simple (a
+  /// bow-tie) or has no area, they have more than kMaxSplitCorners corners, or no diagonal cuts
+  /// them (ascending).
   std::vector<int> unsplitFaces;
 };
 
@@ -52,7 +56,8 @@ struct PolygonSplitReport {
 /// Per-corner and per-face arrays follow their corners and faces: mesh.fileCornerNormals,
 /// mesh.faceSmoothingGroups, *cornerNormals (#C) when given; mesh.faceSource maps each face to
 /// the face as read (filled whenever this runs, identity where nothing was cut).
-/// Faces checkMesh would call degenerate or self-crossing are left whole (reported).
+/// Faces checkMesh would call degenerate or self-crossing, and faces of more than
+/// kMaxSplitCorners corners, are left whole (reported).
 PolygonSplitReport splitBadCorners(PolygonMesh& mesh, std::vector<Eigen::Vector3d>* cornerNormals = nullptr);
 
 /// The interior angles (radians) of face f's corners on its Newell plane, in corner order
