@@ -47,7 +47,7 @@ int collectCells(LazyPatchSurface& surface, const PatchCache& cache, const FaceD
   *more = false;
   for (size_t i = 0; i < m; ++i) {
     const int f = near[i].face;
-    // the sector boxes first: most faces whose a-priori box is near stop here
+    // the sector boxes first: most faces whose box is near stop here
     if (!surface.sectors(f)) continue;
     double faceLower = std::numeric_limits<double>::infinity();
     for (int k = 0; k < cache.faceSize(f); ++k) faceLower = std::min(faceLower, surface.sectorDistance(f, k, hip));
@@ -99,7 +99,7 @@ void lazyGlobalStep(LazyPatchSurface& surface, const PolygonScene& scene, const 
   const double upper = usableRefinement(first) ? first.distance : std::numeric_limits<double>::infinity();
   // the faces in batches of kMaxFaces (box distance order), each face batch's cells in batches of
   // kMaxCandidates (lower bound order), each batch refined in turn while what a full one left out
-  // could still be nearer than the nearest point found (dense meshes put hundreds of a-priori
+  // could still be nearer than the nearest point found (dense meshes put hundreds of face
   // boxes within reach); the first cell batch also holds the polygon start, c[0]
   PatchNearest q;
   bool started = false;

@@ -55,7 +55,7 @@ void setContact(bool contact, const RefineResult& r, const Eigen::Vector3d& hip,
 ///   outside: no patch work at all (no patch built, no refinement).
 /// - Otherwise the polygon start (nearest polygon point, mean value coordinates, refinement)
 ///   gives an upper bound U of the nearest distance; every cell (LazyPatchSurface::cells) of
-///   every face whose a-priori box is within U of the HIP is a candidate, its lower bound the
+///   every face whose box (LazyPatchSurface::faceBox) is within U of the HIP is a candidate, its lower bound the
 ///   larger of the face's and the cell's box distance, its start the cell's point under the HIP (cellStart);
 ///   refineCandidates refines them in order of lower bound until the next is not below the
 ///   nearest distance found (only those faces' patches are built). The faces come in batches of

@@ -68,6 +68,8 @@ void boundsFn(const RTCBoundsFunctionArguments* args) {
   o->upper_z = float(hi.z()) + impl->pad;
 }
 
+void obbBounds(const float* o, const Eigen::Vector3d& origin, Eigen::Vector3d& lo, Eigen::Vector3d& hi);
+
 struct Collect {
   const std::vector<PatchBox>* boxes;
   Eigen::Vector3d q;
@@ -159,7 +161,26 @@ LazyPatchSurface::LazyPatchSurface(const PatchCache& cache, const PolygonFacets&
   const double scale =
       lo.allFinite() && hi.allFinite() ? (hi - lo).norm() + llo.cwiseAbs().cwiseMax(lhi.cwiseAbs()).norm() : 1.0;
   impl_->pad = float(1e-5 * scale) + 1e-30f;
-  impl_->boxes = &apriori_;
+  // every face's sector and swept boxes now, in parallel (each face writes only its own slots):
+  // 9 evaluations per corner sector, so that no servo step has to compute them
+  tbb::parallel_for(tbb::blocked_range<int>(0, cache.numFaces(), 64), [&](const tbb::blocked_range<int>& r) {
+    for (int f = r.begin(); f < r.end(); ++f) computeSectors(f);
+  });
+  // the BVH's face boxes: the a-priori box, cut down to the box of the face's swept boxes where
+  // it has them (5-10 times smaller across on coarse cages, so a HIP near the surface lies in a
+  // few faces' boxes instead of a hundred)
+  faceBoxes_ = apriori_;
+  for (int f = 0; f < cache.numFaces(); ++f) {
+    if (!sectors(f)) continue;
+    Eigen::Vector3d slo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), shi = -slo;
+    for (int k = 0; k < cache.faceSize(f); ++k)
+      obbBounds(&sweptBoxes_[static_cast<size_t>(kObb) * (cache.faceOffsets[f] + k)], impl_->origin, slo, shi);
+    PatchBox& b = faceBoxes_[f];
+    b.lo = b.lo.cwiseMax(slo);
+    b.hi = b.hi.cwiseMin(shi);
+    if (!(b.lo.array() <= b.hi.array()).all()) b = apriori_[f];  // not finite, or rounding: the proven box
+  }
+  impl_->boxes = &faceBoxes_;
   impl_->device = newEmbreeDevice(onError, impl_.get(), &impl_->embreeBytes);
   impl_->scene =
       sceneOf(impl_->device,
@@ -167,24 +188,18 @@ LazyPatchSurface::LazyPatchSurface(const PatchCache& cache, const PolygonFacets&
                                    : nullptr,
               true);
   if (impl_->error[0]) throw std::runtime_error(std::string("building the patch-box BVH: ") + impl_->error);
-  // every face's sector and swept boxes now, in parallel (each face writes only its own slots):
-  // 9 evaluations per corner sector, so that no servo step has to compute them for the ~100 faces
-  // whose a-priori boxes hold a HIP near the surface
-  tbb::parallel_for(tbb::blocked_range<int>(0, cache.numFaces(), 64), [&](const tbb::blocked_range<int>& r) {
-    for (int f = r.begin(); f < r.end(); ++f) computeSectors(f);
-  });
 }
 
 LazyPatchSurface::~LazyPatchSurface() = default;
 
 size_t LazyPatchSurface::bytes() const noexcept {
-  return vectorBytes(apriori_, cellBoxes_, sectorBoxes_, sectorState_, sweptBoxes_, facetTolerance_, cellCount_) +
+  return vectorBytes(apriori_, faceBoxes_, cellBoxes_, sectorBoxes_, sectorState_, sweptBoxes_, facetTolerance_, cellCount_) +
          embreeBytes(impl_->embreeBytes);
 }
 
 size_t LazyPatchSurface::facesWithin(const Eigen::Vector3d& q, double radius, FaceDistance* out, size_t cap,
                                      size_t* found, const FaceDistance* after) const noexcept {
-  Collect c{&apriori_, q, radius, out, std::min(cap, kMaxFaces), 0, 0, after, after != nullptr};
+  Collect c{&faceBoxes_, q, radius, out, std::min(cap, kMaxFaces), 0, 0, after, after != nullptr};
   if (!(cache_.numFaces() > 0 && inCoordinateRange(q) && radius >= 0)) {
     if (found) *found = 0;
     return 0;
@@ -276,6 +291,22 @@ double obbDistance(const float* o, const Eigen::Vector3d& q, const Eigen::Vector
     s += x * x;
   }
   return std::sqrt(s) * (1 - 1e-6);
+}
+
+/// Grows [lo, hi] (m) to hold oriented box o: its eight corners, each range rounded outwards by a
+/// relative 1e-6 and 64 epsilons of the origin's distance (the boxes' own float rounding).
+void obbBounds(const float* o, const Eigen::Vector3d& origin, Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
+  const Eigen::Vector3d c = obbOrigin(o, origin);
+  Eigen::Vector3d ext = Eigen::Vector3d::Zero(), mid = c;
+  for (int a = 0; a < 3; ++a) {
+    const Eigen::Vector3d axis(o[3 + 3 * a], o[4 + 3 * a], o[5 + 3 * a]);
+    const double l = o[12 + a], h = o[15 + a];
+    mid += 0.5 * (l + h) * axis;
+    ext += 0.5 * (h - l) * axis.cwiseAbs();
+  }
+  const double pad = 1e-6 * ext.norm() + 64 * std::numeric_limits<double>::epsilon() * (c.norm() + ext.norm());
+  lo = lo.cwiseMin(mid - ext - Eigen::Vector3d::Constant(pad));
+  hi = hi.cwiseMax(mid + ext + Eigen::Vector3d::Constant(pad));
 }
 
 /// An orthonormal frame whose third axis is along n (unit), first along u projected.
@@ -381,8 +412,13 @@ bool LazyPatchSurface::computeSectors(int f) noexcept {
 
 int LazyPatchSurface::cells(int f) noexcept {
   if (cellCount_[f] >= 0) return cellCount_[f];
-  cellCount_[f] = 0;
   ++sampledCount_;
+  return computeCells(f);
+}
+
+int LazyPatchSurface::computeCells(int f) noexcept {
+  if (cellCount_[f] >= 0) return cellCount_[f];
+  cellCount_[f] = 0;
   const int n = cache_.faceSize(f);
   double recs[GP_MAX_N * GP_E_NFIELDS];
   if (!apriori_[f].valid || (buildPatchEdges(cache_, f, recs) & GP_ST_NOT_BUILT)) return 0;
@@ -401,6 +437,14 @@ int LazyPatchSurface::cells(int f) noexcept {
   }
   cellCount_[f] = static_cast<int16_t>(kCellsPerSector * n);
   return cellCount_[f];
+}
+
+void LazyPatchSurface::computeAllCells() noexcept {
+  // each face writes only its own slots and count; the count of sampled faces is taken after
+  tbb::parallel_for(tbb::blocked_range<int>(0, cache_.numFaces(), 16), [&](const tbb::blocked_range<int>& r) {
+    for (int f = r.begin(); f < r.end(); ++f) computeCells(f);
+  });
+  sampledCount_ = static_cast<int>(std::count_if(cellCount_.begin(), cellCount_.end(), [](int16_t c) { return c >= 0; }));
 }
 
 double LazyPatchSurface::sectorDistance(int f, int k, const Eigen::Vector3d& q) const noexcept {

@@ -20,7 +20,8 @@ namespace {
 /// Samples of every patch of `faces` (10 rings x 11 points per edge, and the centre) that lie
 /// outside every cell, sector and swept box of their face; points: how many were sampled.
 struct Containment {
-  long points = 0, outside = 0, sectorOutside = 0, sweptOutside = 0;
+  long points = 0, outside = 0, sectorOutside = 0, sweptOutside = 0, faceBoxOutside = 0;
+  long faceBoxesBeyondApriori = 0;  ///< face boxes not inside their a-priori box
   double worst = 0;  ///< farthest outside a cell box, over the a-priori box diagonal
 };
 Containment containment(const PatchCache& c, LazyPatchSurface& surface, const std::vector<int>& faces) {
@@ -33,6 +34,9 @@ Containment containment(const PatchCache& c, LazyPatchSurface& surface, const st
     EXPECT_TRUE(surface.sectors(f)) << "face " << f;
     EXPECT_EQ(cells, LazyPatchSurface::kCellsPerSector * n) << "face " << f;
     const double diameter = (surface.aprioriBox(f).hi - surface.aprioriBox(f).lo).norm();
+    const PatchBox& box = surface.faceBox(f);
+    r.faceBoxesBeyondApriori += !((box.lo.array() >= surface.aprioriBox(f).lo.array()).all() &&
+                                  (box.hi.array() <= surface.aprioriBox(f).hi.array()).all());
     for (int ring = 0; ring <= kRings; ++ring)
       for (int k = 0; k < (ring == 0 ? 1 : n); ++k)
         for (int j = 0; j < (ring == 0 ? 1 : kPerEdge); ++j) {
@@ -51,6 +55,7 @@ Containment containment(const PatchCache& c, LazyPatchSurface& surface, const st
             sector = std::min(sector, surface.sectorDistance(f, k, p));
           }
           r.sweptOutside += swept > 0;
+          r.faceBoxOutside += box.distance(p) > 0;
           r.sectorOutside += sector > 0;
         }
   }
@@ -73,12 +78,15 @@ TEST(LazySurface, CellBoxesHoldTheirPatches) {
     }
     const Containment r = containment(c, surface, faces);
     std::printf(
-        "  %-50s %5zu patches, %8ld samples: %ld outside every cell box, %ld every sector box, %ld every swept box\n",
+        "  %-50s %5zu patches, %8ld samples: %ld outside every cell box, %ld every sector box, %ld every swept box, "
+        "%ld the face box\n",
         std::filesystem::path(path).lexically_relative(SF_SHARED_MESHES).string().c_str(), faces.size(), r.points,
-        r.outside, r.sectorOutside, r.sweptOutside);
+        r.outside, r.sectorOutside, r.sweptOutside, r.faceBoxOutside);
     EXPECT_EQ(r.outside, 0) << "worst " << r.worst << " of the a-priori box diagonal";
     EXPECT_EQ(r.sweptOutside, 0);
     EXPECT_EQ(r.sectorOutside, 0);
+    EXPECT_EQ(r.faceBoxOutside, 0);
+    EXPECT_EQ(r.faceBoxesBeyondApriori, 0);
     EXPECT_EQ(surface.sampledFaces(), static_cast<int>(faces.size()));
     checked += r.points;
     ++meshes;
@@ -108,6 +116,8 @@ TEST(LazySurface, CellBoxesHoldTheirPatchesFarFromTheOrigin) {
       EXPECT_EQ(r.outside, 0) << "worst " << r.worst << " of the a-priori box diagonal";
       EXPECT_EQ(r.sweptOutside, 0);
       EXPECT_EQ(r.sectorOutside, 0);
+      EXPECT_EQ(r.faceBoxOutside, 0);
+      EXPECT_EQ(r.faceBoxesBeyondApriori, 0);
       checked += r.points;
       ++runs;
     }
@@ -115,7 +125,7 @@ TEST(LazySurface, CellBoxesHoldTheirPatchesFarFromTheOrigin) {
   EXPECT_GT(checked, 100'000);
 }
 
-// facesWithin and inAnyBox against brute force over the a-priori boxes, at 2,000 points around
+// facesWithin and inAnyBox against brute force over the face boxes, at 2,000 points around
 // the spot cage and the quad-sphere, and facesWithin's batches (each after the last of the one
 // before) against the brute-force list in (distance, face) order; computed on a skeleton
 // (nothing built).
@@ -140,7 +150,7 @@ TEST(LazySurface, BoxQueriesAgreeWithBruteForce) {
       std::vector<FaceDistance> brute;
       bool any = false;
       for (int f = 0; f < skeleton.numFaces(); ++f) {
-        const double d = surface.aprioriBox(f).distance(q);
+        const double d = surface.faceBox(f).distance(q);
         any = any || d == 0;
         if (d <= radius) brute.push_back({f, d});
       }

@@ -25,8 +25,10 @@ struct FaceDistance {
 /// Three kinds of boxes:
 /// - per face, the a-priori box (patchBoxes: from the face's vertices and normals, a proof that
 ///   the patch lies inside; about 5-10 times the patch's own box diagonal), widened by the
-///   polygon facets' tolerance so that it holds the face's facets too; all of them in an Embree
-///   BVH, built in the constructor;
+///   polygon facets' tolerance so that it holds the face's facets too, and the face box: the
+///   a-priori box cut down to the axis-aligned box of the face's swept boxes (below; the a-priori
+///   box itself for a face without them); the face boxes in an Embree BVH, built in the
+///   constructor;
 /// - per corner sector (the domain triangle of the centre and domain edge k), computed in the
 ///   constructor: the sector box, an oriented box of the patch at 3 x 3 samples, and the swept
 ///   box, an oriented box of those samples and the polygon's fan triangle (sectorDistance,
@@ -56,7 +58,7 @@ class LazyPatchSurface {
  public:
   /// The most faces facesWithin() returns.
   static constexpr size_t kMaxFaces = 256;
-  /// Builds the a-priori boxes' BVH and every face's sector and swept boxes (9 patch evaluations
+  /// Builds the face boxes' BVH and every face's sector and swept boxes (9 patch evaluations
   /// per corner sector, scalar: 6.5 ms for the spot cage's 180 faces, 0.36 s for the 23,062
   /// triangles of odedstein/spot.obj on this project's 2-core machine, about twice the time of
   /// loading the mesh and building every patch with its quality there). Throws std::runtime_error with Embree's
@@ -66,12 +68,12 @@ class LazyPatchSurface {
   LazyPatchSurface(const LazyPatchSurface&) = delete;
   LazyPatchSurface& operator=(const LazyPatchSurface&) = delete;
 
-  /// Whether q (m) lies in some face's a-priori box.
+  /// Whether q (m) lies in some face's box (faceBox).
   bool inAnyBox(const Eigen::Vector3d& q) const noexcept;
   /// Whether q (m) lies farther from the box of every a-priori box than its diagonal
   /// (farBeyondBox): no contact there.
   bool farBeyond(const Eigen::Vector3d& q) const noexcept { return farBeyondBox(q, boxLo_, boxHi_); }
-  /// The faces whose a-priori box is within `radius` (m) of q, nearest box first, at most `cap`
+  /// The faces whose box (faceBox) is within `radius` (m) of q, nearest box first, at most `cap`
   /// (<= kMaxFaces; the first kept) into out; returns how many. *found, when given, receives how
   /// many qualified (more than cap: the rest were dropped). Ties in distance come as the BVH
   /// meets them where every face fits; where some were dropped, or `after` is given, the order is
@@ -80,10 +82,11 @@ class LazyPatchSurface {
   size_t facesWithin(const Eigen::Vector3d& q, double radius, FaceDistance* out, size_t cap, size_t* found = nullptr,
                      const FaceDistance* after = nullptr) const noexcept;
   /// Whether q lies in some swept box (sweptDistance) of a face whose a-priori box holds q (false
-  /// when no a-priori box holds q). Outside every swept box, the winding number of the patch
-  /// surface around q is that of the base polygons, as outside the a-priori boxes (on the
-  /// samples' estimate). True when more than kMaxFaces a-priori boxes hold q, or one of them
-  /// belongs to a face without a patch (in doubt). Does not allocate or throw.
+  /// when no a-priori box holds q; the face boxes decide which faces to look at: a face box holds
+  /// the part of its a-priori box that its swept boxes can). Outside every swept box, the winding
+  /// number of the patch surface around q is that of the base polygons, as outside the a-priori
+  /// boxes (on the samples' estimate). True when more than kMaxFaces face boxes hold q, or one of
+  /// them belongs to a face without a patch (in doubt). Does not allocate or throw.
   bool inAnySweptBox(const Eigen::Vector3d& q) const noexcept;
 
   /// Whether face f has its sector and swept boxes (sectorDistance, sweptDistance: computed for
@@ -101,6 +104,11 @@ class LazyPatchSurface {
   /// Face f's cells: computes them on first use; returns how many (4 n; 0 for a face without a
   /// patch). Does not allocate or throw.
   int cells(int f) noexcept;
+  /// Computes every face's cells now, in parallel (oneTBB): 81 patch evaluations per corner
+  /// sector, 288 bytes per corner held. For a prebuilt cache in a servo loop, so that no step pays
+  /// for them (the first contact on the spot cage took up to 0.46 ms computing them). Not
+  /// thread-safe with other calls.
+  void computeAllCells() noexcept;
   /// Distance (m) from q to the box of cell i of face f (0 inside; cells(f) called before): a
   /// lower bound of the distance from q to the part of the patch over the cell.
   double cellDistance(int f, int i, const Eigen::Vector3d& q) const noexcept;
@@ -117,8 +125,12 @@ class LazyPatchSurface {
   Eigen::Vector2d cellStart(int f, int i, const Eigen::Vector3d& q) const noexcept;
 
   const PatchBox& aprioriBox(int f) const noexcept { return apriori_[f]; }
+  /// The box of face f that facesWithin and inAnyBox use: its a-priori box cut down to the box of
+  /// its swept boxes (a lower bound of the distance to the patch and its polygon on the samples'
+  /// estimate, as the sector and cell boxes).
+  const PatchBox& faceBox(int f) const noexcept { return faceBoxes_[f]; }
   /// Bytes the surface holds: the boxes computed so far (cells and sectors are computed as
-  /// contact reaches their faces) and the BVH of the a-priori boxes (Embree's own count).
+  /// contact reaches their faces) and the BVH of the face boxes (Embree's own count).
   size_t bytes() const noexcept;
   /// Every edge has a twin: the patch surface is closed where every face has a patch.
   bool closed() const noexcept { return closed_; }
@@ -130,12 +142,15 @@ class LazyPatchSurface {
  private:
   /// Fills face f's sector and swept boxes and sectorState_[f].
   bool computeSectors(int f) noexcept;
+  /// Fills face f's cell boxes and cellCount_[f] (once); returns the count.
+  int computeCells(int f) noexcept;
 
   const PatchCache& cache_;
   const PolygonFacets& facets_;
   bool closed_ = false;
   Eigen::Vector3d boxLo_{0, 0, 0}, boxHi_{0, 0, 0};  ///< m: farBeyond's box
   std::vector<PatchBox> apriori_;
+  std::vector<PatchBox> faceBoxes_;     ///< #F: the BVH's boxes (faceBox)
   std::vector<float> cellBoxes_;        ///< #C x 4 oriented boxes of 18 floats (lazy_surface.cpp makeObb), by face slot
   std::vector<float> sectorBoxes_;      ///< #C oriented boxes, one per corner sector (sectorDistance), by face slot
   std::vector<int8_t> sectorState_;     ///< #F: 0 no patch, 1 sector and swept boxes computed
