@@ -42,22 +42,23 @@ pyb::dtype traceDtype() {
 }
 
 ForceOptions forceOptions(const std::string& method, double stiffness, const pyb::object& preset, int capacity,
-                          const std::string& finalStep, ForceMethod* m) {
+                          const std::string& finalStep, ForceMethod* m, const std::string& surfaceIndex = "auto") {
   if (!preset.is_none() && !pyb::isinstance<pyb::str>(preset))
     throw pyb::type_error("preset: expected a str (fast, balanced, accurate) or None, got " +
                           std::string(pyb::str(preset.get_type().attr("__name__"))));
   const std::string name = preset.is_none() ? std::string() : preset.cast<std::string>();
   // the shared reader (force_option_text.h): the keyword arguments are its keys
   const ForceSettings f = readHapticForceSettings(method.c_str(), preset.is_none() ? nullptr : name.c_str(), stiffness,
-                                                  capacity, finalStep.c_str());
+                                                  capacity, finalStep.c_str(), surfaceIndex.c_str());
   *m = f.method;
   return f.options;
 }
 
 pyb::array trace(const PyCache& c, const pyb::handle& hipsIn, const std::string& method, double stiffness,
-                 const pyb::object& preset, int capacity, const std::string& finalStep) {
+                 const pyb::object& preset, int capacity, const std::string& finalStep,
+                 const std::string& surfaceIndex) {
   ForceMethod m{};
-  const ForceOptions f = forceOptions(method, stiffness, preset, capacity, finalStep, &m);
+  const ForceOptions f = forceOptions(method, stiffness, preset, capacity, finalStep, &m, surfaceIndex);
   const Doubles hips = numericArray(hipsIn, "hips");
   if (hips.ndim() != 2 || hips.shape(1) != 3) throw InputError("hips: expected shape (T, 3)");
   const size_t n = static_cast<size_t>(hips.shape(0));
@@ -92,9 +93,10 @@ pyb::array trace(const PyCache& c, const pyb::handle& hipsIn, const std::string&
 class Haptic {
  public:
   Haptic(const PyCache& c, const std::string& method, double stiffness, const pyb::object& preset, int capacity,
-         double maxForce, double maxForceStep, double rampTime, double rate, const std::string& finalStep) {
+         double maxForce, double maxForceStep, double rampTime, double rate, const std::string& finalStep,
+         const std::string& surfaceIndex) {
     ForceMethod m{};
-    const ForceOptions f = forceOptions(method, stiffness, preset, capacity, finalStep, &m);
+    const ForceOptions f = forceOptions(method, stiffness, preset, capacity, finalStep, &m, surfaceIndex);
     rt::SafetyOptions so;
     so.maxForce = maxForce;
     so.maxForceStep = maxForceStep;
@@ -201,8 +203,10 @@ void bindForce(pyb::module_& m) {
   using namespace pybind11::literals;
   m.def("trace", &trace, "cache"_a, "hips"_a, pyb::kw_only(), "method"_a = "patch", "stiffness"_a = 500.0,
         "preset"_a = pyb::none(), "patch_capacity"_a = 256, "final_step"_a = "evaluated",
+        "surface_index"_a = "auto",
         "A force trace: one stateful renderer (method patch, direct or shading; stiffness N/m; preset fast,\n"
-        "balanced or accurate; final_step evaluated or model, as --final-step) stepped over hips (T, 3), m,\n"
+        "balanced or accurate; final_step evaluated or model, as --final-step; surface_index auto, bounds or\n"
+        "tessellation, as --surface-index: auto is tessellation here) stepped over hips (T, 3), m,\n"
         "in order, as `smoothforce trace` does (no safety layer). Returns a structured array (T,): hip (3,),\n"
         "scp (3,) m, force (3,) N, normal (3,), xi, eta,\n"
         "face (-1 out of contact), iterations, status (SF_ST_*/SF_TRACK_* bits), contact. GIL released.");
@@ -223,12 +227,13 @@ void bindForce(pyb::module_& m) {
                       "cache, the safety layer (force clamp, rate limit, ramp-in, non-finite fault) and deadline\n"
                       "accounting. step() does not allocate in the engine (the returned dict is Python's).")
       .def(pyb::init<const PyCache&, const std::string&, double, const pyb::object&, int, double, double, double,
-                     double, const std::string&>(),
+                     double, const std::string&, const std::string&>(),
            "cache"_a, pyb::kw_only(), "method"_a = "patch", "stiffness"_a = 500.0, "preset"_a = pyb::none(),
            "patch_capacity"_a = 256, "max_force"_a = 3.3, "max_force_step"_a = 0.5, "ramp_time"_a = 0.5,
-           "rate"_a = 1000.0, "final_step"_a = "evaluated",
-           "Units: N/m, N, N per step, s, Hz; final_step evaluated or model (as --final-step). Raises ValueError\n"
-           "for an option out of range.")
+           "rate"_a = 1000.0, "final_step"_a = "evaluated", "surface_index"_a = "auto",
+           "Units: N/m, N, N per step, s, Hz; final_step evaluated or model (as --final-step); surface_index\n"
+           "auto, bounds or tessellation (as --surface-index: auto is bounds here, about 2 kB per face of a\n"
+           "prebuilt cache instead of 0.1-0.5 MB). Raises ValueError for an option out of range.")
       .def("step", &Haptic::step, "hip"_a, "time"_a,
            "One step at HIP (3,) m and time s (caller's clock). Returns a dict: force (after safety, N; command\n"
            "this), rendered (before safety), scp, normal, contact, face, status, flags (bit 0 clamped, 1 rate\n"

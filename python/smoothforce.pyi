@@ -166,10 +166,11 @@ class Haptic:
     cache, the safety layer (force clamp, rate limit, ramp-in, non-finite fault) and deadline
     accounting. step() does not allocate in the engine (the returned dict is Python's).
     """
-    def __init__(self, cache: Cache, *, method: str = 'patch', stiffness: float = 500.0, preset: typing.Any = None, patch_capacity: int = 256, max_force: float = 3.3, max_force_step: float = 0.5, ramp_time: float = 0.5, rate: float = 1000.0, final_step: str = 'evaluated') -> None:
+    def __init__(self, cache: Cache, *, method: str = 'patch', stiffness: float = 500.0, preset: typing.Any = None, patch_capacity: int = 256, max_force: float = 3.3, max_force_step: float = 0.5, ramp_time: float = 0.5, rate: float = 1000.0, final_step: str = 'evaluated', surface_index: str = 'auto') -> None:
         """
-        Units: N/m, N, N per step, s, Hz; final_step evaluated or model (as --final-step). Raises ValueError
-        for an option out of range.
+        Units: N/m, N, N per step, s, Hz; final_step evaluated or model (as --final-step); surface_index
+        auto, bounds or tessellation (as --surface-index: auto is bounds here, about 2 kB per face of a
+        prebuilt cache instead of 0.1-0.5 MB). Raises ValueError for an option out of range.
         """
     def reset(self) -> None:
         """
@@ -204,10 +205,11 @@ def sweep(cache: Cache, *, depths: str = '2%', methods: typing.Sequence[str] = (
     float64 m, results {method: structured (N,) force (3,) N, scp (3,) m, ref_distance, face, status,
     iterations, contact, done}, trajectories (list of dicts with force (P, 3), contact (P,)), complete.
     """
-def trace(cache: Cache, hips: typing.Any, *, method: str = 'patch', stiffness: float = 500.0, preset: typing.Any = None, patch_capacity: int = 256, final_step: str = 'evaluated') -> numpy.ndarray:
+def trace(cache: Cache, hips: typing.Any, *, method: str = 'patch', stiffness: float = 500.0, preset: typing.Any = None, patch_capacity: int = 256, final_step: str = 'evaluated', surface_index: str = 'auto') -> numpy.ndarray:
     """
     A force trace: one stateful renderer (method patch, direct or shading; stiffness N/m; preset fast,
-    balanced or accurate; final_step evaluated or model, as --final-step) stepped over hips (T, 3), m,
+    balanced or accurate; final_step evaluated or model, as --final-step; surface_index auto, bounds or
+    tessellation, as --surface-index: auto is tessellation here) stepped over hips (T, 3), m,
     in order, as `smoothforce trace` does (no safety layer). Returns a structured array (T,): hip (3,),
     scp (3,) m, force (3,) N, normal (3,), xi, eta,
     face (-1 out of contact), iterations, status (SF_ST_*/SF_TRACK_* bits), contact. GIL released.

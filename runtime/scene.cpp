@@ -135,15 +135,20 @@ RendererFactory sharedRendererFactory() {
   };
 }
 
+ForceOptions servoForceOptions(ForceOptions force) {
+  if (force.surfaceIndex == SurfaceIndex::Auto) force.surfaceIndex = SurfaceIndex::Bounds;
+  return force;
+}
+
 Scene singleObjectScene(std::shared_ptr<const PatchCache> cache, std::string source, ForceMethod method,
                         const ForceOptions& force, const RendererFactory& factory) {
   SceneObject obj;
   obj.name = std::filesystem::path(source).stem().string();
   obj.source = std::move(source);
   obj.method = method;
-  obj.force = force;
+  obj.force = servoForceOptions(force);
   obj.cache = std::move(cache);
-  obj.renderer = factory(obj.cache, method, force);
+  obj.renderer = factory(obj.cache, method, obj.force);
   if (!obj.renderer) throw InputError(obj.source + ": no renderer");
   Scene s;
   s.add(std::move(obj));

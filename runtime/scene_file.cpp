@@ -276,6 +276,7 @@ Scene loadScene(const std::string& path, const SceneDefaults& defaults, const Re
       } else {
         obj.cache = shared = std::make_shared<const PatchCache>(readPatchCache(obj.source));
       }
+      obj.force = servoForceOptions(obj.force);
       obj.renderer = factory(obj.cache, obj.method, obj.force);
     } catch (const InputError& e) {
       c.fail(w + "/" + key, e.what());

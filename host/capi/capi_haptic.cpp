@@ -45,7 +45,8 @@ static_assert(std::size(sf::kStatusBits) == 24 + 3, "a status bit of status.h is
 
 ForceOptions forceOptions(const sf_haptic_options& o, ForceMethod* method) {
   // the shared reader (force_option_text.h): the fields are its keys
-  const ForceSettings f = readHapticForceSettings(o.method, o.preset, o.stiffness, o.patch_capacity, o.final_step);
+  const ForceSettings f =
+      readHapticForceSettings(o.method, o.preset, o.stiffness, o.patch_capacity, o.final_step, o.surface_index);
   *method = f.method;
   return f.options;
 }
@@ -93,6 +94,7 @@ void sf_haptic_options_init(sf_haptic_options* o) {
                          s.maxForceStep,
                          s.rampTime,
                          rt::StepOptions{}.rate,
+                         nullptr,
                          nullptr};
 }
 

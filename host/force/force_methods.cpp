@@ -28,6 +28,25 @@ const char* toString(ForceMethod m) {
   return "?";
 }
 
+SurfaceIndex parseSurfaceIndex(const std::string& s) {
+  if (s == "auto") return SurfaceIndex::Auto;
+  if (s == "bounds") return SurfaceIndex::Bounds;
+  if (s == "tessellation") return SurfaceIndex::Tessellation;
+  throw InputError("surface index: expected auto|bounds|tessellation, got '" + s + "'");
+}
+
+const char* toString(SurfaceIndex i) {
+  switch (i) {
+    case SurfaceIndex::Auto:
+      return "auto";
+    case SurfaceIndex::Bounds:
+      return "bounds";
+    case SurfaceIndex::Tessellation:
+      return "tessellation";
+  }
+  return "?";
+}
+
 std::unique_ptr<ForceRenderer> makeForceRenderer(std::shared_ptr<const PatchCache> cache,
                                                  std::shared_ptr<const PolygonScene> scene, ForceMethod method,
                                                  const ForceOptions& options,

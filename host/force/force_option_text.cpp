@@ -11,7 +11,7 @@
 
 namespace sf {
 
-const OptionSpec kForceOptionSpecs[11] = {
+const OptionSpec kForceOptionSpecs[12] = {
     {"method", "--method", OptionType::Text, "patch|direct|shading", "force method: Gregory patches, god-object or force shading"},
     {"preset", "--preset", OptionType::Text, "fast|balanced|accurate", "refinement options from the trade-off study"},
     {"stiffness", "--stiffness", OptionType::Number, "a stiffness in (0, 1e12] N/m", "k in F = k (SCP - HIP), N/m"},
@@ -27,6 +27,9 @@ const OptionSpec kForceOptionSpecs[11] = {
      "the Newton refinement's converging step ends on an evaluation of the patch or on its model"},
     {"patch_capacity", "--patch-capacity", OptionType::Integer, "an integer (<= 0: every touched face stays built)",
      "lazy patches: faces whose patches are held at once"},
+    {"surface_index", "--surface-index", OptionType::Text, "auto|bounds|tessellation",
+     "the patch surface's index for the global query on a prebuilt cache: boxes per sector and cell (bounds), a "
+     "tessellation with error bounds (tessellation), or bounds for the servo loop and tessellation for batches (auto)"},
 };
 
 namespace {
@@ -85,6 +88,8 @@ void setForceOption(ForceSettings& f, const std::string& key, const std::string&
       f.options.refine = parseRefineMethod(value);
     } else if (key == "initial_guess") {
       f.options.initialGuess = parseInitialGuess(value);
+    } else if (key == "surface_index") {
+      f.options.surfaceIndex = parseSurfaceIndex(value);
     } else {  // final_step
       f.options.finalStep = parseFinalStep(value);
     }
@@ -112,6 +117,7 @@ std::string forceOptionValue(const ForceSettings& f, const std::string& key) {
   if (key == "initial_guess") return toString(o.initialGuess);
   if (key == "guess_level") return std::to_string(o.tessellationLevel);
   if (key == "final_step") return toString(o.finalStep);
+  if (key == "surface_index") return toString(o.surfaceIndex);
   return std::to_string(o.patchCapacity);
 }
 
@@ -126,6 +132,9 @@ void checkForceOptions(const ForceOptions& o, OptionSpelling sp) {
     throwBadOption(specOf("refine"), sp, std::to_string(static_cast<int>(o.refine)));
   if (o.initialGuess != InitialGuess::Surface && o.initialGuess != InitialGuess::Polygon)
     throwBadOption(specOf("initial_guess"), sp, std::to_string(static_cast<int>(o.initialGuess)));
+  if (o.surfaceIndex != SurfaceIndex::Auto && o.surfaceIndex != SurfaceIndex::Bounds &&
+      o.surfaceIndex != SurfaceIndex::Tessellation)
+    throwBadOption(specOf("surface_index"), sp, std::to_string(static_cast<int>(o.surfaceIndex)));
   if (o.finalStep != FinalStep::Evaluated && o.finalStep != FinalStep::Model)
     throwBadOption(specOf("final_step"), sp, std::to_string(static_cast<int>(o.finalStep)));
   if (o.finalStep == FinalStep::Model && o.refine != RefineMethod::Newton)
@@ -135,13 +144,14 @@ void checkForceOptions(const ForceOptions& o, OptionSpelling sp) {
 }
 
 ForceSettings readHapticForceSettings(const char* method, const char* preset, double stiffness, int patchCapacity,
-                                      const char* finalStep) {
+                                      const char* finalStep, const char* surfaceIndex) {
   ForceSettings f;
   if (method) setForceOption(f, "method", method);
   if (preset) setForceOption(f, "preset", preset);
   setForceOption(f, "stiffness", stiffness);
   setForceOption(f, "patch_capacity", static_cast<double>(patchCapacity));
   if (finalStep) setForceOption(f, "final_step", finalStep);
+  if (surfaceIndex) setForceOption(f, "surface_index", surfaceIndex);
   checkForceOptions(f.options);
   return f;
 }

@@ -145,10 +145,17 @@ class PatchTracker final : public ForceRenderer {
     int maxN = 3;
     for (int f = 0; f < cache_->numFaces(); ++f) maxN = std::max(maxN, cache_->faceSize(f));
     lambda_.resize(maxN);
-    if (options_.initialGuess == InitialGuess::Surface && lazy_)
-      lazySurface_ =
-          shared.surface ? shared.surface : std::make_shared<LazyPatchSurface>(*cache_, scene_->facets());
-    if (options_.initialGuess == InitialGuess::Surface && !lazy_) {
+    // the patch surface's index (surface_index, force_method.h): the boxes on a skeleton, or where
+    // asked for and no tessellated surface is given; else (auto too) the tessellation
+    const bool bounds = lazy_ || (options_.surfaceIndex == SurfaceIndex::Bounds && !surface);
+    if (options_.initialGuess == InitialGuess::Surface && bounds) {
+      lazySurface_ = shared.surface;
+      if (!lazySurface_) {
+        lazySurface_ = std::make_shared<LazyPatchSurface>(*cache_, scene_->facets());
+        if (!lazy_) lazySurface_->computeAllCells();  // prebuilt: no step computes cells
+      }
+    }
+    if (options_.initialGuess == InitialGuess::Surface && !bounds) {
       if (surface && &surface->cache() != cache_.get())
         throw InputError("makePatchForceRenderer: the patch surface must be built from the same cache");
       surface_ =
@@ -258,8 +265,8 @@ class PatchTracker final : public ForceRenderer {
   ForceOptions seedOptions_;  ///< options_ with no iteration: a seed's evaluation and tests only
   std::shared_ptr<LazyPatches> lazy_;  ///< patches built on demand when the cache is a skeleton
   PatchRefiner refiner_;
-  std::shared_ptr<const PatchSurface> surface_;    ///< InitialGuess::Surface with prebuilt patches
-  std::shared_ptr<LazyPatchSurface> lazySurface_;  ///< InitialGuess::Surface with lazy patches
+  std::shared_ptr<const PatchSurface> surface_;    ///< InitialGuess::Surface, SurfaceIndex::Tessellation
+  std::shared_ptr<LazyPatchSurface> lazySurface_;  ///< InitialGuess::Surface, SurfaceIndex::Bounds or lazy patches
   std::vector<double> lambda_;
   PatchContactState state_;
   /// the patch point the last refining step ended at (or resetNear's; face -1: none): seeds the

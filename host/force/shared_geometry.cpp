@@ -57,7 +57,8 @@ std::unique_ptr<ForceRenderer> SharedGeometry::makeRenderer(ForceMethod method, 
   if (!parts_->patchScene) parts_->patchScene = std::make_shared<const PolygonScene>(*cache_, kPlanarTolerance);
   const std::shared_ptr<const PolygonScene>& scene = parts_->patchScene;
   const bool surfaceGuess = options.initialGuess == InitialGuess::Surface;
-  if (hasPatchData(*cache_)) {
+  const bool prebuilt = hasPatchData(*cache_);
+  if (prebuilt && options.surfaceIndex != SurfaceIndex::Bounds) {  // auto: the tessellation, as makeForceRenderer
     std::shared_ptr<const PatchSurface> surface;
     if (surfaceGuess) {
       const PatchSurfaceOptions o = patchSurfaceOptions(options);
@@ -70,15 +71,18 @@ std::unique_ptr<ForceRenderer> SharedGeometry::makeRenderer(ForceMethod method, 
     }
     return makePatchForceRenderer(cache_, scene, options, std::move(surface));
   }
-  detail::SharedLazyParts lazy;
+  detail::SharedLazyParts lazy;  // a prebuilt cache needs no patch store: only the boxes
   for (const Parts::Store& s : parts_->stores)
-    if (s.capacity == options.patchCapacity) lazy.patches = s.patches;
-  if (!lazy.patches) {
+    if (!prebuilt && s.capacity == options.patchCapacity) lazy.patches = s.patches;
+  if (!prebuilt && !lazy.patches) {
     lazy.patches = std::make_shared<LazyPatches>(cache_, options.patchCapacity);
     parts_->stores.push_back({options.patchCapacity, lazy.patches});
   }
   if (surfaceGuess) {
-    if (!parts_->lazySurface) parts_->lazySurface = std::make_shared<LazyPatchSurface>(*cache_, scene->facets());
+    if (!parts_->lazySurface) {
+      parts_->lazySurface = std::make_shared<LazyPatchSurface>(*cache_, scene->facets());
+      if (prebuilt) parts_->lazySurface->computeAllCells();  // no servo step computes cells
+    }
     lazy.surface = parts_->lazySurface;
   }
   return detail::makeSharedPatchRenderer(cache_, scene, options, nullptr, lazy);

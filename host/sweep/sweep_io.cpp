@@ -74,6 +74,9 @@ void describeConfig(Config& c, Io& io) {
   // only where not the default: a sweep of evaluated final steps keeps the configuration (and
   // hash) it had before the option existed
   io.forceUnlessDefault("final_step", c);
+  // only with the bounds index: a sweep on the tessellation (auto resolves to it for a batch, as
+  // every sweep before the option existed) keeps its configuration and hash
+  io.forceIf("surface_index", c, c.force.surfaceIndex == SurfaceIndex::Bounds);
 }
 
 ForceSettings forceSettings(const SweepConfig& c) { return ForceSettings{ForceMethod::Patch, c.force, c.preset}; }
@@ -104,7 +107,10 @@ struct ConfigWriter {
       j[key] = std::strtod(text.c_str(), nullptr);
   }
   void forceUnlessDefault(const char* key, const SweepConfig& c) {
-    if (forceOptionValue(forceSettings(c), key) != forceOptionValue(ForceSettings{}, key)) force(key, c, false);
+    forceIf(key, c, forceOptionValue(forceSettings(c), key) != forceOptionValue(ForceSettings{}, key));
+  }
+  void forceIf(const char* key, const SweepConfig& c, bool write) {
+    if (write) force(key, c, false);
   }
 };
 
@@ -136,6 +142,7 @@ struct ConfigReader {
       setForceOption(settings, key, v.get<std::string>());
   }
   void forceUnlessDefault(const char* key, SweepConfig& c) { force(key, c, false); }
+  void forceIf(const char* key, SweepConfig& c, bool) { force(key, c, false); }
 };
 
 ojson configJson(const SweepConfig& c) {

@@ -286,16 +286,21 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
     throw InputError(
         "sweep: patches built lazily only with --sample-on reference, no --hips, no --trajectory and "
         "the CPU backend");
+  if (in.config.backend == "opencl" && opt.surfaceIndex == SurfaceIndex::Bounds)
+    throw InputError("sweep: --surface-index bounds only with the CPU backend (the OpenCL prober's global query runs "
+                     "on the tessellation)");
   opt.patchCapacity = 0;
   if (!in.makeRenderer) {
-    // one polygon scene per kind and one patch surface, shared by every worker's renderer
+    // one polygon scene per kind and, with the tessellation index, one patch surface, shared by every
+    // worker's renderer (the bounds index keeps per-renderer cell caches: each renderer makes its own)
     auto cache = in.cache;
     auto patchScene = std::make_shared<const PolygonScene>(*cache, kPlanarTolerance);
     auto godScene = std::make_shared<const PolygonScene>(*cache, kWatertightPlanarTolerance);
     std::shared_ptr<const PatchSurface> surface;
     const bool wantSurface =
         std::find(in.config.methods.begin(), in.config.methods.end(), "patch") != in.config.methods.end();
-    if (wantSurface && !lazy && opt.initialGuess == InitialGuess::Surface)
+    if (wantSurface && !lazy && opt.initialGuess == InitialGuess::Surface &&
+        opt.surfaceIndex != SurfaceIndex::Bounds)  // auto: the tessellation, for a batch
       surface = std::make_shared<const PatchSurface>(*cache, patchSurfaceOptions(opt));
     in.makeRenderer = [cache, opt, patchScene, godScene, surface](const std::string& m) {
       const ForceMethod method = parseForceMethod(m);

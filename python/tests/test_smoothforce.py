@@ -331,7 +331,13 @@ def test_haptic_step_applies_safety_and_matches_trace(spot):
     cache = sf.Cache.from_file(spot)
     pts = cache.evaluate(np.zeros(200, dtype=np.int32), np.linspace(-0.5, 0.5, 200), np.zeros(200))
     hips = pts["position"] - 0.005 * pts["normal"]
-    t = sf.trace(cache, hips)
+    # the servo step's renderer holds the bounds index (surface_index auto), a trace the tessellation:
+    # the same index gives the same bits, the other the same contacts to rounding
+    t = sf.trace(cache, hips, surface_index="bounds")
+    t_tessellation = sf.trace(cache, hips)
+    np.testing.assert_array_equal(t["contact"], t_tessellation["contact"])
+    # within the refinement's position tolerance: 1e-10 of the 2.75 m diagonal at 500 N/m, 1.4e-7 N
+    np.testing.assert_allclose(t["force"], t_tessellation["force"], rtol=0, atol=1.4e-7)
     h = sf.Haptic(cache, max_force=2.0, max_force_step=0.5, ramp_time=0.0)
     prev = np.zeros(3)
     for i, hip in enumerate(hips):
@@ -552,6 +558,7 @@ def test_every_bad_patch_option_gets_the_shared_message(spot, key, value, expect
     ("stiffness", 1e13, "1e+13", "a stiffness in (0, 1e12] N/m"),
     ("stiffness", 0.0, "0", "a stiffness in (0, 1e12] N/m"),
     ("final_step", "turbo", "turbo", "evaluated|model"),
+    ("surface_index", "octree", "octree", "auto|bounds|tessellation"),
     ("rate", 0.0, "0", "a rate in [1, 10000] Hz"),
     ("max_force", 0.0, "0", "a finite force > 0 N"),
     ("max_force_step", 0.0, "0", "a force step > 0 N"),

@@ -591,7 +591,7 @@ TEST(CApi, EveryBadPatchOptionGetsTheSharedMessage) {
 TEST(CApi, EveryBadForceOptionGetsTheSharedMessage) {
   struct Bad {
     const char* key;
-    const char* value;  ///< as text (method, preset, final_step) or a number (stiffness)
+    const char* value;  ///< as text (method, preset, final_step, surface_index) or a number (stiffness)
     const char* shown;
     const char* expected;
   };
@@ -599,7 +599,8 @@ TEST(CApi, EveryBadForceOptionGetsTheSharedMessage) {
                      {"preset", "turbo", "turbo", "fast|balanced|accurate"},
                      {"stiffness", "1e13", "1e+13", "a stiffness in (0, 1e12] N/m"},
                      {"stiffness", "0", "0", "a stiffness in (0, 1e12] N/m"},
-                     {"final_step", "turbo", "turbo", "evaluated|model"}};
+                     {"final_step", "turbo", "turbo", "evaluated|model"},
+                     {"surface_index", "octree", "octree", "auto|bounds|tessellation"}};
   sf_cache_options co;
   sf_cache_options_init(&co);
   sf_cache* cache = nullptr;
@@ -612,6 +613,7 @@ TEST(CApi, EveryBadForceOptionGetsTheSharedMessage) {
     if (k == "method") o.method = b.value;
     if (k == "preset") o.preset = b.value;
     if (k == "final_step") o.final_step = b.value;
+    if (k == "surface_index") o.surface_index = b.value;
     if (k == "stiffness") o.stiffness = std::strtod(b.value, nullptr);
     sf_haptic* h = nullptr;
     EXPECT_EQ(sf_haptic_create(cache, &o, &h), SF_ERROR_INPUT) << k;
@@ -619,7 +621,7 @@ TEST(CApi, EveryBadForceOptionGetsTheSharedMessage) {
     checked += h == nullptr;
     sf_haptic_free(h);
   }
-  EXPECT_EQ(checked, 5);
+  EXPECT_EQ(checked, 6);
   // the loop options of sf_haptic_options (loop_option_text.h), by field name
   const std::pair<const char*, const char*> loop[] = {{"rate", "a rate in [1, 10000] Hz"},
                                                       {"max_force", "a finite force > 0 N"},
@@ -640,7 +642,7 @@ TEST(CApi, EveryBadForceOptionGetsTheSharedMessage) {
     checked += h == nullptr;
     sf_haptic_free(h);
   }
-  EXPECT_EQ(checked, 9);
+  EXPECT_EQ(checked, 10);
   sf_cache_free(cache);
 }
 

@@ -119,7 +119,7 @@ constexpr BadForceValue kBadForce[] = {
     {"angle_tolerance", "-1", "-1"},       {"position_tolerance", "0", "0"},
     {"max_iterations", "0", "0"},          {"initial_guess", "random", "random"},
     {"guess_level", "65", "65"},           {"final_step", "turbo", "turbo"},
-    {"patch_capacity", "2.5", "2.5"},
+    {"patch_capacity", "2.5", "2.5"},      {"surface_index", "octree", "octree"},
 };
 
 const OptionSpec& forceSpec(const std::string& key) {
@@ -169,9 +169,9 @@ TEST(ForceOptionLayer, EveryGoodValueReadsBackAsWritten) {
   const std::vector<std::vector<std::pair<const char*, const char*>>> sets = {
       {{"method", "direct"}, {"stiffness", "800"}, {"refine", "paper"}, {"angle_tolerance", "1e-07"},
        {"position_tolerance", "3e-09"}, {"max_iterations", "7"}, {"initial_guess", "polygon"}, {"guess_level", "5"},
-       {"final_step", "evaluated"}, {"patch_capacity", "-1"}},
+       {"final_step", "evaluated"}, {"patch_capacity", "-1"}, {"surface_index", "bounds"}},
       {{"method", "shading"}, {"preset", "fast"}, {"stiffness", "0.1"}, {"final_step", "model"},
-       {"patch_capacity", "64"}, {"angle_tolerance", "0.25"}},
+       {"patch_capacity", "64"}, {"angle_tolerance", "0.25"}, {"surface_index", "tessellation"}},
   };
   int checked = 0;
   for (const auto& set : sets) {
@@ -189,7 +189,7 @@ TEST(ForceOptionLayer, EveryGoodValueReadsBackAsWritten) {
     }
     for (const auto& [key, value] : set) EXPECT_EQ(forceOptionValue(f, key), value) << key;
   }
-  EXPECT_EQ(checked, 2 * 11);
+  EXPECT_EQ(checked, 2 * 12);
   // the pair the values must agree on, by key and by flag
   ForceSettings f;
   setForceOption(f, "refine", "paper");
@@ -227,7 +227,7 @@ TEST(ForceOptionLayer, TheCommandLineAndSceneFilesGiveTheSameMessage) {
       ++checked;
     }
   }
-  EXPECT_EQ(checked, 11);
+  EXPECT_EQ(checked, 12);
 }
 
 /// A bad value of each loop option, as the command line gives it (and as a number).

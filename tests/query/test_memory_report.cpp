@@ -3,7 +3,8 @@
 // --memory`), checked against an independent count: the heap bytes glibc holds in use
 // (mallinfo2: small blocks and mmapped ones) grow by what the parts report when a renderer builds
 // them (less what a second renderer sharing them adds: its own state), and shrink by it when
-// they go, for every part of every mesh here, prebuilt and lazy, patch method and god-object.
+// they go, for every part of every mesh here, prebuilt (both surface indexes) and lazy, patch
+// method and god-object.
 #include <gtest/gtest.h>
 #include <malloc.h>
 
@@ -41,18 +42,22 @@ TEST(MemoryReport, EveryPartHoldsWhatTheHeapGrowsBy) {
                                 std::string(SF_SHARED_MESHES) + "/odedstein/spot_low_resolution.obj"};
   int parts = 0;
   for (const std::string& mesh : meshes) {
-    for (bool prebuilt : {true, false}) {
-      SCOPED_TRACE(mesh + (prebuilt ? " prebuilt" : " lazy"));
+    // prebuilt with the tessellation index (auto), prebuilt with the bounds index, lazy
+    for (int config : {0, 1, 2}) {
+      const bool prebuilt = config < 2;
+      SCOPED_TRACE(mesh + (config == 0 ? " prebuilt" : config == 1 ? " prebuilt, bounds" : " lazy"));
       const auto cache = build(mesh, prebuilt);
+      ForceOptions options;
+      if (config == 1) options.surfaceIndex = SurfaceIndex::Bounds;
       for (ForceMethod method : {ForceMethod::Patch, ForceMethod::Direct}) {
         const size_t before = heapInUse();
         size_t reported = 0, grown = 0;
         {
           SharedGeometry g(cache);
-          const std::unique_ptr<ForceRenderer> r = g.makeRenderer(method, ForceOptions{});
+          const std::unique_ptr<ForceRenderer> r = g.makeRenderer(method, options);
           const size_t withOne = heapInUse();
           // a second renderer shares the parts: what it adds is a renderer's own state
-          const std::unique_ptr<ForceRenderer> r2 = g.makeRenderer(method, ForceOptions{});
+          const std::unique_ptr<ForceRenderer> r2 = g.makeRenderer(method, options);
           const size_t own = heapInUse() - withOne;
           grown = withOne - before - std::min(own, withOne - before);
           for (const SharedGeometry::Part& p : g.memory()) {
@@ -76,9 +81,9 @@ TEST(MemoryReport, EveryPartHoldsWhatTheHeapGrowsBy) {
       }
     }
   }
-  // prebuilt: polygon scene + patch surface, lazy: polygon scene + lazy surface + lazy patches,
-  // direct: the god-object's scene; three meshes
-  EXPECT_EQ(parts, 3 * (2 + 3 + 1 + 1));
+  // prebuilt: polygon scene + patch surface, or + lazy surface (bounds index), lazy: polygon scene +
+  // lazy surface + lazy patches, direct: the god-object's scene; three meshes
+  EXPECT_EQ(parts, 3 * (2 + 2 + 3 + 1 + 1 + 1));
 }
 
 TEST(MemoryReport, CacheInfoReportsEveryPart) {
@@ -96,7 +101,8 @@ TEST(MemoryReport, CacheInfoReportsEveryPart) {
     total += size_t(p["bytes"]);
     EXPECT_DOUBLE_EQ(double(p["bytes_per_face"]), double(p["bytes"]) / 180.0);
   }
-  EXPECT_EQ(names, (std::vector<std::string>{"cache", "polygon_scene", "patch_surface", "god_object_scene"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"cache", "polygon_scene", "patch_surface", "lazy_surface",
+                                              "god_object_scene"}));
   EXPECT_EQ(size_t(j["memory"]["total_bytes"]), total);
   EXPECT_TRUE(nlohmann::json::parse(test::smoothforce("cache info " + cache + " --json").out)["memory"].is_null());
 }

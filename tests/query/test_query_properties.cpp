@@ -42,9 +42,16 @@ class QueryProperties : public ::testing::TestWithParam<std::string> {};
 // a surface fault; the SCP of a contact start is the global nearest point (within 1e-6 of the
 // diagonal of the oracle's refined nearest point); every SCP in contact is stationary
 // (|(HIP - SCP) x n| <= 1e-9 of the diagonal) unless it is held on a fold edge (counted).
-/// The body of the contact-start tests: the renderer on the built cache (PatchSurface), or on a
-/// skeleton of it whose patches are built lazily (LazyPatchSurface), on every `stride`-th HIP.
-void checkContactStarts(const std::string& shape, bool lazy, int stride) {
+/// Where the contact-start tests run: the built cache with the tessellation index (PatchSurface)
+/// or the bounds index (LazyPatchSurface over the built patches), or a skeleton of it whose
+/// patches are built lazily (LazyPatchSurface).
+enum class Query { Tessellation, Bounds, Lazy };
+
+/// The body of the contact-start tests, on every `stride`-th HIP.
+void checkContactStarts(const std::string& shape, Query query, int stride) {
+  const bool lazy = query == Query::Lazy;
+  // both box queries decide inside by the nearest point's side (no winding number near the surface)
+  const bool boxes = query != Query::Tessellation;
   const auto cache = test::closedShapeCache(shape);
   const auto skeleton = lazy ? std::make_shared<const PatchCache>(test::skeletonOf(*cache)) : nullptr;
   const double diag = boundingDiagonal(*cache);
@@ -53,8 +60,9 @@ void checkContactStarts(const std::string& shape, bool lazy, int stride) {
   constexpr int kPerDepth = 3334;  // 10,002 HIPs
   const std::vector<SurfaceSample> samples = sampler.sample(kPerDepth, 20261121);
   const double depths[3] = {0.001 * diag, 0.0025 * diag, 0.01 * diag};
-  auto surface = lazy ? nullptr : std::make_shared<const PatchSurface>(*cache);
-  const ForceOptions options;
+  auto surface = boxes ? nullptr : std::make_shared<const PatchSurface>(*cache);
+  ForceOptions options;
+  options.surfaceIndex = query == Query::Bounds ? SurfaceIndex::Bounds : SurfaceIndex::Auto;
   tbb::enumerable_thread_specific<std::unique_ptr<ForceRenderer>> renderers([&] {
     if (lazy)
       return makeForceRenderer(skeleton, std::make_shared<const PolygonScene>(*skeleton), ForceMethod::Patch, options);
@@ -88,11 +96,11 @@ void checkContactStarts(const std::string& shape, bool lazy, int stride) {
       ++faults;
       return;
     }
-    // lazy patches: no winding number near the surface (lazy_surface.h); where sheets within 3x
+    // box queries: no winding number near the surface (lazy_surface.h); where sheets within 3x
     // of the nearest distance see the HIP on both sides (folded or overlapping patches), a wrong
     // contact start or SCP counts as a surface fault too (bounded like the others)
     const bool lazyWrong = s.contact != truth || (s.contact && (s.scp - hip).norm() > q.distance + 1e-6 * diag);
-    if (lazy && q.conflicting(3.0) && lazyWrong) {
+    if (boxes && q.conflicting(3.0) && lazyWrong) {
       ++faults;
       ++lazyFaults;
       return;
@@ -120,7 +128,7 @@ void checkContactStarts(const std::string& shape, bool lazy, int stride) {
   std::printf(
       "  %s%s: %d HIPs (dense level %d, %zu triangles): %d inside, %d in contact; surface faults %d; "
       "fold-edge SCPs %d; rays disagreeing %d; lazy faults %d\n",
-      shape.c_str(), lazy ? " (lazy patches)" : "", n, oracle.level(), oracle.numTriangles(), inside.load(),
+      shape.c_str(), lazy ? " (lazy patches)" : boxes ? " (bounds index)" : "", n, oracle.level(), oracle.numTriangles(), inside.load(),
       contacts.load(), faults.load(), foldEdges.load(), raysDisagree.load(), lazyFaults.load());
   ::testing::Test::RecordProperty("surface_faults", faults.load());
   ASSERT_EQ(n, (3 * kPerDepth + stride - 1) / stride);
@@ -132,12 +140,19 @@ void checkContactStarts(const std::string& shape, bool lazy, int stride) {
   EXPECT_GE(inside.load(), n * 9 / 10) << shape << ": the HIPs should mostly be inside";
 }
 
-TEST_P(QueryProperties, ContactStartsIffInsideAtTheNearestStationaryPoint) { checkContactStarts(GetParam(), false, 1); }
+TEST_P(QueryProperties, ContactStartsIffInsideAtTheNearestStationaryPoint) {
+  checkContactStarts(GetParam(), Query::Tessellation, 1);
+}
 
-// The same on a skeleton of the mesh, patches built lazily where the query needs them (every
-// third HIP: the three depths of each sample in turn).
+// The same with the bounds index on the built cache (what the servo loop holds), and on a
+// skeleton of the mesh, patches built lazily where the query needs them (every third HIP: the
+// three depths of each sample in turn).
+TEST_P(QueryProperties, BoundsIndexStartsContactIffInsideAtTheNearestStationaryPoint) {
+  checkContactStarts(GetParam(), Query::Bounds, 3);
+}
+
 TEST_P(QueryProperties, LazyPatchesStartContactIffInsideAtTheNearestStationaryPoint) {
-  checkContactStarts(GetParam(), true, 3);
+  checkContactStarts(GetParam(), Query::Lazy, 3);
 }
 
 /// Largest angle between the normals of neighbouring points of a path, rad.

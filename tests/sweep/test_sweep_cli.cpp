@@ -247,7 +247,8 @@ TEST_F(SweepCli, BadInputIsOneLine) {
   ASSERT_EQ(run("generate sphere --segments 2 -o " + p("s.obj")).status, 0);
   for (const std::string& args :
        {std::string("--depth 2% --shard 3/3"), std::string("--depth 2%x"),
-        std::string("--depth 2% --methods patch,nope"), std::string("--depth 2% --analytic cube:1"), std::string("")}) {
+        std::string("--depth 2% --methods patch,nope"), std::string("--depth 2% --analytic cube:1"), std::string(""),
+        std::string("--depth 2% --backend opencl --surface-index bounds")}) {
     const CliResult r = run("sweep --mesh " + p("s.obj") + " --samples 10 " + args + " -o " + p("o"));
     EXPECT_NE(r.status, 0) << args;
     EXPECT_NE(r.out.find("smoothforce: "), std::string::npos) << args << "\n" << r.out;

@@ -69,7 +69,7 @@ TEST(SweepConfigJson, OneWriterAndOneReaderKeepEverySetting) {
   ForceSettings a{ForceMethod::Patch, c.force, c.preset}, b{ForceMethod::Patch, back.force, back.preset};
   int same = 0;
   for (const OptionSpec& s : kForceOptionSpecs) same += forceOptionValue(a, s.key) == forceOptionValue(b, s.key);
-  EXPECT_EQ(same, 11);
+  EXPECT_EQ(same, 12);
   EXPECT_EQ(sweepConfigHash(back), sweepConfigHash(c));
   // every setting changed alone changes the configuration (so the reader cannot drop one)
   int differ = 0, settings = 0;
@@ -87,6 +87,7 @@ TEST(SweepConfigJson, OneWriterAndOneReaderKeepEverySetting) {
   changed([](SweepConfig& e) { e.force.tessellationLevel = 7; });
   changed([](SweepConfig& e) { e.force.finalStep = FinalStep::Evaluated; });
   changed([](SweepConfig& e) { e.force.refine = RefineMethod::PaperDescent; });
+  changed([](SweepConfig& e) { e.force.surfaceIndex = SurfaceIndex::Bounds; });
   changed([](SweepConfig& e) { e.preset = "fast"; });
   changed([](SweepConfig& e) { e.trajectoryStep = 0.02; });
   changed([](SweepConfig& e) { e.diagonal = 2.6; });

@@ -45,6 +45,7 @@ void RefineArgs::apply(ForceOptions& o) const {
   if (given(guessOpt)) setForceOption(f, "initial_guess", guess, OptionSpelling::Flag);
   if (given(levelOpt)) setForceOption(f, "guess_level", guessLevel, OptionSpelling::Flag);
   if (given(finalStepOpt)) setForceOption(f, "final_step", finalStep, OptionSpelling::Flag);
+  if (given(indexOpt)) setForceOption(f, "surface_index", surfaceIndex, OptionSpelling::Flag);
   checkForceOptions(f.options, OptionSpelling::Flag);  // the pairs, by flag (--final-step model needs --refine newton)
   o = f.options;
 }
@@ -83,6 +84,14 @@ void addRefineArgs(CLI::App& cmd, RefineArgs& a) {
   a.levelOpt = cmd.add_option("--guess-level", a.guessLevel,
                               "tessellation level of the patch surface for the global query (0: chosen)")
                    ->check(forceOptionCheck("guess_level"))
+                   ->capture_default_str();
+  a.indexOpt = cmd.add_option("--surface-index", a.surfaceIndex,
+                              "bounds|tessellation: the index of the patch surface for --initial-guess surface "
+                              "on a prebuilt cache. bounds: boxes per face, corner sector and cell (memory grows "
+                              "with the patches); tessellation: a fine tessellation with error bounds in BVHs "
+                              "(0.1-0.5 MB per face on coarse cages, docs/results.md 'Runtime memory by "
+                              "structure'). Both find the same nearest patch point")
+                   ->check(forceOptionCheck("surface_index"))
                    ->capture_default_str();
   a.finalStepOpt = cmd.add_option("--final-step", a.finalStep,
                                    "evaluated|model: the Newton refinement's converging step ends on an evaluation of "

@@ -47,11 +47,12 @@ void addPatchArgs(CLI::App& cmd, PatchArgs& args);
 /// --final-step.
 /// Order: defaults, then the preset (force_presets.h), then the options given explicitly.
 struct RefineArgs {
-  std::string preset, refine = "newton", guess = "surface", finalStep = "evaluated";
+  std::string preset, refine = "newton", guess = "surface", finalStep = "evaluated",
+                     surfaceIndex = toString(ForceOptions{}.surfaceIndex);
   double angleTol = ForceOptions{}.angleTolerance, posTol = ForceOptions{}.positionTolerance;
   int maxIter = ForceOptions{}.maxIterations, guessLevel = ForceOptions{}.tessellationLevel;
   CLI::Option *refineOpt = nullptr, *tolOpt = nullptr, *posTolOpt = nullptr, *iterOpt = nullptr, *guessOpt = nullptr,
-              *levelOpt = nullptr, *finalStepOpt = nullptr;
+              *levelOpt = nullptr, *finalStepOpt = nullptr, *indexOpt = nullptr;
   CLI::Option* precisionOpt = nullptr;  ///< --precision of addPatchArgs, when the command has it
   /// Fills o's refinement fields (stiffness untouched) through the shared reader
   /// (force_option_text.h, by flag). Throws InputError for an unknown

@@ -274,10 +274,17 @@ void printFaults(const SurfaceFaults& f, const FaultAttribution& a) {
 }
 
 /// The runtime structures the renderers of every method build from the cache (default options;
-/// SharedGeometry), each with the bytes it holds: `cache info --memory`.
+/// SharedGeometry; the patch method with each surface index: patch_surface for tessellation,
+/// lazy_surface for bounds, which the servo loop holds), each with the bytes it holds: `cache info
+/// --memory`.
 std::vector<SharedGeometry::Part> runtimeMemory(const PatchCache& c) {
   SharedGeometry g(std::make_shared<const PatchCache>(c));
-  for (ForceMethod m : {ForceMethod::Patch, ForceMethod::Direct}) g.makeRenderer(m, ForceOptions{});
+  ForceOptions o;
+  for (SurfaceIndex index : {SurfaceIndex::Tessellation, SurfaceIndex::Bounds}) {
+    o.surfaceIndex = index;
+    g.makeRenderer(ForceMethod::Patch, o);
+  }
+  g.makeRenderer(ForceMethod::Direct, ForceOptions{});
   return g.memory();
 }
 
@@ -408,8 +415,9 @@ void addCacheCommands(CLI::App& app) {
   auto memory = std::make_shared<bool>(false);
   i->add_flag("--memory", *memory,
               "also build what the renderers build from the cache (the patch method's polygon scene and, for a "
-              "prebuilt cache, its global query's patch surface, or its lazy parts; the god-object's polygon "
-              "scene) and report the bytes each holds, in all and per face (Embree's BVHs as its memory "
+              "prebuilt cache, both indexes of its global query: patch_surface (--surface-index tessellation) and "
+              "lazy_surface (bounds, what the servo loop holds), or a skeleton's lazy parts; the god-object's "
+              "polygon scene) and report the bytes each holds, in all and per face (Embree's BVHs as its memory "
               "monitor counts them); null in --json without it");
   i->callback([=] { info(*path, *json, *faults, *memory); });
 }

@@ -106,6 +106,7 @@ nlohmann::ordered_json loopJson(const rt::Scene& scene, const rt::HapticDevice& 
                        {"angle_tolerance", o.force.angleTolerance},
                        {"max_iterations", o.force.maxIterations},
                        {"initial_guess", toString(o.force.initialGuess)},
+                       {"surface_index", toString(o.force.surfaceIndex)},
                        {"final_step", toString(o.force.finalStep)},
                        {"precision", toString(o.cache->options.precision)},
                        {"normals", toString(o.cache->options.normals)},
@@ -201,10 +202,10 @@ void run(const LoopArgs& a) {
     char buf[512];
     std::snprintf(buf, sizeof buf,
                   "object %s: %s, %d faces, method %s, stiffness %g N/m, refine %s (angle tol %g rad, max %d "
-                  "iterations, %s start)%s\n",
+                  "iterations, %s start, %s index)%s\n",
                   o.name.c_str(), o.source.c_str(), o.cache->numFaces(), toString(o.method), o.force.stiffness,
                   toString(o.force.refine), o.force.angleTolerance, o.force.maxIterations,
-                  toString(o.force.initialGuess), o.fromMesh ? " (patches built lazily near the contact point)" : "");
+                  toString(o.force.initialGuess), toString(o.force.surfaceIndex), o.fromMesh ? " (patches built lazily near the contact point)" : "");
     info += buf;
   }
 

@@ -183,6 +183,11 @@ typedef struct sf_haptic_options {
                                refinement's converging step ends on its quadratic model, one patch
                                evaluation fewer per tracking step (docs/design.md "The model final step";
                                since 0.2.0) */
+  const char* surface_index; /**< patch method on a prebuilt cache, the index of the global query:
+                                  "auto" (default, NULL: "bounds" for sf_haptic, "tessellation" for
+                                  sf_cache_trace), "bounds" (boxes per sector and cell, about 2 kB per
+                                  face) or "tessellation" (0.1-0.5 MB per face, contact starts about 3x
+                                  faster); docs/guide.md "--surface-index" (since 0.5.0) */
 } sf_haptic_options;
 void sf_haptic_options_init(sf_haptic_options* options);
 

@@ -174,6 +174,11 @@ Scene loadScene(const std::string& path, const SceneDefaults& defaults, const Re
 /// patch options one cache, so a scene of many copies of a mesh reads and sets it up once.
 RendererFactory sharedRendererFactory();
 
+/// The force options a scene's renderer is made with: `force` with SurfaceIndex::Auto resolved to
+/// Bounds (force_method.h): a servo loop holds the compact index of a prebuilt cache, not its
+/// tessellation. loadScene and singleObjectScene apply it to every object.
+ForceOptions servoForceOptions(ForceOptions force);
+
 /// A scene of one object at the identity pose.
 Scene singleObjectScene(std::shared_ptr<const PatchCache> cache, std::string source, ForceMethod method,
                         const ForceOptions& force, const RendererFactory& factory);

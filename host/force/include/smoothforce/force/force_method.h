@@ -21,6 +21,26 @@ enum class ForceMethod { Patch, Direct, Shading };
 ForceMethod parseForceMethod(const std::string& s);
 const char* toString(ForceMethod m);
 
+/// The index of the patch surface behind the patch method's global query (InitialGuess::Surface)
+/// on a prebuilt cache. Both find the same nearest patch point (every candidate whose lower bound
+/// is below the best distance found is refined); they differ in what they hold and how fast a
+/// step out of contact is (docs/results.md "The surface index: memory against speed").
+/// - bounds: boxes per face, per corner sector and per cell of the patches (LazyPatchSurface:
+///   about 1.5 kB per quad, cells computed where contact reaches); contact where the HIP lies
+///   below the nearest patch point, the base polygons' inside test outside every swept box.
+///   Memory grows with the number of patches, not with a tessellation.
+/// - tessellation: a fine tessellation of every patch with error bounds in Embree BVHs
+///   (PatchSurface: 0.1-0.5 MB per face on coarse cages); contact where the HIP is inside by the
+///   tessellation's winding number. Contact starts about 3 times faster.
+/// - auto (default): bounds for the servo loop (the runtime's scenes: `loop`, C sf_haptic, Python
+///   Haptic), where memory counts and a step has a millisecond; tessellation for batches
+///   (makeForceRenderer, `trace`, sweeps), where contact starts dominate.
+/// A skeleton cache (patches built lazily) always uses bounds.
+enum class SurfaceIndex { Auto, Bounds, Tessellation };
+/// Parser throws InputError naming the value ("auto"|"bounds"|"tessellation").
+SurfaceIndex parseSurfaceIndex(const std::string& s);
+const char* toString(SurfaceIndex i);
+
 /// The largest stiffness an option may give, N/m: 1e12, far beyond any haptic device (a few
 /// thousand N/m) or rigid-contact simulation.
 inline constexpr double kMaxStiffness = 1e12;
@@ -35,6 +55,8 @@ struct ForceOptions : RefineOptions {
   /// Lazy construction (the cache is a skeleton, preparePatchSkeleton): faces whose patches
   /// are held at once (LRU); <= 0: every face that is touched stays built.
   int patchCapacity = 256;
+  /// InitialGuess::Surface on a prebuilt cache: the index of the patch surface (SurfaceIndex).
+  SurfaceIndex surfaceIndex = SurfaceIndex::Auto;
 };
 
 /// One servo step's result. For direct/shading, scp is the god-object (proxy) and face,

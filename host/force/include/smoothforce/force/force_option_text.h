@@ -24,8 +24,8 @@ struct ForceSettings {
 /// Every force option, in the order front ends apply them (a preset first, explicit options
 /// after it): method, preset, stiffness (N/m), refine, angle_tolerance (rad), position_tolerance
 /// (fraction of the bounding-box diagonal), max_iterations, initial_guess, guess_level,
-/// final_step, patch_capacity.
-extern const OptionSpec kForceOptionSpecs[11];
+/// final_step, patch_capacity, surface_index.
+extern const OptionSpec kForceOptionSpecs[12];
 
 /// Sets one option from its text (numbers as decimal text). `preset` applies the preset's
 /// refinement options (force_presets.h) over those set before it. Throws InputError
@@ -45,9 +45,10 @@ std::string forceOptionValue(const ForceSettings& settings, const std::string& k
 
 /// The settings a C or Python haptic takes, through the reader above in the front ends' order:
 /// method (null: patch), preset (null: none), stiffness (N/m), patch_capacity, final_step (null:
-/// the preset's or the default), then checkForceOptions. Throws InputError by key.
+/// the preset's or the default), surface_index (null: auto), then checkForceOptions. Throws
+/// InputError by key.
 ForceSettings readHapticForceSettings(const char* method, const char* preset, double stiffness, int patchCapacity,
-                                      const char* finalStep);
+                                      const char* finalStep, const char* surfaceIndex = nullptr);
 
 /// Checks every option's value and the pair the values must agree on (final_step model needs
 /// refine newton); throws InputError with the message setForceOption gives (by key or flag).

@@ -25,24 +25,27 @@ void validateForceOptions(const ForceOptions& options);
 
 /// The patch method (Algorithm 1) over a shared scene of the same cache.
 ///
-/// Out of contact (InitialGuess::Surface, the default, with prebuilt patches) each step runs the
+/// Out of contact (InitialGuess::Surface, the default, with prebuilt patches and the tessellation
+/// index, SurfaceIndex::Tessellation or Auto) each step runs the
 /// global nearest-point query on the patch surface: PatchSurface gives every face whose patch
 /// can hold the nearest point (its tessellation's distance minus its error bound is below the
 /// best upper bound) with the nearest tessellation point as the start; the refinement runs from
 /// each, in order, until the next candidate's lower bound exceeds the best distance found; the
 /// nearest refined point is the SCP candidate. Contact starts when the HIP is inside the patch
-/// surface (insidePatchSurface). On a skeleton cache (patches built lazily, LazyPatches) the
+/// surface (insidePatchSurface). On a skeleton cache (patches built lazily, LazyPatches), and on a
+/// prebuilt cache with SurfaceIndex::Bounds (its cells computed here), the
 /// same query runs over boxes instead of a tessellation of every patch (LazyPatchSurface: the
-/// faces whose a-priori box, computed from vertices and normals alone, is within the polygon
-/// start's refined distance, then the cells of those patches, in order of lower bound; outside
-/// every a-priori box of a closed mesh the base polygons' inside test decides, with no patch
-/// work): only the patches that can hold the nearest point are built. With
+/// faces whose box (the a-priori box from vertices and normals, cut down to the face's swept
+/// boxes) is within the polygon start's refined distance, then the cells of those patches, in
+/// order of lower bound; outside every swept box of a closed mesh the base polygons' inside test
+/// decides, with no patch work): only the patches that can hold the nearest point are built. With
 /// InitialGuess::Polygon (the paper's Section 4.1) the global query is the nearest base-polygon
 /// point mapped into its patch's domain by mean value coordinates, refined once, and contact
 /// starts when (HIP - SCP) . n < 0.
 /// In contact only the local refinement from the previous SCP runs (Algorithm 1), and contact
 /// ends when (HIP - SCP) . n >= 0. F = stiffness (SCP - HIP).
 /// surface: shared by several renderers; when null and needed it is built here (from the cache).
+/// Given, it is used whatever options.surfaceIndex says.
 std::unique_ptr<ForceRenderer> makePatchForceRenderer(std::shared_ptr<const PatchCache> cache,
                                                       std::shared_ptr<const PolygonScene> scene,
                                                       const ForceOptions& options,

@@ -42,9 +42,11 @@ class SharedGeometry {
   };
   /// Every structure the renderers made so far hold, the cache first: "cache" (the patch records
   /// and mesh, PatchCache::bytes), "polygon_scene" (the patch method's polygons and BVH),
-  /// "patch_surface" (the prebuilt global query's tessellations and BVHs, one per option set),
-  /// "lazy_surface" and "lazy_patches" (the lazy path's boxes and patch entries; they grow as
-  /// contact reaches new faces, up to the capacity), "god_object_scene" (the direct and shading
+  /// "patch_surface" (the tessellation index of the global query, SurfaceIndex::Tessellation:
+  /// tessellations and BVHs, one per option set), "lazy_surface" (the bounds index,
+  /// SurfaceIndex::Bounds or a skeleton: boxes per face, sector and cell; cells grow as contact
+  /// reaches new faces), "lazy_patches" (a skeleton's patch entries, up to the capacity),
+  /// "god_object_scene" (the direct and shading
   /// methods' polygons and BVH). Not thread-safe, as makeRenderer.
   std::vector<Part> memory() const;
 
