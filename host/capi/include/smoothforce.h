@@ -70,7 +70,7 @@ typedef struct sf_cache sf_cache;
 /** A force renderer with the safety layer and the servo step (one object at a pose). */
 typedef struct sf_haptic sf_haptic;
 
-/** "0.4.0": the library's version. */
+/** "0.5.0": the library's version. */
 const char* sf_version(void);
 /** Name of a status code ("SF_ERROR_INPUT"). */
 const char* sf_status_name(sf_status status);
