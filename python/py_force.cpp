@@ -232,7 +232,7 @@ void bindForce(pyb::module_& m) {
            "patch_capacity"_a = 256, "max_force"_a = 3.3, "max_force_step"_a = 0.5, "ramp_time"_a = 0.5,
            "rate"_a = 1000.0, "final_step"_a = "evaluated", "surface_index"_a = "auto",
            "Units: N/m, N, N per step, s, Hz; final_step evaluated or model (as --final-step); surface_index\n"
-           "auto, bounds or tessellation (as --surface-index: auto is bounds here, about 2 kB per face of a\n"
+           "auto, bounds or tessellation (as --surface-index: auto is bounds here, about 3 kB per face of a\n"
            "prebuilt cache instead of 0.1-0.5 MB). Raises ValueError for an option out of range.")
       .def("step", &Haptic::step, "hip"_a, "time"_a,
            "One step at HIP (3,) m and time s (caller's clock). Returns a dict: force (after safety, N; command\n"

@@ -169,7 +169,7 @@ class Haptic:
     def __init__(self, cache: Cache, *, method: str = 'patch', stiffness: float = 500.0, preset: typing.Any = None, patch_capacity: int = 256, max_force: float = 3.3, max_force_step: float = 0.5, ramp_time: float = 0.5, rate: float = 1000.0, final_step: str = 'evaluated', surface_index: str = 'auto') -> None:
         """
         Units: N/m, N, N per step, s, Hz; final_step evaluated or model (as --final-step); surface_index
-        auto, bounds or tessellation (as --surface-index: auto is bounds here, about 2 kB per face of a
+        auto, bounds or tessellation (as --surface-index: auto is bounds here, about 3 kB per face of a
         prebuilt cache instead of 0.1-0.5 MB). Raises ValueError for an option out of range.
         """
     def reset(self) -> None:

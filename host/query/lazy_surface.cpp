@@ -131,6 +131,7 @@ bool pointQueryFn(RTCPointQueryFunctionArguments* args) {
 LazyPatchSurface::LazyPatchSurface(const PatchCache& cache, const PolygonFacets& facets)
     : cache_(cache), facets_(facets), apriori_(patchBoxes(cache)), impl_(std::make_unique<Impl>()) {
   cellBoxes_.assign(static_cast<size_t>(kCellsPerSector) * kObb * cache.numSlots(), 0.f);
+  sweptCellBoxes_.assign(static_cast<size_t>(kCellsPerSector) * kObb * cache.numSlots(), 0.f);
   cellCount_.assign(cache.numFaces(), -1);
   sweptBoxes_.assign(static_cast<size_t>(kObb) * cache.numSlots(), 0.f);
   sectorBoxes_.assign(static_cast<size_t>(kObb) * cache.numSlots(), 0.f);
@@ -193,7 +194,7 @@ LazyPatchSurface::LazyPatchSurface(const PatchCache& cache, const PolygonFacets&
 LazyPatchSurface::~LazyPatchSurface() = default;
 
 size_t LazyPatchSurface::bytes() const noexcept {
-  return vectorBytes(apriori_, faceBoxes_, cellBoxes_, sectorBoxes_, sectorState_, sweptBoxes_, facetTolerance_, cellCount_) +
+  return vectorBytes(apriori_, faceBoxes_, cellBoxes_, sweptCellBoxes_, sectorBoxes_, sectorState_, sweptBoxes_, facetTolerance_, cellCount_) +
          embreeBytes(impl_->embreeBytes);
 }
 
@@ -232,8 +233,14 @@ bool LazyPatchSurface::inAnySweptBox(const Eigen::Vector3d& q) const noexcept {
   for (size_t i = 0; i < n; ++i) {
     const int f = in[i].face;
     if (!sectors(f)) return true;
-    for (int k = 0; k < cache_.faceSize(f); ++k)
-      if (sweptDistance(f, k, q) == 0) return true;
+    for (int k = 0; k < cache_.faceSize(f); ++k) {
+      if (sweptDistance(f, k, q) != 0) continue;
+      // the cells' swept boxes only where every face's cells were computed up front
+      // (computeAllCells): otherwise the answer would depend on which faces contact reached first
+      if (!allCells_ || cellCount_[f] <= 0) return true;
+      for (int i = 0; i < kCellsPerSector; ++i)
+        if (sweptCellDistance(f, kCellsPerSector * k + i, q) == 0) return true;
+    }
   }
   return false;
 }
@@ -434,6 +441,30 @@ int LazyPatchSurface::computeCells(int f) noexcept {
     for (int a = 0; a < 2; ++a)
       for (int b = 0; b < 2; ++b)
         gridObb<L>(p, a * H, b * H, H, faceFrame, margin, impl_->origin, out + kObb * (kCellsPerSector * k + 2 * a + b));
+    // the swept cell boxes: each cell's samples and its part of the polygon's fan triangle (the
+    // sector mapped linearly onto the triangle (centroid, V_k, V_k+1): ray fraction rho and edge
+    // fraction t go to centroid + rho (V_k + t (V_k+1 - V_k) - centroid)), in the triangle's frame
+    const Eigen::Vector3d v0 = Eigen::Map<const Eigen::Vector3d>(&cache_.positions[3 * cache_.faceVertices[cache_.faceOffsets[f] + k]]);
+    const Eigen::Vector3d v1 =
+        Eigen::Map<const Eigen::Vector3d>(&cache_.positions[3 * cache_.faceVertices[cache_.faceOffsets[f] + (k + 1) % n]]);
+    const Eigen::Vector3d centroid = facets_.faceCentroid[f];
+    Eigen::Vector3d e[3];
+    if (!frameFrom(v1 - v0, centroid - v0, e)) std::copy(faceFrame, faceFrame + 3, e);
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b) {
+        Eigen::Vector3d pts[(H + 1) * (H + 1) + 4];
+        int m = 0;
+        for (int i = a * H; i <= (a + 1) * H; ++i)
+          for (int j = b * H; j <= (b + 1) * H; ++j) pts[m++] = p[i][j];
+        for (int ri = 0; ri < 2; ++ri)
+          for (int ti = 0; ti < 2; ++ti) {
+            const double rho = 0.5 * (a + ri), t = 0.5 * (b + ti);
+            pts[m++] = centroid + rho * (v0 + t * (v1 - v0) - centroid);
+          }
+        makeObb(pts, m, e, std::max(margin, facetTolerance_[f]), impl_->origin,
+                &sweptCellBoxes_[static_cast<size_t>(kCellsPerSector) * kObb * cache_.faceOffsets[f] +
+                                 kObb * (kCellsPerSector * k + 2 * a + b)]);
+      }
   }
   cellCount_[f] = static_cast<int16_t>(kCellsPerSector * n);
   return cellCount_[f];
@@ -445,6 +476,7 @@ void LazyPatchSurface::computeAllCells() noexcept {
     for (int f = r.begin(); f < r.end(); ++f) computeCells(f);
   });
   sampledCount_ = static_cast<int>(std::count_if(cellCount_.begin(), cellCount_.end(), [](int16_t c) { return c >= 0; }));
+  allCells_ = true;
 }
 
 double LazyPatchSurface::sectorDistance(int f, int k, const Eigen::Vector3d& q) const noexcept {
@@ -453,6 +485,11 @@ double LazyPatchSurface::sectorDistance(int f, int k, const Eigen::Vector3d& q) 
 
 double LazyPatchSurface::cellDistance(int f, int i, const Eigen::Vector3d& q) const noexcept {
   return obbDistance(&cellBoxes_[static_cast<size_t>(kCellsPerSector) * kObb * cache_.faceOffsets[f] + kObb * i], q, impl_->origin);
+}
+
+double LazyPatchSurface::sweptCellDistance(int f, int i, const Eigen::Vector3d& q) const noexcept {
+  return obbDistance(&sweptCellBoxes_[static_cast<size_t>(kCellsPerSector) * kObb * cache_.faceOffsets[f] + kObb * i], q,
+                     impl_->origin);
 }
 
 double LazyPatchSurface::sweptDistance(int f, int k, const Eigen::Vector3d& q) const noexcept {

@@ -21,10 +21,12 @@ namespace {
 /// outside every cell, sector and swept box of their face; points: how many were sampled.
 struct Containment {
   long points = 0, outside = 0, sectorOutside = 0, sweptOutside = 0, faceBoxOutside = 0;
+  long sweptCellOutside = 0;  ///< patch points, or their fan-triangle points, outside their sector's swept cell boxes
   long faceBoxesBeyondApriori = 0;  ///< face boxes not inside their a-priori box
   double worst = 0;  ///< farthest outside a cell box, over the a-priori box diagonal
 };
-Containment containment(const PatchCache& c, LazyPatchSurface& surface, const std::vector<int>& faces) {
+Containment containment(const PatchCache& c, const PolygonFacets& facets, LazyPatchSurface& surface,
+                        const std::vector<int>& faces) {
   Containment r;
   constexpr int kRings = 10, kPerEdge = 11;
   for (int f : faces) {
@@ -55,6 +57,21 @@ Containment containment(const PatchCache& c, LazyPatchSurface& surface, const st
             sector = std::min(sector, surface.sectorDistance(f, k, p));
           }
           r.sweptOutside += swept > 0;
+          if (ring > 0) {  // the sector of edge k: the patch point and its fan-triangle point (the
+                           // sector mapped linearly onto (centroid, V_k, V_k+1)) in one of its swept cells
+            const double rho = double(ring) / kRings, t = double(j) / kPerEdge;
+            const Eigen::Vector3d v0 = Eigen::Vector3d::Map(&c.positions[3 * c.faceVertices[c.faceOffsets[f] + k]]);
+            const Eigen::Vector3d v1 =
+                Eigen::Vector3d::Map(&c.positions[3 * c.faceVertices[c.faceOffsets[f] + (k + 1) % n]]);
+            const Eigen::Vector3d centroid = facets.faceCentroid[f];
+            const Eigen::Vector3d fan = centroid + rho * (v0 + t * (v1 - v0) - centroid);
+            double dp = 1e300, df = 1e300;
+            for (int i = 0; i < LazyPatchSurface::kCellsPerSector; ++i) {
+              dp = std::min(dp, surface.sweptCellDistance(f, LazyPatchSurface::kCellsPerSector * k + i, p));
+              df = std::min(df, surface.sweptCellDistance(f, LazyPatchSurface::kCellsPerSector * k + i, fan));
+            }
+            r.sweptCellOutside += dp > 0 || df > 0;
+          }
           r.faceBoxOutside += box.distance(p) > 0;
           r.sectorOutside += sector > 0;
         }
@@ -76,17 +93,18 @@ TEST(LazySurface, CellBoxesHoldTheirPatches) {
       std::shuffle(faces.begin(), faces.end(), std::mt19937(20261122));
       faces.resize(600);
     }
-    const Containment r = containment(c, surface, faces);
+    const Containment r = containment(c, facets, surface, faces);
     std::printf(
         "  %-50s %5zu patches, %8ld samples: %ld outside every cell box, %ld every sector box, %ld every swept box, "
-        "%ld the face box\n",
+        "%ld the face box, %ld their swept cells\n",
         std::filesystem::path(path).lexically_relative(SF_SHARED_MESHES).string().c_str(), faces.size(), r.points,
-        r.outside, r.sectorOutside, r.sweptOutside, r.faceBoxOutside);
+        r.outside, r.sectorOutside, r.sweptOutside, r.faceBoxOutside, r.sweptCellOutside);
     EXPECT_EQ(r.outside, 0) << "worst " << r.worst << " of the a-priori box diagonal";
     EXPECT_EQ(r.sweptOutside, 0);
     EXPECT_EQ(r.sectorOutside, 0);
     EXPECT_EQ(r.faceBoxOutside, 0);
     EXPECT_EQ(r.faceBoxesBeyondApriori, 0);
+    EXPECT_EQ(r.sweptCellOutside, 0);
     EXPECT_EQ(surface.sampledFaces(), static_cast<int>(faces.size()));
     checked += r.points;
     ++meshes;
@@ -112,12 +130,13 @@ TEST(LazySurface, CellBoxesHoldTheirPatchesFarFromTheOrigin) {
       LazyPatchSurface surface(c, facets);
       std::vector<int> faces(c.numFaces());
       for (int f = 0; f < c.numFaces(); ++f) faces[f] = f;
-      const Containment r = containment(c, surface, faces);
+      const Containment r = containment(c, facets, surface, faces);
       EXPECT_EQ(r.outside, 0) << "worst " << r.worst << " of the a-priori box diagonal";
       EXPECT_EQ(r.sweptOutside, 0);
       EXPECT_EQ(r.sectorOutside, 0);
       EXPECT_EQ(r.faceBoxOutside, 0);
       EXPECT_EQ(r.faceBoxesBeyondApriori, 0);
+      EXPECT_EQ(r.sweptCellOutside, 0);
       checked += r.points;
       ++runs;
     }

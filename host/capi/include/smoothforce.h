@@ -185,7 +185,7 @@ typedef struct sf_haptic_options {
                                since 0.2.0) */
   const char* surface_index; /**< patch method on a prebuilt cache, the index of the global query:
                                   "auto" (default, NULL: "bounds" for sf_haptic, "tessellation" for
-                                  sf_cache_trace), "bounds" (boxes per sector and cell, about 2 kB per
+                                  sf_cache_trace), "bounds" (boxes per sector and cell, about 3 kB per
                                   face) or "tessellation" (0.1-0.5 MB per face, contact starts about 3x
                                   faster); docs/guide.md "--surface-index" (since 0.5.0) */
 } sf_haptic_options;

@@ -26,8 +26,9 @@ const char* toString(ForceMethod m);
 /// is below the best distance found is refined); they differ in what they hold and how fast a
 /// step out of contact is (docs/results.md "The surface index: memory against speed").
 /// - bounds: boxes per face, per corner sector and per cell of the patches (LazyPatchSurface:
-///   about 1.5 kB per quad, cells computed where contact reaches); contact where the HIP lies
-///   below the nearest patch point, the base polygons' inside test outside every swept box.
+///   about 3 kB per face, every cell computed when the renderer is made); contact where the HIP lies
+///   below the nearest patch point, the base polygons' inside test outside every swept box (of
+///   the sectors and of their cells).
 ///   Memory grows with the number of patches, not with a tessellation.
 /// - tessellation: a fine tessellation of every patch with error bounds in Embree BVHs
 ///   (PatchSurface: 0.1-0.5 MB per face on coarse cages); contact where the HIP is inside by the

@@ -51,8 +51,10 @@ struct FaceDistance {
 /// same domain point stays in the face's box, and neighbouring faces agree on their shared edge,
 /// so the polygons deform into the patches without crossing the point. The same holds outside
 /// the swept boxes of the faces whose a-priori box holds the point (sweptDistance: the sector
-/// mapped linearly onto its fan triangle), on the samples' estimate. For one renderer: not
-/// thread-safe (cells() caches); the cache and facets must outlive it. Memory: 108 floats per
+/// mapped linearly onto its fan triangle), and, once every face's cells are computed
+/// (computeAllCells), outside the swept boxes of its cells (sweptCellDistance), on the samples'
+/// estimate. For one renderer: not
+/// thread-safe (cells() caches); the cache and facets must outlive it. Memory: 180 floats per
 /// corner, allocated in the constructor.
 class LazyPatchSurface {
  public:
@@ -83,7 +85,8 @@ class LazyPatchSurface {
                      const FaceDistance* after = nullptr) const noexcept;
   /// Whether q lies in some swept box (sweptDistance) of a face whose a-priori box holds q (false
   /// when no a-priori box holds q; the face boxes decide which faces to look at: a face box holds
-  /// the part of its a-priori box that its swept boxes can). Outside every swept box, the winding
+  /// the part of its a-priori box that its swept boxes can), and, after computeAllCells, in a swept
+  /// box of one of that sector's cells (sweptCellDistance). Outside every swept box, the winding
   /// number of the patch surface around q is that of the base polygons, as outside the a-priori
   /// boxes (on the samples' estimate). True when more than kMaxFaces face boxes hold q, or one of
   /// them belongs to a face without a patch (in doubt). Does not allocate or throw.
@@ -119,6 +122,11 @@ class LazyPatchSurface {
   /// points of the same domain point (the sector mapped linearly onto the triangle), so that
   /// the base polygons deform into the patches inside the swept boxes.
   double sweptDistance(int f, int k, const Eigen::Vector3d& q) const noexcept;
+  /// Distance (m) from q to the swept box of cell i of face f (cells(f) called before): as
+  /// sweptDistance, for the cell's 5 x 5 samples and its part of the fan triangle (the sector
+  /// mapped linearly onto the triangle), widened by the cell's margin and the facets' tolerance.
+  /// inAnySweptBox asks them inside a sector's swept box once computeAllCells ran.
+  double sweptCellDistance(int f, int i, const Eigen::Vector3d& q) const noexcept;
   /// A domain point of cell i of face f to start refining towards q from: q's position along
   /// the cell box's two tangent axes, as fractions of their ranges (clamped to 0.05..0.95), taken
   /// as fractions of the cell's ray and edge ranges (cells(f) called before).
@@ -155,9 +163,11 @@ class LazyPatchSurface {
   std::vector<float> sectorBoxes_;      ///< #C oriented boxes, one per corner sector (sectorDistance), by face slot
   std::vector<int8_t> sectorState_;     ///< #F: 0 no patch, 1 sector and swept boxes computed
   std::vector<float> sweptBoxes_;       ///< #C oriented boxes, one per corner sector (sweptDistance), by face slot
+  std::vector<float> sweptCellBoxes_;   ///< #C x 4 oriented boxes (sweptCellDistance), by face slot
   std::vector<double> facetTolerance_;  ///< #F: widening for the polygon facets, m
   std::vector<int16_t> cellCount_;      ///< #F: -1 not computed yet
   int sampledCount_ = 0;
+  bool allCells_ = false;  ///< computeAllCells ran: inAnySweptBox asks the cells' swept boxes
   std::unique_ptr<Impl> impl_;
 };
 
