@@ -74,6 +74,12 @@ int collectCells(LazyPatchSurface& surface, const PatchCache& cache, const FaceD
 
 }  // namespace
 
+std::shared_ptr<LazyPatchSurface> makeBoundsIndex(const PatchCache& cache, const PolygonScene& scene) {
+  auto surface = std::make_shared<LazyPatchSurface>(cache, scene.facets());
+  if (hasPatchData(cache)) surface->computeAllCells();
+  return surface;
+}
+
 void lazyGlobalStep(LazyPatchSurface& surface, const PolygonScene& scene, const PatchCache& cache,
                     PatchRefiner& refiner, const Eigen::Vector3d& hip, const ForceOptions& options, double* lambda,
                     PatchContactState& state, ForceSample& s) noexcept {

@@ -149,11 +149,7 @@ class PatchTracker final : public ForceRenderer {
     // asked for and no tessellated surface is given; else (auto too) the tessellation
     const bool bounds = lazy_ || (options_.surfaceIndex == SurfaceIndex::Bounds && !surface);
     if (options_.initialGuess == InitialGuess::Surface && bounds) {
-      lazySurface_ = shared.surface;
-      if (!lazySurface_) {
-        lazySurface_ = std::make_shared<LazyPatchSurface>(*cache_, scene_->facets());
-        if (!lazy_) lazySurface_->computeAllCells();  // prebuilt: no step computes cells
-      }
+      lazySurface_ = shared.surface ? shared.surface : detail::makeBoundsIndex(*cache_, *scene_);
     }
     if (options_.initialGuess == InitialGuess::Surface && !bounds) {
       if (surface && &surface->cache() != cache_.get())

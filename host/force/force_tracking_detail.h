@@ -23,6 +23,12 @@ struct SharedLazyParts {
   std::shared_ptr<LazyPatchSurface> surface;
 };
 
+/// The boxes of the bounds index (LazyPatchSurface) over `cache`, on the facets of the renderers'
+/// PolygonScene; on a prebuilt cache every cell computed now, so that no servo step computes one
+/// (a skeleton's cells follow the patches built on demand). Throws as LazyPatchSurface's
+/// constructor.
+std::shared_ptr<LazyPatchSurface> makeBoundsIndex(const PatchCache& cache, const PolygonScene& scene);
+
 /// makePatchForceRenderer with the lazy parts given (shared_geometry.cpp).
 std::unique_ptr<ForceRenderer> makeSharedPatchRenderer(std::shared_ptr<const PatchCache> cache,
                                                        std::shared_ptr<const PolygonScene> scene,

@@ -79,10 +79,7 @@ std::unique_ptr<ForceRenderer> SharedGeometry::makeRenderer(ForceMethod method, 
     parts_->stores.push_back({options.patchCapacity, lazy.patches});
   }
   if (surfaceGuess) {
-    if (!parts_->lazySurface) {
-      parts_->lazySurface = std::make_shared<LazyPatchSurface>(*cache_, scene->facets());
-      if (prebuilt) parts_->lazySurface->computeAllCells();  // no servo step computes cells
-    }
+    if (!parts_->lazySurface) parts_->lazySurface = detail::makeBoundsIndex(*cache_, *scene);
     lazy.surface = parts_->lazySurface;
   }
   return detail::makeSharedPatchRenderer(cache_, scene, options, nullptr, lazy);

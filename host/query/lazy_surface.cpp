@@ -379,6 +379,21 @@ void gridObb(const Eigen::Vector3d (&p)[L + 1][L + 1], int i0, int j0, int h, co
   makeObb(pts, m, e, margin, origin, out);
 }
 
+/// The fan triangle (centroid, V_k, V_k+1) of corner sector k of face f as PolygonScene sees it:
+/// its corners into c, v0, v1 and its frame into e (the face's frame where it is degenerate).
+void fanTriangle(const PatchCache& cache, const PolygonFacets& facets, int f, int k, Eigen::Vector3d& c,
+                 Eigen::Vector3d& v0, Eigen::Vector3d& v1, Eigen::Vector3d* e) {
+  const int first = cache.faceOffsets[f], n = cache.faceSize(f);
+  c = facets.faceCentroid[f];
+  v0 = Eigen::Map<const Eigen::Vector3d>(&cache.positions[3 * cache.faceVertices[first + k]]);
+  v1 = Eigen::Map<const Eigen::Vector3d>(&cache.positions[3 * cache.faceVertices[first + (k + 1) % n]]);
+  if (!frameFrom(v1 - v0, c - v0, e)) {
+    e[0] = facets.faceU[f];
+    e[1] = facets.faceV[f];
+    e[2] = facets.faceNormal[f];
+  }
+}
+
 }  // namespace
 
 bool LazyPatchSurface::computeSectors(int f) noexcept {
@@ -389,7 +404,6 @@ bool LazyPatchSurface::computeSectors(int f) noexcept {
   const gpd::gp_domain* dom = gpd::gp_domain_of(n, nullptr, 1);
   const int mode = static_cast<int>(cache_.options.crossTangent);
   const Eigen::Vector3d faceFrame[3] = {facets_.faceU[f], facets_.faceV[f], facets_.faceNormal[f]};
-  const Eigen::Vector3d centroid = facets_.faceCentroid[f];
   const int first = cache_.faceOffsets[f];
   for (int k = 0; k < n; ++k) {
     constexpr int L = 2;  // 3 x 3 samples; twice the cells' margin factor: coarser
@@ -403,14 +417,11 @@ bool LazyPatchSurface::computeSectors(int f) noexcept {
     int m = 0;
     for (int i = 0; i <= L; ++i)
       for (int j = 0; j <= L; ++j) pts[m++] = p[i][j];
-    const Eigen::Vector3d v0 = Eigen::Map<const Eigen::Vector3d>(&cache_.positions[3 * cache_.faceVertices[first + k]]);
-    const Eigen::Vector3d v1 =
-        Eigen::Map<const Eigen::Vector3d>(&cache_.positions[3 * cache_.faceVertices[first + (k + 1) % n]]);
+    Eigen::Vector3d centroid, v0, v1, e[3];
+    fanTriangle(cache_, facets_, f, k, centroid, v0, v1, e);
     pts[m++] = centroid;
     pts[m++] = v0;
     pts[m++] = v1;
-    Eigen::Vector3d e[3];
-    if (!frameFrom(v1 - v0, centroid - v0, e)) std::copy(faceFrame, faceFrame + 3, e);
     makeObb(pts, m, e, std::max(margin, facetTolerance_[f]), impl_->origin, &sweptBoxes_[static_cast<size_t>(kObb) * (first + k)]);
   }
   sectorState_[f] = 1;
@@ -444,12 +455,8 @@ int LazyPatchSurface::computeCells(int f) noexcept {
     // the swept cell boxes: each cell's samples and its part of the polygon's fan triangle (the
     // sector mapped linearly onto the triangle (centroid, V_k, V_k+1): ray fraction rho and edge
     // fraction t go to centroid + rho (V_k + t (V_k+1 - V_k) - centroid)), in the triangle's frame
-    const Eigen::Vector3d v0 = Eigen::Map<const Eigen::Vector3d>(&cache_.positions[3 * cache_.faceVertices[cache_.faceOffsets[f] + k]]);
-    const Eigen::Vector3d v1 =
-        Eigen::Map<const Eigen::Vector3d>(&cache_.positions[3 * cache_.faceVertices[cache_.faceOffsets[f] + (k + 1) % n]]);
-    const Eigen::Vector3d centroid = facets_.faceCentroid[f];
-    Eigen::Vector3d e[3];
-    if (!frameFrom(v1 - v0, centroid - v0, e)) std::copy(faceFrame, faceFrame + 3, e);
+    Eigen::Vector3d centroid, v0, v1, e[3];
+    fanTriangle(cache_, facets_, f, k, centroid, v0, v1, e);
     for (int a = 0; a < 2; ++a)
       for (int b = 0; b < 2; ++b) {
         Eigen::Vector3d pts[(H + 1) * (H + 1) + 4];
