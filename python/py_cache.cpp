@@ -31,7 +31,7 @@ struct Options {
 Options options(const std::string& precision, const std::string& normals, const std::string& crossTangent,
                 const std::string& orient, const std::string& backend, int threads, bool lazy,
                 const std::string& cage, const std::string& creases = "tags,groups", double creaseAngle = 0,
-                const std::string& foldRepair = "off") {
+                const std::string& foldRepair = "on") {
   Options o;
   o.patch = parsePatchOptions(
       PatchOptionText{precision, normals, crossTangent, orient, cage, creases, creaseAngle, foldRepair});
@@ -230,19 +230,19 @@ void bindCache(pyb::module_& m) {
       .def_static("from_file", &fromFile, "path"_a, pyb::kw_only(), "precision"_a = "double", "normals"_a = "auto",
                   "cross_tangent"_a = "corrected", "orient"_a = "outward", "backend"_a = "tbb", "threads"_a = 0,
                   "lazy"_a = false, "cage"_a = "none", "creases"_a = "tags,groups", "crease_angle"_a = 0.0,
-                  "fold_repair"_a = "off",
+                  "fold_repair"_a = "on",
                   "A cache from a patch cache file (checked, kept as it is) or a mesh file (OBJ, OFF, PLY: read,\n"
                   "checked, oriented, normals computed, every patch built unless lazy). Options as `smoothforce\n"
                   "cache build`'s (cage: none or catmull-clark, the limit positions and normals of a subdivision\n"
                   "cage; creases: which marks make crease edges, a list of tags, groups, normals, or none;\n"
-                  "crease_angle: degrees, 0 off; fold_repair: off or split, polygons with a reflex or straight\n"
-                  "corner cut into convex pieces). Raises ValueError naming the file and line. The GIL is released.")
+                  "crease_angle: degrees, 0 off; fold_repair: on (default; split a synonym), flat polygons with a\n"
+                  "reflex or straight corner cut into convex pieces, or off). Raises ValueError naming the file and line. The GIL is released.")
       .def_static("from_arrays", &fromArrays, "positions"_a, "face_offsets"_a, "face_vertices"_a,
                   "normals"_a = pyb::none(), pyb::kw_only(), "normal_layout"_a = "auto", "name"_a = "<arrays>",
                   "precision"_a = "double", "normals_mode"_a = "auto", "cross_tangent"_a = "corrected",
                   "orient"_a = "outward", "backend"_a = "tbb", "threads"_a = 0, "lazy"_a = false, "cage"_a = "none",
                   "creases"_a = "tags,groups", "crease_angle"_a = 0.0, "crease_edges"_a = pyb::none(),
-                  "crease_sharpness"_a = pyb::none(), "fold_repair"_a = "off",
+                  "crease_sharpness"_a = pyb::none(), "fold_repair"_a = "on",
                   "A cache from arrays, with the checks and reports of a file:\n"
                   "  positions     (V, 3) float, m\n"
                   "  face_offsets  (F + 1,) int: face f owns corners face_offsets[f] .. face_offsets[f+1]-1\n"
@@ -304,8 +304,8 @@ void bindCache(pyb::module_& m) {
             if (static_cast<int>(c.faceSource.size()) != c.numFaces()) return pyb::none();
             return view(c.faceSource.data(), c.faceSource.size(), 1, self);
           },
-          "(F,) int32: with fold_repair split, the face of the mesh as read that each face (piece) comes\n"
-          "from; None without fold repair (every face is the one read)")
+          "(F,) int32: with fold_repair on, the face of the mesh as read that each face (piece) comes\n"
+          "from; None with fold_repair off (every face is the one read)")
       .def_property_readonly("num_faces", [](const PyCache& c) { return c.cache->numFaces(); })
       .def_property_readonly("num_vertices", [](const PyCache& c) { return c.cache->numVertices(); })
       .def_property_readonly("num_corners", [](const PyCache& c) { return c.cache->numSlots(); })

@@ -19,7 +19,7 @@ class Cache:
     A whole mesh's Gregory patches (or, lazy, the mesh whose patches a renderer builds near the contact).
     """
     @staticmethod
-    def from_arrays(positions: typing.Any, face_offsets: typing.Any, face_vertices: typing.Any, normals: typing.Any = None, *, normal_layout: str = 'auto', name: str = '<arrays>', precision: str = 'double', normals_mode: str = 'auto', cross_tangent: str = 'corrected', orient: str = 'outward', backend: str = 'tbb', threads: int = 0, lazy: bool = False, cage: str = 'none', creases: str = 'tags,groups', crease_angle: float = 0.0, crease_edges: typing.Any = None, crease_sharpness: typing.Any = None, fold_repair: str = 'off') -> Cache:
+    def from_arrays(positions: typing.Any, face_offsets: typing.Any, face_vertices: typing.Any, normals: typing.Any = None, *, normal_layout: str = 'auto', name: str = '<arrays>', precision: str = 'double', normals_mode: str = 'auto', cross_tangent: str = 'corrected', orient: str = 'outward', backend: str = 'tbb', threads: int = 0, lazy: bool = False, cage: str = 'none', creases: str = 'tags,groups', crease_angle: float = 0.0, crease_edges: typing.Any = None, crease_sharpness: typing.Any = None, fold_repair: str = 'on') -> Cache:
         """
         A cache from arrays, with the checks and reports of a file:
           positions     (V, 3) float, m
@@ -33,14 +33,14 @@ class Cache:
         vertex index 8 out of range [0, 8)'). The GIL is released while the patches are built.
         """
     @staticmethod
-    def from_file(path: os.PathLike, *, precision: str = 'double', normals: str = 'auto', cross_tangent: str = 'corrected', orient: str = 'outward', backend: str = 'tbb', threads: int = 0, lazy: bool = False, cage: str = 'none', creases: str = 'tags,groups', crease_angle: float = 0.0, fold_repair: str = 'off') -> Cache:
+    def from_file(path: os.PathLike, *, precision: str = 'double', normals: str = 'auto', cross_tangent: str = 'corrected', orient: str = 'outward', backend: str = 'tbb', threads: int = 0, lazy: bool = False, cage: str = 'none', creases: str = 'tags,groups', crease_angle: float = 0.0, fold_repair: str = 'on') -> Cache:
         """
         A cache from a patch cache file (checked, kept as it is) or a mesh file (OBJ, OFF, PLY: read,
         checked, oriented, normals computed, every patch built unless lazy). Options as `smoothforce
         cache build`'s (cage: none or catmull-clark, the limit positions and normals of a subdivision
         cage; creases: which marks make crease edges, a list of tags, groups, normals, or none;
-        crease_angle: degrees, 0 off; fold_repair: off or split, polygons with a reflex or straight
-        corner cut into convex pieces). Raises ValueError naming the file and line. The GIL is released.
+        crease_angle: degrees, 0 off; fold_repair: on (default; split a synonym), flat polygons with a
+        reflex or straight corner cut into convex pieces, or off). Raises ValueError naming the file and line. The GIL is released.
         """
     def certify(self) -> numpy.ndarray:
         """
@@ -86,8 +86,8 @@ class Cache:
     @property
     def face_source(self) -> typing.Any:
         """
-        (F,) int32: with fold_repair split, the face of the mesh as read that each face (piece) comes
-        from; None without fold repair (every face is the one read)
+        (F,) int32: with fold_repair on, the face of the mesh as read that each face (piece) comes
+        from; None with fold_repair off (every face is the one read)
         """
     @property
     def corner_normals(self) -> numpy.ndarray:

@@ -35,6 +35,7 @@ inline PatchCache cacheFromShape(const ref::RefMesh& m, CrossTangentMode mode = 
   PatchOptions o;
   o.crossTangent = mode;
   o.precision = precision;
+  o.foldRepair = FoldRepairMode::Off;  // no mesh pipeline, so nothing is cut: the plain format 1 cache
   PatchCache c = preparePatchCache(pm, cn, o, 0);
   constructPatches(c, backend);
   return c;

@@ -43,7 +43,7 @@ Parsed parseOptions(const sf_cache_options* o) {
   text.cage = opt(o->cage, "none");
   text.creases = opt(o->creases, "tags,groups");
   text.creaseAngle = o->crease_angle;
-  text.foldRepair = opt(o->fold_repair, "off");
+  text.foldRepair = opt(o->fold_repair, "on");
   p.patch = parsePatchOptions(text);
   p.backend = parseBackend(opt(o->backend, "tbb"));
   if (p.backend == Backend::OpenCL) throw InputError("backend: the C API builds on the CPU: tbb or serial");

@@ -16,11 +16,11 @@ namespace sf {
 
 FoldRepairMode parseFoldRepairMode(const std::string& s) {
   if (s == "off") return FoldRepairMode::Off;
-  if (s == "split") return FoldRepairMode::Split;
-  throw InputError("fold repair must be off or split, got '" + s + "'");
+  if (s == "on" || s == "split") return FoldRepairMode::On;
+  throw InputError("fold repair must be off or on, got '" + s + "'");
 }
 
-const char* toString(FoldRepairMode m) { return m == FoldRepairMode::Split ? "split" : "off"; }
+const char* toString(FoldRepairMode m) { return m == FoldRepairMode::On ? "on" : "off"; }
 
 namespace {
 
@@ -62,11 +62,13 @@ double cornerAngle(const std::vector<Vec2>& q, const std::vector<int>& idx, size
   return a;
 }
 
-bool isBad(double angle) { return angle >= std::numbers::pi * (1 - kStraightCornerDeg / 180); }
+bool isBad(double angle, double straightDeg = kStraightCornerDeg) {
+  return angle >= std::numbers::pi * (1 - straightDeg / 180);
+}
 
-bool hasBadCorner(const std::vector<Vec2>& q, const std::vector<int>& idx) {
+bool hasBadCorner(const std::vector<Vec2>& q, const std::vector<int>& idx, double straightDeg = kStraightCornerDeg) {
   for (size_t i = 0; i < idx.size(); ++i)
-    if (isBad(cornerAngle(q, idx, i))) return true;
+    if (isBad(cornerAngle(q, idx, i), straightDeg)) return true;
   return false;
 }
 
@@ -113,10 +115,12 @@ std::vector<int> arc(const std::vector<int>& idx, size_t i, size_t j) {
   return out;
 }
 
-/// Cuts idx into pieces without bad corners where diagonals allow; appends them to out.
-/// Returns false when a piece with a bad corner could not be cut.
+/// Cuts idx into pieces without a corner within kPieceStraightCornerDeg of straight where
+/// diagonals allow; appends them to out. Returns false when a piece with a bad corner
+/// (kStraightCornerDeg) could not be cut.
 bool cut(const std::vector<Vec2>& q, const std::vector<int>& idx, std::vector<std::vector<int>>& out) {
-  if (idx.size() <= 3 || !hasBadCorner(q, idx)) {
+  constexpr double D = kPieceStraightCornerDeg;
+  if (idx.size() <= 3 || !hasBadCorner(q, idx, D)) {
     out.push_back(idx);
     return idx.size() <= 3 || !hasBadCorner(q, idx);
   }
@@ -125,11 +129,11 @@ bool cut(const std::vector<Vec2>& q, const std::vector<int>& idx, std::vector<st
   double bestAngle = -1;
   size_t bi = 0, bj = 0;
   for (size_t i = 0; i < m; ++i) {
-    if (!isBad(cornerAngle(q, idx, i))) continue;
+    if (!isBad(cornerAngle(q, idx, i), D)) continue;
     for (size_t j = 0; j < m; ++j) {
       if (j == i || j == (i + 1) % m || i == (j + 1) % m || !isDiagonal(q, idx, i, j)) continue;
       const std::vector<int> a = arc(idx, i, j), b = arc(idx, j, i);
-      const int good = !hasBadCorner(q, a) + !hasBadCorner(q, b);
+      const int good = !hasBadCorner(q, a, D) + !hasBadCorner(q, b, D);
       // the four angles the cut makes: at its ends, in both pieces
       const double smallest = std::min(std::min(cornerAngle(q, a, 0), cornerAngle(q, a, a.size() - 1)),
                                        std::min(cornerAngle(q, b, 0), cornerAngle(q, b, b.size() - 1)));
@@ -140,7 +144,7 @@ bool cut(const std::vector<Vec2>& q, const std::vector<int>& idx, std::vector<st
   }
   if (bestGood < 0) {
     out.push_back(idx);
-    return false;
+    return !hasBadCorner(q, idx);
   }
   const bool a = cut(q, arc(idx, bi, bj), out);
   const bool b = cut(q, arc(idx, bj, bi), out);
@@ -178,12 +182,7 @@ PolygonSplitReport splitBadCorners(PolygonMesh& mesh, std::vector<Eigen::Vector3
     std::vector<std::vector<int>> pieces;
     bool whole = true;
     double planarity = 0;
-    Eigen::Vector3d n = newellNormal(mesh, f);
-    n.normalize();
-    bool flat = true;  // its corner normals are the face's: the patch lies in the polygon's plane
-    for (int k = 0; k < m && flat && cornerNormals; ++k)
-      flat = (*cornerNormals)[first + k].normalized().dot(n) >= std::cos(kFlatNormalDeg * std::numbers::pi / 180);
-    if (m > 3 && flat && projectFace(mesh, f, q, &planarity) && planarity <= kFlatHeight && hasBadCorner(q, idx)) {
+    if (m > 3 && projectFace(mesh, f, q, &planarity) && planarity <= kFlatHeight && hasBadCorner(q, idx)) {
       bool degenerate = m > kMaxSplitCorners || std::binary_search(crossing.begin(), crossing.end(), f);
       for (int k = 0; k < m && !degenerate; ++k) degenerate = q[k] == q[(k + 1) % m];
       if (!degenerate) {

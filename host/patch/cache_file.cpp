@@ -37,7 +37,7 @@ struct Header {  // 128 bytes on disk
   uint64_t payloadBytes, payloadChecksum;
   uint64_t creaseAngleBits;  // CreaseOptions::angleDeg as IEEE double bits (0: off)
   uint64_t creaseMarks;      // bit 0: tags off, bit 1: smoothing groups off, bit 2: normals on (0: default)
-  uint64_t sections;  // format 3: bit 0 certificates, bit 1 face sources (fold repair split); else 0
+  uint64_t sections;  // format 3: bit 0 certificates, bit 1 face sources (fold repair on); else 0
   uint64_t headerChecksum;  // XXH64 of the bytes before this field
 };
 static_assert(sizeof(Header) == 128);
@@ -78,7 +78,9 @@ std::string hexDouble(double x) {
   return buf;
 }
 
-std::string optionsText(const PatchOptions& o) {
+/// The options as the cache's hash reads them. foldRepairName overrides the fold repair's name:
+/// version 0.5 named the repair "split", and its caches keep that name in their hash.
+std::string optionsText(const PatchOptions& o, const char* foldRepairName = nullptr) {
   return std::string("precision=") + toString(o.precision) + ";cross-tangent=" + toString(o.crossTangent) +
          ";normals=" + toString(o.normals) + ";orient=" + (o.keepOrientation ? "keep" : "outward") +
          ";fields=" + std::to_string(GP_E_NFIELDS) +
@@ -87,7 +89,9 @@ std::string optionsText(const PatchOptions& o) {
          // the same for the crease options: named only when not the default
          (o.creases.tags && o.creases.groups && !o.creases.normals ? std::string() : ";creases=" + creaseMarksText(o.creases)) +
          (o.creases.angleDeg == 0 ? std::string() : ";crease-angle=" + hexDouble(o.creases.angleDeg)) +
-         (o.foldRepair == FoldRepairMode::Off ? std::string() : std::string(";fold-repair=") + toString(o.foldRepair));
+         (o.foldRepair == FoldRepairMode::Off ? std::string()
+                                               : std::string(";fold-repair=") +
+                                                     (foldRepairName ? foldRepairName : toString(o.foldRepair)));
 }
 
 }  // namespace
@@ -211,13 +215,20 @@ PatchCache readPatchCache(const std::string& path, const CacheExpectation& expec
   std::memcpy(&opt.creases.angleDeg, &h.creaseAngleBits, sizeof(double));
   if ((h.version < 3 && h.sections != 0) || h.sections > 3 || (h.version >= 3 && !(h.sections & 2u)))
     throw fail("corrupted cache header (section bits out of range)");
-  opt.foldRepair = (h.sections & 2u) ? FoldRepairMode::Split : FoldRepairMode::Off;
+  opt.foldRepair = (h.sections & 2u) ? FoldRepairMode::On : FoldRepairMode::Off;
   if (!(opt.creases.angleDeg >= 0 && opt.creases.angleDeg < 180))
     throw fail("corrupted cache header (crease angle out of range)");
-  // the cage has no header field: the options hash says which one the cache was built with
-  if (h.optionsHash != hashPatchOptions(opt)) {
+  // the cage has no header field: the options hash says which one the cache was built with (and
+  // a fold-repaired cache of version 0.5 names its repair "split" there)
+  auto hashed = [&](const PatchOptions& o) {
+    if (h.optionsHash == hashPatchOptions(o)) return true;
+    if (o.foldRepair == FoldRepairMode::Off) return false;
+    const std::string legacy = optionsText(o, "split");
+    return h.optionsHash == hashBytes(legacy.data(), legacy.size());
+  };
+  if (!hashed(opt)) {
     opt.cage = CageMode::CatmullClark;
-    if (h.optionsHash != hashPatchOptions(opt)) throw fail("corrupted cache header (options hash)");
+    if (!hashed(opt)) throw fail("corrupted cache header (options hash)");
   }
   uint64_t expected = 0;
   if (!payloadSize(h.numVertices, h.numFaces, h.numSlots, opt.precision, h.version, h.sections, &expected) ||

@@ -47,7 +47,7 @@ LoadedMesh loadMesh(PolygonMesh mesh, uint64_t meshHash, const PatchOptions& opt
     out.normalReport.fallbackVertices = std::move(limit.fallbackVertices);
     out.normalReport.fileHasNormals = !out.mesh.fileNormals.empty() || !out.mesh.fileCornerNormals.empty();
   }
-  if (options.foldRepair == FoldRepairMode::Split) out.split = splitBadCorners(out.mesh, &out.cornerNormals);
+  if (options.foldRepair == FoldRepairMode::On) out.split = splitBadCorners(out.mesh, &out.cornerNormals);
   out.normalFallbacks = out.normalReport.fallbackVertices;
   out.creaseCorners = out.normalReport.creaseCorners;
   return out;

@@ -17,8 +17,8 @@ const PatchOptionSpec kPatchOptionSpecs[8] = {
      "which marks make crease edges"},
     {"crease_angle", "--crease-angle", OptionType::Number, "degrees in [0, 180) (0: off)",
      "also a crease where adjacent faces turn by more than this angle"},
-    {"fold_repair", "--fold-repair", OptionType::Text, "off|split",
-     "split: cut polygons with a reflex or straight corner into convex pieces"},
+    {"fold_repair", "--fold-repair", OptionType::Text, "off|on",
+     "on: cut flat polygons with a reflex or straight corner into convex pieces"},
 };
 
 namespace {

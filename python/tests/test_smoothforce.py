@@ -459,10 +459,10 @@ def test_cage_moves_vertices_to_the_limit_and_keeps_it_in_the_cache(spot, paths,
         sf.Cache.from_file(spot, cage="catmull-clark", normals="area")
 
 
-def test_fold_repair_split_cuts_planar_non_convex_polygons_and_keeps_their_sources(paths, tmp_path):
+def test_fold_repair_cuts_planar_non_convex_polygons_by_default_and_keeps_their_sources(paths, tmp_path):
     path = paths["shared"] / "polygon_laplacian/L-plane.obj"
-    plain = sf.Cache.from_file(path)
-    cut = sf.Cache.from_file(path, fold_repair="split")
+    plain = sf.Cache.from_file(path, fold_repair="off")
+    cut = sf.Cache.from_file(path)  # the default: on
     assert plain.face_source is None
     src = np.asarray(cut.face_source)
     assert plain.num_faces == 16 and cut.num_faces == 40
@@ -471,12 +471,14 @@ def test_fold_repair_split_cuts_planar_non_convex_polygons_and_keeps_their_sourc
     fold = sf.SF_ST_FOLD
     assert (np.asarray(plain.face_status) & fold).astype(bool).sum() == 16
     assert (np.asarray(cut.face_status) & fold).astype(bool).sum() == 0
-    arrays = sf.Cache.from_arrays(plain.positions, plain.face_offsets, plain.face_vertices, fold_repair="split")
+    synonym = sf.Cache.from_file(path, fold_repair="split")
+    np.testing.assert_array_equal(synonym.face_vertices, cut.face_vertices)
+    arrays = sf.Cache.from_arrays(plain.positions, plain.face_offsets, plain.face_vertices)
     np.testing.assert_array_equal(arrays.face_vertices, cut.face_vertices)
     cut.save(tmp_path / "cut.sfcache")
     np.testing.assert_array_equal(sf.Cache.from_file(str(tmp_path / "cut.sfcache")).face_source, src)
-    with pytest.raises(ValueError, match=r"^fold_repair: expected off\|split, got 'on'"):
-        sf.Cache.from_file(path, fold_repair="on")
+    with pytest.raises(ValueError, match=r"^fold_repair: expected off\|on, got 'sometimes'"):
+        sf.Cache.from_file(path, fold_repair="sometimes")
 
 
 def test_crease_edges_as_arrays_match_the_crease_angle(paths):

@@ -702,32 +702,37 @@ TEST(CApi, CreaseEdgesAsArraysMatchTheCreaseAngle) {
 
 namespace {
 
-TEST(CApi, FoldRepairSplitCutsAndNamesEveryPiecesSource) {
+TEST(CApi, FoldRepairByDefaultCutsAndNamesEveryPiecesSource) {
   const std::string path = std::string(SF_SHARED_MESHES) + "/polygon_laplacian/L-plane.obj";
   sf_cache_options o;
   sf_cache_options_init(&o);
-  EXPECT_EQ(o.fold_repair, nullptr);
+  EXPECT_EQ(o.fold_repair, nullptr);  // the default: on
   sf_cache* raw = nullptr;
   ASSERT_EQ(sf_cache_from_file(path.c_str(), &o, &raw), SF_OK) << sf_last_error();
-  CachePtr plain(raw);
-  o.fold_repair = "split";
-  ASSERT_EQ(sf_cache_from_file(path.c_str(), &o, &raw), SF_OK) << sf_last_error();
   CachePtr cut(raw);
+  o.fold_repair = "split";  // the synonym builds the same pieces
+  ASSERT_EQ(sf_cache_from_file(path.c_str(), &o, &raw), SF_OK) << sf_last_error();
+  CachePtr synonym(raw);
+  o.fold_repair = "off";
+  ASSERT_EQ(sf_cache_from_file(path.c_str(), &o, &raw), SF_OK) << sf_last_error();
+  CachePtr plain(raw);
   sf::PatchOptions po;
-  po.foldRepair = sf::FoldRepairMode::Split;
+  po.foldRepair = sf::FoldRepairMode::On;
   const sf::PatchCache ref = sf::buildPatchCache(sf::loadMesh(path, po), po, sf::Backend::Tbb);
   EXPECT_EQ(sf_cache_num_faces(plain.get()), 16);
   ASSERT_EQ(sf_cache_num_faces(cut.get()), ref.numFaces());
   EXPECT_EQ(ref.numFaces(), 40);
+  ASSERT_EQ(sf_cache_num_faces(synonym.get()), ref.numFaces());
   for (int f = 0; f < ref.numFaces(); ++f) EXPECT_EQ(sf_cache_face_source(cut.get(), f), ref.faceSource[f]);
+  for (int f = 0; f < ref.numFaces(); ++f) EXPECT_EQ(sf_cache_face_source(synonym.get(), f), ref.faceSource[f]);
   for (int f = 0; f < 16; ++f) EXPECT_EQ(sf_cache_face_source(plain.get(), f), f);
   EXPECT_EQ(sf_cache_face_source(cut.get(), 40), -1);
   EXPECT_EQ(sf_cache_face_source(nullptr, 0), -1);
-  o.fold_repair = "on";
+  o.fold_repair = "sometimes";
   sf_status st;
   const std::string m = createError(path.c_str(), &o, &st);
   EXPECT_EQ(st, SF_ERROR_INPUT);
-  EXPECT_NE(m.find("fold_repair: expected off|split, got 'on'"), std::string::npos) << m;
+  EXPECT_NE(m.find("fold_repair: expected off|on, got 'sometimes'"), std::string::npos) << m;
 }
 
 }  // namespace

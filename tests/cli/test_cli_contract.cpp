@@ -534,12 +534,12 @@ TEST_F(CliContract, CertifyGivesTheSameCacheOnEveryBackend) {
   r = run("cache info " + tbb + " --json");
   ASSERT_EQ(r.status, 0) << r.err;
   const json j = json::parse(r.out);
-  EXPECT_EQ(j["format"], 2);
+  EXPECT_EQ(j["format"], 3);  // the fold repair (on by default) keeps each face's source
   EXPECT_EQ(j["certificate"]["certified"], 6);
   EXPECT_EQ(j["certificate"]["uncertified_faces"], json::array());
   ASSERT_EQ(run("cache build " + cube + " -o " + plain).status, 0);
   r = run("cache info " + plain);
-  EXPECT_NE(r.out.find("cache: " + plain + ", format 1,"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("cache: " + plain + ", format 3,"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("certificate: not computed (cache build --certify)"), std::string::npos) << r.out;
   r = run("cache build " + cube + " --backend opencl --cl-device 0 --certify -o " + cl);
   if (!SF_HAS_OPENCL || (r.status != 0 && r.err.find("no OpenCL device") != std::string::npos))
@@ -571,7 +571,8 @@ TEST_F(CliContract, JsonOutputsParseWithTheDocumentedKeys) {
   EXPECT_EQ(j["bytes"], fs::file_size(cache()));
   EXPECT_EQ(keys(j["options"]),
             (V{"cage", "crease_angle", "creases", "cross_tangent", "fold_repair", "normals", "orient", "precision"}));
-  EXPECT_TRUE(j["fold_repair"].is_null());  // built without it
+  EXPECT_EQ(j["fold_repair"]["mode"], "on");  // the default, with nothing to cut on the cage
+  EXPECT_EQ(j["fold_repair"]["cut"], json::array());
   EXPECT_EQ(keys(j["creases"]), (V{"corners", "crease_vertices", "darts", "edges"}));
   EXPECT_TRUE(j["creases"]["edges"].empty());  // the spot cage has no marks
   EXPECT_EQ(j["patches"]["built"], 180);

@@ -288,8 +288,10 @@ TEST(CageLimit, LimitDistanceWithinStatedBound) {
 }
 
 TEST(CageLimit, NoCageKeepsTheCacheBytesAndTheOptionsHash) {
-  // the cage enters the options hash only when it is not none: caches built before it exist
+  // the cage enters the options hash only when it is not none (and the fold repair only when it
+  // is not off): caches built before they existed keep their hash
   PatchOptions o;
+  o.foldRepair = FoldRepairMode::Off;
   const uint64_t none = hashPatchOptions(o);
   o.cage = CageMode::CatmullClark;
   EXPECT_NE(hashPatchOptions(o), none);

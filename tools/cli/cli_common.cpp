@@ -175,11 +175,12 @@ void addSurfaceArgs(CLI::App& cmd, PatchArgs& a) {
                          ->check(patchOptionCheck("crease_angle"))
                          ->capture_default_str();
   a.foldRepairOpt = cmd.add_option("--fold-repair", a.foldRepair,
-                                   "off|split: split cuts every flat polygon (vertices and normals those of its plane) "
-                                   "with a reflex or straight corner (within 1 degree) into convex pieces on diagonals "
-                                   "between its own vertices before building patches: the patch of such a polygon "
-                                   "folds, or is singular at the straight corner. The cache holds the pieces; cache "
-                                   "info names the faces cut and the pieces of each (docs/fold-levers.md)")
+                                   "off|on: on (split is a synonym) cuts every flat polygon (its vertices on its plane, "
+                                   "whatever its corner normals) with a reflex or straight corner (within 1 degree) "
+                                   "into convex pieces on diagonals between its own vertices before building patches: "
+                                   "the patch of such a polygon folds, or is singular at the straight corner. The cache "
+                                   "holds the pieces; cache info names the faces cut and the pieces of each. off: the "
+                                   "design page's construction on the polygons as read (docs/fold-levers.md)")
                       ->check(patchOptionCheck("fold_repair"))
                       ->capture_default_str();
 }
@@ -222,7 +223,8 @@ void PatchArgs::checkCache(const PatchCache& c, const std::string& path) const {
     parseCreaseMarks(creases, wanted);
     differs("--creases", creaseMarksText(c.options.creases), creaseMarksText(wanted));
   }
-  if (given(foldRepairOpt)) differs("--fold-repair", toString(c.options.foldRepair), foldRepair);
+  if (given(foldRepairOpt))
+    differs("--fold-repair", toString(c.options.foldRepair), toString(parseFoldRepairMode(foldRepair)));
   if (given(creaseAngleOpt) && c.options.creases.angleDeg != creaseAngle)
     differs("--crease-angle", std::to_string(c.options.creases.angleDeg), std::to_string(creaseAngle));
 }

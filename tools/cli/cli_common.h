@@ -20,7 +20,7 @@ struct PatchArgs {
   std::string precision = "double", normals = "auto", crossTangent = "corrected", orient = "outward", cage = "none",
               creases = "tags,groups";
   double creaseAngle = 0;
-  std::string foldRepair = "off";
+  std::string foldRepair = "on";
   std::string backend = "tbb", clDevice;
   int threads = 0;
   /// The surface options as registered (null when the command lacks them); count() > 0 when given.

@@ -87,6 +87,11 @@ std::vector<std::pair<int, std::vector<int>>> cutFaces(const PatchCache& c) {
 void printFoldRepair(const PatchCache& c) {
   if (c.options.foldRepair == FoldRepairMode::Off) return;
   const auto cut = cutFaces(c);
+  if (cut.empty()) {
+    std::printf("fold repair: %s: no flat polygon with a reflex or straight corner; the faces are those read\n",
+                toString(c.options.foldRepair));
+    return;
+  }
   size_t pieces = 0;
   for (const auto& [s, fs] : cut) pieces += fs.size();
   std::printf("fold repair: %s: %zu faces as read cut into %zu convex pieces; the cache's faces are the pieces\n",
@@ -146,8 +151,8 @@ void build(const std::string& mesh, std::string out, const PatchArgs& args, bool
                 lm.cageBoundaryVertices);
   std::printf("normals: %s\n", toString(opt.normals));
   for (const std::string& line : lm.normalReport.describe()) std::printf("  %s\n", line.c_str());
-  if (opt.foldRepair == FoldRepairMode::Split) {
-    std::printf("fold repair: split: %zu polygons with a reflex or straight corner cut into %d convex pieces (faces as read:%s)\n",
+  if (opt.foldRepair == FoldRepairMode::On && (!lm.split.splitFaces.empty() || !lm.split.unsplitFaces.empty())) {
+    std::printf("fold repair: on: %zu flat polygons with a reflex or straight corner cut into %d convex pieces (faces as read:%s)\n",
                 lm.split.splitFaces.size(), lm.split.pieces, faceIdsText(lm.split.splitFaces).c_str());
     if (!lm.split.unsplitFaces.empty())
       std::printf("  left whole (outline not simple, or no diagonal cuts them):%s\n",

@@ -12,26 +12,35 @@
 namespace sf {
 
 /// How construction repairs patches that fold (`--fold-repair`, key `fold_repair`).
-/// Off: the design page's construction on the polygons as read. Split: every flat polygon (its
-/// vertices on its Newell plane and its corner normals the plane's, within kFlatHeight and
-/// kFlatNormalDeg) with a corner of at least 180 - kStraightCornerDeg degrees is cut into convex
-/// pieces first (splitBadCorners): the patch of a flat polygon lies in its plane, and the map of
-/// the regular n-gon domain onto a polygon with a reflex corner folds there (no normal or tangent
-/// length changes that: docs/fold-levers.md); at a straight corner the patch's Jacobian vanishes.
-/// Curved polygons are left whole: on the spot cage, cutting its quads with a reflex corner on
-/// their plane (4 of them within 0.5% of planar) raised the fault area from 1.577% to 1.630%.
-enum class FoldRepairMode { Off = 0, Split = 1 };
-/// "off" or "split"; throws InputError for anything else.
+/// Off: the design page's construction on the polygons as read. On (the default; "split" is
+/// read as a synonym): every flat polygon (its vertices within kFlatHeight of its Newell plane,
+/// whatever its corner normals) with a corner of at least 180 - kStraightCornerDeg degrees is cut
+/// into convex pieces first (splitBadCorners). The edge curves of a flat polygon leave each
+/// vertex along the chord's projection on that vertex's tangent plane, so the patch over the
+/// plane is close to the map of the regular n-gon domain onto the polygon, and that map folds at a
+/// reflex corner (no normal or tangent length changes that: docs/fold-levers.md); at a straight
+/// corner the patch's Jacobian vanishes. This holds for the caps of extruded parts whose corner
+/// normals are averaged with the sides' as much as for planar sheets (docs/fold-levers.md,
+/// "Extruded parts"). Curved polygons are left whole: on the spot cage, cutting its quads with a
+/// reflex corner on their plane (4 of them within 0.5% of planar) raised the fault area from
+/// 1.577% to 1.630%.
+enum class FoldRepairMode { Off = 0, On = 1 };
+/// "off", "on" or "split" (the name of On in version 0.5); throws InputError for anything else.
 FoldRepairMode parseFoldRepairMode(const std::string& s);
+/// "off" or "on".
 const char* toString(FoldRepairMode m);
 
 /// A corner whose interior angle on the polygon's Newell plane is at least 180 degrees minus
 /// this (degrees) is a bad corner: reflex, or straight within it.
 inline constexpr double kStraightCornerDeg = 1.0;
-/// A flat polygon: no vertex farther from its Newell plane than this fraction of its diameter...
+/// A polygon that is cut is cut until no piece has a corner of at least 180 minus this (degrees)
+/// where diagonals allow: a convex piece with a nearly straight corner (175 degrees, between two
+/// 36-degree tips of a star-shaped cap) still folds near it. Measured on extruded parts
+/// (docs/fold-levers.md, "Extruded parts"): 1 left a fault on the star, 10 and 20 none, 30 made
+/// thin pieces that fault on a notched disc.
+inline constexpr double kPieceStraightCornerDeg = 10.0;
+/// A flat polygon: no vertex farther from its Newell plane than this fraction of its diameter.
 inline constexpr double kFlatHeight = 1e-4;
-/// ... and every corner normal within this many degrees of the plane's normal.
-inline constexpr double kFlatNormalDeg = 1.0;
 /// Faces with more corners are left whole (no patch is built for them either: GP_MAX_N), which
 /// bounds the search for diagonals (cubic in the corners, per cut).
 inline constexpr int kMaxSplitCorners = 64;
@@ -46,7 +55,7 @@ struct PolygonSplitReport {
   std::vector<int> unsplitFaces;
 };
 
-/// Flat faces (kFlatHeight; with cornerNormals also kFlatNormalDeg) of `mesh` with a bad corner
+/// Flat faces (kFlatHeight) of `mesh` with a bad corner
 /// (kStraightCornerDeg) are replaced, in place and in order,
 /// by convex pieces: each cut is a diagonal between two of the polygon's own vertices, inside
 /// it on its Newell plane (exact orientation tests), chosen at a bad corner so that most

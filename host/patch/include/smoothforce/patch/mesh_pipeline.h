@@ -35,7 +35,7 @@ struct LoadedMesh {
 /// and computes corner normals per options.normals (normals.h: NormalMode, NormalReport).
 /// With options.cage CatmullClark, then moves every referenced vertex to its Catmull-Clark
 /// limit position and uses its limit normal at every corner (catmullClarkLimit, cage_limit.h;
-/// the report stays the one of the cage as read). With options.foldRepair Split, last cuts the
+/// the report stays the one of the cage as read). With options.foldRepair On, last cuts the
 /// polygons with a reflex or straight corner into convex pieces (splitBadCorners; their corners
 /// keep the normals computed above). Throws InputError (file:line, element; with a
 /// cage also: normals other than Auto, and the topology cageProblem names).

@@ -28,10 +28,10 @@ struct PatchOptions {
   /// Which marks make creases (`--creases`, `--crease-angle`; creases.h). A crease edge is one
   /// curve both faces share, with each face's own tangent plane along it.
   CreaseOptions creases;
-  /// `--fold-repair` (polygon_split.h): Split cuts polygons with a reflex or straight corner into
-  /// convex pieces before construction; the cache then holds the pieces (faceSource maps them
-  /// to the faces as read).
-  FoldRepairMode foldRepair = FoldRepairMode::Off;
+  /// `--fold-repair` (polygon_split.h): On (the default) cuts flat polygons with a reflex or
+  /// straight corner into convex pieces before construction; the cache then holds the pieces
+  /// (faceSource maps them to the faces as read). Off builds the design page's construction.
+  FoldRepairMode foldRepair = FoldRepairMode::On;
 };
 
 /// All patches of a mesh. Counts: #V vertices, #F faces, #C corners = slots (one slot per
