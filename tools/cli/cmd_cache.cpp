@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// `smoothforce cache build|info`
+// `smoothforce cache build|info|distance`
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -13,6 +13,7 @@
 #include <smoothforce/patch/patch_certificate.h>
 #include <smoothforce/query/patch_surface.h>
 #include <smoothforce/force/shared_geometry.h>
+#include <smoothforce/query/surface_distance.h>
 #include <smoothforce/query/surface_faults.h>
 #include "cli_common.h"
 #include "cli_exit.h"
@@ -381,6 +382,47 @@ void info(const std::string& path, bool json, bool faults, bool memory) {
   if (memory) printMemory(parts, c.numFaces());
 }
 
+nlohmann::ordered_json directionJson(const DistanceDirection& d) {
+  return {{"max", d.max},
+          {"mean", d.mean},
+          {"points", d.points},
+          {"worst_face", d.worstFace},
+          {"worst_point", {d.worstPoint.x(), d.worstPoint.y(), d.worstPoint.z()}}};
+}
+
+void distance(const std::string& path, const std::string& to, int level, bool json, int threads) {
+  const PatchCache a = readPatchCache(path);
+  PatchCache b;
+  DistanceSurface bAs = DistanceSurface::Patches;
+  if (isPatchCacheFile(to)) {
+    b = readPatchCache(to);
+  } else {  // a mesh: its polygons as read (oriented, nothing cut)
+    PatchOptions o;
+    o.foldRepair = FoldRepairMode::Off;
+    b = preparePatchSkeleton(loadMesh(to, o), o);
+    bAs = DistanceSurface::Polygons;
+  }
+  const SurfaceDistance d = measureSurfaceDistance(a, DistanceSurface::Patches, b, bAs, level, threads);
+  const char* what = bAs == DistanceSurface::Patches ? "patches" : "polygons";
+  if (json) {
+    printJson(stdout, {{"cache", path},
+                       {"to", to},
+                       {"to_surface", what},
+                       {"level", level},
+                       {"diagonal_m", d.diagonal},
+                       {"cache_to_other", directionJson(d.aToB)},
+                       {"other_to_cache", directionJson(d.bToA)},
+                       {"hausdorff", std::max(d.aToB.max, d.bToA.max)}});
+    return;
+  }
+  std::printf("distance, fractions of the diagonal %.6g m (level %d samples):\n", d.diagonal, level);
+  std::printf("  %s patches -> %s %s: max %.4e (face %d), mean %.4e, %zu points\n", path.c_str(), to.c_str(), what,
+              d.aToB.max, d.aToB.worstFace, d.aToB.mean, d.aToB.points);
+  std::printf("  %s %s -> %s patches: max %.4e (face %d), mean %.4e, %zu points\n", to.c_str(), what, path.c_str(),
+              d.bToA.max, d.bToA.worstFace, d.bToA.mean, d.bToA.points);
+  std::printf("  two-sided (Hausdorff of the samples): %.4e\n", std::max(d.aToB.max, d.bToA.max));
+}
+
 }  // namespace
 
 void addCacheCommands(CLI::App& app) {
@@ -425,6 +467,31 @@ void addCacheCommands(CLI::App& app) {
               "polygon scene) and report the bytes each holds, in all and per face (Embree's BVHs as its memory "
               "monitor counts them); null in --json without it");
   i->callback([=] { info(*path, *json, *faults, *memory); });
+
+  auto* d = cache->add_subcommand(
+      "distance", "How far the patch surface of CACHE lies from another surface, both ways: TO's patch surface (a "
+                  "cache file: the same mesh under other options, --fold-repair off say) or TO's polygons (a mesh "
+                  "file: a dense mesh of the same shape)");
+  auto dPath = std::make_shared<std::string>();
+  auto dTo = std::make_shared<std::string>();
+  auto dLevel = std::make_shared<int>(8);
+  auto dJson = std::make_shared<bool>(false);
+  auto dThreads = std::make_shared<int>(0);
+  d->add_option("CACHE", *dPath, "cache file (prebuilt)")->required();
+  d->add_option("--to", *dTo, "cache file (its patch surface) or mesh file (.obj, .off, .ply: its polygons, flat)")
+      ->required();
+  d->add_option("--level", *dLevel,
+                "samples: each patch on the rings of its level-L tessellation (1 + n L (L+1) / 2 points per "
+                "n-gon), each polygon on the same rings over its fan triangles")
+      ->check(CLI::Range(1, 64))
+      ->capture_default_str();
+  d->add_option("--threads", *dThreads, "worker threads (0 = all cores)")->check(CLI::Range(0, 4096))
+      ->capture_default_str();
+  d->add_flag("--json", *dJson,
+              "print one JSON object: cache, to, to_surface (patches|polygons), level, diagonal_m, cache_to_other "
+              "and other_to_cache (max, mean: fractions of the diagonal; points, worst_face, worst_point: m), "
+              "hausdorff");
+  d->callback([=] { distance(*dPath, *dTo, *dLevel, *dJson, *dThreads); });
 }
 
 }  // namespace sf::cli

@@ -1,0 +1,165 @@
+// SPDX-License-Identifier: Apache-2.0
+#include <smoothforce/query/surface_distance.h>
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <smoothforce/base/error.h>
+#include <smoothforce/mesh/polygon_split.h>
+#include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/patch/patch_eval.h>
+#include <smoothforce/patch/tessellate.h>
+#include <smoothforce/query/embree_scene.h>
+#include <smoothforce/query/polygon_facets.h>
+#include <smoothforce/query/surface_query.h>
+
+namespace sf {
+namespace {
+
+void add(SurfaceSamples& s, const Eigen::Vector3d& p, int f) {
+  s.xyz.insert(s.xyz.end(), {p.x(), p.y(), p.z()});
+  s.face.push_back(f);
+}
+
+/// c's polygons, the flat non-convex ones cut into convex pieces (splitBadCorners: the same
+/// point set), so that every piece is the fan of triangles from its centroid or, flat to
+/// rounding, that polygon itself; source[piece] = c's face.
+PatchCache polygonPieces(const PatchCache& c, std::vector<int32_t>& source) {
+  PolygonMesh m = cacheBaseMesh(c);
+  m.faceSource.clear();  // the pieces' sources are c's faces
+  std::vector<Eigen::Vector3d> normals(c.numSlots(), Eigen::Vector3d::UnitZ());
+  if (c.cornerNormals.size() == 3 * normals.size())
+    for (size_t k = 0; k < normals.size(); ++k)
+      normals[k] = {c.cornerNormals[3 * k], c.cornerNormals[3 * k + 1], c.cornerNormals[3 * k + 2]};
+  splitBadCorners(m, &normals);
+  source = m.faceSource;
+  PatchOptions o = c.options;
+  o.foldRepair = FoldRepairMode::Off;
+  return preparePatchCache(m, normals, o, c.meshHash, /*allocatePatches=*/false);
+}
+
+SurfaceSamples patchSamples(const PatchCache& c, int level) {
+  SurfaceSamples s;
+  const std::vector<int32_t> faces = builtFaces(c);
+  visitRingPoints(
+      c, level, faces.data(), faces.size(),
+      [&c](const int32_t* f, const double* x, const double* y, size_t n, PatchPoint* out) {
+        evaluatePatches(c, f, x, y, n, out, Backend::Tbb);
+      },
+      [&](size_t i, const Eigen::Vector2d*, const PatchPoint* points, size_t m) {
+        for (size_t k = 0; k < m; ++k) add(s, points[k].pos, faces[i]);
+      });
+  return s;
+}
+
+Eigen::Vector3d position(const PatchCache& c, int v) {
+  return {c.positions[3 * v], c.positions[3 * v + 1], c.positions[3 * v + 2]};
+}
+
+/// Each polygon's fan triangles (centroid, V_k, V_k+1) sampled like a ring tessellation: the
+/// centroid, then rings r = 1..L, each fan triangle's outer side split in r.
+SurfaceSamples polygonSamples(const PatchCache& polygons, int level) {
+  std::vector<int32_t> source;
+  const PatchCache c = polygonPieces(polygons, source);
+  SurfaceSamples s;
+  for (int f = 0; f < c.numFaces(); ++f) {
+    const int first = c.faceOffsets[f], n = c.faceOffsets[f + 1] - first;
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    for (int k = 0; k < n; ++k) centre += position(c, c.faceVertices[first + k]) / n;
+    add(s, centre, source[f]);
+    for (int r = 1; r <= level; ++r)
+      for (int k = 0; k < n; ++k) {
+        const Eigen::Vector3d a = position(c, c.faceVertices[first + k]),
+                              b = position(c, c.faceVertices[first + (k + 1) % n]);
+        for (int j = 0; j < r; ++j) {
+          const double t = static_cast<double>(r) / level, u = static_cast<double>(j) / r;
+          add(s, centre + t * ((1 - u) * a + u * b - centre), source[f]);
+        }
+      }
+  }
+  return s;
+}
+
+/// The distance from every sample to the surface `to` stands for.
+DistanceDirection measure(const SurfaceSamples& from, const PatchCache& to, DistanceSurface as, double diagonal,
+                          int threads) {
+  const std::vector<double> d = distancesToSurface(to, as, from.xyz.data(), from.size(), threads);
+  DistanceDirection out;
+  out.points = from.size();
+  double sum = 0;
+  for (size_t i = 0; i < d.size(); ++i) {
+    if (!std::isfinite(d[i]))
+      throw InputError("surface distance: a sample of face " + std::to_string(from.face[i]) +
+                       " has no nearest point on the other surface");
+    sum += d[i];
+    if (d[i] > out.max || out.worstFace < 0) {
+      out.max = d[i];
+      out.worstFace = from.face[i];
+      out.worstPoint = {from.xyz[3 * i], from.xyz[3 * i + 1], from.xyz[3 * i + 2]};
+    }
+  }
+  out.mean = d.empty() ? 0 : sum / static_cast<double>(d.size());
+  out.max /= diagonal;
+  out.mean /= diagonal;
+  return out;
+}
+
+}  // namespace
+
+SurfaceSamples sampleSurface(const PatchCache& c, DistanceSurface as, int level) {
+  if (level < 1 || level > 64) throw InputError("surface distance: level " + std::to_string(level) + " outside 1..64");
+  return as == DistanceSurface::Patches ? patchSamples(c, level) : polygonSamples(c, level);
+}
+
+std::vector<double> distancesToSurface(const PatchCache& to, DistanceSurface as, const double* points, size_t count,
+                                       int threads) {
+  std::vector<double> d(count, 0);
+  if (as == DistanceSurface::Patches) {
+    if (!hasPatchData(to))
+      throw InputError("surface distance: a patch surface needs a prebuilt cache (this one is a skeleton)");
+    const SurfaceQuery query(std::shared_ptr<const PatchCache>(std::shared_ptr<void>(), &to));
+    std::vector<SurfaceQueryResult> out(count);
+    query.query(points, count, out.data(), threads);
+    for (size_t i = 0; i < count; ++i) d[i] = std::fabs(out[i].signedDistance);
+    return d;
+  }
+  std::vector<int32_t> source;
+  const PatchCache pieces = polygonPieces(to, source);
+  const PolygonScene scene(pieces, kWatertightPlanarTolerance);
+  auto run = [&] {
+    tbb::parallel_for(size_t{0}, count, [&](size_t i) {
+      const Eigen::Vector3d p(points[3 * i], points[3 * i + 1], points[3 * i + 2]);
+      d[i] = p.allFinite() ? scene.nearest(p).distance : std::numeric_limits<double>::quiet_NaN();
+    });
+  };
+  if (threads > 0)
+    tbb::task_arena(threads).execute(run);
+  else
+    run();
+  return d;
+}
+
+SurfaceDistance measureSurfaceDistance(const PatchCache& a, DistanceSurface aAs, const PatchCache& b,
+                                       DistanceSurface bAs, int level, int threads) {
+  if (level < 1 || level > 64) throw InputError("surface distance: level " + std::to_string(level) + " outside 1..64");
+  for (const auto& [c, as] : {std::pair{&a, aAs}, std::pair{&b, bAs}})
+    if (as == DistanceSurface::Patches && !hasPatchData(*c))
+      throw InputError("surface distance: a patch surface needs a prebuilt cache (this one is a skeleton)");
+  SurfaceDistance r;
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
+  for (int v = 0; v < a.numVertices(); ++v) lo = lo.cwiseMin(position(a, v)), hi = hi.cwiseMax(position(a, v));
+  r.diagonal = a.numVertices() > 0 ? (hi - lo).norm() : 0;
+  if (!(r.diagonal > 0) || !std::isfinite(r.diagonal))
+    throw InputError("surface distance: the first surface has no extent");
+  r.aToB = measure(sampleSurface(a, aAs, level), b, bAs, r.diagonal, threads);
+  r.bToA = measure(sampleSurface(b, bAs, level), a, aAs, r.diagonal, threads);
+  return r;
+}
+
+}  // namespace sf
