@@ -56,6 +56,7 @@
 #include <smoothforce/query/point_index.h>
 #include <smoothforce/query/polygon_facets.h>
 #include <smoothforce/query/refine_options.h>
+#include <smoothforce/query/surface_distance.h>
 #include <smoothforce/query/surface_faults.h>
 #include <smoothforce/query/surface_query.h>
 
