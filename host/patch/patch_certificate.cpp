@@ -51,29 +51,16 @@ void boxForms(double x0, double x1, double y0, double y1, Affine* xi, Affine* et
   *eta = Affine(cy, 0.0, interval::roundUp(std::max(y1 - cy, cy - y0)), 0.0);
 }
 
-template <class Real>
-PatchCertificate certify(int n, const Real* recs, CrossTangentMode mode, const CertificateOptions& o) {
+/// The certificate along one fixed direction d (unnormalised; any d != 0 makes a valid test):
+/// J = dot(dG/dxi x dG/deta, d / |d|) bounded over the domain as certifyPatch describes.
+PatchCertificate certifyAlong(int n, const std::array<Affine, GP_MAX_N * GP_E_NFIELDS>& irecs, CrossTangentMode mode,
+                              const CertificateOptions& o, const double d[3]) {
   PatchCertificate out;
-  if (n < 3 || n > GP_MAX_N) return out;
-  std::array<Affine, GP_MAX_N * GP_E_NFIELDS> irecs;
-  for (int i = 0; i < n * GP_E_NFIELDS; ++i) {
-    const double x = static_cast<double>(recs[i]);
-    if (!std::isfinite(x)) return out;
-    irecs[i] = Affine(x);
-  }
-  // n_face: the polygon's Newell normal (in double; any fixed direction makes a valid test)
-  double nx = 0, ny = 0, nz = 0;
-  for (int k = 0; k < n; ++k) {
-    const Real* a = recs + k * GP_E_NFIELDS + GP_E_V0;
-    const Real* b = recs + k * GP_E_NFIELDS + GP_E_V1;
-    nx += (double(a[1]) - double(b[1])) * (double(a[2]) + double(b[2]));
-    ny += (double(a[2]) - double(b[2])) * (double(a[0]) + double(b[0]));
-    nz += (double(a[0]) - double(b[0])) * (double(a[1]) + double(b[1]));
-  }
-  const double nl = std::sqrt(nx * nx + ny * ny + nz * nz);
+  const double nl = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
   out.verdict = CertificateVerdict::Undecided;
   if (!(nl > 0) || !std::isfinite(nl)) return out;
-  const Affine nf[3] = {Affine(nx / nl), Affine(ny / nl), Affine(nz / nl)};
+  for (int i = 0; i < 3; ++i) out.direction[i] = d[i] / nl;
+  const Affine nf[3] = {Affine(d[0] / nl), Affine(d[1] / nl), Affine(d[2] / nl)};
 
   gpd::gp_domain scratch;
   const gpd::gp_domain* dom = gpd::gp_domain_of(n, &scratch, 1);
@@ -132,6 +119,43 @@ PatchCertificate certify(int n, const Real* recs, CrossTangentMode mode, const C
   if (undecided) return out;
   out.verdict = CertificateVerdict::Certified;
   out.margin = std::max(margin, 1e-300);
+  return out;
+}
+
+template <class Real>
+PatchCertificate certify(int n, const Real* recs, CrossTangentMode mode, const CertificateOptions& o) {
+  PatchCertificate out;
+  if (n < 3 || n > GP_MAX_N) return out;
+  std::array<Affine, GP_MAX_N * GP_E_NFIELDS> irecs;
+  for (int i = 0; i < n * GP_E_NFIELDS; ++i) {
+    const double x = static_cast<double>(recs[i]);
+    if (!std::isfinite(x)) return out;
+    irecs[i] = Affine(x);
+  }
+  // first along the polygon's Newell normal (in double)
+  double newell[3] = {0, 0, 0};
+  for (int k = 0; k < n; ++k) {
+    const Real* a = recs + k * GP_E_NFIELDS + GP_E_V0;
+    const Real* b = recs + k * GP_E_NFIELDS + GP_E_V1;
+    newell[0] += (double(a[1]) - double(b[1])) * (double(a[2]) + double(b[2]));
+    newell[1] += (double(a[2]) - double(b[2])) * (double(a[0]) + double(b[0]));
+    newell[2] += (double(a[0]) - double(b[0])) * (double(a[1]) + double(b[1]));
+  }
+  out = certifyAlong(n, irecs, mode, o, newell);
+  if (out.verdict == CertificateVerdict::Certified || !o.cornerNormalDirection) return out;
+  // then along the mean of its unit corner normals: a curved patch (a subdivision limit's, say)
+  // can turn past 90 degrees from its polygon's plane and still be a regular height field
+  double mean[3] = {0, 0, 0};
+  for (int k = 0; k < n; ++k) {
+    const Real* c = recs + k * GP_E_NFIELDS + GP_E_N0;
+    const double l = std::sqrt(double(c[0]) * double(c[0]) + double(c[1]) * double(c[1]) + double(c[2]) * double(c[2]));
+    if (l > 0 && std::isfinite(l))
+      for (int i = 0; i < 3; ++i) mean[i] += double(c[i]) / l;
+  }
+  PatchCertificate second = certifyAlong(n, irecs, mode, o, mean);
+  second.cells += out.cells;
+  if (second.verdict == CertificateVerdict::Certified) return second;
+  out.cells = second.cells;
   return out;
 }
 

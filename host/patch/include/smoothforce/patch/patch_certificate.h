@@ -12,9 +12,10 @@ namespace sf {
 
 /// What the certificate of one patch found.
 enum class CertificateVerdict : int {
-  Certified = 0,  ///< dot(dG/dxi x dG/deta, n_face) > 0 proven on the whole domain
+  Certified = 0,  ///< dot(dG/dxi x dG/deta, d) > 0 proven on the whole domain for a fixed direction d
   Undecided = 1,  ///< neither proven nor disproven within the cell budget
-  Folded = 2,     ///< J < 0 proven on a part of the domain: the patch turns over there
+  Folded = 2,     ///< J < 0 along n_face proven on a part of the domain, and not certified along the
+                  ///< second direction: the patch turns over against its polygon there
   NotBuilt = 3,   ///< no patch (too many sides, non-finite input) or a zero-area polygon
 };
 
@@ -26,21 +27,32 @@ enum class CertificateVerdict : int {
 /// budget: their blending's gradients are steeper (the edge parameters' denominators vanish at
 /// their domain's corners), and the bounds of a nearly flat triangle of a sphere (odedstein
 /// sphere.obj) prove J > 0 only on cells of 2^-10 to 2^-11 of the box.
+/// maxDepth 11: most patches the Newell normal leaves undecided at depth 9 are decided two
+/// levels deeper at little cost, since only the cells near J = 0 go deeper (docs/certificate.md,
+/// "Budget and direction").
 struct CertificateOptions {
   int startDepth = 6;
-  int maxDepth = 9;
-  int maxCells = 100000;
+  int maxDepth = 11;
+  int maxCells = 400000;
   int triangleMaxDepth = 11;
   int triangleMaxCells = 400000;
+  /// Where the Newell normal does not certify a patch, try again along the mean of its unit
+  /// corner normals (a patch may be a regular height field over another plane than its polygon's).
+  bool cornerNormalDirection = true;
 };
 
 /// The certificate of one patch.
 struct PatchCertificate {
   CertificateVerdict verdict = CertificateVerdict::NotBuilt;
-  /// Certified: a lower bound > 0 on cos(angle between the patch normal and the face normal)
-  /// over the whole domain. Folded: an upper bound < 0 of it on a proven part. Else 0.
+  /// Certified: a lower bound > 0 on cos(angle between the patch normal and `direction`) over
+  /// the whole domain. Folded: an upper bound < 0 of the cosine to the face normal on a proven
+  /// part. Else 0.
   double margin = 0;
-  int cells = 0;  ///< interval evaluations spent
+  /// Unit direction the verdict is about: the polygon's Newell normal n_face, or, for a patch
+  /// certified only along the second direction, the mean of its unit corner normals. Zero when
+  /// not built.
+  double direction[3] = {0, 0, 0};
+  int cells = 0;  ///< interval evaluations spent (both directions)
 };
 
 /// Certifies the patch with edge records recs (n * GP_E_NFIELDS, record-major, 3 <= n <= 64)
@@ -48,10 +60,12 @@ struct PatchCertificate {
 /// the domain by evaluating the patch math (Eq. 2-14, kernels/gp_eval.h) in outward-rounded
 /// interval arithmetic, and splits a box in four until J > 0 is proven on it (certified), J < 0
 /// is proven on a box that meets the domain (folded), or the budget runs out (undecided).
-/// n_face is the polygon's unit Newell normal. Conservative: a certified patch has no point
-/// where its normal is perpendicular to or against n_face (so it is regular, and a height
-/// field over the polygon's plane wherever its boundary projects to a simple curve).
-/// Never throws; thread-safe.
+/// n_face is the polygon's unit Newell normal; where it does not certify the patch and
+/// options.cornerNormalDirection is set, the same runs along the mean of the unit corner normals,
+/// and a patch proven there is certified (PatchCertificate::direction says along which).
+/// Conservative: a certified patch has no point where its normal is perpendicular to or against
+/// that direction (so it is regular, and a height field over the plane normal to it wherever its
+/// boundary projects to a simple curve there). Never throws; thread-safe.
 PatchCertificate certifyPatch(int n, const double* recs, CrossTangentMode mode, const CertificateOptions& options = {});
 PatchCertificate certifyPatch(int n, const float* recs, CrossTangentMode mode, const CertificateOptions& options = {});
 
