@@ -16,6 +16,7 @@
 #include <smoothforce/patch/patch_certificate.h>
 #include <smoothforce/patch/patch_option_text.h>
 #include <smoothforce/patch/patch_eval.h>
+#include <smoothforce/query/surface_distance.h>
 #include "py_common.h"
 
 namespace sf::py {
@@ -285,10 +286,50 @@ void bindCache(pyb::module_& m) {
             return view(m.data(), m.size(), 1, self);
           },
           "Certifies every patch once (later calls reuse it), GIL released: proves from interval bounds of\n"
-          "its exact derivatives that the patch is regular and never turns over against its polygon. Returns\n"
+          "its exact derivatives that the patch is regular and never turns over against a fixed direction\n"
+          "(its polygon's normal or, where that does not prove it, the mean of its corner normals). Returns\n"
           "the (F,) float32 margins (read-only view): > 0 certified (a lower bound on the cosine between\n"
-          "patch and face normal), < 0 proven to turn over, 0 undecided or no patch. About a second of one\n"
-          "core per patch; save() then writes them (cache format 2).")
+          "patch normal and that direction), < 0 proven to turn over against its polygon, 0 undecided or no\n"
+          "patch. About a second of one core per patch; save() then writes them.")
+      .def(
+          "distance_to",
+          [](const PyCache& self, const PyCache& other, const std::string& to, int level) {
+            DistanceSurface as;
+            if (to == "patches")
+              as = DistanceSurface::Patches;
+            else if (to == "polygons")
+              as = DistanceSurface::Polygons;
+            else
+              throw InputError("to: expected patches|polygons, got '" + to + "'");
+            SurfaceDistance d;
+            {
+              pyb::gil_scoped_release release;
+              d = measureSurfaceDistance(*self.cache, DistanceSurface::Patches, *other.cache, as, level, self.threads);
+            }
+            auto side = [](const DistanceDirection& s) {
+              pyb::dict r;
+              r["max"] = s.max;
+              r["mean"] = s.mean;
+              r["points"] = s.points;
+              r["worst_face"] = s.worstFace;
+              r["worst_point"] = pyb::make_tuple(s.worstPoint.x(), s.worstPoint.y(), s.worstPoint.z());
+              return r;
+            };
+            pyb::dict r;
+            r["diagonal_m"] = d.diagonal;
+            r["cache_to_other"] = side(d.aToB);
+            r["other_to_cache"] = side(d.bToA);
+            r["hausdorff"] = std::max(d.aToB.max, d.bToA.max);
+            return r;
+          },
+          "other"_a, pyb::kw_only(), "to"_a = "patches", "level"_a = 8,
+          "How far this cache's patch surface lies from `other`, both ways, as `smoothforce cache distance`:\n"
+          "to='patches' compares with other's patch surface (the same mesh under other options), to='polygons'\n"
+          "with other's polygons as read (a dense mesh: Cache.from_file(path, lazy=True) will do). Each\n"
+          "surface is sampled on its level-`level` rings (1..64), each sample's nearest point found on the\n"
+          "other. Returns a dict: diagonal_m (this mesh's), cache_to_other and other_to_cache (max, mean:\n"
+          "fractions of the diagonal; points; worst_face; worst_point (m)), hausdorff. GIL released.\n"
+          "Raises ValueError for a bad level or `to`, or a lazy cache asked for its patches.")
       .def_property_readonly(
           "certificates",
           [](pyb::object self) -> pyb::object {

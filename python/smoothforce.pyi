@@ -45,10 +45,21 @@ class Cache:
     def certify(self) -> numpy.ndarray:
         """
         Certifies every patch once (later calls reuse it), GIL released: proves from interval bounds of
-        its exact derivatives that the patch is regular and never turns over against its polygon. Returns
+        its exact derivatives that the patch is regular and never turns over against a fixed direction
+        (its polygon's normal or, where that does not prove it, the mean of its corner normals). Returns
         the (F,) float32 margins (read-only view): > 0 certified (a lower bound on the cosine between
-        patch and face normal), < 0 proven to turn over, 0 undecided or no patch. About a second of one
-        core per patch; save() then writes them (cache format 2).
+        patch normal and that direction), < 0 proven to turn over against its polygon, 0 undecided or no
+        patch. About a second of one core per patch; save() then writes them.
+        """
+    def distance_to(self, other: Cache, *, to: str = 'patches', level: int = 8) -> dict:
+        """
+        How far this cache's patch surface lies from `other`, both ways, as `smoothforce cache distance`:
+        to='patches' compares with other's patch surface (the same mesh under other options), to='polygons'
+        with other's polygons as read (a dense mesh: Cache.from_file(path, lazy=True) will do). Each
+        surface is sampled on its level-`level` rings (1..64), each sample's nearest point found on the
+        other. Returns a dict: diagonal_m (this mesh's), cache_to_other and other_to_cache (max, mean:
+        fractions of the diagonal; points; worst_face; worst_point (m)), hausdorff. GIL released.
+        Raises ValueError for a bad level or `to`, or a lazy cache asked for its patches.
         """
     def evaluate(self, faces: typing.Any, xi: typing.Any, eta: typing.Any) -> numpy.ndarray:
         """

@@ -481,6 +481,44 @@ def test_fold_repair_cuts_planar_non_convex_polygons_by_default_and_keeps_their_
         sf.Cache.from_file(path, fold_repair="sometimes")
 
 
+def test_distance_to_measures_the_repair_against_the_part_and_the_other_construction(paths):
+    """An extruded L, creased: the default surface is the part (its polygons) to rounding, the design
+    page's folded caps stand off it; the same numbers as the command line's cache distance."""
+    import subprocess, json, os, tempfile
+    positions = np.array([[0, 0, 0], [2, 0, 0], [2, 1, 0], [1, 1, 0], [1, 3, 0], [0, 3, 0]] * 2, dtype=float)
+    positions[6:, 2] = 1
+    faces = [[5, 4, 3, 2, 1, 0], [6, 7, 8, 9, 10, 11]] + [[i, (i + 1) % 6, 6 + (i + 1) % 6, 6 + i] for i in range(6)]
+    offsets = np.cumsum([0] + [len(f) for f in faces])
+    verts = np.concatenate(faces)
+    on = sf.Cache.from_arrays(positions, offsets, verts, crease_angle=30)
+    off = sf.Cache.from_arrays(positions, offsets, verts, crease_angle=30, fold_repair="off")
+    part = sf.Cache.from_arrays(positions, offsets, verts, lazy=True)
+    exact = on.distance_to(part, to="polygons", level=6)
+    assert set(exact) == {"diagonal_m", "cache_to_other", "other_to_cache", "hausdorff"}
+    assert set(exact["cache_to_other"]) == {"max", "mean", "points", "worst_face", "worst_point"}
+    assert abs(exact["diagonal_m"] - np.sqrt(14)) < 1e-12
+    assert exact["hausdorff"] < 1e-12
+    folded = off.distance_to(part, to="polygons")
+    assert folded["hausdorff"] > 0.05
+    moved = on.distance_to(off)
+    assert moved["other_to_cache"]["max"] > 0.05 and moved["cache_to_other"]["max"] < 1e-12
+    assert moved["hausdorff"] == max(moved["cache_to_other"]["max"], moved["other_to_cache"]["max"])
+    with tempfile.TemporaryDirectory() as d:  # the command line measures the same
+        on.save(os.path.join(d, "on.sfcache"))
+        off.save(os.path.join(d, "off.sfcache"))
+        out = subprocess.run([os.environ.get("SF_CLI", "smoothforce"), "cache", "distance", os.path.join(d, "on.sfcache"),
+                              "--to", os.path.join(d, "off.sfcache"), "--json"], capture_output=True, text=True, check=True)
+        cli = json.loads(out.stdout)
+        assert cli["hausdorff"] == moved["hausdorff"]
+        assert cli["cache_to_other"]["points"] == moved["cache_to_other"]["points"]
+    with pytest.raises(ValueError, match=r"^to: expected patches\|polygons, got 'mesh'"):
+        on.distance_to(off, to="mesh")
+    with pytest.raises(ValueError, match="level 0 outside 1..64"):
+        on.distance_to(off, level=0)
+    with pytest.raises(ValueError, match="needs a prebuilt cache"):
+        on.distance_to(part)
+
+
 def test_crease_edges_as_arrays_match_the_crease_angle(paths):
     """Every edge of the cube marked sharp as arrays gives the surface of --crease-angle 30."""
     path = paths["shared"] / "lagrange/cube.obj"
