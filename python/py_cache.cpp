@@ -317,6 +317,7 @@ void bindCache(pyb::module_& m) {
             };
             pyb::dict r;
             r["diagonal_m"] = d.diagonal;
+            r["levels_used"] = pyb::make_tuple(d.levelA, d.levelB);
             r["cache_to_other"] = side(d.aToB);
             r["other_to_cache"] = side(d.bToA);
             r["hausdorff"] = std::max(d.aToB.max, d.bToA.max);
@@ -327,7 +328,8 @@ void bindCache(pyb::module_& m) {
           "to='patches' compares with other's patch surface (the same mesh under other options), to='polygons'\n"
           "with other's polygons as read (a dense mesh: Cache.from_file(path, lazy=True) will do). Each\n"
           "surface is sampled on its level-`level` rings (1..64), each sample's nearest point found on the\n"
-          "other. Returns a dict: diagonal_m (this mesh's), cache_to_other and other_to_cache (max, mean:\n"
+          "other (a surface that would give more than about 4 million samples at a lower level). Returns a\n"
+          "dict: diagonal_m (this mesh's), levels_used, cache_to_other and other_to_cache (max, mean:\n"
           "fractions of the diagonal; points; worst_face; worst_point (m)), hausdorff. GIL released.\n"
           "Raises ValueError for a bad level or `to`, or a lazy cache asked for its patches.")
       .def_property_readonly(

@@ -57,7 +57,8 @@ class Cache:
         to='patches' compares with other's patch surface (the same mesh under other options), to='polygons'
         with other's polygons as read (a dense mesh: Cache.from_file(path, lazy=True) will do). Each
         surface is sampled on its level-`level` rings (1..64), each sample's nearest point found on the
-        other. Returns a dict: diagonal_m (this mesh's), cache_to_other and other_to_cache (max, mean:
+        other (a surface that would give more than about 4 million samples at a lower level). Returns a
+        dict: diagonal_m (this mesh's), levels_used, cache_to_other and other_to_cache (max, mean:
         fractions of the diagonal; points; worst_face; worst_point (m)), hausdorff. GIL released.
         Raises ValueError for a bad level or `to`, or a lazy cache asked for its patches.
         """

@@ -124,9 +124,13 @@ std::vector<double> distancesToSurface(const PatchCache& to, DistanceSurface as,
     if (!hasPatchData(to))
       throw InputError("surface distance: a patch surface needs a prebuilt cache (this one is a skeleton)");
     const SurfaceQuery query(std::shared_ptr<const PatchCache>(std::shared_ptr<void>(), &to));
-    std::vector<SurfaceQueryResult> out(count);
-    query.query(points, count, out.data(), threads);
-    for (size_t i = 0; i < count; ++i) d[i] = std::fabs(out[i].signedDistance);
+    constexpr size_t kChunk = size_t{1} << 16;  // bounds the answers held at once
+    std::vector<SurfaceQueryResult> out(std::min(count, kChunk));
+    for (size_t first = 0; first < count; first += kChunk) {
+      const size_t m = std::min(kChunk, count - first);
+      query.query(points + 3 * first, m, out.data(), threads);
+      for (size_t i = 0; i < m; ++i) d[first + i] = std::fabs(out[i].signedDistance);
+    }
     return d;
   }
   std::vector<int32_t> source;
@@ -145,6 +149,15 @@ std::vector<double> distancesToSurface(const PatchCache& to, DistanceSurface as,
   return d;
 }
 
+int sampleLevel(const PatchCache& c, int level) {
+  long corners = 0;
+  for (int f = 0; f < c.numFaces(); ++f) corners += c.faceSize(f);
+  // a level-L sample set holds about corners L (L + 1) / 2 + faces points
+  while (level > 1 && static_cast<double>(corners) * level * (level + 1) / 2 + c.numFaces() > kMaxDistanceSamples)
+    --level;
+  return level;
+}
+
 SurfaceDistance measureSurfaceDistance(const PatchCache& a, DistanceSurface aAs, const PatchCache& b,
                                        DistanceSurface bAs, int level, int threads) {
   if (level < 1 || level > 64) throw InputError("surface distance: level " + std::to_string(level) + " outside 1..64");
@@ -157,8 +170,10 @@ SurfaceDistance measureSurfaceDistance(const PatchCache& a, DistanceSurface aAs,
   r.diagonal = a.numVertices() > 0 ? (hi - lo).norm() : 0;
   if (!(r.diagonal > 0) || !std::isfinite(r.diagonal))
     throw InputError("surface distance: the first surface has no extent");
-  r.aToB = measure(sampleSurface(a, aAs, level), b, bAs, r.diagonal, threads);
-  r.bToA = measure(sampleSurface(b, bAs, level), a, aAs, r.diagonal, threads);
+  r.levelA = sampleLevel(a, level);
+  r.levelB = sampleLevel(b, level);
+  r.aToB = measure(sampleSurface(a, aAs, r.levelA), b, bAs, r.diagonal, threads);
+  r.bToA = measure(sampleSurface(b, bAs, r.levelB), a, aAs, r.diagonal, threads);
   return r;
 }
 

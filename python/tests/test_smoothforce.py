@@ -494,7 +494,8 @@ def test_distance_to_measures_the_repair_against_the_part_and_the_other_construc
     off = sf.Cache.from_arrays(positions, offsets, verts, crease_angle=30, fold_repair="off")
     part = sf.Cache.from_arrays(positions, offsets, verts, lazy=True)
     exact = on.distance_to(part, to="polygons", level=6)
-    assert set(exact) == {"diagonal_m", "cache_to_other", "other_to_cache", "hausdorff"}
+    assert set(exact) == {"diagonal_m", "levels_used", "cache_to_other", "other_to_cache", "hausdorff"}
+    assert exact["levels_used"] == (6, 6)
     assert set(exact["cache_to_other"]) == {"max", "mean", "points", "worst_face", "worst_point"}
     assert abs(exact["diagonal_m"] - np.sqrt(14)) < 1e-12
     assert exact["hausdorff"] < 1e-12

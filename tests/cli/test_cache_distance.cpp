@@ -43,6 +43,7 @@ TEST(CacheDistance, MeasuresTheRepairAgainstThePartAndTheDesignPagesConstruction
   const nlohmann::json repaired = measure(on + " --to " + part + " --level 6");
   EXPECT_EQ(repaired["to_surface"], "polygons");
   EXPECT_EQ(repaired["level"], 6);
+  EXPECT_EQ(repaired["levels_used"], nlohmann::json::parse("[6, 6]"));
   EXPECT_NEAR(repaired["diagonal_m"].get<double>(), std::sqrt(4.0 + 9.0 + 1.0), 1e-12);
   EXPECT_LT(repaired["hausdorff"].get<double>(), 1e-12);
   const nlohmann::json folded = measure(off + " --to " + part);

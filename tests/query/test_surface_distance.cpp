@@ -125,6 +125,26 @@ TEST(SurfaceDistance, TheAggregatesAreThoseOfThePointsAndBadInputIsRefused) {
   EXPECT_DOUBLE_EQ(r.bToA.mean, sumB / double(db.size()) / r.diagonal);
   EXPECT_GT(r.aToB.max, 0.01);  // the cube's patches bulge off its faces
   EXPECT_GE(r.aToB.worstFace, 0);
+  EXPECT_EQ(r.levelA, 4);
+  EXPECT_EQ(r.levelB, 4);
+  // a surface of many polygons is sampled at a lower level: within kMaxDistanceSamples, and at
+  // level 1 however many polygons there are
+  PatchCache many;
+  many.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  many.faceOffsets = {0};
+  for (int f = 0; f < 300000; ++f) {
+    many.faceVertices.insert(many.faceVertices.end(), {0, 1, 2});
+    many.faceOffsets.push_back(static_cast<int32_t>(many.faceVertices.size()));
+  }
+  const int lower = sampleLevel(many, 8);
+  EXPECT_LT(lower, 8);
+  EXPECT_LE(300000.0 * 3 * lower * (lower + 1) / 2 + 300000, kMaxDistanceSamples);
+  EXPECT_GT(300000.0 * 3 * (lower + 1) * (lower + 2) / 2 + 300000, kMaxDistanceSamples);
+  EXPECT_EQ(sampleLevel(*cache, 8), 8);
+  many.faceOffsets.resize(2000001, 0);  // 2 million faces: level 1, the least
+  for (size_t f = 300001; f < many.faceOffsets.size(); ++f) many.faceOffsets[f] = many.faceOffsets[f - 1] + 3;
+  many.faceVertices.resize(many.faceOffsets.back(), 0);
+  EXPECT_EQ(sampleLevel(many, 8), 1);
   EXPECT_THROW(measureSurfaceDistance(*cache, DistanceSurface::Patches, *cache, DistanceSurface::Polygons, 0),
                InputError);
   EXPECT_THROW(measureSurfaceDistance(*cache, DistanceSurface::Patches, *cache, DistanceSurface::Polygons, 65),

@@ -409,13 +409,15 @@ void distance(const std::string& path, const std::string& to, int level, bool js
                        {"to", to},
                        {"to_surface", what},
                        {"level", level},
+                       {"levels_used", {d.levelA, d.levelB}},
                        {"diagonal_m", d.diagonal},
                        {"cache_to_other", directionJson(d.aToB)},
                        {"other_to_cache", directionJson(d.bToA)},
                        {"hausdorff", std::max(d.aToB.max, d.bToA.max)}});
     return;
   }
-  std::printf("distance, fractions of the diagonal %.6g m (level %d samples):\n", d.diagonal, level);
+  std::printf("distance, fractions of the diagonal %.6g m (samples at level %d and %d):\n", d.diagonal, d.levelA,
+              d.levelB);
   std::printf("  %s patches -> %s %s: max %.4e (face %d), mean %.4e, %zu points\n", path.c_str(), to.c_str(), what,
               d.aToB.max, d.aToB.worstFace, d.aToB.mean, d.aToB.points);
   std::printf("  %s %s -> %s patches: max %.4e (face %d), mean %.4e, %zu points\n", to.c_str(), what, path.c_str(),
@@ -482,13 +484,15 @@ void addCacheCommands(CLI::App& app) {
       ->required();
   d->add_option("--level", *dLevel,
                 "samples: each patch on the rings of its level-L tessellation (1 + n L (L+1) / 2 points per "
-                "n-gon), each polygon on the same rings over its fan triangles")
+                "n-gon), each polygon on the same rings over its fan triangles; a surface that would give more "
+                "than about 4 million samples is sampled at the highest level that does not")
       ->check(CLI::Range(1, 64))
       ->capture_default_str();
   d->add_option("--threads", *dThreads, "worker threads (0 = all cores)")->check(CLI::Range(0, 4096))
       ->capture_default_str();
   d->add_flag("--json", *dJson,
-              "print one JSON object: cache, to, to_surface (patches|polygons), level, diagonal_m, cache_to_other "
+              "print one JSON object: cache, to, to_surface (patches|polygons), level, levels_used (the cache's, "
+              "the other's), diagonal_m, cache_to_other "
               "and other_to_cache (max, mean: fractions of the diagonal; points, worst_face, worst_point: m), "
               "hausdorff");
   d->callback([=] { distance(*dPath, *dTo, *dLevel, *dJson, *dThreads); });

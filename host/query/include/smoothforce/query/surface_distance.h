@@ -30,9 +30,18 @@ struct DistanceDirection {
 /// Both directions, in fractions of `diagonal`.
 struct SurfaceDistance {
   double diagonal = 0;      ///< m: the bounding-box diagonal of a's base mesh
+  int levelA = 0, levelB = 0;  ///< the sample levels used (sampleLevel)
   DistanceDirection aToB;   ///< from a's samples to b
   DistanceDirection bToA;   ///< from b's samples to a
 };
+
+/// Samples per surface at most (about; 4 million points are about 100 MB of coordinates).
+inline constexpr double kMaxDistanceSamples = 4e6;
+
+/// The level measureSurfaceDistance samples c at: `level`, lowered (to 1 at least) until c's
+/// samples stay within kMaxDistanceSamples, so that a dense mesh of millions of polygons is
+/// measured in bounded memory.
+int sampleLevel(const PatchCache& c, int level);
 
 /// The samples measureSurfaceDistance takes of `c` as `as` stands for it: x, y, z per point (m)
 /// and the face each lies on.
@@ -50,7 +59,7 @@ std::vector<double> distancesToSurface(const PatchCache& to, DistanceSurface as,
                                        int threads = 0);
 
 /// The two one-sided distances between a and b, each as what it stands for (`aAs`, `bAs`).
-/// Samples: a patch surface's level-L ring points of every built patch (tessellate.h:
+/// Samples (at sampleLevel(c, level) each): a patch surface's level-L ring points of every built patch (tessellate.h:
 /// 1 + n L (L+1) / 2 per n-gon); polygons' points on the same rings over each polygon's fan
 /// triangles from its centroid. Nearest points: on a patch surface the global nearest-point
 /// query (SurfaceQuery, exact to the refinement's tolerances); on polygons the exact nearest
