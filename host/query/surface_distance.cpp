@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,7 +31,12 @@ void add(SurfaceSamples& s, const Eigen::Vector3d& p, int f) {
 /// c's polygons, the flat non-convex ones cut into convex pieces (splitBadCorners: the same
 /// point set), so that every piece is the fan of triangles from its centroid or, flat to
 /// rounding, that polygon itself; source[piece] = c's face.
-PatchCache polygonPieces(const PatchCache& c, std::vector<int32_t>& source) {
+struct PolygonPieces {
+  PatchCache pieces;  ///< a skeleton: positions, faces and adjacency
+  std::vector<int32_t> source;
+};
+
+PolygonPieces polygonPieces(const PatchCache& c) {
   PolygonMesh m = cacheBaseMesh(c);
   m.faceSource.clear();  // the pieces' sources are c's faces
   std::vector<Eigen::Vector3d> normals(c.numSlots(), Eigen::Vector3d::UnitZ());
@@ -38,10 +44,9 @@ PatchCache polygonPieces(const PatchCache& c, std::vector<int32_t>& source) {
     for (size_t k = 0; k < normals.size(); ++k)
       normals[k] = {c.cornerNormals[3 * k], c.cornerNormals[3 * k + 1], c.cornerNormals[3 * k + 2]};
   splitBadCorners(m, &normals);
-  source = m.faceSource;
   PatchOptions o = c.options;
   o.foldRepair = FoldRepairMode::Off;
-  return preparePatchCache(m, normals, o, c.meshHash, /*allocatePatches=*/false);
+  return {preparePatchCache(m, normals, o, c.meshHash, /*allocatePatches=*/false), std::move(m.faceSource)};
 }
 
 SurfaceSamples patchSamples(const PatchCache& c, int level) {
@@ -64,9 +69,9 @@ Eigen::Vector3d position(const PatchCache& c, int v) {
 
 /// Each polygon's fan triangles (centroid, V_k, V_k+1) sampled like a ring tessellation: the
 /// centroid, then rings r = 1..L, each fan triangle's outer side split in r.
-SurfaceSamples polygonSamples(const PatchCache& polygons, int level) {
-  std::vector<int32_t> source;
-  const PatchCache c = polygonPieces(polygons, source);
+SurfaceSamples polygonSamples(const PolygonPieces& p, int level) {
+  const PatchCache& c = p.pieces;
+  const std::vector<int32_t>& source = p.source;
   SurfaceSamples s;
   for (int f = 0; f < c.numFaces(); ++f) {
     const int first = c.faceOffsets[f], n = c.faceOffsets[f + 1] - first;
@@ -86,10 +91,43 @@ SurfaceSamples polygonSamples(const PatchCache& polygons, int level) {
   return s;
 }
 
-/// The distance from every sample to the surface `to` stands for.
-DistanceDirection measure(const SurfaceSamples& from, const PatchCache& to, DistanceSurface as, double diagonal,
-                          int threads) {
-  const std::vector<double> d = distancesToSurface(to, as, from.xyz.data(), from.size(), threads);
+/// Distances (m) from points[0, 3 count) to the polygon pieces, exact (PolygonScene); NaN for a
+/// point that is not finite.
+std::vector<double> polygonDistances(const PolygonPieces& p, const double* points, size_t count, int threads) {
+  std::vector<double> d(count, 0);
+  const PolygonScene scene(p.pieces, kWatertightPlanarTolerance);
+  auto run = [&] {
+    tbb::parallel_for(size_t{0}, count, [&](size_t i) {
+      const Eigen::Vector3d q(points[3 * i], points[3 * i + 1], points[3 * i + 2]);
+      d[i] = q.allFinite() ? scene.nearest(q).distance : std::numeric_limits<double>::quiet_NaN();
+    });
+  };
+  if (threads > 0)
+    tbb::task_arena(threads).execute(run);
+  else
+    run();
+  return d;
+}
+
+/// Distances (m) from points[0, 3 count) to the patch surface of `to` (prebuilt), by the global
+/// nearest-point query; NaN where it has no answer.
+std::vector<double> patchDistances(const PatchCache& to, const double* points, size_t count, int threads) {
+  if (!hasPatchData(to))
+    throw InputError("surface distance: a patch surface needs a prebuilt cache (this one is a skeleton)");
+  std::vector<double> d(count, 0);
+  const SurfaceQuery query(std::shared_ptr<const PatchCache>(std::shared_ptr<void>(), &to));
+  constexpr size_t kChunk = size_t{1} << 16;  // bounds the answers held at once
+  std::vector<SurfaceQueryResult> out(std::min(count, kChunk));
+  for (size_t first = 0; first < count; first += kChunk) {
+    const size_t m = std::min(kChunk, count - first);
+    query.query(points + 3 * first, m, out.data(), threads);
+    for (size_t i = 0; i < m; ++i) d[first + i] = std::fabs(out[i].signedDistance);
+  }
+  return d;
+}
+
+/// The aggregates of the distances d (m) of the samples `from`, in fractions of `diagonal`.
+DistanceDirection summarize(const SurfaceSamples& from, const std::vector<double>& d, double diagonal) {
   DistanceDirection out;
   out.points = from.size();
   double sum = 0;
@@ -114,39 +152,13 @@ DistanceDirection measure(const SurfaceSamples& from, const PatchCache& to, Dist
 
 SurfaceSamples sampleSurface(const PatchCache& c, DistanceSurface as, int level) {
   if (level < 1 || level > 64) throw InputError("surface distance: level " + std::to_string(level) + " outside 1..64");
-  return as == DistanceSurface::Patches ? patchSamples(c, level) : polygonSamples(c, level);
+  return as == DistanceSurface::Patches ? patchSamples(c, level) : polygonSamples(polygonPieces(c), level);
 }
 
 std::vector<double> distancesToSurface(const PatchCache& to, DistanceSurface as, const double* points, size_t count,
                                        int threads) {
-  std::vector<double> d(count, 0);
-  if (as == DistanceSurface::Patches) {
-    if (!hasPatchData(to))
-      throw InputError("surface distance: a patch surface needs a prebuilt cache (this one is a skeleton)");
-    const SurfaceQuery query(std::shared_ptr<const PatchCache>(std::shared_ptr<void>(), &to));
-    constexpr size_t kChunk = size_t{1} << 16;  // bounds the answers held at once
-    std::vector<SurfaceQueryResult> out(std::min(count, kChunk));
-    for (size_t first = 0; first < count; first += kChunk) {
-      const size_t m = std::min(kChunk, count - first);
-      query.query(points + 3 * first, m, out.data(), threads);
-      for (size_t i = 0; i < m; ++i) d[first + i] = std::fabs(out[i].signedDistance);
-    }
-    return d;
-  }
-  std::vector<int32_t> source;
-  const PatchCache pieces = polygonPieces(to, source);
-  const PolygonScene scene(pieces, kWatertightPlanarTolerance);
-  auto run = [&] {
-    tbb::parallel_for(size_t{0}, count, [&](size_t i) {
-      const Eigen::Vector3d p(points[3 * i], points[3 * i + 1], points[3 * i + 2]);
-      d[i] = p.allFinite() ? scene.nearest(p).distance : std::numeric_limits<double>::quiet_NaN();
-    });
-  };
-  if (threads > 0)
-    tbb::task_arena(threads).execute(run);
-  else
-    run();
-  return d;
+  return as == DistanceSurface::Patches ? patchDistances(to, points, count, threads)
+                                        : polygonDistances(polygonPieces(to), points, count, threads);
 }
 
 int sampleLevel(const PatchCache& c, int level) {
@@ -165,15 +177,27 @@ SurfaceDistance measureSurfaceDistance(const PatchCache& a, DistanceSurface aAs,
     if (as == DistanceSurface::Patches && !hasPatchData(*c))
       throw InputError("surface distance: a patch surface needs a prebuilt cache (this one is a skeleton)");
   SurfaceDistance r;
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
-  for (int v = 0; v < a.numVertices(); ++v) lo = lo.cwiseMin(position(a, v)), hi = hi.cwiseMax(position(a, v));
-  r.diagonal = a.numVertices() > 0 ? (hi - lo).norm() : 0;
+  r.diagonal = boundingDiagonal(a);
   if (!(r.diagonal > 0) || !std::isfinite(r.diagonal))
     throw InputError("surface distance: the first surface has no extent");
   r.levelA = sampleLevel(a, level);
   r.levelB = sampleLevel(b, level);
-  r.aToB = measure(sampleSurface(a, aAs, r.levelA), b, bAs, r.diagonal, threads);
-  r.bToA = measure(sampleSurface(b, bAs, r.levelB), a, aAs, r.diagonal, threads);
+  // each polygon surface cut into its pieces once, for its samples and for its distances
+  std::optional<PolygonPieces> piecesA, piecesB;
+  if (aAs == DistanceSurface::Polygons) piecesA = polygonPieces(a);
+  if (bAs == DistanceSurface::Polygons) piecesB = polygonPieces(b);
+  auto samples = [](const PatchCache& c, const std::optional<PolygonPieces>& p, int l) {
+    return p ? polygonSamples(*p, l) : patchSamples(c, l);
+  };
+  auto distances = [threads](const PatchCache& c, const std::optional<PolygonPieces>& p, const SurfaceSamples& s) {
+    return p ? polygonDistances(*p, s.xyz.data(), s.size(), threads) : patchDistances(c, s.xyz.data(), s.size(), threads);
+  };
+  {  // one sample set held at a time
+    const SurfaceSamples sa = samples(a, piecesA, r.levelA);
+    r.aToB = summarize(sa, distances(b, piecesB, sa), r.diagonal);
+  }
+  const SurfaceSamples sb = samples(b, piecesB, r.levelB);
+  r.bToA = summarize(sb, distances(a, piecesA, sb), r.diagonal);
   return r;
 }
 

@@ -29,7 +29,7 @@ struct DistanceDirection {
 
 /// Both directions, in fractions of `diagonal`.
 struct SurfaceDistance {
-  double diagonal = 0;      ///< m: the bounding-box diagonal of a's base mesh
+  double diagonal = 0;      ///< m: boundingDiagonal(a), its referenced vertices' box
   int levelA = 0, levelB = 0;  ///< the sample levels used (sampleLevel)
   DistanceDirection aToB;   ///< from a's samples to b
   DistanceDirection bToA;   ///< from b's samples to a
