@@ -18,11 +18,12 @@
  * across: #C*2, for slot c (edge k of its face): the corners of the face across the edge at V_k
  * and V_{k+1} (the face's own corners without a neighbour; host acrossCorners). A face whose
  * normals differ from the face across somewhere has a crease: gp_build_patch_creased.
- * edgeData: GP_E_NFIELDS*#C (out), faceStatus, faceBulge: #F (out). */
+ * edgeData: GP_E_NFIELDS*#C (out), faceStatus, faceBulge: #F (out).
+ * domainTable: GP_DOMAIN_FLAT_SIZE, the host's domain constants (gp_tables.h). */
 __kernel void gp_construct(const int numFaces, const int numSlots, const int mode, __global const GP_REAL* positions,
                            __global const GP_REAL* cornerNormals, __global const int* faceOffsets,
                            __global const int* faceVertices, __global const int* across, __global GP_REAL* edgeData, __global uint* faceStatus,
-                           __global float* faceBulge) {
+                           __global float* faceBulge, __global const GP_REAL* domainTable) {
   const int f = (int)get_global_id(0);
   if (f >= numFaces) return;
   const int first = faceOffsets[f], n = faceOffsets[f + 1] - first;
@@ -59,7 +60,7 @@ __kernel void gp_construct(const int numFaces, const int numSlots, const int mod
     /* gp_build_patch wrote nothing: store zeros rather than stale private memory */
     for (int j = 0; j < n * GP_E_NFIELDS; ++j) recs[j] = GP_R(0.0);
   } else {
-    st |= gp_patch_quality(n, recs, mode, &bulge);
+    st |= gp_patch_quality(n, recs, mode, &bulge, domainTable);
   }
   faceStatus[f] = st;
   faceBulge[f] = (float)bulge;

@@ -14,11 +14,13 @@
 /* numFaces: #F. numSlots: #C. mode: GP_CT_*. count: N queries.
  * faceOffsets: #F+1. edgeData: GP_E_NFIELDS*#C, field-major. faceStatus: #F.
  * qFace, qXi, qEta: N. out: 12*N, component-major: out[c * count + q] with c = 0..2 position,
- * 3..5 dG/dxi, 6..8 dG/deta, 9..11 unit normal. outStatus: N. */
+ * 3..5 dG/dxi, 6..8 dG/deta, 9..11 unit normal. outStatus: N.
+ * domainTable: GP_DOMAIN_FLAT_SIZE, the host's domain constants (gp_tables.h). */
 __kernel void gp_evaluate(const int numFaces, const int numSlots, const int mode, const int count,
                           __global const int* faceOffsets, __global const GP_REAL* edgeData,
                           __global const uint* faceStatus, __global const int* qFace, __global const GP_REAL* qXi,
-                          __global const GP_REAL* qEta, __global GP_REAL* out, __global uint* outStatus) {
+                          __global const GP_REAL* qEta, __global GP_REAL* out, __global uint* outStatus,
+                          __global const GP_REAL* domainTable) {
   const int q = (int)get_global_id(0);
   if (q >= count) return;
   const int f = qFace[q];
@@ -34,7 +36,7 @@ __kernel void gp_evaluate(const int numFaces, const int numSlots, const int mode
       GP_REAL recs[GP_MAX_N * GP_E_NFIELDS];
       for (int k = 0; k < n; ++k)
         for (int i = 0; i < GP_E_NFIELDS; ++i) recs[k * GP_E_NFIELDS + i] = edgeData[(size_t)i * numSlots + first + k];
-      r = gp_patch_eval(n, recs, mode, qXi[q], qEta[q]);
+      r = gp_patch_eval(n, recs, mode, qXi[q], qEta[q], domainTable);
       r.status |= faceStatus[f];
     }
   }

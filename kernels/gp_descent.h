@@ -62,27 +62,27 @@ GP_FN void gp_rd_transfer(const gp_refine_mesh* m, int* f, GP_REAL* x, GP_REAL* 
   *edge = -1;
   const int n = gp_rf_size(m, *f);
   int k;
-  const GP_REAL mx = gp_dom_edge_max(n, *x, *y, &k), c = gp_dom_apothem(n);
+  const GP_REAL mx = gp_dom_edge_max(n, *x, *y, &k GP_DT_M(m)), c = gp_dom_apothem(n GP_DT_M(m));
   if (!(mx > c)) return;
   const GP_REAL ix = *x * (c / mx), iy = *y * (c / mx); /* I0: the ray from the origin meets edge k */
   GP_REAL ax, ay, bx, by;
-  gp_domain_corner(n, k, &ax, &ay);
-  gp_domain_corner(n, (k + 1) % n, &bx, &by);
+  gp_domain_corner(n, k, &ax, &ay GP_DT_M(m));
+  gp_domain_corner(n, (k + 1) % n, &bx, &by GP_DT_M(m));
   GP_REAL s = GP_SQRT((ix - bx) * (ix - bx) + (iy - by) * (iy - by)) /
               GP_SQRT((ax - bx) * (ax - bx) + (ay - by) * (ay - by)); /* |I0 - C_{k+1}| / |C_k - C_{k+1}| */
   s = s < GP_R(0.0) ? GP_R(0.0) : (s > GP_R(1.0) ? GP_R(1.0) : s);
   const int twin = m->slotTwin[m->faceOffsets[*f] + k];
   const int g = twin >= 0 ? gp_rf_slot_face(m, twin) : -1;
   if (g < 0 || !gp_rf_evaluable(m, g)) { /* stay on the edge, at its nearest point in the domain */
-    gp_dom_edge_point(n, k, gp_dom_edge_param(n, k, *x, *y), x, y);
-    gp_dom_clamp(n, x, y);
+    gp_dom_edge_point(n, k, gp_dom_edge_param(n, k, *x, *y GP_DT_M(m)), x, y GP_DT_M(m));
+    gp_dom_clamp(n, x, y GP_DT_M(m));
     *edge = k;
     *st |= GP_TRACK_BOUNDARY;
     return;
   }
   const int ng = gp_rf_size(m, g);
-  gp_dom_edge_point(ng, twin - m->faceOffsets[g], s, x, y);
-  gp_dom_clamp(ng, x, y);
+  gp_dom_edge_point(ng, twin - m->faceOffsets[g], s, x, y GP_DT_M(m));
+  gp_dom_clamp(ng, x, y GP_DT_M(m));
   *f = g;
   *transitions += 1;
 }
@@ -93,7 +93,7 @@ GP_FN int gp_rd_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* 
                      GP_REAL posNoise, int* transitions, gp_uint* status) {
   const int n = gp_rf_size(m, cur->face);
   GP_REAL xc = cur->x, yc = cur->y;
-  gp_dom_interior(n, &xc, &yc, eps);
+  gp_dom_interior(n, &xc, &yc, eps GP_DT_M(m));
   const gp_vec3 gxp = gp_rd_eval(m, w, cur->face, xc + eps, yc).pos,
                 gxm = gp_rd_eval(m, w, cur->face, xc - eps, yc).pos;
   const gp_vec3 gyp = gp_rd_eval(m, w, cur->face, xc, yc + eps).pos,
@@ -119,7 +119,7 @@ GP_FN int gp_rd_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* 
     int face = cur->face, tr = 0, edge = -1;
     gp_uint st = 0u;
     GP_REAL x = cur->x + sx, y = cur->y + sy;
-    if (!gp_dom_inside(n, x, y)) gp_rd_transfer(m, &face, &x, &y, &edge, &tr, &st);
+    if (!gp_dom_inside(n, x, y GP_DT_M(m))) gp_rd_transfer(m, &face, &x, &y, &edge, &tr, &st);
     gp_rf_iterate trial = gp_rd_at(m, w, face, x, y, hip);
     trial.edge = edge;
     if (gp_rd_better(&trial, cur, posNoise)) {
@@ -145,7 +145,7 @@ GP_FN gp_refine_result gp_refine_descent(const gp_refine_mesh* m, gp_refine_work
   gp_refine_result out;
   if (!gp_rf_begin(m, w, hip, face, xi, eta, o, &out)) return out;
   const int n0 = gp_rf_size(m, face);
-  gp_dom_clamp(n0, &xi, &eta);
+  gp_dom_clamp(n0, &xi, &eta GP_DT_M(m));
   gp_rf_iterate cur = gp_rd_at(m, w, face, xi, eta, hip);
   cur.edge = startEdge >= 0 && startEdge < n0 ? startEdge : -1;
   if (!(cur.f < GP_BIG)) {

@@ -7,13 +7,19 @@
 
 /* cos(pi/n): the distance from the centre to every domain edge. Unit outward normal
  * m_k = (cos (2k+1) pi/n, sin (2k+1) pi/n) of domain edge k (C_k -> C_{k+1}). On the host both
- * come from the domain table (gp_tables.h: the same formulas, evaluated once); OpenCL computes
- * them where they are used. */
-#ifdef GP_DOMAIN_TABLE
+ * come from the domain table (gp_tables.h: the same formulas, evaluated once; OpenCL reads the
+ * host's, GP_DT_PARAM). */
+#if defined(GP_DOMAIN_TABLE)
 GP_FN GP_REAL gp_dom_apothem(int n) { return GP_DOMAIN_TABLE(n)->apothem; }
 GP_FN void gp_dom_normal(int n, int k, GP_REAL* mx, GP_REAL* my) {
   *mx = GP_DOMAIN_TABLE(n)->mx[k];
   *my = GP_DOMAIN_TABLE(n)->my[k];
+}
+#elif defined(GP_OPENCL)
+GP_FN GP_REAL gp_dom_apothem(int n GP_DT_PARAM) { return gp_dt[GP_DOMAIN_FLAT_OFFSET(n)]; }
+GP_FN void gp_dom_normal(int n, int k, GP_REAL* mx, GP_REAL* my GP_DT_PARAM) {
+  *mx = gp_dt[GP_DOMAIN_FLAT_OFFSET(n) + 1 + 4 * k];
+  *my = gp_dt[GP_DOMAIN_FLAT_OFFSET(n) + 2 + 4 * k];
 }
 #else
 GP_FN GP_REAL gp_dom_apothem(int n) { return gp_domain_calc_apothem(n); }
@@ -21,12 +27,12 @@ GP_FN void gp_dom_normal(int n, int k, GP_REAL* mx, GP_REAL* my) { gp_domain_cal
 #endif
 
 /* max_k X . m_k and its edge k: X is inside the domain iff this is <= cos(pi/n). */
-GP_FN GP_REAL gp_dom_edge_max(int n, GP_REAL x, GP_REAL y, int* k) {
+GP_FN GP_REAL gp_dom_edge_max(int n, GP_REAL x, GP_REAL y, int* k GP_DT_PARAM) {
   GP_REAL best = -GP_BIG;
   *k = 0;
   for (int j = 0; j < n; ++j) {
     GP_REAL mx, my;
-    gp_dom_normal(n, j, &mx, &my);
+    gp_dom_normal(n, j, &mx, &my GP_DT_ARG);
     const GP_REAL v = x * mx + y * my;
     if (v > best) {
       best = v;
@@ -36,15 +42,15 @@ GP_FN GP_REAL gp_dom_edge_max(int n, GP_REAL x, GP_REAL y, int* k) {
   return best;
 }
 
-GP_FN int gp_dom_inside(int n, GP_REAL x, GP_REAL y) {
+GP_FN int gp_dom_inside(int n, GP_REAL x, GP_REAL y GP_DT_PARAM) {
   int k;
-  return gp_dom_edge_max(n, x, y, &k) <= gp_dom_apothem(n);
+  return gp_dom_edge_max(n, x, y, &k GP_DT_ARG) <= gp_dom_apothem(n GP_DT_ARG);
 }
 
 /* Scales a point outside the domain back onto its boundary along the ray from the origin. */
-GP_FN void gp_dom_clamp(int n, GP_REAL* x, GP_REAL* y) {
+GP_FN void gp_dom_clamp(int n, GP_REAL* x, GP_REAL* y GP_DT_PARAM) {
   int k;
-  const GP_REAL mx = gp_dom_edge_max(n, *x, *y, &k), c = gp_dom_apothem(n);
+  const GP_REAL mx = gp_dom_edge_max(n, *x, *y, &k GP_DT_ARG), c = gp_dom_apothem(n GP_DT_ARG);
   if (mx > c) {
     *x = *x * (c / mx);
     *y = *y * (c / mx);
@@ -54,13 +60,13 @@ GP_FN void gp_dom_clamp(int n, GP_REAL* x, GP_REAL* y) {
 /* The segment X + tau d (tau in [0, 1]) from X in the domain: returns the smallest tau at which
  * it reaches a domain edge it moves out through, and that edge in *k; 1 + (something) when it
  * stays inside (returns a value > 1, *k = -1). A point on edge k moving outward gives 0. */
-GP_FN GP_REAL gp_dom_exit(int n, GP_REAL x, GP_REAL y, GP_REAL dx, GP_REAL dy, int* k) {
-  const GP_REAL c = gp_dom_apothem(n);
+GP_FN GP_REAL gp_dom_exit(int n, GP_REAL x, GP_REAL y, GP_REAL dx, GP_REAL dy, int* k GP_DT_PARAM) {
+  const GP_REAL c = gp_dom_apothem(n GP_DT_ARG);
   GP_REAL best = GP_R(2.0);
   *k = -1;
   for (int j = 0; j < n; ++j) {
     GP_REAL mx, my;
-    gp_dom_normal(n, j, &mx, &my);
+    gp_dom_normal(n, j, &mx, &my GP_DT_ARG);
     const GP_REAL out = dx * mx + dy * my; /* speed towards edge j's line */
     if (!(out > GP_R(0.0))) continue;
     GP_REAL tau = (c - (x * mx + y * my)) / out;
@@ -77,20 +83,20 @@ GP_FN GP_REAL gp_dom_exit(int n, GP_REAL x, GP_REAL y, GP_REAL dx, GP_REAL dy, i
  * edge this is the edge curve's parameter t (u_k = d_{k-1} / (d_{k-1} + d_{k+1}) is linear
  * along a side of the regular polygon), so Eq. 15's I1 = C_i + (1 - t) (C_{i+1} - C_i) on the
  * neighbour is the same surface point. */
-GP_FN GP_REAL gp_dom_edge_param(int n, int k, GP_REAL x, GP_REAL y) {
+GP_FN GP_REAL gp_dom_edge_param(int n, int k, GP_REAL x, GP_REAL y GP_DT_PARAM) {
   GP_REAL ax, ay, bx, by;
-  gp_domain_corner(n, k, &ax, &ay);
-  gp_domain_corner(n, (k + 1) % n, &bx, &by);
+  gp_domain_corner(n, k, &ax, &ay GP_DT_ARG);
+  gp_domain_corner(n, (k + 1) % n, &bx, &by GP_DT_ARG);
   const GP_REAL ex = bx - ax, ey = by - ay;
   GP_REAL t = ((x - ax) * ex + (y - ay) * ey) / (ex * ex + ey * ey);
   return t < GP_R(0.0) ? GP_R(0.0) : (t > GP_R(1.0) ? GP_R(1.0) : t);
 }
 
 /* The point at fraction t from C_k to C_{k+1} on domain edge k. */
-GP_FN void gp_dom_edge_point(int n, int k, GP_REAL t, GP_REAL* x, GP_REAL* y) {
+GP_FN void gp_dom_edge_point(int n, int k, GP_REAL t, GP_REAL* x, GP_REAL* y GP_DT_PARAM) {
   GP_REAL ax, ay, bx, by;
-  gp_domain_corner(n, k, &ax, &ay);
-  gp_domain_corner(n, (k + 1) % n, &bx, &by);
+  gp_domain_corner(n, k, &ax, &ay GP_DT_ARG);
+  gp_domain_corner(n, (k + 1) % n, &bx, &by GP_DT_ARG);
   *x = ax + t * (bx - ax);
   *y = ay + t * (by - ay);
 }
@@ -107,9 +113,9 @@ GP_FN void gp_dom_off_corner(int n, GP_REAL* x, GP_REAL* y) {
 }
 
 /* Moves X inward so that an eps-disc around it fits in the domain (for finite differences). */
-GP_FN void gp_dom_interior(int n, GP_REAL* x, GP_REAL* y, GP_REAL eps) {
+GP_FN void gp_dom_interior(int n, GP_REAL* x, GP_REAL* y, GP_REAL eps GP_DT_PARAM) {
   int k;
-  const GP_REAL dmin = gp_dom_apothem(n) - gp_dom_edge_max(n, *x, *y, &k);
+  const GP_REAL dmin = gp_dom_apothem(n GP_DT_ARG) - gp_dom_edge_max(n, *x, *y, &k GP_DT_ARG);
   if (dmin > GP_R(2.0) * eps) return;
   const GP_REAL r = GP_SQRT(*x * *x + *y * *y); /* >= cos(pi/n) - 2 eps > 0.4 near the boundary */
   const GP_REAL s = GP_R(1.0) - GP_R(3.0) * eps / r;

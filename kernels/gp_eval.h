@@ -308,7 +308,7 @@ GP_FN gp_eval_result gp_patch_eval_dom(const gp_domain* dom, const GP_REAL* recs
 
 /* gp_patch_eval_dom on the domain of the n-gon; n outside 3..GP_MAX_N gives
  * GP_ST_TOO_MANY_SIDES and zeros. */
-GP_FN gp_eval_result gp_patch_eval(int n, const GP_REAL* recs, int mode, GP_REAL xi, GP_REAL eta) {
+GP_FN gp_eval_result gp_patch_eval(int n, const GP_REAL* recs, int mode, GP_REAL xi, GP_REAL eta GP_DT_PARAM) {
   if (n < 3 || n > GP_MAX_N) {
     gp_eval_result out;
     out.pos = out.dxi = out.deta = out.normal = gp_zero3();
@@ -316,7 +316,7 @@ GP_FN gp_eval_result gp_patch_eval(int n, const GP_REAL* recs, int mode, GP_REAL
     return out;
   }
   gp_domain scratch;
-  return gp_patch_eval_dom(gp_domain_of(n, &scratch, 0), recs, mode, xi, eta);
+  return gp_patch_eval_dom(gp_domain_of(n, &scratch, 0 GP_DT_ARG), recs, mode, xi, eta);
 }
 
 /* Quality samples (design page, "Robustness"): for each edge k, GP_Q_STEPS + 1 points s along
@@ -390,9 +390,9 @@ GP_FN_INLINE GP_STATUS gp_patch_quality_n(const gp_domain* dom, const int n, con
  * points outside the face's bounding box over the face diameter. Returns GP_ST_FOLD and/or
  * GP_ST_BULGE (bulge > 0.5); the bulge value goes to *bulge. Triangles and quads run the body
  * with n a constant. */
-GP_FN GP_STATUS gp_patch_quality(int n, const GP_REAL* recs, int mode, GP_REAL* bulge) {
+GP_FN GP_STATUS gp_patch_quality(int n, const GP_REAL* recs, int mode, GP_REAL* bulge GP_DT_PARAM) {
   gp_domain scratch;
-  const gp_domain* dom = gp_domain_of(n, &scratch, 1);
+  const gp_domain* dom = gp_domain_of(n, &scratch, 1 GP_DT_ARG);
   switch (n) {
     case 3:
       return gp_patch_quality_n(dom, 3, recs, mode, bulge);

@@ -82,7 +82,10 @@ typedef struct {
   /* 1: the cache's records are float's (its evaluations round as float): the paper's descent
    * takes its finite-difference step and position noise from that precision, not GP_REAL's */
   int floatRecords;
-#ifndef GP_OPENCL
+#ifdef GP_OPENCL
+  /* the host's domain table (gp_tables.h GP_DOMAIN_FLAT_OFFSET; GP_DT_M passes it on) */
+  __global const GP_REAL* domainTable;
+#else
   /* Host only: when set, face records come from here instead of edgeData/faceStatus. Writes
    * face f's n records (record-major) to recs, or only reports when recs is null; returns the
    * face's GP_ST_* bits (GP_ST_TOO_MANY_SIDES when it has no patch). */
@@ -212,7 +215,7 @@ GP_FN gp_eval_result gp_rf_eval(const gp_refine_mesh* m, gp_refine_work* w, int 
     }
     w->loaded = f;
   }
-  gp_eval_result r = gp_patch_eval(n, w->recs, m->mode, x, y);
+  gp_eval_result r = gp_patch_eval(n, w->recs, m->mode, x, y GP_DT_M(m));
   r.status |= w->loadedStatus;
   return r;
 }
@@ -300,7 +303,7 @@ GP_FN gp_rf_iterate gp_rf_at_d2(const gp_refine_mesh* m, gp_refine_work* w, int 
                                 gp_vec3 hip) {
   const GP_REAL eps = GP_RF_FD_EPS;
   GP_REAL xc = x, yc = y;
-  gp_dom_interior(gp_rf_size(m, f), &xc, &yc, eps);
+  gp_dom_interior(gp_rf_size(m, f), &xc, &yc, eps GP_DT_M(m));
   const int shifted = !(xc == x && yc == y);
 #ifndef GP_OPENCL
   if (m->evalPoints) {
@@ -318,10 +321,10 @@ GP_FN gp_rf_iterate gp_rf_at_d2(const gp_refine_mesh* m, gp_refine_work* w, int 
 }
 
 /* Unit direction C_{k+1} - C_k of domain edge k, and its tangent J e on the surface. */
-GP_FN gp_vec3 gp_rf_edge_tangent(int n, int k, const gp_eval_result* p, GP_REAL* ex, GP_REAL* ey) {
+GP_FN gp_vec3 gp_rf_edge_tangent(int n, int k, const gp_eval_result* p, GP_REAL* ex, GP_REAL* ey GP_DT_PARAM) {
   GP_REAL ax, ay, bx, by;
-  gp_domain_corner(n, k, &ax, &ay);
-  gp_domain_corner(n, (k + 1) % n, &bx, &by);
+  gp_domain_corner(n, k, &ax, &ay GP_DT_ARG);
+  gp_domain_corner(n, (k + 1) % n, &bx, &by GP_DT_ARG);
   *ex = bx - ax;
   *ey = by - ay;
   return gp_add(gp_scale(p->dxi, *ex), gp_scale(p->deta, *ey));
@@ -331,7 +334,7 @@ GP_FN gp_vec3 gp_rf_edge_tangent(int n, int k, const gp_eval_result* p, GP_REAL*
 GP_FN GP_REAL gp_rf_residual(const gp_refine_mesh* m, const gp_rf_iterate* it) {
   if (it->edge >= 0) {
     GP_REAL ex, ey;
-    const gp_vec3 ge = gp_rf_edge_tangent(gp_rf_size(m, it->face), it->edge, &it->p, &ex, &ey);
+    const gp_vec3 ge = gp_rf_edge_tangent(gp_rf_size(m, it->face), it->edge, &it->p, &ex, &ey GP_DT_M(m));
     const GP_REAL gl = gp_len(ge);
     return gl > GP_R(0.0) ? GP_FABS(gp_dot(it->r, ge)) / gl : gp_len(it->r);
   }
@@ -360,7 +363,7 @@ GP_FN int gp_rf_converged(const gp_refine_mesh* m, const gp_refine_work* w, cons
    * it, and leaves it once the HIP is under one side's interior) */
   GP_REAL ex, ey;
   const int n = gp_rf_size(m, it->face);
-  (void)gp_rf_edge_tangent(n, it->edge, &it->p, &ex, &ey);
+  (void)gp_rf_edge_tangent(n, it->edge, &it->p, &ex, &ey GP_DT_M(m));
   const gp_vec3 ju = gp_add(gp_scale(it->p.dxi, -ey), gp_scale(it->p.deta, ex)); /* J of the inward normal */
   const GP_REAL jl = gp_len(ju);
   return !(jl > GP_R(0.0)) || gp_dot(ju, it->r) >= -tol * jl;
@@ -371,7 +374,7 @@ GP_FN int gp_rf_converged(const gp_refine_mesh* m, const gp_refine_work* w, cons
 GP_FN int gp_rf_minimum(const gp_refine_mesh* m, const gp_refine_work* w, const gp_rf_iterate* it) {
   const GP_REAL eps = GP_RF_FD_EPS;
   GP_REAL xc = it->x, yc = it->y;
-  gp_dom_interior(gp_rf_size(m, it->face), &xc, &yc, eps);
+  gp_dom_interior(gp_rf_size(m, it->face), &xc, &yc, eps GP_DT_M(m));
   if (!(w->kept.d2Face == it->face && w->kept.d2x == xc && w->kept.d2y == yc)) return 0;
   const gp_vec3 r = it->r, a = it->p.dxi, b = it->p.deta;
   const GP_REAL b00 = gp_dot(a, a) + gp_dot(r, w->kept.d2xx) / eps, b11 = gp_dot(b, b) + gp_dot(r, w->kept.d2yy) / eps;
@@ -542,14 +545,14 @@ GP_FN void gp_rf_move(const gp_refine_mesh* m, gp_refine_work* w, int* f, GP_REA
   for (int c = 0;; ++c) {
     const int n = gp_rf_size(m, *f);
     int k;
-    const GP_REAL tau = gp_dom_exit(n, *x, *y, dx, dy, &k);
+    const GP_REAL tau = gp_dom_exit(n, *x, *y, dx, dy, &k GP_DT_M(m));
     if (!(tau < GP_R(1.0))) { /* stays inside */
       *x += dx;
       *y += dy;
       return;
     }
     const GP_REAL ix = *x + tau * dx, iy = *y + tau * dy;
-    const GP_REAL t = gp_dom_edge_param(n, k, ix, iy);
+    const GP_REAL t = gp_dom_edge_param(n, k, ix, iy GP_DT_M(m));
     const int twin = m->slotTwin[m->faceOffsets[*f] + k];
     const int g = twin >= 0 ? gp_rf_slot_face(m, twin) : -1;
     const int blocked = g < 0 || !gp_rf_evaluable(m, g);
@@ -557,7 +560,7 @@ GP_FN void gp_rf_move(const gp_refine_mesh* m, gp_refine_work* w, int* f, GP_REA
      * when it does, the carried direction points back out (the surface folds back over the edge) */
     const int folded = k == from;
     if (blocked || folded || c == GP_RF_MAX_CROSS) {
-      gp_dom_edge_point(n, k, t, x, y); /* stop on the edge, held there when it cannot be crossed */
+      gp_dom_edge_point(n, k, t, x, y GP_DT_M(m)); /* stop on the edge, held there when it cannot be crossed */
       if (blocked || folded) {
         *edge = k;
         *st |= blocked ? GP_TRACK_BOUNDARY : GP_TRACK_FOLD_EDGE;
@@ -566,7 +569,7 @@ GP_FN void gp_rf_move(const gp_refine_mesh* m, gp_refine_work* w, int* f, GP_REA
     }
     const int ng = gp_rf_size(m, g), i = twin - m->faceOffsets[g];
     GP_REAL gx, gy;
-    gp_dom_edge_point(ng, i, GP_R(1.0) - t, &gx, &gy);
+    gp_dom_edge_point(ng, i, GP_R(1.0) - t, &gx, &gy GP_DT_M(m));
     gp_dom_off_corner(ng, &gx, &gy);
     const GP_REAL rx = (GP_R(1.0) - tau) * dx, ry = (GP_R(1.0) - tau) * dy;
     const gp_vec3 D = gp_add(gp_scale(ja, rx), gp_scale(jb, ry));
@@ -625,7 +628,7 @@ GP_FN int gp_rf_stationary(const gp_refine_mesh* m, const gp_refine_work* w, con
  * either edge away from the corner (g = (g0, g1) = J^T r at it; over the domain's cone at the
  * corner the directional derivative is least along one of the two edges). Without this the
  * iterate switched between the two edges, an evaluation each, until a held step found the corner. */
-GP_FN int gp_rf_corner_kkt(int n, const gp_rf_iterate* it, int a, int b, GP_REAL g0, GP_REAL g1) {
+GP_FN int gp_rf_corner_kkt(int n, const gp_rf_iterate* it, int a, int b, GP_REAL g0, GP_REAL g1 GP_DT_PARAM) {
   int endA; /* the corner as an end of edge a: 1 at C_{a+1} (b follows a), 0 at C_a (a follows b) */
   if (b == (a + 1) % n)
     endA = 1;
@@ -633,12 +636,12 @@ GP_FN int gp_rf_corner_kkt(int n, const gp_rf_iterate* it, int a, int b, GP_REAL
     endA = 0;
   else
     return 0;
-  const GP_REAL t = gp_dom_edge_param(n, a, it->x, it->y);
+  const GP_REAL t = gp_dom_edge_param(n, a, it->x, it->y GP_DT_ARG);
   if (!(endA ? t >= GP_R(1.0) - GP_RF_AT_ONCE : t <= GP_RF_AT_ONCE)) return 0;
   GP_REAL ax, ay, bx, by, cx, cy;
-  gp_domain_corner(n, a, &ax, &ay);
-  gp_domain_corner(n, (a + 1) % n, &bx, &by);
-  gp_domain_corner(n, endA ? (a + 2) % n : (a + n - 1) % n, &cx, &cy);
+  gp_domain_corner(n, a, &ax, &ay GP_DT_ARG);
+  gp_domain_corner(n, (a + 1) % n, &bx, &by GP_DT_ARG);
+  gp_domain_corner(n, endA ? (a + 2) % n : (a + n - 1) % n, &cx, &cy GP_DT_ARG);
   /* from the corner into edge a, and into edge b */
   const GP_REAL intoA = endA ? g0 * (ax - bx) + g1 * (ay - by) : g0 * (bx - ax) + g1 * (by - ay);
   const GP_REAL intoB = endA ? g0 * (cx - bx) + g1 * (cy - by) : g0 * (cx - ax) + g1 * (cy - ay);
@@ -656,7 +659,7 @@ GP_FN int gp_rf_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* 
   /* second-order part sum r_i d2G_i from forward differences of the exact first derivatives,
    * taken again only GP_RF_D2_REUSE away from where they were last taken (or on another face) */
   GP_REAL xc = cur->x, yc = cur->y;
-  gp_dom_interior(n, &xc, &yc, eps);
+  gp_dom_interior(n, &xc, &yc, eps GP_DT_M(m));
   /* at a singular point the stationarity test below decides on the model: its differences are
    * taken there */
   const int singular = cur->edge < 0 && !(gp_len(gp_cross(a, b)) > GP_RF_SINGULAR * GP_SQRT(m00 * m11));
@@ -685,11 +688,11 @@ GP_FN int gp_rf_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* 
   GP_REAL x = cur->x, y = cur->y;
   pred = gp_rf_newton_solve(g0, g1, b00, b01, b11, m00, m01, m11, *D, &sx, &sy, &newton);
   int kx = -1;
-  const GP_REAL tau = gp_dom_exit(n, x, y, sx, sy, &kx);
+  const GP_REAL tau = gp_dom_exit(n, x, y, sx, sy, &kx GP_DT_M(m));
   if (cur->edge >= 0 && kx == cur->edge && tau <= GP_RF_AT_ONCE) {
     /* held on a boundary edge and the free step points out: 1-D Newton along the edge */
     GP_REAL ex, ey;
-    (void)gp_rf_edge_tangent(n, cur->edge, &cur->p, &ex, &ey);
+    (void)gp_rf_edge_tangent(n, cur->edge, &cur->p, &ex, &ey GP_DT_M(m));
     const GP_REAL ge = g0 * ex + g1 * ey, be = gp_rf_form(b00, b01, b11, ex, ey);
     const GP_REAL me = gp_rf_form(m00, m01, m11, ex, ey);
     const GP_REAL smax = me > GP_R(0.0) ? *D / GP_SQRT(me) : GP_R(0.0);
@@ -697,7 +700,7 @@ GP_FN int gp_rf_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* 
     newton = be > GP_R(0.0) && GP_FABS(sig) <= smax;
     if (sig > smax) sig = smax;
     if (sig < -smax) sig = -smax;
-    const GP_REAL t0 = gp_dom_edge_param(n, cur->edge, x, y);
+    const GP_REAL t0 = gp_dom_edge_param(n, cur->edge, x, y GP_DT_M(m));
     GP_REAL t1 = t0 + sig;
     const int cut = t1 < GP_R(0.0) || t1 > GP_R(1.0);
     if (cut) newton = 0; /* cut at the edge's end */
@@ -709,7 +712,7 @@ GP_FN int gp_rf_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* 
      * off this edge's end: the step of that size was rejected at the noise of f and the radius
      * shrank until the refinement stalled) */
     if (!(pred > GP_R(0.0)) || (cut && GP_FABS(sig) <= GP_RF_AT_ONCE)) return GP_RF_STEP_KKT;
-    gp_dom_edge_point(n, cur->edge, t1, &x, &y);
+    gp_dom_edge_point(n, cur->edge, t1, &x, &y GP_DT_M(m));
     edge = cur->edge;
     st |= *status & (GP_TRACK_BOUNDARY | GP_TRACK_FOLD_EDGE);
   } else {
@@ -721,7 +724,7 @@ GP_FN int gp_rf_step(const gp_refine_mesh* m, gp_refine_work* w, gp_rf_iterate* 
     const int atOnce = tau <= GP_RF_AT_ONCE || (face == cur->face && GP_FABS(x - cur->x) <= GP_RF_AT_ONCE &&
                                                 GP_FABS(y - cur->y) <= GP_RF_AT_ONCE);
     if (edge >= 0 && atOnce && face == cur->face && cur->edge >= 0 && edge != cur->edge &&
-        gp_rf_corner_kkt(n, cur, cur->edge, edge, g0, g1))
+        gp_rf_corner_kkt(n, cur, cur->edge, edge, g0, g1 GP_DT_M(m)))
       return GP_RF_STEP_KKT;
     if (edge >= 0 && atOnce && (face == cur->face || (st & GP_TRACK_FOLD_EDGE))) {
       /* stopped at once on an edge it cannot cross (the same surface point): hold it there and
@@ -870,7 +873,7 @@ GP_FN gp_refine_result gp_refine_newton_warm(const gp_refine_mesh* m, gp_refine_
    * included: moving it off the corner would walk it back there, an evaluation or more a step */
   int last = w->kept.lastFace == face && w->kept.lastX == xi && w->kept.lastY == eta;
   if (!last) {
-    gp_dom_clamp(n0, &xi, &eta);
+    gp_dom_clamp(n0, &xi, &eta GP_DT_M(m));
     gp_dom_off_corner(n0, &xi, &eta);
     last = w->kept.lastFace == face && w->kept.lastX == xi && w->kept.lastY == eta;
   }

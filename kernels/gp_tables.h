@@ -7,10 +7,19 @@
  * Where they come from: the gp_domain_calc_* functions below are the one formula. The C++
  * host fills a table for n = 3..GP_MAX_N with them once, at first use (host/gp_tables.cpp),
  * and defines GP_DOMAIN_TABLE(n) to its entry (and GP_DOMAIN_TABLE_DECLARE to a declaration
- * of what that uses, placed after the gp_domain type); OpenCL has no table and computes them once per
- * call of the function that needs them (a work-item's evaluation or quality check). Both
- * round the same expressions in GP_REAL.
+ * of what that uses, placed after the gp_domain type). OpenCL reads the same values from the
+ * host's table, uploaded flat (GP_DOMAIN_FLAT_OFFSET) and passed as the trailing parameter
+ * GP_DT_PARAM (gp_config.h): the device's own cos and sin round differently. A C++ includer
+ * without a table computes them where they are used.
  * Part of the single-source patch math (after gp_vec.h); no include guard on purpose. */
+
+#ifndef GP_DOMAIN_FLAT_OFFSET
+/* The flat domain table: for n = 3..GP_MAX_N, from GP_DOMAIN_FLAT_OFFSET(n) on, cos(pi/n) and
+ * then (m_k.x, m_k.y, C_k.x, C_k.y) for k = 0..n-1; 4n + 1 numbers per n, GP_DOMAIN_FLAT_SIZE in
+ * all. */
+#define GP_DOMAIN_FLAT_OFFSET(n) (2 * (n) * (n) - (n) - 15)
+#define GP_DOMAIN_FLAT_SIZE GP_DOMAIN_FLAT_OFFSET(GP_MAX_N + 1)
+#endif
 
 #ifndef GP_LANES
 /* Domain of the regular n-gon, 3 <= n <= GP_MAX_N. Arrays: n entries used. */
@@ -50,13 +59,27 @@ GP_FN void gp_domain_init(int n, gp_domain* d, int corners) {
   }
 }
 
-/* The domain of the n-gon: the host's table entry, or (OpenCL) computed into *scratch (its
- * corners only when `corners` is set). */
-GP_FN const gp_domain* gp_domain_of(int n, gp_domain* scratch, int corners) {
-#ifdef GP_DOMAIN_TABLE
+/* The domain of the n-gon: the host's table entry, or (OpenCL: from the flat table; a C++
+ * includer without a table: computed) copied into *scratch, its corners only when `corners` is
+ * set. */
+GP_FN const gp_domain* gp_domain_of(int n, gp_domain* scratch, int corners GP_DT_PARAM) {
+#if defined(GP_DOMAIN_TABLE)
   (void)scratch;
   (void)corners;
   return GP_DOMAIN_TABLE(n);
+#elif defined(GP_OPENCL)
+  GP_GLOBAL const GP_REAL* t = gp_dt + GP_DOMAIN_FLAT_OFFSET(n);
+  scratch->n = n;
+  scratch->apothem = t[0];
+  for (int k = 0; k < n; ++k) {
+    scratch->mx[k] = t[1 + 4 * k];
+    scratch->my[k] = t[2 + 4 * k];
+    if (corners) {
+      scratch->cx[k] = t[3 + 4 * k];
+      scratch->cy[k] = t[4 + 4 * k];
+    }
+  }
+  return scratch;
 #else
   gp_domain_init(n, scratch, corners);
   return scratch;
@@ -64,10 +87,13 @@ GP_FN const gp_domain* gp_domain_of(int n, gp_domain* scratch, int corners) {
 }
 
 /* Domain corner C_k = (cos 2 pi k/n, sin 2 pi k/n) of the regular n-gon. */
-GP_FN void gp_domain_corner(int n, int k, GP_REAL* xi, GP_REAL* eta) {
-#ifdef GP_DOMAIN_TABLE
+GP_FN void gp_domain_corner(int n, int k, GP_REAL* xi, GP_REAL* eta GP_DT_PARAM) {
+#if defined(GP_DOMAIN_TABLE)
   *xi = GP_DOMAIN_TABLE(n)->cx[k];
   *eta = GP_DOMAIN_TABLE(n)->cy[k];
+#elif defined(GP_OPENCL)
+  *xi = gp_dt[GP_DOMAIN_FLAT_OFFSET(n) + 3 + 4 * k];
+  *eta = gp_dt[GP_DOMAIN_FLAT_OFFSET(n) + 4 + 4 * k];
 #else
   gp_domain_calc_corner(n, k, xi, eta);
 #endif

@@ -26,7 +26,9 @@
  * outReal: 8*N component-major: 0..2 SCP (m), 3..5 unit normal, 6 xi, 7 eta.
  * outInt: 5*N component-major: 0 face, 1 held edge (-1: none), 2 iterations, 3 transitions,
  * 4 startMinimum.
- * outStatus: N, GP_TRACK_* | GP_ST_*. */
+ * outStatus: N, GP_TRACK_* | GP_ST_*.
+ * sinAngleTolerance: sin(angleTolerance) as the host rounds it. domainTable: GP_DOMAIN_FLAT_SIZE,
+ * the host's domain constants (gp_tables.h). */
 __kernel void gp_refine(const int numFaces, const int numSlots, const int mode, const int count,
                         const int maxIterations, const GP_REAL angleTolerance, const GP_REAL positionTolerance,
                         const int modelFinal, const int descent, const GP_REAL scale,
@@ -34,8 +36,8 @@ __kernel void gp_refine(const int numFaces, const int numSlots, const int mode, 
                         __global const uint* faceStatus, __global const int* slotTwin, __global const GP_REAL* hips,
                         __global const int* qFace, __global const GP_REAL* qXi, __global const GP_REAL* qEta,
                         __global const int* qEdge, __global const int* qIterations, __global GP_REAL* outReal,
-                        __global int* outInt,
-                        __global uint* outStatus) {
+                        __global int* outInt, __global uint* outStatus, const GP_REAL sinAngleTolerance,
+                        __global const GP_REAL* domainTable) {
   const int q = (int)get_global_id(0);
   if (q >= count) return;
   const size_t m = (size_t)count;
@@ -50,9 +52,11 @@ __kernel void gp_refine(const int numFaces, const int numSlots, const int mode, 
   mesh.mode = mode;
   mesh.scale = scale;
   mesh.floatRecords = !GP_IS_DOUBLE; /* the records are in the program's precision */
+  mesh.domainTable = domainTable;
   gp_refine_work work;
   work.loaded = -1;
-  work.sinOf = (GP_REAL)NAN; /* no sine computed yet */
+  work.sinOf = angleTolerance; /* the host's sine: gp_rf_begin takes it instead of computing one */
+  work.sinAngle = sinAngleTolerance;
   const gp_vec3 hip = gp_v3(hips[q], hips[m + q], hips[2 * m + q]);
   gp_refine_options opt;
   opt.maxIterations = qIterations[q] >= 0 ? qIterations[q] : maxIterations;

@@ -76,6 +76,7 @@ struct OpenCLConstructor::Impl {
     k.setArg(8, rec);
     k.setArg(9, st);
     k.setArg(10, bulge);
+    k.setArg(11, dev.domainTable(c.options.precision));
     cl::Event kev;
     const size_t g = dev.groupSize();
     ctx.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(roundUp(nf, g)), cl::NDRange(g), nullptr, &kev);
@@ -216,6 +217,7 @@ struct OpenCLEvaluator::Impl {
     k.setArg(9, qy);
     k.setArg(10, out);
     k.setArg(11, ost);
+    k.setArg(12, dev.domainTable(precision));
     auto t1 = Clock::now();
     const size_t g = dev.groupSize();
     q.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(roundUp(n, g)), cl::NDRange(g), nullptr, &kev);

@@ -34,6 +34,7 @@ struct Device {
   bool withRefine;
   BuiltProgram prog[2];
   cl::Kernel kernel[2];
+  cl::Buffer domains[2];  ///< the host's domain table in each precision, uploaded on first use
   size_t local[2] = {1, 1};
   int last = 0;
 
@@ -44,6 +45,10 @@ struct Device {
   /// The kernel for precision p, building its program on first use. Throws OpenCLError
   /// (build log included; double on a device without cl_khr_fp64).
   cl::Kernel& get(Precision p);
+  /// The host's domain constants (gp_tables.h, GP_DOMAIN_FLAT_OFFSET) in precision p on the
+  /// device, uploaded on first use: every kernel reads them there instead of computing its own
+  /// cos and sin. Throws OpenCLError.
+  const cl::Buffer& domainTable(Precision p);
 };
 
 /// A read-only device buffer holding v (at least one element), written without blocking;

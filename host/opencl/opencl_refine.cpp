@@ -2,6 +2,7 @@
 #include <smoothforce/opencl/opencl_refine.h>
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <vector>
 
@@ -109,6 +110,9 @@ struct OpenCLRefiner::Impl {
     k.setArg(a++, static_cast<Real>(scale));
     for (cl::Buffer* b : {&offs, &rec, &fst, &twin, &hips, &qf, &qx, &qy, &qe, &qi, &outR, &outI, &outSt})
       k.setArg(a++, *b);
+    // sin(angle tolerance) as the host's refinement rounds it (gp_rf_begin), and its domain table
+    k.setArg(a++, static_cast<Real>(std::sin(static_cast<Real>(o.angleTolerance))));
+    k.setArg(a++, dev.domainTable(precision));
     const size_t g = dev.groupSize();
     // the writes above read `real` asynchronously: finish them before it is overwritten
     cq.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(roundUp(n, g)), cl::NDRange(g), nullptr, &kev);

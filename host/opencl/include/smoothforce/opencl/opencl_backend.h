@@ -3,26 +3,23 @@
 // same single-source math (kernels/gp_patch.h) as the CPU backends.
 //
 // Floating-point decision: contraction is pinned OFF on both sides (kernels/gp_config.h has
-// `#pragma OPENCL FP_CONTRACT OFF`; the host builds with -ffp-contract=off), and float
-// programs get -cl-fp32-correctly-rounded-divide-sqrt where the device offers it, so the
-// kernels round every + - * / sqrt as the C++ instantiation does. What remains are the
-// device's cos/sin (PoCL: SLEEF) against the host libm's, which enter through the domain
-// (gp_domain_distances, gp_domain_corner): evaluation and the quality samples.
-// Measured on PoCL 3.1 (CPU, LLVM 15) against constructPatches / evaluatePatches
-// (Backend::Tbb) on the meshes of tests/opencl/test_opencl.cpp (spot cage, hexaSphere,
-// dodecahedron, random prisms and antiprisms), 64 random interior points per face:
-//   construction, double and float: records bit-identical, status words equal; bulge
-//     equal in double, within 1.4e-6 in float.
-//   evaluation, double: position and derivatives within 1.8e-15 x (bounding-box diagonal),
-//     unit normals within 5.3e-13 (9e-14 after dividing by the condition number
-//     |G_xi||G_eta| / |G_xi x G_eta|); status words equal.
-//   evaluation, float: position and derivatives within 7.1e-7 x diagonal; unit normals
-//     within 1.6e-4, at a folded point of the spot cage where the CPU's own float normal is
-//     7.2e-4 from its double one; elsewhere within 1e-5; status words equal.
-// tests/opencl/test_opencl.cpp asserts: construction records equal (double; float where / and sqrt
-// are correctly rounded), status equal, bulge within 1e-5; evaluation within 1e-12 (double)
-// and 2e-5 (float) x diagonal, status equal, double normals within 1e-12 x condition number,
-// float normals within 2 x (CPU float vs double) + 2e-5.
+// `#pragma OPENCL FP_CONTRACT OFF`; the host builds with -ffp-contract=off), float programs get
+// -cl-fp32-correctly-rounded-divide-sqrt where the device offers it, and the kernels read the
+// domain's cos and sin (gp_tables.h) from the host's table, uploaded once per program
+// (Device::domainTable), instead of computing their own: the device's libm differs from the
+// host's by an ulp in many of them (bench/opencl_rounding: 684 of 8,370 double constants on
+// PoCL 3.1, 1,154 on an NVIDIA H200), and near a domain edge an ulp there is amplified: with
+// their own cos and sin the kernels left a sliver triangle's double evaluation 2.8e-8 off and
+// float normals 5.2e-4 rad off on an H100, 4.0e-4 rad and a tie on another face on an H200. So
+// the kernels round every operation as the C++ instantiation does.
+// Measured against constructPatches / evaluatePatches / PatchRefiner on the meshes of
+// tests/opencl (spot cage, hexaSphere, dodecahedron, random prisms and antiprisms, the extreme
+// polygons of tests/robustness), on PoCL 3.1 (CPU, LLVM 15) and on an NVIDIA H200 (driver
+// 580.159.04): records, bulges, status words, evaluations and refinements the same bits, in
+// double and in float.
+// tests/opencl asserts exactly that: equality in double; in float where / and sqrt are
+// correctly rounded on the device, else within 2e-5 x diagonal (normals: 2 x the CPU's own
+// float-vs-double error + 2e-5).
 #pragma once
 
 #include <cstddef>

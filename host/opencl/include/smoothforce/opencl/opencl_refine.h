@@ -4,11 +4,12 @@
 // (kernels/gp_refine.h), the Newton variant of PatchRefiner (patch_refine.h), one work-item
 // per HIP.
 //
-// Agreement with PatchRefiner (RefineMethod::Newton), asserted by tests/opencl/test_opencl_refine.cpp
-// on the spot cage and the quad sphere: double caches: SCP within 1e-9 x bounding-box diagonal
-// and the same face except at ties; float caches: the kernel computes in float (PatchRefiner
-// in double around float evaluations), SCP within 1e-4 x diagonal (see the test for the
-// measured numbers).
+// Agreement with PatchRefiner (both RefineMethods), asserted by tests/opencl/test_opencl_refine.cpp
+// on the spot cage and the quad sphere: double caches: the same bits (SCP, normal, face, edge,
+// iterations, status: the same operations on the host's constants, opencl_backend.h); float
+// caches: the kernel computes in float (PatchRefiner in double around float evaluations), SCP
+// within 1e-4 x diagonal, the normal the host's float evaluation at the device's point (see
+// the test for the measured numbers).
 #pragma once
 
 #include <Eigen/Core>
