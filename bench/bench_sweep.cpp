@@ -88,14 +88,27 @@ void BM_SweepOpenCL(benchmark::State& state) {
   std::vector<HipResult> out(set.size());
   // warm-up: builds (or loads) the program; each timed run includes its scene build and cache upload
   runPatchProbesOpenCL(set, 0, std::min<size_t>(set.size(), 2000), spot.cache, ForceOptions{}, nullptr, out.data(), {});
+  OpenCLProbeTiming t;
   for (auto _ : state) {
-    runPatchProbesOpenCL(set, 0, set.size(), spot.cache, ForceOptions{}, nullptr, out.data(), {});
+    OpenCLPatchProber prober(spot.cache, ForceOptions{});
+    prober.run(set, 0, set.size(), nullptr, out.data(), {});
     benchmark::DoNotOptimize(out.data());
+    const OpenCLProbeTiming& p = prober.timing();
+    t.cpu += p.cpu, t.refine += p.refine, t.kernel += p.kernel, t.transfer += p.transfer;
+    t.refinements += p.refinements;
   }
   size_t contact = 0;
   for (const auto& r : out) contact += r.contact;
   state.counters["HIPs/s"] = benchmark::Counter(double(set.size()) * state.iterations(), benchmark::Counter::kIsRate);
   state.counters["contact"] = double(contact) / double(set.size());
+  // where the time went, s per run: the CPU stages, the refinement calls (the CPU waiting) and
+  // their kernel and transfer time; the rest is the prober's set-up and serial work
+  const double runs = double(state.iterations());
+  state.counters["cpu_s"] = t.cpu / runs;
+  state.counters["refine_s"] = t.refine / runs;
+  state.counters["kernel_s"] = t.kernel / runs;
+  state.counters["transfer_s"] = t.transfer / runs;
+  state.counters["refinements"] = double(t.refinements) / runs;
   state.SetLabel("patch/opencl");
 }
 BENCHMARK(BM_SweepOpenCL)

@@ -10,6 +10,16 @@
 
 namespace sf {
 
+/// Where an OpenCLPatchProber's runs spent their wall time, s, summed over its runs. The rest of
+/// a run (the HIPs' Morton order, each chunk's reset) is serial on the calling thread.
+struct OpenCLProbeTiming {
+  double cpu = 0;          ///< the CPU stages: each step's global query and contact decision (oneTBB)
+  double refine = 0;       ///< refinement calls, the CPU waiting: packing, transfers, kernel, unpacking
+  double kernel = 0;       ///< of which device kernel time (profiling events)
+  double transfer = 0;     ///< of which device transfer time (profiling events)
+  size_t refinements = 0;  ///< refinement calls (kernel runs)
+};
+
 /// runProbes for the patch method with the first refinement of every step of a chunk of HIPs in
 /// one kernel run (OpenCLRefiner); the global queries (the error band, winding number and
 /// candidates of the patch surface, or the polygon start) and the contact decisions run on the
@@ -33,6 +43,9 @@ class OpenCLPatchProber {
   /// Throws OpenCLError for device failures.
   size_t run(const HipSet& set, size_t begin, size_t end, const ReferenceSurface* ref, HipResult* out,
              const SweepControl& control, size_t chunk = 1 << 16);
+
+  /// Time spent so far, over every run.
+  const OpenCLProbeTiming& timing() const;
 
  private:
   struct Impl;
