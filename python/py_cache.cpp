@@ -294,13 +294,7 @@ void bindCache(pyb::module_& m) {
       .def(
           "distance_to",
           [](const PyCache& self, const PyCache& other, const std::string& to, int level) {
-            DistanceSurface as;
-            if (to == "patches")
-              as = DistanceSurface::Patches;
-            else if (to == "polygons")
-              as = DistanceSurface::Polygons;
-            else
-              throw InputError("to: expected patches|polygons, got '" + to + "'");
+            const DistanceSurface as = parseDistanceSurface(to);
             SurfaceDistance d;
             {
               pyb::gil_scoped_release release;

@@ -9,6 +9,7 @@
 #include <smoothforce/patch/patch_certificate.h>
 #include <smoothforce/patch/patch_option_text.h>
 #include <smoothforce/patch/patch_eval.h>
+#include <smoothforce/query/surface_distance.h>
 #include <smoothforce/version.h>
 #include "capi_detail.h"
 
@@ -186,6 +187,30 @@ sf_status sf_cache_certify(sf_cache* cache, float* margins, int32_t* certified) 
     const std::vector<float>& m = cache->cache->faceCertificate;
     if (margins) std::copy(m.begin(), m.end(), margins);
     if (certified) *certified = summarizeCertificates(*cache->cache).certified;
+  });
+}
+
+sf_status sf_cache_distance(sf_cache* cache, const sf_cache* other, const char* to, int32_t level,
+                            sf_surface_distance* out) {
+  if (!cache) return SF_ERROR_ARGUMENT;
+  return guarded(cache->error, [&] {
+    if (!other || !out) throw std::invalid_argument("distance: other and out must not be NULL");
+    const DistanceSurface as = parseDistanceSurface(to ? to : "patches");
+    const SurfaceDistance d =
+        measureSurfaceDistance(*cache->cache, DistanceSurface::Patches, *other->cache, as, level, cache->threads);
+    auto side = [](const DistanceDirection& s, sf_distance_direction& o) {
+      o.max = s.max;
+      o.mean = s.mean;
+      o.points = s.points;
+      o.worst_face = s.worstFace;
+      for (int k = 0; k < 3; ++k) o.worst_point[k] = s.worstPoint[k];
+    };
+    out->diagonal = d.diagonal;
+    out->level_cache = d.levelA;
+    out->level_other = d.levelB;
+    side(d.aToB, out->cache_to_other);
+    side(d.bToA, out->other_to_cache);
+    out->hausdorff = std::max(d.aToB.max, d.bToA.max);
   });
 }
 

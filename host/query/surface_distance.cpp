@@ -150,6 +150,12 @@ DistanceDirection summarize(const SurfaceSamples& from, const std::vector<double
 
 }  // namespace
 
+DistanceSurface parseDistanceSurface(const std::string& text) {
+  if (text == "patches") return DistanceSurface::Patches;
+  if (text == "polygons") return DistanceSurface::Polygons;
+  throw InputError("to: expected patches|polygons, got '" + text + "'");
+}
+
 SurfaceSamples sampleSurface(const PatchCache& c, DistanceSurface as, int level) {
   if (level < 1 || level > 64) throw InputError("surface distance: level " + std::to_string(level) + " outside 1..64");
   return as == DistanceSurface::Patches ? patchSamples(c, level) : polygonSamples(polygonPieces(c), level);

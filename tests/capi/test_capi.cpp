@@ -18,6 +18,7 @@
 #include <string>
 
 #include <smoothforce/force/force_method.h>
+#include <smoothforce/query/surface_distance.h>
 #include <smoothforce/query/surface_query.h>
 #include <smoothforce/mesh/mesh_check.h>
 #include <smoothforce/mesh/mesh_io.h>
@@ -467,6 +468,81 @@ TEST(CApi, CageOptionBuildsTheLimitCacheOfTheCppApi) {
   EXPECT_EQ(bad, nullptr);
   EXPECT_NE(std::string(sf_last_error()).find("fin: --cage catmull-clark: non-manifold edge 0-1"), std::string::npos)
       << sf_last_error();
+}
+
+// sf_cache_distance answers as sf::measureSurfaceDistance does, both ways: against another
+// cache's patch surface (the spot cage's Catmull-Clark limit) and against polygons (a lazy cache
+// of the cage); the patch surface against itself is 0 to the refinement's tolerance; every bad
+// argument is a code and a message.
+TEST(CApi, DistanceEqualsTheCppMeasureBothWays) {
+  CachePtr spot = fromFile(kSpot);
+  sf_cache_options o;
+  sf_cache_options_init(&o);
+  o.cage = "catmull-clark";
+  sf_cache* raw = nullptr;
+  ASSERT_EQ(sf_cache_from_file(kSpot.c_str(), &o, &raw), SF_OK) << sf_last_error();
+  CachePtr limit(raw);
+  sf_cache_options_init(&o);
+  o.lazy = 1;
+  ASSERT_EQ(sf_cache_from_file(kSpot.c_str(), &o, &raw), SF_OK) << sf_last_error();
+  CachePtr polygons(raw);
+
+  const sf::PatchCache ref = cppCache();
+  sf::PatchOptions po;
+  po.cage = sf::CageMode::CatmullClark;
+  const sf::PatchCache refLimit = sf::buildPatchCache(sf::loadMesh(kSpot, po), po, sf::Backend::Tbb);
+  const int level = 3;
+  struct Case {
+    sf_cache* other;
+    const char* to;
+    sf::SurfaceDistance want;
+  };
+  const Case cases[] = {
+      {limit.get(), nullptr,
+       sf::measureSurfaceDistance(ref, sf::DistanceSurface::Patches, refLimit, sf::DistanceSurface::Patches, level)},
+      {polygons.get(), "polygons",
+       sf::measureSurfaceDistance(ref, sf::DistanceSurface::Patches, ref, sf::DistanceSurface::Polygons, level)}};
+  for (const Case& k : cases) {
+    SCOPED_TRACE(k.to ? k.to : "patches");
+    sf_surface_distance d;
+    ASSERT_EQ(sf_cache_distance(spot.get(), k.other, k.to, level, &d), SF_OK) << sf_cache_error(spot.get());
+    EXPECT_EQ(d.diagonal, k.want.diagonal);
+    EXPECT_EQ(d.level_cache, k.want.levelA);
+    EXPECT_EQ(d.level_other, k.want.levelB);
+    const std::pair<const sf_distance_direction*, const sf::DistanceDirection*> sides[] = {
+        {&d.cache_to_other, &k.want.aToB}, {&d.other_to_cache, &k.want.bToA}};
+    for (const auto& [got, want] : sides) {
+      EXPECT_GT(got->points, 0u);
+      EXPECT_EQ(got->points, want->points);
+      EXPECT_EQ(got->max, want->max);
+      EXPECT_NEAR(got->mean, want->mean, 1e-12 * want->max);  // a parallel sum
+      EXPECT_EQ(got->worst_face, want->worstFace);
+      for (int c = 0; c < 3; ++c) EXPECT_EQ(got->worst_point[c], want->worstPoint[c]);
+    }
+    EXPECT_EQ(d.hausdorff, std::max(k.want.aToB.max, k.want.bToA.max));
+    EXPECT_GT(d.hausdorff, 1e-3);  // the limit surface and the polygons lie apart from the cage's patches
+  }
+  sf_surface_distance self;
+  ASSERT_EQ(sf_cache_distance(spot.get(), spot.get(), "patches", 2, &self), SF_OK) << sf_cache_error(spot.get());
+  EXPECT_GT(self.cache_to_other.points, 0u);
+  EXPECT_LE(self.hausdorff, 1e-9);
+
+  sf_surface_distance d;
+  EXPECT_EQ(sf_cache_distance(nullptr, limit.get(), nullptr, level, &d), SF_ERROR_ARGUMENT);
+  EXPECT_EQ(sf_cache_distance(spot.get(), nullptr, nullptr, level, &d), SF_ERROR_ARGUMENT);
+  EXPECT_EQ(sf_cache_distance(spot.get(), limit.get(), nullptr, level, nullptr), SF_ERROR_ARGUMENT);
+  EXPECT_NE(std::string(sf_cache_error(spot.get())).find("must not be NULL"), std::string::npos);
+  EXPECT_EQ(sf_cache_distance(spot.get(), limit.get(), "mesh", level, &d), SF_ERROR_INPUT);
+  EXPECT_NE(std::string(sf_cache_error(spot.get())).find("to: expected patches|polygons, got 'mesh'"),
+            std::string::npos)
+      << sf_cache_error(spot.get());
+  EXPECT_EQ(sf_cache_distance(spot.get(), limit.get(), nullptr, 0, &d), SF_ERROR_INPUT);
+  EXPECT_EQ(sf_cache_distance(spot.get(), limit.get(), nullptr, 65, &d), SF_ERROR_INPUT);
+  EXPECT_EQ(sf_cache_distance(spot.get(), polygons.get(), "patches", level, &d), SF_ERROR_INPUT);
+  EXPECT_NE(std::string(sf_cache_error(spot.get())).find("prebuilt"), std::string::npos) << sf_cache_error(spot.get());
+  EXPECT_EQ(sf_cache_distance(polygons.get(), spot.get(), "polygons", level, &d), SF_ERROR_INPUT);
+  EXPECT_EQ(sf_cache_distance(spot.get(), limit.get(), nullptr, level, &d), SF_OK);  // usable after errors
+  EXPECT_STREQ(sf_cache_error(spot.get()), "");
 }
 
 }  // namespace

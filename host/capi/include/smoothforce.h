@@ -170,6 +170,37 @@ sf_status sf_cache_intersecting_pairs(sf_cache* cache, int32_t* pairs, size_t ca
  *  sf_cache_intersecting_pairs (faces: capacity int32_t). */
 sf_status sf_cache_self_crossing_faces(sf_cache* cache, int32_t* faces, size_t capacity, size_t* count);
 
+/** One direction of sf_cache_distance: from every sample of one surface to the nearest point
+ *  of the other. */
+typedef struct sf_distance_direction {
+  double max;            /**< fraction of the diagonal */
+  double mean;           /**< fraction of the diagonal */
+  size_t points;         /**< samples measured */
+  int32_t worst_face;    /**< face (of the sampled surface) of the farthest sample */
+  double worst_point[3]; /**< m: that sample */
+} sf_distance_direction;
+
+/** What sf_cache_distance measured. */
+typedef struct sf_surface_distance {
+  double diagonal;                      /**< m: the cache's bounding-box diagonal, the unit of max and mean */
+  int32_t level_cache, level_other;     /**< the levels each surface was sampled at (lowered where the
+                                             asked level would give more than about 4 million samples) */
+  sf_distance_direction cache_to_other; /**< from the cache's patch surface to other */
+  sf_distance_direction other_to_cache; /**< from other to the cache's patch surface */
+  double hausdorff;                     /**< the larger max: the two-sided Hausdorff distance of the samples */
+} sf_surface_distance;
+
+/** How far the cache's patch surface lies from `other`, both ways (the command line's `cache
+ *  distance`, C++ sf::measureSurfaceDistance): to "patches" (or NULL) compares with other's patch
+ *  surface (the same mesh under other options), "polygons" with other's polygons as read (a
+ *  dense mesh: a lazy cache will do). Each surface is sampled on its level-`level` rings
+ *  (1..64; the command line's default is 8) and each sample's nearest point found on the other
+ *  surface, exactly to the refinement's tolerances. In parallel (the cache's threads).
+ *  SF_ERROR_INPUT (message: the cache's) for a level outside 1..64, a `to` other than those
+ *  two, or a lazy cache whose patches are asked for; SF_ERROR_ARGUMENT for a NULL handle or out. */
+sf_status sf_cache_distance(sf_cache* cache, const sf_cache* other, const char* to, int32_t level,
+                            sf_surface_distance* out);
+
 /** Force rendering and safety options. Fill with sf_haptic_options_init first. */
 typedef struct sf_haptic_options {
   const char* method;    /**< "patch" (default), "direct", "shading" */

@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <cstddef>
+#include <string>
 #include <vector>
 
 #include <smoothforce/patch/patch_cache.h>
@@ -16,6 +17,10 @@ namespace sf {
 /// rounding as itself, every other one as the fan of triangles (centroid, V_k, V_k+1), flat
 /// polygons with a reflex corner cut into convex pieces first (the same point set).
 enum class DistanceSurface { Patches, Polygons };
+
+/// "patches" or "polygons" (the Python and C keyword `to`). Throws InputError
+/// "to: expected patches|polygons, got '...'".
+DistanceSurface parseDistanceSurface(const std::string& text);
 
 /// One direction of measureSurfaceDistance: from every sample of one surface to the nearest
 /// point of the other.
