@@ -221,6 +221,16 @@ pyb::dict polygons(const PyCache& c) {
   return d;
 }
 
+/// A read-only (F,) view of one of the cache's per-face arrays, kept alive by `self`; None where
+/// the cache has no such array (its length is not the face count).
+template <class T>
+pyb::object perFaceView(pyb::object self, const std::vector<T> PatchCache::*member) {
+  const PatchCache& c = *self.cast<const PyCache&>().cache;
+  const std::vector<T>& v = c.*member;
+  if (static_cast<int>(v.size()) != c.numFaces()) return pyb::none();
+  return view(v.data(), v.size(), 1, self);
+}
+
 }  // namespace
 
 void bindCache(pyb::module_& m) {
@@ -327,20 +337,10 @@ void bindCache(pyb::module_& m) {
           "fractions of the diagonal; points; worst_face; worst_point (m)), hausdorff. GIL released.\n"
           "Raises ValueError for a bad level or `to`, or a lazy cache asked for its patches.")
       .def_property_readonly(
-          "certificates",
-          [](pyb::object self) -> pyb::object {
-            const auto& c = *self.cast<const PyCache&>().cache;
-            if (static_cast<int>(c.faceCertificate.size()) != c.numFaces()) return pyb::none();
-            return view(c.faceCertificate.data(), c.faceCertificate.size(), 1, self);
-          },
+          "certificates", [](pyb::object self) { return perFaceView(self, &PatchCache::faceCertificate); },
           "(F,) float32 certificate margins (see certify()), or None when not computed")
       .def_property_readonly(
-          "face_source",
-          [](pyb::object self) -> pyb::object {
-            const auto& c = *self.cast<const PyCache&>().cache;
-            if (static_cast<int>(c.faceSource.size()) != c.numFaces()) return pyb::none();
-            return view(c.faceSource.data(), c.faceSource.size(), 1, self);
-          },
+          "face_source", [](pyb::object self) { return perFaceView(self, &PatchCache::faceSource); },
           "(F,) int32: with fold_repair on, the face of the mesh as read that each face (piece) comes\n"
           "from; None with fold_repair off (every face is the one read)")
       .def_property_readonly("num_faces", [](const PyCache& c) { return c.cache->numFaces(); })
