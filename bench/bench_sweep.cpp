@@ -94,16 +94,19 @@ void BM_SweepOpenCL(benchmark::State& state) {
     prober.run(set, 0, set.size(), nullptr, out.data(), {});
     benchmark::DoNotOptimize(out.data());
     const OpenCLProbeTiming& p = prober.timing();
-    t.cpu += p.cpu, t.refine += p.refine, t.kernel += p.kernel, t.transfer += p.transfer;
+    t.setup += p.setup, t.run += p.run, t.cpu += p.cpu, t.refine += p.refine, t.kernel += p.kernel;
+    t.transfer += p.transfer;
     t.refinements += p.refinements;
   }
   size_t contact = 0;
   for (const auto& r : out) contact += r.contact;
   state.counters["HIPs/s"] = benchmark::Counter(double(set.size()) * state.iterations(), benchmark::Counter::kIsRate);
   state.counters["contact"] = double(contact) / double(set.size());
-  // where the time went, s per run: the CPU stages, the refinement calls (the CPU waiting) and
-  // their kernel and transfer time; the rest is the prober's set-up and serial work
+  // where the time went, s per run: the prober's set-up; its run, of which the CPU stages, the
+  // refinement calls (the CPU waiting) with their kernel and transfer time, and serial work
   const double runs = double(state.iterations());
+  state.counters["setup_s"] = t.setup / runs;
+  state.counters["serial_s"] = (t.run - t.cpu - t.refine) / runs;
   state.counters["cpu_s"] = t.cpu / runs;
   state.counters["refine_s"] = t.refine / runs;
   state.counters["kernel_s"] = t.kernel / runs;

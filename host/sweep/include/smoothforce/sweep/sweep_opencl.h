@@ -10,9 +10,12 @@
 
 namespace sf {
 
-/// Where an OpenCLPatchProber's runs spent their wall time, s, summed over its runs. The rest of
-/// a run (the HIPs' Morton order, each chunk's reset) is serial on the calling thread.
+/// Where an OpenCLPatchProber spent its wall time, s: its set-up, and summed over its runs the
+/// runs and their parts. What a run spends beyond cpu and refine (the HIPs' Morton order, each
+/// chunk's reset) is serial on the calling thread.
 struct OpenCLProbeTiming {
+  double setup = 0;        ///< the constructor: polygon scene, patch surface, program, cache upload
+  double run = 0;          ///< run(), whole
   double cpu = 0;          ///< the CPU stages: each step's global query and contact decision (oneTBB)
   double refine = 0;       ///< refinement calls, the CPU waiting: packing, transfers, kernel, unpacking
   double kernel = 0;       ///< of which device kernel time (profiling events)
