@@ -125,8 +125,10 @@ bool cut(const std::vector<Vec2>& q, const std::vector<int>& idx, std::vector<st
     return idx.size() <= 3 || !hasBadCorner(q, idx);
   }
   const size_t m = idx.size();
+  const double minAngle = kCutMinAngleDeg * std::numbers::pi / 180;
   int bestGood = -1;
-  double bestAngle = -1;
+  bool bestWide = false;  // its smallest angle is at least minAngle
+  double bestAngle = -1, bestLength = 0;
   size_t bi = 0, bj = 0;
   for (size_t i = 0; i < m; ++i) {
     if (!isBad(cornerAngle(q, idx, i), D)) continue;
@@ -137,9 +139,13 @@ bool cut(const std::vector<Vec2>& q, const std::vector<int>& idx, std::vector<st
       // the four angles the cut makes: at its ends, in both pieces
       const double smallest = std::min(std::min(cornerAngle(q, a, 0), cornerAngle(q, a, a.size() - 1)),
                                        std::min(cornerAngle(q, b, 0), cornerAngle(q, b, b.size() - 1)));
-      if (good > bestGood || (good == bestGood && smallest > bestAngle)) {
-        bestGood = good, bestAngle = smallest, bi = i, bj = j;
-      }
+      const double length = (q[idx[i]] - q[idx[j]]).norm();
+      const bool wide = smallest >= minAngle;
+      const bool better = good != bestGood ? good > bestGood
+                          : wide != bestWide ? wide
+                          : wide             ? length < bestLength
+                                             : smallest > bestAngle;
+      if (better) bestGood = good, bestWide = wide, bestAngle = smallest, bestLength = length, bi = i, bj = j;
     }
   }
   if (bestGood < 0) {

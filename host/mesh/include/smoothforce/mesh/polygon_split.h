@@ -39,6 +39,13 @@ inline constexpr double kStraightCornerDeg = 1.0;
 /// (docs/fold-levers.md, "Extruded parts"): 1 left a fault on the star, 10 and 20 none, 30 made
 /// thin pieces that fault on a notched disc.
 inline constexpr double kPieceStraightCornerDeg = 10.0;
+/// Of the cuts that leave most pieces without a bad corner, the shortest whose four new corner
+/// angles are all at least this (degrees) is taken; where none is, the one whose smallest angle
+/// is largest. Shorter cuts dome less where the corner normals lean off the plane (a cut's edge
+/// curve leaves each end in that end's tangent plane). Measured on the extruded parts
+/// (docs/fold-levers.md, "Which diagonal"): 25 to 40 give the same pieces, 10 and 20 a fault
+/// on a notched disc.
+inline constexpr double kCutMinAngleDeg = 30.0;
 /// A flat polygon: no vertex farther from its Newell plane than this fraction of its diameter.
 inline constexpr double kFlatHeight = 1e-4;
 /// Faces with more corners are left whole (no patch is built for them either: GP_MAX_N), which
@@ -59,8 +66,8 @@ struct PolygonSplitReport {
 /// (kStraightCornerDeg) are replaced, in place and in order,
 /// by convex pieces: each cut is a diagonal between two of the polygon's own vertices, inside
 /// it on its Newell plane (exact orientation tests), chosen at a bad corner so that most
-/// pieces have no bad corner and then so that the smallest angle it makes is largest; pieces
-/// with a bad corner are cut again. No vertex is added or moved, so every piece's edge curves
+/// pieces have no bad corner, then the shortest that makes no angle below kCutMinAngleDeg (else
+/// the one whose smallest angle is largest); pieces with a bad corner are cut again. No vertex is added or moved, so every piece's edge curves
 /// are built from the same vertex data and the surface stays G1 across the cuts.
 /// Per-corner and per-face arrays follow their corners and faces: mesh.fileCornerNormals,
 /// mesh.faceSmoothingGroups, *cornerNormals (#C) when given; mesh.faceSource maps each face to
