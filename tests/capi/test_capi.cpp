@@ -42,9 +42,9 @@ struct HapticDeleter {
 using CachePtr = std::unique_ptr<sf_cache, CacheDeleter>;
 using HapticPtr = std::unique_ptr<sf_haptic, HapticDeleter>;
 
-CachePtr fromFile(const std::string& path) {
+CachePtr fromFile(const std::string& path, const sf_cache_options* options = nullptr) {
   sf_cache* c = nullptr;
-  EXPECT_EQ(sf_cache_from_file(path.c_str(), nullptr, &c), SF_OK) << sf_last_error();
+  EXPECT_EQ(sf_cache_from_file(path.c_str(), options, &c), SF_OK) << sf_last_error();
   return CachePtr(c);
 }
 
@@ -60,8 +60,10 @@ void domainPoints(const sf::PatchCache& c, std::vector<int32_t>& f, std::vector<
   }
 }
 
-sf::PatchCache cppCache() {
+/// The spot cage built by the C++ API (as its Catmull-Clark limit with cage CatmullClark).
+sf::PatchCache cppCache(sf::CageMode cage = sf::CageMode::None) {
   sf::PatchOptions o;
+  o.cage = cage;
   return sf::buildPatchCache(sf::loadMesh(kSpot, o), o, sf::Backend::Tbb);
 }
 
@@ -418,12 +420,9 @@ TEST(CApi, CageOptionBuildsTheLimitCacheOfTheCppApi) {
   sf_cache_options o;
   sf_cache_options_init(&o);
   o.cage = "catmull-clark";
-  sf_cache* raw = nullptr;
-  ASSERT_EQ(sf_cache_from_file(kSpot.c_str(), &o, &raw), SF_OK) << sf_last_error();
-  CachePtr c(raw);
-  sf::PatchOptions po;
-  po.cage = sf::CageMode::CatmullClark;
-  const sf::PatchCache ref = sf::buildPatchCache(sf::loadMesh(kSpot, po), po, sf::Backend::Tbb);
+  CachePtr c = fromFile(kSpot, &o);
+  ASSERT_TRUE(c);
+  const sf::PatchCache ref = cppCache(sf::CageMode::CatmullClark);
   // every face centre and corner evaluates as the C++ cache does; corners are the limit positions
   std::vector<int32_t> f;
   std::vector<double> x, y;
@@ -479,18 +478,13 @@ TEST(CApi, DistanceEqualsTheCppMeasureBothWays) {
   sf_cache_options o;
   sf_cache_options_init(&o);
   o.cage = "catmull-clark";
-  sf_cache* raw = nullptr;
-  ASSERT_EQ(sf_cache_from_file(kSpot.c_str(), &o, &raw), SF_OK) << sf_last_error();
-  CachePtr limit(raw);
+  CachePtr limit = fromFile(kSpot, &o);
   sf_cache_options_init(&o);
   o.lazy = 1;
-  ASSERT_EQ(sf_cache_from_file(kSpot.c_str(), &o, &raw), SF_OK) << sf_last_error();
-  CachePtr polygons(raw);
+  CachePtr polygons = fromFile(kSpot, &o);
+  ASSERT_TRUE(limit && polygons);
 
-  const sf::PatchCache ref = cppCache();
-  sf::PatchOptions po;
-  po.cage = sf::CageMode::CatmullClark;
-  const sf::PatchCache refLimit = sf::buildPatchCache(sf::loadMesh(kSpot, po), po, sf::Backend::Tbb);
+  const sf::PatchCache ref = cppCache(), refLimit = cppCache(sf::CageMode::CatmullClark);
   const int level = 3;
   struct Case {
     sf_cache* other;
