@@ -313,17 +313,16 @@ bool beginPatchStep(const PolygonScene& scene, const PatchSurface* surface, cons
     start.global = true;
     if (!firstCandidate) return true;  // the caller runs the whole global query
     // the hint or the first candidate starts the refinement (with a list: every candidate, kept
-    // for the finish; seeded without one, the finish searches, bounded by the seed's refinement)
+    // for the finish). Seeded, the finish searches, bounded by the seed's refinement: nearer than
+    // the hint's point, so fewer triangles are visited than a search bounded by the hint's.
     const bool keep = list && list->c && list->capacity >= 2;
+    if (keep) list->count = 0;
     if (hinted) {
       start.seeded = true;
       start.face = hint.face;
       start.X = hint.X;
       start.candidate.face = hint.face;
       start.candidate.X = hint.X;
-      if (keep)
-        list->count = static_cast<int>(surface->candidates(hip, list->c, static_cast<size_t>(list->capacity),
-                                                           start.reach, start.reachFace));
       return true;
     }
     const size_t found = keep ? surface->candidates(hip, list->c, static_cast<size_t>(list->capacity), start.reach,

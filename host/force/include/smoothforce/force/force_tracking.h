@@ -131,11 +131,11 @@ struct CandidateList {
 /// surface step looks up its first candidate (start.candidate); false leaves the whole global
 /// query to the caller (nearestOnPatches: one candidate search per step, not two). hint: what
 /// the caller knows from its last step (PatchStepHint); with firstCandidate and a hint face in
-/// range, a surface step starts at the hint (start.seeded) instead of the first candidate, and
-/// searches its candidates only to fill `list`; the hint's point bounds that search (combined
-/// into start.reach; the candidates stay the same, PatchSurface::candidates). list (with
-/// firstCandidate, capacity >= 2): the step's candidates are collected there (its first is the
-/// start unless seeded) for finishPatchStep. In contact it marks a HIP that jumped (markJump).
+/// range, a surface step starts at the hint (start.seeded) instead of the first candidate and
+/// searches no candidates: finishPatchStep does, bounded by the seed's refinement (the hint's
+/// point bounds start.reach). list (with firstCandidate, capacity >= 2): an unseeded step's
+/// candidates are collected there (its first is the start) for finishPatchStep; a seeded step
+/// leaves it empty. In contact it marks a HIP that jumped (markJump).
 /// Never throws or allocates; the scene and surface must belong to the cache.
 bool beginPatchStep(const PolygonScene& scene, const PatchSurface* surface, const PatchCache& cache,
                     const Eigen::Vector3d& hip, PatchContactState& state, double* lambda, PatchStepStart& start,
