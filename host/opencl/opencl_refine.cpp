@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <smoothforce/opencl/opencl_refine.h>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -14,6 +17,16 @@
 namespace sf {
 
 using namespace opencl_detail;
+
+namespace {
+/// f(i) for i in [0, n), in oneTBB tasks of at least 4,096 items.
+template <class F>
+void parallelRange(size_t n, const F& f) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i < r.end(); ++i) f(i);
+  });
+}
+}  // namespace
 
 struct OpenCLRefiner::Impl {
   Impl(const PatchCache& c, const OpenCLOptions& o)
@@ -80,14 +93,15 @@ struct OpenCLRefiner::Impl {
     iters.resize(n);
     outInt.resize(5 * n);
     status.resize(n);
-    for (size_t i = 0; i < n; ++i) {  // component-major: HIP x, y, z, then xi, eta
+    // packing and unpacking a batch are as long as its transfers: on the host's cores
+    parallelRange(n, [&](size_t i) {  // component-major: HIP x, y, z, then xi, eta
       for (int c = 0; c < 3; ++c) real[c * n + i] = static_cast<Real>(q[i].hip[c]);
       real[3 * n + i] = static_cast<Real>(q[i].xi);
       real[4 * n + i] = static_cast<Real>(q[i].eta);
       face[i] = q[i].face;
       edge[i] = q[i].edge;
       iters[i] = q[i].maxIterations < 0 ? -1 : q[i].maxIterations;
-    }
+    });
     cl::Kernel& k = dev.get(precision);
     cl::CommandQueue& cq = dev.ctx.queue();
     cl::Event ev[9], kev;
@@ -120,7 +134,7 @@ struct OpenCLRefiner::Impl {
     cq.enqueueReadBuffer(outR, CL_FALSE, 0, 8 * n * sizeof(Real), real.data(), nullptr, &ev[5]);
     cq.enqueueReadBuffer(outI, CL_FALSE, 0, 5 * n * sizeof(int32_t), outInt.data(), nullptr, &ev[6]);
     cq.enqueueReadBuffer(outSt, CL_TRUE, 0, n * sizeof(uint32_t), status.data(), nullptr, &ev[7]);
-    for (size_t i = 0; i < n; ++i) {
+    parallelRange(n, [&](size_t i) {
       RefineResult& r = res[i];
       r.scp = {real[i], real[n + i], real[2 * n + i]};
       r.normal = {real[3 * n + i], real[4 * n + i], real[5 * n + i]};
@@ -133,7 +147,7 @@ struct OpenCLRefiner::Impl {
       r.startMinimum = outInt[4 * n + i] != 0;
       r.status = status[i];
       r.distance = (r.status & SF_TRACK_DEGENERATE) ? 0.0 : (r.scp - q[i].hip).norm();
-    }
+    });
     kernel = eventSeconds(kev);
     for (const auto& e : ev) transfer += eventSeconds(e);
   }

@@ -3,6 +3,7 @@
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
 
 #include <algorithm>
 #include <chrono>
@@ -17,23 +18,38 @@
 namespace sf {
 
 struct OpenCLPatchProber::Impl {
-  Impl(std::shared_ptr<const PatchCache> c, const ForceOptions& o, const OpenCLOptions& cl)
+  Impl(std::shared_ptr<const PatchCache> c, std::shared_ptr<const PolygonScene> sc,
+       std::shared_ptr<const PatchSurface> su, const ForceOptions& o, const OpenCLOptions& cl)
       : cache(std::move(c)),
         options(o),
-        scene(*cache),
-        surface(o.initialGuess == InitialGuess::Surface
-                    ? std::make_unique<const PatchSurface>(*cache, patchSurfaceOptions(o))
-                    : nullptr),
-        refiner(*cache, cl),
+        scene(std::move(sc)),
+        surface(std::move(su)),
         cpu([this] { return std::make_unique<PatchRefiner>(*cache); }) {
     for (int f = 0; f < cache->numFaces(); ++f) maxN = std::max(maxN, cache->faceSize(f));
+    // The device's context, program load and cache upload wait on the driver; the scene's and the
+    // surface's BVHs keep the cores busy meanwhile.
+    if (o.initialGuess != InitialGuess::Surface) surface.reset();
+    const bool wantSurface = o.initialGuess == InitialGuess::Surface && !surface;
+    tbb::task_group g;
+    g.run([&] { refiner = std::make_unique<OpenCLRefiner>(*cache, cl); });
+    try {
+      if (!scene) scene = std::make_shared<const PolygonScene>(*cache, kPlanarTolerance);
+      if (wantSurface) surface = std::make_shared<const PatchSurface>(*cache, patchSurfaceOptions(o));
+    } catch (...) {
+      try {
+        g.wait();
+      } catch (...) {  // the first failure is the one reported
+      }
+      throw;
+    }
+    g.wait();
   }
 
   std::shared_ptr<const PatchCache> cache;
   ForceOptions options;
-  PolygonScene scene;
-  std::unique_ptr<const PatchSurface> surface;
-  OpenCLRefiner refiner;
+  std::shared_ptr<const PolygonScene> scene;
+  std::shared_ptr<const PatchSurface> surface;
+  std::unique_ptr<OpenCLRefiner> refiner;
   /// the CPU refines the global query's further candidates, where they could be nearer (rare)
   tbb::enumerable_thread_specific<std::unique_ptr<PatchRefiner>> cpu;
   int maxN = 3;
@@ -60,10 +76,18 @@ double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::
 }  // namespace
 
 OpenCLPatchProber::OpenCLPatchProber(std::shared_ptr<const PatchCache> cache, const ForceOptions& options,
+                                     const OpenCLOptions& opencl)
+    : OpenCLPatchProber(std::move(cache), nullptr, nullptr, options, opencl) {}
+
+OpenCLPatchProber::OpenCLPatchProber(std::shared_ptr<const PatchCache> cache, std::shared_ptr<const PolygonScene> scene,
+                                     std::shared_ptr<const PatchSurface> surface, const ForceOptions& options,
                                      const OpenCLOptions& opencl) {
   validateForceOptions(options);
+  if (!cache) throw InputError("OpenCLPatchProber: no cache");
+  if ((scene && &scene->cache() != cache.get()) || (surface && &surface->cache() != cache.get()))
+    throw InputError("OpenCLPatchProber: the polygon scene and the patch surface must be built from the same cache");
   const auto t = Clock::now();
-  impl_ = std::make_unique<Impl>(std::move(cache), options, opencl);
+  impl_ = std::make_unique<Impl>(std::move(cache), std::move(scene), std::move(surface), options, opencl);
   impl_->timing.setup = since(t);
 }
 
@@ -98,9 +122,14 @@ size_t OpenCLPatchProber::run(const HipSet& set, size_t begin, size_t end, const
       thread_local std::vector<double> lambda;
       lambda.resize(I.maxN);
       const size_t g = begin + order[c0 + i];
+      if (step == 0) {  // reset(), then resetNear: the HIP's surface sample seeds the approach step
+        const SurfaceSample& from = set.sample(g);
+        I.state[i] = PatchContactState{};
+        I.hint[i] = PatchStepHint{from.face, Eigen::Vector2d(from.xi, from.eta), from.point};
+      }
       const Eigen::Vector3d hip = step == 0 ? set.approach(g) : set.hip(g);
       I.candidates[i].count = 0;
-      I.refine[i] = beginPatchStep(I.scene, I.surface.get(), *I.cache, hip, I.state[i], lambda.data(), I.start[i],
+      I.refine[i] = beginPatchStep(*I.scene, I.surface.get(), *I.cache, hip, I.state[i], lambda.data(), I.start[i],
                                    I.sample[i], true, I.hint[i], &I.candidates[i]);
       // a seeded start (the tracker's PatchStepHint) is evaluated and tested, not refined
       I.query[i] = RefineQuery{hip, I.refine[i] ? I.start[i].face : -1, I.start[i].X.x(), I.start[i].X.y(),
@@ -110,17 +139,17 @@ size_t OpenCLPatchProber::run(const HipSet& set, size_t begin, size_t end, const
   };
   auto refineStep = [&](size_t m) {
     const auto t = Clock::now();
-    I.refiner.refine(I.query.data(), m, I.options, I.result.data());
+    I.refiner->refine(I.query.data(), m, I.options, I.result.data());
     I.timing.refine += since(t);
-    I.timing.kernel += I.refiner.lastKernelSeconds();
-    I.timing.transfer += I.refiner.lastTransferSeconds();
+    I.timing.kernel += I.refiner->lastKernelSeconds();
+    I.timing.transfer += I.refiner->lastTransferSeconds();
     ++I.timing.refinements;
   };
   auto finishStep = [&](int step, size_t m) {
     const auto t = Clock::now();
     tbb::parallel_for(size_t(0), m, [&](size_t i) {
       if (I.refine[i])
-        finishPatchStep(I.scene, I.surface.get(), *I.cpu.local(), I.query[i].hip, I.start[i], I.result[i], I.options,
+        finishPatchStep(*I.scene, I.surface.get(), *I.cpu.local(), I.query[i].hip, I.start[i], I.result[i], I.options,
                         I.state[i], I.sample[i], &I.hint[i], &I.candidates[i]);
       if (step == 1) fillHipResult(out[order[c0 + i]], I.sample[i], ref);
     });
@@ -130,11 +159,6 @@ size_t OpenCLPatchProber::run(const HipSet& set, size_t begin, size_t end, const
   for (; c0 < end - begin; c0 += chunk) {
     if (control.stop && control.stop->load(std::memory_order_relaxed)) break;
     const size_t m = std::min(chunk, end - begin - c0);
-    std::fill(I.state.begin(), I.state.begin() + m, PatchContactState{});  // reset()
-    for (size_t i = 0; i < m; ++i) {  // resetNear: the HIP's surface sample seeds the approach step
-      const SurfaceSample& from = set.sample(begin + order[c0 + i]);
-      I.hint[i] = PatchStepHint{from.face, Eigen::Vector2d(from.xi, from.eta), from.point};
-    }
     for (int step = 0; step < 2; ++step) {  // the approach step, then the step at the HIP
       beginStep(step, m);
       refineStep(m);

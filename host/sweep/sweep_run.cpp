@@ -290,6 +290,9 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
     throw InputError("sweep: --surface-index bounds only with the CPU backend (the OpenCL prober's global query runs "
                      "on the tessellation)");
   opt.patchCapacity = 0;
+  // the patch method's scene and surface, where this sweep makes them: the OpenCL prober shares them
+  std::shared_ptr<const PolygonScene> sharedPatchScene;
+  std::shared_ptr<const PatchSurface> sharedSurface;
   if (!in.makeRenderer) {
     // one polygon scene per kind and, with the tessellation index, one patch surface, shared by every
     // worker's renderer (the bounds index keeps per-renderer cell caches: each renderer makes its own)
@@ -302,6 +305,8 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
     if (wantSurface && !lazy && opt.initialGuess == InitialGuess::Surface &&
         opt.surfaceIndex != SurfaceIndex::Bounds)  // auto: the tessellation, for a batch
       surface = std::make_shared<const PatchSurface>(*cache, patchSurfaceOptions(opt));
+    sharedPatchScene = patchScene;
+    sharedSurface = surface;
     in.makeRenderer = [cache, opt, patchScene, godScene, surface](const std::string& m) {
       const ForceMethod method = parseForceMethod(m);
       return makeForceRenderer(cache, method == ForceMethod::Patch ? patchScene : godScene, method, opt, surface);
@@ -388,7 +393,8 @@ static SweepData runSweepImpl(SweepInputs in, const SweepControl& control, Sweep
       size_t j = i;
       while (j < n && !out[j].done && j - i < blocks.next) ++j;
       const auto tb = std::chrono::steady_clock::now();
-      if (opencl && !prober) prober = std::make_unique<OpenCLPatchProber>(in.cache, opt, in.opencl);
+      if (opencl && !prober)
+        prober = std::make_unique<OpenCLPatchProber>(in.cache, sharedPatchScene, sharedSurface, opt, in.opencl);
       const size_t got = opencl ? prober->run(set, d.begin + i, d.begin + j, ref.get(), out.data() + i, control)
                                 : runProbes(set, d.begin + i, d.begin + j, pool, ref.get(), out.data() + i, control);
       computed += got;

@@ -23,6 +23,8 @@
 #include <smoothforce/opencl/opencl_refine.h>
 #include <smoothforce/patch/detail/gp_math.h>
 #include <smoothforce/query/embree_scene.h>
+#include <smoothforce/query/global_query.h>
+#include <smoothforce/query/patch_surface.h>
 #include <smoothforce/query/mean_value.h>
 #include <smoothforce/sweep/sweep_io.h>
 #include <smoothforce/sweep/sweep_opencl.h>
@@ -471,6 +473,33 @@ TEST_F(OpenCLRefine, SweepProbesAreTheSameBitsForEveryChunk) {
     for (size_t i = 0; i < set.size(); ++i) differ += std::memcmp(&part[i], &all[i], sizeof(HipResult)) != 0;
     EXPECT_EQ(differ, 0u) << "chunk " << chunk;
   }
+}
+
+// Given the caller's polygon scene and patch surface (as `smoothforce sweep` shares its CPU
+// renderers'), the prober's records are those of a prober that builds its own, for every HIP;
+// a scene or surface of another cache is refused.
+TEST_F(OpenCLRefine, SweepProberWithTheCallersSceneAndSurfaceGivesTheSameBits) {
+  auto cache =
+      std::make_shared<const PatchCache>(test::cacheFromFile(test::sharedMesh("keenan_crane/spot_control_mesh.obj")));
+  const PatchSurfaceSampler sampler(*cache);
+  const HipSet set = makeDepthHips(sampler.sample(600, 7), parseDepthList("0.3%,1%,3%"), boundingDiagonal(*cache),
+                                   sampler.area());
+  std::vector<HipResult> own(set.size()), given(set.size());
+  ASSERT_EQ(OpenCLPatchProber(cache, ForceOptions{}).run(set, 0, set.size(), nullptr, own.data(), {}), set.size());
+  auto scene = std::make_shared<const PolygonScene>(*cache, kPlanarTolerance);
+  auto surface = std::make_shared<const PatchSurface>(*cache, patchSurfaceOptions(ForceOptions{}));
+  OpenCLPatchProber shared(cache, scene, surface, ForceOptions{});
+  ASSERT_EQ(shared.run(set, 0, set.size(), nullptr, given.data(), {}), set.size());
+  size_t differ = 0, contact = 0;
+  for (size_t i = 0; i < set.size(); ++i) {
+    differ += std::memcmp(&own[i], &given[i], sizeof(HipResult)) != 0;
+    contact += own[i].contact;
+  }
+  EXPECT_EQ(differ, 0u) << "of " << set.size() << " HIPs";
+  EXPECT_GT(contact, set.size() / 2);
+  auto other = std::make_shared<const PatchCache>(test::cacheFromFile(test::sharedMesh("keenan_crane/spot_control_mesh.obj")));
+  EXPECT_THROW(OpenCLPatchProber(other, scene, nullptr, ForceOptions{}), InputError);
+  EXPECT_THROW(OpenCLPatchProber(other, nullptr, surface, ForceOptions{}), InputError);
 }
 
 TEST_F(OpenCLRefine, SweepTbbAndOpenCLAgree) {

@@ -10,11 +10,15 @@
 
 namespace sf {
 
+class PatchSurface;
+class PolygonScene;
+
 /// Where an OpenCLPatchProber spent its wall time, s: its set-up, and summed over its runs the
 /// runs and their parts. What a run spends beyond cpu and refine (the HIPs' Morton order, each
 /// chunk's reset) is serial on the calling thread.
 struct OpenCLProbeTiming {
-  double setup = 0;        ///< the constructor: polygon scene, patch surface, program, cache upload
+  double setup = 0;        ///< the constructor: polygon scene and patch surface (unless given), beside the
+                           ///< device's context, program and cache upload
   double run = 0;          ///< run(), whole
   double cpu = 0;          ///< the CPU stages: each step's global query and contact decision (oneTBB)
   double refine = 0;       ///< refinement calls, the CPU waiting: packing, transfers, kernel, unpacking
@@ -31,11 +35,21 @@ struct OpenCLProbeTiming {
 /// HIPs (probeOrder), the step at the HIP bounding its candidate search by the approach step's
 /// nearest point as the tracker does; out[g - begin] gets the second step. Set up once (the
 /// polygon scene, the patch surface, the device program and the cache upload), then run over
-/// any number of HIP ranges. Not thread-safe (one run at a time).
+/// any number of HIP ranges. Not thread-safe (one run at a time). Every stage of a run but the
+/// device's refinements runs in oneTBB tasks on the host's cores.
 class OpenCLPatchProber {
  public:
   /// Throws InputError for invalid options, OpenCLError for device failures.
+  /// The polygon scene and the patch surface are built here, while the device's context,
+  /// program and cache upload are set up beside them.
   OpenCLPatchProber(std::shared_ptr<const PatchCache> cache, const ForceOptions& options,
+                    const OpenCLOptions& opencl = {});
+  /// The same with the caller's polygon scene (built with kPlanarTolerance) and patch surface
+  /// (built with patchSurfaceOptions(options); unused unless options.initialGuess is Surface),
+  /// as a sweep's CPU renderers share theirs, so that nothing is built twice; a null one is
+  /// built here. Throws InputError where either was built from another cache.
+  OpenCLPatchProber(std::shared_ptr<const PatchCache> cache, std::shared_ptr<const PolygonScene> scene,
+                    std::shared_ptr<const PatchSurface> surface, const ForceOptions& options,
                     const OpenCLOptions& opencl = {});
   ~OpenCLPatchProber();
   OpenCLPatchProber(const OpenCLPatchProber&) = delete;
