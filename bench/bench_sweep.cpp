@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: Apache-2.0
 // Sweep throughput: HIP queries per second per force method and backend (reset, approach,
 // pressed-in step) on the spot cage, 1e5 and 1e6 HIPs, all threads. Backends: tbb (all
-// methods), opencl (patch: refinements on the OpenCL device, runPatchProbesOpenCL; skipped
-// with a message when no device exists; program build and cache upload happen in the
-// warm-up). HIP sampling and renderer construction are
-// outside the timed region (the renderers of a run are made on first use per thread; one
-// warm-up run precedes the timing).
+// methods), opencl (patch: refinements on the OpenCL device, OpenCLPatchProber; skipped with a
+// message when no device exists). As in `smoothforce sweep`, the renderers of every thread and
+// the OpenCL prober share one polygon scene per method kind and one patch surface, built once
+// outside the timed region; a timed run includes the renderers' construction (on first use per
+// thread) and the OpenCL prober's (context, program load, cache upload). HIP sampling is outside
+// the timed region; one warm-up run precedes the timing.
 // Run: build/bench/bench_sweep [--benchmark_format=json] [--benchmark_filter=/100000/]
 #include <benchmark/benchmark.h>
 
@@ -14,6 +15,10 @@
 
 #include <smoothforce/opencl/opencl_backend.h>
 #include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/force/force_tracking.h>
+#include <smoothforce/query/embree_scene.h>
+#include <smoothforce/query/global_query.h>
+#include <smoothforce/query/patch_surface.h>
 #include <smoothforce/sweep/sweep.h>
 #include <smoothforce/sweep/sweep_opencl.h>
 
@@ -23,6 +28,8 @@ using namespace sf;
 
 struct Spot {
   std::shared_ptr<const PatchCache> cache;
+  std::shared_ptr<const PolygonScene> patchScene, godScene;  // as the sweep shares them
+  std::shared_ptr<const PatchSurface> surface;
   std::map<int64_t, HipSet> sets;
   static Spot& get() {
     static Spot s;
@@ -30,8 +37,15 @@ struct Spot {
       PatchOptions o;
       s.cache = std::make_shared<const PatchCache>(
           buildPatchCache(loadMesh(std::string(SF_DATA_DIR) + "/spot_control_mesh.obj", o), o, Backend::Tbb));
+      s.patchScene = std::make_shared<const PolygonScene>(*s.cache, kPlanarTolerance);
+      s.godScene = std::make_shared<const PolygonScene>(*s.cache, kWatertightPlanarTolerance);
+      s.surface = std::make_shared<const PatchSurface>(*s.cache, patchSurfaceOptions(ForceOptions{}));
     }
     return s;
+  }
+  std::unique_ptr<ForceRenderer> renderer(ForceMethod method) const {
+    return makeForceRenderer(cache, method == ForceMethod::Patch ? patchScene : godScene, method, ForceOptions{},
+                             surface);
   }
   const HipSet& hips(int64_t n) {
     auto it = sets.find(n);
@@ -50,7 +64,7 @@ void BM_Sweep(benchmark::State& state) {
   const ForceMethod method = static_cast<ForceMethod>(state.range(0));
   Spot& spot = Spot::get();
   const HipSet& set = spot.hips(state.range(1));
-  const RendererFactory make = [&] { return makeForceRenderer(spot.cache, method, ForceOptions{}); };
+  const RendererFactory make = [&] { return spot.renderer(method); };
   std::vector<HipResult> out(set.size());
   runProbes(set, 0, std::min<size_t>(set.size(), 2000), make, nullptr, out.data(), {});  // warm-up
   for (auto _ : state) {
@@ -86,11 +100,12 @@ void BM_SweepOpenCL(benchmark::State& state) {
   Spot& spot = Spot::get();
   const HipSet& set = spot.hips(state.range(0));
   std::vector<HipResult> out(set.size());
-  // warm-up: builds (or loads) the program; each timed run includes its scene build and cache upload
-  runPatchProbesOpenCL(set, 0, std::min<size_t>(set.size(), 2000), spot.cache, ForceOptions{}, nullptr, out.data(), {});
+  // warm-up: builds (or loads) the program; each timed run includes its context and cache upload
+  OpenCLPatchProber(spot.cache, spot.patchScene, spot.surface, ForceOptions{})
+      .run(set, 0, std::min<size_t>(set.size(), 2000), nullptr, out.data(), {});
   OpenCLProbeTiming t;
   for (auto _ : state) {
-    OpenCLPatchProber prober(spot.cache, ForceOptions{});
+    OpenCLPatchProber prober(spot.cache, spot.patchScene, spot.surface, ForceOptions{});
     prober.run(set, 0, set.size(), nullptr, out.data(), {});
     benchmark::DoNotOptimize(out.data());
     const OpenCLProbeTiming& p = prober.timing();
