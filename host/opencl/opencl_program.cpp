@@ -50,7 +50,8 @@ std::string withLine(const char* name, const char* text) {
 
 }  // namespace
 
-std::vector<std::string> programSources(const char* kernelFile, const char* kernelText, bool withRefine) {
+std::vector<std::string> programSources(const char* kernelFile, const char* kernelText, bool withRefine,
+                                        bool withClosest) {
   std::vector<std::string> s = {"#if GP_IS_DOUBLE\n#pragma OPENCL EXTENSION cl_khr_fp64 : enable\n#endif\n",
                                 withLine("gp_config.h", kernels::gp_config_h),
                                 withLine("gp_vec.h", kernels::gp_vec_h),
@@ -62,6 +63,7 @@ std::vector<std::string> programSources(const char* kernelFile, const char* kern
     s.push_back(withLine("gp_refine.h", kernels::gp_refine_h));
     s.push_back(withLine("gp_descent.h", kernels::gp_descent_h));
   }
+  if (withClosest) s.push_back(withLine("gp_closest.h", kernels::gp_closest_h));
   s.push_back(withLine(kernelFile, kernelText));
   return s;
 }
@@ -89,7 +91,7 @@ cl::Kernel& Device::get(Precision p) {
   std::string options = "-cl-std=CL1.2 -DGP_EMBEDDED=1";
   options += i ? " -DGP_REAL=double -DGP_IS_DOUBLE=1" : " -DGP_REAL=float -DGP_IS_DOUBLE=0";
   if (!i && ctx.hasCorrectlyRoundedDivSqrt()) options += " -cl-fp32-correctly-rounded-divide-sqrt";
-  prog[i] = ctx.buildProgram(programSources(file, text, withRefine), options, {opt.useBinaryCache, opt.binaryCacheDir});
+  prog[i] = ctx.buildProgram(programSources(file, text, withRefine, withClosest), options, {opt.useBinaryCache, opt.binaryCacheDir});
   try {
     kernel[i] = cl::Kernel(prog[i].program, kernelName);
     local[i] = chooseGroupSize(kernel[i]);

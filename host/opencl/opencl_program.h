@@ -15,7 +15,9 @@ namespace sf::opencl_detail {
 
 /// Program source = fp64 pragma + gp_config.h, gp_vec.h, gp_tables.h, gp_edge.h, gp_eval.h (+ gp_refine.h
 /// when withRefine) + the kernel file, each with a #line so that build logs name the file.
-std::vector<std::string> programSources(const char* kernelFile, const char* kernelText, bool withRefine = false);
+/// withClosest: the program needs gp_closest.h (the candidate search; double only).
+std::vector<std::string> programSources(const char* kernelFile, const char* kernelText, bool withRefine = false,
+                                        bool withClosest = false);
 
 inline size_t roundUp(size_t n, size_t m) { return (n + m - 1) / m * m; }
 
@@ -23,8 +25,15 @@ inline size_t roundUp(size_t n, size_t m) { return (n + m - 1) / m * m; }
 struct Device {
   /// file, text: the kernel file's name and embedded text; kernelName: its __kernel.
   /// withRefine: the program needs gp_refine.h. Throws OpenCLError (no device).
-  Device(const OpenCLOptions& o, const char* file, const char* text, const char* kernelName, bool withRefine = false)
-      : opt(o), ctx(o.device), file(file), text(text), kernelName(kernelName), withRefine(withRefine) {}
+  Device(const OpenCLOptions& o, const char* file, const char* text, const char* kernelName, bool withRefine = false,
+         bool withClosest = false)
+      : opt(o),
+        ctx(o.device),
+        file(file),
+        text(text),
+        kernelName(kernelName),
+        withRefine(withRefine),
+        withClosest(withClosest) {}
 
   OpenCLOptions opt;
   OpenCLContext ctx;
@@ -32,6 +41,7 @@ struct Device {
   const char* text;
   const char* kernelName;
   bool withRefine;
+  bool withClosest;
   BuiltProgram prog[2];
   cl::Kernel kernel[2];
   cl::Buffer domains[2];  ///< the host's domain table in each precision, uploaded on first use

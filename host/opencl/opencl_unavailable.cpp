@@ -6,6 +6,7 @@
 // unreachable and throw the same error.
 #include <smoothforce/base/error.h>
 #include <smoothforce/opencl/opencl_backend.h>
+#include <smoothforce/opencl/opencl_candidates.h>
 #include <smoothforce/opencl/opencl_refine.h>
 
 namespace sf {
@@ -88,5 +89,20 @@ void refineNearestPointsOpenCL(const PatchCache&, const RefineQuery*, size_t, co
                                const OpenCLOptions&) {
   unavailable("OpenCL refinement");
 }
+
+struct OpenCLCandidateSearch::Impl {};
+OpenCLCandidateSearch::OpenCLCandidateSearch(const PatchSurface&, const OpenCLOptions&) {
+  unavailable("OpenCL candidate search");
+}
+OpenCLCandidateSearch::~OpenCLCandidateSearch() = default;
+bool OpenCLCandidateSearch::usable() const { unavailable("OpenCL candidate search"); }
+void OpenCLCandidateSearch::search(const Eigen::Vector3d*, size_t, int, int32_t*, uint32_t*, std::vector<int32_t>&) {
+  unavailable("OpenCL candidate search");
+}
+std::string OpenCLCandidateSearch::deviceName() const { unavailable("OpenCL candidate search"); }
+size_t OpenCLCandidateSearch::numNodes() const { unavailable("OpenCL candidate search"); }
+size_t OpenCLCandidateSearch::numTriangles() const { unavailable("OpenCL candidate search"); }
+double OpenCLCandidateSearch::lastKernelSeconds() const { unavailable("OpenCL candidate search"); }
+double OpenCLCandidateSearch::lastTransferSeconds() const { unavailable("OpenCL candidate search"); }
 
 }  // namespace sf

@@ -18,6 +18,7 @@
 #include <smoothforce/base/coordinate_range.h>
 
 #include "embree_point_query.h"
+#include "gp_closest.h"
 #include "gp_config.h"
 #include "surface_tessellation.h"
 
@@ -51,43 +52,23 @@ void onError(void* user, RTCError code, const char* str) {
   if (impl->error[0] == 0) std::snprintf(impl->error, sizeof impl->error, "Embree error %d: %s", int(code), str);
 }
 
-/// Closest point of triangle abc to p (Ericson, Real-Time Collision Detection 5.1.5): returns the
-/// squared distance and the barycentric weights (u, v, w) of the closest point.
+/// Closest point of triangle abc to p (kernels/gp_closest.h, which the OpenCL candidate search
+/// runs too): returns the squared distance and the barycentric weights (u, v, w) of the closest
+/// point.
 double closestOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                          const Eigen::Vector3d& c, double& u, double& v, double& w) {
-  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  auto at = [&](double uu, double vv, double ww) {
-    u = uu;
-    v = vv;
-    w = ww;
-    return (uu * a + vv * b + ww * c - p).squaredNorm();
-  };
-  if (d1 <= 0 && d2 <= 0) return at(1, 0, 0);
-  const Eigen::Vector3d bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return at(0, 1, 0);
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-    const double t = d1 / (d1 - d3);
-    return at(1 - t, t, 0);
-  }
-  const Eigen::Vector3d cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return at(0, 0, 1);
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-    const double t = d2 / (d2 - d6);
-    return at(1 - t, 0, t);
-  }
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-    const double t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    return at(0, 1 - t, t);
-  }
-  const double denom = 1 / (va + vb + vc);
-  const double vv = vb * denom, ww = vc * denom;
-  return at(1 - vv - ww, vv, ww);
+  return gp_closest_on_triangle(p.data(), a.data(), b.data(), c.data(), &u, &v, &w);
+}
+
+/// The candidate record of triangle t (index id) at distance d, closest point (u, v, w).
+SurfaceCandidate candidateRecord(const SurfaceTriangle& t, int id, double d, double u, double v, double w) {
+  SurfaceCandidate c;
+  c.face = t.face;
+  c.triangle = id;
+  c.distance = d;
+  c.lower = d - t.error;
+  c.X = u * t.X[0] + v * t.X[1] + w * t.X[2];
+  return c;
 }
 
 void setBounds(RTCBounds* b, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double e, float pad) {
@@ -152,13 +133,7 @@ bool candidateFn(RTCPointQueryFunctionArguments* args) {
       if (candidateBefore(*slot, st->c[i])) slot = &st->c[i];
     if (!candidateBefore(d - e, id, slot->lower, slot->triangle)) slot = nullptr;
   }
-  if (slot) {
-    slot->face = t.face;
-    slot->triangle = id;
-    slot->distance = d;
-    slot->lower = d - e;
-    slot->X = u * t.X[0] + v * t.X[1] + w * t.X[2];
-  }
+  if (slot) *slot = candidateRecord(t, id, d, u, v, w);
   if (d + e < st->bound) {
     st->bound = d + e;  // every box is inflated by its triangle's error: no more margin needed
     const float r = float(st->bound) * (1.0f + 1e-6f) + st->pad;
@@ -372,6 +347,21 @@ size_t PatchSurface::candidates(const Eigen::Vector3d& q, SurfaceCandidate* out,
   n = std::min(n, cap);
   std::copy_n(st.c.data(), n, out);
   return n;
+}
+
+SurfaceCandidate PatchSurface::candidateOf(const Eigen::Vector3d& q, int t) const noexcept {
+  if (t < 0 || static_cast<size_t>(t) >= points_.size()) return SurfaceCandidate{};
+  const SurfaceTriangle& tri = points_[t];
+  double u, v, w;
+  const double d = std::sqrt(closestOnTriangle(q, tri.P[0], tri.P[1], tri.P[2], u, v, w));
+  return candidateRecord(tri, t, d, u, v, w);
+}
+
+size_t PatchSurface::numPointTriangles() const noexcept { return points_.size(); }
+
+void PatchSurface::pointTriangle(size_t t, Eigen::Vector3d corners[3], double* error) const noexcept {
+  for (int k = 0; k < 3; ++k) corners[k] = points_[t].P[k];
+  *error = points_[t].error;
 }
 
 bool PatchSurface::overTriangle(int t, int f, const Eigen::Vector2d& X) const noexcept {

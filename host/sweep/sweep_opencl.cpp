@@ -12,6 +12,7 @@
 #include <vector>
 
 #include <smoothforce/force/force_tracking.h>
+#include <smoothforce/opencl/opencl_candidates.h>
 #include <smoothforce/opencl/opencl_refine.h>
 #include <smoothforce/query/embree_scene.h>
 
@@ -35,6 +36,11 @@ struct OpenCLPatchProber::Impl {
     try {
       if (!scene) scene = std::make_shared<const PolygonScene>(*cache, kPlanarTolerance);
       if (wantSurface) surface = std::make_shared<const PatchSurface>(*cache, patchSurfaceOptions(o));
+      // the seeded steps' candidate searches on the device too, where it can (usable())
+      if (surface) {
+        search = std::make_unique<OpenCLCandidateSearch>(*surface, cl);
+        if (!search->usable()) search.reset();
+      }
     } catch (...) {
       try {
         g.wait();
@@ -50,6 +56,8 @@ struct OpenCLPatchProber::Impl {
   std::shared_ptr<const PolygonScene> scene;
   std::shared_ptr<const PatchSurface> surface;
   std::unique_ptr<OpenCLRefiner> refiner;
+  /// the candidate search of the seeded steps' global queries (null: on the host)
+  std::unique_ptr<OpenCLCandidateSearch> search;
   /// the CPU refines the global query's further candidates, where they could be nearer (rare)
   tbb::enumerable_thread_specific<std::unique_ptr<PatchRefiner>> cpu;
   int maxN = 3;
@@ -67,6 +75,13 @@ struct OpenCLPatchProber::Impl {
   static constexpr int kCandidates = 16;
   std::vector<SurfaceCandidate> candidateStore;
   std::vector<CandidateList> candidates;
+  // the steps whose candidates the device searches: their indices in the chunk, HIPs, and results
+  static constexpr int kDeviceCandidates = OpenCLCandidateSearch::kMaxCap;
+  std::vector<uint32_t> searched;
+  std::vector<Eigen::Vector3d> searchHip;
+  std::vector<int32_t> searchIds, searchCount;
+  std::vector<uint32_t> searchOffset;
+  std::vector<int32_t> searchSlot;  ///< per HIP of the chunk: its place in `searched`, or -1
   OpenCLProbeTiming timing;
 };
 
@@ -145,12 +160,45 @@ size_t OpenCLPatchProber::run(const HipSet& set, size_t begin, size_t end, const
     I.timing.transfer += I.refiner->lastTransferSeconds();
     ++I.timing.refinements;
   };
+  // A seeded global step's candidates (beginPatchStep leaves them to the finish, bounded by the
+  // refinement): searched on the device for the whole chunk, then turned into the host's records.
+  auto searchStep = [&](size_t m) {
+    if (!I.search) return;
+    const auto t = Clock::now();
+    I.searched.clear();
+    I.searchHip.clear();
+    I.searchSlot.assign(m, -1);
+    for (size_t i = 0; i < m; ++i)
+      if (I.refine[i] && I.start[i].global && I.start[i].seeded && I.candidates[i].count == 0) {
+        I.searchSlot[i] = static_cast<int32_t>(I.searched.size());
+        I.searched.push_back(static_cast<uint32_t>(i));
+        I.searchHip.push_back(I.query[i].hip);
+      }
+    const size_t k = I.searched.size();
+    I.searchCount.resize(k);
+    I.searchOffset.resize(k);
+    I.search->search(I.searchHip.data(), k, Impl::kDeviceCandidates, I.searchCount.data(), I.searchOffset.data(),
+                     I.searchIds);
+    I.timing.search += since(t);
+    I.timing.kernel += I.search->lastKernelSeconds();
+    I.timing.transfer += I.search->lastTransferSeconds();
+  };
   auto finishStep = [&](int step, size_t m) {
     const auto t = Clock::now();
     tbb::parallel_for(size_t(0), m, [&](size_t i) {
+      CandidateBuffer<Impl::kDeviceCandidates> device;
+      CandidateList deviceList{device.data(), Impl::kDeviceCandidates, 0};
+      CandidateList* list = &I.candidates[i];
+      if (I.search && I.searchSlot[i] >= 0) {  // the device's triangles, the host's records
+        const size_t k = static_cast<size_t>(I.searchSlot[i]);
+        deviceList.count = std::max(0, I.searchCount[k]);
+        for (int j = 0; j < deviceList.count; ++j)
+          device[j] = I.surface->candidateOf(I.query[i].hip, I.searchIds[I.searchOffset[k] + j]);
+        list = &deviceList;
+      }
       if (I.refine[i])
         finishPatchStep(*I.scene, I.surface.get(), *I.cpu.local(), I.query[i].hip, I.start[i], I.result[i], I.options,
-                        I.state[i], I.sample[i], &I.hint[i], &I.candidates[i]);
+                        I.state[i], I.sample[i], &I.hint[i], list);
       if (step == 1) fillHipResult(out[order[c0 + i]], I.sample[i], ref);
     });
     I.timing.cpu += since(t);
@@ -162,6 +210,7 @@ size_t OpenCLPatchProber::run(const HipSet& set, size_t begin, size_t end, const
     for (int step = 0; step < 2; ++step) {  // the approach step, then the step at the HIP
       beginStep(step, m);
       refineStep(m);
+      searchStep(m);
       finishStep(step, m);
     }
     done += m;

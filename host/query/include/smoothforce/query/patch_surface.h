@@ -103,6 +103,10 @@ class PatchSurface {
   size_t candidates(const Eigen::Vector3d& q, SurfaceCandidate* out, size_t cap,
                     double reach = std::numeric_limits<double>::infinity(), int reachFace = -1,
                     const SurfaceCandidate* after = nullptr) const noexcept;
+  /// The record candidates() writes for adaptive triangle t at q (its exact distance, lower bound
+  /// and domain point), whether or not t is a candidate there: for a search run elsewhere that
+  /// returns triangles only (OpenCLCandidateSearch). A default record for t out of range.
+  SurfaceCandidate candidateOf(const Eigen::Vector3d& q, int t) const noexcept;
   /// The radius candidates() starts its search at for (reach, reachFace): reach + 2 error(reachFace),
   /// or reach + 2 maxError() where reachFace is -1 or out of range (m; infinite without a reach).
   double searchRadius(double reach, int reachFace = -1) const noexcept {
@@ -162,6 +166,10 @@ class PatchSurface {
   /// own count of what its device allocated); the cache not counted.
   size_t bytes() const noexcept;
   const std::vector<SurfaceTriangle>& pointTriangles() const noexcept { return points_; }
+  /// The adaptive triangles candidates() searches: how many, and triangle t's corners (m) and
+  /// error bound (m), for a search run elsewhere (OpenCLCandidateSearch). t < numPointTriangles().
+  size_t numPointTriangles() const noexcept;
+  void pointTriangle(size_t t, Eigen::Vector3d corners[3], double* error) const noexcept;
 
   struct Impl;  ///< Embree device and scenes (opaque)
 

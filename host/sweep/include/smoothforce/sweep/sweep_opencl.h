@@ -14,23 +14,26 @@ class PatchSurface;
 class PolygonScene;
 
 /// Where an OpenCLPatchProber spent its wall time, s: its set-up, and summed over its runs the
-/// runs and their parts. What a run spends beyond cpu and refine (the HIPs' Morton order, each
-/// chunk's reset) is serial on the calling thread.
+/// runs and their parts. What a run spends beyond cpu, refine and search (the HIPs' Morton order)
+/// is serial on the calling thread.
 struct OpenCLProbeTiming {
   double setup = 0;        ///< the constructor: polygon scene and patch surface (unless given), beside the
                            ///< device's context, program and cache upload
   double run = 0;          ///< run(), whole
   double cpu = 0;          ///< the CPU stages: each step's global query and contact decision (oneTBB)
   double refine = 0;       ///< refinement calls, the CPU waiting: packing, transfers, kernel, unpacking
-  double kernel = 0;       ///< of which device kernel time (profiling events)
-  double transfer = 0;     ///< of which device transfer time (profiling events)
+  double search = 0;       ///< candidate-search calls, the CPU waiting (OpenCLCandidateSearch)
+  double kernel = 0;       ///< of refine and search: device kernel time (profiling events)
+  double transfer = 0;     ///< of refine and search: device transfer time (profiling events)
   size_t refinements = 0;  ///< refinement calls (kernel runs)
 };
 
 /// runProbes for the patch method with the first refinement of every step of a chunk of HIPs in
-/// one kernel run (OpenCLRefiner); the global queries (the error band, winding number and
-/// candidates of the patch surface, or the polygon start) and the contact decisions run on the
-/// CPU in oneTBB tasks, through the same beginPatchStep / finishPatchStep as the CPU tracker.
+/// one kernel run (OpenCLRefiner), and the candidate searches of the seeded steps' global
+/// queries in another (OpenCLCandidateSearch, on devices with cl_khr_fp64); the rest of the
+/// global queries (the error band, winding number, refinements of further candidates, or the
+/// polygon start) and the contact decisions run on the CPU in oneTBB tasks, through the same
+/// beginPatchStep / finishPatchStep as the CPU tracker. The records are the CPU path's bits.
 /// Per HIP, as runProbes: reset, step(approach), step(hip), in the same Morton order of the
 /// HIPs (probeOrder), the step at the HIP bounding its candidate search by the approach step's
 /// nearest point as the tracker does; out[g - begin] gets the second step. Set up once (the
