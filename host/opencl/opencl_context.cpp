@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <mutex>
 #include <sstream>
 
 #include <smoothforce/base/hash.h>
@@ -194,9 +195,25 @@ double eventSeconds(const cl::Event& e) {
   return b > a ? static_cast<double>(b - a) * 1e-9 : 0.0;
 }
 
+namespace {
+/// One context per device for the whole process: creating one is slow on some drivers (a CUDA
+/// context behind each on NVIDIA's), and a sweep's constructor, refiner and candidate search each
+/// hold an OpenCLContext. Kept until the process exits (never released: drivers may unload before
+/// static destructors run).
+cl::Context sharedContext(const cl::Device& device) {
+  static std::mutex mutex;
+  static auto* contexts = new std::vector<std::pair<cl_device_id, cl::Context>>();
+  const std::lock_guard<std::mutex> lock(mutex);
+  for (const auto& [id, c] : *contexts)
+    if (id == device()) return c;
+  contexts->emplace_back(device(), cl::Context(device));
+  return contexts->back().second;
+}
+}  // namespace
+
 OpenCLContext::OpenCLContext(const std::string& device) : info_(selectOpenCLDevice(device)) {
   try {
-    context_ = cl::Context(info_.device);
+    context_ = sharedContext(info_.device);
     queue_ = cl::CommandQueue(context_, info_.device, CL_QUEUE_PROFILING_ENABLE);
   } catch (const cl::Error& e) {
     rethrowOpenCL("OpenCL context on " + info_.name, e);

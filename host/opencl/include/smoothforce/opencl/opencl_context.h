@@ -86,7 +86,9 @@ struct BuiltProgram {
   std::string cacheNote;    ///< why the cache was not used or not written ("" when fine)
 };
 
-/// A device, its context and one in-order queue with profiling enabled.
+/// A device, its context and one in-order queue with profiling enabled. Every OpenCLContext of
+/// one device in a process shares that device's context (created on first use, kept until the
+/// process exits); each has its own queue.
 class OpenCLContext {
  public:
   /// device: see selectOpenCLDevice. Throws OpenCLError.
