@@ -209,11 +209,14 @@ struct OpenCLCandidateSearch::Impl {
     cq.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(roundUp(n, g)), cl::NDRange(g), nullptr, &kev);
     cq.enqueueReadBuffer(outCount, CL_FALSE, 0, n * sizeof(int32_t), count, nullptr, &ev[2]);
     cq.enqueueReadBuffer(outOffset, CL_FALSE, 0, n * sizeof(int32_t), offset, nullptr, &ev[3]);
-    cq.enqueueReadBuffer(outTotal, CL_TRUE, 0, sizeof total, &total, nullptr, &ev[4]);
+    cq.enqueueReadBuffer(outTotal, CL_FALSE, 0, sizeof total, &total, nullptr, &ev[4]);
+    waitSleeping(cq, ev[4]);  // the in-order queue has then completed every command before it
     ids.resize(static_cast<size_t>(total));
     cl::Event idEvent;
-    if (total > 0)
-      cq.enqueueReadBuffer(outId, CL_TRUE, 0, ids.size() * sizeof(int32_t), ids.data(), nullptr, &idEvent);
+    if (total > 0) {
+      cq.enqueueReadBuffer(outId, CL_FALSE, 0, ids.size() * sizeof(int32_t), ids.data(), nullptr, &idEvent);
+      waitSleeping(cq, idEvent);
+    }
     for (size_t i = 0; i < n; ++i)
       if (!inCoordinateRange(q[i])) count[i] = -1;
     kernel = eventSeconds(kev);

@@ -2,7 +2,9 @@
 #include "opencl_program.h"
 
 #include <climits>
+#include <chrono>
 #include <sstream>
+#include <thread>
 #include <stdexcept>
 
 #include <smoothforce/patch/detail/gp_math.h>
@@ -66,6 +68,16 @@ std::vector<std::string> programSources(const char* kernelFile, const char* kern
   if (withClosest) s.push_back(withLine("gp_closest.h", kernels::gp_closest_h));
   s.push_back(withLine(kernelFile, kernelText));
   return s;
+}
+
+void waitSleeping(cl::CommandQueue& q, const cl::Event& e) {
+  q.flush();
+  for (;;) {
+    const cl_int status = e.getInfo<CL_EVENT_COMMAND_EXECUTION_STATUS>();
+    if (status == CL_COMPLETE) return;
+    if (status < 0) throw cl::Error(status, "clWaitForEvents");
+    std::this_thread::sleep_for(std::chrono::microseconds(20));
+  }
 }
 
 size_t Device::chooseGroupSize(const cl::Kernel& k) const {

@@ -73,6 +73,10 @@ cl::Buffer upload(OpenCLContext& c, const std::vector<T>& v, std::vector<cl::Eve
   return b;
 }
 
+/// Waits for e to complete, sleeping between checks of its status: a blocking wait spins a core
+/// in some drivers (NVIDIA's), and the OpenCL sweep's CPU stages run on every core meanwhile.
+/// Flushes q first. Throws cl::Error for a failed command.
+void waitSleeping(cl::CommandQueue& q, const cl::Event& e);
 /// Sum of the profiled durations of completed events, s.
 double sumSeconds(const std::vector<cl::Event>& ev);
 

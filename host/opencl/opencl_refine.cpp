@@ -40,7 +40,7 @@ struct OpenCLRefiner::Impl {
   size_t cap = 0;
   std::vector<int32_t> face, edge, iters, outInt;  // staging
   std::vector<uint32_t> status;
-  std::vector<double> realD;  // 3N HIPs, then 2N start points; 8N results
+  std::vector<double> realD;  // 3N HIPs, then 2N start points; then 8N results
   std::vector<float> realF;
   double uploadSec = 0, kernel = 0, transfer = 0;
 
@@ -87,7 +87,7 @@ struct OpenCLRefiner::Impl {
     if (n == 0) return;
     validateRefineOptions(o);
     reserve(n);
-    real.resize(8 * n);  // inputs use 5n
+    real.resize(13 * n);  // inputs [0, 5n), results [5n, 13n): the reads never overwrite what a write reads
     face.resize(n);
     edge.resize(n);
     iters.resize(n);
@@ -128,18 +128,18 @@ struct OpenCLRefiner::Impl {
     k.setArg(a++, static_cast<Real>(std::sin(static_cast<Real>(o.angleTolerance))));
     k.setArg(a++, dev.domainTable(precision));
     const size_t g = dev.groupSize();
-    // the writes above read `real` asynchronously: finish them before it is overwritten
     cq.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(roundUp(n, g)), cl::NDRange(g), nullptr, &kev);
-    cq.finish();
-    cq.enqueueReadBuffer(outR, CL_FALSE, 0, 8 * n * sizeof(Real), real.data(), nullptr, &ev[5]);
+    Real* const got = real.data() + 5 * n;
+    cq.enqueueReadBuffer(outR, CL_FALSE, 0, 8 * n * sizeof(Real), got, nullptr, &ev[5]);
     cq.enqueueReadBuffer(outI, CL_FALSE, 0, 5 * n * sizeof(int32_t), outInt.data(), nullptr, &ev[6]);
-    cq.enqueueReadBuffer(outSt, CL_TRUE, 0, n * sizeof(uint32_t), status.data(), nullptr, &ev[7]);
+    cq.enqueueReadBuffer(outSt, CL_FALSE, 0, n * sizeof(uint32_t), status.data(), nullptr, &ev[7]);
+    waitSleeping(cq, ev[7]);  // the in-order queue has then completed every command before it
     parallelRange(n, [&](size_t i) {
       RefineResult& r = res[i];
-      r.scp = {real[i], real[n + i], real[2 * n + i]};
-      r.normal = {real[3 * n + i], real[4 * n + i], real[5 * n + i]};
-      r.xi = real[6 * n + i];
-      r.eta = real[7 * n + i];
+      r.scp = {got[i], got[n + i], got[2 * n + i]};
+      r.normal = {got[3 * n + i], got[4 * n + i], got[5 * n + i]};
+      r.xi = got[6 * n + i];
+      r.eta = got[7 * n + i];
       r.face = outInt[i];
       r.edge = outInt[n + i];
       r.iterations = outInt[2 * n + i];
