@@ -7,6 +7,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
+#include <future>
+#include <utility>
 #include <limits>
 #include <memory>
 #include <vector>
@@ -73,15 +76,18 @@ struct OpenCLPatchProber::Impl {
   /// per HIP of a chunk: its step's candidates (kCandidates of storage; a step with more
   /// searches again when it finishes)
   static constexpr int kCandidates = 16;
-  std::vector<SurfaceCandidate> candidateStore;
+  std::unique_ptr<CandidateBuffer<kCandidates>[]> candidateStore;  ///< left uninitialised: the search writes it
+  size_t storeSize = 0;
   std::vector<CandidateList> candidates;
-  // the steps whose candidates the device searches: their indices in the chunk, HIPs, and results
+  // the steps whose candidates the device searches, per half of a chunk: their HIPs and results
   static constexpr int kDeviceCandidates = OpenCLCandidateSearch::kMaxCap;
-  std::vector<uint32_t> searched;
-  std::vector<Eigen::Vector3d> searchHip;
-  std::vector<int32_t> searchIds, searchCount;
-  std::vector<uint32_t> searchOffset;
-  std::vector<int32_t> searchSlot;  ///< per HIP of the chunk: its place in `searched`, or -1
+  struct SearchBatch {
+    std::vector<Eigen::Vector3d> hip;
+    std::vector<int32_t> ids, count;
+    std::vector<uint32_t> offset;
+  };
+  SearchBatch batch[2];
+  std::vector<int32_t> searchSlot;  ///< per HIP of the chunk: its place in its half's batch, or -1
   OpenCLProbeTiming timing;
 };
 
@@ -121,19 +127,22 @@ size_t OpenCLPatchProber::run(const HipSet& set, size_t begin, size_t end, const
   I.query.resize(chunk);
   I.result.resize(chunk);
   I.hint.resize(chunk);
-  I.candidateStore.resize(chunk * Impl::kCandidates);
+  if (I.storeSize < chunk) {
+    I.candidateStore.reset(new CandidateBuffer<Impl::kCandidates>[chunk]);
+    I.storeSize = chunk;
+  }
   I.candidates.resize(chunk);
-  for (size_t i = 0; i < chunk; ++i)
-    I.candidates[i] = CandidateList{I.candidateStore.data() + i * Impl::kCandidates, Impl::kCandidates, 0};
+  for (size_t i = 0; i < chunk; ++i) I.candidates[i] = CandidateList{I.candidateStore[i].data(), Impl::kCandidates, 0};
   const std::vector<uint32_t> order = probeOrder(set, begin, end);  // as runProbes: neighbours in turn
-  // Per chunk and step: begin (CPU, parallel) -> refine (device, the whole chunk) -> finish (CPU,
-  // parallel). Measured on an H200 with 16 cores, the refinement calls are about 7% of a sweep's
-  // time and their kernels 1% (0.02 s per million HIPs): overlapping them with the CPU's stages
-  // gained nothing.
+  I.searchSlot.assign(chunk, -1);
+  // Per chunk, two halves in turn, and per half and step: begin (CPU, parallel) -> device (the
+  // half's refinements, then its seeded steps' candidate searches) -> finish (CPU, parallel).
+  // The device stages run on a thread of their own while the CPU works on the other half.
   size_t c0 = 0;  // the chunk's first HIP (an index into order)
-  auto beginStep = [&](int step, size_t m) {
+  using Range = std::pair<size_t, size_t>;  // [first, last) of the chunk
+  auto beginStep = [&](int step, Range r) {
     const auto t = Clock::now();
-    tbb::parallel_for(size_t(0), m, [&](size_t i) {
+    tbb::parallel_for(r.first, r.second, [&](size_t i) {
       thread_local std::vector<double> lambda;
       lambda.resize(I.maxN);
       const size_t g = begin + order[c0 + i];
@@ -152,48 +161,45 @@ size_t OpenCLPatchProber::run(const HipSet& set, size_t begin, size_t end, const
     });
     I.timing.cpu += since(t);
   };
-  auto refineStep = [&](size_t m) {
-    const auto t = Clock::now();
-    I.refiner->refine(I.query.data(), m, I.options, I.result.data());
+  // The device's part of a half (on the device thread): the first refinement of every step, then
+  // the candidates of the seeded global steps (beginPatchStep leaves them to the finish, bounded
+  // by the refinement), as triangle indices whose records the finish computes.
+  auto deviceStep = [&I](Range r, Impl::SearchBatch& b) {
+    const size_t m = r.second - r.first;
+    auto t = Clock::now();
+    I.refiner->refine(I.query.data() + r.first, m, I.options, I.result.data() + r.first);
     I.timing.refine += since(t);
     I.timing.kernel += I.refiner->lastKernelSeconds();
     I.timing.transfer += I.refiner->lastTransferSeconds();
     ++I.timing.refinements;
-  };
-  // A seeded global step's candidates (beginPatchStep leaves them to the finish, bounded by the
-  // refinement): searched on the device for the whole chunk, then turned into the host's records.
-  auto searchStep = [&](size_t m) {
     if (!I.search) return;
-    const auto t = Clock::now();
-    I.searched.clear();
-    I.searchHip.clear();
-    I.searchSlot.assign(m, -1);
-    for (size_t i = 0; i < m; ++i)
+    t = Clock::now();
+    b.hip.clear();
+    for (size_t i = r.first; i < r.second; ++i) {
+      I.searchSlot[i] = -1;
       if (I.refine[i] && I.start[i].global && I.start[i].seeded && I.candidates[i].count == 0) {
-        I.searchSlot[i] = static_cast<int32_t>(I.searched.size());
-        I.searched.push_back(static_cast<uint32_t>(i));
-        I.searchHip.push_back(I.query[i].hip);
+        I.searchSlot[i] = static_cast<int32_t>(b.hip.size());
+        b.hip.push_back(I.query[i].hip);
       }
-    const size_t k = I.searched.size();
-    I.searchCount.resize(k);
-    I.searchOffset.resize(k);
-    I.search->search(I.searchHip.data(), k, Impl::kDeviceCandidates, I.searchCount.data(), I.searchOffset.data(),
-                     I.searchIds);
+    }
+    b.count.resize(b.hip.size());
+    b.offset.resize(b.hip.size());
+    I.search->search(b.hip.data(), b.hip.size(), Impl::kDeviceCandidates, b.count.data(), b.offset.data(), b.ids);
     I.timing.search += since(t);
     I.timing.kernel += I.search->lastKernelSeconds();
     I.timing.transfer += I.search->lastTransferSeconds();
   };
-  auto finishStep = [&](int step, size_t m) {
+  auto finishStep = [&](int step, Range r, const Impl::SearchBatch& b) {
     const auto t = Clock::now();
-    tbb::parallel_for(size_t(0), m, [&](size_t i) {
+    tbb::parallel_for(r.first, r.second, [&](size_t i) {
       CandidateBuffer<Impl::kDeviceCandidates> device;
       CandidateList deviceList{device.data(), Impl::kDeviceCandidates, 0};
       CandidateList* list = &I.candidates[i];
       if (I.search && I.searchSlot[i] >= 0) {  // the device's triangles, the host's records
         const size_t k = static_cast<size_t>(I.searchSlot[i]);
-        deviceList.count = std::max(0, I.searchCount[k]);
+        deviceList.count = std::max(0, b.count[k]);
         for (int j = 0; j < deviceList.count; ++j)
-          device[j] = I.surface->candidateOf(I.query[i].hip, I.searchIds[I.searchOffset[k] + j]);
+          device[j] = I.surface->candidateOf(I.query[i].hip, b.ids[b.offset[k] + j]);
         list = &deviceList;
       }
       if (I.refine[i])
@@ -203,16 +209,38 @@ size_t OpenCLPatchProber::run(const HipSet& set, size_t begin, size_t end, const
     });
     I.timing.cpu += since(t);
   };
+  std::future<void> device;  // the device stage in flight
+  auto launch = [&](Range r, int half) {
+    device = std::async(std::launch::async, deviceStep, r, std::ref(I.batch[half]));
+  };
+  auto wait = [&] {
+    const auto t = Clock::now();
+    device.get();  // rethrows the device's errors here
+    I.timing.wait += since(t);
+  };
   size_t done = 0;
   for (; c0 < end - begin; c0 += chunk) {
     if (control.stop && control.stop->load(std::memory_order_relaxed)) break;
     const size_t m = std::min(chunk, end - begin - c0);
-    for (int step = 0; step < 2; ++step) {  // the approach step, then the step at the HIP
-      beginStep(step, m);
-      refineStep(m);
-      searchStep(m);
-      finishStep(step, m);
-    }
+    const Range half[2] = {{0, m / 2}, {m / 2, m}};  // the first is empty for a chunk of 1
+    // step 0 of A, then B; step 1 of A, then B: the device works on one half while the CPU
+    // begins or finishes the other
+    beginStep(0, half[0]);
+    launch(half[0], 0);
+    beginStep(0, half[1]);
+    wait();
+    launch(half[1], 1);
+    finishStep(0, half[0], I.batch[0]);
+    beginStep(1, half[0]);
+    wait();
+    launch(half[0], 0);
+    finishStep(0, half[1], I.batch[1]);
+    beginStep(1, half[1]);
+    wait();
+    launch(half[1], 1);
+    finishStep(1, half[0], I.batch[0]);
+    wait();
+    finishStep(1, half[1], I.batch[1]);
     done += m;
     if (control.progress) control.progress(m);
   }

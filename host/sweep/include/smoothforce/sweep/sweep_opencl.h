@@ -14,15 +14,17 @@ class PatchSurface;
 class PolygonScene;
 
 /// Where an OpenCLPatchProber spent its wall time, s: its set-up, and summed over its runs the
-/// runs and their parts. What a run spends beyond cpu, refine and search (the HIPs' Morton order)
-/// is serial on the calling thread.
+/// runs and their parts. The device's stages (refine, search) run on a thread of their own, beside
+/// the CPU stages; what a run spends beyond cpu and wait (the HIPs' Morton order) is serial on the
+/// calling thread.
 struct OpenCLProbeTiming {
   double setup = 0;        ///< the constructor: polygon scene and patch surface (unless given), beside the
                            ///< device's context, program and cache upload
   double run = 0;          ///< run(), whole
   double cpu = 0;          ///< the CPU stages: each step's global query and contact decision (oneTBB)
-  double refine = 0;       ///< refinement calls, the CPU waiting: packing, transfers, kernel, unpacking
-  double search = 0;       ///< candidate-search calls, the CPU waiting (OpenCLCandidateSearch)
+  double wait = 0;         ///< the calling thread waiting for the device's stages
+  double refine = 0;       ///< refinement calls on the device thread: packing, transfers, kernel, unpacking
+  double search = 0;       ///< candidate-search calls on the device thread (OpenCLCandidateSearch)
   double kernel = 0;       ///< of refine and search: device kernel time (profiling events)
   double transfer = 0;     ///< of refine and search: device transfer time (profiling events)
   size_t refinements = 0;  ///< refinement calls (kernel runs)
