@@ -308,9 +308,10 @@ void addSweepCommands(CLI::App& app) {
   addPatchArgs(*s, a->patch);
   addRefineArgs(*s, a->refine);
   s->footer(
-      "--backend tbb|serial|opencl: opencl builds the patches and runs the patch method's refinements (--refine "
-      "newton) on the OpenCL device, a chunk of HIPs per kernel run; the global queries, god-objects and "
-      "trajectories run on the CPU with oneTBB.\nSIGINT (Ctrl-C) and SIGTERM (Slurm's time limit, scancel) stop at the "
+      "--backend tbb|serial|opencl: opencl builds the patches and runs the patch method's refinements and (with "
+      "cl_khr_fp64) its global queries' candidate searches on the OpenCL device, half a chunk of HIPs per kernel run, "
+      "while the CPU runs the rest of the other half's steps with oneTBB; god-objects and trajectories run on the "
+      "CPU.\nSIGINT (Ctrl-C) and SIGTERM (Slurm's time limit, scancel) stop at the "
       "next chunk: the HIPs done are saved as a checkpoint and the exit status is 130 or 143; --resume continues. "
       "See docs/sweeps.md; tools/slurm/ has job-array scripts.");
   s->callback([a] { runSweepCommand(*a); });

@@ -68,4 +68,5 @@
 #include <smoothforce/force/shared_geometry.h>
 
 #include <smoothforce/opencl/opencl_backend.h>
+#include <smoothforce/opencl/opencl_candidates.h>
 #include <smoothforce/opencl/opencl_refine.h>
