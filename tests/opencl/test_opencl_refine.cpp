@@ -502,6 +502,40 @@ TEST_F(OpenCLRefine, SweepProberWithTheCallersSceneAndSurfaceGivesTheSameBits) {
   EXPECT_THROW(OpenCLPatchProber(other, nullptr, surface, ForceOptions{}), InputError);
 }
 
+// The OpenCL prober (refinements and candidate searches on the device, the rest on the CPU)
+// gives the CPU path's records byte for byte on every kind of shared mesh in double: a cage, a
+// non-convex part cut by the fold repair, an open sheet, a part with creases, a quad sphere.
+TEST_F(OpenCLRefine, SweepProbesAreTheCpuPathsBytesOnEveryKindOfMesh) {
+  size_t meshes = 0, hips = 0, contacts = 0;
+  for (const char* rel : {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/tetris.obj",
+                          "polygon_laplacian/L-plane.obj", "pmp/chamfer-cube.off", "polygon_laplacian/quad-sphere.off"}) {
+    auto cache = std::make_shared<const PatchCache>(test::cacheFromFile(test::sharedMesh(rel)));
+    const PatchSurfaceSampler sampler(*cache);
+    const HipSet set = makeDepthHips(sampler.sample(400, 11), parseDepthList("0.2%,1%,3%"), boundingDiagonal(*cache),
+                                     sampler.area());
+    auto scene = std::make_shared<const PolygonScene>(*cache, kPlanarTolerance);
+    auto surface = std::make_shared<const PatchSurface>(*cache, patchSurfaceOptions(ForceOptions{}));
+    std::vector<HipResult> cpu(set.size()), device(set.size());
+    ASSERT_EQ(runProbes(set, 0, set.size(),
+                        [&] { return makeForceRenderer(cache, scene, ForceMethod::Patch, ForceOptions{}, surface); },
+                        nullptr, cpu.data(), {}),
+              set.size());
+    ASSERT_EQ(OpenCLPatchProber(cache, scene, surface, ForceOptions{}).run(set, 0, set.size(), nullptr, device.data(), {}),
+              set.size());
+    size_t differ = 0;
+    for (size_t i = 0; i < set.size(); ++i) {
+      differ += std::memcmp(&cpu[i], &device[i], sizeof(HipResult)) != 0;
+      contacts += cpu[i].contact;
+    }
+    EXPECT_EQ(differ, 0u) << rel << ": of " << set.size() << " HIPs";
+    hips += set.size();
+    ++meshes;
+  }
+  EXPECT_EQ(meshes, 5u);
+  EXPECT_EQ(hips, 5u * 1200u);
+  EXPECT_GT(contacts, hips / 2);
+}
+
 TEST_F(OpenCLRefine, SweepTbbAndOpenCLAgree) {
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path() / ("sf_sweep_opencl_" + std::to_string(::getpid()));
