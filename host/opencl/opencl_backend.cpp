@@ -1,9 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <smoothforce/opencl/opencl_backend.h>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <chrono>
 #include <stdexcept>
@@ -226,16 +223,17 @@ struct OpenCLEvaluator::Impl {
     auto t2 = Clock::now();
     // the device's field-major results into PatchPoints, in blocks on the worker threads (a
     // memory-bound copy: 104 bytes read and written per double point)
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 16384), [&](const tbb::blocked_range<size_t>& b) {
-      for (size_t i = b.begin(); i < b.end(); ++i) {
-        PatchPoint& p = res[i];
-        p.pos = {o[i], o[n + i], o[2 * n + i]};
-        p.dxi = {o[3 * n + i], o[4 * n + i], o[5 * n + i]};
-        p.deta = {o[6 * n + i], o[7 * n + i], o[8 * n + i]};
-        p.normal = {o[9 * n + i], o[10 * n + i], o[11 * n + i]};
-        p.status = outSt[i];
-      }
-    });
+    parallelRange(
+        n,
+        [&](size_t i) {
+          PatchPoint& p = res[i];
+          p.pos = {o[i], o[n + i], o[2 * n + i]};
+          p.dxi = {o[3 * n + i], o[4 * n + i], o[5 * n + i]};
+          p.deta = {o[6 * n + i], o[7 * n + i], o[8 * n + i]};
+          p.normal = {o[9 * n + i], o[10 * n + i], o[11 * n + i]};
+          p.status = outSt[i];
+        },
+        16384);
     auto t3 = Clock::now();
     kernel = eventSeconds(kev);
     for (const auto& e : ev) transfer += eventSeconds(e);

@@ -1,9 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <smoothforce/opencl/opencl_candidates.h>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -145,7 +142,7 @@ struct OpenCLCandidateSearch::Impl {
       std::copy_n(corner.begin() + 9 * t, 9, leafCorner.begin() + 9 * j);
       leafError[j] = error[t];
     }
-    dev.get(Precision::Double);  // build first: no fp64 fails here
+    dev.get(Precision::Double);  // the program first: a build failure comes before the upload
     std::vector<cl::Event> ev;
     nodeBox = opencl_detail::upload(dev.ctx, b.box, ev);
     nodeFirst = opencl_detail::upload(dev.ctx, b.first, ev);
@@ -186,11 +183,9 @@ struct OpenCLCandidateSearch::Impl {
     staging.resize(3 * n);
     // a query outside the coordinate range is not searched: a stand-in on the surface, whose walk
     // ends soon, takes its place
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& r) {
-      for (size_t i = r.begin(); i < r.end(); ++i) {
-        const Eigen::Vector3d& p = inCoordinateRange(q[i]) ? q[i] : standIn;
-        for (int a = 0; a < 3; ++a) staging[3 * i + a] = p[a];
-      }
+    parallelRange(n, [&](size_t i) {
+      const Eigen::Vector3d& p = inCoordinateRange(q[i]) ? q[i] : standIn;
+      for (int a = 0; a < 3; ++a) staging[3 * i + a] = p[a];
     });
     cl::Kernel& k = dev.get(Precision::Double);
     cl::CommandQueue& cq = dev.ctx.queue();

@@ -4,6 +4,9 @@
 // file, and buffer helpers. Not part of the public API.
 #pragma once
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <string>
 #include <vector>
@@ -20,6 +23,15 @@ std::vector<std::string> programSources(const char* kernelFile, const char* kern
                                         bool withClosest = false);
 
 inline size_t roundUp(size_t n, size_t m) { return (n + m - 1) / m * m; }
+
+/// f(i) for i in [0, n) in oneTBB tasks of at least `grain` items: a batch's packing into the
+/// device's layout and its unpacking, memory-bound copies as long as their transfers.
+template <class F>
+void parallelRange(size_t n, const F& f, size_t grain = 4096) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, grain), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i < r.end(); ++i) f(i);
+  });
+}
 
 /// A context plus the float and double programs of one kernel file, built on first use.
 struct Device {

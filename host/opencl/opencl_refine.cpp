@@ -1,9 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <smoothforce/opencl/opencl_refine.h>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -17,16 +14,6 @@
 namespace sf {
 
 using namespace opencl_detail;
-
-namespace {
-/// f(i) for i in [0, n), in oneTBB tasks of at least 4,096 items.
-template <class F>
-void parallelRange(size_t n, const F& f) {
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i < r.end(); ++i) f(i);
-  });
-}
-}  // namespace
 
 struct OpenCLRefiner::Impl {
   Impl(const PatchCache& c, const OpenCLOptions& o)
