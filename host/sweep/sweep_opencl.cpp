@@ -61,7 +61,8 @@ struct OpenCLPatchProber::Impl {
   std::unique_ptr<OpenCLRefiner> refiner;
   /// the candidate search of the seeded steps' global queries (null: on the host)
   std::unique_ptr<OpenCLCandidateSearch> search;
-  /// the CPU refines the global query's further candidates, where they could be nearer (rare)
+  /// the CPU refines the global query's further candidates (those whose lower bound is below the
+  /// nearest distance found so far)
   tbb::enumerable_thread_specific<std::unique_ptr<PatchRefiner>> cpu;
   int maxN = 3;
   // per HIP of a chunk: contact state, the step's sample and start, the refinement, and the
@@ -73,8 +74,8 @@ struct OpenCLPatchProber::Impl {
   std::vector<RefineQuery> query;
   std::vector<RefineResult> result;
   std::vector<PatchStepHint> hint;
-  /// per HIP of a chunk: its step's candidates (kCandidates of storage; a step with more
-  /// searches again when it finishes)
+  /// per HIP of a chunk: an unseeded step's candidates, searched in beginPatchStep (kCandidates of
+  /// storage; a step with more searches again when it finishes)
   static constexpr int kCandidates = 16;
   std::unique_ptr<CandidateBuffer<kCandidates>[]> candidateStore;  ///< left uninitialised: the search writes it
   size_t storeSize = 0;
