@@ -446,15 +446,26 @@ void expectJsonNear(const nlohmann::json& a, const nlohmann::json& b, double rel
   }
 }
 
+/// HIPs at `depths` (a depth list) below n patch points of `cache` sampled with `seed`.
+HipSet depthHipsOf(const PatchCache& cache, size_t n, uint64_t seed, const char* depths) {
+  const PatchSurfaceSampler sampler(cache);
+  return makeDepthHips(sampler.sample(n, seed), parseDepthList(depths), boundingDiagonal(cache), sampler.area());
+}
+
+/// How many of the records a[i], b[i] (i < a.size()) differ in any byte.
+size_t differingRecords(const std::vector<HipResult>& a, const std::vector<HipResult>& b) {
+  size_t differ = 0;
+  for (size_t i = 0; i < a.size(); ++i) differ += std::memcmp(&a[i], &b[i], sizeof(HipResult)) != 0;
+  return differ;
+}
+
 // The OpenCL prober resets each HIP's contact state per chunk and keeps per-HIP arrays sized to the
 // chunk: every HIP's record is the same bits whatever the chunk (1 HIP, odd sizes, all at once)
 // and whatever range of the HIP list a run covers.
 TEST_F(OpenCLRefine, SweepProbesAreTheSameBitsForEveryChunk) {
   auto cache =
       std::make_shared<const PatchCache>(test::cacheFromFile(test::sharedMesh("keenan_crane/spot_control_mesh.obj")));
-  const PatchSurfaceSampler sampler(*cache);
-  const HipSet set = makeDepthHips(sampler.sample(700, 3), parseDepthList("0.5%,2%"), boundingDiagonal(*cache),
-                                   sampler.area());
+  const HipSet set = depthHipsOf(*cache, 700, 3, "0.5%,2%");
   OpenCLPatchProber prober(cache, ForceOptions{});
   std::vector<HipResult> all(set.size());
   ASSERT_EQ(prober.run(set, 0, set.size(), nullptr, all.data(), {}), set.size());
@@ -469,9 +480,7 @@ TEST_F(OpenCLRefine, SweepProbesAreTheSameBitsForEveryChunk) {
     const size_t mid = 333;  // two ranges: the second starts inside the first's last chunk
     ASSERT_EQ(prober.run(set, 0, mid, nullptr, part.data(), {}, chunk), mid);
     ASSERT_EQ(prober.run(set, mid, set.size(), nullptr, part.data() + mid, {}, chunk), set.size() - mid);
-    size_t differ = 0;
-    for (size_t i = 0; i < set.size(); ++i) differ += std::memcmp(&part[i], &all[i], sizeof(HipResult)) != 0;
-    EXPECT_EQ(differ, 0u) << "chunk " << chunk;
+    EXPECT_EQ(differingRecords(part, all), 0u) << "chunk " << chunk;
   }
 }
 
@@ -481,21 +490,16 @@ TEST_F(OpenCLRefine, SweepProbesAreTheSameBitsForEveryChunk) {
 TEST_F(OpenCLRefine, SweepProberWithTheCallersSceneAndSurfaceGivesTheSameBits) {
   auto cache =
       std::make_shared<const PatchCache>(test::cacheFromFile(test::sharedMesh("keenan_crane/spot_control_mesh.obj")));
-  const PatchSurfaceSampler sampler(*cache);
-  const HipSet set = makeDepthHips(sampler.sample(600, 7), parseDepthList("0.3%,1%,3%"), boundingDiagonal(*cache),
-                                   sampler.area());
+  const HipSet set = depthHipsOf(*cache, 600, 7, "0.3%,1%,3%");
   std::vector<HipResult> own(set.size()), given(set.size());
   ASSERT_EQ(OpenCLPatchProber(cache, ForceOptions{}).run(set, 0, set.size(), nullptr, own.data(), {}), set.size());
   auto scene = std::make_shared<const PolygonScene>(*cache, kPlanarTolerance);
   auto surface = std::make_shared<const PatchSurface>(*cache, patchSurfaceOptions(ForceOptions{}));
   OpenCLPatchProber shared(cache, scene, surface, ForceOptions{});
   ASSERT_EQ(shared.run(set, 0, set.size(), nullptr, given.data(), {}), set.size());
-  size_t differ = 0, contact = 0;
-  for (size_t i = 0; i < set.size(); ++i) {
-    differ += std::memcmp(&own[i], &given[i], sizeof(HipResult)) != 0;
-    contact += own[i].contact;
-  }
-  EXPECT_EQ(differ, 0u) << "of " << set.size() << " HIPs";
+  size_t contact = 0;
+  for (const HipResult& r : own) contact += r.contact;
+  EXPECT_EQ(differingRecords(own, given), 0u) << "of " << set.size() << " HIPs";
   EXPECT_GT(contact, set.size() / 2);
   auto other = std::make_shared<const PatchCache>(test::cacheFromFile(test::sharedMesh("keenan_crane/spot_control_mesh.obj")));
   EXPECT_THROW(OpenCLPatchProber(other, scene, nullptr, ForceOptions{}), InputError);
@@ -510,9 +514,7 @@ TEST_F(OpenCLRefine, SweepProbesAreTheCpuPathsBytesOnEveryKindOfMesh) {
   for (const char* rel : {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/tetris.obj",
                           "polygon_laplacian/L-plane.obj", "pmp/chamfer-cube.off", "polygon_laplacian/quad-sphere.off"}) {
     auto cache = std::make_shared<const PatchCache>(test::cacheFromFile(test::sharedMesh(rel)));
-    const PatchSurfaceSampler sampler(*cache);
-    const HipSet set = makeDepthHips(sampler.sample(400, 11), parseDepthList("0.2%,1%,3%"), boundingDiagonal(*cache),
-                                     sampler.area());
+    const HipSet set = depthHipsOf(*cache, 400, 11, "0.2%,1%,3%");
     auto scene = std::make_shared<const PolygonScene>(*cache, kPlanarTolerance);
     auto surface = std::make_shared<const PatchSurface>(*cache, patchSurfaceOptions(ForceOptions{}));
     std::vector<HipResult> cpu(set.size()), device(set.size());
@@ -522,12 +524,8 @@ TEST_F(OpenCLRefine, SweepProbesAreTheCpuPathsBytesOnEveryKindOfMesh) {
               set.size());
     ASSERT_EQ(OpenCLPatchProber(cache, scene, surface, ForceOptions{}).run(set, 0, set.size(), nullptr, device.data(), {}),
               set.size());
-    size_t differ = 0;
-    for (size_t i = 0; i < set.size(); ++i) {
-      differ += std::memcmp(&cpu[i], &device[i], sizeof(HipResult)) != 0;
-      contacts += cpu[i].contact;
-    }
-    EXPECT_EQ(differ, 0u) << rel << ": of " << set.size() << " HIPs";
+    for (const HipResult& r : cpu) contacts += r.contact;
+    EXPECT_EQ(differingRecords(cpu, device), 0u) << rel << ": of " << set.size() << " HIPs";
     hips += set.size();
     ++meshes;
   }
