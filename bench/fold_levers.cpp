@@ -6,7 +6,8 @@
 // smallest cosine to the incident face normals), and after pulling the normals of such faces'
 // corners towards the face normals (12 rounds of 25%, at most 60 degrees from the original).
 // Both keep G1 (every edge curve is still built from its own vertices' normals).
-//   fold_levers MESH [--cage]        (docs/fold-levers.md)
+// With --search, the normals that searchNormalsAgainstFaults finds instead (normal_search.h).
+//   fold_levers MESH [--cage] [--search [--level L] [--passes P] [--bound DEG]]   (docs/fold-levers.md)
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
@@ -20,6 +21,7 @@
 #include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/patch/patch_build.h>
 #include <smoothforce/patch/patch_eval.h>
+#include <smoothforce/query/normal_search.h>
 #include <smoothforce/query/patch_surface.h>
 #include <smoothforce/query/surface_faults.h>
 #include "bench_common.h"
@@ -170,18 +172,48 @@ void pullNormals(PatchCache& c, const Faces& faces) {
   }
 }
 
+/// The normals found by searchNormalsAgainstFaults (normal_search.h).
+void searchNormals(PatchCache& c, const NormalSearchOptions& so) {
+  const NormalSearchReport r = searchNormalsAgainstFaults(c, so);
+  double maxRot = 0;
+  for (const NormalChange& ch : r.changes) maxRot = std::max(maxRot, ch.rotationDeg);
+  std::printf("  search (level %d, %d passes, bound %.0f deg): %s; %zu normals turned (at most %.1f deg), %zu faces "
+              "changed; fault %.4f%% -> %.4f%%; %lld candidates, %.1f s\n",
+              r.searchLevel, so.passes, so.maxRotationDeg, r.applied ? "applied" : "not applied", r.changes.size(),
+              maxRot, r.changedFaces.size(), 100 * r.faultBefore / r.totalArea, 100 * r.faultAfter / r.totalArea,
+              static_cast<long long>(r.evaluations), r.seconds);
+}
+
 int run(std::vector<std::string> args) {
-  if (args.empty() || args.size() > 2 || (args.size() == 2 && args[1] != "--cage")) {
-    std::fprintf(stderr, "usage: fold_levers MESH [--cage]\n");
+  NormalSearchOptions so;
+  bool search = false, cage = false;
+  std::vector<std::string> rest;
+  for (size_t i = 0; i < args.size(); ++i) {
+    if (args[i] == "--cage") cage = true;
+    else if (args[i] == "--search") search = true;
+    else if (args[i] == "--level" && i + 1 < args.size()) so.searchLevel = std::stoi(args[++i]);
+    else if (args[i] == "--passes" && i + 1 < args.size()) so.passes = std::stoi(args[++i]);
+    else if (args[i] == "--bound" && i + 1 < args.size()) so.maxRotationDeg = std::stod(args[++i]);
+    else rest.push_back(args[i]);
+  }
+  if (rest.size() != 1) {
+    std::fprintf(stderr, "usage: fold_levers MESH [--cage] [--search [--level L] [--passes P] [--bound DEG]]\n");
     return 2;
   }
+  args = rest;
   PatchOptions o;
-  if (args.size() == 2) o.cage = CageMode::CatmullClark;
+  if (cage) o.cage = CageMode::CatmullClark;
   const PatchCache built = buildPatchCache(loadMesh(args[0], o), o, Backend::Tbb);
   const Faces faces(built);
   std::printf("%s%s: %d faces\n", std::filesystem::path(args[0]).filename().string().c_str(),
               o.cage == CageMode::None ? "" : " (Catmull-Clark limit)", built.numFaces());
   report("design page", built, faces);
+  if (search) {
+    PatchCache s = built;
+    searchNormals(s, so);
+    report("normals found by search", s, faces);
+    return 0;
+  }
   PatchCache a = built;
   minimaxNormals(a, faces);
   constructPatches(a, Backend::Tbb, 0);

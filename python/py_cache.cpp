@@ -13,6 +13,7 @@
 #include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/mesh_arrays.h>
 #include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/query/normal_search.h>
 #include <smoothforce/patch/patch_certificate.h>
 #include <smoothforce/patch/patch_option_text.h>
 #include <smoothforce/patch/patch_eval.h>
@@ -46,8 +47,12 @@ Options options(const std::string& precision, const std::string& normals, const 
 
 PyCache fromLoaded(const LoadedMesh& lm, const Options& o, std::string source) {
   PyCache c;
+  if (o.lazy) requireLazyOptions(o.patch);
   PatchCache pc = preparePatchCache(lm.mesh, lm.cornerNormals, o.patch, lm.fileHash, !o.lazy);
-  if (!o.lazy) constructPatches(pc, o.backend, o.threads);
+  if (!o.lazy) {
+    constructPatches(pc, o.backend, o.threads);
+    finishFoldRepair(pc, o.backend, o.threads);
+  }
   c.cache = std::make_shared<const PatchCache>(std::move(pc));
   c.source = std::move(source);
   c.backend = o.backend;
@@ -247,7 +252,8 @@ void bindCache(pyb::module_& m) {
                   "cache build`'s (cage: none or catmull-clark, the limit positions and normals of a subdivision\n"
                   "cage; creases: which marks make crease edges, a list of tags, groups, normals, or none;\n"
                   "crease_angle: degrees, 0 off; fold_repair: on (default; split a synonym), flat polygons with a\n"
-                  "reflex or straight corner cut into convex pieces, or off). Raises ValueError naming the file and line. The GIL is released.")
+                  "reflex or straight corner cut into convex pieces; search, on and then vertex normals turned where\n"
+                  "that removes fault area of the closed surface (not with lazy); or off). Raises ValueError naming the file and line. The GIL is released.")
       .def_static("from_arrays", &fromArrays, "positions"_a, "face_offsets"_a, "face_vertices"_a,
                   "normals"_a = pyb::none(), pyb::kw_only(), "normal_layout"_a = "auto", "name"_a = "<arrays>",
                   "precision"_a = "double", "normals_mode"_a = "auto", "cross_tangent"_a = "corrected",

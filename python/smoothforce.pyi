@@ -40,7 +40,8 @@ class Cache:
         cache build`'s (cage: none or catmull-clark, the limit positions and normals of a subdivision
         cage; creases: which marks make crease edges, a list of tags, groups, normals, or none;
         crease_angle: degrees, 0 off; fold_repair: on (default; split a synonym), flat polygons with a
-        reflex or straight corner cut into convex pieces, or off). Raises ValueError naming the file and line. The GIL is released.
+        reflex or straight corner cut into convex pieces; search, on and then vertex normals turned where
+        that removes fault area of the closed surface (not with lazy); or off). Raises ValueError naming the file and line. The GIL is released.
         """
     def certify(self) -> numpy.ndarray:
         """

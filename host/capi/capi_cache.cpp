@@ -9,6 +9,7 @@
 #include <smoothforce/patch/patch_certificate.h>
 #include <smoothforce/patch/patch_option_text.h>
 #include <smoothforce/patch/patch_eval.h>
+#include <smoothforce/query/normal_search.h>
 #include <smoothforce/query/surface_distance.h>
 #include <smoothforce/version.h>
 #include "capi_detail.h"
@@ -56,8 +57,12 @@ Parsed parseOptions(const sf_cache_options* o) {
 }
 
 sf_cache* finish(const LoadedMesh& lm, const Parsed& p, std::string source) {
+  if (p.lazy) requireLazyOptions(p.patch);
   PatchCache c = preparePatchCache(lm.mesh, lm.cornerNormals, p.patch, lm.fileHash, !p.lazy);
-  if (!p.lazy) constructPatches(c, p.backend, p.threads);
+  if (!p.lazy) {
+    constructPatches(c, p.backend, p.threads);
+    finishFoldRepair(c, p.backend, p.threads);
+  }
   auto* h = new sf_cache;
   h->cache = std::make_shared<const PatchCache>(std::move(c));
   h->backend = p.backend;

@@ -17,10 +17,13 @@ namespace sf {
 FoldRepairMode parseFoldRepairMode(const std::string& s) {
   if (s == "off") return FoldRepairMode::Off;
   if (s == "on" || s == "split") return FoldRepairMode::On;
-  throw InputError("fold repair must be off or on, got '" + s + "'");
+  if (s == "search") return FoldRepairMode::Search;
+  throw InputError("fold repair must be off, on or search, got '" + s + "'");
 }
 
-const char* toString(FoldRepairMode m) { return m == FoldRepairMode::On ? "on" : "off"; }
+const char* toString(FoldRepairMode m) {
+  return m == FoldRepairMode::Search ? "search" : m == FoldRepairMode::On ? "on" : "off";
+}
 
 namespace {
 

@@ -226,9 +226,18 @@ PatchCache readPatchCache(const std::string& path, const CacheExpectation& expec
     const std::string legacy = optionsText(o, "split");
     return h.optionsHash == hashBytes(legacy.data(), legacy.size());
   };
-  if (!hashed(opt)) {
+  // nor has the fold repair's normal search (its caches set the split's bit too)
+  auto hashedSearch = [&](PatchOptions& o) {
+    if (hashed(o)) return true;
+    if (o.foldRepair == FoldRepairMode::Off) return false;
+    o.foldRepair = FoldRepairMode::Search;
+    if (hashed(o)) return true;
+    o.foldRepair = FoldRepairMode::On;
+    return false;
+  };
+  if (!hashedSearch(opt)) {
     opt.cage = CageMode::CatmullClark;
-    if (!hashed(opt)) throw fail("corrupted cache header (options hash)");
+    if (!hashedSearch(opt)) throw fail("corrupted cache header (options hash)");
   }
   uint64_t expected = 0;
   if (!payloadSize(h.numVertices, h.numFaces, h.numSlots, opt.precision, h.version, h.sections, &expected) ||

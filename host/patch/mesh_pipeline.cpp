@@ -47,7 +47,7 @@ LoadedMesh loadMesh(PolygonMesh mesh, uint64_t meshHash, const PatchOptions& opt
     out.normalReport.fallbackVertices = std::move(limit.fallbackVertices);
     out.normalReport.fileHasNormals = !out.mesh.fileNormals.empty() || !out.mesh.fileCornerNormals.empty();
   }
-  if (options.foldRepair == FoldRepairMode::On) out.split = splitBadCorners(out.mesh, &out.cornerNormals);
+  if (options.foldRepair != FoldRepairMode::Off) out.split = splitBadCorners(out.mesh, &out.cornerNormals);
   out.normalFallbacks = out.normalReport.fallbackVertices;
   out.creaseCorners = out.normalReport.creaseCorners;
   return out;
@@ -59,7 +59,15 @@ PatchCache buildPatchCache(const LoadedMesh& loaded, const PatchOptions& options
   return cache;
 }
 
+void requireLazyOptions(const PatchOptions& options) {
+  if (options.foldRepair == FoldRepairMode::Search)
+    throw InputError(
+        "fold_repair search needs every patch of the surface before the first contact: build a cache (smoothforce "
+        "cache build, or a cache that is not lazy), or use on");
+}
+
 PatchCache preparePatchSkeleton(const LoadedMesh& loaded, const PatchOptions& options) {
+  requireLazyOptions(options);
   return preparePatchCache(loaded.mesh, loaded.cornerNormals, options, loaded.fileHash, false);
 }
 

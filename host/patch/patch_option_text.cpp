@@ -17,8 +17,9 @@ const PatchOptionSpec kPatchOptionSpecs[8] = {
      "which marks make crease edges"},
     {"crease_angle", "--crease-angle", OptionType::Number, "degrees in [0, 180) (0: off)",
      "also a crease where adjacent faces turn by more than this angle"},
-    {"fold_repair", "--fold-repair", OptionType::Text, "off|on",
-     "on: cut flat polygons with a reflex or straight corner into convex pieces"},
+    {"fold_repair", "--fold-repair", OptionType::Text, "off|on|search",
+     "on: cut flat polygons with a reflex or straight corner into convex pieces; search: also turn vertex normals "
+     "where that removes surface faults"},
 };
 
 namespace {

@@ -61,14 +61,11 @@ double doubleArea(const UniformTessellation& u, size_t t, Eigen::Vector3d* norma
   return len;
 }
 
-/// The probe distance either side of a triangle, m.
-double probeOffset(const PatchSurface& surface) { return 1e-5 * boundingDiagonal(surface.cache()); }
 }  // namespace
 
-namespace {
-/// The verdict of triangle t (measureSurfaceFaults) with the probe offset h (probeOffset, taken
-/// once by the caller: it scans every vertex), and twice the triangle's area in *area2.
-SurfaceVerdict verdictAndArea(const PatchSurface& surface, size_t t, double h, double* area2) noexcept {
+double surfaceProbeOffset(const PatchSurface& surface) { return 1e-5 * boundingDiagonal(surface.cache()); }
+
+SurfaceVerdict triangleVerdict(const PatchSurface& surface, size_t t, double h, double* area2) noexcept {
   Eigen::Vector3d n, mid;
   *area2 = doubleArea(surface.uniform(), t, &n, &mid);
   if (*area2 == 0) return SurfaceVerdict::Degenerate;
@@ -78,7 +75,6 @@ SurfaceVerdict verdictAndArea(const PatchSurface& surface, size_t t, double h, d
          : front < back          ? SurfaceVerdict::Overlapping
                                  : SurfaceVerdict::Thin;
 }
-}  // namespace
 
 std::vector<std::array<Eigen::Vector3d, 3>> faultTriangles(const PatchSurface& surface, const SurfaceFaults& faults) {
   const UniformTessellation& u = surface.uniform();
@@ -96,11 +92,11 @@ SurfaceFaults measureSurfaceFaults(const PatchSurface& surface) {
   r.closed = surface.closed();
   r.faceFault.assign(surface.cache().numFaces(), 0.0);
   if (!r.closed) return r;
-  r.offset = probeOffset(surface);
+  r.offset = surfaceProbeOffset(surface);
   r.verdict.assign(u.tri.size(), SurfaceVerdict::Degenerate);
   std::vector<double> area2(u.tri.size(), 0.0);
   tbb::parallel_for(size_t(0), u.tri.size(),
-                    [&](size_t t) { r.verdict[t] = verdictAndArea(surface, t, r.offset, &area2[t]); });
+                    [&](size_t t) { r.verdict[t] = triangleVerdict(surface, t, r.offset, &area2[t]); });
   for (size_t t = 0; t < u.tri.size(); ++t) {
     const auto v = static_cast<size_t>(r.verdict[t]);
     ++r.count[v];

@@ -477,8 +477,35 @@ def test_fold_repair_cuts_planar_non_convex_polygons_by_default_and_keeps_their_
     np.testing.assert_array_equal(arrays.face_vertices, cut.face_vertices)
     cut.save(tmp_path / "cut.sfcache")
     np.testing.assert_array_equal(sf.Cache.from_file(str(tmp_path / "cut.sfcache")).face_source, src)
-    with pytest.raises(ValueError, match=r"^fold_repair: expected off\|on, got 'sometimes'"):
+    with pytest.raises(ValueError, match=r"^fold_repair: expected off\|on\|search, got 'sometimes'"):
         sf.Cache.from_file(path, fold_repair="sometimes")
+
+
+def tilted_cube(path, tilt_deg):
+    """A 2 m cube with radial file normals, vertex 7's turned by tilt_deg about (1, -1, 0)."""
+    v = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], float)
+    n = v / np.linalg.norm(v, axis=1)[:, None]
+    a, k = np.radians(tilt_deg), np.array([1.0, -1.0, 0.0]) / np.sqrt(2)
+    n[7] = n[7] * np.cos(a) + np.cross(k, n[7]) * np.sin(a) + k * (k @ n[7]) * (1 - np.cos(a))
+    faces = [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]]
+    with open(path, "w") as f:
+        f.writelines("v %g %g %g\n" % tuple(p) for p in v)
+        f.writelines("vn %.17g %.17g %.17g\n" % tuple(q) for q in n)
+        f.writelines("f " + " ".join("%d//%d" % (i + 1, i + 1) for i in face) + "\n" for face in faces)
+    return path
+
+
+def test_fold_repair_search_turns_normals_as_the_command_line_does_and_refuses_lazy(paths, tmp_path):
+    cube = str(tilted_cube(tmp_path / "cube.obj", 120))
+    on = sf.Cache.from_file(cube, normals="file")
+    searched = sf.Cache.from_file(cube, normals="file", fold_repair="search")
+    turned = np.any(np.asarray(on.corner_normals) != np.asarray(searched.corner_normals), axis=1)
+    assert turned.any() and not turned.all()
+    run(paths["cli"], "cache", "build", cube, "--normals", "file", "--fold-repair", "search", "-o", tmp_path / "c.sfcache")
+    cli = sf.Cache.from_file(str(tmp_path / "c.sfcache"))
+    np.testing.assert_array_equal(cli.corner_normals, searched.corner_normals)
+    with pytest.raises(ValueError, match="fold_repair search needs every patch"):
+        sf.Cache.from_file(cube, normals="file", fold_repair="search", lazy=True)
 
 
 def test_distance_to_measures_the_repair_against_the_part_and_the_other_construction(paths):

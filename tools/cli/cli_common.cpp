@@ -175,11 +175,14 @@ void addSurfaceArgs(CLI::App& cmd, PatchArgs& a) {
                          ->check(patchOptionCheck("crease_angle"))
                          ->capture_default_str();
   a.foldRepairOpt = cmd.add_option("--fold-repair", a.foldRepair,
-                                   "off|on: on (split is a synonym) cuts every flat polygon (its vertices on its plane, "
+                                   "off|on|search: on (split is a synonym) cuts every flat polygon (its vertices on its plane, "
                                    "whatever its corner normals) with a reflex or straight corner (within 1 degree) "
                                    "into convex pieces on diagonals between its own vertices before building patches: "
                                    "the patch of such a polygon folds, or is singular at the straight corner. The cache "
-                                   "holds the pieces; cache info names the faces cut and the pieces of each. off: the "
+                                   "holds the pieces; cache info names the faces cut and the pieces of each. search: on, "
+                                   "then vertex normals turned (at most 60 degrees) where that removes fault area of "
+                                   "the closed patch surface: the lever for curved polygons (seconds to minutes; "
+                                   "needs the whole surface, so not for lazy --mesh rendering). off: the "
                                    "design page's construction on the polygons as read (docs/fold-levers.md)")
                       ->check(patchOptionCheck("fold_repair"))
                       ->capture_default_str();
@@ -241,6 +244,42 @@ double construct(PatchCache& cache, const PatchArgs& args) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+NormalSearchReport finishFoldRepair(PatchCache& cache, const PatchArgs& args) {
+  return sf::finishFoldRepair(cache, args.backendKind(), args.threads);
+}
+
+std::vector<std::string> describeNormalSearch(const NormalSearchReport& r) {
+  std::vector<std::string> out;
+  char buf[320];
+  if (!r.closed) {
+    out.emplace_back("fold repair: search: the patch surface is not closed (no inside, no fault measure): no normal turned");
+    return out;
+  }
+  const double pct = r.totalArea > 0 ? 100.0 / r.totalArea : 0;
+  if (!r.applied) {
+    std::snprintf(buf, sizeof buf, "fold repair: search: fault area %.4f%%; no normal turned lowers it (%.1f s)",
+                  r.faultBefore * pct, r.seconds);
+    out.emplace_back(buf);
+    return out;
+  }
+  double most = 0;
+  for (const NormalChange& c : r.changes) most = std::max(most, c.rotationDeg);
+  std::snprintf(buf, sizeof buf,
+                "fold repair: search: %zu vertex normals turned (at most %.1f degrees), %zu faces changed; fault area "
+                "%.4f%% -> %.4f%% (%lld candidates, %.1f s)",
+                r.changes.size(), most, r.changedFaces.size(), r.faultBefore * pct, r.faultAfter * pct,
+                static_cast<long long>(r.evaluations), r.seconds);
+  out.emplace_back(buf);
+  std::string list = "  turned (vertex: degrees):";
+  for (size_t i = 0; i < r.changes.size() && i < 10; ++i) {
+    std::snprintf(buf, sizeof buf, " %d: %.1f", r.changes[i].vertex, r.changes[i].rotationDeg);
+    list += buf;
+  }
+  if (r.changes.size() > 10) list += " ...";
+  out.push_back(list);
+  return out;
+}
+
 namespace {
 
 /// On stderr: faces with more sides than a patch can have are holes in the patch surface (the
@@ -286,7 +325,13 @@ Source openSource(const std::string& path, const PatchArgs& args, bool lazy) {
   s.cache = preparePatchCache(s.loaded->mesh, s.loaded->cornerNormals, opt, s.loaded->fileHash, !lazy);
   noteUnbuiltFaces(s.cache, path);
   noteDuplicateFaces(s.loaded->report, path);
-  if (!lazy) s.buildSeconds = construct(s.cache, args);
+  if (lazy) requireLazyOptions(opt);
+  if (!lazy) {
+    s.buildSeconds = construct(s.cache, args);
+    if (opt.foldRepair == FoldRepairMode::Search)
+      for (const std::string& line : describeNormalSearch(finishFoldRepair(s.cache, args)))
+        std::fprintf(stderr, "%s: %s\n", path.c_str(), line.c_str());
+  }
   return s;
 }
 

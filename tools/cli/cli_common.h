@@ -10,6 +10,7 @@
 #include <smoothforce/force/force_method.h>
 #include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/patch/patch_eval.h>
+#include <smoothforce/query/normal_search.h>
 
 namespace sf::cli {
 
@@ -91,6 +92,13 @@ Source openSource(const std::string& path, const PatchArgs& args, bool lazy = fa
 
 /// Builds patches for an already loaded mesh with the chosen backend; returns seconds.
 double construct(PatchCache& cache, const PatchArgs& args);
+
+/// Under --fold-repair search, the normal search on a built cache (sf::finishFoldRepair with the
+/// arguments' backend and threads); nothing otherwise.
+NormalSearchReport finishFoldRepair(PatchCache& cache, const PatchArgs& args);
+
+/// The normal search's report as lines for the user (cache build, stderr of the other commands).
+std::vector<std::string> describeNormalSearch(const NormalSearchReport& r);
 
 /// A batch evaluator for the chosen backend (CPU or OpenCL).
 BatchEvaluator makeEvaluator(const PatchCache& cache, const PatchArgs& args);

@@ -152,7 +152,7 @@ void build(const std::string& mesh, std::string out, const PatchArgs& args, bool
                 lm.cageBoundaryVertices);
   std::printf("normals: %s\n", toString(opt.normals));
   for (const std::string& line : lm.normalReport.describe()) std::printf("  %s\n", line.c_str());
-  if (opt.foldRepair == FoldRepairMode::On && (!lm.split.splitFaces.empty() || !lm.split.unsplitFaces.empty())) {
+  if (opt.foldRepair != FoldRepairMode::Off && (!lm.split.splitFaces.empty() || !lm.split.unsplitFaces.empty())) {
     std::printf("fold repair: on: %zu flat polygons with a reflex or straight corner cut into %d convex pieces (faces as read:%s)\n",
                 lm.split.splitFaces.size(), lm.split.pieces, faceIdsText(lm.split.splitFaces).c_str());
     if (!lm.split.unsplitFaces.empty())
@@ -163,6 +163,11 @@ void build(const std::string& mesh, std::string out, const PatchArgs& args, bool
   PatchCache cache = preparePatchCache(lm.mesh, lm.cornerNormals, opt, lm.fileHash);
   const double secs = construct(cache, args);
   throwIfInterrupted("cache build");
+  if (opt.foldRepair == FoldRepairMode::Search) {
+    for (const std::string& line : describeNormalSearch(finishFoldRepair(cache, args)))
+      std::printf("%s\n", line.c_str());
+    throwIfInterrupted("cache build");
+  }
   printPatchSummary(cache);
   printCreases(cache);
   std::printf("build: %.3f ms on %s: %.0f patches/s\n", secs * 1e3, args.backend.c_str(),

@@ -101,10 +101,13 @@ typedef struct sf_cache_options {
                                     sharp, or NULL; read as a file's crease tags */
   int32_t num_creases;         /**< arrays: rows of crease_edges */
   const double* crease_sharpness; /**< arrays: num_creases sharpness values (> 0 sharp), or NULL: 10 */
-  const char* fold_repair;     /**< "on" (default; "split" is a synonym) or "off": with on, every flat
-                                    polygon with a reflex or straight corner is cut into convex pieces
-                                    first; the cache's faces are then the pieces (sf_cache_face_source).
-                                    off: the design page's construction on the polygons as read */
+  const char* fold_repair;     /**< "on" (default; "split" is a synonym), "search" or "off": with on,
+                                    every flat polygon with a reflex or straight corner is cut into
+                                    convex pieces first; the cache's faces are then the pieces
+                                    (sf_cache_face_source). search: on, then vertex normals turned (at
+                                    most 60 degrees) where that removes fault area of the closed patch
+                                    surface (seconds to minutes; refused with lazy). off: the design
+                                    page's construction on the polygons as read */
 } sf_cache_options;
 void sf_cache_options_init(sf_cache_options* options);
 

@@ -50,6 +50,7 @@
 #include <smoothforce/query/lazy_surface.h>
 #include <smoothforce/query/global_query.h>
 #include <smoothforce/query/mean_value.h>
+#include <smoothforce/query/normal_search.h>
 #include <smoothforce/query/patch_refine.h>
 #include <smoothforce/query/patch_seeds.h>
 #include <smoothforce/query/patch_surface.h>

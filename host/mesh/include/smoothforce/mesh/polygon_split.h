@@ -23,11 +23,15 @@ namespace sf {
 /// normals are averaged with the sides' as much as for planar sheets (docs/fold-levers.md,
 /// "Extruded parts"). Curved polygons are left whole: on the spot cage, cutting its quads with a
 /// reflex corner on their plane (4 of them within 0.5% of planar) raised the fault area from
-/// 1.577% to 1.630%.
-enum class FoldRepairMode { Off = 0, On = 1 };
-/// "off", "on" or "split" (the name of On in version 0.5); throws InputError for anything else.
+/// 1.577% to 1.630%. Search: On, and then, once every patch is built, vertex normals turned
+/// within a bound where that removes fault area of the closed patch surface
+/// (searchNormalsAgainstFaults, query/normal_search.h: the lever for curved polygons, whose folds
+/// come from the corner normals). It needs the whole surface, so lazy construction refuses it.
+enum class FoldRepairMode { Off = 0, On = 1, Search = 2 };
+/// "off", "on", "split" (the name of On in version 0.5) or "search"; throws InputError for
+/// anything else.
 FoldRepairMode parseFoldRepairMode(const std::string& s);
-/// "off" or "on".
+/// "off", "on" or "search".
 const char* toString(FoldRepairMode m);
 
 /// A corner whose interior angle on the polygon's Newell plane is at least 180 degrees minus

@@ -46,12 +46,19 @@ LoadedMesh loadMesh(const std::string& path, const PatchOptions& options);
 LoadedMesh loadMesh(PolygonMesh mesh, uint64_t meshHash, const PatchOptions& options);
 
 /// Builds the whole-mesh patch cache from a loaded mesh on the CPU backends
-/// (Backend::Serial / Backend::Tbb; threads <= 0: oneTBB default).
+/// (Backend::Serial / Backend::Tbb; threads <= 0: oneTBB default). Under FoldRepairMode::Search
+/// the patches are those of On: the normal search runs next, on the built surface
+/// (finishFoldRepair, query/normal_search.h), as the command line, C API and Python do.
 PatchCache buildPatchCache(const LoadedMesh& loaded, const PatchOptions& options, Backend backend, int threads = 0);
 
 /// The base mesh, corner normals and adjacency without any patch (hasPatchData false): for
 /// lazy construction near the contact point (lazy_patches.h). Cheap: no patch is built.
+/// Throws InputError for options a lazy surface cannot build (requireLazyOptions).
 PatchCache preparePatchSkeleton(const LoadedMesh& loaded, const PatchOptions& options);
+
+/// Throws InputError where patches built lazily, near the contact point, cannot honour
+/// `options`: FoldRepairMode::Search, whose normal search needs the whole surface first.
+void requireLazyOptions(const PatchOptions& options);
 
 /// The cache's base mesh as a PolygonMesh (positions, faces; after any outward flip; no file
 /// normals), for the checks a cache file alone allows (checkMesh's intersections).

@@ -26,7 +26,7 @@ struct PatchOptionText {
   std::string cage = "none";             ///< none|catmull-clark (cage_limit.h)
   std::string creases = "tags,groups";   ///< a list of tags, groups, normals, or none (creases.h)
   double creaseAngle = 0;                ///< degrees in [0, 180); 0: off
-  std::string foldRepair = "on";         ///< off|on, split a synonym of on (polygon_split.h)
+  std::string foldRepair = "on";         ///< off|on|search, split a synonym of on (polygon_split.h)
 };
 
 /// The options of `text`. Throws InputError "NAME: expected VALUES, got 'VALUE'" for the first

@@ -52,6 +52,15 @@ struct SurfaceFaults {
 /// parallel (oneTBB); sums in triangle order (the same result for any thread count).
 SurfaceFaults measureSurfaceFaults(const PatchSurface& surface);
 
+/// The probe distance of measureSurfaceFaults, m: 1e-5 x the bounding-box diagonal of the
+/// surface's cache (scans every vertex: take it once).
+double surfaceProbeOffset(const PatchSurface& surface);
+
+/// The verdict of triangle t of surface.uniform() as measureSurfaceFaults gives it, probed at
+/// offset h (surfaceProbeOffset), and twice the triangle's area (m^2) in *area2. Closed
+/// surfaces only; t < surface.uniform().tri.size().
+SurfaceVerdict triangleVerdict(const PatchSurface& surface, size_t t, double h, double* area2) noexcept;
+
 /// The corners (m) of the triangles of surface.uniform() that faults (measured on that surface)
 /// found neither Consistent nor Degenerate, in triangle order.
 std::vector<std::array<Eigen::Vector3d, 3>> faultTriangles(const PatchSurface& surface, const SurfaceFaults& faults);

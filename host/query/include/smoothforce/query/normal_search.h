@@ -1,0 +1,78 @@
+// SPDX-License-Identifier: Apache-2.0
+// A fold repair for curved polygons: vertex normals turned, within a bound, where that removes
+// fault area of the closed patch surface (docs/fold-levers.md, "Normals found by search").
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <smoothforce/patch/patch_cache.h>
+
+namespace sf {
+
+/// Options of searchNormalsAgainstFaults.
+struct NormalSearchOptions {
+  /// No vertex normal ends farther than this from the one it was built with, degrees in (0, 90].
+  double maxRotationDeg = 60;
+  int passes = 2;  ///< rounds over the vertices of faulted faces, 1..16
+  /// Uniform tessellation level (PatchSurfaceOptions::level) of the fault measure that compares
+  /// the candidates, 1..64; 0: the level whose tessellation has about searchTriangles triangles
+  /// (each candidate is a tessellation and BVH of the whole surface). On the spot cage a search
+  /// at its own level (12) left 0.16-0.18% of the area faulted when measured at levels 24 and 32
+  /// (folds thinner than its triangles); at 14 and 16, 0.025% at every level.
+  int searchLevel = 0;
+  int64_t searchTriangles = 150'000;  ///< with searchLevel 0, >= 1000
+  Backend backend = Backend::Tbb;  ///< construction of the candidate patches (Serial or Tbb)
+  int threads = 0;                 ///< > 0: at most this many oneTBB threads (Tbb), 0: oneTBB's default
+};
+
+/// One vertex normal the search turned: every corner of `vertex` that shared the normal
+/// (corners split by a crease keep theirs apart, each its own group).
+struct NormalChange {
+  int vertex = -1;
+  double rotationDeg = 0;        ///< angle between the normal built with and the one kept
+  std::vector<int> corners;      ///< corner slots (PatchCache::faceVertices order) that changed
+};
+
+/// What the search did. Fault areas from measureSurfaceFaults at the surface's default level.
+struct NormalSearchReport {
+  bool closed = false;          ///< false: an open surface has no inside; nothing searched
+  bool applied = false;         ///< false: no change lowered the fault area; the cache is as given
+  double faultBefore = 0;       ///< m^2
+  double faultAfter = 0;        ///< m^2 (= faultBefore unless applied)
+  double totalArea = 0;         ///< m^2 of the probed surface (before)
+  std::vector<NormalChange> changes;  ///< the normals turned, in search order
+  std::vector<int> changedFaces;      ///< faces whose patch changed, ascending
+  int searchLevel = 0;                ///< the level the candidates were compared at
+  int64_t evaluations = 0;            ///< candidate surfaces measured
+  double seconds = 0;
+};
+
+/// Turns vertex normals of `cache` where that removes fault area (surface_faults.h) of its
+/// closed patch surface: for every normal at a corner of a face with fault area, the candidates
+/// are its slerps (halfway and all the way, clamped to maxRotationDeg from the original) towards
+/// each of its corners' polygon normals (the corner's two edges' cross product) and towards the
+/// direction that maximises the smallest cosine to them (a normal with every corner sector of
+/// its fan positively oriented in its tangent plane, where one exists); the candidate that
+/// lowers the fault area most is kept. A candidate's area is compared only over the triangles it
+/// can change: those of the faces at the vertex, and every triangle in the box of their old and
+/// new tessellations (the winding number changes nowhere else). Every edge curve is still built
+/// from its own vertices' positions and normals, so G1 holds as before; faces without a turned
+/// corner keep their patches bit for bit. At the end the fault area is measured at the surface's
+/// own level; unless it fell, every normal is put back (applied false).
+///
+/// The cache must have its patches built (constructPatches); its corner normals and patches are
+/// replaced where applied. The sampled fault measure is the objective, not a proof: certify the
+/// result (certifyPatches) where a proof per patch is needed. Throws std::invalid_argument for
+/// options out of range. Cost: about 30 measured candidates per turned normal, each a
+/// tessellation and BVH of the whole surface (spot cage, level 10: about a minute on 2 cores).
+NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSearchOptions& options = {});
+
+/// The last step of construction for a cache built with FoldRepairMode::Search (every patch
+/// built): searchNormalsAgainstFaults with the default options on `backend`'s CPU side (Serial
+/// stays serial, otherwise oneTBB with `threads`), the cache's patches replaced with the result.
+/// Nothing for the other modes (a report with closed false). The entry points that build a
+/// whole cache (command line, C API, Python) call it after construction.
+NormalSearchReport finishFoldRepair(PatchCache& cache, Backend backend = Backend::Tbb, int threads = 0);
+
+}  // namespace sf

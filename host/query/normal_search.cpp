@@ -1,0 +1,309 @@
+// SPDX-License-Identifier: Apache-2.0
+#include <smoothforce/query/normal_search.h>
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+
+#include <smoothforce/query/patch_surface.h>
+#include <smoothforce/query/surface_faults.h>
+
+#include "gp_config.h"  // GP_ST_* status bits
+#include "surface_tessellation.h"
+
+namespace sf {
+namespace {
+
+/// A candidate normal within 10 degrees of one of its vertex's edges is not tried.
+const double kEdgeCos = std::cos(10 * std::numbers::pi / 180);
+/// A candidate whose patches gain one of these status bits is not kept.
+constexpr uint32_t kNewStatus = GP_ST_DEGENERATE_MASK | GP_ST_BULGE;
+
+Eigen::Vector3d vec3(const std::vector<double>& a, int i) { return {a[3 * i], a[3 * i + 1], a[3 * i + 2]}; }
+
+/// Corners at one vertex that share one normal (a crease splits a vertex into several).
+std::vector<std::vector<int>> normalGroups(const PatchCache& c) {
+  std::map<std::tuple<int, double, double, double>, int> id;
+  std::vector<std::vector<int>> groups;
+  for (int s = 0; s < c.numSlots(); ++s) {
+    const auto key = std::make_tuple(int(c.faceVertices[s]), c.cornerNormals[3 * s], c.cornerNormals[3 * s + 1],
+                                     c.cornerNormals[3 * s + 2]);
+    const auto [it, fresh] = id.emplace(key, int(groups.size()));
+    if (fresh) groups.emplace_back();
+    groups[it->second].push_back(s);
+  }
+  return groups;
+}
+
+/// The unit direction m maximising min_i m . a_i, by projected subgradient ascent from `start`.
+Eigen::Vector3d minimaxDirection(const std::vector<Eigen::Vector3d>& a, Eigen::Vector3d m) {
+  for (int it = 0; it < 3000; ++it) {
+    size_t arg = 0;
+    for (size_t i = 1; i < a.size(); ++i)
+      if (m.dot(a[i]) < m.dot(a[arg])) arg = i;
+    m = (m + (0.05 / (1 + it * 0.05)) * (a[arg] - m.dot(a[arg]) * m)).normalized();
+  }
+  return m;
+}
+
+/// The unit vector a fraction t of the way from unit a to unit b along the great circle, at
+/// most maxAngle (radians) from a.
+Eigen::Vector3d turnTowards(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double t, double maxAngle) {
+  const Eigen::Vector3d side = b - a.dot(b) * a;
+  if (side.norm() < 1e-12) return a;
+  const double angle = std::min(t * std::atan2(side.norm(), a.dot(b)), maxAngle);
+  return std::cos(angle) * a + std::sin(angle) * side.normalized();
+}
+
+struct Box {
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = Eigen::Vector3d::Constant(-INFINITY);
+  void grow(const Eigen::Vector3d& p) { lo = lo.cwiseMin(p), hi = hi.cwiseMax(p); }
+  bool holds(const Eigen::Vector3d& p) const { return (p.array() >= lo.array()).all() && (p.array() <= hi.array()).all(); }
+};
+
+/// The tessellation vertices of `faces` into box b.
+void growByFaces(const UniformTessellation& u, const std::vector<int>& faces, Box* b) {
+  for (const int f : faces) {
+    const int64_t first = u.faceFirstTri[f];
+    if (first < 0) continue;
+    for (size_t t = first; t < u.tri.size() && u.triFace[t] == f; ++t)
+      for (const int32_t v : u.tri[t]) b->grow(u.vertex[v]);
+  }
+}
+
+/// Fault area (m^2) of the triangles of u (the surface's) whose face is in `star` or whose
+/// corners touch box b, and the list of those triangles.
+double localFault(const PatchSurface& s, const std::vector<char>& inStar, const Box& b, double h,
+                  std::vector<size_t>* touched) {
+  const UniformTessellation& u = s.uniform();
+  touched->clear();
+  for (size_t t = 0; t < u.tri.size(); ++t)
+    if (inStar[u.triFace[t]] || b.holds(u.vertex[u.tri[t][0]]) || b.holds(u.vertex[u.tri[t][1]]) ||
+        b.holds(u.vertex[u.tri[t][2]]))
+      touched->push_back(t);
+  std::vector<double> fault(touched->size(), 0.0);
+  tbb::parallel_for(size_t(0), touched->size(), [&](size_t i) {
+    double area2 = 0;
+    const SurfaceVerdict v = triangleVerdict(s, (*touched)[i], h, &area2);
+    if (v != SurfaceVerdict::Consistent && v != SurfaceVerdict::Degenerate) fault[i] = 0.5 * area2;
+  });
+  double sum = 0;  // in triangle order: the same choice for any thread count
+  for (const double a : fault) sum += a;
+  return sum;
+}
+
+/// Per-triangle fault area (m^2, 0 where Consistent or Degenerate) of the whole surface.
+std::vector<double> faultPerTriangle(const PatchSurface& s, double h) {
+  std::vector<double> a(s.uniform().tri.size(), 0.0);
+  tbb::parallel_for(size_t(0), a.size(), [&](size_t t) {
+    double area2 = 0;
+    const SurfaceVerdict v = triangleVerdict(s, t, h, &area2);
+    if (v != SurfaceVerdict::Consistent && v != SurfaceVerdict::Degenerate) a[t] = 0.5 * area2;
+  });
+  return a;
+}
+
+}  // namespace
+
+NormalSearchReport finishFoldRepair(PatchCache& cache, Backend backend, int threads) {
+  if (cache.options.foldRepair != FoldRepairMode::Search) return {};
+  NormalSearchOptions o;
+  o.backend = backend == Backend::Serial ? Backend::Serial : Backend::Tbb;
+  o.threads = threads;
+  return searchNormalsAgainstFaults(cache, o);
+}
+
+NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSearchOptions& o) {
+  if (!(o.maxRotationDeg > 0 && o.maxRotationDeg <= 90))
+    throw std::invalid_argument("normal search: maxRotationDeg must be in (0, 90], got " +
+                                std::to_string(o.maxRotationDeg));
+  if (o.passes < 1 || o.passes > 16)
+    throw std::invalid_argument("normal search: passes must be in 1..16, got " + std::to_string(o.passes));
+  if (o.searchLevel < 0 || o.searchLevel > 64)
+    throw std::invalid_argument("normal search: searchLevel must be in 0..64, got " + std::to_string(o.searchLevel));
+  if (o.searchLevel == 0 && o.searchTriangles < 1000)
+    throw std::invalid_argument("normal search: searchTriangles must be at least 1000, got " +
+                                std::to_string(o.searchTriangles));
+  if (o.backend == Backend::OpenCL)
+    throw std::invalid_argument("normal search: candidates are built on the host (Serial or Tbb)");
+  if (o.threads < 0) throw std::invalid_argument("normal search: threads must be >= 0, got " + std::to_string(o.threads));
+  if (o.threads > 0 || o.backend == Backend::Serial) {
+    NormalSearchOptions inner = o;  // oneTBB inside an arena of one thread is serial, with the same patches
+    inner.threads = 0;
+    inner.backend = Backend::Tbb;
+    tbb::task_arena arena(o.backend == Backend::Serial ? 1 : o.threads);
+    return arena.execute([&] { return searchNormalsAgainstFaults(cache, inner); });
+  }
+  if (!hasPatchData(cache)) throw std::invalid_argument("normal search: the cache has no patches built");
+  const auto t0 = std::chrono::steady_clock::now();
+  NormalSearchReport r;
+  PatchSurfaceOptions fullOptions;
+  fullOptions.candidates = false;
+  {
+    const PatchSurface full(cache, fullOptions);
+    r.closed = full.closed();
+    if (!r.closed) return r;
+    const SurfaceFaults f = measureSurfaceFaults(full);
+    r.faultBefore = r.faultAfter = f.faultArea();
+    r.totalArea = f.totalArea;
+    r.searchLevel = o.searchLevel;
+    if (r.searchLevel == 0) {  // triangles grow with the square of the level
+      const double scale = std::sqrt(double(o.searchTriangles) / double(std::max<size_t>(1, full.uniform().tri.size())));
+      r.searchLevel = std::clamp(static_cast<int>(std::floor(full.level() * scale)), 1, 64);
+    }
+  }
+  if (r.faultBefore == 0) return r;
+
+  const std::vector<double> original = cache.cornerNormals;
+  const double maxAngle = o.maxRotationDeg * std::numbers::pi / 180;
+  std::vector<int> faceOf(cache.numSlots());
+  for (int f = 0; f < cache.numFaces(); ++f)
+    for (int s = cache.faceOffsets[f]; s < cache.faceOffsets[f + 1]; ++s) faceOf[s] = f;
+  const std::vector<std::vector<int>> groups = normalGroups(cache);
+  auto setNormal = [&](const std::vector<int>& slots, const Eigen::Vector3d& n) {
+    for (const int s : slots)
+      for (int i = 0; i < 3; ++i) cache.cornerNormals[3 * s + i] = n[i];
+  };
+  auto cornerNormal = [&](int s) {
+    const int f = faceOf[s], n = cache.faceSize(f), k = s - cache.faceOffsets[f];
+    const Eigen::Vector3d v = vec3(cache.positions, cache.faceVertices[s]);
+    const Eigen::Vector3d next = vec3(cache.positions, cache.faceVertices[cache.faceOffsets[f] + (k + 1) % n]);
+    const Eigen::Vector3d prev = vec3(cache.positions, cache.faceVertices[cache.faceOffsets[f] + (k + n - 1) % n]);
+    const Eigen::Vector3d c = (next - v).cross(prev - v);
+    return c.norm() > 0 ? Eigen::Vector3d(c.normalized()) : Eigen::Vector3d::Zero();
+  };
+
+  PatchSurfaceOptions searchOptions;
+  searchOptions.candidates = false;
+  searchOptions.level = r.searchLevel;
+  auto current = std::make_unique<PatchSurface>(cache, searchOptions);
+  const double h = surfaceProbeOffset(*current);
+  std::vector<double> triFault = faultPerTriangle(*current, h);
+  std::vector<char> inStar(cache.numFaces(), 0), changedFace(cache.numFaces(), 0);
+  std::vector<Eigen::Vector3d> kept(groups.size());
+  for (size_t g = 0; g < groups.size(); ++g) kept[g] = vec3(original, groups[g][0]);
+
+  std::vector<double> faceFault(cache.numFaces(), 0.0);
+  for (size_t t = 0; t < triFault.size(); ++t) faceFault[current->uniform().triFace[t]] += triFault[t];
+  for (int pass = 0; pass < o.passes; ++pass) {
+    bool movedAny = false;
+    for (size_t g = 0; g < groups.size(); ++g) {
+      const std::vector<int>& slots = groups[g];
+      std::vector<int> star;
+      bool faulted = false;
+      for (const int s : slots) {
+        star.push_back(faceOf[s]);
+        faulted = faulted || faceFault[faceOf[s]] > 0;
+      }
+      if (!faulted) continue;
+      const Eigen::Vector3d n0 = vec3(original, slots[0]), now = kept[g];
+      std::vector<Eigen::Vector3d> towards;
+      for (const int s : slots)
+        if (const Eigen::Vector3d c = cornerNormal(s); c.squaredNorm() > 0) towards.push_back(c);
+      if (towards.empty()) continue;
+      for (const int f : star) inStar[f] = 1;
+      Box oldBox;
+      growByFaces(current->uniform(), star, &oldBox);
+      towards.push_back(minimaxDirection(towards, now));
+      // the vertex's edges, as unit vectors away from it: a normal along one of them leaves that
+      // edge's curve without a tangent direction (the design page's degenerate case)
+      std::vector<Eigen::Vector3d> edges;
+      for (const int s : slots) {
+        const int f = faceOf[s], n = cache.faceSize(f), k = s - cache.faceOffsets[f];
+        const Eigen::Vector3d v = vec3(cache.positions, cache.faceVertices[s]);
+        for (const int j : {(k + 1) % n, (k + n - 1) % n})
+          if (const Eigen::Vector3d e = vec3(cache.positions, cache.faceVertices[cache.faceOffsets[f] + j]) - v;
+              e.norm() > 0)
+            edges.push_back(e.normalized());
+      }
+      auto alongAnEdge = [&](const Eigen::Vector3d& n) {
+        for (const Eigen::Vector3d& e : edges)
+          if (std::abs(n.dot(e)) > kEdgeCos) return true;
+        return false;
+      };
+      uint32_t starStatus = 0;
+      for (const int f : star) starStatus |= cache.faceStatus[f];
+      double bestDelta = -1e-12 * r.totalArea;
+      Eigen::Vector3d best = now;
+      std::unique_ptr<PatchSurface> bestSurface;
+      std::vector<size_t> bestTouched;
+      for (const Eigen::Vector3d& d : towards)
+        for (const double t : {0.5, 1.0}) {
+          // the candidate from the normal kept so far, then clamped to the bound around the original
+          Eigen::Vector3d n = turnTowards(now, d, t, std::numbers::pi);
+          if (std::acos(std::clamp(n.dot(n0), -1.0, 1.0)) > maxAngle) n = turnTowards(n0, n, 1.0, maxAngle);
+          if ((n - now).norm() < 1e-9 || alongAnEdge(n)) continue;
+          setNormal(slots, n);
+          constructPatches(cache, o.backend);
+          uint32_t status = 0;
+          for (const int f : star) status |= cache.faceStatus[f];
+          if (status & ~starStatus & kNewStatus) continue;  // a degenerate edge or a bulge the normal made
+          auto candidate = std::make_unique<PatchSurface>(cache, searchOptions);
+          ++r.evaluations;
+          Box box = oldBox;
+          growByFaces(candidate->uniform(), star, &box);
+          box.lo.array() -= 2 * h;
+          box.hi.array() += 2 * h;
+          std::vector<size_t> tt;
+          const double after = localFault(*candidate, inStar, box, h, &tt);
+          double before = 0;
+          for (const size_t i : tt) before += triFault[i];
+          if (after - before < bestDelta) {
+            bestDelta = after - before;
+            best = n;
+            bestSurface = std::move(candidate);
+            bestTouched = std::move(tt);
+          }
+        }
+      for (const int f : star) inStar[f] = 0;
+      setNormal(slots, best);
+      constructPatches(cache, o.backend);
+      if (!bestSurface) continue;
+      kept[g] = best;
+      movedAny = true;
+      for (const int f : star) changedFace[f] = 1;
+      current = std::move(bestSurface);
+      for (const size_t t : bestTouched) {
+        double area2 = 0;
+        const SurfaceVerdict v = triangleVerdict(*current, t, h, &area2);
+        const double a = v != SurfaceVerdict::Consistent && v != SurfaceVerdict::Degenerate ? 0.5 * area2 : 0.0;
+        faceFault[current->uniform().triFace[t]] += a - triFault[t];
+        triFault[t] = a;
+      }
+    }
+    if (!movedAny) break;
+  }
+
+  {
+    const PatchSurface full(cache, fullOptions);
+    r.faultAfter = measureSurfaceFaults(full).faultArea();
+  }
+  if (!(r.faultAfter < r.faultBefore)) {
+    cache.cornerNormals = original;
+    constructPatches(cache, o.backend);
+    r.faultAfter = r.faultBefore;
+  } else {
+    r.applied = true;
+    for (size_t g = 0; g < groups.size(); ++g) {
+      const Eigen::Vector3d n0 = vec3(original, groups[g][0]);
+      if (kept[g] == n0) continue;
+      r.changes.push_back({cache.faceVertices[groups[g][0]],
+                           std::acos(std::clamp(kept[g].dot(n0), -1.0, 1.0)) * 180 / std::numbers::pi, groups[g]});
+    }
+    for (int f = 0; f < cache.numFaces(); ++f)
+      if (changedFace[f]) r.changedFaces.push_back(f);
+  }
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+}  // namespace sf
