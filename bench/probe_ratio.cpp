@@ -9,6 +9,7 @@
 //   build/bench/probe_ratio [--samples 100000] [--depth 0.005] [--rounds 5] [--threads 2]
 //                           [--only patch|direct]   (one kind of case, e.g. under perf record)
 //                           [--final-step evaluated|model|both]   (the patch method's; both: two cases)
+//                           [--search on]   (also the spot cage under --fold-repair search: normal_search.h)
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -21,6 +22,7 @@
 #include <smoothforce/force/force_tracking.h>
 #include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/query/embree_scene.h>
+#include <smoothforce/query/normal_search.h>
 #include <smoothforce/query/patch_surface.h>
 #include <smoothforce/sweep/sweep.h>
 #include <smoothforce/sweep/sweep_sampling.h>
@@ -33,6 +35,7 @@ struct Case {
   std::string label, path;
   ForceMethod method = ForceMethod::Patch;
   ForceOptions opt;  ///< the patch method's finalStep differs between the patch cases
+  bool search = false;  ///< the cache under FoldRepairMode::Search
   std::shared_ptr<const PatchCache> cache;
   HipSet hips;
   std::unique_ptr<RendererPool> pool;
@@ -51,12 +54,13 @@ int main(int argc, char** argv) {
   int samples = 100000, rounds = 5, threads = 2;
   double depth = 0.005;
   std::string only, finalStep = "evaluated";
+  bool search = false;
   for (int i = 1; i < argc; i += 2) {
     const std::string a = argv[i];
     if (a == "-h" || a == "--help") {
       std::printf(
           "usage: probe_ratio [--samples 100000] [--depth 0.005] [--rounds 5] [--threads 2] [--only patch|direct] "
-          "[--final-step evaluated|model|both]\n");
+          "[--final-step evaluated|model|both] [--search on|off]\n");
       return 0;
     }
     if (i + 1 == argc) {
@@ -75,6 +79,8 @@ int main(int argc, char** argv) {
       only = argv[i + 1];
     else if (a == "--final-step")
       finalStep = argv[i + 1];
+    else if (a == "--search")
+      search = std::string(argv[i + 1]) == "on";
     else {
       std::fprintf(stderr, "probe_ratio: unknown option %s\n", a.c_str());
       return 2;
@@ -100,6 +106,10 @@ int main(int argc, char** argv) {
     cases.back().opt.finalStep = step;
   };
   if (finalStep != "model") add("patch, spot cage", cage, ForceMethod::Patch);
+  if (search && finalStep != "model") {
+    add("patch, spot cage, fold repair search", cage, ForceMethod::Patch);
+    if (!cases.empty() && cases.back().label.find("search") != std::string::npos) cases.back().search = true;
+  }
   if (finalStep != "evaluated") add("patch (model), spot cage", cage, ForceMethod::Patch, FinalStep::Model);
   add("direct, spot.obj", shared + "/odedstein/spot.obj", ForceMethod::Direct);
   add("direct, spot_triangulated", shared + "/keenan_crane/spot_triangulated.obj", ForceMethod::Direct);
@@ -113,7 +123,10 @@ int main(int argc, char** argv) {
       continue;
     }
     PatchOptions po;
-    it->cache = std::make_shared<const PatchCache>(buildPatchCache(loadMesh(it->path, po), po, Backend::Tbb));
+    if (it->search) po.foldRepair = FoldRepairMode::Search;
+    PatchCache built = buildPatchCache(loadMesh(it->path, po), po, Backend::Tbb);
+    finishFoldRepair(built);
+    it->cache = std::make_shared<const PatchCache>(std::move(built));
     const PatchSurfaceSampler sampler(*it->cache);
     char pct[32];
     std::snprintf(pct, sizeof pct, "%.6g%%", 100 * depth);
