@@ -147,7 +147,7 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
   const auto t0 = std::chrono::steady_clock::now();
   NormalSearchReport r;
   PatchSurfaceOptions fullOptions;
-  fullOptions.candidates = false;
+  fullOptions.windingOnly = true;
   {
     const PatchSurface full(cache, fullOptions);
     r.closed = full.closed();
@@ -183,7 +183,7 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
   };
 
   PatchSurfaceOptions searchOptions;
-  searchOptions.candidates = false;
+  searchOptions.windingOnly = true;
   searchOptions.level = r.searchLevel;
   auto current = std::make_unique<PatchSurface>(cache, searchOptions);
   const double h = surfaceProbeOffset(*current);

@@ -230,7 +230,7 @@ int choosePatchSurfaceLevel(const PatchCache& cache, const PatchSurfaceOptions& 
 }
 
 PatchSurface::PatchSurface(const PatchCache& cache, const PatchSurfaceOptions& options)
-    : cache_(cache), impl_(std::make_unique<Impl>()) {
+    : cache_(cache), windingOnly_(options.windingOnly), impl_(std::make_unique<Impl>()) {
   if (!hasPatchData(cache)) throw InputError("the patch surface needs built patches (a cache, not a skeleton)");
   if (options.level < 0 || options.level > 64) throw InputError("patch surface level must be in 0..64");
   if (!(options.targetError > 0) || options.subdivision < 0 || options.subdivision > 8 || options.adaptiveBudget < 1)
@@ -242,7 +242,7 @@ PatchSurface::PatchSurface(const PatchCache& cache, const PatchSurfaceOptions& o
   bandError_.assign(cache.numFaces(), 0.0);
   for (size_t t = 0; t < uniform_->tri.size(); ++t)
     bandError_[uniform_->triFace[t]] = std::max(bandError_[uniform_->triFace[t]], uniform_->error[t]);
-  if (options.candidates)
+  if (options.candidates && !options.windingOnly)
     points_ = tessellateAdaptive(cache, *uniform_, std::max(options.targetError * diag, kNoiseFloor * noise),
                                  options.subdivision, static_cast<size_t>(options.adaptiveBudget));
   for (SurfaceTriangle& t : points_) t.error += noise;
@@ -280,7 +280,9 @@ PatchSurface::PatchSurface(const PatchCache& cache, const PatchSurfaceOptions& o
   const UniformTessellation& u = *uniform_;
   RTCGeometry gp =
       points_.empty() ? nullptr : userGeometry(impl_->device, points_.size(), impl_.get(), pointBounds, candidateFn);
-  RTCGeometry gb = u.tri.empty() ? nullptr : userGeometry(impl_->device, u.tri.size(), impl_.get(), bandBounds, bandFn);
+  RTCGeometry gb = u.tri.empty() || options.windingOnly
+                       ? nullptr
+                       : userGeometry(impl_->device, u.tri.size(), impl_.get(), bandBounds, bandFn);
   RTCGeometry gr = nullptr;
   if (!u.tri.empty()) {
     gr = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -378,7 +380,7 @@ bool PatchSurface::overTriangle(int t, int f, const Eigen::Vector2d& X) const no
 
 bool PatchSurface::inErrorBand(const Eigen::Vector3d& q, double* reach, int* reachFace, int hintFace,
                                const Eigen::Vector2d& hintX, const Eigen::Vector3d& hintPoint) const noexcept {
-  if (uniform_->tri.empty() || !inCoordinateRange(q) || beyondBands(q)) return false;
+  if (uniform_->tri.empty() || windingOnly_ || !inCoordinateRange(q) || beyondBands(q)) return false;
   BandState st{uniform_.get(), q, false, std::numeric_limits<double>::infinity(), -1};
   // the triangle over the hint first: in its band, q is in a band (any triangle's band will do).
   // The hint's point lies within that triangle's error e of it, so q within e of the triangle lies

@@ -5,7 +5,8 @@
 // one); every turned normal stays within the bound, every other normal and every patch without
 // a turned corner keeps its bits, and the surface stays G1 across every edge. Fault-free and
 // open surfaces are left as they are; the option reaches the cache file, the C++ entry points
-// and the command line, and lazy construction refuses it.
+// and the command line, and lazy construction refuses it. The winding-only surfaces the search
+// builds give the full surface's fault verdicts.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -25,6 +26,7 @@
 #include <smoothforce/query/surface_faults.h>
 #include "cli_test_support.h"
 #include "patch_test_support.h"
+#include "surface_tessellation.h"  // the uniform tessellation's layout (private to query)
 #include "test_hostile_support.h"
 
 namespace sf {
@@ -201,6 +203,29 @@ TEST(NormalSearch, LeavesFaultFreeAndOpenSurfacesAsTheyAre) {
   }
   EXPECT_EQ(fine, 4);
   EXPECT_EQ(open, 3);
+}
+
+TEST(NormalSearch, WindingOnlySurfacesGiveTheSameFaultsAndNoBand) {
+  // the search's candidate surfaces: the same verdict for every triangle of the spot cage's
+  // uniform tessellation (both sides of each probed), no error band
+  const PatchCache c = test::cacheFromFile(test::sharedMesh("keenan_crane/spot_control_mesh.obj"));
+  PatchSurfaceOptions full, winding;
+  full.candidates = false;
+  winding.windingOnly = true;
+  const PatchSurface a(c, full), b(c, winding);
+  const SurfaceFaults fa = measureSurfaceFaults(a), fb = measureSurfaceFaults(b);
+  ASSERT_EQ(fa.verdict.size(), fb.verdict.size());
+  EXPECT_GT(fa.verdict.size(), 100000u);
+  EXPECT_TRUE(fa.verdict == fb.verdict);
+  EXPECT_EQ(fa.faultArea(), fb.faultArea());
+  int inBand = 0;
+  for (size_t t = 0; t < a.uniform().tri.size(); t += 7) {
+    const Eigen::Vector3d q = a.uniform().vertex[a.uniform().tri[t][0]];
+    inBand += a.inErrorBand(q);
+    EXPECT_FALSE(b.inErrorBand(q));
+    EXPECT_EQ(a.winding(q + Eigen::Vector3d(1e-3, 2e-3, -1e-3)), b.winding(q + Eigen::Vector3d(1e-3, 2e-3, -1e-3)));
+  }
+  EXPECT_GT(inBand, 1000);  // the full surface finds its band there
 }
 
 TEST(NormalSearch, RefusesOptionsOutOfRange) {

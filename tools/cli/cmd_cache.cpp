@@ -207,7 +207,7 @@ nlohmann::ordered_json patchSummaryJson(const PatchCache& c) {
 SurfaceFaults cacheSurfaceFaults(const PatchCache& c) {
   if (!hasPatchData(c)) throw InputError("--faults: the cache holds no built patches");
   PatchSurfaceOptions o;
-  o.candidates = false;  // only the uniform tessellation's rays are probed
+  o.windingOnly = true;  // only the uniform tessellation's rays are probed
   const PatchSurface surface(c, o);
   return measureSurfaceFaults(surface);
 }

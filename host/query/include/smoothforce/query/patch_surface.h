@@ -55,6 +55,10 @@ struct PatchSurfaceOptions {
   /// false: only what winding() and inErrorBand() need (an inside test, as the sweep's): no
   /// adaptive tessellation and no BVH over it; candidates() then finds none
   bool candidates = true;
+  /// true: only what winding() needs (implies no candidates): no error-band BVH either, so
+  /// inErrorBand() finds no band (false everywhere); not for force rendering, whose inside test
+  /// needs the band. The normal search (normal_search.h) builds one per candidate.
+  bool windingOnly = false;
 };
 
 /// The patch surface for queries, from a prebuilt cache.
@@ -175,6 +179,7 @@ class PatchSurface {
 
  private:
   const PatchCache& cache_;
+  bool windingOnly_ = false;  ///< PatchSurfaceOptions::windingOnly: no band BVH
   bool closed_ = false;
   double maxError_ = 0;
   std::vector<double> error_;      ///< #F, m (0 for faces not built)
