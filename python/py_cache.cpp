@@ -47,7 +47,6 @@ Options options(const std::string& precision, const std::string& normals, const 
 
 PyCache fromLoaded(const LoadedMesh& lm, const Options& o, std::string source) {
   PyCache c;
-  if (o.lazy) requireLazyOptions(o.patch);
   PatchCache pc = preparePatchCache(lm.mesh, lm.cornerNormals, o.patch, lm.fileHash, !o.lazy);
   if (!o.lazy) {
     constructPatches(pc, o.backend, o.threads);

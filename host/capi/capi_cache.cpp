@@ -57,7 +57,6 @@ Parsed parseOptions(const sf_cache_options* o) {
 }
 
 sf_cache* finish(const LoadedMesh& lm, const Parsed& p, std::string source) {
-  if (p.lazy) requireLazyOptions(p.patch);
   PatchCache c = preparePatchCache(lm.mesh, lm.cornerNormals, p.patch, lm.fileHash, !p.lazy);
   if (!p.lazy) {
     constructPatches(c, p.backend, p.threads);

@@ -59,15 +59,7 @@ PatchCache buildPatchCache(const LoadedMesh& loaded, const PatchOptions& options
   return cache;
 }
 
-void requireLazyOptions(const PatchOptions& options) {
-  if (options.foldRepair == FoldRepairMode::Search)
-    throw InputError(
-        "fold_repair search needs every patch of the surface before the first contact: build a cache (smoothforce "
-        "cache build, or a cache that is not lazy), or use on");
-}
-
 PatchCache preparePatchSkeleton(const LoadedMesh& loaded, const PatchOptions& options) {
-  requireLazyOptions(options);
   return preparePatchCache(loaded.mesh, loaded.cornerNormals, options, loaded.fileHash, false);
 }
 

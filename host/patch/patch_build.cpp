@@ -92,8 +92,16 @@ std::string floatReachProblem(const Eigen::Vector3d& lo, const Eigen::Vector3d& 
   return buf;
 }
 
+void requireLazyOptions(const PatchOptions& options) {
+  if (options.foldRepair == FoldRepairMode::Search)
+    throw InputError(
+        "fold_repair search needs every patch of the surface before the first contact: build a cache (smoothforce "
+        "cache build, or a cache that is not lazy), or use on");
+}
+
 PatchCache preparePatchCache(const PolygonMesh& mesh, const std::vector<Eigen::Vector3d>& cornerNormals,
                              const PatchOptions& options, uint64_t meshHash, bool allocatePatches) {
+  if (!allocatePatches) requireLazyOptions(options);
   if (static_cast<int>(cornerNormals.size()) != mesh.numCorners())
     throw std::invalid_argument("preparePatchCache: need one normal per corner");
   PatchCache c;

@@ -279,6 +279,7 @@ TEST(FoldRepairSearch, ReachesTheCacheFileAndTheCommandLineAndLazyConstructionRe
   EXPECT_NE(hashPatchOptions(back.options), hashPatchOptions(on.options));
 
   EXPECT_THROW(preparePatchSkeleton(lm, opt), InputError);
+  EXPECT_THROW(preparePatchCache(lm.mesh, lm.cornerNormals, opt, lm.fileHash, /*allocatePatches=*/false), InputError);
   EXPECT_THROW(requireLazyOptions(opt), InputError);
   opt.foldRepair = FoldRepairMode::On;
   EXPECT_NO_THROW(requireLazyOptions(opt));

@@ -325,7 +325,6 @@ Source openSource(const std::string& path, const PatchArgs& args, bool lazy) {
   s.cache = preparePatchCache(s.loaded->mesh, s.loaded->cornerNormals, opt, s.loaded->fileHash, !lazy);
   noteUnbuiltFaces(s.cache, path);
   noteDuplicateFaces(s.loaded->report, path);
-  if (lazy) requireLazyOptions(opt);
   if (!lazy) {
     s.buildSeconds = construct(s.cache, args);
     if (opt.foldRepair == FoldRepairMode::Search)

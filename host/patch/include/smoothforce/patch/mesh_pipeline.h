@@ -56,10 +56,6 @@ PatchCache buildPatchCache(const LoadedMesh& loaded, const PatchOptions& options
 /// Throws InputError for options a lazy surface cannot build (requireLazyOptions).
 PatchCache preparePatchSkeleton(const LoadedMesh& loaded, const PatchOptions& options);
 
-/// Throws InputError where patches built lazily, near the contact point, cannot honour
-/// `options`: FoldRepairMode::Search, whose normal search needs the whole surface first.
-void requireLazyOptions(const PatchOptions& options);
-
 /// The cache's base mesh as a PolygonMesh (positions, faces; after any outward flip; no file
 /// normals), for the checks a cache file alone allows (checkMesh's intersections).
 PolygonMesh cacheBaseMesh(const PatchCache& cache);

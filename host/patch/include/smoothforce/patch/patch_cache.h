@@ -72,9 +72,14 @@ struct PatchCache {
 /// Copies the base mesh, its corner normals (#C, unit) and adjacency into a new cache and
 /// sizes the patch arrays; constructPatches then fills them. allocatePatches false leaves the
 /// patch arrays empty (a skeleton: patches built on demand, lazy_patches.h; faceStatus and
-/// faceBulge then stay 0 until a face is built there).
+/// faceBulge then stay 0 until a face is built there); it throws InputError for options a lazy
+/// surface cannot build (requireLazyOptions).
 PatchCache preparePatchCache(const PolygonMesh& mesh, const std::vector<Eigen::Vector3d>& cornerNormals,
                              const PatchOptions& options, uint64_t meshHash, bool allocatePatches = true);
+
+/// Throws InputError where patches built lazily, near the contact point, cannot honour
+/// `options`: FoldRepairMode::Search, whose normal search needs the whole surface first.
+void requireLazyOptions(const PatchOptions& options);
 
 /// A float cache holds its patch records (control points in world coordinates) in float: it
 /// must lie within this many bounding-box diagonals of the origin, where float rounds a
