@@ -64,52 +64,45 @@ Eigen::Vector3d turnTowards(const Eigen::Vector3d& a, const Eigen::Vector3d& b, 
   return std::cos(angle) * a + std::sin(angle) * side.normalized();
 }
 
-struct Box {
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = Eigen::Vector3d::Constant(-INFINITY);
-  void grow(const Eigen::Vector3d& p) { lo = lo.cwiseMin(p), hi = hi.cwiseMax(p); }
-  bool holds(const Eigen::Vector3d& p) const { return (p.array() >= lo.array()).all() && (p.array() <= hi.array()).all(); }
-};
-
 /// The tessellation vertices of `faces` into box b.
-void growByFaces(const UniformTessellation& u, const std::vector<int>& faces, Box* b) {
+void growByFaces(const UniformTessellation& u, const std::vector<int>& faces, Eigen::AlignedBox3d* b) {
   for (const int f : faces) {
     const int64_t first = u.faceFirstTri[f];
     if (first < 0) continue;
     for (size_t t = first; t < u.tri.size() && u.triFace[t] == f; ++t)
-      for (const int32_t v : u.tri[t]) b->grow(u.vertex[v]);
+      for (const int32_t v : u.tri[t]) b->extend(u.vertex[v]);
   }
 }
 
-/// Fault area (m^2) of the triangles of u (the surface's) whose face is in `star` or whose
-/// corners touch box b, and the list of those triangles.
-double localFault(const PatchSurface& s, const std::vector<char>& inStar, const Box& b, double h,
-                  std::vector<size_t>* touched) {
-  const UniformTessellation& u = s.uniform();
-  touched->clear();
-  for (size_t t = 0; t < u.tri.size(); ++t)
-    if (inStar[u.triFace[t]] || b.holds(u.vertex[u.tri[t][0]]) || b.holds(u.vertex[u.tri[t][1]]) ||
-        b.holds(u.vertex[u.tri[t][2]]))
-      touched->push_back(t);
-  std::vector<double> fault(touched->size(), 0.0);
-  tbb::parallel_for(size_t(0), touched->size(), [&](size_t i) {
+/// The fault area (m^2; 0 where Consistent or Degenerate) of each triangle tri[i] of the
+/// surface's uniform tessellation, probed at offset h (triangleVerdict), in parallel.
+template <class Index>
+std::vector<double> faultOf(const PatchSurface& s, size_t n, const Index& tri, double h) {
+  std::vector<double> a(n, 0.0);
+  tbb::parallel_for(size_t(0), n, [&](size_t i) {
     double area2 = 0;
-    const SurfaceVerdict v = triangleVerdict(s, (*touched)[i], h, &area2);
-    if (v != SurfaceVerdict::Consistent && v != SurfaceVerdict::Degenerate) fault[i] = 0.5 * area2;
-  });
-  double sum = 0;  // in triangle order: the same choice for any thread count
-  for (const double a : fault) sum += a;
-  return sum;
-}
-
-/// Per-triangle fault area (m^2, 0 where Consistent or Degenerate) of the whole surface.
-std::vector<double> faultPerTriangle(const PatchSurface& s, double h) {
-  std::vector<double> a(s.uniform().tri.size(), 0.0);
-  tbb::parallel_for(size_t(0), a.size(), [&](size_t t) {
-    double area2 = 0;
-    const SurfaceVerdict v = triangleVerdict(s, t, h, &area2);
-    if (v != SurfaceVerdict::Consistent && v != SurfaceVerdict::Degenerate) a[t] = 0.5 * area2;
+    const SurfaceVerdict v = triangleVerdict(s, tri(i), h, &area2);
+    if (v != SurfaceVerdict::Consistent && v != SurfaceVerdict::Degenerate) a[i] = 0.5 * area2;
   });
   return a;
+}
+
+/// The triangles of the surface's uniform tessellation whose face is in `star` or that touch box b.
+std::vector<size_t> touchedTriangles(const UniformTessellation& u, const std::vector<char>& inStar,
+                                     const Eigen::AlignedBox3d& b) {
+  std::vector<size_t> touched;
+  for (size_t t = 0; t < u.tri.size(); ++t)
+    if (inStar[u.triFace[t]] || b.contains(u.vertex[u.tri[t][0]]) || b.contains(u.vertex[u.tri[t][1]]) ||
+        b.contains(u.vertex[u.tri[t][2]]))
+      touched.push_back(t);
+  return touched;
+}
+
+/// Sum in index order: the same total, and so the same choice, for any thread count.
+double sum(const std::vector<double>& a) {
+  double s = 0;
+  for (const double x : a) s += x;
+  return s;
 }
 
 }  // namespace
@@ -187,10 +180,8 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
   searchOptions.level = r.searchLevel;
   auto current = std::make_unique<PatchSurface>(cache, searchOptions);
   const double h = surfaceProbeOffset(*current);
-  std::vector<double> triFault = faultPerTriangle(*current, h);
-  std::vector<char> inStar(cache.numFaces(), 0), changedFace(cache.numFaces(), 0);
-  std::vector<Eigen::Vector3d> kept(groups.size());
-  for (size_t g = 0; g < groups.size(); ++g) kept[g] = vec3(original, groups[g][0]);
+  std::vector<double> triFault = faultOf(*current, current->uniform().tri.size(), [](size_t t) { return t; }, h);
+  std::vector<char> inStar(cache.numFaces(), 0);
 
   std::vector<double> faceFault(cache.numFaces(), 0.0);
   for (size_t t = 0; t < triFault.size(); ++t) faceFault[current->uniform().triFace[t]] += triFault[t];
@@ -205,13 +196,13 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
         faulted = faulted || faceFault[faceOf[s]] > 0;
       }
       if (!faulted) continue;
-      const Eigen::Vector3d n0 = vec3(original, slots[0]), now = kept[g];
+      const Eigen::Vector3d n0 = vec3(original, slots[0]), now = vec3(cache.cornerNormals, slots[0]);
       std::vector<Eigen::Vector3d> towards;
       for (const int s : slots)
         if (const Eigen::Vector3d c = cornerNormal(s); c.squaredNorm() > 0) towards.push_back(c);
       if (towards.empty()) continue;
       for (const int f : star) inStar[f] = 1;
-      Box oldBox;
+      Eigen::AlignedBox3d oldBox;
       growByFaces(current->uniform(), star, &oldBox);
       towards.push_back(minimaxDirection(towards, now));
       // the vertex's edges, as unit vectors away from it: a normal along one of them leaves that
@@ -236,6 +227,7 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
       Eigen::Vector3d best = now;
       std::unique_ptr<PatchSurface> bestSurface;
       std::vector<size_t> bestTouched;
+      std::vector<double> bestFault;  ///< fault area of bestTouched on bestSurface
       for (const Eigen::Vector3d& d : towards)
         for (const double t : {0.5, 1.0}) {
           // the candidate from the normal kept so far, then clamped to the bound around the original
@@ -249,35 +241,32 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
           if (status & ~starStatus & kNewStatus) continue;  // a degenerate edge or a bulge the normal made
           auto candidate = std::make_unique<PatchSurface>(cache, searchOptions);
           ++r.evaluations;
-          Box box = oldBox;
+          Eigen::AlignedBox3d box = oldBox;
           growByFaces(candidate->uniform(), star, &box);
-          box.lo.array() -= 2 * h;
-          box.hi.array() += 2 * h;
-          std::vector<size_t> tt;
-          const double after = localFault(*candidate, inStar, box, h, &tt);
+          box.min().array() -= 2 * h;
+          box.max().array() += 2 * h;
+          std::vector<size_t> tt = touchedTriangles(candidate->uniform(), inStar, box);
+          std::vector<double> fault = faultOf(*candidate, tt.size(), [&](size_t i) { return tt[i]; }, h);
           double before = 0;
           for (const size_t i : tt) before += triFault[i];
-          if (after - before < bestDelta) {
-            bestDelta = after - before;
+          if (const double delta = sum(fault) - before; delta < bestDelta) {
+            bestDelta = delta;
             best = n;
             bestSurface = std::move(candidate);
             bestTouched = std::move(tt);
+            bestFault = std::move(fault);
           }
         }
       for (const int f : star) inStar[f] = 0;
       setNormal(slots, best);
       constructPatches(cache, o.backend);
       if (!bestSurface) continue;
-      kept[g] = best;
       movedAny = true;
-      for (const int f : star) changedFace[f] = 1;
       current = std::move(bestSurface);
-      for (const size_t t : bestTouched) {
-        double area2 = 0;
-        const SurfaceVerdict v = triangleVerdict(*current, t, h, &area2);
-        const double a = v != SurfaceVerdict::Consistent && v != SurfaceVerdict::Degenerate ? 0.5 * area2 : 0.0;
-        faceFault[current->uniform().triFace[t]] += a - triFault[t];
-        triFault[t] = a;
+      for (size_t i = 0; i < bestTouched.size(); ++i) {
+        const size_t t = bestTouched[i];
+        faceFault[current->uniform().triFace[t]] += bestFault[i] - triFault[t];
+        triFault[t] = bestFault[i];
       }
     }
     if (!movedAny) break;
@@ -293,11 +282,13 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
     r.faultAfter = r.faultBefore;
   } else {
     r.applied = true;
-    for (size_t g = 0; g < groups.size(); ++g) {
-      const Eigen::Vector3d n0 = vec3(original, groups[g][0]);
-      if (kept[g] == n0) continue;
-      r.changes.push_back({cache.faceVertices[groups[g][0]],
-                           std::acos(std::clamp(kept[g].dot(n0), -1.0, 1.0)) * 180 / std::numbers::pi, groups[g]});
+    std::vector<char> changedFace(cache.numFaces(), 0);
+    for (const std::vector<int>& slots : groups) {
+      const Eigen::Vector3d n0 = vec3(original, slots[0]), n = vec3(cache.cornerNormals, slots[0]);
+      if (n == n0) continue;
+      r.changes.push_back({cache.faceVertices[slots[0]], std::acos(std::clamp(n.dot(n0), -1.0, 1.0)) * 180 / std::numbers::pi,
+                           slots});
+      for (const int s : slots) changedFace[faceOf[s]] = 1;
     }
     for (int f = 0; f < cache.numFaces(); ++f)
       if (changedFace[f]) r.changedFaces.push_back(f);
