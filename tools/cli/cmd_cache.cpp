@@ -153,8 +153,9 @@ void build(const std::string& mesh, std::string out, const PatchArgs& args, bool
   std::printf("normals: %s\n", toString(opt.normals));
   for (const std::string& line : lm.normalReport.describe()) std::printf("  %s\n", line.c_str());
   if (opt.foldRepair != FoldRepairMode::Off && (!lm.split.splitFaces.empty() || !lm.split.unsplitFaces.empty())) {
-    std::printf("fold repair: on: %zu flat polygons with a reflex or straight corner cut into %d convex pieces (faces as read:%s)\n",
-                lm.split.splitFaces.size(), lm.split.pieces, faceIdsText(lm.split.splitFaces).c_str());
+    std::printf("fold repair: %s: %zu flat polygons with a reflex or straight corner cut into %d convex pieces (faces as read:%s)\n",
+                toString(opt.foldRepair), lm.split.splitFaces.size(), lm.split.pieces,
+                faceIdsText(lm.split.splitFaces).c_str());
     if (!lm.split.unsplitFaces.empty())
       std::printf("  left whole (outline not simple, or no diagonal cuts them):%s\n",
                   faceIdsText(lm.split.unsplitFaces).c_str());
