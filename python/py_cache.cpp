@@ -393,6 +393,16 @@ void bindCache(pyb::module_& m) {
           },
           "(C, 3) float64 unit normals the patches were built with (read-only view)")
       .def_property_readonly(
+          "computed_normals",
+          [](pyb::object self) -> pyb::object {
+            const auto& c = *self.cast<const PyCache&>().cache;
+            if (c.computedNormals.size() != c.cornerNormals.size()) return pyb::none();
+            return view(c.computedNormals.data(), c.numSlots(), 3, self);
+          },
+          "(C, 3) float64 unit normals as computed, before fold_repair search turned some of them\n"
+          "(corner_normals holds the turned ones; the rows that differ are the corners it changed),\n"
+          "or None where no normal was turned (read-only view)")
+      .def_property_readonly(
           "face_status",
           [](pyb::object self) {
             const auto& c = *self.cast<const PyCache&>().cache;

@@ -108,6 +108,13 @@ class Cache:
         (C, 3) float64 unit normals the patches were built with (read-only view)
         """
     @property
+    def computed_normals(self) -> typing.Any:
+        """
+        (C, 3) float64 unit normals as computed, before fold_repair search turned some of them
+        (corner_normals holds the turned ones; the rows that differ are the corners it changed),
+        or None where no normal was turned (read-only view)
+        """
+    @property
     def face_offsets(self) -> numpy.ndarray:
         """
         (F + 1,) int32 (read-only view)

@@ -168,6 +168,12 @@ int32_t sf_cache_face_source(const sf_cache* cache, int32_t face) {
   return cache->cache->sourceFace(face);
 }
 
+double sf_cache_normal_turn(const sf_cache* cache, int32_t face, int32_t corner) {
+  if (!cache || face < 0 || face >= cache->cache->numFaces() || corner < 0 || corner >= cache->cache->faceSize(face))
+    return -1;
+  return cache->cache->normalTurnDeg(cache->cache->faceOffsets[face] + corner);
+}
+
 sf_status sf_cache_save(sf_cache* cache, const char* path) {
   if (!cache) return SF_ERROR_ARGUMENT;
   return guarded(cache->error, [&] {

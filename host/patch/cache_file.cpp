@@ -37,13 +37,14 @@ struct Header {  // 128 bytes on disk
   uint64_t payloadBytes, payloadChecksum;
   uint64_t creaseAngleBits;  // CreaseOptions::angleDeg as IEEE double bits (0: off)
   uint64_t creaseMarks;      // bit 0: tags off, bit 1: smoothing groups off, bit 2: normals on (0: default)
-  uint64_t sections;  // format 3: bit 0 certificates, bit 1 face sources (fold repair on); else 0
+  uint64_t sections;  // format 3: bit 0 certificates, bit 1 face sources (fold repair on); format 4 adds
+                      // bit 2, the computed normals (fold repair search turned some); else 0
   uint64_t headerChecksum;  // XXH64 of the bytes before this field
 };
 static_assert(sizeof(Header) == 128);
 
-/// Payload size for the given counts and format version (2 adds the certificates; 3 adds what
-/// its sections say: certificates, face sources); false on overflow.
+/// Payload size for the given counts and format version (2 adds the certificates; 3 and 4 add
+/// what their sections say: certificates, face sources, computed normals); false on overflow.
 bool payloadSize(uint64_t nv, uint64_t nf, uint64_t ns, Precision p, uint32_t version, uint64_t sections,
                  uint64_t* out) {
   const uint64_t lim = uint64_t(1) << 40;  // no count of a real mesh comes near this
@@ -51,8 +52,9 @@ bool payloadSize(uint64_t nv, uint64_t nf, uint64_t ns, Precision p, uint32_t ve
   const uint64_t real = p == Precision::Double ? 8 : 4;
   const bool certificates = version == 2 || (version >= 3 && (sections & 1u));
   const bool sources = version >= 3 && (sections & 2u);
+  const bool computed = version >= 4 && (sections & 4u);
   *out = nv * 3 * 8 + (nf + 1) * 4 + ns * 4 + ns * 3 * 8 + ns * 4 + nf * 4 + nf * 4 + (certificates ? nf * 4 : 0) +
-         (sources ? nf * 4 : 0) + uint64_t(GP_E_NFIELDS) * ns * real;
+         (sources ? nf * 4 : 0) + (computed ? ns * 3 * 8 : 0) + uint64_t(GP_E_NFIELDS) * ns * real;
   return true;
 }
 
@@ -109,7 +111,7 @@ uint64_t hashPatchOptions(const PatchOptions& options) {
 }
 
 uint32_t cacheFormatVersion(const PatchCache& c) {
-  if (c.options.foldRepair != FoldRepairMode::Off) return 3;
+  if (c.options.foldRepair != FoldRepairMode::Off) return c.computedNormals.empty() ? 3 : 4;
   return !c.faceCertificate.empty() && c.faceCertificate.size() == c.faceStatus.size() ? 2 : 1;
 }
 
@@ -129,8 +131,12 @@ void writePatchCache(const PatchCache& c, const std::string& path) {
   const bool sourced = c.options.foldRepair != FoldRepairMode::Off;
   if (sourced && c.faceSource.size() != c.faceStatus.size())
     throw std::invalid_argument("writePatchCache: a fold-repaired cache needs one source face per face");
+  const bool turned = !c.computedNormals.empty();
+  if (turned && (c.options.foldRepair != FoldRepairMode::Search || c.computedNormals.size() != c.cornerNormals.size()))
+    throw std::invalid_argument("writePatchCache: computed normals need fold repair search and one normal per corner");
   if (certified) put(payload, c.faceCertificate);
   if (sourced) put(payload, c.faceSource);
+  if (turned) put(payload, c.computedNormals);
   if (c.options.precision == Precision::Double)
     put(payload, c.edgeDataD);
   else
@@ -138,7 +144,7 @@ void writePatchCache(const PatchCache& c, const std::string& path) {
   Header h{};
   std::memcpy(h.magic, kMagic, 8);
   h.version = cacheFormatVersion(c);
-  h.sections = sourced ? (certified ? 1u : 0u) | 2u : 0u;
+  h.sections = sourced ? (certified ? 1u : 0u) | 2u | (turned ? 4u : 0u) : 0u;
   h.headerBytes = sizeof(Header);
   h.meshHash = c.meshHash;
   h.optionsHash = hashPatchOptions(c.options);
@@ -213,7 +219,9 @@ PatchCache readPatchCache(const std::string& path, const CacheExpectation& expec
   opt.creases.groups = !(h.creaseMarks & 2u);
   opt.creases.normals = (h.creaseMarks & 4u) != 0;
   std::memcpy(&opt.creases.angleDeg, &h.creaseAngleBits, sizeof(double));
-  if ((h.version < 3 && h.sections != 0) || h.sections > 3 || (h.version >= 3 && !(h.sections & 2u)))
+  // format 4 is format 3 with the computed normals, and only with them
+  if ((h.version < 3 && h.sections != 0) || h.sections > 7 || (h.version >= 3 && !(h.sections & 2u)) ||
+      (h.version == 4) != bool(h.sections & 4u))
     throw fail("corrupted cache header (section bits out of range)");
   opt.foldRepair = (h.sections & 2u) ? FoldRepairMode::On : FoldRepairMode::Off;
   if (!(opt.creases.angleDeg >= 0 && opt.creases.angleDeg < 180))
@@ -239,6 +247,8 @@ PatchCache readPatchCache(const std::string& path, const CacheExpectation& expec
     opt.cage = CageMode::CatmullClark;
     if (!hashedSearch(opt)) throw fail("corrupted cache header (options hash)");
   }
+  if ((h.sections & 4u) && opt.foldRepair != FoldRepairMode::Search)
+    throw fail("corrupted cache header (computed normals without the fold repair's normal search)");
   uint64_t expected = 0;
   if (!payloadSize(h.numVertices, h.numFaces, h.numSlots, opt.precision, h.version, h.sections, &expected) ||
       expected != h.payloadBytes)
@@ -273,6 +283,7 @@ PatchCache readPatchCache(const std::string& path, const CacheExpectation& expec
   take(p, c.faceBulge, h.numFaces);
   if (h.version == 2 || (h.sections & 1u)) take(p, c.faceCertificate, h.numFaces);
   if (h.sections & 2u) take(p, c.faceSource, h.numFaces);
+  if (h.sections & 4u) take(p, c.computedNormals, h.numSlots * 3);
   if (opt.precision == Precision::Double)
     take(p, c.edgeDataD, uint64_t(GP_E_NFIELDS) * h.numSlots);
   else
@@ -288,6 +299,13 @@ PatchCache readPatchCache(const std::string& path, const CacheExpectation& expec
   for (double x : c.positions)
     if (!(std::fabs(x) <= kMaxCoordinate)) throw fail("a vertex position beyond the coordinate range +-1e15 m");
   if (!allFinite(c.cornerNormals)) throw fail("non-finite corner normal");
+  if (!allFinite(c.computedNormals)) throw fail("non-finite computed normal");
+  for (size_t s = 0; 3 * s < c.computedNormals.size(); ++s) {  // unit, and turned by at most 90 degrees
+    const Eigen::Map<const Eigen::Vector3d> a(&c.computedNormals[3 * s]), b(&c.cornerNormals[3 * s]);
+    if (!(std::abs(a.norm() - 1) <= 1e-9) || !(a.dot(b) >= -1e-12))
+      throw fail("corner " + std::to_string(s) +
+                 ": its computed normal is not a unit vector within 90 degrees of its corner normal");
+  }
   if (!allFinite(c.faceBulge) || !allFinite(c.edgeDataD) || !allFinite(c.edgeDataF))
     throw fail("non-finite patch record");
   for (size_t f = 0; f < c.faceCertificate.size(); ++f)  // a cosine bound; none without a patch

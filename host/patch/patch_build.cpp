@@ -3,11 +3,13 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -29,7 +31,14 @@ size_t PatchCache::bytes() const {
          faceVertices.size() * sizeof(int32_t) + cornerNormals.size() * sizeof(double) +
          slotTwin.size() * sizeof(int32_t) + faceStatus.size() * sizeof(uint32_t) + faceBulge.size() * sizeof(float) +
          faceCertificate.size() * sizeof(float) + faceSource.size() * sizeof(int32_t) +
-         edgeDataD.size() * sizeof(double) + edgeDataF.size() * sizeof(float);
+         computedNormals.size() * sizeof(double) + edgeDataD.size() * sizeof(double) + edgeDataF.size() * sizeof(float);
+}
+
+double PatchCache::normalTurnDeg(int s) const {
+  if (computedNormals.empty()) return 0;
+  const Eigen::Map<const Eigen::Vector3d> a(&computedNormals[3 * size_t(s)]), b(&cornerNormals[3 * size_t(s)]);
+  if (a == b) return 0;
+  return std::atan2(a.cross(b).norm(), a.dot(b)) * 180 / std::numbers::pi;
 }
 
 void acrossCorners(const PatchCache& c, int f, int k, int32_t& atStart, int32_t& atEnd) {

@@ -14,6 +14,7 @@
 #include <string>
 #include <tuple>
 
+#include <smoothforce/patch/fold_repair_record.h>
 #include <smoothforce/query/patch_surface.h>
 #include <smoothforce/query/surface_faults.h>
 
@@ -282,16 +283,14 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
     r.faultAfter = r.faultBefore;
   } else {
     r.applied = true;
-    std::vector<char> changedFace(cache.numFaces(), 0);
+    if (cache.computedNormals.empty()) cache.computedNormals = original;  // a second search keeps the first's
     for (const std::vector<int>& slots : groups) {
       const Eigen::Vector3d n0 = vec3(original, slots[0]), n = vec3(cache.cornerNormals, slots[0]);
       if (n == n0) continue;
       r.changes.push_back({cache.faceVertices[slots[0]], std::acos(std::clamp(n.dot(n0), -1.0, 1.0)) * 180 / std::numbers::pi,
                            slots});
-      for (const int s : slots) changedFace[faceOf[s]] = 1;
     }
-    for (int f = 0; f < cache.numFaces(); ++f)
-      if (changedFace[f]) r.changedFaces.push_back(f);
+    for (const FoldRepairRecord::FaceChange& fc : foldRepairRecord(cache).changed) r.changedFaces.push_back(fc.face);
   }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;

@@ -504,6 +504,10 @@ def test_fold_repair_search_turns_normals_as_the_command_line_does_and_refuses_l
     run(paths["cli"], "cache", "build", cube, "--normals", "file", "--fold-repair", "search", "-o", tmp_path / "c.sfcache")
     cli = sf.Cache.from_file(str(tmp_path / "c.sfcache"))
     np.testing.assert_array_equal(cli.corner_normals, searched.corner_normals)
+    # the record of what turned: the normals as computed, kept by the cache file too
+    assert on.computed_normals is None
+    np.testing.assert_array_equal(searched.computed_normals, on.corner_normals)
+    np.testing.assert_array_equal(cli.computed_normals, on.corner_normals)
     with pytest.raises(ValueError, match="fold_repair search needs every patch"):
         sf.Cache.from_file(cube, normals="file", fold_repair="search", lazy=True)
 

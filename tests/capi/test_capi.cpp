@@ -15,7 +15,10 @@
 #include <limits>
 #include <set>
 #include <memory>
+#include <numbers>
 #include <string>
+
+#include <Eigen/Geometry>
 
 #include <smoothforce/force/force_method.h>
 #include <smoothforce/query/surface_distance.h>
@@ -24,10 +27,13 @@
 #include <smoothforce/mesh/mesh_io.h>
 #include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/query/normal_search.h>
 #include <smoothforce/patch/patch_eval.h>
 #include <smoothforce/runtime/safety.h>
 #include <smoothforce/runtime/scene.h>
 #include <smoothforce/runtime/servo_step.h>
+
+#include "tilted_cube_support.h"
 
 namespace {
 
@@ -803,6 +809,46 @@ TEST(CApi, FoldRepairByDefaultCutsAndNamesEveryPiecesSource) {
   const std::string m = createError(path.c_str(), &o, &st);
   EXPECT_EQ(st, SF_ERROR_INPUT);
   EXPECT_NE(m.find("fold_repair: expected off|on|search, got 'sometimes'"), std::string::npos) << m;
+  for (int f = 0; f < ref.numFaces(); ++f)  // on turns no normal
+    for (int k = 0; k < ref.faceSize(f); ++k) EXPECT_EQ(sf_cache_normal_turn(cut.get(), f, k), 0.0);
+}
+
+TEST(CApi, FoldRepairSearchReportsEveryTurnedNormal) {
+  const auto dir = std::filesystem::temp_directory_path() / ("sf_capi_search_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string cube = sf::test::writeTiltedCube(dir, 120);
+  sf_cache_options o;
+  sf_cache_options_init(&o);
+  o.normals = "file";
+  o.fold_repair = "search";
+  sf_cache* raw = nullptr;
+  ASSERT_EQ(sf_cache_from_file(cube.c_str(), &o, &raw), SF_OK) << sf_last_error();
+  CachePtr searched(raw);
+  // the same search in C++, and the angle of every corner from its normals
+  sf::PatchOptions po;
+  po.normals = sf::NormalMode::File;
+  po.foldRepair = sf::FoldRepairMode::Search;
+  sf::PatchCache ref = sf::buildPatchCache(sf::loadMesh(cube, po), po, sf::Backend::Tbb);
+  const std::vector<double> computed = ref.cornerNormals;
+  ASSERT_TRUE(sf::finishFoldRepair(ref).applied);
+  int turned = 0, corners = 0;
+  ASSERT_EQ(sf_cache_num_faces(searched.get()), ref.numFaces());
+  for (int f = 0; f < ref.numFaces(); ++f)
+    for (int k = 0; k < ref.faceSize(f); ++k, ++corners) {
+      const int s = ref.faceOffsets[f] + k;
+      const Eigen::Vector3d a(&computed[3 * s]), b(&ref.cornerNormals[3 * s]);
+      const double deg = std::atan2(a.cross(b).norm(), a.dot(b)) * 180 / std::numbers::pi;
+      EXPECT_NEAR(sf_cache_normal_turn(searched.get(), f, k), deg, 1e-9) << f << " " << k;
+      turned += deg > 0;
+    }
+  EXPECT_EQ(corners, 24);
+  EXPECT_GT(turned, 0);
+  EXPECT_LT(turned, 24);
+  EXPECT_EQ(sf_cache_normal_turn(searched.get(), 0, 4), -1);
+  EXPECT_EQ(sf_cache_normal_turn(searched.get(), 6, 0), -1);
+  EXPECT_EQ(sf_cache_normal_turn(searched.get(), -1, 0), -1);
+  EXPECT_EQ(sf_cache_normal_turn(nullptr, 0, 0), -1);
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 // and the command line, and lazy construction refuses it. The winding-only surfaces the search
 // builds give the full surface's fault verdicts.
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <Eigen/Geometry>
 #include <cmath>
@@ -19,12 +20,16 @@
 #include <string>
 
 #include <smoothforce/base/error.h>
+#include <smoothforce/base/hash.h>
+#include <smoothforce/patch/fold_repair_record.h>
 #include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/query/normal_search.h>
 #include <smoothforce/query/patch_surface.h>
 #include <smoothforce/query/surface_faults.h>
 #include "cli_test_support.h"
+#include "file_bytes.h"
+#include "tilted_cube_support.h"
 #include "patch_test_support.h"
 #include "surface_tessellation.h"  // the uniform tessellation's layout (private to query)
 #include "test_hostile_support.h"
@@ -93,6 +98,43 @@ void expectSearchContract(const PatchCache& before, const PatchCache& after, con
   }
   std::printf("%s: %zu normals turned, %d corners and %d faces kept bit for bit\n", what.c_str(), r.changes.size(),
               keptCorners, keptFaces);
+  // the cache's own record (what the cache file stores and cache info lists): the normals it
+  // was given, and from them every turned corner with its angle and every changed edge curve
+  EXPECT_EQ(after.computedNormals, before.cornerNormals) << what;
+  const FoldRepairRecord rec = foldRepairRecord(after);
+  EXPECT_EQ(rec.turnedNormals, static_cast<int>(r.changes.size())) << what;
+  EXPECT_EQ(rec.turnedCorners, before.numSlots() - keptCorners) << what;
+  std::vector<double> reported(before.numSlots(), 0.0);
+  double maxDeg = 0;
+  for (const NormalChange& ch : r.changes) {
+    maxDeg = std::max(maxDeg, ch.rotationDeg);
+    for (const int s : ch.corners) reported[s] = ch.rotationDeg;
+  }
+  EXPECT_NEAR(rec.maxDegrees, maxDeg, 1e-9) << what;
+  std::vector<int> recordFaces;
+  int turns = 0;
+  for (const FoldRepairRecord::FaceChange& fc : rec.changed) {
+    recordFaces.push_back(fc.face);
+    const int first = before.faceOffsets[fc.face], n = before.faceSize(fc.face);
+    std::vector<int> edges;  // the edges with a turned end, from the report's corners
+    for (int k = 0; k < n; ++k)
+      if (turned[first + k] || turned[first + (k + 1) % n]) edges.push_back(k);
+    EXPECT_EQ(fc.edges, edges) << what << " face " << fc.face;
+    for (const FoldRepairRecord::Turn& t : fc.turns) {
+      ++turns;
+      EXPECT_TRUE(turned[first + t.corner]) << what;
+      EXPECT_EQ(t.vertex, before.faceVertices[first + t.corner]) << what;
+      EXPECT_NEAR(t.degrees, reported[first + t.corner], 1e-9) << what;
+    }
+  }
+  EXPECT_EQ(turns, rec.turnedCorners) << what;
+  EXPECT_EQ(recordFaces, r.changedFaces) << what;
+  std::set<std::pair<int, int>> curves;  // mesh edges with a turned end, each once
+  for (int f = 0; f < before.numFaces(); ++f)
+    for (int k = 0, n = before.faceSize(f), first = before.faceOffsets[f]; k < n; ++k)
+      if (turned[first + k] || turned[first + (k + 1) % n])
+        curves.insert(std::minmax(before.faceVertices[first + k], before.faceVertices[first + (k + 1) % n]));
+  EXPECT_EQ(rec.edgeCurves, static_cast<int>(curves.size())) << what;
   // G1: the tangent-plane angle across every shared edge shrinks tenfold per decade towards it
   // (from 1e-5 inside the domains: folds left within 1e-4 of an edge, as on the spot cage's
   // bow-tie faces 60 and 150, delay the linear regime by a decade; test_patch_g1.cpp)
@@ -133,30 +175,7 @@ TEST(NormalSearch, RemovesAlmostAllOfTheSpotCagesFaultArea) {
   expectSearchContract(before, after, r, o.maxRotationDeg, "spot cage");
 }
 
-/// A cube (2 m) with radial file normals, vertex 7's turned by `tiltDeg` about (1, -1, 0): past
-/// about 80 degrees its patches overlap.
-std::string tiltedCube(double tiltDeg) {
-  const std::filesystem::path p = scratch().path / ("cube_" + std::to_string(int(tiltDeg)) + ".obj");
-  std::ofstream o(p);
-  std::vector<Eigen::Vector3d> v;
-  for (int x : {-1, 1})
-    for (int y : {-1, 1})
-      for (int z : {-1, 1}) v.emplace_back(x, y, z);
-  const Eigen::AngleAxisd tilt(tiltDeg * std::numbers::pi / 180, Eigen::Vector3d(1, -1, 0).normalized());
-  char line[160];
-  for (const auto& p3 : v) o << "v " << p3.x() << ' ' << p3.y() << ' ' << p3.z() << '\n';
-  for (int i = 0; i < 8; ++i) {
-    const Eigen::Vector3d n = i == 7 ? Eigen::Vector3d(tilt * v[i].normalized()) : v[i].normalized();
-    std::snprintf(line, sizeof line, "vn %.17g %.17g %.17g\n", n.x(), n.y(), n.z());
-    o << line;
-  }
-  for (const auto& f : {std::array{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}}) {
-    o << 'f';
-    for (int k : f) o << ' ' << k + 1 << "//" << k + 1;
-    o << '\n';
-  }
-  return p.string();
-}
+std::string tiltedCube(double tiltDeg) { return test::writeTiltedCube(scratch().path, tiltDeg); }
 
 TEST(NormalSearch, CubesWithATurnedNormalLoseTheirOverlaps) {
   // measured (fault area, own level 32): 90 degrees 4.15% -> 0, 120: 5.91% -> 0, 150: 10.3% -> 0.0003%
@@ -276,7 +295,52 @@ TEST(FoldRepairSearch, ReachesTheCacheFileAndTheCommandLineAndLazyConstructionRe
   const PatchCache back = readPatchCache((dir / "search.sfcache").string());
   EXPECT_EQ(back.options.foldRepair, FoldRepairMode::Search);
   EXPECT_EQ(back.cornerNormals, c.cornerNormals);
+  EXPECT_EQ(back.computedNormals, unsearched.cornerNormals);  // the record of what turned
+  EXPECT_EQ(test::fileBytes(dir / "search.sfcache").substr(8, 4), std::string("\x04\0\0\0", 4));  // format 4
   EXPECT_NE(hashPatchOptions(back.options), hashPatchOptions(on.options));
+  {
+    // a search that changed nothing writes format 3 with no record
+    PatchOptions fineOpt;
+    fineOpt.foldRepair = FoldRepairMode::Search;
+    const PatchCache fine =
+        buildPatchCache(loadMesh(test::sharedMesh("lagrange/cube.obj"), fineOpt), fineOpt, Backend::Tbb);
+    PatchCache searched = fine;
+    EXPECT_FALSE(finishFoldRepair(searched).applied);
+    EXPECT_TRUE(searched.computedNormals.empty());
+    writePatchCache(searched, (dir / "unchanged.sfcache").string());
+    EXPECT_EQ(test::fileBytes(dir / "unchanged.sfcache").substr(8, 4), std::string("\x03\0\0\0", 4));
+    EXPECT_TRUE(readPatchCache((dir / "unchanged.sfcache").string()).computedNormals.empty());
+  }
+  {
+    // records a search cannot give are refused: a normal turned past 90 degrees, one not of unit
+    // length, a record without the search, a format 4 header that says it has none
+    int refused = 0;
+    for (int forgery = 0; forgery < 3; ++forgery) {
+      PatchCache bad = c;
+      if (forgery == 0)
+        for (int i = 0; i < 3; ++i) bad.computedNormals[i] = -bad.cornerNormals[i];
+      if (forgery == 1) bad.computedNormals[5] *= 1.5;
+      if (forgery == 2) bad.computedNormals[7] = NAN;
+      const std::string f = (dir / ("forged" + std::to_string(forgery) + ".sfcache")).string();
+      writePatchCache(bad, f);
+      try {
+        readPatchCache(f);
+      } catch (const InputError& e) {
+        ++refused;
+        EXPECT_NE(std::string(e.what()).find("computed normal"), std::string::npos) << e.what();
+      }
+    }
+    EXPECT_EQ(refused, 3);
+    PatchCache onWithRecord = c;
+    onWithRecord.options.foldRepair = FoldRepairMode::On;
+    EXPECT_THROW(writePatchCache(onWithRecord, (dir / "x.sfcache").string()), std::invalid_argument);
+    std::string bytes = test::fileBytes(dir / "search.sfcache");
+    bytes[8] = 3;  // format 3 with the record's section bit (offset 112)
+    const uint64_t sum = hashBytes(bytes.data(), 120);
+    std::memcpy(bytes.data() + 120, &sum, 8);
+    std::ofstream((dir / "v3.sfcache").string(), std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
+    EXPECT_THROW(readPatchCache((dir / "v3.sfcache").string()), InputError);
+  }
 
   EXPECT_THROW(preparePatchSkeleton(lm, opt), InputError);
   EXPECT_THROW(preparePatchCache(lm.mesh, lm.cornerNormals, opt, lm.fileHash, /*allocatePatches=*/false), InputError);
@@ -293,6 +357,30 @@ TEST(FoldRepairSearch, ReachesTheCacheFileAndTheCommandLineAndLazyConstructionRe
   EXPECT_EQ(readPatchCache(out).cornerNormals, c.cornerNormals);
   const test::CliResult info = test::smoothforce("cache info " + out);
   EXPECT_NE(info.out.find("fold repair search"), std::string::npos) << info.out;
+  // cache info lists what the search changed, from the file alone
+  const FoldRepairRecord rec = foldRepairRecord(c);
+  ASSERT_GT(rec.turnedNormals, 0);
+  EXPECT_NE(info.out.find("fold repair: search: " + std::to_string(rec.turnedNormals) + " vertex normals turned (" +
+                          std::to_string(rec.turnedCorners) + " corners)"),
+            std::string::npos)
+      << info.out;
+  EXPECT_NE(info.out.find("  face " + std::to_string(rec.changed[0].face) + ": corners turned: "), std::string::npos)
+      << info.out;
+  const test::CliResult infoJson = test::smoothforce("cache info --json " + out);
+  ASSERT_EQ(infoJson.status, 0) << infoJson.out;
+  const nlohmann::json j = nlohmann::json::parse(infoJson.out)["fold_repair"];
+  EXPECT_EQ(j["mode"], "search");
+  EXPECT_EQ(j["turned_normals"], rec.turnedNormals);
+  EXPECT_EQ(j["turned_corners"], rec.turnedCorners);
+  EXPECT_EQ(j["edge_curves"], rec.edgeCurves);
+  ASSERT_EQ(j["changed"].size(), rec.changed.size());
+  int corners = 0;
+  for (size_t i = 0; i < rec.changed.size(); ++i) {
+    EXPECT_EQ(j["changed"][i]["face"], rec.changed[i].face);
+    EXPECT_EQ(j["changed"][i]["edges"].get<std::vector<int>>(), rec.changed[i].edges);
+    corners += static_cast<int>(j["changed"][i]["turned"].size());
+  }
+  EXPECT_EQ(corners, rec.turnedCorners);
   const test::CliResult lazy = test::smoothforce("loop --mesh " + cube +
                                                  " --normals file --fold-repair search --device scripted --duration 0.01");
   EXPECT_EQ(lazy.status, 1) << lazy.out;

@@ -10,6 +10,7 @@
 #include <smoothforce/mesh/creases.h>
 #include <smoothforce/mesh/mesh_check.h>
 #include <smoothforce/patch/cache_file.h>
+#include <smoothforce/patch/fold_repair_record.h>
 #include <smoothforce/patch/patch_certificate.h>
 #include <smoothforce/query/patch_surface.h>
 #include <smoothforce/force/shared_geometry.h>
@@ -71,45 +72,64 @@ nlohmann::ordered_json creasesJson(const PatchCache& c) {
   return {{"edges", s.edges}, {"crease_vertices", s.creaseVertices}, {"corners", s.corners}, {"darts", s.darts}};
 }
 
-/// The faces as read that a fold repair split cut (ascending), with the cache's faces of each.
-std::vector<std::pair<int, std::vector<int>>> cutFaces(const PatchCache& c) {
-  std::vector<std::pair<int, std::vector<int>>> out;
-  for (int f = 0; f < static_cast<int>(c.faceSource.size()); ++f) {
-    const int s = c.faceSource[f];
-    const bool alone = (f == 0 || c.faceSource[f - 1] != s) &&
-                       (f + 1 == static_cast<int>(c.faceSource.size()) || c.faceSource[f + 1] != s);
-    if (alone) continue;
-    if (out.empty() || out.back().first != s) out.push_back({s, {}});
-    out.back().second.push_back(f);
-  }
-  return out;
-}
-
 void printFoldRepair(const PatchCache& c) {
   if (c.options.foldRepair == FoldRepairMode::Off) return;
-  const auto cut = cutFaces(c);
-  if (cut.empty()) {
+  const FoldRepairRecord r = foldRepairRecord(c);
+  if (r.cuts.empty()) {
     std::printf("fold repair: %s: no flat polygon with a reflex or straight corner; the faces are those read\n",
                 toString(c.options.foldRepair));
+  } else {
+    size_t pieces = 0;
+    for (const FoldRepairRecord::Cut& cut : r.cuts) pieces += cut.faces.size();
+    std::printf("fold repair: %s: %zu faces as read cut into %zu convex pieces; the cache's faces are the pieces\n",
+                toString(c.options.foldRepair), r.cuts.size(), pieces);
+    for (size_t i = 0; i < r.cuts.size() && i < 10; ++i)
+      std::printf("  face %d as read: faces%s\n", r.cuts[i].faceAsRead, faceIdsText(r.cuts[i].faces).c_str());
+    if (r.cuts.size() > 10) std::printf("  ... (cache info --json: every one)\n");
+  }
+  if (c.options.foldRepair != FoldRepairMode::Search) return;
+  if (r.turnedCorners == 0) {
+    std::printf("fold repair: search: no normal turned; every patch is the one of fold repair on\n");
     return;
   }
-  size_t pieces = 0;
-  for (const auto& [s, fs] : cut) pieces += fs.size();
-  std::printf("fold repair: %s: %zu faces as read cut into %zu convex pieces; the cache's faces are the pieces\n",
-              toString(c.options.foldRepair), cut.size(), pieces);
-  for (size_t i = 0; i < cut.size() && i < 10; ++i) {
-    std::string ids;
-    for (int f : cut[i].second) (ids += ' ') += std::to_string(f);
-    std::printf("  face %d as read: faces%s\n", cut[i].first, ids.c_str());
+  std::printf(
+      "fold repair: search: %d vertex normals turned (%d corners) by %.3g degrees on average, at most %.3g; %zu "
+      "patches and %d edge curves changed\n",
+      r.turnedNormals, r.turnedCorners, r.meanDegrees, r.maxDegrees, r.changed.size(), r.edgeCurves);
+  for (size_t i = 0; i < r.changed.size() && i < 10; ++i) {
+    const FoldRepairRecord::FaceChange& fc = r.changed[i];
+    std::string turns, edges;
+    for (const FoldRepairRecord::Turn& t : fc.turns) {
+      char buf[96];
+      std::snprintf(buf, sizeof buf, "%s%d (vertex %d) %.3g deg", turns.empty() ? "" : ", ", t.corner, t.vertex,
+                    t.degrees);
+      turns += buf;
+    }
+    std::printf("  face %d: corners turned: %s; edge curves changed:%s\n", fc.face,
+                turns.empty() ? "none (across a crease)" : turns.c_str(), faceIdsText(fc.edges).c_str());
   }
-  if (cut.size() > 10) std::printf("  ... (cache info --json: every one)\n");
+  if (r.changed.size() > 10) std::printf("  ... (cache info --json: every one)\n");
 }
 
 nlohmann::ordered_json foldRepairJson(const PatchCache& c) {
   if (c.options.foldRepair == FoldRepairMode::Off) return nullptr;
-  nlohmann::ordered_json cut = nlohmann::ordered_json::array();
-  for (const auto& [s, fs] : cutFaces(c)) cut.push_back({{"face_as_read", s}, {"faces", fs}});
-  return {{"mode", toString(c.options.foldRepair)}, {"cut", cut}};
+  const FoldRepairRecord r = foldRepairRecord(c);
+  nlohmann::ordered_json cut = nlohmann::ordered_json::array(), changed = nlohmann::ordered_json::array();
+  for (const FoldRepairRecord::Cut& k : r.cuts) cut.push_back({{"face_as_read", k.faceAsRead}, {"faces", k.faces}});
+  for (const FoldRepairRecord::FaceChange& fc : r.changed) {
+    nlohmann::ordered_json turns = nlohmann::ordered_json::array();
+    for (const FoldRepairRecord::Turn& t : fc.turns)
+      turns.push_back({{"corner", t.corner}, {"vertex", t.vertex}, {"degrees", t.degrees}});
+    changed.push_back({{"face", fc.face}, {"turned", turns}, {"edges", fc.edges}});
+  }
+  return {{"mode", toString(c.options.foldRepair)},
+          {"cut", cut},
+          {"turned_normals", r.turnedNormals},
+          {"turned_corners", r.turnedCorners},
+          {"mean_degrees", r.meanDegrees},
+          {"max_degrees", r.maxDegrees},
+          {"edge_curves", r.edgeCurves},
+          {"changed", changed}};
 }
 
 nlohmann::ordered_json certificateJson(const PatchCache& c) {
@@ -457,7 +477,8 @@ void addCacheCommands(CLI::App& app) {
   i->add_flag("--json", *json,
               "print one JSON object instead of text: cache, format, bytes, mesh_hash, options_hash, vertices, "
               "faces, face_sizes, edge_slots, boundary_slots, non_manifold_slots, options, fold_repair (null when off; "
-              "else the faces as read that were cut, each with its pieces), polygons (intersecting "
+              "else the faces as read that were cut, each with its pieces, and under search the normals turned: "
+              "counts, mean and max degrees, and per changed face its turned corners and changed edge curves), polygons (intersecting "
               "and self-crossing polygons of the mesh), patches, certificate (null when not computed), "
               "surface_faults, memory");
   auto faults = std::make_shared<bool>(false);

@@ -138,6 +138,11 @@ int32_t sf_cache_num_vertices(const sf_cache* cache);
  *  cache was built with fold_repair "split", which cuts polygons into pieces; -1 for a NULL
  *  cache or a face out of range. */
 int32_t sf_cache_face_source(const sf_cache* cache, int32_t face);
+/** Degrees by which fold_repair "search" turned the normal at corner `corner` (0 .. n-1) of
+ *  face `face`, from the normal computed to the one the patch was built with; 0 where it turned
+ *  none (and for every corner under the other modes); -1 for a NULL cache or a face or corner
+ *  out of range. */
+double sf_cache_normal_turn(const sf_cache* cache, int32_t face, int32_t corner);
 /** Writes the cache file atomically (a lazy cache cannot be written: SF_ERROR_INPUT). */
 sf_status sf_cache_save(sf_cache* cache, const char* path);
 

@@ -10,13 +10,15 @@
 
 namespace sf {
 
-/// Newest format version this build writes: 3 for a fold-repaired cache (PatchCache::faceSource
-/// after faceBulge and the certificates, which the header's section bits name), 2 for a cache
-/// with certificates (PatchCache::faceCertificate, after faceBulge), else 1. Reads 1 .. this.
-inline constexpr uint32_t kCacheFormatVersion = 3;
+/// Newest format version this build writes: 4 for a cache whose fold repair turned normals
+/// (format 3 plus PatchCache::computedNormals after faceSource), 3 for a fold-repaired cache
+/// (PatchCache::faceSource after faceBulge and the certificates, which the header's section bits
+/// name), 2 for a cache with certificates (PatchCache::faceCertificate, after faceBulge), else 1.
+/// Reads 1 .. this.
+inline constexpr uint32_t kCacheFormatVersion = 4;
 
-/// The format version writePatchCache writes `cache` in: 3 with fold repair, else 2 with
-/// certificates, else 1.
+/// The format version writePatchCache writes `cache` in: 4 with turned normals, 3 with fold
+/// repair, else 2 with certificates, else 1.
 uint32_t cacheFormatVersion(const PatchCache& cache);
 
 /// XXH64 of the options that determine the patches (precision, cross tangent, normals,
@@ -30,7 +32,7 @@ uint64_t hashPatchOptions(const PatchOptions& options);
 /// Layout: 128-byte little-endian header (magic "SFPATCH", version, mesh and options hashes,
 /// counts, payload size and XXH64 checksum, header checksum), then the arrays in
 /// PatchCache order (faceCertificate in format 2 and where format 3's sections say, faceSource in
-/// format 3). Throws InputError when the file cannot be written.
+/// formats 3 and 4, computedNormals in format 4). Throws InputError when the file cannot be written.
 void writePatchCache(const PatchCache& cache, const std::string& path);
 
 /// True when the file at `path` starts with the cache magic (false when unreadable).

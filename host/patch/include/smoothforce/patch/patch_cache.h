@@ -54,6 +54,10 @@ struct PatchCache {
   /// #F with fold repair Split: the face of the mesh as read that each face (piece) comes from;
   /// empty otherwise (every face is the one read).
   std::vector<int32_t> faceSource;
+  /// #C*3 unit normals as the normals option computed them, where the fold repair's normal search
+  /// (FoldRepairMode::Search, query/normal_search.h) turned some: cornerNormals then holds the
+  /// turned normals, and corners whose two normals differ are the ones it changed. Empty otherwise.
+  std::vector<double> computedNormals;
   /// GP_E_NFIELDS * #C per-edge records, field-major: value of field i of slot s at
   /// [i * #C + s]. Exactly one of the two is filled, per options.precision.
   std::vector<double> edgeDataD;
@@ -65,6 +69,9 @@ struct PatchCache {
   int faceSize(int f) const { return faceOffsets[f + 1] - faceOffsets[f]; }
   /// The face of the mesh as read that face f comes from (f itself without a split).
   int sourceFace(int f) const { return faceSource.empty() ? f : faceSource[f]; }
+  /// Degrees between corner s's normal as computed and the one its patch was built with
+  /// (computedNormals); 0 where the fold repair turned no normal.
+  double normalTurnDeg(int s) const;
   /// Bytes held by the arrays.
   size_t bytes() const;
 };

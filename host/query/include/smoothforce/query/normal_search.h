@@ -42,7 +42,7 @@ struct NormalSearchReport {
   double faultAfter = 0;        ///< m^2 (= faultBefore unless applied)
   double totalArea = 0;         ///< m^2 of the probed surface (before)
   std::vector<NormalChange> changes;  ///< the normals turned, in search order
-  std::vector<int> changedFaces;      ///< faces whose patch changed, ascending
+  std::vector<int> changedFaces;      ///< faces whose patch the turned normals changed, ascending (foldRepairRecord)
   int searchLevel = 0;                ///< the level the candidates were compared at
   int64_t evaluations = 0;            ///< candidate surfaces measured
   double seconds = 0;
@@ -62,7 +62,8 @@ struct NormalSearchReport {
 /// own level; unless it fell, every normal is put back (applied false).
 ///
 /// The cache must have its patches built (constructPatches); its corner normals and patches are
-/// replaced where applied. The sampled fault measure is the objective, not a proof: certify the
+/// replaced where applied, and cache.computedNormals then keeps the normals it was given (the
+/// record of what turned, which the cache file stores). The sampled fault measure is the objective, not a proof: certify the
 /// result (certifyPatches) where a proof per patch is needed. Throws std::invalid_argument for
 /// options out of range. Cost: about 10 measured candidates per normal visited, each a
 /// tessellation and BVH of the whole surface (winding only): on the spot cage, 1,550 candidates

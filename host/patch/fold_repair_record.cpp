@@ -1,0 +1,65 @@
+// SPDX-License-Identifier: Apache-2.0
+#include <smoothforce/patch/fold_repair_record.h>
+
+#include <algorithm>
+#include <set>
+#include <tuple>
+
+namespace sf {
+
+FoldRepairRecord foldRepairRecord(const PatchCache& c) {
+  FoldRepairRecord r;
+  const int nf = static_cast<int>(c.faceSource.size());
+  for (int f = 0; f < nf; ++f) {
+    const int s = c.faceSource[f];
+    const bool alone = (f == 0 || c.faceSource[f - 1] != s) && (f + 1 == nf || c.faceSource[f + 1] != s);
+    if (alone) continue;
+    if (r.cuts.empty() || r.cuts.back().faceAsRead != s) r.cuts.push_back({s, {}});
+    r.cuts.back().faces.push_back(f);
+  }
+  if (c.computedNormals.size() != c.cornerNormals.size()) return r;
+
+  std::vector<double> turn(c.numSlots());
+  for (int s = 0; s < c.numSlots(); ++s) turn[s] = c.normalTurnDeg(s);
+  // a vertex normal is the computed normal the corners of one vertex share (a crease splits them)
+  std::set<std::tuple<int, double, double, double>> normals;
+  double sum = 0;
+  for (int s = 0; s < c.numSlots(); ++s) {
+    if (turn[s] == 0) continue;
+    ++r.turnedCorners;
+    r.maxDegrees = std::max(r.maxDegrees, turn[s]);
+    const double* n = &c.computedNormals[3 * size_t(s)];
+    if (normals.emplace(c.faceVertices[s], n[0], n[1], n[2]).second) sum += turn[s];
+  }
+  r.turnedNormals = static_cast<int>(normals.size());
+  r.meanDegrees = r.turnedNormals ? sum / r.turnedNormals : 0;
+
+  std::vector<char> edgeChanged(c.numSlots(), 0);
+  for (int f = 0; f < c.numFaces(); ++f) {
+    const int n = c.faceSize(f), first = c.faceOffsets[f];
+    const bool creased = faceHasCrease(c, f);
+    FoldRepairRecord::FaceChange fc;
+    fc.face = f;
+    for (int k = 0; k < n; ++k) {
+      if (turn[first + k] != 0) fc.turns.push_back({k, c.faceVertices[first + k], turn[first + k]});
+      bool changed = turn[first + k] != 0 || turn[first + (k + 1) % n] != 0;
+      if (creased && !changed) {
+        int32_t a, b;
+        acrossCorners(c, f, k, a, b);
+        changed = turn[a] != 0 || turn[b] != 0;
+      }
+      if (changed) {
+        fc.edges.push_back(k);
+        edgeChanged[first + k] = 1;
+      }
+    }
+    if (!fc.edges.empty()) r.changed.push_back(std::move(fc));
+  }
+  for (int s = 0; s < c.numSlots(); ++s) {
+    const int t = c.slotTwin[s];
+    if (edgeChanged[s] || (t >= 0 && edgeChanged[t])) r.edgeCurves += t < 0 || s < t;
+  }
+  return r;
+}
+
+}  // namespace sf
