@@ -8,18 +8,25 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <memory>
 #include <map>
 #include <numbers>
 #include <stdexcept>
 #include <string>
 #include <tuple>
 
+#include <smoothforce/base/coordinate_range.h>
+
 #include <smoothforce/patch/fold_repair_record.h>
 #include <smoothforce/query/patch_surface.h>
 #include <smoothforce/query/surface_faults.h>
 
 #include "gp_config.h"  // GP_ST_* status bits
+#include "embree_point_query.h"
+#include "fault_verdict.h"
 #include "surface_tessellation.h"
+#include "winding_rays.h"
 
 namespace sf {
 namespace {
@@ -75,17 +82,14 @@ void growByFaces(const UniformTessellation& u, const std::vector<int>& faces, Ei
   }
 }
 
-/// The fault area (m^2; 0 where Consistent or Degenerate) of each triangle tri[i] of the
-/// surface's uniform tessellation, probed at offset h (triangleVerdict), in parallel.
-template <class Index>
-std::vector<double> faultOf(const PatchSurface& s, size_t n, const Index& tri, double h) {
-  std::vector<double> a(n, 0.0);
-  tbb::parallel_for(size_t(0), n, [&](size_t i) {
-    double area2 = 0;
-    const SurfaceVerdict v = triangleVerdict(s, tri(i), h, &area2);
-    if (v != SurfaceVerdict::Consistent && v != SurfaceVerdict::Degenerate) a[i] = 0.5 * area2;
-  });
-  return a;
+/// The fault area (m^2; 0 where Consistent or Degenerate) of triangle t of `u`, probed at offset
+/// h with the winding number winding(point) (fault_verdict.h).
+template <class Winding>
+double faultArea(const UniformTessellation& u, size_t t, double h, Winding&& winding) {
+  double area2 = 0;
+  const SurfaceVerdict v =
+      faultVerdict(u.vertex[u.tri[t][0]], u.vertex[u.tri[t][1]], u.vertex[u.tri[t][2]], h, winding, &area2);
+  return v != SurfaceVerdict::Consistent && v != SurfaceVerdict::Degenerate ? 0.5 * area2 : 0.0;
 }
 
 /// The triangles of the surface's uniform tessellation whose face is in `star` or that touch box b.
@@ -142,10 +146,12 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
   NormalSearchReport r;
   PatchSurfaceOptions fullOptions;
   fullOptions.windingOnly = true;
+  double h = 0;  ///< m, the fault measure's probe offset
   {
     const PatchSurface full(cache, fullOptions);
     r.closed = full.closed();
     if (!r.closed) return r;
+    h = surfaceProbeOffset(full);
     const SurfaceFaults f = measureSurfaceFaults(full);
     r.faultBefore = r.faultAfter = f.faultArea();
     r.totalArea = f.totalArea;
@@ -176,16 +182,39 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
     return c.norm() > 0 ? Eigen::Vector3d(c.normalized()) : Eigen::Vector3d::Zero();
   };
 
-  PatchSurfaceOptions searchOptions;
-  searchOptions.windingOnly = true;
-  searchOptions.level = r.searchLevel;
-  auto current = std::make_unique<PatchSurface>(cache, searchOptions);
-  const double h = surfaceProbeOffset(*current);
-  std::vector<double> triFault = faultOf(*current, current->uniform().tri.size(), [](size_t t) { return t; }, h);
+  // The search's surface: the uniform tessellation at the search level, rays only. A candidate
+  // changes the patches of the faces at its vertex (its star) alone, so the rest is traced once
+  // per vertex, and each candidate tessellates and traces only its star again: crossings of
+  // disjoint scenes with one origin add up to the whole's (winding_rays.h).
+  UniformTessellation current = tessellateUniform(cache, r.searchLevel, /*errors=*/false);
+  Eigen::AlignedBox3d all;
+  for (const Eigen::Vector3d& p : current.vertex) all.extend(p);
+  const Eigen::Vector3d origin = current.vertex.empty() ? Eigen::Vector3d::Zero() : localOrigin(all.min(), all.max());
+  char embreeError[256] = {0};
+  RTCDevice device = newEmbreeDevice(
+      [](void* user, RTCError code, const char* str) {
+        auto* e = static_cast<char*>(user);
+        if (e[0] == 0) std::snprintf(e, 256, "Embree error %d: %s", int(code), str);
+      },
+      embreeError);
+  const std::unique_ptr<RTCDeviceTy, void (*)(RTCDevice)> deviceOwner(device, rtcReleaseDevice);
+  auto checkEmbree = [&] {
+    if (embreeError[0]) throw std::runtime_error(std::string("normal search: ") + embreeError);
+  };
+  std::vector<double> triFault(current.tri.size(), 0.0);
+  {
+    const WindingRays whole(device, current, nullptr, origin);
+    checkEmbree();
+    tbb::parallel_for(size_t(0), current.tri.size(), [&](size_t t) {
+      triFault[t] = faultArea(current, t, h, [&](const Eigen::Vector3d& q) {
+        return windingFromRays([&](int k, bool* clean) { return whole.crossings(q, k, clean); });
+      });
+    });
+  }
   std::vector<char> inStar(cache.numFaces(), 0);
 
   std::vector<double> faceFault(cache.numFaces(), 0.0);
-  for (size_t t = 0; t < triFault.size(); ++t) faceFault[current->uniform().triFace[t]] += triFault[t];
+  for (size_t t = 0; t < triFault.size(); ++t) faceFault[current.triFace[t]] += triFault[t];
   for (int pass = 0; pass < o.passes; ++pass) {
     bool movedAny = false;
     for (size_t g = 0; g < groups.size(); ++g) {
@@ -204,7 +233,7 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
       if (towards.empty()) continue;
       for (const int f : star) inStar[f] = 1;
       Eigen::AlignedBox3d oldBox;
-      growByFaces(current->uniform(), star, &oldBox);
+      growByFaces(current, star, &oldBox);
       towards.push_back(minimaxDirection(towards, now));
       // the vertex's edges, as unit vectors away from it: a normal along one of them leaves that
       // edge's curve without a tangent direction (the design page's degenerate case)
@@ -224,11 +253,12 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
       };
       uint32_t starStatus = 0;
       for (const int f : star) starStatus |= cache.faceStatus[f];
+      std::unique_ptr<WindingRays> rest;  // every triangle off the star, traced once for all candidates
       double bestDelta = -1e-12 * r.totalArea;
       Eigen::Vector3d best = now;
-      std::unique_ptr<PatchSurface> bestSurface;
+      std::unique_ptr<UniformTessellation> bestStar;
       std::vector<size_t> bestTouched;
-      std::vector<double> bestFault;  ///< fault area of bestTouched on bestSurface
+      std::vector<double> bestFault;  ///< fault area of bestTouched with bestStar
       for (const Eigen::Vector3d& d : towards)
         for (const double t : {0.5, 1.0}) {
           // the candidate from the normal kept so far, then clamped to the bound around the original
@@ -240,35 +270,66 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
           uint32_t status = 0;
           for (const int f : star) status |= cache.faceStatus[f];
           if (status & ~starStatus & kNewStatus) continue;  // a degenerate edge or a bulge the normal made
-          auto candidate = std::make_unique<PatchSurface>(cache, searchOptions);
+          if (!rest) {
+            std::vector<int64_t> off;
+            off.reserve(current.tri.size());
+            for (size_t i = 0; i < current.tri.size(); ++i)
+              if (!inStar[current.triFace[i]]) off.push_back(static_cast<int64_t>(i));
+            rest = std::make_unique<WindingRays>(device, current, &off, origin);
+          }
+          auto candidate = std::make_unique<UniformTessellation>(
+              tessellateUniform(cache, r.searchLevel, /*errors=*/false, &star));
+          const WindingRays starRays(device, *candidate, nullptr, origin);
+          checkEmbree();
           ++r.evaluations;
           Eigen::AlignedBox3d box = oldBox;
-          growByFaces(candidate->uniform(), star, &box);
+          growByFaces(*candidate, star, &box);
           box.min().array() -= 2 * h;
           box.max().array() += 2 * h;
-          std::vector<size_t> tt = touchedTriangles(candidate->uniform(), inStar, box);
-          std::vector<double> fault = faultOf(*candidate, tt.size(), [&](size_t i) { return tt[i]; }, h);
+          const std::vector<size_t> tt = touchedTriangles(current, inStar, box);
+          // triangle i of the candidate surface: the star's from its own tessellation (the same
+          // layout per face), the others from the current one
+          auto corners = [&](size_t i) {
+            const int f = current.triFace[i];
+            if (!inStar[f]) return &current.tri[i];
+            return &candidate->tri[size_t(candidate->faceFirstTri[f] + (int64_t(i) - current.faceFirstTri[f]))];
+          };
+          std::vector<double> fault(tt.size(), 0.0);
+          tbb::parallel_for(size_t(0), tt.size(), [&](size_t j) {
+            const bool star = inStar[current.triFace[tt[j]]];
+            const UniformTessellation& from = star ? *candidate : current;
+            fault[j] = faultArea(from, size_t(corners(tt[j]) - from.tri.data()), h, [&](const Eigen::Vector3d& q) {
+              return windingFromRays([&](int k, bool* clean) {
+                return rest->crossings(q, k, clean) + starRays.crossings(q, k, clean);
+              });
+            });
+          });
           double before = 0;
           for (const size_t i : tt) before += triFault[i];
           if (const double delta = sum(fault) - before; delta < bestDelta) {
             bestDelta = delta;
             best = n;
-            bestSurface = std::move(candidate);
+            bestStar = std::move(candidate);
             bestTouched = std::move(tt);
             bestFault = std::move(fault);
           }
         }
-      for (const int f : star) inStar[f] = 0;
       setNormal(slots, best);
       constructPatches(cache, o.backend);
-      if (!bestSurface) continue;
-      movedAny = true;
-      current = std::move(bestSurface);
-      for (size_t i = 0; i < bestTouched.size(); ++i) {
-        const size_t t = bestTouched[i];
-        faceFault[current->uniform().triFace[t]] += bestFault[i] - triFault[t];
-        triFault[t] = bestFault[i];
+      if (bestStar) {
+        movedAny = true;
+        for (const int f : star) {  // the star's new vertices into the current tessellation
+          const int64_t a = current.faceFirstTri[f], b = bestStar->faceFirstTri[f];
+          for (int64_t i = 0; a >= 0 && a + i < int64_t(current.tri.size()) && current.triFace[a + i] == f; ++i)
+            for (int c = 0; c < 3; ++c) current.vertex[current.tri[a + i][c]] = bestStar->vertex[bestStar->tri[b + i][c]];
+        }
+        for (size_t i = 0; i < bestTouched.size(); ++i) {
+          const size_t t = bestTouched[i];
+          faceFault[current.triFace[t]] += bestFault[i] - triFault[t];
+          triFault[t] = bestFault[i];
+        }
       }
+      for (const int f : star) inStar[f] = 0;
     }
     if (!movedAny) break;
   }

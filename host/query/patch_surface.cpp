@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
@@ -21,6 +22,7 @@
 #include "gp_closest.h"
 #include "gp_config.h"
 #include "surface_tessellation.h"
+#include "winding_rays.h"
 
 namespace sf {
 
@@ -29,13 +31,14 @@ struct PatchSurface::Impl {
   std::atomic<int64_t> embreeBytes{0};  ///< what the device holds (its memory monitor)
   RTCScene points = nullptr;  ///< user geometry: the adaptive triangles, boxes inflated by their error
   RTCScene band = nullptr;    ///< user geometry: the uniform triangles, boxes inflated by their error
-  RTCScene rays = nullptr;    ///< the uniform triangles as Embree triangles
+  std::unique_ptr<WindingRays> rays;  ///< the uniform triangles as Embree triangles (winding())
   const PatchSurface* surface = nullptr;
   float pad = 0;                    ///< m: float rounding of the BVHs, added to boxes and radii
   Eigen::Vector3d origin{0, 0, 0};  ///< m: the BVHs' frame (localOrigin of the geometry's box)
   char error[256] = {0};
   ~Impl() {
-    for (RTCScene s : {points, band, rays})
+    rays.reset();  // (its scene, before the device)
+    for (RTCScene s : {points, band})
       if (s) rtcReleaseScene(s);
     if (device) rtcReleaseDevice(device);
   }
@@ -176,40 +179,6 @@ bool bandFn(RTCPointQueryFunctionArguments* args) {
   return true;
 }
 
-// ---- rays: winding number ----
-
-struct WindingContext {
-  RTCIntersectContext base;  ///< first, so that Embree's context pointer is ours
-  const UniformTessellation* u;
-  Eigen::Vector3d dir;
-  int winding;
-  bool clean;      ///< every crossing so far transversal and inside its triangle, away from its edges
-  float minDepth;  ///< ... and at least this far along the ray (its float origin's rounding, many times)
-};
-
-/// A crossing counts as clean when its barycentric coordinates are all at least this (Embree
-/// computes them in float: far above their rounding) ...
-constexpr float kWindingEdgeMargin = 1e-4f;
-/// ... and the ray meets the triangle's plane at a sine of at least this, at a distance of at least
-/// this times the origin's largest coordinate (about 80 float roundings of it).
-constexpr double kWindingMinSine = 1e-3;
-constexpr float kWindingMinDepth = 1e-5f;
-
-void windingFilter(const RTCFilterFunctionNArguments* args) {
-  if (args->N != 1 || !args->valid[0]) return;
-  auto* wc = reinterpret_cast<WindingContext*>(const_cast<RTCIntersectContext*>(args->context));
-  const auto& tr = wc->u->tri[RTCHitN_primID(args->hit, args->N, 0)];
-  const Eigen::Vector3d& a = wc->u->vertex[tr[0]];
-  const Eigen::Vector3d n = (wc->u->vertex[tr[1]] - a).cross(wc->u->vertex[tr[2]] - a);
-  const double s = n.dot(wc->dir);
-  wc->winding += s > 0 ? 1 : (s < 0 ? -1 : 0);
-  const float bu = RTCHitN_u(args->hit, args->N, 0), bv = RTCHitN_v(args->hit, args->N, 0);
-  if (!(std::min({bu, bv, 1.0f - bu - bv}) >= kWindingEdgeMargin && std::abs(s) >= kWindingMinSine * n.norm() &&
-        RTCRayN_tfar(args->ray, args->N, 0) >= wc->minDepth))
-    wc->clean = false;
-  args->valid[0] = 0;  // reject: keep traversing for the further crossings
-}
-
 }  // namespace
 
 int choosePatchSurfaceLevel(const PatchCache& cache, const PatchSurfaceOptions& o) {
@@ -237,7 +206,9 @@ PatchSurface::PatchSurface(const PatchCache& cache, const PatchSurfaceOptions& o
     throw InputError("patch surface: targetError must be > 0, subdivision in 0..8 and adaptiveBudget >= 1");
   const double diag = boundingDiagonal(cache);
   const double noise = evaluationNoise(cache);
-  uniform_ = std::make_unique<UniformTessellation>(tessellateUniform(cache, choosePatchSurfaceLevel(cache, options)));
+  // winding only: no band, and so no error bounds to compute (the same vertices)
+  uniform_ = std::make_unique<UniformTessellation>(
+      tessellateUniform(cache, choosePatchSurfaceLevel(cache, options), !options.windingOnly));
   for (double& e : uniform_->error) e += noise;
   bandError_.assign(cache.numFaces(), 0.0);
   for (size_t t = 0; t < uniform_->tri.size(); ++t)
@@ -283,24 +254,9 @@ PatchSurface::PatchSurface(const PatchCache& cache, const PatchSurfaceOptions& o
   RTCGeometry gb = u.tri.empty() || options.windingOnly
                        ? nullptr
                        : userGeometry(impl_->device, u.tri.size(), impl_.get(), bandBounds, bandFn);
-  RTCGeometry gr = nullptr;
-  if (!u.tri.empty()) {
-    gr = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* vb = static_cast<float*>(
-        rtcSetNewGeometryBuffer(gr, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), u.vertex.size()));
-    auto* ib = static_cast<unsigned*>(
-        rtcSetNewGeometryBuffer(gr, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), u.tri.size()));
-    if (!vb || !ib) throw std::runtime_error(std::string("patch surface BVH buffers: ") + impl_->error);
-    for (size_t i = 0; i < u.vertex.size(); ++i)
-      for (int a = 0; a < 3; ++a) vb[3 * i + a] = float(u.vertex[i][a] - impl_->origin[a]);
-    for (size_t i = 0; i < u.tri.size(); ++i)
-      for (int a = 0; a < 3; ++a) ib[3 * i + a] = unsigned(u.tri[i][a]);
-    rtcSetGeometryIntersectFilterFunction(gr, windingFilter);
-    rtcCommitGeometry(gr);
-  }
   impl_->points = sceneOf(impl_->device, gp, false);
   impl_->band = sceneOf(impl_->device, gb, false);
-  impl_->rays = sceneOf(impl_->device, gr, true);
+  impl_->rays = std::make_unique<WindingRays>(impl_->device, u, nullptr, impl_->origin);
   if (impl_->error[0]) throw std::runtime_error(std::string("building the patch surface BVHs: ") + impl_->error);
 }
 
@@ -397,30 +353,7 @@ bool PatchSurface::inErrorBand(const Eigen::Vector3d& q, double* reach, int* rea
 
 int PatchSurface::winding(const Eigen::Vector3d& q) const noexcept {
   if (uniform_->tri.empty() || !inCoordinateRange(q)) return 0;
-  static const Eigen::Vector3d kDir[3] = {Eigen::Vector3d(0.5406, 0.6209, 0.5676).normalized(),
-                                          Eigen::Vector3d(-0.7071, 0.1961, -0.6793).normalized(),
-                                          Eigen::Vector3d(0.2673, -0.8018, 0.5345).normalized()};
-  int w[3];
-  for (int k = 0; k < 3; ++k) {
-    WindingContext wc;
-    rtcInitIntersectContext(&wc.base);
-    wc.u = uniform_.get();
-    wc.dir = kDir[k];
-    wc.winding = 0;
-    wc.clean = true;
-    const Eigen::Vector3d o = q - impl_->origin;  // the ray's origin in the BVH's frame
-    wc.minDepth = kWindingMinDepth * float(o.cwiseAbs().maxCoeff());
-    RTCRayHit rh = embreeRay(o, kDir[k], std::numeric_limits<float>::infinity());
-    rtcIntersect1(impl_->rays, &wc.base, &rh);
-    w[k] = wc.winding;
-    // the scene is watertight (robust mode): a ray whose every crossing is transversal and inside
-    // its triangle counts each crossing once, so its count is the winding number
-    if (k == 0 && wc.clean) return w[0];
-    if (k == 1 && w[0] == w[1]) return w[0];  // two rays agree: the third cannot change the majority
-  }
-  if (w[0] == w[2]) return w[0];
-  if (w[1] == w[2]) return w[1];
-  return w[0];
+  return windingFromRays([&](int k, bool* clean) { return impl_->rays->crossings(q, k, clean); });
 }
 
 }  // namespace sf

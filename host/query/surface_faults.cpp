@@ -11,6 +11,7 @@
 
 #include <smoothforce/query/patch_surface.h>
 
+#include "fault_verdict.h"
 #include "surface_tessellation.h"
 
 namespace sf {
@@ -47,33 +48,12 @@ const char* toString(SurfaceVerdict v) {
   return "?";
 }
 
-namespace {
-/// Twice the area of triangle t and its unit normal (zero for a degenerate triangle).
-double doubleArea(const UniformTessellation& u, size_t t, Eigen::Vector3d* normal, Eigen::Vector3d* centroid) {
-  const Eigen::Vector3d& a = u.vertex[u.tri[t][0]];
-  const Eigen::Vector3d& b = u.vertex[u.tri[t][1]];
-  const Eigen::Vector3d& c = u.vertex[u.tri[t][2]];
-  const Eigen::Vector3d x = (b - a).cross(c - a);
-  const double len = x.norm();
-  if (!(len > 0) || !std::isfinite(len)) return 0;
-  *normal = x / len;
-  *centroid = (a + b + c) / 3.0;
-  return len;
-}
-
-}  // namespace
-
 double surfaceProbeOffset(const PatchSurface& surface) { return 1e-5 * boundingDiagonal(surface.cache()); }
 
 SurfaceVerdict triangleVerdict(const PatchSurface& surface, size_t t, double h, double* area2) noexcept {
-  Eigen::Vector3d n, mid;
-  *area2 = doubleArea(surface.uniform(), t, &n, &mid);
-  if (*area2 == 0) return SurfaceVerdict::Degenerate;
-  const int front = surface.winding(mid + h * n), back = surface.winding(mid - h * n);
-  return front == 0 && back == 1 ? SurfaceVerdict::Consistent
-         : front > back          ? SurfaceVerdict::Folded
-         : front < back          ? SurfaceVerdict::Overlapping
-                                 : SurfaceVerdict::Thin;
+  const UniformTessellation& u = surface.uniform();
+  return faultVerdict(u.vertex[u.tri[t][0]], u.vertex[u.tri[t][1]], u.vertex[u.tri[t][2]], h,
+                      [&](const Eigen::Vector3d& q) { return surface.winding(q); }, area2);
 }
 
 std::vector<std::array<Eigen::Vector3d, 3>> faultTriangles(const PatchSurface& surface, const SurfaceFaults& faults) {

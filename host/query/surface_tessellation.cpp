@@ -88,7 +88,7 @@ int64_t trianglesAtLevel(const PatchCache& cache, int L) {
   return n;
 }
 
-UniformTessellation tessellateUniform(const PatchCache& cache, int L) {
+UniformTessellation tessellateUniform(const PatchCache& cache, int L, bool errors, const std::vector<int>* only) {
   UniformTessellation t;
   t.level = L;
   // layout: every built face's ring points and triangles, in face order; first[i]..first[i+1]:
@@ -98,8 +98,11 @@ UniformTessellation tessellateUniform(const PatchCache& cache, int L) {
   std::vector<Eigen::Vector2d> dom;
   std::vector<std::array<int32_t, 3>> local;
   t.faceFirstTri.assign(cache.numFaces(), -1);
+  std::vector<char> wanted(cache.numFaces(), only ? 0 : 1);
+  if (only)
+    for (const int f : *only) wanted[f] = 1;
   for (int f = 0; f < cache.numFaces(); ++f) {
-    if (cache.faceStatus[f] & GP_ST_NOT_BUILT) continue;
+    if ((cache.faceStatus[f] & GP_ST_NOT_BUILT) || !wanted[f]) continue;
     t.faceFirstTri[f] = static_cast<int64_t>(t.tri.size());
     const int n = cache.faceSize(f), base = static_cast<int>(t.domain.size());
     dom.clear();
@@ -125,10 +128,12 @@ UniformTessellation tessellateUniform(const PatchCache& cache, int L) {
     Batch b;
     for (size_t i = r.begin(); i < r.end(); ++i)
       for (size_t v = first[i]; v < first[i + 1]; ++v) b.add(faces[i], t.domain[v]);
-    for (size_t i = t0; i < t1; ++i)
-      addSamples(b, t.triFace[i], {t.domain[t.tri[i][0]], t.domain[t.tri[i][1]], t.domain[t.tri[i][2]]});
+    if (errors)
+      for (size_t i = t0; i < t1; ++i)
+        addSamples(b, t.triFace[i], {t.domain[t.tri[i][0]], t.domain[t.tri[i][1]], t.domain[t.tri[i][2]]});
     const std::vector<PatchPoint> pts = b.run(cache, Backend::Serial);
     for (size_t v = v0; v < v1; ++v) t.vertex[v] = pts[v - v0].pos;
+    if (!errors) return;
     const PatchPoint* sp = pts.data() + (v1 - v0);
     for (size_t i = t0; i < t1; ++i) {
       const auto& tr = t.tri[i];

@@ -41,8 +41,12 @@ struct SurfaceTriangle {
   double error = 0;                  ///< m
 };
 
-/// Tessellates every built face of a prebuilt cache at level L (CPU, oneTBB).
-UniformTessellation tessellateUniform(const PatchCache& cache, int L);
+/// Tessellates every built face of a prebuilt cache at level L (CPU, oneTBB); with `only`, just
+/// the built faces it lists (faceFirstTri -1 for the others). errors false leaves every error 0
+/// (a tessellation for rays alone, about a fifth of the evaluations); the vertices are the same
+/// bits either way, and a face's vertices and triangles do not depend on which others are there.
+UniformTessellation tessellateUniform(const PatchCache& cache, int L, bool errors = true,
+                                      const std::vector<int>* only = nullptr);
 
 /// The uniform triangles, each subdivided into 4 (at its domain edge midpoints) while its error
 /// exceeds `maxError` (m), at most `maxDepth` times, and while the result stays within `budget`

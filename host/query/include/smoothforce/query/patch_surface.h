@@ -55,9 +55,10 @@ struct PatchSurfaceOptions {
   /// false: only what winding() and inErrorBand() need (an inside test, as the sweep's): no
   /// adaptive tessellation and no BVH over it; candidates() then finds none
   bool candidates = true;
-  /// true: only what winding() needs (implies no candidates): no error-band BVH either, so
-  /// inErrorBand() finds no band (false everywhere); not for force rendering, whose inside test
-  /// needs the band. The normal search (normal_search.h) builds one per candidate.
+  /// true: only what winding() needs (implies no candidates): no error-band BVH and no error
+  /// bounds either (uniform().error all 0; the same vertices), so inErrorBand() finds no band
+  /// (false everywhere); not for force rendering, whose inside test needs the band. The fault
+  /// measure of `cache info --faults` and the normal search (normal_search.h) use it.
   bool windingOnly = false;
 };
 
