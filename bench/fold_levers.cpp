@@ -19,6 +19,7 @@
 
 #include <smoothforce/mesh/normals.h>
 #include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/patch/normal_groups.h>
 #include <smoothforce/patch/patch_build.h>
 #include <smoothforce/patch/patch_eval.h>
 #include <smoothforce/query/normal_search.h>
@@ -86,20 +87,14 @@ void report(const char* tag, const PatchCache& c, const Faces& faces) {
               area, top.c_str());
 }
 
-/// Corners at one vertex with one normal (a crease splits them): the unit a normal lever moves.
+/// Corners at one vertex with one normal (a crease splits them): the unit a normal lever moves
+/// (vertexNormalGroups), and each corner's group.
 struct NormalGroups {
   std::vector<std::vector<int>> slots;
   std::vector<int> of;  // #C
-  explicit NormalGroups(const PatchCache& c) : of(c.numSlots()) {
-    std::map<std::tuple<int, double, double, double>, int> id;
-    for (int s = 0; s < c.numSlots(); ++s) {
-      const auto key = std::make_tuple(int(c.faceVertices[s]), c.cornerNormals[3 * s], c.cornerNormals[3 * s + 1],
-                                       c.cornerNormals[3 * s + 2]);
-      auto [it, fresh] = id.emplace(key, int(slots.size()));
-      if (fresh) slots.emplace_back();
-      slots[it->second].push_back(s);
-      of[s] = it->second;
-    }
+  explicit NormalGroups(const PatchCache& c) : slots(vertexNormalGroups(c)), of(c.numSlots()) {
+    for (size_t g = 0; g < slots.size(); ++g)
+      for (const int s : slots[g]) of[s] = static_cast<int>(g);
   }
 };
 
@@ -126,13 +121,7 @@ void minimaxNormals(PatchCache& c, const Faces& faces) {
       return w;
     };
     const Eigen::Vector3d n0 = normalAt(c, slots[0]);
-    Eigen::Vector3d m = n0;
-    for (int it = 0; it < 2000; ++it) {
-      size_t arg = 0;
-      for (size_t i = 1; i < fn.size(); ++i)
-        if (m.dot(fn[i]) < m.dot(fn[arg])) arg = i;
-      m = (m + (0.05 / (1 + it * 0.05)) * (fn[arg] - m.dot(fn[arg]) * m)).normalized();
-    }
+    const Eigen::Vector3d m = minimaxDirection(fn, n0, 2000);
     worstBefore = std::min(worstBefore, minDot(n0));
     worstAfter = std::min(worstAfter, minDot(m));
     if (minDot(m) > minDot(n0) + 1e-3) {

@@ -2,8 +2,8 @@
 #include <smoothforce/patch/fold_repair_record.h>
 
 #include <algorithm>
-#include <set>
-#include <tuple>
+
+#include <smoothforce/patch/normal_groups.h>
 
 namespace sf {
 
@@ -22,16 +22,17 @@ FoldRepairRecord foldRepairRecord(const PatchCache& c) {
   std::vector<double> turn(c.numSlots());
   for (int s = 0; s < c.numSlots(); ++s) turn[s] = c.normalTurnDeg(s);
   // a vertex normal is the computed normal the corners of one vertex share (a crease splits them)
-  std::set<std::tuple<int, double, double, double>> normals;
   double sum = 0;
-  for (int s = 0; s < c.numSlots(); ++s) {
-    if (turn[s] == 0) continue;
-    ++r.turnedCorners;
-    r.maxDegrees = std::max(r.maxDegrees, turn[s]);
-    const double* n = &c.computedNormals[3 * size_t(s)];
-    if (normals.emplace(c.faceVertices[s], n[0], n[1], n[2]).second) sum += turn[s];
+  for (const std::vector<int>& group : vertexNormalGroups(c, &c.computedNormals)) {
+    const double deg = turn[group[0]];
+    if (deg == 0) continue;
+    ++r.turnedNormals;
+    sum += deg;
+    for (const int s : group) {
+      r.turnedCorners += turn[s] != 0;
+      r.maxDegrees = std::max(r.maxDegrees, turn[s]);
+    }
   }
-  r.turnedNormals = static_cast<int>(normals.size());
   r.meanDegrees = r.turnedNormals ? sum / r.turnedNormals : 0;
 
   std::vector<char> edgeChanged(c.numSlots(), 0);

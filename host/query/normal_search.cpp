@@ -19,6 +19,7 @@
 #include <smoothforce/base/coordinate_range.h>
 
 #include <smoothforce/patch/fold_repair_record.h>
+#include <smoothforce/patch/normal_groups.h>
 #include <smoothforce/query/patch_surface.h>
 #include <smoothforce/query/surface_faults.h>
 
@@ -37,31 +38,6 @@ const double kEdgeCos = std::cos(10 * std::numbers::pi / 180);
 constexpr uint32_t kNewStatus = GP_ST_DEGENERATE_MASK | GP_ST_BULGE;
 
 Eigen::Vector3d vec3(const std::vector<double>& a, int i) { return {a[3 * i], a[3 * i + 1], a[3 * i + 2]}; }
-
-/// Corners at one vertex that share one normal (a crease splits a vertex into several).
-std::vector<std::vector<int>> normalGroups(const PatchCache& c) {
-  std::map<std::tuple<int, double, double, double>, int> id;
-  std::vector<std::vector<int>> groups;
-  for (int s = 0; s < c.numSlots(); ++s) {
-    const auto key = std::make_tuple(int(c.faceVertices[s]), c.cornerNormals[3 * s], c.cornerNormals[3 * s + 1],
-                                     c.cornerNormals[3 * s + 2]);
-    const auto [it, fresh] = id.emplace(key, int(groups.size()));
-    if (fresh) groups.emplace_back();
-    groups[it->second].push_back(s);
-  }
-  return groups;
-}
-
-/// The unit direction m maximising min_i m . a_i, by projected subgradient ascent from `start`.
-Eigen::Vector3d minimaxDirection(const std::vector<Eigen::Vector3d>& a, Eigen::Vector3d m) {
-  for (int it = 0; it < 3000; ++it) {
-    size_t arg = 0;
-    for (size_t i = 1; i < a.size(); ++i)
-      if (m.dot(a[i]) < m.dot(a[arg])) arg = i;
-    m = (m + (0.05 / (1 + it * 0.05)) * (a[arg] - m.dot(a[arg]) * m)).normalized();
-  }
-  return m;
-}
 
 /// The unit vector a fraction t of the way from unit a to unit b along the great circle, at
 /// most maxAngle (radians) from a.
@@ -168,7 +144,7 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
   std::vector<int> faceOf(cache.numSlots());
   for (int f = 0; f < cache.numFaces(); ++f)
     for (int s = cache.faceOffsets[f]; s < cache.faceOffsets[f + 1]; ++s) faceOf[s] = f;
-  const std::vector<std::vector<int>> groups = normalGroups(cache);
+  const std::vector<std::vector<int>> groups = vertexNormalGroups(cache);
   auto setNormal = [&](const std::vector<int>& slots, const Eigen::Vector3d& n) {
     for (const int s : slots)
       for (int i = 0; i < 3; ++i) cache.cornerNormals[3 * s + i] = n[i];
