@@ -12,8 +12,10 @@
 namespace sf {
 
 /// The verdict of triangle (a, b, c) (m) of a closed surface whose winding number around a point
-/// is winding(point): probed at its centroid, offset h (m) along its unit normal on both sides;
-/// twice its area (m^2) in *area2 (0, Degenerate, for a triangle without a normal).
+/// is winding(point, side): probed at its centroid, offset h (m) along its unit normal on both
+/// sides (side 0 in front, 1 behind: the same two points for the same triangle, for a caller
+/// that keeps what it traced there); twice its area (m^2) in *area2 (0, Degenerate, for a
+/// triangle without a normal).
 template <class Winding>
 SurfaceVerdict faultVerdict(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c, double h,
                             Winding&& winding, double* area2) noexcept {
@@ -23,7 +25,7 @@ SurfaceVerdict faultVerdict(const Eigen::Vector3d& a, const Eigen::Vector3d& b, 
   if (!(len > 0) || !std::isfinite(len)) return SurfaceVerdict::Degenerate;
   *area2 = len;
   const Eigen::Vector3d n = x / len, mid = (a + b + c) / 3.0;
-  const int front = winding(Eigen::Vector3d(mid + h * n)), back = winding(Eigen::Vector3d(mid - h * n));
+  const int front = winding(Eigen::Vector3d(mid + h * n), 0), back = winding(Eigen::Vector3d(mid - h * n), 1);
   return front == 0 && back == 1 ? SurfaceVerdict::Consistent
          : front > back          ? SurfaceVerdict::Folded
          : front < back          ? SurfaceVerdict::Overlapping

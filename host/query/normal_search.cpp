@@ -182,12 +182,22 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
     const WindingRays whole(device, current, nullptr, origin);
     checkEmbree();
     tbb::parallel_for(size_t(0), current.tri.size(), [&](size_t t) {
-      triFault[t] = faultArea(current, t, h, [&](const Eigen::Vector3d& q) {
+      triFault[t] = faultArea(current, t, h, [&](const Eigen::Vector3d& q, int) {
         return windingFromRays([&](int k, bool* clean) { return whole.crossings(q, k, clean); });
       });
     });
   }
   std::vector<char> inStar(cache.numFaces(), 0);
+  // the rest's crossings of each ray (3) from each probe (2) of each triangle off the star, kept
+  // for the candidates of one vertex visit (stamp: the visit that traced it)
+  struct {
+    std::vector<int32_t> stamp, crossings;
+    std::vector<uint8_t> clean;
+  } restTraced;
+  restTraced.stamp.assign(6 * current.tri.size(), 0);
+  restTraced.crossings.assign(6 * current.tri.size(), 0);
+  restTraced.clean.assign(6 * current.tri.size(), 0);
+  int32_t visit = 0;
 
   std::vector<double> faceFault(cache.numFaces(), 0.0);
   for (size_t t = 0; t < triFault.size(); ++t) faceFault[current.triFace[t]] += triFault[t];
@@ -230,6 +240,7 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
       uint32_t starStatus = 0;
       for (const int f : star) starStatus |= cache.faceStatus[f];
       std::unique_ptr<WindingRays> rest;  // every triangle off the star, traced once for all candidates
+      ++visit;
       double bestDelta = -1e-12 * r.totalArea;
       Eigen::Vector3d best = now;
       std::unique_ptr<UniformTessellation> bestStar;
@@ -272,11 +283,23 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
           };
           std::vector<double> fault(tt.size(), 0.0);
           tbb::parallel_for(size_t(0), tt.size(), [&](size_t j) {
-            const bool star = inStar[current.triFace[tt[j]]];
-            const UniformTessellation& from = star ? *candidate : current;
-            fault[j] = faultArea(from, size_t(corners(tt[j]) - from.tri.data()), h, [&](const Eigen::Vector3d& q) {
+            const size_t t = tt[j];
+            const bool onStar = inStar[current.triFace[t]];
+            const UniformTessellation& from = onStar ? *candidate : current;
+            fault[j] = faultArea(from, size_t(corners(t) - from.tri.data()), h, [&](const Eigen::Vector3d& q, int side) {
               return windingFromRays([&](int k, bool* clean) {
-                return rest->crossings(q, k, clean) + starRays.crossings(q, k, clean);
+                // a triangle off the star keeps its probes for every candidate of this vertex,
+                // and so the rest's crossings there
+                if (onStar) return rest->crossings(q, k, clean) + starRays.crossings(q, k, clean);
+                const size_t e = 6 * t + 3 * size_t(side) + size_t(k);
+                if (restTraced.stamp[e] != visit) {
+                  bool c = true;
+                  restTraced.crossings[e] = rest->crossings(q, k, &c);
+                  restTraced.clean[e] = c;
+                  restTraced.stamp[e] = visit;
+                }
+                if (!restTraced.clean[e]) *clean = false;
+                return restTraced.crossings[e] + starRays.crossings(q, k, clean);
               });
             });
           });

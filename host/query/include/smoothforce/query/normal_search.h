@@ -69,7 +69,7 @@ struct NormalSearchReport {
 /// Cost: about 10 measured candidates per normal visited. The rays of the surface off the
 /// vertex's faces are built once per normal, and each candidate tessellates and traces only those
 /// faces (the crossings add up to the whole surface's, so the choices are those of whole-surface
-/// rays): on the spot cage, 1,550 candidates in 10 s on 2 cores.
+/// rays): on the spot cage, 1,550 candidates in 8-9 s on 2 cores.
 NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSearchOptions& options = {});
 
 /// The last step of construction for a cache built with FoldRepairMode::Search (every patch
