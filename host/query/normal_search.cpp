@@ -132,9 +132,9 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
     r.faultBefore = r.faultAfter = f.faultArea();
     r.totalArea = f.totalArea;
     r.searchLevel = o.searchLevel;
-    if (r.searchLevel == 0) {  // triangles grow with the square of the level
+    if (r.searchLevel == 0) {  // triangles grow with the square of the level; never coarser than the measure's
       const double scale = std::sqrt(double(o.searchTriangles) / double(std::max<size_t>(1, full.uniform().tri.size())));
-      r.searchLevel = std::clamp(static_cast<int>(std::floor(full.level() * scale)), 1, 64);
+      r.searchLevel = std::clamp(std::max(full.level(), static_cast<int>(std::floor(full.level() * scale))), 1, 64);
     }
   }
   if (r.faultBefore == 0) return r;

@@ -198,6 +198,27 @@ TEST(NormalSearch, CubesWithATurnedNormalLoseTheirOverlaps) {
   EXPECT_EQ(cases, 3);
 }
 
+TEST(NormalSearch, SearchesADenseMeshAtItsOwnLevelAtLeast) {
+  // odedstein/spot_low_resolution.obj (1,654 triangles): one face whose patches fold, 4.0e-7 of
+  // the area at the surface's own level (8); the level of about 150,000 triangles would be 3,
+  // whose triangles are too coarse to see it. Measured: 2 normals turned, fault area 0 at 8 and 12
+  const PatchCache before = test::cacheFromFile(test::sharedMesh("odedstein/spot_low_resolution.obj"));
+  PatchCache after = before;
+  const NormalSearchReport r = searchNormalsAgainstFaults(after);
+  PatchSurfaceOptions so;
+  so.windingOnly = true;
+  const int own = PatchSurface(before, so).level();
+  EXPECT_EQ(r.searchLevel, own);
+  ASSERT_TRUE(r.applied);
+  const double fault = faultFraction(before), fine = faultFraction(before, 12);
+  std::printf("spot_low_resolution: level %d, fault %.3g -> %.3g (own level), %.3g -> %.3g (level 12)\n", own, fault,
+              faultFraction(after), fine, faultFraction(after, 12));
+  EXPECT_GT(fault, 0);
+  EXPECT_EQ(faultFraction(after), 0);
+  EXPECT_LT(faultFraction(after, 12), 0.1 * fine + 1e-12);
+  expectSearchContract(before, after, r, 60, "spot_low_resolution");
+}
+
 TEST(NormalSearch, LeavesFaultFreeAndOpenSurfacesAsTheyAre) {
   int fine = 0, open = 0;
   for (const char* rel : {"lagrange/cube.obj", "geomview/dodecahedron.off", "polygon_laplacian/quad-sphere.off",

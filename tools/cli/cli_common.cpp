@@ -257,8 +257,9 @@ std::vector<std::string> describeNormalSearch(const NormalSearchReport& r) {
   }
   const double pct = r.totalArea > 0 ? 100.0 / r.totalArea : 0;
   if (!r.applied) {
-    std::snprintf(buf, sizeof buf, "fold repair: search: fault area %.4f%%; no normal turned lowers it (%.1f s)",
-                  r.faultBefore * pct, r.seconds);
+    std::snprintf(buf, sizeof buf,
+                  "fold repair: search: fault area %.3g%%; no normal turned lowers it (level %d, %.1f s)",
+                  r.faultBefore * pct, r.searchLevel, r.seconds);
     out.emplace_back(buf);
     return out;
   }
@@ -266,9 +267,9 @@ std::vector<std::string> describeNormalSearch(const NormalSearchReport& r) {
   for (const NormalChange& c : r.changes) most = std::max(most, c.rotationDeg);
   std::snprintf(buf, sizeof buf,
                 "fold repair: search: %zu vertex normals turned (at most %.1f degrees), %zu faces changed; fault area "
-                "%.4f%% -> %.4f%% (%lld candidates, %.1f s)",
+                "%.3g%% -> %.3g%% (%lld candidates at level %d, %.1f s)",
                 r.changes.size(), most, r.changedFaces.size(), r.faultBefore * pct, r.faultAfter * pct,
-                static_cast<long long>(r.evaluations), r.seconds);
+                static_cast<long long>(r.evaluations), r.searchLevel, r.seconds);
   out.emplace_back(buf);
   std::string list = "  turned (vertex: degrees):";
   for (size_t i = 0; i < r.changes.size() && i < 10; ++i) {

@@ -17,7 +17,9 @@ struct NormalSearchOptions {
   int passes = 2;  ///< rounds over the vertices of faulted faces, 1..16
   /// Uniform tessellation level (PatchSurfaceOptions::level) of the fault measure that compares
   /// the candidates, 1..64; 0: the level whose tessellation has about searchTriangles triangles
-  /// (the rays of every candidate of a vertex cross all of it). On the spot cage a search
+  /// (the rays of every candidate of a vertex cross all of it), or the surface's own level
+  /// (PatchSurface's choice, the one the result is judged at) where that is finer: a dense mesh's
+  /// folds are thinner than a coarser level's triangles, which would see none. On the spot cage a search
   /// at its own level (12) left 0.16-0.18% of the area faulted when measured at levels 24 and 32
   /// (folds thinner than its triangles); at 14 and 16, 0.025% at every level.
   int searchLevel = 0;
