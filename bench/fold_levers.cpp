@@ -7,7 +7,8 @@
 // corners towards the face normals (12 rounds of 25%, at most 60 degrees from the original).
 // Both keep G1 (every edge curve is still built from its own vertices' normals).
 // With --search, the normals that searchNormalsAgainstFaults finds instead (normal_search.h).
-//   fold_levers MESH [--cage] [--search [--level L] [--passes P] [--bound DEG]]   (docs/fold-levers.md)
+//   fold_levers MESH [--cage] [--search [--level L] [--passes P] [--bound DEG] [--no-symmetry] [-o CACHE]]
+//   (docs/fold-levers.md; --no-symmetry: NormalSearchOptions::keepSymmetry false)
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
@@ -18,6 +19,7 @@
 #include <vector>
 
 #include <smoothforce/mesh/normals.h>
+#include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/patch/normal_groups.h>
 #include <smoothforce/patch/patch_build.h>
@@ -166,9 +168,10 @@ void searchNormals(PatchCache& c, const NormalSearchOptions& so) {
   const NormalSearchReport r = searchNormalsAgainstFaults(c, so);
   double maxRot = 0;
   for (const NormalChange& ch : r.changes) maxRot = std::max(maxRot, ch.rotationDeg);
-  std::printf("  search (level %d, %d passes, bound %.0f deg): %s; %zu normals turned (at most %.1f deg), %zu faces "
+  std::printf("  search (level %d, %d %s, bound %.0f deg): %s; %zu normals turned (at most %.1f deg), %zu faces "
               "changed; fault %.4f%% -> %.4f%%; %lld candidates, %.1f s\n",
-              r.searchLevel, so.passes, so.maxRotationDeg, r.applied ? "applied" : "not applied", r.changes.size(),
+              r.searchLevel, so.passes, r.mirrorAxis >= 0 ? "passes, mirror pairs" : "passes", so.maxRotationDeg,
+              r.applied ? "applied" : "not applied", r.changes.size(),
               maxRot, r.changedFaces.size(), 100 * r.faultBefore / r.totalArea, 100 * r.faultAfter / r.totalArea,
               static_cast<long long>(r.evaluations), r.seconds);
 }
@@ -176,6 +179,7 @@ void searchNormals(PatchCache& c, const NormalSearchOptions& so) {
 int run(std::vector<std::string> args) {
   NormalSearchOptions so;
   bool search = false, cage = false;
+  std::string out;  // the searched cache, written there
   std::vector<std::string> rest;
   for (size_t i = 0; i < args.size(); ++i) {
     if (args[i] == "--cage") cage = true;
@@ -183,10 +187,14 @@ int run(std::vector<std::string> args) {
     else if (args[i] == "--level" && i + 1 < args.size()) so.searchLevel = std::stoi(args[++i]);
     else if (args[i] == "--passes" && i + 1 < args.size()) so.passes = std::stoi(args[++i]);
     else if (args[i] == "--bound" && i + 1 < args.size()) so.maxRotationDeg = std::stod(args[++i]);
+    else if (args[i] == "--no-symmetry") so.keepSymmetry = false;
+    else if (args[i] == "-o" && i + 1 < args.size()) out = args[++i];
     else rest.push_back(args[i]);
   }
   if (rest.size() != 1) {
-    std::fprintf(stderr, "usage: fold_levers MESH [--cage] [--search [--level L] [--passes P] [--bound DEG]]\n");
+    std::fprintf(stderr,
+                 "usage: fold_levers MESH [--cage] [--search [--level L] [--passes P] [--bound DEG] [--no-symmetry] [-o "
+                 "CACHE]]\n");
     return 2;
   }
   args = rest;
@@ -201,6 +209,19 @@ int run(std::vector<std::string> args) {
     PatchCache s = built;
     searchNormals(s, so);
     report("normals found by search", s, faces);
+    std::printf("  fault area at fixed levels, design page -> search:");
+    for (const int level : {16, 24, 32}) {  // folds thinner than the search level's triangles show here
+      PatchSurfaceOptions po;
+      po.windingOnly = true;
+      po.level = level;
+      const SurfaceFaults a = measureSurfaceFaults(PatchSurface(built, po)), b = measureSurfaceFaults(PatchSurface(s, po));
+      if (a.closed) std::printf("  %d: %.4f%% -> %.4f%%", level, 100 * a.faultArea() / a.totalArea, 100 * b.faultArea() / b.totalArea);
+    }
+    std::printf("\n");
+    if (!out.empty()) {
+      s.options.foldRepair = FoldRepairMode::Search;
+      writePatchCache(s, out);
+    }
     return 0;
   }
   PatchCache a = built;

@@ -21,6 +21,7 @@
 #include <smoothforce/patch/fold_repair_record.h>
 #include <smoothforce/patch/normal_groups.h>
 #include <smoothforce/query/patch_surface.h>
+#include <smoothforce/query/point_index.h>
 #include <smoothforce/query/surface_faults.h>
 
 #include "gp_config.h"  // GP_ST_* status bits
@@ -38,6 +39,73 @@ const double kEdgeCos = std::cos(10 * std::numbers::pi / 180);
 constexpr uint32_t kNewStatus = GP_ST_DEGENERATE_MASK | GP_ST_BULGE;
 
 Eigen::Vector3d vec3(const std::vector<double>& a, int i) { return {a[3 * i], a[3 * i + 1], a[3 * i + 2]}; }
+
+/// A mirror symmetry of the cache's mesh: the reflection across the plane normal to `axis`
+/// through `centre` maps every vertex to a vertex (within 1e-9 of the diagonal), every face to a
+/// face and every vertex normal (group of corners) to a vertex normal (within 1e-9): mate[g] is
+/// the group that normal g maps to (g itself on the plane). axis -1: none found.
+struct MirrorSymmetry {
+  int axis = -1;
+  double centre = 0;
+  std::vector<int> mate;
+  Eigen::Vector3d reflect(Eigen::Vector3d v) const {  // a direction
+    v[axis] = -v[axis];
+    return v;
+  }
+};
+
+MirrorSymmetry findMirrorSymmetry(const PatchCache& c, const std::vector<std::vector<int>>& groups) {
+  MirrorSymmetry m;
+  Eigen::Vector3d lo, hi;
+  if (!referencedBox(c, lo, hi) || c.numVertices() == 0) return m;
+  const double tol = 1e-9 * (hi - lo).norm();
+  std::vector<Eigen::Vector3d> p(c.numVertices());
+  for (int v = 0; v < c.numVertices(); ++v) p[v] = vec3(c.positions, v);
+  const PointIndex index(p);
+  std::vector<char> used(c.numVertices(), 0);
+  for (const int32_t v : c.faceVertices) used[v] = 1;
+  std::map<std::vector<int>, int> faceKey;  // a face's sorted vertices
+  for (int f = 0; f < c.numFaces(); ++f) {
+    std::vector<int> k(c.faceVertices.begin() + c.faceOffsets[f], c.faceVertices.begin() + c.faceOffsets[f + 1]);
+    std::sort(k.begin(), k.end());
+    faceKey.emplace(std::move(k), f);
+  }
+  for (int axis = 0; axis < 3; ++axis) {
+    const double centre = 0.5 * (lo[axis] + hi[axis]);
+    std::vector<int> mateVertex(c.numVertices(), -1);
+    bool ok = true;
+    for (int v = 0; v < c.numVertices() && ok; ++v) {
+      if (!used[v]) continue;
+      Eigen::Vector3d q = p[v];
+      q[axis] = 2 * centre - q[axis];
+      const int64_t w = index.nearest(q);
+      ok = w >= 0 && used[w] && (p[w] - q).norm() <= tol;
+      if (ok) mateVertex[v] = static_cast<int>(w);
+    }
+    for (int f = 0; f < c.numFaces() && ok; ++f) {
+      std::vector<int> k;
+      for (int s = c.faceOffsets[f]; s < c.faceOffsets[f + 1]; ++s) k.push_back(mateVertex[c.faceVertices[s]]);
+      std::sort(k.begin(), k.end());
+      ok = faceKey.count(k) == 1;
+    }
+    if (!ok) continue;
+    // the vertex normals: group g's normal, reflected, is the normal of a group at the mate vertex
+    std::map<int, std::vector<int>> groupsAt;
+    for (size_t g = 0; g < groups.size(); ++g) groupsAt[c.faceVertices[groups[g][0]]].push_back(static_cast<int>(g));
+    MirrorSymmetry s;
+    s.axis = axis;
+    s.centre = centre;
+    s.mate.assign(groups.size(), -1);
+    for (size_t g = 0; g < groups.size() && ok; ++g) {
+      const Eigen::Vector3d n = s.reflect(vec3(c.cornerNormals, groups[g][0]));
+      for (const int h : groupsAt[mateVertex[c.faceVertices[groups[g][0]]]])
+        if ((vec3(c.cornerNormals, groups[h][0]) - n).norm() <= 1e-9) s.mate[g] = h;
+      ok = s.mate[g] >= 0;
+    }
+    if (ok) return s;
+  }
+  return m;
+}
 
 /// The unit vector a fraction t of the way from unit a to unit b along the great circle, at
 /// most maxAngle (radians) from a.
@@ -70,12 +138,15 @@ double faultArea(const UniformTessellation& u, size_t t, double h, Winding&& win
 
 /// The triangles of the surface's uniform tessellation whose face is in `star` or that touch box b.
 std::vector<size_t> touchedTriangles(const UniformTessellation& u, const std::vector<char>& inStar,
-                                     const Eigen::AlignedBox3d& b) {
+                                     const std::vector<Eigen::AlignedBox3d>& boxes) {
   std::vector<size_t> touched;
-  for (size_t t = 0; t < u.tri.size(); ++t)
-    if (inStar[u.triFace[t]] || b.contains(u.vertex[u.tri[t][0]]) || b.contains(u.vertex[u.tri[t][1]]) ||
-        b.contains(u.vertex[u.tri[t][2]]))
-      touched.push_back(t);
+  for (size_t t = 0; t < u.tri.size(); ++t) {
+    bool in = inStar[u.triFace[t]];
+    for (size_t i = 0; i < boxes.size() && !in; ++i)
+      in = boxes[i].contains(u.vertex[u.tri[t][0]]) || boxes[i].contains(u.vertex[u.tri[t][1]]) ||
+           boxes[i].contains(u.vertex[u.tri[t][2]]);
+    if (in) touched.push_back(t);
+  }
   return touched;
 }
 
@@ -145,6 +216,8 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
   for (int f = 0; f < cache.numFaces(); ++f)
     for (int s = cache.faceOffsets[f]; s < cache.faceOffsets[f + 1]; ++s) faceOf[s] = f;
   const std::vector<std::vector<int>> groups = vertexNormalGroups(cache);
+  const MirrorSymmetry symmetry = o.keepSymmetry ? findMirrorSymmetry(cache, groups) : MirrorSymmetry{};
+  r.mirrorAxis = symmetry.axis;
   auto setNormal = [&](const std::vector<int>& slots, const Eigen::Vector3d& n) {
     for (const int s : slots)
       for (int i = 0; i < 3; ++i) cache.cornerNormals[3 * s + i] = n[i];
@@ -201,135 +274,181 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
 
   std::vector<double> faceFault(cache.numFaces(), 0.0);
   for (size_t t = 0; t < triFault.size(); ++t) faceFault[current.triFace[t]] += triFault[t];
-  for (int pass = 0; pass < o.passes; ++pass) {
-    bool movedAny = false;
-    for (size_t g = 0; g < groups.size(); ++g) {
-      const std::vector<int>& slots = groups[g];
-      std::vector<int> star;
-      bool faulted = false;
-      for (const int s : slots) {
+  // A move: group g's normal turned to the best of its candidates, measured against the current
+  // surface: the star's tessellation with it, and the fault area of every triangle it can change.
+  struct Move {
+    std::vector<size_t> groups;            ///< the group, and its mirror image where the mesh has one
+    std::vector<Eigen::Vector3d> normals;  ///< theirs
+    std::vector<int> star;
+    std::unique_ptr<UniformTessellation> starTessellation;
+    std::vector<size_t> touched;
+    std::vector<double> fault;  ///< of touched, with the move
+    double delta = 0;           ///< m^2, the change of the fault area
+  };
+  // the best candidate of group g (none where no candidate lowers the fault area); the cache's
+  // normals and patches are left as they were
+  auto evaluate = [&](size_t g) -> std::unique_ptr<Move> {
+    // on a mirror-symmetric mesh a normal moves with its mirror image (one on the plane, with
+    // itself: its candidates are made symmetric), so that the result keeps the symmetry
+    const int mate = symmetry.axis >= 0 ? symmetry.mate[g] : -1;
+    if (mate >= 0 && static_cast<size_t>(mate) < g) return nullptr;  // moved with its mate
+    std::vector<size_t> moved{g};
+    if (mate >= 0 && static_cast<size_t>(mate) != g) moved.push_back(static_cast<size_t>(mate));
+    const std::vector<int>& slots = groups[g];
+    std::vector<std::vector<int>> stars;  // per moved group, its faces
+    std::vector<int> star;                // all of them, once each
+    bool faulted = false;
+    for (const size_t m : moved) {
+      stars.emplace_back();
+      for (const int s : groups[m]) {
+        stars.back().push_back(faceOf[s]);
         star.push_back(faceOf[s]);
         faulted = faulted || faceFault[faceOf[s]] > 0;
       }
-      if (!faulted) continue;
-      const Eigen::Vector3d n0 = vec3(original, slots[0]), now = vec3(cache.cornerNormals, slots[0]);
-      std::vector<Eigen::Vector3d> towards;
-      for (const int s : slots)
-        if (const Eigen::Vector3d c = cornerNormal(s); c.squaredNorm() > 0) towards.push_back(c);
-      if (towards.empty()) continue;
-      for (const int f : star) inStar[f] = 1;
-      Eigen::AlignedBox3d oldBox;
-      growByFaces(current, star, &oldBox);
-      towards.push_back(minimaxDirection(towards, now));
-      // the vertex's edges, as unit vectors away from it: a normal along one of them leaves that
-      // edge's curve without a tangent direction (the design page's degenerate case)
-      std::vector<Eigen::Vector3d> edges;
-      for (const int s : slots) {
-        const int f = faceOf[s], n = cache.faceSize(f), k = s - cache.faceOffsets[f];
-        const Eigen::Vector3d v = vec3(cache.positions, cache.faceVertices[s]);
-        for (const int j : {(k + 1) % n, (k + n - 1) % n})
-          if (const Eigen::Vector3d e = vec3(cache.positions, cache.faceVertices[cache.faceOffsets[f] + j]) - v;
-              e.norm() > 0)
-            edges.push_back(e.normalized());
-      }
-      auto alongAnEdge = [&](const Eigen::Vector3d& n) {
-        for (const Eigen::Vector3d& e : edges)
-          if (std::abs(n.dot(e)) > kEdgeCos) return true;
-        return false;
-      };
-      uint32_t starStatus = 0;
-      for (const int f : star) starStatus |= cache.faceStatus[f];
-      std::unique_ptr<WindingRays> rest;  // every triangle off the star, traced once for all candidates
-      ++visit;
-      double bestDelta = -1e-12 * r.totalArea;
-      Eigen::Vector3d best = now;
-      std::unique_ptr<UniformTessellation> bestStar;
-      std::vector<size_t> bestTouched;
-      std::vector<double> bestFault;  ///< fault area of bestTouched with bestStar
-      for (const Eigen::Vector3d& d : towards)
-        for (const double t : {0.5, 1.0}) {
-          // the candidate from the normal kept so far, then clamped to the bound around the original
-          Eigen::Vector3d n = turnTowards(now, d, t, std::numbers::pi);
-          if (std::acos(std::clamp(n.dot(n0), -1.0, 1.0)) > maxAngle) n = turnTowards(n0, n, 1.0, maxAngle);
-          if ((n - now).norm() < 1e-9 || alongAnEdge(n)) continue;
-          setNormal(slots, n);
-          constructPatches(cache, o.backend);
-          uint32_t status = 0;
-          for (const int f : star) status |= cache.faceStatus[f];
-          if (status & ~starStatus & kNewStatus) continue;  // a degenerate edge or a bulge the normal made
-          if (!rest) {
-            std::vector<int64_t> off;
-            off.reserve(current.tri.size());
-            for (size_t i = 0; i < current.tri.size(); ++i)
-              if (!inStar[current.triFace[i]]) off.push_back(static_cast<int64_t>(i));
-            rest = std::make_unique<WindingRays>(device, current, &off, origin);
-          }
-          auto candidate = std::make_unique<UniformTessellation>(
-              tessellateUniform(cache, r.searchLevel, /*errors=*/false, &star));
-          const WindingRays starRays(device, *candidate, nullptr, origin);
-          checkEmbree();
-          ++r.evaluations;
-          Eigen::AlignedBox3d box = oldBox;
-          growByFaces(*candidate, star, &box);
-          box.min().array() -= 2 * h;
-          box.max().array() += 2 * h;
-          const std::vector<size_t> tt = touchedTriangles(current, inStar, box);
-          // triangle i of the candidate surface: the star's from its own tessellation (the same
-          // layout per face), the others from the current one
-          auto corners = [&](size_t i) {
-            const int f = current.triFace[i];
-            if (!inStar[f]) return &current.tri[i];
-            return &candidate->tri[size_t(candidate->faceFirstTri[f] + (int64_t(i) - current.faceFirstTri[f]))];
-          };
-          std::vector<double> fault(tt.size(), 0.0);
-          tbb::parallel_for(size_t(0), tt.size(), [&](size_t j) {
-            const size_t t = tt[j];
-            const bool onStar = inStar[current.triFace[t]];
-            const UniformTessellation& from = onStar ? *candidate : current;
-            fault[j] = faultArea(from, size_t(corners(t) - from.tri.data()), h, [&](const Eigen::Vector3d& q, int side) {
-              return windingFromRays([&](int k, bool* clean) {
-                // a triangle off the star keeps its probes for every candidate of this vertex,
-                // and so the rest's crossings there
-                if (onStar) return rest->crossings(q, k, clean) + starRays.crossings(q, k, clean);
-                const size_t e = 6 * t + 3 * size_t(side) + size_t(k);
-                if (restTraced.stamp[e] != visit) {
-                  bool c = true;
-                  restTraced.crossings[e] = rest->crossings(q, k, &c);
-                  restTraced.clean[e] = c;
-                  restTraced.stamp[e] = visit;
-                }
-                if (!restTraced.clean[e]) *clean = false;
-                return restTraced.crossings[e] + starRays.crossings(q, k, clean);
-              });
+    }
+    std::sort(star.begin(), star.end());
+    star.erase(std::unique(star.begin(), star.end()), star.end());
+    if (!faulted) return nullptr;
+    const Eigen::Vector3d n0 = vec3(original, slots[0]), now = vec3(cache.cornerNormals, slots[0]);
+    std::vector<Eigen::Vector3d> nowOf;
+    for (const size_t m : moved) nowOf.push_back(vec3(cache.cornerNormals, groups[m][0]));
+    std::vector<Eigen::Vector3d> towards;
+    for (const int s : slots)
+      if (const Eigen::Vector3d c = cornerNormal(s); c.squaredNorm() > 0) towards.push_back(c);
+    if (towards.empty()) return nullptr;
+    for (const int f : star) inStar[f] = 1;
+    std::vector<Eigen::AlignedBox3d> oldBoxes(moved.size());
+    for (size_t i = 0; i < moved.size(); ++i) growByFaces(current, stars[i], &oldBoxes[i]);
+    towards.push_back(minimaxDirection(towards, now));
+    // the vertex's edges, as unit vectors away from it: a normal along one of them leaves that
+    // edge's curve without a tangent direction (the design page's degenerate case)
+    std::vector<Eigen::Vector3d> edges;
+    for (const int s : slots) {
+      const int f = faceOf[s], n = cache.faceSize(f), k = s - cache.faceOffsets[f];
+      const Eigen::Vector3d v = vec3(cache.positions, cache.faceVertices[s]);
+      for (const int j : {(k + 1) % n, (k + n - 1) % n})
+        if (const Eigen::Vector3d e = vec3(cache.positions, cache.faceVertices[cache.faceOffsets[f] + j]) - v;
+            e.norm() > 0)
+          edges.push_back(e.normalized());
+    }
+    auto alongAnEdge = [&](const Eigen::Vector3d& n) {
+      for (const Eigen::Vector3d& e : edges)
+        if (std::abs(n.dot(e)) > kEdgeCos) return true;
+      return false;
+    };
+    uint32_t starStatus = 0;
+    for (const int f : star) starStatus |= cache.faceStatus[f];
+    std::unique_ptr<WindingRays> rest;  // every triangle off the star, traced once for all candidates
+    ++visit;
+    std::unique_ptr<Move> best;
+    for (const Eigen::Vector3d& d : towards)
+      for (const double t : {0.5, 1.0}) {
+        // the candidate from the normal kept so far, then clamped to the bound around the original
+        Eigen::Vector3d n = turnTowards(now, d, t, std::numbers::pi);
+        if (std::acos(std::clamp(n.dot(n0), -1.0, 1.0)) > maxAngle) n = turnTowards(n0, n, 1.0, maxAngle);
+        if (mate >= 0 && static_cast<size_t>(mate) == g) {  // on the plane: the symmetric part
+          const Eigen::Vector3d sym = n + symmetry.reflect(n);
+          if (sym.norm() < 1e-9) continue;
+          n = sym.normalized();
+        }
+        if ((n - now).norm() < 1e-9 || alongAnEdge(n)) continue;
+        std::vector<Eigen::Vector3d> normals{n};
+        if (moved.size() == 2) normals.push_back(symmetry.reflect(n));
+        for (size_t i = 0; i < moved.size(); ++i) setNormal(groups[moved[i]], normals[i]);
+        constructPatches(cache, o.backend);
+        uint32_t status = 0;
+        for (const int f : star) status |= cache.faceStatus[f];
+        if (status & ~starStatus & kNewStatus) continue;  // a degenerate edge or a bulge the normal made
+        if (!rest) {
+          std::vector<int64_t> off;
+          off.reserve(current.tri.size());
+          for (size_t i = 0; i < current.tri.size(); ++i)
+            if (!inStar[current.triFace[i]]) off.push_back(static_cast<int64_t>(i));
+          rest = std::make_unique<WindingRays>(device, current, &off, origin);
+        }
+        auto candidate = std::make_unique<UniformTessellation>(
+            tessellateUniform(cache, r.searchLevel, /*errors=*/false, &star));
+        const WindingRays starRays(device, *candidate, nullptr, origin);
+        checkEmbree();
+        ++r.evaluations;
+        std::vector<Eigen::AlignedBox3d> boxes = oldBoxes;
+        for (size_t i = 0; i < moved.size(); ++i) {
+          growByFaces(*candidate, stars[i], &boxes[i]);
+          boxes[i].min().array() -= 2 * h;
+          boxes[i].max().array() += 2 * h;
+        }
+        std::vector<size_t> tt = touchedTriangles(current, inStar, boxes);
+        // triangle i of the candidate surface: the star's from its own tessellation (the same
+        // layout per face), the others from the current one
+        auto corners = [&](size_t i) {
+          const int f = current.triFace[i];
+          if (!inStar[f]) return &current.tri[i];
+          return &candidate->tri[size_t(candidate->faceFirstTri[f] + (int64_t(i) - current.faceFirstTri[f]))];
+        };
+        std::vector<double> fault(tt.size(), 0.0);
+        tbb::parallel_for(size_t(0), tt.size(), [&](size_t j) {
+          const size_t t = tt[j];
+          const bool onStar = inStar[current.triFace[t]];
+          const UniformTessellation& from = onStar ? *candidate : current;
+          fault[j] = faultArea(from, size_t(corners(t) - from.tri.data()), h, [&](const Eigen::Vector3d& q, int side) {
+            return windingFromRays([&](int k, bool* clean) {
+              // a triangle off the star keeps its probes for every candidate of this vertex,
+              // and so the rest's crossings there
+              if (onStar) return rest->crossings(q, k, clean) + starRays.crossings(q, k, clean);
+              const size_t e = 6 * t + 3 * size_t(side) + size_t(k);
+              if (restTraced.stamp[e] != visit) {
+                bool c = true;
+                restTraced.crossings[e] = rest->crossings(q, k, &c);
+                restTraced.clean[e] = c;
+                restTraced.stamp[e] = visit;
+              }
+              if (!restTraced.clean[e]) *clean = false;
+              return restTraced.crossings[e] + starRays.crossings(q, k, clean);
             });
           });
-          double before = 0;
-          for (const size_t i : tt) before += triFault[i];
-          if (const double delta = sum(fault) - before; delta < bestDelta) {
-            bestDelta = delta;
-            best = n;
-            bestStar = std::move(candidate);
-            bestTouched = std::move(tt);
-            bestFault = std::move(fault);
-          }
-        }
-      setNormal(slots, best);
-      constructPatches(cache, o.backend);
-      if (bestStar) {
-        movedAny = true;
-        for (const int f : star) {  // the star's new vertices into the current tessellation
-          const int64_t a = current.faceFirstTri[f], b = bestStar->faceFirstTri[f];
-          for (int64_t i = 0; a >= 0 && a + i < int64_t(current.tri.size()) && current.triFace[a + i] == f; ++i)
-            for (int c = 0; c < 3; ++c) current.vertex[current.tri[a + i][c]] = bestStar->vertex[bestStar->tri[b + i][c]];
-        }
-        for (size_t i = 0; i < bestTouched.size(); ++i) {
-          const size_t t = bestTouched[i];
-          faceFault[current.triFace[t]] += bestFault[i] - triFault[t];
-          triFault[t] = bestFault[i];
+        });
+        double before = 0;
+        for (const size_t i : tt) before += triFault[i];
+        if (const double delta = sum(fault) - before; delta < (best ? best->delta : -1e-12 * r.totalArea)) {
+          if (!best) best = std::make_unique<Move>();
+          best->groups = moved;
+          best->normals = normals;
+          best->starTessellation = std::move(candidate);
+          best->touched = std::move(tt);
+          best->fault = std::move(fault);
+          best->delta = delta;
         }
       }
-      for (const int f : star) inStar[f] = 0;
+    for (const int f : star) inStar[f] = 0;
+    for (size_t i = 0; i < moved.size(); ++i) setNormal(groups[moved[i]], nowOf[i]);
+    constructPatches(cache, o.backend);
+    if (best) best->star = std::move(star);
+    return best;
+  };
+  // makes move m on the cache's normals (patches not rebuilt), the current tessellation and the
+  // fault areas
+  auto apply = [&](const Move& m) {
+    for (size_t i = 0; i < m.groups.size(); ++i) setNormal(groups[m.groups[i]], m.normals[i]);
+    for (const int f : m.star) {  // the star's new vertices into the current tessellation
+      const int64_t a = current.faceFirstTri[f], b = m.starTessellation->faceFirstTri[f];
+      for (int64_t i = 0; a >= 0 && a + i < int64_t(current.tri.size()) && current.triFace[a + i] == f; ++i)
+        for (int c = 0; c < 3; ++c)
+          current.vertex[current.tri[a + i][c]] = m.starTessellation->vertex[m.starTessellation->tri[b + i][c]];
     }
+    for (size_t i = 0; i < m.touched.size(); ++i) {
+      const size_t t = m.touched[i];
+      faceFault[current.triFace[t]] += m.fault[i] - triFault[t];
+      triFault[t] = m.fault[i];
+    }
+  };
+  for (int pass = 0; pass < o.passes; ++pass) {
+    bool movedAny = false;
+    for (size_t g = 0; g < groups.size(); ++g)
+      if (const std::unique_ptr<Move> m = evaluate(g)) {
+        apply(*m);
+        constructPatches(cache, o.backend);
+        movedAny = true;
+      }
     if (!movedAny) break;
   }
 

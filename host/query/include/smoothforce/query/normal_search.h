@@ -15,6 +15,11 @@ struct NormalSearchOptions {
   /// No vertex normal ends farther than this from the one it was built with, degrees in (0, 90].
   double maxRotationDeg = 60;
   int passes = 2;  ///< rounds over the vertices of faulted faces, 1..16
+  /// Where the mesh is mirror-symmetric (an axis-aligned plane through its box's centre maps
+  /// vertices, faces and vertex normals onto each other, within 1e-9 of the diagonal), turn each
+  /// normal together with its mirror image, and those on the plane only within it, so that the
+  /// surface keeps the symmetry; false: every normal on its own.
+  bool keepSymmetry = true;
   /// Uniform tessellation level (PatchSurfaceOptions::level) of the fault measure that compares
   /// the candidates, 1..64; 0: the level whose tessellation has about searchTriangles triangles
   /// (the rays of every candidate of a vertex cross all of it), or the surface's own level
@@ -47,6 +52,7 @@ struct NormalSearchReport {
   std::vector<int> changedFaces;      ///< faces whose patch the turned normals changed, ascending (foldRepairRecord)
   int searchLevel = 0;                ///< the level the candidates were compared at
   int64_t evaluations = 0;            ///< candidate surfaces measured
+  int mirrorAxis = -1;                ///< the symmetry kept (0 x, 1 y, 2 z), -1 none
   double seconds = 0;
 };
 
@@ -62,6 +68,9 @@ struct NormalSearchReport {
 /// from its own vertices' positions and normals, so G1 holds as before; faces without a turned
 /// corner keep their patches bit for bit. At the end the fault area is measured at the surface's
 /// own level; unless it fell, every normal is put back (applied false).
+///
+/// On a mirror-symmetric mesh (keepSymmetry) a normal and its mirror image are one move: the
+/// candidates of the first, reflected for the second, compared over the triangles either changes.
 ///
 /// The cache must have its patches built (constructPatches); its corner normals and patches are
 /// replaced where applied, and cache.computedNormals then keeps the normals it was given (the
