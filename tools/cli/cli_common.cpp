@@ -181,8 +181,9 @@ void addSurfaceArgs(CLI::App& cmd, PatchArgs& a) {
                                    "the patch of such a polygon folds, or is singular at the straight corner. The cache "
                                    "holds the pieces; cache info names the faces cut and the pieces of each. search: on, "
                                    "then vertex normals turned (at most 60 degrees) where that removes fault area of "
-                                   "the closed patch surface: the lever for curved polygons (seconds to minutes; "
-                                   "needs the whole surface, so not for lazy --mesh rendering). off: the "
+                                   "the closed patch surface, with their mirror images on a symmetric mesh: the lever "
+                                   "for curved polygons (seconds; cache info lists the normals turned; needs the "
+                                   "whole surface, so not for lazy --mesh rendering). off: the "
                                    "design page's construction on the polygons as read (docs/fold-levers.md)")
                       ->check(patchOptionCheck("fold_repair"))
                       ->capture_default_str();

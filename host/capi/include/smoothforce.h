@@ -105,8 +105,9 @@ typedef struct sf_cache_options {
                                     every flat polygon with a reflex or straight corner is cut into
                                     convex pieces first; the cache's faces are then the pieces
                                     (sf_cache_face_source). search: on, then vertex normals turned (at
-                                    most 60 degrees) where that removes fault area of the closed patch
-                                    surface (seconds to minutes; refused with lazy). off: the design
+                                    most 60 degrees, with their mirror images on a symmetric mesh) where
+                                    that removes fault area of the closed patch surface (seconds;
+                                    sf_cache_normal_turn; refused with lazy). off: the design
                                     page's construction on the polygons as read */
 } sf_cache_options;
 void sf_cache_options_init(sf_cache_options* options);
