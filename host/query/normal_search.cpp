@@ -14,10 +14,8 @@
 #include <numbers>
 #include <stdexcept>
 #include <string>
-#include <tuple>
 
 #include <smoothforce/base/coordinate_range.h>
-
 #include <smoothforce/patch/fold_repair_record.h>
 #include <smoothforce/patch/normal_groups.h>
 #include <smoothforce/query/patch_surface.h>
