@@ -32,10 +32,12 @@
 #include <smoothforce/mesh/topology.h>
 
 #include <smoothforce/patch/cache_file.h>
+#include <smoothforce/patch/fold_repair_record.h>
 #include <smoothforce/patch/lazy_patches.h>
 #include <smoothforce/patch/limit_distance.h>
 #include <smoothforce/patch/mesh_arrays.h>
 #include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/patch/normal_groups.h>
 #include <smoothforce/patch/patch_bounds.h>
 #include <smoothforce/patch/patch_build.h>
 #include <smoothforce/patch/patch_cache.h>
