@@ -252,7 +252,8 @@ void bindCache(pyb::module_& m) {
                   "cage; creases: which marks make crease edges, a list of tags, groups, normals, or none;\n"
                   "crease_angle: degrees, 0 off; fold_repair: on (default; split a synonym), flat polygons with a\n"
                   "reflex or straight corner cut into convex pieces; search, on and then vertex normals turned where\n"
-                  "that removes fault area of the closed surface (not with lazy); or off). Raises ValueError naming the file and line. The GIL is released.")
+                  "that removes fault area of the closed surface, with their mirror images on a symmetric mesh\n"
+                  "(computed_normals keeps the normals before; not with lazy); or off). Raises ValueError naming the file and line. The GIL is released.")
       .def_static("from_arrays", &fromArrays, "positions"_a, "face_offsets"_a, "face_vertices"_a,
                   "normals"_a = pyb::none(), pyb::kw_only(), "normal_layout"_a = "auto", "name"_a = "<arrays>",
                   "precision"_a = "double", "normals_mode"_a = "auto", "cross_tangent"_a = "corrected",

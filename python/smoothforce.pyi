@@ -41,7 +41,8 @@ class Cache:
         cage; creases: which marks make crease edges, a list of tags, groups, normals, or none;
         crease_angle: degrees, 0 off; fold_repair: on (default; split a synonym), flat polygons with a
         reflex or straight corner cut into convex pieces; search, on and then vertex normals turned where
-        that removes fault area of the closed surface (not with lazy); or off). Raises ValueError naming the file and line. The GIL is released.
+        that removes fault area of the closed surface, with their mirror images on a symmetric mesh
+        (computed_normals keeps the normals before; not with lazy); or off). Raises ValueError naming the file and line. The GIL is released.
         """
     def certify(self) -> numpy.ndarray:
         """
