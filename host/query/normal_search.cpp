@@ -214,6 +214,11 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
   for (int f = 0; f < cache.numFaces(); ++f)
     for (int s = cache.faceOffsets[f]; s < cache.faceOffsets[f + 1]; ++s) faceOf[s] = f;
   const std::vector<std::vector<int>> groups = vertexNormalGroups(cache);
+  std::vector<std::vector<int>> facesAt(cache.numVertices());  // ascending, once each
+  for (int f = 0; f < cache.numFaces(); ++f)
+    for (int s = cache.faceOffsets[f]; s < cache.faceOffsets[f + 1]; ++s)
+      if (facesAt[cache.faceVertices[s]].empty() || facesAt[cache.faceVertices[s]].back() != f)
+        facesAt[cache.faceVertices[s]].push_back(f);
   const MirrorSymmetry symmetry = o.keepSymmetry ? findMirrorSymmetry(cache, groups) : MirrorSymmetry{};
   r.mirrorAxis = symmetry.axis;
   auto setNormal = [&](const std::vector<int>& slots, const Eigen::Vector3d& n) {
@@ -293,15 +298,16 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
     std::vector<size_t> moved{g};
     if (mate >= 0 && static_cast<size_t>(mate) != g) moved.push_back(static_cast<size_t>(mate));
     const std::vector<int>& slots = groups[g];
-    std::vector<std::vector<int>> stars;  // per moved group, its faces
-    std::vector<int> star;                // all of them, once each
+    // per moved group, the faces whose patches its normal changes: every face at its vertex (a
+    // face with a crease edge there is built with the normals across it too)
+    std::vector<std::vector<int>> stars;
+    std::vector<int> star;  // all of them, once each
     bool faulted = false;
     for (const size_t m : moved) {
-      stars.emplace_back();
-      for (const int s : groups[m]) {
-        stars.back().push_back(faceOf[s]);
-        star.push_back(faceOf[s]);
-        faulted = faulted || faceFault[faceOf[s]] > 0;
+      stars.push_back(facesAt[cache.faceVertices[groups[m][0]]]);
+      for (const int f : stars.back()) {
+        star.push_back(f);
+        faulted = faulted || faceFault[f] > 0;
       }
     }
     std::sort(star.begin(), star.end());
