@@ -66,7 +66,8 @@ struct NormalSearchReport {
 /// can change: those of the faces at the vertex, and every triangle in the box of their old and
 /// new tessellations (the winding number changes nowhere else). Every edge curve is still built
 /// from its own vertices' positions and normals, so G1 holds as before; faces without a turned
-/// corner keep their patches bit for bit. At the end the fault area is measured at the surface's
+/// corner keep their patches bit for bit, but for a face with a crease edge at a turned vertex
+/// (built with the normals across it; foldRepairRecord lists it). At the end the fault area is measured at the surface's
 /// own level; unless it fell, every normal is put back (applied false).
 ///
 /// On a mirror-symmetric mesh (keepSymmetry) a normal and its mirror image are one move: the
