@@ -7,7 +7,8 @@
 // corners towards the face normals (12 rounds of 25%, at most 60 degrees from the original).
 // Both keep G1 (every edge curve is still built from its own vertices' normals).
 // With --search, the normals that searchNormalsAgainstFaults finds instead (normal_search.h).
-//   fold_levers MESH [--cage] [--search [--level L] [--passes P] [--bound DEG] [--no-symmetry] [-o CACHE]]
+//   fold_levers MESH [--cage] [--search [--level L] [--passes P] [--bound DEG] [--no-symmetry] [-o CACHE]
+//                         [--crease-angle DEG]]
 //   (docs/fold-levers.md; --no-symmetry: NormalSearchOptions::keepSymmetry false)
 #include <Eigen/Geometry>
 #include <cmath>
@@ -180,6 +181,7 @@ int run(std::vector<std::string> args) {
   NormalSearchOptions so;
   bool search = false, cage = false;
   std::string out;  // the searched cache, written there
+  double creaseAngle = 0;
   std::vector<std::string> rest;
   for (size_t i = 0; i < args.size(); ++i) {
     if (args[i] == "--cage") cage = true;
@@ -188,18 +190,20 @@ int run(std::vector<std::string> args) {
     else if (args[i] == "--passes" && i + 1 < args.size()) so.passes = std::stoi(args[++i]);
     else if (args[i] == "--bound" && i + 1 < args.size()) so.maxRotationDeg = std::stod(args[++i]);
     else if (args[i] == "--no-symmetry") so.keepSymmetry = false;
+    else if (args[i] == "--crease-angle" && i + 1 < args.size()) creaseAngle = std::stod(args[++i]);
     else if (args[i] == "-o" && i + 1 < args.size()) out = args[++i];
     else rest.push_back(args[i]);
   }
   if (rest.size() != 1) {
     std::fprintf(stderr,
                  "usage: fold_levers MESH [--cage] [--search [--level L] [--passes P] [--bound DEG] [--no-symmetry] [-o "
-                 "CACHE]]\n");
+                 "CACHE] [--crease-angle DEG]]\n");
     return 2;
   }
   args = rest;
   PatchOptions o;
   if (cage) o.cage = CageMode::CatmullClark;
+  o.creases.angleDeg = creaseAngle;
   const PatchCache built = buildPatchCache(loadMesh(args[0], o), o, Backend::Tbb);
   const Faces faces(built);
   std::printf("%s%s: %d faces\n", std::filesystem::path(args[0]).filename().string().c_str(),
