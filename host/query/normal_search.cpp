@@ -38,13 +38,12 @@ constexpr uint32_t kNewStatus = GP_ST_DEGENERATE_MASK | GP_ST_BULGE;
 
 Eigen::Vector3d vec3(const std::vector<double>& a, int i) { return {a[3 * i], a[3 * i + 1], a[3 * i + 2]}; }
 
-/// A mirror symmetry of the cache's mesh: the reflection across the plane normal to `axis`
-/// through `centre` maps every vertex to a vertex (within 1e-9 of the diagonal), every face to a
+/// A mirror symmetry of the cache's mesh: the reflection across a plane normal to `axis` (through
+/// the box's centre) maps every vertex to a vertex (within 1e-9 of the diagonal), every face to a
 /// face and every vertex normal (group of corners) to a vertex normal (within 1e-9): mate[g] is
 /// the group that normal g maps to (g itself on the plane). axis -1: none found.
 struct MirrorSymmetry {
   int axis = -1;
-  double centre = 0;
   std::vector<int> mate;
   Eigen::Vector3d reflect(Eigen::Vector3d v) const {  // a direction
     v[axis] = -v[axis];
@@ -92,7 +91,6 @@ MirrorSymmetry findMirrorSymmetry(const PatchCache& c, const std::vector<std::ve
     for (size_t g = 0; g < groups.size(); ++g) groupsAt[c.faceVertices[groups[g][0]]].push_back(static_cast<int>(g));
     MirrorSymmetry s;
     s.axis = axis;
-    s.centre = centre;
     s.mate.assign(groups.size(), -1);
     for (size_t g = 0; g < groups.size() && ok; ++g) {
       const Eigen::Vector3d n = s.reflect(vec3(c.cornerNormals, groups[g][0]));

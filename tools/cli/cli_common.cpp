@@ -266,13 +266,13 @@ std::vector<std::string> describeNormalSearch(const NormalSearchReport& r) {
   }
   double most = 0;
   for (const NormalChange& c : r.changes) most = std::max(most, c.rotationDeg);
+  const std::string mirror = r.mirrorAxis < 0 ? "" : std::string(", mirror pairs across ") + "xyz"[r.mirrorAxis];
   std::snprintf(buf, sizeof buf,
                 "fold repair: search: %zu vertex normals turned (at most %.1f degrees), %zu faces changed; fault area "
                 "%.3g%% -> %.3g%% (%lld candidates at level %d%s, %.1f s)",
                 r.changes.size(), most, r.changedFaces.size(), r.faultBefore * pct, r.faultAfter * pct,
                 static_cast<long long>(r.evaluations), r.searchLevel,
-                r.mirrorAxis < 0 ? "" : r.mirrorAxis == 0 ? ", mirror pairs across x" : r.mirrorAxis == 1 ? ", mirror pairs across y" : ", mirror pairs across z",
-                r.seconds);
+                mirror.c_str(), r.seconds);
   out.emplace_back(buf);
   std::string list = "  turned (vertex: degrees):";
   for (size_t i = 0; i < r.changes.size() && i < 10; ++i) {

@@ -83,8 +83,11 @@ void printFoldRepair(const PatchCache& c) {
     for (const FoldRepairRecord::Cut& cut : r.cuts) pieces += cut.faces.size();
     std::printf("fold repair: %s: %zu faces as read cut into %zu convex pieces; the cache's faces are the pieces\n",
                 toString(c.options.foldRepair), r.cuts.size(), pieces);
-    for (size_t i = 0; i < r.cuts.size() && i < 10; ++i)
-      std::printf("  face %d as read: faces%s\n", r.cuts[i].faceAsRead, faceIdsText(r.cuts[i].faces).c_str());
+    for (size_t i = 0; i < r.cuts.size() && i < 10; ++i) {
+      std::string ids;  // every piece (faceIdsText would stop at 10)
+      for (const int f : r.cuts[i].faces) (ids += ' ') += std::to_string(f);
+      std::printf("  face %d as read: faces%s\n", r.cuts[i].faceAsRead, ids.c_str());
+    }
     if (r.cuts.size() > 10) std::printf("  ... (cache info --json: every one)\n");
   }
   if (c.options.foldRepair != FoldRepairMode::Search) return;
