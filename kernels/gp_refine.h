@@ -91,9 +91,10 @@ typedef struct {
    * face's GP_ST_* bits (GP_ST_TOO_MANY_SIDES when it has no patch). */
   gp_uint (*load)(void* user, int f, GP_REAL* recs);
   void* user;
-  /* Host only: when set, evaluates count (2..4) points of face f at once (a point and its finite
-   * differences; SIMD lanes, the same bits as gp_rf_eval, whether records come from `load` or
-   * edgeData) into out[0..count). */
+  /* Host only: when set, evaluates count (1..4) points of face f at once (a point, or a point
+   * and its finite differences; SIMD lanes, the same bits as gp_patch_eval on the face's records,
+   * whether they come from `load` or edgeData) into out[0..count). Every evaluation of the Newton
+   * refinement goes through it. */
   void (*evalPoints)(void* pointsUser, int f, const GP_REAL* x, const GP_REAL* y, int count, gp_eval_result* out);
   void* pointsUser;
   /* Host only: when set, the paper's descent evaluates face f at (x, y) through it instead of
@@ -197,8 +198,18 @@ GP_FN gp_uint gp_rf_face_status(const gp_refine_mesh* m, int f) {
 
 GP_FN int gp_rf_evaluable(const gp_refine_mesh* m, int f) { return !(gp_rf_face_status(m, f) & GP_ST_NOT_BUILT); }
 
-/* Patch f at (x, y), loading its records when another face's are held. f must be evaluable. */
+/* Patch f at (x, y), loading its records when another face's are held. f must be evaluable.
+ * With the host's evalPoints hook, one point of it: the same bits, about two thirds of the
+ * scalar instantiation's time per point on x86 SIMD (the hook keeps the face's records as
+ * vectors across the refinement's calls). */
 GP_FN gp_eval_result gp_rf_eval(const gp_refine_mesh* m, gp_refine_work* w, int f, GP_REAL x, GP_REAL y) {
+#ifndef GP_OPENCL
+  if (m->evalPoints) {
+    gp_eval_result e;
+    m->evalPoints(m->pointsUser, f, &x, &y, 1, &e);
+    return e;
+  }
+#endif
   const int n = gp_rf_size(m, f);
   if (w->loaded != f) {
 #ifndef GP_OPENCL
