@@ -7,9 +7,10 @@
 // corners towards the face normals (12 rounds of 25%, at most 60 degrees from the original).
 // Both keep G1 (every edge curve is still built from its own vertices' normals).
 // With --search, the normals that searchNormalsAgainstFaults finds instead (normal_search.h).
-//   fold_levers MESH [--cage] [--search [--level L] [--passes P] [--bound DEG] [--no-symmetry] [-o CACHE]
-//                         [--crease-angle DEG]]
-//   (docs/fold-levers.md; --no-symmetry: NormalSearchOptions::keepSymmetry false)
+//   fold_levers MESH [--cage] [--search [--level L] [--passes P] [--polish-level L] [--bound DEG] [--no-symmetry]
+//                         [-o CACHE] [--crease-angle DEG]]
+//   (docs/fold-levers.md; --no-symmetry: NormalSearchOptions::keepSymmetry false; --polish-level:
+//   NormalSearchOptions::polishLevel, -1 for no last pass)
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
@@ -169,9 +170,10 @@ void searchNormals(PatchCache& c, const NormalSearchOptions& so) {
   const NormalSearchReport r = searchNormalsAgainstFaults(c, so);
   double maxRot = 0;
   for (const NormalChange& ch : r.changes) maxRot = std::max(maxRot, ch.rotationDeg);
-  std::printf("  search (level %d, %d %s, bound %.0f deg): %s; %zu normals turned (at most %.1f deg), %zu faces "
-              "changed; fault %.4f%% -> %.4f%%; %lld candidates, %.1f s\n",
-              r.searchLevel, so.passes, r.mirrorAxis >= 0 ? "passes, mirror pairs" : "passes", so.maxRotationDeg,
+  std::printf("  search (level %d, %d %s, last pass at level %d, bound %.0f deg): %s; %zu normals turned (at most "
+              "%.1f deg), %zu faces changed; fault %.4f%% -> %.4f%%; %lld candidates, %.1f s\n",
+              r.searchLevel, so.passes, r.mirrorAxis >= 0 ? "passes, mirror pairs" : "passes", r.polishLevel,
+              so.maxRotationDeg,
               r.applied ? "applied" : "not applied", r.changes.size(),
               maxRot, r.changedFaces.size(), 100 * r.faultBefore / r.totalArea, 100 * r.faultAfter / r.totalArea,
               static_cast<long long>(r.evaluations), r.seconds);
@@ -188,6 +190,7 @@ int run(std::vector<std::string> args) {
     else if (args[i] == "--search") search = true;
     else if (args[i] == "--level" && i + 1 < args.size()) so.searchLevel = std::stoi(args[++i]);
     else if (args[i] == "--passes" && i + 1 < args.size()) so.passes = std::stoi(args[++i]);
+    else if (args[i] == "--polish-level" && i + 1 < args.size()) so.polishLevel = std::stoi(args[++i]);
     else if (args[i] == "--bound" && i + 1 < args.size()) so.maxRotationDeg = std::stod(args[++i]);
     else if (args[i] == "--no-symmetry") so.keepSymmetry = false;
     else if (args[i] == "--crease-angle" && i + 1 < args.size()) creaseAngle = std::stod(args[++i]);
@@ -196,8 +199,8 @@ int run(std::vector<std::string> args) {
   }
   if (rest.size() != 1) {
     std::fprintf(stderr,
-                 "usage: fold_levers MESH [--cage] [--search [--level L] [--passes P] [--bound DEG] [--no-symmetry] [-o "
-                 "CACHE] [--crease-angle DEG]]\n");
+                 "usage: fold_levers MESH [--cage] [--search [--level L] [--passes P] [--polish-level L] [--bound DEG] "
+                 "[--no-symmetry] [-o CACHE] [--crease-angle DEG]]\n");
     return 2;
   }
   args = rest;

@@ -267,13 +267,23 @@ std::vector<std::string> describeNormalSearch(const NormalSearchReport& r) {
   double most = 0;
   for (const NormalChange& c : r.changes) most = std::max(most, c.rotationDeg);
   const std::string mirror = r.mirrorAxis < 0 ? "" : std::string(", mirror pairs across ") + "xyz"[r.mirrorAxis];
+  char levels[64];
+  if (r.polishLevel > 0)
+    std::snprintf(levels, sizeof levels, "levels %d and %d", r.searchLevel, r.polishLevel);
+  else
+    std::snprintf(levels, sizeof levels, "level %d", r.searchLevel);
   std::snprintf(buf, sizeof buf,
                 "fold repair: search: %zu vertex normals turned (at most %.1f degrees), %zu faces changed; fault area "
-                "%.3g%% -> %.3g%% (%lld candidates at level %d%s, %.1f s)",
+                "%.3g%% -> %.3g%% (%lld candidates at %s%s, %.1f s)",
                 r.changes.size(), most, r.changedFaces.size(), r.faultBefore * pct, r.faultAfter * pct,
-                static_cast<long long>(r.evaluations), r.searchLevel,
-                mirror.c_str(), r.seconds);
+                static_cast<long long>(r.evaluations), levels, mirror.c_str(), r.seconds);
   out.emplace_back(buf);
+  if (r.polishLevel > 0) {
+    std::snprintf(buf, sizeof buf,
+                  "  measured at level %d: %.3g%% after the passes at level %d, %.3g%% after the last pass",
+                  r.polishLevel, r.polishFaultBefore * pct, r.searchLevel, r.polishFaultAfter * pct);
+    out.emplace_back(buf);
+  }
   std::string list = "  turned (vertex: degrees):";
   for (size_t i = 0; i < r.changes.size() && i < 10; ++i) {
     std::snprintf(buf, sizeof buf, " %d: %.1f", r.changes[i].vertex, r.changes[i].rotationDeg);
