@@ -15,6 +15,7 @@
 #include <smoothforce/patch/detail/gp_interval.h>
 #include <smoothforce/patch/detail/gp_math.h>
 #include <smoothforce/patch/detail/patch_enclosure.h>
+#include <smoothforce/patch/normal_groups.h>
 
 // ---- the patch math on intervals (GP_INTERVAL: gp_eval.h's range-keeping forms) ----
 namespace sf::gpi {
@@ -156,6 +157,33 @@ PatchCertificate certify(int n, const Real* recs, CrossTangentMode mode, const C
   second.cells += out.cells;
   if (second.verdict == CertificateVerdict::Certified) return second;
   out.cells = second.cells;
+  if (!o.normalConeDirection) return out;
+  // last along the centre of the patch's sampled normal cone (the direction of the largest
+  // smallest cosine to them), where that cone is narrower than a half-space: the only direction
+  // along which a patch whose normals spread far from both above can be proven at all
+  std::array<double, GP_MAX_N * GP_E_NFIELDS> drecs;
+  for (int i = 0; i < n * GP_E_NFIELDS; ++i) drecs[i] = static_cast<double>(recs[i]);
+  std::vector<Eigen::Vector3d> normals;
+  const int g = std::max(2, o.coneSamples);
+  for (int j = 0; j <= g; ++j)
+    for (int i = 0; i <= g; ++i) {
+      const double x = -1 + 2.0 * i / g, y = -1 + 2.0 * j / g;
+      const gpd::gp_eval_result p = gpd::gp_patch_eval(n, drecs.data(), static_cast<int>(mode), x, y);
+      const Eigen::Vector3d N(p.normal.x, p.normal.y, p.normal.z);
+      if (!(p.status & GP_ST_OUTSIDE) && std::isfinite(N.squaredNorm()) && N.squaredNorm() > 0.5)
+        normals.push_back(N);
+    }
+  if (normals.empty()) return out;
+  const Eigen::Vector3d m(mean[0], mean[1], mean[2]);
+  const Eigen::Vector3d axis = minimaxDirection(normals, m.squaredNorm() > 0 ? Eigen::Vector3d(m.normalized()) : normals[0]);
+  double worst = 1;
+  for (const Eigen::Vector3d& N : normals) worst = std::min(worst, N.dot(axis));
+  if (!(worst > 0)) return out;  // the samples already turn past a half-space: no direction proves it
+  const double cone[3] = {axis.x(), axis.y(), axis.z()};
+  PatchCertificate third = certifyAlong(n, irecs, mode, o, cone);
+  third.cells += out.cells;
+  if (third.verdict == CertificateVerdict::Certified) return third;
+  out.cells = third.cells;
   return out;
 }
 

@@ -94,6 +94,16 @@ Eigen::Vector3d directionOf(const PatchCertificate& pc) {
   return {pc.direction[0], pc.direction[1], pc.direction[2]};
 }
 
+/// The unit mean of a patch's unit corner normals (the certificate's second direction).
+Eigen::Vector3d cornerNormalMean(int n, const double* recs) {
+  Eigen::Vector3d m = Eigen::Vector3d::Zero();
+  for (int k = 0; k < n; ++k) {
+    const double* c = recs + k * GP_E_NFIELDS + GP_E_N0;
+    m += Eigen::Vector3d(c[0], c[1], c[2]).normalized();
+  }
+  return m.normalized();
+}
+
 /// A certified patch has no sampled point whose normal turns from the direction it was proven
 /// along by more than its margin allows; one with a sampled turn-over against its polygon
 /// (cosineToFace <= 0) is certified only along the second direction. Returns whether pc is
@@ -176,16 +186,19 @@ TEST(PatchCertificate, CertifiedPatchesTurnNowhereAgainstTheirDirection) {
   // the spot cage's faces 0, 30, ..., 150 and its 16 sampled folds; small closed polyhedra; planar
   // non-convex polygons (most fold); triangles of a sphere (their domain's corners are where the
   // edge parameters' denominators vanish); two patches of the spot cage's limit surface that turn
-  // past 90 degrees from their polygon's plane, proven along their corner normals' mean
+  // past 90 degrees from their polygon's plane, proven along their corner normals' mean; four
+  // patches of the spot cage that neither the face normal nor that mean proves, proven along the
+  // centre of their sampled normal cone
   const std::vector<Case> cases = {{"lagrange/cube.obj", 1, 6, 0},
                                    {"geomview/dodecahedron.off", 1, 12, 0},
                                    {"polygon_laplacian/tetris.obj", 1, -1, -1},
                                    {"pmp/L.off", 1, 0, 1},
                                    {"keenan_crane/spot_control_mesh.obj", 30, -1, -1},
                                    {"odedstein/sphere.obj", 320, 2, 0},
-                                   {"keenan_crane/spot_control_mesh.obj", 1, 2, 0, 400000, true, {39, 129}}};
+                                   {"keenan_crane/spot_control_mesh.obj", 1, 2, 0, 400000, true, {39, 129}},
+                                   {"keenan_crane/spot_control_mesh.obj", 1, 4, 0, 400000, false, {22, 74, 112, 164}}};
   long sampled = 0;
-  int certifiedTotal = 0, turnedTotal = 0, alongCorners = 0;
+  int certifiedTotal = 0, turnedTotal = 0, alongCorners = 0, alongCone = 0;
   for (const Case& cs : cases) {
     SCOPED_TRACE(cs.rel);
     const PatchCache c = meshCache(cs.rel, cs.cage);
@@ -208,7 +221,8 @@ TEST(PatchCertificate, CertifiedPatchesTurnNowhereAgainstTheirDirection) {
       ASSERT_GT(count, 1000);
       SCOPED_TRACE(f);
       certified += pc.verdict == CertificateVerdict::Certified;
-      alongCorners += checkAgainstSamples(pc, n, recs.data(), newellNormal(c, f), cosine, 60);
+      if (checkAgainstSamples(pc, n, recs.data(), newellNormal(c, f), cosine, 60))
+        ((directionOf(pc) - cornerNormalMean(n, recs.data())).norm() < 1e-12 ? alongCorners : alongCone) += 1;
       if (pc.verdict == CertificateVerdict::Folded) {
         ++folded;
         EXPECT_LT(pc.margin, 0);
@@ -224,8 +238,10 @@ TEST(PatchCertificate, CertifiedPatchesTurnNowhereAgainstTheirDirection) {
     }
     certifiedTotal += certified;
   }
-  std::printf("%d certified along the corner normals' mean, not the face normal\n", alongCorners);
+  std::printf("%d certified along the corner normals' mean, %d along the normal cone's centre\n", alongCorners,
+              alongCone);
   EXPECT_EQ(alongCorners, 2);  // the limit surface's two
+  EXPECT_EQ(alongCone, 4);
   EXPECT_GT(certifiedTotal, 18);
   EXPECT_GT(turnedTotal, 0);
   EXPECT_GT(sampled, 50000);

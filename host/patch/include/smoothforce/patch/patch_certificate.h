@@ -15,7 +15,7 @@ enum class CertificateVerdict : int {
   Certified = 0,  ///< dot(dG/dxi x dG/deta, d) > 0 proven on the whole domain for a fixed direction d
   Undecided = 1,  ///< neither proven nor disproven within the cell budget
   Folded = 2,     ///< J < 0 along n_face proven on a part of the domain, and not certified along the
-                  ///< second direction: the patch turns over against its polygon there
+                  ///< other directions: the patch turns over against its polygon there
   NotBuilt = 3,   ///< no patch (too many sides, non-finite input) or a zero-area polygon
 };
 
@@ -39,6 +39,12 @@ struct CertificateOptions {
   /// Where the Newell normal does not certify a patch, try again along the mean of its unit
   /// corner normals (a patch may be a regular height field over another plane than its polygon's).
   bool cornerNormalDirection = true;
+  /// Where neither certifies it, try once more along the centre of the patch's normal cone: the
+  /// direction with the largest smallest cosine to its unit normals sampled on a
+  /// (coneSamples + 1)^2 grid of the domain's box (minimaxDirection), unless those samples
+  /// already spread past a half-space.
+  bool normalConeDirection = true;
+  int coneSamples = 24;
 };
 
 /// The certificate of one patch.
@@ -49,8 +55,8 @@ struct PatchCertificate {
   /// part. Else 0.
   double margin = 0;
   /// Unit direction the verdict is about: the polygon's Newell normal n_face, or, for a patch
-  /// certified only along the second direction, the mean of its unit corner normals. Zero when
-  /// not built.
+  /// certified only along another direction, the mean of its unit corner normals or the centre
+  /// of its sampled normal cone. Zero when not built.
   double direction[3] = {0, 0, 0};
   int cells = 0;  ///< interval evaluations spent (both directions)
 };
@@ -62,7 +68,8 @@ struct PatchCertificate {
 /// is proven on a box that meets the domain (folded), or the budget runs out (undecided).
 /// n_face is the polygon's unit Newell normal; where it does not certify the patch and
 /// options.cornerNormalDirection is set, the same runs along the mean of the unit corner normals,
-/// and a patch proven there is certified (PatchCertificate::direction says along which).
+/// then (normalConeDirection) along the centre of its sampled normal cone, and a patch proven
+/// along either is certified (PatchCertificate::direction says along which).
 /// Conservative: a certified patch has no point where its normal is perpendicular to or against
 /// that direction (so it is regular, and a height field over the plane normal to it wherever its
 /// boundary projects to a simple curve there). Never throws; thread-safe.
