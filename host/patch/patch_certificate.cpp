@@ -175,7 +175,8 @@ PatchCertificate certify(int n, const Real* recs, CrossTangentMode mode, const C
     }
   if (normals.empty()) return out;
   const Eigen::Vector3d m(mean[0], mean[1], mean[2]);
-  const Eigen::Vector3d axis = minimaxDirection(normals, m.squaredNorm() > 0 ? Eigen::Vector3d(m.normalized()) : normals[0]);
+  const Eigen::Vector3d start = m.squaredNorm() > 0 ? Eigen::Vector3d(m.normalized()) : normals[0];
+  const Eigen::Vector3d axis = minimaxDirection(normals, start);
   double worst = 1;
   for (const Eigen::Vector3d& N : normals) worst = std::min(worst, N.dot(axis));
   if (!(worst > 0)) return out;  // the samples already turn past a half-space: no direction proves it

@@ -249,10 +249,10 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
   auto checkEmbree = [&] {
     if (embreeError[0]) throw std::runtime_error(std::string("normal search: ") + embreeError);
   };
-  // The passes at one level. The search's surface: the uniform tessellation at that level, rays only. A candidate
-  // changes the patches of the faces at its vertex (its star) alone, so the rest is traced once
-  // per vertex, and each candidate tessellates and traces only its star again: crossings of
-  // disjoint scenes with one origin add up to the whole's (winding_rays.h).
+  // The passes at one level. The search's surface: the uniform tessellation at that level, rays
+  // only. A candidate changes the patches of the faces at its vertex (its star) alone, so the rest
+  // is traced once per vertex, and each candidate tessellates and traces only its star again:
+  // crossings of disjoint scenes with one origin add up to the whole's (winding_rays.h).
   // A move is kept where it lowers the fault area measured at that level by at least `share` of
   // the fault area on the faces it changes (0: by any amount beyond rounding); the fault area
   // (m^2) at that level before and after the passes in *before, *after.
