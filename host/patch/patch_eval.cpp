@@ -122,7 +122,7 @@ namespace {
 /// only where no SIMD target runs. One point takes a vector too: the refinement's calls of 1 to 4
 /// points of a face (a point, a point with its finite differences) then share one target, so the
 /// face's records stay broadcast between them, and one lane of 4 costs less than the scalar
-/// instantiation (bench_patch FacePoints/count:1 1.87 -> 2.31 M points/s on an AMD EPYC Zen 3;
+/// instantiation (bench_patch FacePoints/count:1 1.87 -> 2.31 M points/s on an AMD EPYC Zen 5;
 /// the same bits either way, tests/patch/test_patch_simd.cpp).
 simd_detail::EvalFn fewPointsFn(bool dbl, int count) {
   struct Pick {
