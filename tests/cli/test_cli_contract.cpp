@@ -411,6 +411,24 @@ TEST_F(CliContract, CacheInfoFaultsMeasuresFoldedAndOverlappingSurface) {
   EXPECT_NE(r.out.find("the input's (within reach of intersecting polygons): "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("the construction's: "), std::string::npos) << r.out;
 
+  // at a level of the user's: the same measure on that level's tessellation (n L^2 triangles per
+  // n-gon: 732 L^2 on the spot cage), the same split
+  r = run("cache info " + cache() + " --faults --faults-level 16 --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const json level16 = json::parse(r.out);
+  const json& g = level16["surface_faults"];
+  EXPECT_EQ(g["level"], 16);
+  EXPECT_EQ(g["triangles"], 732 * 16 * 16);
+  EXPECT_NEAR(double(g["input_fault_area_m2"]) + double(g["construction_fault_area_m2"]), double(g["fault_area_m2"]),
+              1e-12 * total);
+  EXPECT_GT(double(g["fault_area_m2"]), 0.01 * total);
+  EXPECT_NE(double(g["fault_area_m2"]), fault);
+  for (const std::string bad : {" --faults --faults-level 65", " --faults --faults-level -1", " --faults-level 16"}) {
+    r = run("cache info " + cache() + bad);
+    EXPECT_EQ(r.status, 2) << bad << ": " << r.err;
+    EXPECT_NE(r.err.find("--faults-level"), std::string::npos) << r.err;
+  }
+
   // an open mesh has no inside: nothing measured, said so
   const std::string open = (dir / "L-plane.sfcache").string();
   r = run("cache build " + std::string(SF_SHARED_MESHES) + "/polygon_laplacian/L-plane.obj -o " + open);

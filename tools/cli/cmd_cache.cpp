@@ -227,11 +227,13 @@ nlohmann::ordered_json patchSummaryJson(const PatchCache& c) {
 }
 
 /// The surface faults of c's patch surface (measureSurfaceFaults on the uniform tessellation the
-/// patch method's global query uses), as `cache info --faults` reports them.
-SurfaceFaults cacheSurfaceFaults(const PatchCache& c) {
+/// patch method's global query uses, or at `level` when it is not 0), as `cache info --faults`
+/// reports them.
+SurfaceFaults cacheSurfaceFaults(const PatchCache& c, int level) {
   if (!hasPatchData(c)) throw InputError("--faults: the cache holds no built patches");
   PatchSurfaceOptions o;
   o.windingOnly = true;  // only the uniform tessellation's rays are probed
+  o.level = level;
   const PatchSurface surface(c, o);
   return measureSurfaceFaults(surface);
 }
@@ -340,7 +342,7 @@ void printMemory(const std::vector<SharedGeometry::Part>& parts, int faces) {
   std::printf("\n");
 }
 
-void info(const std::string& path, bool json, bool faults, bool memory) {
+void info(const std::string& path, bool json, bool faults, int faultsLevel, bool memory) {
   const PatchCache c = readPatchCache(path);
   std::vector<SharedGeometry::Part> parts;
   if (memory) parts = runtimeMemory(c);
@@ -354,7 +356,7 @@ void info(const std::string& path, bool json, bool faults, bool memory) {
   std::optional<SurfaceFaults> sf;
   FaultAttribution split;
   if (faults) {
-    sf = cacheSurfaceFaults(c);
+    sf = cacheSurfaceFaults(c, faultsLevel);
     split = attributeFaults(*sf, facesNearIntersections(base, polygons.intersectingPairs));
   }
   if (json) {
@@ -485,12 +487,19 @@ void addCacheCommands(CLI::App& app) {
               "and self-crossing polygons of the mesh), patches, certificate (null when not computed), "
               "surface_faults, memory");
   auto faults = std::make_shared<bool>(false);
-  i->add_flag("--faults", *faults,
+  CLI::Option* faultsOpt = i->add_flag("--faults", *faults,
               "also measure where the closed patch surface is at fault: the area of folded and overlapping patch "
               "surface (each triangle of the global query's tessellation probed on both sides by the winding "
               "number; the faces it lies on), split into the input's (on faces within reach of intersecting "
               "polygons: one of a pair or sharing a vertex with one) and the construction's; null in --json "
               "without it");
+  auto faultsLevel = std::make_shared<int>(0);
+  i->add_option("--faults-level", *faultsLevel,
+                "with --faults, the uniform tessellation level probed (each polygon edge split in L), 1..64; 0: "
+                "the global query's own. Folds and overlaps thinner than a triangle show only at finer levels")
+      ->check(CLI::Range(0, 64))
+      ->needs(faultsOpt)
+      ->capture_default_str();
   auto memory = std::make_shared<bool>(false);
   i->add_flag("--memory", *memory,
               "also build what the renderers build from the cache (the patch method's polygon scene and, for a "
@@ -498,7 +507,7 @@ void addCacheCommands(CLI::App& app) {
               "lazy_surface (bounds, what the servo loop holds), or a skeleton's lazy parts; the god-object's "
               "polygon scene) and report the bytes each holds, in all and per face (Embree's BVHs as its memory "
               "monitor counts them); null in --json without it");
-  i->callback([=] { info(*path, *json, *faults, *memory); });
+  i->callback([=] { info(*path, *json, *faults, *faultsLevel, *memory); });
 
   auto* d = cache->add_subcommand(
       "distance", "How far the patch surface of CACHE lies from another surface, both ways: TO's patch surface (a "
