@@ -159,12 +159,12 @@ PatchCertificate certify(int n, const Real* recs, CrossTangentMode mode, const C
   out.cells = second.cells;
   if (!o.normalConeDirection) return out;
   // last along the centre of the patch's sampled normal cone (the direction of the largest
-  // smallest cosine to them), where that cone is narrower than a half-space: the only direction
-  // along which a patch whose normals spread far from both above can be proven at all
+  // smallest cosine to them), where that cone is narrower than a half-space: the direction with
+  // the most room for a patch whose normals spread far from both above
   std::array<double, GP_MAX_N * GP_E_NFIELDS> drecs;
   for (int i = 0; i < n * GP_E_NFIELDS; ++i) drecs[i] = static_cast<double>(recs[i]);
   std::vector<Eigen::Vector3d> normals;
-  const int g = std::max(2, o.coneSamples);
+  const int g = std::clamp(o.coneSamples, 2, 256);
   for (int j = 0; j <= g; ++j)
     for (int i = 0; i <= g; ++i) {
       const double x = -1 + 2.0 * i / g, y = -1 + 2.0 * j / g;

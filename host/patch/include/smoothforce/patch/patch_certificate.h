@@ -44,7 +44,7 @@ struct CertificateOptions {
   /// (coneSamples + 1)^2 grid of the domain's box (minimaxDirection), unless those samples
   /// already spread past a half-space.
   bool normalConeDirection = true;
-  int coneSamples = 24;
+  int coneSamples = 24;  ///< clamped to 2..256
 };
 
 /// The certificate of one patch.
