@@ -11,6 +11,7 @@
 #include <vector>
 
 #include <smoothforce/mesh/cage_limit.h>
+#include <smoothforce/patch/normal_groups.h>
 #include <smoothforce/patch/patch_eval.h>
 #include <smoothforce/patch/tessellate.h>
 
@@ -83,10 +84,7 @@ LimitDistance measureLimitDistance(const PatchCache& cache, const LoadedMesh& lo
   const ByFace lg = groupByFace(nf, limit.triangles, limit.face);
 
   // faces sharing a vertex with each face
-  std::vector<std::vector<int>> vertexFaces(cache.numVertices());
-  for (int f = 0; f < nf; ++f)
-    for (int c = cache.faceOffsets[f]; c < cache.faceOffsets[f + 1]; ++c)
-      vertexFaces[cache.faceVertices[c]].push_back(f);
+  const std::vector<std::vector<int>> vertexFaces = facesAtVertices(cache);
 
   struct PerFace {
     double maxPL = 0, sumPL = 0, maxLP = 0, sumLP = 0;

@@ -6,6 +6,14 @@
 
 namespace sf {
 
+std::vector<std::vector<int>> facesAtVertices(const PatchCache& c) {
+  std::vector<std::vector<int>> at(c.numVertices());
+  for (int f = 0; f < c.numFaces(); ++f)
+    for (int s = c.faceOffsets[f]; s < c.faceOffsets[f + 1]; ++s)
+      if (std::vector<int>& a = at[c.faceVertices[s]]; a.empty() || a.back() != f) a.push_back(f);
+  return at;
+}
+
 std::vector<std::vector<int>> vertexNormalGroups(const PatchCache& c, const std::vector<double>* normals) {
   const std::vector<double>& n = normals ? *normals : c.cornerNormals;
   std::map<std::tuple<int, double, double, double>, int> id;

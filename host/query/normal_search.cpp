@@ -218,11 +218,7 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
   for (int f = 0; f < cache.numFaces(); ++f)
     for (int s = cache.faceOffsets[f]; s < cache.faceOffsets[f + 1]; ++s) faceOf[s] = f;
   const std::vector<std::vector<int>> groups = vertexNormalGroups(cache);
-  std::vector<std::vector<int>> facesAt(cache.numVertices());  // ascending, once each
-  for (int f = 0; f < cache.numFaces(); ++f)
-    for (int s = cache.faceOffsets[f]; s < cache.faceOffsets[f + 1]; ++s)
-      if (facesAt[cache.faceVertices[s]].empty() || facesAt[cache.faceVertices[s]].back() != f)
-        facesAt[cache.faceVertices[s]].push_back(f);
+  const std::vector<std::vector<int>> facesAt = facesAtVertices(cache);
   const MirrorSymmetry symmetry = o.keepSymmetry ? findMirrorSymmetry(cache, groups) : MirrorSymmetry{};
   r.mirrorAxis = symmetry.axis;
   auto setNormal = [&](const std::vector<int>& slots, const Eigen::Vector3d& n) {

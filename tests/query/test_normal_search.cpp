@@ -24,6 +24,7 @@
 #include <smoothforce/patch/fold_repair_record.h>
 #include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/patch/normal_groups.h>
 #include <smoothforce/query/normal_search.h>
 #include <smoothforce/query/patch_surface.h>
 #include <smoothforce/query/surface_faults.h>
@@ -350,6 +351,30 @@ TEST(NormalSearch, WindingOnlySurfacesGiveTheSameFaultsAndNoBand) {
     EXPECT_EQ(a.winding(q + Eigen::Vector3d(1e-3, 2e-3, -1e-3)), b.winding(q + Eigen::Vector3d(1e-3, 2e-3, -1e-3)));
   }
   EXPECT_GT(inBand, 1000);  // the full surface finds its band there
+}
+
+TEST(NormalSearch, FacesAtVerticesListEveryFaceOfEveryVertexOnce) {
+  // against a brute-force scan of every face's corners, on meshes with quads, pentagons and
+  // triangles, split pieces (L-plane's cut polygons) and a closed dense mesh
+  int vertices = 0;
+  for (const char* rel : {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/L-plane.obj",
+                          "odedstein/spot_low_resolution.obj"}) {
+    SCOPED_TRACE(rel);
+    const PatchCache c = test::cacheFromFile(test::sharedMesh(rel));
+    const std::vector<std::vector<int>> at = facesAtVertices(c);
+    ASSERT_EQ(static_cast<int>(at.size()), c.numVertices());
+    for (int v = 0; v < c.numVertices(); ++v, ++vertices) {
+      std::vector<int> expect;
+      for (int f = 0; f < c.numFaces(); ++f)
+        for (int k = 0; k < c.faceSize(f); ++k)
+          if (c.faceVertices[c.faceOffsets[f] + k] == v) {
+            expect.push_back(f);
+            break;
+          }
+      EXPECT_EQ(at[v], expect) << "vertex " << v;
+    }
+  }
+  EXPECT_GT(vertices, 1000);
 }
 
 TEST(NormalSearch, RefusesOptionsOutOfRange) {

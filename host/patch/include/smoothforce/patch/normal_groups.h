@@ -17,6 +17,10 @@ namespace sf {
 /// Groups in order of their first corner; every corner in exactly one.
 std::vector<std::vector<int>> vertexNormalGroups(const PatchCache& cache, const std::vector<double>* normals = nullptr);
 
+/// The faces at each vertex (#V lists of face ids, ascending, each face once): the faces whose
+/// patches a change at the vertex (its normal, its position) can reach.
+std::vector<std::vector<int>> facesAtVertices(const PatchCache& cache);
+
 /// The unit direction m that maximises min_i m . a_i over the unit vectors a (non-empty), by
 /// projected subgradient ascent on the sphere from the unit vector `start` (step 0.05 / (1 +
 /// 0.05 k) at iteration k): the normal whose tangent plane keeps every a_i on its positive side
