@@ -43,6 +43,7 @@ using interval::Interval;
 struct Box {
   double x0, x1, y0, y1;
   int depth;
+  double d[3];  ///< unit direction J is bounded along on this box
 };
 
 /// The affine forms of a box: centre plus half-width times its noise symbol.
@@ -52,16 +53,46 @@ void boxForms(double x0, double x1, double y0, double y1, Affine* xi, Affine* et
   *eta = Affine(cy, 0.0, interval::roundUp(std::max(y1 - cy, cy - y0)), 0.0);
 }
 
+/// J = dot(dG/dxi x dG/deta, d) and |dG/dxi x dG/deta| over a box of the domain.
+struct CellBound {
+  Interval J;
+  double lenHi;
+};
+CellBound boundCell(const gpd::gp_domain* dom, const std::array<Affine, GP_MAX_N * GP_E_NFIELDS>& irecs,
+                    CrossTangentMode mode, double x0, double x1, double y0, double y1, const double d[3]) {
+  Affine xi, eta;
+  boxForms(x0, x1, y0, y1, &xi, &eta);
+  const gpi::gp_eval_result r = gpi::gp_patch_eval_dom_d(dom, irecs.data(), static_cast<int>(mode), xi, eta, 1);
+  const gpi::gp_vec3 N = gpi::gp_cross(r.dxi, r.deta);
+  return {(N.x * Affine(d[0]) + N.y * Affine(d[1]) + N.z * Affine(d[2])).range(),
+          gp_sqrt(N.x * N.x + N.y * N.y + N.z * N.z).hi()};
+}
+
+/// The unit patch normal at the domain point nearest the centre of box b (double records
+/// drecs), or false where it is not defined there (singular, not finite).
+bool centreNormal(int n, const double* drecs, CrossTangentMode mode, const Box& b, double d[3]) {
+  double x = 0.5 * (b.x0 + b.x1), y = 0.5 * (b.y0 + b.y1);
+  gpd::gp_dom_clamp(n, &x, &y);
+  const gpd::gp_eval_result p = gpd::gp_patch_eval(n, drecs, static_cast<int>(mode), x, y);
+  const double l2 = p.normal.x * p.normal.x + p.normal.y * p.normal.y + p.normal.z * p.normal.z;
+  if ((p.status & (GP_ST_OUTSIDE | GP_ST_SINGULAR)) || !(std::abs(l2 - 1) < 1e-6)) return false;
+  d[0] = p.normal.x, d[1] = p.normal.y, d[2] = p.normal.z;
+  return true;
+}
+
 /// The certificate along one fixed direction d (unnormalised; any d != 0 makes a valid test):
-/// J = dot(dG/dxi x dG/deta, d / |d|) bounded over the domain as certifyPatch describes.
+/// J = dot(dG/dxi x dG/deta, d / |d|) bounded over the domain as certifyPatch describes. With
+/// local directions (drecs, the records in double), each box is bounded along the unit normal at
+/// its own centre instead (d is the start's), which proves dG/dxi x dG/deta != 0 on it: the
+/// patch is regular, not a height field; a box proven negative then proves nothing.
 PatchCertificate certifyAlong(int n, const std::array<Affine, GP_MAX_N * GP_E_NFIELDS>& irecs, CrossTangentMode mode,
-                              const CertificateOptions& o, const double d[3]) {
+                              const CertificateOptions& o, const double d[3], const double* drecs = nullptr) {
   PatchCertificate out;
   const double nl = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
   out.verdict = CertificateVerdict::Undecided;
   if (!(nl > 0) || !std::isfinite(nl)) return out;
-  for (int i = 0; i < 3; ++i) out.direction[i] = d[i] / nl;
-  const Affine nf[3] = {Affine(d[0] / nl), Affine(d[1] / nl), Affine(d[2] / nl)};
+  const bool local = drecs != nullptr;
+  for (int i = 0; i < 3; ++i) out.direction[i] = local ? 0.0 : d[i] / nl;
 
   gpd::gp_domain scratch;
   const gpd::gp_domain* dom = gpd::gp_domain_of(n, &scratch, 1);
@@ -76,11 +107,12 @@ PatchCertificate certifyAlong(int n, const std::array<Affine, GP_MAX_N * GP_E_NF
   for (int j = g - 1; j >= 0; --j)
     for (int i = g - 1; i >= 0; --i)
       stack.push_back({lo[0] + (hi[0] - lo[0]) * i / g, lo[0] + (hi[0] - lo[0]) * (i + 1) / g,
-                       lo[1] + (hi[1] - lo[1]) * j / g, lo[1] + (hi[1] - lo[1]) * (j + 1) / g, start});
+                       lo[1] + (hi[1] - lo[1]) * j / g, lo[1] + (hi[1] - lo[1]) * (j + 1) / g, start,
+                       {d[0] / nl, d[1] / nl, d[2] / nl}});
   double margin = 1;
   bool undecided = false;
   while (!stack.empty()) {
-    const Box b = stack.back();
+    Box b = stack.back();
     stack.pop_back();
     const Interval bx(b.x0, b.x1), by(b.y0, b.y1);
     bool meets = true;  // the box meets the domain (not proven outside one of its edges)
@@ -91,36 +123,57 @@ PatchCertificate certifyAlong(int n, const std::array<Affine, GP_MAX_N * GP_E_NF
       break;
     }
     ++out.cells;
-    Affine xi, eta;
-    boxForms(b.x0, b.x1, b.y0, b.y1, &xi, &eta);
-    const gpi::gp_eval_result r = gpi::gp_patch_eval_dom_d(dom, irecs.data(), static_cast<int>(mode), xi, eta, 1);
-    const gpi::gp_vec3 N = gpi::gp_cross(r.dxi, r.deta);
-    const Interval J = (N.x * nf[0] + N.y * nf[1] + N.z * nf[2]).range();
-    const double len = gp_sqrt(N.x * N.x + N.y * N.y + N.z * N.z).hi();
-    if (J.lo > 0 && len < interval::kInf) {
-      margin = std::min(margin, interval::roundDown(J.lo / interval::roundUp(len)));
+    if (local) centreNormal(n, drecs, mode, b, b.d);  // else the parent's stays
+    const CellBound c = boundCell(dom, irecs, mode, b.x0, b.x1, b.y0, b.y1, b.d);
+    if (c.J.lo > 0 && c.lenHi < interval::kInf) {
+      margin = std::min(margin, interval::roundDown(c.J.lo / interval::roundUp(c.lenHi)));
       continue;
     }
-    if (J.hi < 0 && len > 0) {  // every point of the box, some of them in the domain, turns over
+    if (!local && c.J.hi < 0 && c.lenHi > 0) {  // every point of the box, some of them in the domain, turns over
       out.verdict = CertificateVerdict::Folded;
-      out.margin = len < interval::kInf ? std::min(-1e-300, J.hi / len) : -1e-300;
+      out.margin = c.lenHi < interval::kInf ? std::min(-1e-300, c.J.hi / c.lenHi) : -1e-300;
       return out;
     }
     if (b.depth >= maxDepth) {
       undecided = true;
-      continue;  // keep looking for a proven fold elsewhere
+      if (local) break;  // no fold to look for
+      continue;          // keep looking for a proven fold elsewhere
     }
     const double xm = 0.5 * (b.x0 + b.x1), ym = 0.5 * (b.y0 + b.y1);
-    const int d = b.depth + 1;
-    stack.push_back({b.x0, xm, b.y0, ym, d});
-    stack.push_back({xm, b.x1, b.y0, ym, d});
-    stack.push_back({b.x0, xm, ym, b.y1, d});
-    stack.push_back({xm, b.x1, ym, b.y1, d});
+    const int dd = b.depth + 1;
+    stack.push_back({b.x0, xm, b.y0, ym, dd, {b.d[0], b.d[1], b.d[2]}});
+    stack.push_back({xm, b.x1, b.y0, ym, dd, {b.d[0], b.d[1], b.d[2]}});
+    stack.push_back({b.x0, xm, ym, b.y1, dd, {b.d[0], b.d[1], b.d[2]}});
+    stack.push_back({xm, b.x1, ym, b.y1, dd, {b.d[0], b.d[1], b.d[2]}});
   }
   if (undecided) return out;
   out.verdict = CertificateVerdict::Certified;
   out.margin = std::max(margin, 1e-300);
   return out;
+}
+
+/// Whether the patch meets each of its edges with its normal along the edge normal n_c there
+/// (not against it: a patch that leaves an edge on the wrong side folds against its neighbour,
+/// which shares n_c), proven by interval bounds on a small box at each domain edge's midpoint,
+/// where t = 1/2 and the G1 construction makes the patch normal parallel to n_c(1/2).
+bool edgesOriented(int n, const std::array<Affine, GP_MAX_N * GP_E_NFIELDS>& irecs, const double* drecs,
+                   CrossTangentMode mode) {
+  gpd::gp_domain scratch;
+  const gpd::gp_domain* dom = gpd::gp_domain_of(n, &scratch, 1);
+  for (int k = 0; k < n; ++k) {
+    const double* rec = drecs + k * GP_E_NFIELDS;
+    gpd::gp_dvec3 c, cp;
+    gpd::gp_edge_curve(rec, 0.5, &c, &cp);
+    gp_uint st = 0u;
+    const gpd::gp_dvec3 nc = gpd::gp_edge_normal(rec, 0.5, cp, gpd::gp_edge_length(rec), &st);
+    const double d[3] = {nc.v.x, nc.v.y, nc.v.z};
+    double x = 0, y = 0;
+    gpd::gp_dom_edge_point(n, k, 0.5, &x, &y);
+    const double s = 1 - 1e-7, h = 1e-9;  // just inside the edge
+    const CellBound b = boundCell(dom, irecs, mode, x * s - h, x * s + h, y * s - h, y * s + h, d);
+    if (!(b.J.lo > 0)) return false;
+  }
+  return true;
 }
 
 template <class Real>
@@ -143,9 +196,7 @@ PatchCertificate certify(int n, const Real* recs, CrossTangentMode mode, const C
     newell[2] += (double(a[0]) - double(b[0])) * (double(a[1]) + double(b[1]));
   }
   out = certifyAlong(n, irecs, mode, o, newell);
-  if (out.verdict == CertificateVerdict::Certified || !o.cornerNormalDirection) return out;
-  // then along the mean of its unit corner normals: a curved patch (a subdivision limit's, say)
-  // can turn past 90 degrees from its polygon's plane and still be a regular height field
+  if (out.verdict == CertificateVerdict::Certified) return out;
   double mean[3] = {0, 0, 0};
   for (int k = 0; k < n; ++k) {
     const Real* c = recs + k * GP_E_NFIELDS + GP_E_N0;
@@ -153,38 +204,58 @@ PatchCertificate certify(int n, const Real* recs, CrossTangentMode mode, const C
     if (l > 0 && std::isfinite(l))
       for (int i = 0; i < 3; ++i) mean[i] += double(c[i]) / l;
   }
-  PatchCertificate second = certifyAlong(n, irecs, mode, o, mean);
-  second.cells += out.cells;
-  if (second.verdict == CertificateVerdict::Certified) return second;
-  out.cells = second.cells;
-  if (!o.normalConeDirection) return out;
-  // last along the centre of the patch's sampled normal cone (the direction of the largest
-  // smallest cosine to them), where that cone is narrower than a half-space: the direction with
-  // the most room for a patch whose normals spread far from both above
+  if (o.cornerNormalDirection) {
+    // then along the mean of its unit corner normals: a curved patch (a subdivision limit's,
+    // say) can turn past 90 degrees from its polygon's plane and still be a regular height field
+    PatchCertificate second = certifyAlong(n, irecs, mode, o, mean);
+    second.cells += out.cells;
+    if (second.verdict == CertificateVerdict::Certified) return second;
+    out.cells = second.cells;
+  }
   std::array<double, GP_MAX_N * GP_E_NFIELDS> drecs;
   for (int i = 0; i < n * GP_E_NFIELDS; ++i) drecs[i] = static_cast<double>(recs[i]);
-  std::vector<Eigen::Vector3d> normals;
-  const int g = std::clamp(o.coneSamples, 2, 256);
-  for (int j = 0; j <= g; ++j)
-    for (int i = 0; i <= g; ++i) {
-      const double x = -1 + 2.0 * i / g, y = -1 + 2.0 * j / g;
-      const gpd::gp_eval_result p = gpd::gp_patch_eval(n, drecs.data(), static_cast<int>(mode), x, y);
-      const Eigen::Vector3d N(p.normal.x, p.normal.y, p.normal.z);
-      if (!(p.status & GP_ST_OUTSIDE) && std::isfinite(N.squaredNorm()) && N.squaredNorm() > 0.5)
-        normals.push_back(N);
+  if (o.normalConeDirection) {
+    // along the centre of the patch's sampled normal cone (the direction of the largest smallest
+    // cosine to them), where that cone is narrower than a half-space: the direction with the
+    // most room for a patch whose normals spread far from both above
+    std::vector<Eigen::Vector3d> normals;
+    const int g = std::clamp(o.coneSamples, 2, 256);
+    for (int j = 0; j <= g; ++j)
+      for (int i = 0; i <= g; ++i) {
+        const double x = -1 + 2.0 * i / g, y = -1 + 2.0 * j / g;
+        const gpd::gp_eval_result p = gpd::gp_patch_eval(n, drecs.data(), static_cast<int>(mode), x, y);
+        const Eigen::Vector3d N(p.normal.x, p.normal.y, p.normal.z);
+        if (!(p.status & GP_ST_OUTSIDE) && std::isfinite(N.squaredNorm()) && N.squaredNorm() > 0.5)
+          normals.push_back(N);
+      }
+    if (!normals.empty()) {
+      const Eigen::Vector3d m(mean[0], mean[1], mean[2]);
+      const Eigen::Vector3d start = m.squaredNorm() > 0 ? Eigen::Vector3d(m.normalized()) : normals[0];
+      const Eigen::Vector3d axis = minimaxDirection(normals, start);
+      double worst = 1;
+      for (const Eigen::Vector3d& N : normals) worst = std::min(worst, N.dot(axis));
+      if (worst > 0) {  // else the samples already turn past a half-space: no direction proves it
+        const double cone[3] = {axis.x(), axis.y(), axis.z()};
+        PatchCertificate third = certifyAlong(n, irecs, mode, o, cone);
+        third.cells += out.cells;
+        if (third.verdict == CertificateVerdict::Certified) return third;
+        out.cells = third.cells;
+      }
     }
-  if (normals.empty()) return out;
-  const Eigen::Vector3d m(mean[0], mean[1], mean[2]);
-  const Eigen::Vector3d start = m.squaredNorm() > 0 ? Eigen::Vector3d(m.normalized()) : normals[0];
-  const Eigen::Vector3d axis = minimaxDirection(normals, start);
-  double worst = 1;
-  for (const Eigen::Vector3d& N : normals) worst = std::min(worst, N.dot(axis));
-  if (!(worst > 0)) return out;  // the samples already turn past a half-space: no direction proves it
-  const double cone[3] = {axis.x(), axis.y(), axis.z()};
-  PatchCertificate third = certifyAlong(n, irecs, mode, o, cone);
-  third.cells += out.cells;
-  if (third.verdict == CertificateVerdict::Certified) return third;
-  out.cells = third.cells;
+  }
+  // last, regular without a common direction: every box bounded along its own centre's normal,
+  // and each edge met along its edge normal. Along a whole edge the patch normal is parallel to
+  // n_c where the construction is G1 (corrected and blended cross tangents; the printed ones keep
+  // a jump at backward end tangents), so with a normal that vanishes nowhere its side of n_c at
+  // the edge's midpoint is its side along the whole edge.
+  if (!o.regularity || mode == CrossTangentMode::Paper) return out;
+  PatchCertificate fourth = certifyAlong(n, irecs, mode, o, newell, drecs.data());
+  fourth.cells += out.cells;
+  if (fourth.verdict == CertificateVerdict::Certified && edgesOriented(n, irecs, drecs.data(), mode)) {
+    fourth.verdict = CertificateVerdict::Regular;
+    return fourth;
+  }
+  out.cells = fourth.cells;
   return out;
 }
 
@@ -227,10 +298,11 @@ PatchCertificate certifyPatch(int n, const float* recs, CrossTangentMode mode, c
   return certify(n, recs, mode, options);
 }
 
-void certifyPatches(PatchCache& cache, int threads, const CertificateOptions& options) {
+CertificateSummary certifyPatches(PatchCache& cache, int threads, const CertificateOptions& options) {
   const int nf = cache.numFaces();
   if (!hasPatchData(cache) && nf > 0) throw std::invalid_argument("certifyPatches: the cache has no patch data");
   cache.faceCertificate.assign(nf, 0.f);
+  std::vector<char> regular(nf, 0);
   auto one = [&](int f) {
     const int n = cache.faceSize(f);
     if ((cache.faceStatus[f] & GP_ST_NOT_BUILT) || n < 3 || n > GP_MAX_N) return;
@@ -245,6 +317,7 @@ void certifyPatches(PatchCache& cache, int threads, const CertificateOptions& op
       c = certifyPatch(n, recs.data(), cache.options.crossTangent, options);
     }
     cache.faceCertificate[f] = towardZero(c.margin);
+    regular[f] = c.verdict == CertificateVerdict::Regular;
   };
   auto run = [&] {
     tbb::parallel_for(tbb::blocked_range<int>(0, nf, 8), [&](const tbb::blocked_range<int>& r) {
@@ -257,6 +330,14 @@ void certifyPatches(PatchCache& cache, int threads, const CertificateOptions& op
   } else {
     run();
   }
+  CertificateSummary s = summarizeCertificates(cache);
+  s.regular = 0;
+  for (int f = 0; f < nf; ++f)
+    if (regular[f]) {
+      ++s.regular;
+      s.regularFaces.push_back(f);
+    }
+  return s;
 }
 
 CertificateSummary summarizeCertificates(const PatchCache& c) {

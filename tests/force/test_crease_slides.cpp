@@ -270,6 +270,7 @@ std::array<int, 2> slideAcrossEveryCrease(const CreasedMesh& m) {
     PatchCache certified = c;
     CertificateOptions budget;
     budget.maxCells = budget.triangleMaxCells = 12000;  // an undecided patch costs at most this many cells
+    budget.regularity = false;  // the test asks for no patch proven folded: the fixed directions decide that
     certifyPatches(certified, 0, budget);
     const CertificateSummary cs = summarizeCertificates(certified);
     std::printf("crease slides %-26s surface faults %.3g m^2 of %.3g; certificate: %d of %d certified, %d undecided, "

@@ -21,6 +21,8 @@
 #include <smoothforce/patch/detail/patch_enclosure.h>
 #include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/patch/patch_certificate.h>
+#include "gregory_reference.h"
+#include "ref_sampling.h"
 #include "shared_mesh_files.h"
 
 namespace sf {
@@ -205,6 +207,7 @@ TEST(PatchCertificate, CertifiedPatchesTurnNowhereAgainstTheirDirection) {
     CertificateOptions o;
     o.maxCells = cs.cells;
     o.triangleMaxCells = std::max(cs.cells, 200000);
+    o.regularity = false;  // the fixed directions (the cell-by-cell proof: RegularPatches... below)
     int certified = 0, folded = 0, visited = 0;
     for (int f = 0; f < c.numFaces(); ++f) {
       if (!cs.only.empty() ? std::find(cs.only.begin(), cs.only.end(), f) == cs.only.end()
@@ -276,7 +279,9 @@ TEST(PatchCertificate, ACornerNormalTiltedPastTheFaceIsProvenFolded) {
     const PatchCache c = tiltedPolygon(4, deg);
     std::array<double, 4 * GP_E_NFIELDS> recs;
     gatherRecords(c, 0, recs.data());
-    const PatchCertificate pc = certifyPatch(4, recs.data(), CrossTangentMode::Corrected);
+    CertificateOptions o;
+    o.regularity = false;  // the fixed directions
+    const PatchCertificate pc = certifyPatch(4, recs.data(), CrossTangentMode::Corrected, o);
     int count = 0;
     const double cosine = smallestSampledCosine(4, recs.data(), 0, Eigen::Vector3d::UnitZ(), 80, &count);
     certified += pc.verdict == CertificateVerdict::Certified;
@@ -317,6 +322,104 @@ TEST(PatchCertificate, ATriangleIsCertifiedUntilItsTiltedCornerTurnsOver) {
   }
   EXPECT_EQ(certified, 3);
   EXPECT_EQ(folded, 2);
+}
+
+/// What dense samples of the independent reference (tests/reference) say of a patch's
+/// regularity: the smallest sine of the angle between dG/dxi and dG/deta over the fan samples
+/// of its domain, the smallest cosine between the unit normals of two neighbouring samples of a
+/// fan triangle, and the smallest cosine between the patch normal and the edge normal n_c(t) at
+/// points of every edge (1e-7 inside the domain, t from the domain point as Eq. 4 gives it).
+struct SampledRegularity {
+  double minSine = 2, minNeighbourCosine = 2, minEdgeCosine = 2;
+  int samples = 0;
+};
+SampledRegularity sampleRegularity(const PatchCache& c, int f, int grid) {
+  const int n = c.faceSize(f);
+  ref::RefPatch rp;
+  for (int k = 0; k < n; ++k) {
+    const int s = c.faceOffsets[f] + k;
+    rp.V.push_back(Eigen::Vector3d::Map(&c.positions[3 * size_t(c.faceVertices[s])]));
+    rp.N.push_back(Eigen::Vector3d::Map(&c.cornerNormals[3 * size_t(s)]));
+  }
+  const ref::RefPatchEvaluator ev(rp);
+  SampledRegularity r;
+  // the fan triangle (O, C_k, C_k+1) sampled as (i C_k + j C_k+1) / grid: neighbours differ in i or j
+  for (int k = 0; k < n; ++k) {
+    const Eigen::Vector2d a = ref::refDomainCorner(n, k), b = ref::refDomainCorner(n, (k + 1) % n);
+    std::vector<Eigen::Vector3d> normal((grid + 1) * (grid + 1));
+    for (int i = 0; i <= grid; ++i)
+      for (int j = 0; i + j <= grid; ++j) {
+        const Eigen::Vector2d x = (i * a + j * b) / grid * (1 - 1e-9);
+        const ref::RefEval e = ev.evaluate(x.x(), x.y());
+        const Eigen::Vector3d N = e.dxi.cross(e.deta);
+        r.minSine = std::min(r.minSine, N.norm() / (e.dxi.norm() * e.deta.norm()));
+        normal[i * (grid + 1) + j] = N.normalized();
+        ++r.samples;
+        if (i > 0) r.minNeighbourCosine = std::min(r.minNeighbourCosine, N.normalized().dot(normal[(i - 1) * (grid + 1) + j]));
+        if (j > 0) r.minNeighbourCosine = std::min(r.minNeighbourCosine, N.normalized().dot(normal[i * (grid + 1) + j - 1]));
+      }
+    for (int i = 1; i < grid; ++i) {  // edge k, away from its corners
+      const Eigen::Vector2d x = ref::refDomainEdgePoint(n, k, double(i) / grid, 1e-7);
+      auto d = [&](int j) { return std::cos(std::numbers::pi / n) - x.dot(ref::refDomainEdgeNormal(n, (j + n) % n)); };
+      const double t = d(k - 1) / (d(k - 1) + d(k + 1));
+      const ref::RefEval e = ev.evaluate(x.x(), x.y());
+      r.minEdgeCosine = std::min(r.minEdgeCosine, e.normal.dot(ref::refEdgeNormal(rp, k, t)));
+    }
+  }
+  return r;
+}
+
+TEST(PatchCertificate, RegularPatchesHaveNoSampledFoldAndMeetEveryEdgeAlongItsNormal) {
+  // Only the face normal and the cell-by-cell proof: the square with a tilted corner normal
+  // (0 to 170 degrees), a patch of the spot cage's limit surface that turns past 90 degrees from
+  // its polygon's plane and from its corner normals' mean alike (only the cell-by-cell proof
+  // certifies it), and one of the spot cage's own. A regular patch's samples never
+  // turn back; a patch whose samples do (the tilted square past 100 degrees, whose edge or
+  // interior turns over) is never regular.
+  CertificateOptions o;
+  o.cornerNormalDirection = o.normalConeDirection = false;
+  struct Item {
+    PatchCache cache;
+    int face;
+    std::string name;
+  };
+  std::vector<Item> items;
+  for (int deg = 0; deg <= 170; deg += 10) items.push_back({tiltedPolygon(4, deg), 0, "tilt " + std::to_string(deg)});
+  const PatchCache limit = meshCache("keenan_crane/spot_control_mesh.obj", true);
+  const PatchCache cage = meshCache("keenan_crane/spot_control_mesh.obj");
+  items.push_back({limit, 178, "limit face 178"});  // (faces 88 and 125 are their mirror images)
+  items.push_back({cage, 35, "cage face 35"});
+  int regular = 0, turned = 0, limitRegular = 0, samples = 0;
+  for (const Item& it : items) {
+    SCOPED_TRACE(it.name);
+    const int n = it.cache.faceSize(it.face);
+    std::array<double, GP_MAX_N * GP_E_NFIELDS> recs;
+    gatherRecords(it.cache, it.face, recs.data());
+    const PatchCertificate pc = certifyPatch(n, recs.data(), CrossTangentMode::Corrected, o);
+    const SampledRegularity r = sampleRegularity(it.cache, it.face, 48);
+    samples += r.samples;
+    const bool sampledTurn = !(r.minSine > 0) || !(r.minNeighbourCosine > 0) || !(r.minEdgeCosine > 0);
+    turned += sampledTurn;
+    if (pc.verdict == CertificateVerdict::Regular) {
+      ++regular;
+      limitRegular += it.name.rfind("limit", 0) == 0;
+      EXPECT_FALSE(sampledTurn) << "sine " << r.minSine << ", neighbours " << r.minNeighbourCosine << ", edges "
+                                << r.minEdgeCosine;
+      EXPECT_GT(pc.margin, 0);
+      EXPECT_EQ(directionOf(pc).norm(), 0);
+      // the face normal did not prove it: the patch turns past 90 degrees from it somewhere
+      int count = 0;
+      EXPECT_LE(smallestSampledCosine(n, recs.data(), 0, newellNormal(it.cache, it.face), 60, &count), 0.05);
+    }
+    if (sampledTurn) EXPECT_NE(pc.verdict, CertificateVerdict::Regular);
+    std::printf("%s: verdict %d, %d cells; sampled sine %.3g, neighbour cosine %.3g, edge cosine %.3g\n",
+                it.name.c_str(), static_cast<int>(pc.verdict), pc.cells, r.minSine, r.minNeighbourCosine,
+                r.minEdgeCosine);
+  }
+  EXPECT_EQ(limitRegular, 1);
+  EXPECT_EQ(regular, 4);  // the tilts of 90 and 100 degrees, and the two faces
+  EXPECT_EQ(turned, 7);  // the tilts from 110 degrees on
+  EXPECT_EQ(samples, 20 * 4 * 49 * 50 / 2);
 }
 
 TEST(PatchCertificate, TheCacheFileKeepsThemInFormat2) {

@@ -198,9 +198,12 @@ void build(const std::string& mesh, std::string out, const PatchArgs& args, bool
               cache.numFaces() / std::max(secs, 1e-9));
   if (certify) {
     const auto t0 = std::chrono::steady_clock::now();
-    certifyPatches(cache, args.threads);
+    const CertificateSummary run = certifyPatches(cache, args.threads);
     throwIfInterrupted("cache build");
     printCertificates(cache);
+    if (run.regular > 0)
+      std::printf("  of the certified, regular cell by cell (no one direction is a height-field direction):%s\n",
+                  faceIdsText(run.regularFaces).c_str());
     std::printf("certificate: %.3f s on the CPU (oneTBB)\n",
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
@@ -472,7 +475,8 @@ void addCacheCommands(CLI::App& app) {
   auto certify = std::make_shared<bool>(false);
   b->add_flag("--certify", *certify,
               "also certify every patch: prove from interval bounds of its exact derivatives that it is regular and "
-              "never turns over against its polygon (stored in the cache, format 2; seconds per patch)");
+              "never turns back against its polygon or its neighbours (stored in the cache, format 2; seconds per "
+              "patch)");
   b->callback([=] { build(*mesh, *out, *args, *certify); });
 
   auto* i = cache->add_subcommand("info", "Validate a cache file and describe it");

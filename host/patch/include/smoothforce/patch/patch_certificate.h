@@ -17,6 +17,9 @@ enum class CertificateVerdict : int {
   Folded = 2,     ///< J < 0 along n_face proven on a part of the domain, and not certified along the
                   ///< other directions: the patch turns over against its polygon there
   NotBuilt = 3,   ///< no patch (too many sides, non-finite input) or a zero-area polygon
+  Regular = 4,    ///< no fixed direction proves it, but dG/dxi x dG/deta != 0 is proven on the whole
+                  ///< domain (each cell along its own centre's normal) and the patch meets each edge
+                  ///< along the edge normal: it does not fold, though it is no height field
 };
 
 /// Budget of the adaptive subdivision: the domain's bounding box is cut into a grid of
@@ -45,20 +48,24 @@ struct CertificateOptions {
   /// already spread past a half-space.
   bool normalConeDirection = true;
   int coneSamples = 24;  ///< clamped to 2..256
+  /// Where no fixed direction certifies it, prove the patch regular: every cell bounded along
+  /// the unit normal at its own centre (CertificateVerdict::Regular).
+  bool regularity = true;
 };
 
 /// The certificate of one patch.
 struct PatchCertificate {
   CertificateVerdict verdict = CertificateVerdict::NotBuilt;
   /// Certified: a lower bound > 0 on cos(angle between the patch normal and `direction`) over
-  /// the whole domain. Folded: an upper bound < 0 of the cosine to the face normal on a proven
-  /// part. Else 0.
+  /// the whole domain. Regular: a lower bound > 0 on the cosine between the patch normal and
+  /// the normal at the centre of each cell, over every cell. Folded: an upper bound < 0 of the
+  /// cosine to the face normal on a proven part. Else 0.
   double margin = 0;
   /// Unit direction the verdict is about: the polygon's Newell normal n_face, or, for a patch
   /// certified only along another direction, the mean of its unit corner normals or the centre
-  /// of its sampled normal cone. Zero when not built.
+  /// of its sampled normal cone. Zero when not built, and for a regular patch (no one direction).
   double direction[3] = {0, 0, 0};
-  int cells = 0;  ///< interval evaluations spent (both directions)
+  int cells = 0;  ///< interval evaluations spent (every direction tried)
 };
 
 /// Certifies the patch with edge records recs (n * GP_E_NFIELDS, record-major, 3 <= n <= 64)
@@ -69,25 +76,37 @@ struct PatchCertificate {
 /// n_face is the polygon's unit Newell normal; where it does not certify the patch and
 /// options.cornerNormalDirection is set, the same runs along the mean of the unit corner normals,
 /// then (normalConeDirection) along the centre of its sampled normal cone, and a patch proven
-/// along either is certified (PatchCertificate::direction says along which).
+/// along either is certified (PatchCertificate::direction says along which). Where none does
+/// (options.regularity; not for CrossTangentMode::Paper), every cell is bounded along the unit
+/// normal at its own centre, which proves dG/dxi x dG/deta != 0 there, and the patch normal is
+/// proven to lie on n_c's side at each edge's midpoint: with the construction's G1 (the patch
+/// normal parallel to n_c along the edge) and a normal that vanishes nowhere, on its side along
+/// the whole edge, so the patch meets its neighbours without turning back (Regular).
 /// Conservative: a certified patch has no point where its normal is perpendicular to or against
 /// that direction (so it is regular, and a height field over the plane normal to it wherever its
 /// boundary projects to a simple curve there). Never throws; thread-safe.
 PatchCertificate certifyPatch(int n, const double* recs, CrossTangentMode mode, const CertificateOptions& options = {});
 PatchCertificate certifyPatch(int n, const float* recs, CrossTangentMode mode, const CertificateOptions& options = {});
 
-/// Certifies every built patch of the cache (oneTBB; threads <= 0: oneTBB's default) into
-/// cache.faceCertificate (#F, PatchCertificate::margin as float: > 0 certified, < 0 folded,
-/// 0 undecided or not built). Throws std::invalid_argument for a cache without patch data.
-void certifyPatches(PatchCache& cache, int threads = 0, const CertificateOptions& options = {});
-
 /// Counts of a cache's certificates, and the faces that are not certified (ids, ascending).
 struct CertificateSummary {
   int certified = 0, undecided = 0, folded = 0, notBuilt = 0;
+  /// Of the certified, those proven regular cell by cell (CertificateVerdict::Regular), and
+  /// their ids; -1 and empty where unknown: the cache keeps one margin per face, not its kind.
+  int regular = -1;
+  std::vector<int> regularFaces;
   double minMargin = 0;  ///< smallest margin of the certified patches (0 when none)
   std::vector<int> uncertifiedFaces, foldedFaces;
   bool present = false;  ///< false for caches written before certificates were stored
 };
+
+/// Certifies every built patch of the cache (oneTBB; threads <= 0: oneTBB's default) into
+/// cache.faceCertificate (#F, PatchCertificate::margin as float: > 0 certified, height field or
+/// regular; < 0 folded; 0 undecided or not built). Returns their summary with the regular ones
+/// counted. Throws std::invalid_argument for a cache without patch data.
+CertificateSummary certifyPatches(PatchCache& cache, int threads = 0, const CertificateOptions& options = {});
+
+/// The summary of the certificates a cache holds (CertificateSummary::regular unknown: -1).
 CertificateSummary summarizeCertificates(const PatchCache& cache);
 
 }  // namespace sf
