@@ -152,28 +152,46 @@ PatchCertificate certifyAlong(int n, const std::array<Affine, GP_MAX_N * GP_E_NF
   return out;
 }
 
-/// Whether the patch meets each of its edges with its normal along the edge normal n_c there
-/// (not against it: a patch that leaves an edge on the wrong side folds against its neighbour,
-/// which shares n_c), proven by interval bounds on a small box at each domain edge's midpoint,
-/// where t = 1/2 and the G1 construction makes the patch normal parallel to n_c(1/2).
-bool edgesOriented(int n, const std::array<Affine, GP_MAX_N * GP_E_NFIELDS>& irecs, const double* drecs,
-                   CrossTangentMode mode) {
+/// How the patch meets its edges and corners: its normal along the edge normal n_c at each
+/// edge's midpoint (t = 1/2) and along the vertex normal N_k at each corner, where the G1
+/// construction makes it parallel to them, bounded on a box of width 2e-9 just inside the domain
+/// there. -1: proven against one of them (the patch meets its neighbours, which share n_c and
+/// N_k, upside down there: it folds against them; *margin the upper bound < 0 of the cosine);
+/// +1: proven along n_c at every edge's midpoint; 0: neither.
+int boundaryOrientation(int n, const std::array<Affine, GP_MAX_N * GP_E_NFIELDS>& irecs, const double* drecs,
+                        CrossTangentMode mode, double* margin) {
   gpd::gp_domain scratch;
   const gpd::gp_domain* dom = gpd::gp_domain_of(n, &scratch, 1);
+  int verdict = 1;
+  const double s = 1 - 1e-7, h = 1e-9;  // just inside the domain
   for (int k = 0; k < n; ++k) {
     const double* rec = drecs + k * GP_E_NFIELDS;
-    gpd::gp_dvec3 c, cp;
-    gpd::gp_edge_curve(rec, 0.5, &c, &cp);
-    gp_uint st = 0u;
-    const gpd::gp_dvec3 nc = gpd::gp_edge_normal(rec, 0.5, cp, gpd::gp_edge_length(rec), &st);
-    const double d[3] = {nc.v.x, nc.v.y, nc.v.z};
-    double x = 0, y = 0;
-    gpd::gp_dom_edge_point(n, k, 0.5, &x, &y);
-    const double s = 1 - 1e-7, h = 1e-9;  // just inside the edge
-    const CellBound b = boundCell(dom, irecs, mode, x * s - h, x * s + h, y * s - h, y * s + h, d);
-    if (!(b.J.lo > 0)) return false;
+    for (int corner = 0; corner < 2; ++corner) {
+      double d[3], x = 0, y = 0;
+      if (corner) {
+        const double* nk = rec + GP_E_N0;
+        for (int i = 0; i < 3; ++i) d[i] = nk[i];
+        x = dom->cx[k], y = dom->cy[k];
+      } else {
+        gpd::gp_dvec3 c, cp;
+        gpd::gp_edge_curve(rec, 0.5, &c, &cp);
+        gp_uint st = 0u;
+        const gpd::gp_dvec3 nc = gpd::gp_edge_normal(rec, 0.5, cp, gpd::gp_edge_length(rec), &st);
+        d[0] = nc.v.x, d[1] = nc.v.y, d[2] = nc.v.z;
+        gpd::gp_dom_edge_point(n, k, 0.5, &x, &y);
+      }
+      const CellBound b = boundCell(dom, irecs, mode, x * s - h, x * s + h, y * s - h, y * s + h, d);
+      if (b.J.hi < 0 && b.lenHi > 0) {
+        *margin = b.lenHi < interval::kInf ? std::min(-1e-300, b.J.hi / b.lenHi) : -1e-300;
+        return -1;
+      }
+      // a corner right side up follows from its two edges' midpoints, a normal that vanishes
+      // nowhere and G1 (the enclosure at a triangle's corner may be unbounded): only a corner
+      // proven upside down decides
+      if (!corner && !(b.J.lo > 0)) verdict = 0;
+    }
   }
-  return true;
+  return verdict;
 }
 
 template <class Real>
@@ -186,6 +204,19 @@ PatchCertificate certify(int n, const Real* recs, CrossTangentMode mode, const C
     if (!std::isfinite(x)) return out;
     irecs[i] = Affine(x);
   }
+  std::array<double, GP_MAX_N * GP_E_NFIELDS> drecs;
+  for (int i = 0; i < n * GP_E_NFIELDS; ++i) drecs[i] = static_cast<double>(recs[i]);
+  // a patch that meets an edge or a corner upside down folds against its neighbours there,
+  // whatever it does inside; one not proven to meet its edges right side up is certified by no
+  // direction
+  double turned = 0;
+  const int orientation = boundaryOrientation(n, irecs, drecs.data(), mode, &turned);
+  if (orientation < 0) {
+    out.verdict = CertificateVerdict::Folded;
+    out.margin = turned;
+    out.cells = 2 * n;
+    return out;
+  }
   // first along the polygon's Newell normal (in double)
   double newell[3] = {0, 0, 0};
   for (int k = 0; k < n; ++k) {
@@ -196,6 +227,14 @@ PatchCertificate certify(int n, const Real* recs, CrossTangentMode mode, const C
     newell[2] += (double(a[0]) - double(b[0])) * (double(a[1]) + double(b[1]));
   }
   out = certifyAlong(n, irecs, mode, o, newell);
+  out.cells += 2 * n;  // the boundary boxes
+  if (orientation == 0) {  // the Newell normal's run may still prove a fold; nothing certifies it
+    if (out.verdict == CertificateVerdict::Certified) {
+      out.verdict = CertificateVerdict::Undecided;
+      out.margin = 0;
+    }
+    return out;
+  }
   if (out.verdict == CertificateVerdict::Certified) return out;
   double mean[3] = {0, 0, 0};
   for (int k = 0; k < n; ++k) {
@@ -212,8 +251,6 @@ PatchCertificate certify(int n, const Real* recs, CrossTangentMode mode, const C
     if (second.verdict == CertificateVerdict::Certified) return second;
     out.cells = second.cells;
   }
-  std::array<double, GP_MAX_N * GP_E_NFIELDS> drecs;
-  for (int i = 0; i < n * GP_E_NFIELDS; ++i) drecs[i] = static_cast<double>(recs[i]);
   if (o.normalConeDirection) {
     // along the centre of the patch's sampled normal cone (the direction of the largest smallest
     // cosine to them), where that cone is narrower than a half-space: the direction with the
@@ -251,7 +288,7 @@ PatchCertificate certify(int n, const Real* recs, CrossTangentMode mode, const C
   if (!o.regularity || mode == CrossTangentMode::Paper) return out;
   PatchCertificate fourth = certifyAlong(n, irecs, mode, o, newell, drecs.data());
   fourth.cells += out.cells;
-  if (fourth.verdict == CertificateVerdict::Certified && edgesOriented(n, irecs, drecs.data(), mode)) {
+  if (fourth.verdict == CertificateVerdict::Certified) {
     fourth.verdict = CertificateVerdict::Regular;
     return fourth;
   }

@@ -422,6 +422,46 @@ TEST(PatchCertificate, RegularPatchesHaveNoSampledFoldAndMeetEveryEdgeAlongItsNo
   EXPECT_EQ(samples, 20 * 4 * 49 * 50 / 2);
 }
 
+TEST(PatchCertificate, APatchWithACornerInsideOutIsProvenFolded) {
+  // At a corner whose two edge curves leave the vertex in the wrong order about its normal (the
+  // independent reference's end derivatives: (C_k'(0) x -C_k-1'(1)) . N_k < 0), the patch meets
+  // its neighbours upside down. Over every face of the spot cage: each such patch is proven
+  // folded, whatever the budget inside (a tiny one here).
+  const PatchCache c = meshCache("keenan_crane/spot_control_mesh.obj");
+  CertificateOptions o;
+  o.maxCells = o.triangleMaxCells = 200;  // what is proven at the boundary needs no cell inside
+  o.cornerNormalDirection = o.normalConeDirection = o.regularity = false;
+  int insideOut = 0, folded = 0;
+  for (int f = 0; f < c.numFaces(); ++f) {
+    const int n = c.faceSize(f);
+    ref::RefPatch rp;
+    for (int k = 0; k < n; ++k) {
+      const int s = c.faceOffsets[f] + k;
+      rp.V.push_back(Eigen::Vector3d::Map(&c.positions[3 * size_t(c.faceVertices[s])]));
+      rp.N.push_back(Eigen::Vector3d::Map(&c.cornerNormals[3 * size_t(s)]));
+    }
+    double least = 1;
+    for (int k = 0; k < n; ++k) {
+      const Eigen::Vector3d out = ref::refEdgeCurveDerivative(rp, k, 0).normalized();
+      const Eigen::Vector3d in = -ref::refEdgeCurveDerivative(rp, (k + n - 1) % n, 1).normalized();
+      least = std::min(least, out.cross(in).dot(rp.N[k].normalized()));
+    }
+    std::array<double, GP_MAX_N * GP_E_NFIELDS> recs;
+    gatherRecords(c, f, recs.data());
+    const PatchCertificate pc = certifyPatch(n, recs.data(), CrossTangentMode::Corrected, o);
+    SCOPED_TRACE(f);
+    if (least < -1e-6) {
+      ++insideOut;
+      EXPECT_EQ(pc.verdict, CertificateVerdict::Folded) << "corner sine " << least;
+      EXPECT_LT(pc.margin, 0);
+    }
+    folded += pc.verdict == CertificateVerdict::Folded;
+  }
+  std::printf("spot cage: %d patches with a corner inside out, %d proven folded (200 cells)\n", insideOut, folded);
+  EXPECT_EQ(insideOut, 20);  // 10 mirror pairs
+  EXPECT_GE(folded, insideOut);
+}
+
 TEST(PatchCertificate, TheCacheFileKeepsThemInFormat2) {
   PatchCache c = meshCache("lagrange/cube.obj");
   const std::string plain = ::testing::TempDir() + "/cert_plain.sfcache", cert = ::testing::TempDir() + "/cert.sfcache";

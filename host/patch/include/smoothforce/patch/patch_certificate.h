@@ -14,8 +14,10 @@ namespace sf {
 enum class CertificateVerdict : int {
   Certified = 0,  ///< dot(dG/dxi x dG/deta, d) > 0 proven on the whole domain for a fixed direction d
   Undecided = 1,  ///< neither proven nor disproven within the cell budget
-  Folded = 2,     ///< J < 0 along n_face proven on a part of the domain, and not certified along the
-                  ///< other directions: the patch turns over against its polygon there
+  Folded = 2,     ///< the patch proven to meet an edge's midpoint or a corner upside down (its normal
+                  ///< against the edge normal n_c or the vertex normal there, which its neighbours
+                  ///< share: it folds against them), or J < 0 along n_face proven on a part of the
+                  ///< domain and no proof along the other directions: it turns over against its polygon
   NotBuilt = 3,   ///< no patch (too many sides, non-finite input) or a zero-area polygon
   Regular = 4,    ///< no fixed direction proves it, but dG/dxi x dG/deta != 0 is proven on the whole
                   ///< domain (each cell along its own centre's normal) and the patch meets each edge
@@ -59,7 +61,7 @@ struct PatchCertificate {
   /// Certified: a lower bound > 0 on cos(angle between the patch normal and `direction`) over
   /// the whole domain. Regular: a lower bound > 0 on the cosine between the patch normal and
   /// the normal at the centre of each cell, over every cell. Folded: an upper bound < 0 of the
-  /// cosine to the face normal on a proven part. Else 0.
+  /// cosine to the normal it was proven against (n_c, N_k or n_face) on a proven part. Else 0.
   double margin = 0;
   /// Unit direction the verdict is about: the polygon's Newell normal n_face, or, for a patch
   /// certified only along another direction, the mean of its unit corner normals or the centre
@@ -69,7 +71,11 @@ struct PatchCertificate {
 };
 
 /// Certifies the patch with edge records recs (n * GP_E_NFIELDS, record-major, 3 <= n <= 64)
-/// built with cross-tangent mode `mode`: bounds J = dot(dG/dxi x dG/deta, n_face) over boxes of
+/// built with cross-tangent mode `mode`. First, on a box of width 2e-9 just inside each edge's
+/// midpoint and each corner, the patch normal against the edge normal n_c (t = 1/2) and the vertex
+/// normal N_k, which its neighbours share and the G1 construction makes it parallel to there: a
+/// patch proven upside down at one of them is folded, and one not proven right side up at every
+/// edge's midpoint is certified by no direction. Then it bounds J = dot(dG/dxi x dG/deta, n_face) over boxes of
 /// the domain by evaluating the patch math (Eq. 2-14, kernels/gp_eval.h) in outward-rounded
 /// interval arithmetic, and splits a box in four until J > 0 is proven on it (certified), J < 0
 /// is proven on a box that meets the domain (folded), or the budget runs out (undecided).
@@ -78,13 +84,13 @@ struct PatchCertificate {
 /// then (normalConeDirection) along the centre of its sampled normal cone, and a patch proven
 /// along either is certified (PatchCertificate::direction says along which). Where none does
 /// (options.regularity; not for CrossTangentMode::Paper), every cell is bounded along the unit
-/// normal at its own centre, which proves dG/dxi x dG/deta != 0 there, and the patch normal is
-/// proven to lie on n_c's side at each edge's midpoint: with the construction's G1 (the patch
-/// normal parallel to n_c along the edge) and a normal that vanishes nowhere, on its side along
-/// the whole edge, so the patch meets its neighbours without turning back (Regular).
+/// normal at its own centre, which proves dG/dxi x dG/deta != 0 there (Regular).
 /// Conservative: a certified patch has no point where its normal is perpendicular to or against
 /// that direction (so it is regular, and a height field over the plane normal to it wherever its
-/// boundary projects to a simple curve there). Never throws; thread-safe.
+/// boundary projects to a simple curve there), a regular one no point where its normal vanishes;
+/// both lie on n_c's side at every edge's midpoint, so with the construction's G1 (the patch
+/// normal parallel to n_c along an edge) and a normal that vanishes nowhere, along the whole edge:
+/// the patch meets its neighbours without turning back. Never throws; thread-safe.
 PatchCertificate certifyPatch(int n, const double* recs, CrossTangentMode mode, const CertificateOptions& options = {});
 PatchCertificate certifyPatch(int n, const float* recs, CrossTangentMode mode, const CertificateOptions& options = {});
 
