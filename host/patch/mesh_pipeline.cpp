@@ -1,6 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <smoothforce/patch/mesh_pipeline.h>
 
+#include <array>
+
+#include <Eigen/Geometry>
+
 #include <smoothforce/base/error.h>
 #include <smoothforce/base/hash.h>
 #include <smoothforce/mesh/mesh_io.h>
@@ -93,6 +97,28 @@ PatchStatusSummary summarizePatchStatus(const PatchCache& cache) {
     }
     if (st & GP_ST_DEGENERATE_MASK) s.degenerateFaces.push_back(f);
     s.maxBulge = std::max(s.maxBulge, cache.faceBulge[f]);
+  }
+  if (!hasPatchData(cache)) return s;
+  std::array<double, GP_MAX_N * GP_E_NFIELDS> d;
+  std::array<float, GP_MAX_N * GP_E_NFIELDS> fl;
+  for (int f = 0; f < cache.numFaces(); ++f) {
+    const int n = cache.faceSize(f);
+    if (n < 3 || n > GP_MAX_N || (cache.faceStatus[f] & GP_ST_NOT_BUILT)) continue;
+    if (cache.options.precision == Precision::Double) {
+      gatherRecords(cache, f, d.data());
+    } else {
+      gatherRecords(cache, f, fl.data());
+      std::copy_n(fl.begin(), size_t(n) * GP_E_NFIELDS, d.begin());
+    }
+    bool insideOut = false;
+    for (int k = 0; k < n && !insideOut; ++k) {
+      const double* a = &d[size_t(k) * GP_E_NFIELDS + GP_E_M0];  // C_k'(0)
+      const double* b = &d[size_t((k + n - 1) % n) * GP_E_NFIELDS + GP_E_M1];  // C_k-1'(1)
+      const double* m = &d[size_t(k) * GP_E_NFIELDS + GP_E_N0];
+      const Eigen::Vector3d out(a[0], a[1], a[2]), in(-b[0], -b[1], -b[2]), normal(m[0], m[1], m[2]);
+      insideOut = out.cross(in).dot(normal) < 0;
+    }
+    if (insideOut) s.insideOutFaces.push_back(f);
   }
   return s;
 }

@@ -426,12 +426,14 @@ TEST(PatchCertificate, APatchWithACornerInsideOutIsProvenFolded) {
   // At a corner whose two edge curves leave the vertex in the wrong order about its normal (the
   // independent reference's end derivatives: (C_k'(0) x -C_k-1'(1)) . N_k < 0), the patch meets
   // its neighbours upside down. Over every face of the spot cage: each such patch is proven
-  // folded, whatever the budget inside (a tiny one here).
+  // folded, whatever the budget inside (a tiny one here), and the construction's report names
+  // them (its Catmull-Clark limit has none).
   const PatchCache c = meshCache("keenan_crane/spot_control_mesh.obj");
   CertificateOptions o;
   o.maxCells = o.triangleMaxCells = 200;  // what is proven at the boundary needs no cell inside
   o.cornerNormalDirection = o.normalConeDirection = o.regularity = false;
   int insideOut = 0, folded = 0;
+  std::vector<int> insideOutFaces;  // by the reference
   for (int f = 0; f < c.numFaces(); ++f) {
     const int n = c.faceSize(f);
     ref::RefPatch rp;
@@ -450,6 +452,7 @@ TEST(PatchCertificate, APatchWithACornerInsideOutIsProvenFolded) {
     gatherRecords(c, f, recs.data());
     const PatchCertificate pc = certifyPatch(n, recs.data(), CrossTangentMode::Corrected, o);
     SCOPED_TRACE(f);
+    if (least < 0) insideOutFaces.push_back(f);
     if (least < -1e-6) {
       ++insideOut;
       EXPECT_EQ(pc.verdict, CertificateVerdict::Folded) << "corner sine " << least;
@@ -460,6 +463,9 @@ TEST(PatchCertificate, APatchWithACornerInsideOutIsProvenFolded) {
   std::printf("spot cage: %d patches with a corner inside out, %d proven folded (200 cells)\n", insideOut, folded);
   EXPECT_EQ(insideOut, 20);  // 10 mirror pairs
   EXPECT_GE(folded, insideOut);
+  EXPECT_EQ(summarizePatchStatus(c).insideOutFaces, insideOutFaces);  // the report, from the records
+  const PatchCache limit = meshCache("keenan_crane/spot_control_mesh.obj", true);
+  EXPECT_TRUE(summarizePatchStatus(limit).insideOutFaces.empty());
 }
 
 TEST(PatchCertificate, TheCacheFileKeepsThemInFormat2) {

@@ -37,6 +37,10 @@ void printPatchSummary(const PatchCache& c) {
   list("fold", s.foldFaces);
   list("bulge", s.bulgeFaces);
   list("degenerate", s.degenerateFaces);
+  if (!s.insideOutFaces.empty())
+    std::printf("  corners inside out (the two edge curves leave the vertex in the wrong order about its normal: the "
+                "patch folds there), %zu faces:%s\n",
+                s.insideOutFaces.size(), faceIdsText(s.insideOutFaces).c_str());
 }
 
 void printCertificates(const PatchCache& c) {
@@ -226,7 +230,8 @@ nlohmann::ordered_json patchSummaryJson(const PatchCache& c) {
           {"degenerate", s.degenerateFaces.size()},
           {"fold_faces", s.foldFaces},
           {"bulge_faces", s.bulgeFaces},
-          {"degenerate_faces", s.degenerateFaces}};
+          {"degenerate_faces", s.degenerateFaces},
+          {"inside_out_faces", s.insideOutFaces}};
 }
 
 /// The surface faults of c's patch surface (measureSurfaceFaults on the uniform tessellation the

@@ -65,6 +65,11 @@ struct PatchStatusSummary {
   int guard = 0, zeroEdge = 0, edgeNormal = 0, crossTangent = 0, fold = 0, bulge = 0, notBuilt = 0;
   float maxBulge = 0;
   std::vector<int> foldFaces, bulgeFaces, degenerateFaces;  ///< face ids
+  /// Faces with a corner inside out: its two edge curves leave the vertex in the wrong order about
+  /// the vertex normal ((C_k'(0) x -C_k-1'(1)) . N_k < 0, from the built records; Eq. 8-9), so
+  /// the patch meets its neighbours upside down at that corner and folds there. Empty for a
+  /// cache without patch data.
+  std::vector<int> insideOutFaces;
 };
 PatchStatusSummary summarizePatchStatus(const PatchCache& cache);
 
