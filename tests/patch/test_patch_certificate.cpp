@@ -333,14 +333,19 @@ struct SampledRegularity {
   double minSine = 2, minNeighbourCosine = 2, minEdgeCosine = 2;
   int samples = 0;
 };
-SampledRegularity sampleRegularity(const PatchCache& c, int f, int grid) {
-  const int n = c.faceSize(f);
+/// Face f of the cache as the independent reference's patch (its positions and corner normals).
+ref::RefPatch referencePatch(const PatchCache& c, int f) {
   ref::RefPatch rp;
-  for (int k = 0; k < n; ++k) {
+  for (int k = 0; k < c.faceSize(f); ++k) {
     const int s = c.faceOffsets[f] + k;
     rp.V.push_back(Eigen::Vector3d::Map(&c.positions[3 * size_t(c.faceVertices[s])]));
     rp.N.push_back(Eigen::Vector3d::Map(&c.cornerNormals[3 * size_t(s)]));
   }
+  return rp;
+}
+SampledRegularity sampleRegularity(const PatchCache& c, int f, int grid) {
+  const int n = c.faceSize(f);
+  const ref::RefPatch rp = referencePatch(c, f);
   const ref::RefPatchEvaluator ev(rp);
   SampledRegularity r;
   // the fan triangle (O, C_k, C_k+1) sampled as (i C_k + j C_k+1) / grid: neighbours differ in i or j
@@ -436,12 +441,7 @@ TEST(PatchCertificate, APatchWithACornerInsideOutIsProvenFolded) {
   std::vector<int> insideOutFaces;  // by the reference
   for (int f = 0; f < c.numFaces(); ++f) {
     const int n = c.faceSize(f);
-    ref::RefPatch rp;
-    for (int k = 0; k < n; ++k) {
-      const int s = c.faceOffsets[f] + k;
-      rp.V.push_back(Eigen::Vector3d::Map(&c.positions[3 * size_t(c.faceVertices[s])]));
-      rp.N.push_back(Eigen::Vector3d::Map(&c.cornerNormals[3 * size_t(s)]));
-    }
+    const ref::RefPatch rp = referencePatch(c, f);
     double least = 1;
     for (int k = 0; k < n; ++k) {
       const Eigen::Vector3d out = ref::refEdgeCurveDerivative(rp, k, 0).normalized();
