@@ -188,7 +188,8 @@ TEST(PatchCertificate, CertifiedPatchesTurnNowhereAgainstTheirDirection) {
   // the spot cage's faces 0, 30, ..., 150 and its 16 sampled folds; small closed polyhedra; planar
   // non-convex polygons (most fold); triangles of a sphere (their domain's corners are where the
   // edge parameters' denominators vanish); two patches of the spot cage's limit surface that turn
-  // past 90 degrees from their polygon's plane, proven along their corner normals' mean; four
+  // past 90 degrees from their polygon's plane, proven along their corner normals' mean; a
+  // triangle of that surface proven only with cells down to 2^-14 of its box near a corner; four
   // patches of the spot cage that neither the face normal nor that mean proves, proven along the
   // centre of their sampled normal cone
   const std::vector<Case> cases = {{"lagrange/cube.obj", 1, 6, 0},
@@ -198,6 +199,7 @@ TEST(PatchCertificate, CertifiedPatchesTurnNowhereAgainstTheirDirection) {
                                    {"keenan_crane/spot_control_mesh.obj", 30, -1, -1},
                                    {"odedstein/sphere.obj", 320, 2, 0},
                                    {"keenan_crane/spot_control_mesh.obj", 1, 2, 0, 400000, true, {39, 129}},
+                                   {"keenan_crane/spot_control_mesh.obj", 1, 1, 0, 500000, true, {81}},
                                    {"keenan_crane/spot_control_mesh.obj", 1, 4, 0, 400000, false, {22, 74, 112, 164}}};
   long sampled = 0;
   int certifiedTotal = 0, turnedTotal = 0, alongCorners = 0, alongCone = 0;

@@ -31,7 +31,9 @@ enum class CertificateVerdict : int {
 /// prove J > 0; larger ones almost never do, hence the start. Triangles get their own, deeper
 /// budget: their blending's gradients are steeper (the edge parameters' denominators vanish at
 /// their domain's corners), and the bounds of a nearly flat triangle of a sphere (odedstein
-/// sphere.obj) prove J > 0 only on cells of 2^-10 to 2^-11 of the box.
+/// sphere.obj) prove J > 0 only on cells of 2^-10 to 2^-11 of the box; three triangles of the
+/// spot cage's Catmull-Clark limit need cells of 2^-13 to 2^-14 near a corner (384,000-406,000
+/// cells), hence depth 14 and 500,000 cells.
 /// maxDepth 11: most patches the Newell normal leaves undecided at depth 9 are decided two
 /// levels deeper at little cost, since only the cells near J = 0 go deeper (docs/certificate.md,
 /// "Budget and direction").
@@ -39,8 +41,8 @@ struct CertificateOptions {
   int startDepth = 6;
   int maxDepth = 11;
   int maxCells = 400000;
-  int triangleMaxDepth = 11;
-  int triangleMaxCells = 400000;
+  int triangleMaxDepth = 14;
+  int triangleMaxCells = 500000;
   /// Where the Newell normal does not certify a patch, try again along the mean of its unit
   /// corner normals (a patch may be a regular height field over another plane than its polygon's).
   bool cornerNormalDirection = true;
