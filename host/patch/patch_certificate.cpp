@@ -53,31 +53,39 @@ void boxForms(double x0, double x1, double y0, double y1, Affine* xi, Affine* et
   *eta = Affine(cy, 0.0, interval::roundUp(std::max(y1 - cy, cy - y0)), 0.0);
 }
 
-/// J = dot(dG/dxi x dG/deta, d) and |dG/dxi x dG/deta| over a box of the domain.
+/// The patch math's enclosure over a box of the domain, with derivatives.
+gpi::gp_eval_result evalBox(const gpd::gp_domain* dom, const std::array<Affine, GP_MAX_N * GP_E_NFIELDS>& irecs,
+                            CrossTangentMode mode, double x0, double x1, double y0, double y1) {
+  Affine xi, eta;
+  boxForms(x0, x1, y0, y1, &xi, &eta);
+  return gpi::gp_patch_eval_dom_d(dom, irecs.data(), static_cast<int>(mode), xi, eta, 1);
+}
+
+/// J = dot(dG/dxi x dG/deta, d) and the upper bound of |dG/dxi x dG/deta| over a box, from its
+/// enclosure r.
 struct CellBound {
   Interval J;
   double lenHi;
 };
-CellBound boundCell(const gpd::gp_domain* dom, const std::array<Affine, GP_MAX_N * GP_E_NFIELDS>& irecs,
-                    CrossTangentMode mode, double x0, double x1, double y0, double y1, const double d[3]) {
-  Affine xi, eta;
-  boxForms(x0, x1, y0, y1, &xi, &eta);
-  const gpi::gp_eval_result r = gpi::gp_patch_eval_dom_d(dom, irecs.data(), static_cast<int>(mode), xi, eta, 1);
+CellBound boundJ(const gpi::gp_eval_result& r, const double d[3]) {
   const gpi::gp_vec3 N = gpi::gp_cross(r.dxi, r.deta);
   return {(N.x * Affine(d[0]) + N.y * Affine(d[1]) + N.z * Affine(d[2])).range(),
           gp_sqrt(N.x * N.x + N.y * N.y + N.z * N.z).hi()};
 }
+CellBound boundCell(const gpd::gp_domain* dom, const std::array<Affine, GP_MAX_N * GP_E_NFIELDS>& irecs,
+                    CrossTangentMode mode, double x0, double x1, double y0, double y1, const double d[3]) {
+  return boundJ(evalBox(dom, irecs, mode, x0, x1, y0, y1), d);
+}
 
-/// The unit patch normal at the domain point nearest the centre of box b (double records
-/// drecs), or false where it is not defined there (singular, not finite).
-bool centreNormal(int n, const double* drecs, CrossTangentMode mode, const Box& b, double d[3]) {
+/// d = the unit patch normal at the domain point nearest the centre of box b (double records
+/// drecs); d unchanged where that normal is not defined (singular, not finite).
+void centreNormal(int n, const double* drecs, CrossTangentMode mode, const Box& b, double d[3]) {
   double x = 0.5 * (b.x0 + b.x1), y = 0.5 * (b.y0 + b.y1);
   gpd::gp_dom_clamp(n, &x, &y);
   const gpd::gp_eval_result p = gpd::gp_patch_eval(n, drecs, static_cast<int>(mode), x, y);
   const double l2 = p.normal.x * p.normal.x + p.normal.y * p.normal.y + p.normal.z * p.normal.z;
-  if ((p.status & (GP_ST_OUTSIDE | GP_ST_SINGULAR)) || !(std::abs(l2 - 1) < 1e-6)) return false;
+  if ((p.status & (GP_ST_OUTSIDE | GP_ST_SINGULAR)) || !(std::abs(l2 - 1) < 1e-6)) return;
   d[0] = p.normal.x, d[1] = p.normal.y, d[2] = p.normal.z;
-  return true;
 }
 
 /// The certificate along one fixed direction d (unnormalised; any d != 0 makes a valid test):
@@ -315,15 +323,11 @@ PatchEnclosure enclosePatch(int n, const double* recs, CrossTangentMode mode, co
   std::array<Affine, GP_MAX_N * GP_E_NFIELDS> irecs;
   for (int i = 0; i < n * GP_E_NFIELDS; ++i) irecs[i] = Affine(recs[i]);
   gpd::gp_domain scratch;
-  Affine xi, eta;
-  boxForms(x0, x1, y0, y1, &xi, &eta);
-  const gpi::gp_eval_result r =
-      gpi::gp_patch_eval_dom_d(gpd::gp_domain_of(n, &scratch, 1), irecs.data(), static_cast<int>(mode), xi, eta, 1);
-  const gpi::gp_vec3 N = gpi::gp_cross(r.dxi, r.deta);
+  const gpi::gp_eval_result r = evalBox(gpd::gp_domain_of(n, &scratch, 1), irecs, mode, x0, x1, y0, y1);
   const gpi::gp_vec3* v[3] = {&r.pos, &r.dxi, &r.deta};
   interval::Interval* o[3] = {out.pos, out.dxi, out.deta};
   for (int i = 0; i < 3; ++i) o[i][0] = v[i]->x.range(), o[i][1] = v[i]->y.range(), o[i][2] = v[i]->z.range();
-  out.J = (N.x * nFace[0] + N.y * nFace[1] + N.z * nFace[2]).range();
+  out.J = boundJ(r, nFace).J;  // the bound the certificate decides on
   return out;
 }
 }  // namespace detail
