@@ -26,15 +26,19 @@ int64_t monotonicNs() {
 }
 
 extern "C" void onStopSignal(int sig) {
+  const int64_t now = monotonicNs();
   int none = 0;
   if (gSignal.compare_exchange_strong(none, sig)) {
-    gFirstNs.store(monotonicNs());
+    gFirstNs.store(now);
     gStop.store(true);
     return;
   }
   // One kill often arrives twice (to the process and to its group: timeout, shells, job
-  // launchers): a repeat within a second is that, not a user insisting.
-  if (monotonicNs() - gFirstNs.load() < 1000000000) return;
+  // launchers): a repeat within a second is that, not a user insisting. The two copies can
+  // be handled at the same moment on two threads, so a first handler that has not yet
+  // stored its time (0) also makes this one a repeat.
+  const int64_t first = gFirstNs.load();
+  if (first == 0 || now - first < 1000000000) return;
   static const char msg[] = "smoothforce: second signal: exiting at once\n";
   [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, msg, sizeof msg - 1);
   ::_exit(128 + sig);
