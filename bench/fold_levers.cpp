@@ -207,6 +207,7 @@ int run(std::vector<std::string> args) {
   PatchOptions o;
   if (cage) o.cage = CageMode::CatmullClark;
   o.creases.angleDeg = creaseAngle;
+  o.foldRepair = FoldRepairMode::Search;  // the split of `on`, the construction's own fans: what the normals act on
   const PatchCache built = buildPatchCache(loadMesh(args[0], o), o, Backend::Tbb);
   const Faces faces(built);
   std::printf("%s%s: %d faces\n", std::filesystem::path(args[0]).filename().string().c_str(),
@@ -226,7 +227,6 @@ int run(std::vector<std::string> args) {
     }
     std::printf("\n");
     if (!out.empty()) {
-      s.options.foldRepair = FoldRepairMode::Search;
       writePatchCache(s, out);
     }
     return 0;

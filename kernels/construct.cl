@@ -19,11 +19,14 @@
  * and V_{k+1} (the face's own corners without a neighbour; host acrossCorners). A face whose
  * normals differ from the face across somewhere has a crease: gp_build_patch_creased.
  * edgeData: GP_E_NFIELDS*#C (out), faceStatus, faceBulge: #F (out).
- * domainTable: GP_DOMAIN_FLAT_SIZE, the host's domain constants (gp_tables.h). */
+ * domainTable: GP_DOMAIN_FLAT_SIZE, the host's domain constants (gp_tables.h).
+ * tangents: #C*6 where hasTangents (else unread): for slot c the unit directions of C'(0) and
+ * C'(1) the fold repair gives (host tangent_fans.h), zeros where the construction's own stay. */
 __kernel void gp_construct(const int numFaces, const int numSlots, const int mode, __global const GP_REAL* positions,
                            __global const GP_REAL* cornerNormals, __global const int* faceOffsets,
                            __global const int* faceVertices, __global const int* across, __global GP_REAL* edgeData, __global uint* faceStatus,
-                           __global float* faceBulge, __global const GP_REAL* domainTable) {
+                           __global float* faceBulge, __global const GP_REAL* domainTable,
+                           __global const GP_REAL* tangents, const int hasTangents) {
   const int f = (int)get_global_id(0);
   if (f >= numFaces) return;
   const int first = faceOffsets[f], n = faceOffsets[f + 1] - first;
@@ -54,7 +57,17 @@ __kernel void gp_construct(const int numFaces, const int numSlots, const int mod
     const int k1 = k + 1 == n ? 0 : k + 1;
     creased |= gp_differs3(PS[k], N[k]) || gp_differs3(PE[k], N[k1]);
   }
-  gp_uint st = creased ? gp_build_patch_creased(n, V, N, PS, PE, vid, mode, recs) : gp_build_patch(n, V, N, vid, mode, recs);
+  gp_vec3 TS[GP_MAX_N], TE[GP_MAX_N];
+  int turned = 0;
+  for (int k = 0; k < n && hasTangents; ++k) {
+    __global const GP_REAL* t = tangents + 6 * (size_t)(first + k);
+    TS[k] = gp_v3(t[0], t[1], t[2]);
+    TE[k] = gp_v3(t[3], t[4], t[5]);
+    turned |= gp_dot(TS[k], TS[k]) > GP_R(0.0) || gp_dot(TE[k], TE[k]) > GP_R(0.0);
+  }
+  gp_uint st = turned     ? gp_build_patch_with(n, V, N, PS, PE, creased, TS, TE, vid, mode, recs)
+               : creased ? gp_build_patch_creased(n, V, N, PS, PE, vid, mode, recs)
+                         : gp_build_patch(n, V, N, vid, mode, recs);
   GP_REAL bulge = GP_R(0.0);
   if (st & GP_ST_NOT_BUILT) {
     /* gp_build_patch wrote nothing: store zeros rather than stale private memory */

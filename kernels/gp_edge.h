@@ -286,11 +286,38 @@ GP_FN void gp_crease_edge_tangents(gp_vec3 va, gp_vec3 vb, gp_vec3 na, gp_vec3 n
   *st |= GP_SEL(!sameA && !creaseA, sa, (GP_STATUS)0u) | GP_SEL(!sameB && !creaseB, sb, (GP_STATUS)0u);
 }
 
-/* The body of gp_build_patch and gp_build_patch_creased: each edge's end tangents from
+/* The unit end tangents of the n edges of one polygon as gp_build_patch builds them: ts[k], te[k]
+ * the directions of C_k'(0) at V_k and C_k'(1) at V_{k+1}, each edge evaluated from its lower
+ * vertex id (so both faces of an edge get the same bits, up to an exact sign), from
  * gp_crease_edge_tangents where `creased` (PS, PE: the other faces' normals), else from
- * gp_edge_tangents (PS, PE unused), then the records. */
+ * gp_edge_tangents (PS, PE unused). n in 3..GP_MAX_N. */
+GP_FN void gp_patch_end_tangents(int n, const gp_vec3* V, const gp_vec3* N, const gp_vec3* PS, const gp_vec3* PE,
+                                 int creased, const GP_VID* vid, gp_vec3* ts, gp_vec3* te, GP_STATUS* st) {
+  for (int k = 0; k < n; ++k) {
+    const int k1 = k + 1 == n ? 0 : k + 1;
+    /* the edge from its lower vertex id; reversed, its tangents swap and change sign */
+    const GP_MASK fwd = vid[k] <= vid[k1];
+    const gp_vec3 va = gp_sel3(fwd, V[k], V[k1]), vb = gp_sel3(fwd, V[k1], V[k]);
+    const gp_vec3 na = gp_sel3(fwd, N[k], N[k1]), nb = gp_sel3(fwd, N[k1], N[k]);
+    gp_vec3 a, b;
+    if (creased)
+      gp_crease_edge_tangents(va, vb, na, nb, gp_sel3(fwd, PS[k], PE[k]), gp_sel3(fwd, PE[k], PS[k]), &a, &b, st);
+    else
+      gp_edge_tangents(va, vb, na, nb, &a, &b, st);
+    ts[k] = gp_sel3(fwd, a, gp_neg(b));
+    te[k] = gp_sel3(fwd, b, gp_neg(a));
+  }
+}
+
+/* The body of gp_build_patch and gp_build_patch_creased, and the construction with given end
+ * tangents: each edge's end tangents from gp_patch_end_tangents, replaced by TS[k], TE[k] where
+ * those are given (TS != 0) and nonzero: unit directions of C_k'(0) at V_k and C_k'(1) at V_{k+1}
+ * in the tangent planes there (the fold repair's untangled vertex fans; the face across edge k
+ * passes the same two, negated and swapped, so both build one curve), then the records. Where
+ * every TS[k], TE[k] is zero, the records are those of TS = 0 bit for bit. */
 GP_FN GP_STATUS gp_build_patch_with(int n, const gp_vec3* V, const gp_vec3* N, const gp_vec3* PS, const gp_vec3* PE,
-                                    int creased, const GP_VID* vid, int mode, GP_REAL* recs) {
+                                    int creased, const gp_vec3* TS, const gp_vec3* TE, const GP_VID* vid, int mode,
+                                    GP_REAL* recs) {
   GP_STATUS st = 0u;
   if (n < 3 || n > GP_MAX_N) return GP_ST_TOO_MANY_SIDES;
   GP_MASK bad = !gp_finite3(V[0]) || !gp_finite3(N[0]);
@@ -300,19 +327,12 @@ GP_FN GP_STATUS gp_build_patch_with(int n, const gp_vec3* V, const gp_vec3* N, c
     return GP_ST_NONFINITE;
   }
   gp_vec3 ts[GP_MAX_N], te[GP_MAX_N];
-  for (int k = 0; k < n; ++k) {
-    const int k1 = k + 1 == n ? 0 : k + 1;
-    /* the edge from its lower vertex id; reversed, its tangents swap and change sign */
-    const GP_MASK fwd = vid[k] <= vid[k1];
-    const gp_vec3 va = gp_sel3(fwd, V[k], V[k1]), vb = gp_sel3(fwd, V[k1], V[k]);
-    const gp_vec3 na = gp_sel3(fwd, N[k], N[k1]), nb = gp_sel3(fwd, N[k1], N[k]);
-    gp_vec3 a, b;
-    if (creased)
-      gp_crease_edge_tangents(va, vb, na, nb, gp_sel3(fwd, PS[k], PE[k]), gp_sel3(fwd, PE[k], PS[k]), &a, &b, &st);
-    else
-      gp_edge_tangents(va, vb, na, nb, &a, &b, &st);
-    ts[k] = gp_sel3(fwd, a, gp_neg(b));
-    te[k] = gp_sel3(fwd, b, gp_neg(a));
+  gp_patch_end_tangents(n, V, N, PS, PE, creased, vid, ts, te, &st);
+  if (TS) {
+    for (int k = 0; k < n; ++k) {
+      ts[k] = gp_sel3(gp_dot(TS[k], TS[k]) > GP_R(0.0), TS[k], ts[k]);
+      te[k] = gp_sel3(gp_dot(TE[k], TE[k]) > GP_R(0.0), TE[k], te[k]);
+    }
   }
   for (int k = 0; k < n; ++k) {
     const int km = k == 0 ? n - 1 : k - 1, k1 = k + 1 == n ? 0 : k + 1, k2 = k1 + 1 == n ? 0 : k1 + 1;
@@ -348,7 +368,7 @@ GP_FN GP_STATUS gp_build_patch_with(int n, const gp_vec3* V, const gp_vec3* N, c
  * both faces of an edge build the same curve. Returns the patch status bits. A lane with a
  * non-finite V or N gets zero records and GP_ST_NONFINITE alone. */
 GP_FN GP_STATUS gp_build_patch(int n, const gp_vec3* V, const gp_vec3* N, const GP_VID* vid, int mode, GP_REAL* recs) {
-  return gp_build_patch_with(n, V, N, N, N, 0, vid, mode, recs);
+  return gp_build_patch_with(n, V, N, N, N, 0, 0, 0, vid, mode, recs);
 }
 
 /* gp_build_patch for a polygon whose edges may be creases: PS[k], PE[k] are the unit normals that
@@ -358,5 +378,5 @@ GP_FN GP_STATUS gp_build_patch(int n, const gp_vec3* V, const gp_vec3* N, const 
  * PS = N and PE = N[k+1] everywhere, the records equal gp_build_patch's bit for bit. */
 GP_FN GP_STATUS gp_build_patch_creased(int n, const gp_vec3* V, const gp_vec3* N, const gp_vec3* PS, const gp_vec3* PE,
                                        const GP_VID* vid, int mode, GP_REAL* recs) {
-  return gp_build_patch_with(n, V, N, PS, PE, 1, vid, mode, recs);
+  return gp_build_patch_with(n, V, N, PS, PE, 1, 0, 0, vid, mode, recs);
 }

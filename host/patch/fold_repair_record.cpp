@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include <smoothforce/patch/normal_groups.h>
+#include <smoothforce/patch/tangent_fans.h>
 
 namespace sf {
 
@@ -17,13 +18,24 @@ FoldRepairRecord foldRepairRecord(const PatchCache& c) {
     if (r.cuts.empty() || r.cuts.back().faceAsRead != s) r.cuts.push_back({s, {}});
     r.cuts.back().faces.push_back(f);
   }
-  if (c.computedNormals.size() != c.cornerNormals.size()) return r;
+  const TangentFans fans = untangleTangentFans(c);
+  r.untangledVertices = static_cast<int>(fans.vertices.size());
+  r.maxTangentTurnDeg = fans.maxTurnDeg;
+  auto givenTangent = [&](int s) {
+    if (fans.tangents.empty()) return false;
+    for (int i = 0; i < 6; ++i)
+      if (fans.tangents[6 * size_t(s) + i] != 0) return true;
+    return false;
+  };
+  const bool searched = c.computedNormals.size() == c.cornerNormals.size();
+  if (!searched && fans.tangents.empty()) return r;
 
-  std::vector<double> turn(c.numSlots());
-  for (int s = 0; s < c.numSlots(); ++s) turn[s] = c.normalTurnDeg(s);
+  std::vector<double> turn(c.numSlots(), 0.0);
+  for (int s = 0; s < c.numSlots() && searched; ++s) turn[s] = c.normalTurnDeg(s);
   // a vertex normal is the computed normal the corners of one vertex share (a crease splits them)
   double sum = 0;
-  for (const std::vector<int>& group : vertexNormalGroups(c, &c.computedNormals)) {
+  for (const std::vector<int>& group : searched ? vertexNormalGroups(c, &c.computedNormals)
+                                                : std::vector<std::vector<int>>{}) {
     const double deg = turn[group[0]];
     if (deg == 0) continue;
     ++r.turnedNormals;
@@ -43,7 +55,7 @@ FoldRepairRecord foldRepairRecord(const PatchCache& c) {
     fc.face = f;
     for (int k = 0; k < n; ++k) {
       if (turn[first + k] != 0) fc.turns.push_back({k, c.faceVertices[first + k], turn[first + k]});
-      bool changed = turn[first + k] != 0 || turn[first + (k + 1) % n] != 0;
+      bool changed = turn[first + k] != 0 || turn[first + (k + 1) % n] != 0 || givenTangent(first + k);
       if (creased && !changed) {
         int32_t a, b;
         acrossCorners(c, f, k, a, b);

@@ -21,6 +21,7 @@
 #include <smoothforce/patch/detail/gp_traits.h>
 #include <smoothforce/patch/patch_build.h>
 #include <smoothforce/patch/patch_cache.h>
+#include <smoothforce/patch/tangent_fans.h>
 
 #include "patch_simd_detail.h"
 
@@ -31,7 +32,8 @@ size_t PatchCache::bytes() const {
          faceVertices.size() * sizeof(int32_t) + cornerNormals.size() * sizeof(double) +
          slotTwin.size() * sizeof(int32_t) + faceStatus.size() * sizeof(uint32_t) + faceBulge.size() * sizeof(float) +
          faceCertificate.size() * sizeof(float) + faceSource.size() * sizeof(int32_t) +
-         computedNormals.size() * sizeof(double) + edgeDataD.size() * sizeof(double) + edgeDataF.size() * sizeof(float);
+         computedNormals.size() * sizeof(double) + edgeTangents.size() * sizeof(double) +
+         edgeDataD.size() * sizeof(double) + edgeDataF.size() * sizeof(float);
 }
 
 double PatchCache::normalTurnDeg(int s) const {
@@ -134,6 +136,7 @@ PatchCache preparePatchCache(const PolygonMesh& mesh, const std::vector<Eigen::V
   c.slotTwin = computeSlotTwins(mesh);
   c.faceStatus.assign(mesh.numFaces(), 0u);
   c.faceBulge.assign(mesh.numFaces(), 0.f);
+  refreshEdgeTangents(c);
   const size_t recs = static_cast<size_t>(GP_E_NFIELDS) * mesh.numCorners();
   if (!allocatePatches) return c;
   if (options.precision == Precision::Double)
@@ -173,16 +176,23 @@ uint32_t buildRecords(const PatchCache& c, int f, Real* recs, float* bulgeOut, b
   }
   const int mode = static_cast<int>(c.options.crossTangent);
   gp_uint st;
-  if (faceHasCrease(c, f)) {
-    typename G::vec3 PS[GP_MAX_N], PE[GP_MAX_N];
-    for (int k = 0; k < n; ++k) {
+  const bool creased = faceHasCrease(c, f), turned = faceHasEdgeTangents(c, f);
+  if (creased || turned) {
+    typename G::vec3 PS[GP_MAX_N], PE[GP_MAX_N], TS[GP_MAX_N], TE[GP_MAX_N];
+    for (int k = 0; k < n && creased; ++k) {
       int32_t a, b;
       acrossCorners(c, f, k, a, b);
       const double *na = &c.cornerNormals[3 * static_cast<size_t>(a)], *nb = &c.cornerNormals[3 * static_cast<size_t>(b)];
       PS[k] = G::v3(na[0], na[1], na[2]);
       PE[k] = G::v3(nb[0], nb[1], nb[2]);
     }
-    st = G::buildCreased(n, V, N, PS, PE, vid, mode, recs);
+    for (int k = 0; k < n && turned; ++k) {
+      const double* t = &c.edgeTangents[6 * static_cast<size_t>(first + k)];
+      TS[k] = G::v3(t[0], t[1], t[2]);
+      TE[k] = G::v3(t[3], t[4], t[5]);
+    }
+    st = G::buildWith(n, V, N, creased ? PS : N, creased ? PE : N, creased, turned ? TS : nullptr, turned ? TE : nullptr,
+                      vid, mode, recs);
   } else {
     st = G::build(n, V, N, vid, mode, recs);
   }
@@ -206,11 +216,12 @@ void buildFace(PatchCache& c, int f) {
 }
 
 /// Faces by size: the SIMD path builds faces of one size side by side. Faces with a crease edge
-/// are listed apart (creased): they are built one at a time, with the other faces' normals.
+/// or given end tangents are listed apart (creased): they are built one at a time, with the other
+/// faces' normals and those tangents.
 struct SizeGroups {
   std::vector<int32_t> faces;    // grouped by size n (3..GP_MAX_N), then in order
   std::vector<size_t> start;     // faces of size n: [start[n], start[n + 1])
-  std::vector<int32_t> creased;  // faces with a crease edge, in order
+  std::vector<int32_t> creased;  // faces with a crease edge or given end tangents, in order
 };
 SizeGroups groupBySize(const PatchCache& c) {
   SizeGroups g;
@@ -219,7 +230,7 @@ SizeGroups groupBySize(const PatchCache& c) {
   for (int f = 0; f < c.numFaces(); ++f) {
     const int n = c.faceSize(f);
     if (n < 3 || n > GP_MAX_N) continue;
-    if (faceHasCrease(c, f)) {
+    if (faceHasCrease(c, f) || faceHasEdgeTangents(c, f)) {
       g.creased.push_back(f);
       continue;
     }
@@ -305,6 +316,7 @@ void constructPatches(PatchCache& cache, const BuildOptions& options) {
     throw std::invalid_argument("constructPatches: use the OpenCL backend's constructPatchesOpenCL");
   if (!hasPatchData(cache) && cache.numFaces() > 0)
     throw std::invalid_argument("constructPatches: the cache has no patch arrays (prepared as a skeleton)");
+  refreshEdgeTangents(cache);  // the fans of the normals the patches are built from
   if (cache.options.precision == Precision::Double)
     buildAll<double>(cache, options);
   else

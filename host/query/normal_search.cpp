@@ -191,6 +191,10 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
     return arena.execute([&] { return searchNormalsAgainstFaults(cache, inner); });
   }
   if (!hasPatchData(cache)) throw std::invalid_argument("normal search: the cache has no patches built");
+  if (!cache.edgeTangents.empty())
+    throw std::invalid_argument(
+        "normal search: the cache's patches use untangled vertex fans (fold repair on); build it with fold repair "
+        "search, which keeps the construction's fans");
   const auto t0 = std::chrono::steady_clock::now();
   NormalSearchReport r;
   PatchSurfaceOptions fullOptions;

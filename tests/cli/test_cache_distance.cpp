@@ -60,12 +60,15 @@ TEST(CacheDistance, MeasuresTheRepairAgainstThePartAndTheDesignPagesConstruction
     EXPECT_GT(d["points"].get<int>(), 0);
   }
   EXPECT_GT(moved["other_to_cache"]["max"].get<double>(), 0.05);
-  // the spot cage has nothing to cut: the default and off are the same surface
+  // the spot cage has nothing to cut, but 22 tangled vertex fans: the default and off differ on the
+  // 62 patches around them only (the other patches are one, bit for bit: tangent_fans tests)
   const std::string spotOn = (dir / "spot.sfcache").string(), spotOff = (dir / "spot_off.sfcache").string();
   const std::string spot = test::sharedMesh("keenan_crane/spot_control_mesh.obj");
   ASSERT_EQ(test::smoothforce("cache build " + spot + " -o " + spotOn).status, 0);
   ASSERT_EQ(test::smoothforce("cache build " + spot + " --fold-repair off -o " + spotOff).status, 0);
-  EXPECT_LT(measure(spotOn + " --to " + spotOff + " --level 3")["hausdorff"].get<double>(), 1e-12);
+  const nlohmann::json fans = measure(spotOn + " --to " + spotOff + " --level 3");
+  EXPECT_GT(fans["hausdorff"].get<double>(), 0);
+  EXPECT_LT(fans["hausdorff"].get<double>(), 0.01 * fans["diagonal_m"].get<double>());
   // the text form names both directions
   test::CliResult r = test::smoothforce("cache distance " + on + " --to " + part + " --level 2");
   EXPECT_EQ(r.status, 0) << r.out;

@@ -385,12 +385,16 @@ TEST_F(CliContract, CacheInfoFaultsMeasuresFoldedAndOverlappingSurface) {
   EXPECT_NEAR(double(f["folded"]["area_m2"]) + double(f["overlapping"]["area_m2"]) + double(f["thin"]["area_m2"]),
               fault, 1e-12 * total);
   EXPECT_NEAR(double(f["fault_fraction"]), fault / total, 1e-15);
-  // the cage's folded patches overlap their neighbours: 1.6% of its area, on and around the 16 fold faces
+  // the cage's folded patches overlap their neighbours: 1.4% of its area, on and around its 14 fold
+  // faces; the folds of 88 and 178 (the ears' tips) are narrower than this tessellation's
+  // triangles (at level 32 they too have fault area)
   EXPECT_GT(fault, 0.01 * total);
   EXPECT_LT(fault, 0.03 * total);
   const std::vector<int> faulty = f["fault_faces"], folds = j["patches"]["fold_faces"];
-  EXPECT_EQ(folds.size(), 16u);
-  for (int face : folds) EXPECT_NE(std::find(faulty.begin(), faulty.end(), face), faulty.end()) << face;
+  EXPECT_EQ(folds.size(), 14u);
+  int foldsFaulty = 0;
+  for (int face : folds) foldsFaulty += std::find(faulty.begin(), faulty.end(), face) != faulty.end();
+  EXPECT_EQ(foldsFaulty, 12);
   // split by the cage's 4 intersecting pairs (around its bow-ties): both parts, adding up, every
   // fault face in exactly one
   const double input = f["input_fault_area_m2"], construction = f["construction_fault_area_m2"];
@@ -594,8 +598,8 @@ TEST_F(CliContract, JsonOutputsParseWithTheDocumentedKeys) {
   EXPECT_EQ(keys(j["creases"]), (V{"corners", "crease_vertices", "darts", "edges"}));
   EXPECT_TRUE(j["creases"]["edges"].empty());  // the spot cage has no marks
   EXPECT_EQ(j["patches"]["built"], 180);
-  EXPECT_EQ(j["patches"]["folds"], j["patches"]["fold_faces"].size());  // the spot cage's 16 folded patches
-  EXPECT_EQ(j["patches"]["folds"], 16);
+  EXPECT_EQ(j["patches"]["folds"], j["patches"]["fold_faces"].size());  // the spot cage's 14 folded patches
+  EXPECT_EQ(j["patches"]["folds"], 14);
 
   const std::string pts = file("pts2.csv", "face,xi,eta\n0,0,0\n3,0.1,0.1\n");
   r = run("eval " + cache() + " --points " + pts + " -o " + file("e2.csv") + " --json");

@@ -19,6 +19,7 @@
 #include <smoothforce/query/embree_scene.h>
 #include <smoothforce/sweep/sweep_sampling.h>
 #include "cli_test_support.h"
+#include "query_test_support.h"
 
 namespace sf {
 namespace {
@@ -117,7 +118,9 @@ TEST(InitialGuess, ParsesAndValidatesTheLevel) {
 }
 
 // The surface query's SCP is never farther from the HIP than the paper's polygon start's, and it
-// starts contact at least as often, on a real quad cage and on the quad-sphere (every HIP).
+// starts contact at least as often at HIPs inside the surface (the dense oracle's winding number:
+// near the spot cage's folds a sample pushed inward can come out in front of another sheet), on a
+// real quad cage and on the quad-sphere (every HIP).
 TEST(InitialGuess, SurfaceQueryIsNeverFartherThanThePolygonStart) {
   for (const std::string& mesh : {kSpot, kSphere}) {
     const auto c = doubleCache(mesh);
@@ -130,17 +133,21 @@ TEST(InitialGuess, SurfaceQueryIsNeverFartherThanThePolygonStart) {
     const auto byPolygon = query(c, o, hips);
     o.initialGuess = InitialGuess::Surface;
     const auto bySurface = query(c, o, hips);
-    int both = 0, polygonContacts = 0, surfaceContacts = 0;
+    const test::DenseOracle oracle(*c);
+    int both = 0, polygonContacts = 0, surfaceContacts = 0, outside = 0;
     for (size_t i = 0; i < hips.size(); ++i) {
       const ForceSample &a = byPolygon[i], &b = bySurface[i];
       EXPECT_TRUE(b.status & SF_TRACK_GLOBAL);
-      polygonContacts += a.contact;
-      surfaceContacts += b.contact;
+      const bool inside = oracle.winding(hips[i]) >= 1;
+      outside += !inside;
+      polygonContacts += inside && a.contact;
+      surfaceContacts += inside && b.contact;
       if (!a.contact || !b.contact) continue;
       ++both;
       EXPECT_LE((b.scp - hips[i]).norm(), (a.scp - hips[i]).norm() + 1e-9 * diag) << mesh << " HIP " << i;
     }
     EXPECT_GE(surfaceContacts, polygonContacts) << mesh;
+    EXPECT_LE(outside, static_cast<int>(hips.size()) / 50) << mesh;
     EXPECT_GE(both, static_cast<int>(hips.size()) * 9 / 10) << mesh;
   }
 }

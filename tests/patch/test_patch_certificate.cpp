@@ -22,6 +22,7 @@
 #include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/patch/patch_certificate.h>
 #include "gregory_reference.h"
+#include "reference_patch_support.h"
 #include "ref_sampling.h"
 #include "shared_mesh_files.h"
 
@@ -335,16 +336,8 @@ struct SampledRegularity {
   double minSine = 2, minNeighbourCosine = 2, minEdgeCosine = 2;
   int samples = 0;
 };
-/// Face f of the cache as the independent reference's patch (its positions and corner normals).
-ref::RefPatch referencePatch(const PatchCache& c, int f) {
-  ref::RefPatch rp;
-  for (int k = 0; k < c.faceSize(f); ++k) {
-    const int s = c.faceOffsets[f] + k;
-    rp.V.push_back(Eigen::Vector3d::Map(&c.positions[3 * size_t(c.faceVertices[s])]));
-    rp.N.push_back(Eigen::Vector3d::Map(&c.cornerNormals[3 * size_t(s)]));
-  }
-  return rp;
-}
+/// Face f of the cache as the independent reference's patch.
+ref::RefPatch referencePatch(const PatchCache& c, int f) { return test::referencePatchOf(c, f); }
 SampledRegularity sampleRegularity(const PatchCache& c, int f, int grid) {
   const int n = c.faceSize(f);
   const ref::RefPatch rp = referencePatch(c, f);

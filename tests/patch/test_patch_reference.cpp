@@ -8,6 +8,7 @@
 #include <random>
 
 #include "gregory_reference.h"
+#include "reference_patch_support.h"
 #include "patch_test_support.h"
 
 namespace sf {
@@ -48,14 +49,8 @@ Diff compare(const PatchCache& c, CrossTangentMode mode, int samples) {
   Diff d;
   for (int f = 0; f < c.numFaces(); ++f) {
     const int n = c.faceSize(f);
-    ref::RefPatch rp;
-    rp.mode = refMode(mode);
+    const ref::RefPatch rp = test::referencePatchOf(c, f, refMode(mode));
     double size = 0;
-    for (int k = 0; k < n; ++k) {
-      const int s = c.faceOffsets[f] + k;
-      rp.V.push_back(Eigen::Vector3d::Map(&c.positions[3 * c.faceVertices[s]]));
-      rp.N.push_back(Eigen::Vector3d::Map(&c.cornerNormals[3 * s]));
-    }
     for (int k = 0; k < n; ++k) size = std::max(size, (rp.V[k] - rp.V[(k + 1) % n]).norm());
     const ref::RefPatchEvaluator ev(rp);
     for (const Eigen::Vector2d& x : domainSamples(n, rng, samples)) {

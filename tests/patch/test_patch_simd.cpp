@@ -17,6 +17,7 @@
 #include <smoothforce/patch/patch_simd.h>
 
 #include "gregory_reference.h"
+#include "reference_patch_support.h"
 #include "patch_test_support.h"
 
 namespace sf {
@@ -416,13 +417,7 @@ TEST(SimdEvaluation, AgreesWithReference) {
           for (size_t i = 0; i < out.size(); ++i) {
             const int f = q.face[i], n = c.faceSize(f);
             if (f != lastFace) {
-              ref::RefPatch rp;
-              rp.mode = refMode(mode);
-              for (int k = 0; k < n; ++k) {
-                const int s = c.faceOffsets[f] + k;
-                rp.V.push_back(Eigen::Vector3d::Map(&c.positions[3 * c.faceVertices[s]]));
-                rp.N.push_back(Eigen::Vector3d::Map(&c.cornerNormals[3 * s]));
-              }
+              const ref::RefPatch rp = test::referencePatchOf(c, f, refMode(mode));
               size = 0;
               for (int k = 0; k < n; ++k) size = std::max(size, (rp.V[k] - rp.V[(k + 1) % n]).norm());
               ev = std::make_unique<ref::RefPatchEvaluator>(rp);

@@ -38,6 +38,13 @@
 namespace sf {
 namespace {
 
+/// The cache `--fold-repair search` starts from: the fold repair of `on` without its untangled
+/// vertex fans (searchNormalsAgainstFaults refuses a cache that has them).
+PatchCache searchableCache(const std::string& path, PatchOptions o = {}) {
+  o.foldRepair = FoldRepairMode::Search;
+  return buildPatchCache(loadMesh(path, o), o, Backend::Tbb);
+}
+
 const hostile::TempDir& scratch() {
   static const hostile::TempDir dir("sf_normal_search");
   return dir;
@@ -154,7 +161,7 @@ void expectSearchContract(const PatchCache& before, const PatchCache& after, con
 }
 
 TEST(NormalSearch, RemovesAlmostAllOfTheSpotCagesFaultArea) {
-  const PatchCache before = test::cacheFromFile(test::sharedMesh("keenan_crane/spot_control_mesh.obj"));
+  const PatchCache before = searchableCache(test::sharedMesh("keenan_crane/spot_control_mesh.obj"));
   PatchCache after = before;
   NormalSearchOptions o;
   o.passes = 1;  // at the search level; the last pass at a finer level follows
@@ -224,7 +231,7 @@ TEST(NormalSearch, CubesWithATurnedNormalLoseTheirOverlaps) {
   for (const double tilt : {90.0, 120.0, 150.0}) {
     PatchOptions opt;
     opt.normals = NormalMode::File;
-    const PatchCache before = buildPatchCache(loadMesh(tiltedCube(tilt), opt), opt, Backend::Tbb);
+    const PatchCache before = searchableCache(tiltedCube(tilt), opt);
     PatchCache after = before;
     const NormalSearchReport r = searchNormalsAgainstFaults(after);
     const std::string what = "cube tilted " + std::to_string(int(tilt));
@@ -247,8 +254,7 @@ TEST(NormalSearch, TurnsNormalsBesideCreasesAndRecordsThePatchesTheyChange) {
   // the search reports and the cache's record lists. Measured: 0.265% -> 0.0015% (two passes)
   PatchOptions opt;
   opt.creases.angleDeg = 45;
-  const PatchCache before =
-      buildPatchCache(loadMesh(test::sharedMesh("keenan_crane/spot_control_mesh.obj"), opt), opt, Backend::Tbb);
+  const PatchCache before = searchableCache(test::sharedMesh("keenan_crane/spot_control_mesh.obj"), opt);
   int creaseEdges = 0;
   for (int f = 0; f < before.numFaces(); ++f)
     for (int k = 0; k < before.faceSize(f); ++k) creaseEdges += isCreaseEdge(before, f, k);
@@ -282,7 +288,7 @@ TEST(NormalSearch, SearchesADenseMeshAtItsOwnLevelAtLeast) {
   // odedstein/spot_low_resolution.obj (1,654 triangles): one face whose patches fold, 4.0e-7 of
   // the area at the surface's own level (8); the level of about 150,000 triangles would be 3,
   // whose triangles are too coarse to see it. Measured: 2 normals turned, fault area 0 at 8 and 12
-  const PatchCache before = test::cacheFromFile(test::sharedMesh("odedstein/spot_low_resolution.obj"));
+  const PatchCache before = searchableCache(test::sharedMesh("odedstein/spot_low_resolution.obj"));
   PatchCache after = before;
   const NormalSearchReport r = searchNormalsAgainstFaults(after);
   PatchSurfaceOptions so;
@@ -308,7 +314,7 @@ TEST(NormalSearch, LeavesFaultFreeAndOpenSurfacesAsTheyAre) {
   int fine = 0, open = 0;
   for (const char* rel : {"lagrange/cube.obj", "geomview/dodecahedron.off", "polygon_laplacian/quad-sphere.off",
                           "pmp/chamfer-cube.off", "polygon_laplacian/tetris.obj", "pmp/L.off", "pmp/hole_capsule.off"}) {
-    const PatchCache before = test::cacheFromFile(test::sharedMesh(rel));
+    const PatchCache before = searchableCache(test::sharedMesh(rel));
     PatchCache after = before;
     const NormalSearchReport r = searchNormalsAgainstFaults(after);
     EXPECT_FALSE(r.applied) << rel;
@@ -333,7 +339,7 @@ TEST(NormalSearch, LeavesFaultFreeAndOpenSurfacesAsTheyAre) {
 TEST(NormalSearch, WindingOnlySurfacesGiveTheSameFaultsAndNoBand) {
   // the search's candidate surfaces: the same verdict for every triangle of the spot cage's
   // uniform tessellation (both sides of each probed), no error band
-  const PatchCache c = test::cacheFromFile(test::sharedMesh("keenan_crane/spot_control_mesh.obj"));
+  const PatchCache c = searchableCache(test::sharedMesh("keenan_crane/spot_control_mesh.obj"));
   PatchSurfaceOptions full, winding;
   full.candidates = false;
   winding.windingOnly = true;
@@ -360,7 +366,7 @@ TEST(NormalSearch, FacesAtVerticesListEveryFaceOfEveryVertexOnce) {
   for (const char* rel : {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/L-plane.obj",
                           "odedstein/spot_low_resolution.obj"}) {
     SCOPED_TRACE(rel);
-    const PatchCache c = test::cacheFromFile(test::sharedMesh(rel));
+    const PatchCache c = searchableCache(test::sharedMesh(rel));
     const std::vector<std::vector<int>> at = facesAtVertices(c);
     ASSERT_EQ(static_cast<int>(at.size()), c.numVertices());
     for (int v = 0; v < c.numVertices(); ++v, ++vertices) {
@@ -378,7 +384,7 @@ TEST(NormalSearch, FacesAtVerticesListEveryFaceOfEveryVertexOnce) {
 }
 
 TEST(NormalSearch, RefusesOptionsOutOfRange) {
-  PatchCache c = test::cacheFromFile(test::sharedMesh("lagrange/cube.obj"));
+  PatchCache c = searchableCache(test::sharedMesh("lagrange/cube.obj"));
   auto refused = [&](auto set) {
     NormalSearchOptions o;
     set(o);
@@ -399,6 +405,10 @@ TEST(NormalSearch, RefusesOptionsOutOfRange) {
   refused([](NormalSearchOptions& o) { o.threads = -1; });
   PatchCache skeleton = test::skeletonOf(c);
   EXPECT_THROW(searchNormalsAgainstFaults(skeleton), std::invalid_argument);
+  // fold repair on untangles the spot cage's fans: the search refuses those patches
+  PatchCache on = test::cacheFromFile(test::sharedMesh("keenan_crane/spot_control_mesh.obj"));
+  ASSERT_FALSE(on.edgeTangents.empty());
+  EXPECT_THROW(searchNormalsAgainstFaults(on), std::invalid_argument);
 }
 
 TEST(FoldRepairSearch, ReachesTheCacheFileAndTheCommandLineAndLazyConstructionRefusesIt) {

@@ -122,7 +122,14 @@ void checkContactStarts(const std::string& shape, Query query, int stride) {
     } else if ((hip - s.scp).cross(s.normal).norm() > 1e-9 * diag) {
       ++notStationary;
     }
-    if ((s.scp - hip).norm() > q.distance + 1e-6 * diag) ++notNearest;
+    if ((s.scp - hip).norm() > q.distance + 1e-6 * diag) {
+      ++notNearest;
+      std::lock_guard<std::mutex> lock(printMutex);
+      if (printed++ < 5)
+        ADD_FAILURE() << shape << ": HIP " << g << " at depth " << depth / diag << " x diagonal: SCP on face " << s.face
+                      << " at " << (s.scp - hip).norm() / diag << " x diagonal, nearest face " << q.face << " at "
+                      << q.distance / diag << (cache->faceStatus[q.face] & GP_ST_FOLD ? " (folded)" : "");
+    }
   });
   const int n = tested.load();
   std::printf(

@@ -66,6 +66,8 @@ EdgeData makeEdge(const RefPatch& p, int k) {
   E.ts = endTangent(E.NA, E.e, nAvg, E.L, &gs);  // t_s = unit(N_k x (e x n_avg))
   E.te = endTangent(E.NB, E.e, nAvg, E.L, &ge);  // t_e = unit(N_{k+1} x (e x n_avg))
   E.guardMask = (gs ? 1 : 0) | (ge ? 2 : 0);
+  if (!p.TS.empty() && p.TS[wrap(k, n)].squaredNorm() > 0) E.ts = fromEigen(p.TS[wrap(k, n)]);
+  if (!p.TE.empty() && p.TE[wrap(k, n)].squaredNorm() > 0) E.te = fromEigen(p.TE[wrap(k, n)]);
   return E;
 }
 

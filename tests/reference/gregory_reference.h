@@ -16,6 +16,9 @@ enum class CrossTangent { Corrected, Paper, Blend };
 struct RefPatch {
   std::vector<Eigen::Vector3d> V, N;
   CrossTangent mode = CrossTangent::Corrected;
+  /// Optional given end tangents (empty, or n each): where TS[k] (TE[k]) is nonzero, edge k's
+  /// unit t_s (t_e) is that direction instead of Eq. 8 (Eq. 9) (the fold repair's untangled fans).
+  std::vector<Eigen::Vector3d> TS, TE;
 };
 
 /// Result of evaluating the patch at a domain point X = (xi, eta).

@@ -94,7 +94,18 @@ void printFoldRepair(const PatchCache& c) {
     }
     if (r.cuts.size() > 10) std::printf("  ... (cache info --json: every one)\n");
   }
-  if (c.options.foldRepair != FoldRepairMode::Search) return;
+  if (r.untangledVertices > 0)
+    std::printf(
+        "fold repair: %s: %d vertex fans untangled (edge tangents turned in their tangent planes by at most %.3g "
+        "degrees)\n",
+        toString(c.options.foldRepair), r.untangledVertices, r.maxTangentTurnDeg);
+  if (c.options.foldRepair != FoldRepairMode::Search) {
+    if (!r.changed.empty())
+      std::printf("  %zu patches and %d edge curves changed:", r.changed.size(), r.edgeCurves);
+    for (size_t i = 0; i < r.changed.size() && i < 10; ++i) std::printf(" %d", r.changed[i].face);
+    if (!r.changed.empty()) std::printf(r.changed.size() > 10 ? " ... (cache info --json: every one)\n" : "\n");
+    return;
+  }
   if (r.turnedCorners == 0) {
     std::printf("fold repair: search: no normal turned; every patch is the one of fold repair on\n");
     return;
@@ -135,6 +146,8 @@ nlohmann::ordered_json foldRepairJson(const PatchCache& c) {
           {"turned_corners", r.turnedCorners},
           {"mean_degrees", r.meanDegrees},
           {"max_degrees", r.maxDegrees},
+          {"untangled_vertices", r.untangledVertices},
+          {"max_tangent_turn_degrees", r.maxTangentTurnDeg},
           {"edge_curves", r.edgeCurves},
           {"changed", changed}};
 }

@@ -9,8 +9,9 @@
 namespace sf {
 
 /// What the fold repair (PatchOptions::foldRepair) changed, per face, from the cache's own
-/// record of it: PatchCache::faceSource (the split's pieces) and PatchCache::computedNormals (the
-/// normals the search turned). Angles in degrees.
+/// record of it: PatchCache::faceSource (the split's pieces), PatchCache::computedNormals (the
+/// normals the search turned) and the untangled vertex fans (tangent_fans.h, derived from the
+/// cache's positions and normals). Angles in degrees.
 struct FoldRepairRecord {
   /// A face as read that the split cut: its pieces, the cache's faces (ascending).
   struct Cut {
@@ -23,9 +24,10 @@ struct FoldRepairRecord {
     int vertex = -1;
     double degrees = 0;
   };
-  /// A face whose patch the turned normals changed. An edge curve (edge k: V_k -> V_{k+1}) is
-  /// built from its two ends' normals, and on a face with a crease edge from the normals of the
-  /// faces across it too; an edge is listed where one of those turned.
+  /// A face whose patch the turned normals or untangled fans changed. An edge curve (edge k:
+  /// V_k -> V_{k+1}) is built from its two ends' normals, and on a face with a crease edge from
+  /// the normals of the faces across it too; an edge is listed where one of those turned or where
+  /// an untangled fan gives one of its end tangents.
   struct FaceChange {
     int face = -1;
     std::vector<Turn> turns;  ///< the face's own corners that turned (may be empty across a crease)
@@ -38,6 +40,8 @@ struct FoldRepairRecord {
   int edgeCurves = 0;      ///< mesh edges whose curve changed (an edge shared by two faces counts once)
   double maxDegrees = 0;   ///< largest turn of a corner normal
   double meanDegrees = 0;  ///< mean over the turned vertex normals
+  int untangledVertices = 0;     ///< vertices whose fan of edge tangents was untangled
+  double maxTangentTurnDeg = 0;  ///< largest turn of an edge tangent there
 };
 
 /// The record of `cache` (empty lists where the fold repair was off or changed nothing).

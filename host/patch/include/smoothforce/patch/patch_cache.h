@@ -58,6 +58,11 @@ struct PatchCache {
   /// (FoldRepairMode::Search, query/normal_search.h) turned some: cornerNormals then holds the
   /// turned normals, and corners whose two normals differ are the ones it changed. Empty otherwise.
   std::vector<double> computedNormals;
+  /// #C*6 or empty: the edge-curve end tangents the fold repair gives at vertices whose fan of
+  /// edge tangents is tangled (tangent_fans.h, TangentFans::tangents); construction uses them
+  /// where nonzero. Derived from positions and normals (refreshEdgeTangents), not stored in the
+  /// cache file; empty under FoldRepairMode::Off.
+  std::vector<double> edgeTangents;
   /// GP_E_NFIELDS * #C per-edge records, field-major: value of field i of slot s at
   /// [i * #C + s]. Exactly one of the two is filled, per options.precision.
   std::vector<double> edgeDataD;

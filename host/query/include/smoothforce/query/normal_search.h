@@ -90,7 +90,9 @@ struct NormalSearchReport {
 /// replaced where applied, and cache.computedNormals then keeps the normals it was given (the
 /// record of what turned, which the cache file stores). The sampled fault measure is the
 /// objective, not a proof: certify the result (certifyPatches) where a proof per patch is needed.
-/// Throws std::invalid_argument for options out of range, std::runtime_error when Embree fails.
+/// Throws std::invalid_argument for options out of range or a cache whose patches use untangled
+/// vertex fans (PatchCache::edgeTangents: fold repair on; build it with Search), std::runtime_error
+/// when Embree fails.
 /// Cost: about 10 measured candidates per normal visited. The rays of the surface off the
 /// vertex's faces are built once per normal, and each candidate tessellates and traces only those
 /// faces (the crossings add up to the whole surface's, so the choices are those of whole-surface

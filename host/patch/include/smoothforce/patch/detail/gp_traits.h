@@ -21,6 +21,11 @@ struct Gp<float> {
                               int mode, float* recs) {
     return gpf::gp_build_patch_creased(n, V, N, PS, PE, vid, mode, recs);
   }
+  /// gp_build_patch_with: creased or not, with end tangents TS, TE where given (may be null).
+  static gp_uint buildWith(int n, const vec3* V, const vec3* N, const vec3* PS, const vec3* PE, bool creased,
+                           const vec3* TS, const vec3* TE, const int* vid, int mode, float* recs) {
+    return gpf::gp_build_patch_with(n, V, N, PS, PE, creased ? 1 : 0, TS, TE, vid, mode, recs);
+  }
   static gp_uint quality(int n, const float* recs, int mode, float* bulge) {
     return gpf::gp_patch_quality(n, recs, mode, bulge);
   }
@@ -49,6 +54,11 @@ struct Gp<double> {
   static gp_uint buildCreased(int n, const vec3* V, const vec3* N, const vec3* PS, const vec3* PE, const int* vid,
                               int mode, double* recs) {
     return gpd::gp_build_patch_creased(n, V, N, PS, PE, vid, mode, recs);
+  }
+  /// gp_build_patch_with: creased or not, with end tangents TS, TE where given (may be null).
+  static gp_uint buildWith(int n, const vec3* V, const vec3* N, const vec3* PS, const vec3* PE, bool creased,
+                           const vec3* TS, const vec3* TE, const int* vid, int mode, double* recs) {
+    return gpd::gp_build_patch_with(n, V, N, PS, PE, creased ? 1 : 0, TS, TE, vid, mode, recs);
   }
   static gp_uint quality(int n, const double* recs, int mode, double* bulge) {
     return gpd::gp_patch_quality(n, recs, mode, bulge);
