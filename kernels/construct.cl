@@ -17,7 +17,7 @@
  * positions: #V*3, cornerNormals: #C*3 (unit), faceOffsets: #F+1, faceVertices: #C.
  * across: #C*2, for slot c (edge k of its face): the corners of the face across the edge at V_k
  * and V_{k+1} (the face's own corners without a neighbour; host acrossCorners). A face whose
- * normals differ from the face across somewhere has a crease: gp_build_patch_creased.
+ * normals differ from the face across somewhere has a crease (gp_build_patch_with, creased).
  * edgeData: GP_E_NFIELDS*#C (out), faceStatus, faceBulge: #F (out).
  * domainTable: GP_DOMAIN_FLAT_SIZE, the host's domain constants (gp_tables.h).
  * tangents: #C*6 where hasTangents (else unread): for slot c the unit directions of C'(0) and
@@ -65,9 +65,7 @@ __kernel void gp_construct(const int numFaces, const int numSlots, const int mod
     TE[k] = gp_v3(t[3], t[4], t[5]);
     turned |= gp_dot(TS[k], TS[k]) > GP_R(0.0) || gp_dot(TE[k], TE[k]) > GP_R(0.0);
   }
-  gp_uint st = turned     ? gp_build_patch_with(n, V, N, PS, PE, creased, TS, TE, vid, mode, recs)
-               : creased ? gp_build_patch_creased(n, V, N, PS, PE, vid, mode, recs)
-                         : gp_build_patch(n, V, N, vid, mode, recs);
+  gp_uint st = gp_build_patch_with(n, V, N, PS, PE, creased, turned ? TS : 0, turned ? TE : 0, vid, mode, recs);
   GP_REAL bulge = GP_R(0.0);
   if (st & GP_ST_NOT_BUILT) {
     /* gp_build_patch wrote nothing: store zeros rather than stale private memory */

@@ -18,6 +18,7 @@
 #include <smoothforce/base/error.h>
 #include <smoothforce/base/thread_limit.h>
 #include <smoothforce/mesh/topology.h>
+#include <smoothforce/patch/detail/face_inputs.h>
 #include <smoothforce/patch/detail/gp_traits.h>
 #include <smoothforce/patch/patch_build.h>
 #include <smoothforce/patch/patch_cache.h>
@@ -165,37 +166,16 @@ uint32_t buildRecords(const PatchCache& c, int f, Real* recs, float* bulgeOut, b
   const int n = c.faceSize(f), first = c.faceOffsets[f];
   if (bulgeOut) *bulgeOut = 0.f;
   if (n < 3 || n > GP_MAX_N) return GP_ST_TOO_MANY_SIDES;
-  typename G::vec3 V[GP_MAX_N], N[GP_MAX_N];
+  typename G::vec3 V[GP_MAX_N], N[GP_MAX_N], PS[GP_MAX_N], PE[GP_MAX_N], TS[GP_MAX_N], TE[GP_MAX_N];
   int vid[GP_MAX_N];
-  for (int k = 0; k < n; ++k) {
-    const int v = c.faceVertices[first + k];
-    vid[k] = v;
-    V[k] = G::v3(c.positions[3 * v], c.positions[3 * v + 1], c.positions[3 * v + 2]);
-    const double* nn = &c.cornerNormals[3 * (first + k)];
-    N[k] = G::v3(nn[0], nn[1], nn[2]);
+  const bool creased = detail::faceInputs<G>(c, f, V, N, vid, PS, PE), turned = faceHasEdgeTangents(c, f);
+  for (int k = 0; k < n && turned; ++k) {
+    const double* t = &c.edgeTangents[6 * static_cast<size_t>(first + k)];
+    TS[k] = G::v3(t[0], t[1], t[2]);
+    TE[k] = G::v3(t[3], t[4], t[5]);
   }
   const int mode = static_cast<int>(c.options.crossTangent);
-  gp_uint st;
-  const bool creased = faceHasCrease(c, f), turned = faceHasEdgeTangents(c, f);
-  if (creased || turned) {
-    typename G::vec3 PS[GP_MAX_N], PE[GP_MAX_N], TS[GP_MAX_N], TE[GP_MAX_N];
-    for (int k = 0; k < n && creased; ++k) {
-      int32_t a, b;
-      acrossCorners(c, f, k, a, b);
-      const double *na = &c.cornerNormals[3 * static_cast<size_t>(a)], *nb = &c.cornerNormals[3 * static_cast<size_t>(b)];
-      PS[k] = G::v3(na[0], na[1], na[2]);
-      PE[k] = G::v3(nb[0], nb[1], nb[2]);
-    }
-    for (int k = 0; k < n && turned; ++k) {
-      const double* t = &c.edgeTangents[6 * static_cast<size_t>(first + k)];
-      TS[k] = G::v3(t[0], t[1], t[2]);
-      TE[k] = G::v3(t[3], t[4], t[5]);
-    }
-    st = G::buildWith(n, V, N, creased ? PS : N, creased ? PE : N, creased, turned ? TS : nullptr, turned ? TE : nullptr,
-                      vid, mode, recs);
-  } else {
-    st = G::build(n, V, N, vid, mode, recs);
-  }
+  gp_uint st = G::buildWith(n, V, N, PS, PE, creased, turned ? TS : nullptr, turned ? TE : nullptr, vid, mode, recs);
   Real bulge = 0;
   if (quality && !(st & GP_ST_NOT_BUILT)) st |= G::quality(n, recs, mode, &bulge);
   if (bulgeOut) *bulgeOut = static_cast<float>(bulge);

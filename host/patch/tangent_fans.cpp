@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include <smoothforce/patch/detail/face_inputs.h>
 #include <smoothforce/patch/detail/gp_traits.h>
 
 namespace sf {
@@ -18,7 +19,7 @@ constexpr double kPi = std::numbers::pi;
 Vec3 at(const std::vector<double>& a, size_t i) { return Vec3(a[3 * i], a[3 * i + 1], a[3 * i + 2]); }
 
 /// The construction's unit end tangents of every slot (#C*6, as TangentFans::tangents), from
-/// gp_patch_end_tangents with the inputs buildPatchRecords gives it.
+/// gp_patch_end_tangents with the inputs buildPatchRecords gives it (detail::faceInputs).
 std::vector<double> constructionTangents(const PatchCache& c) {
   std::vector<double> t(size_t(c.numSlots()) * 6, 0.0);
   gpd::gp_vec3 V[GP_MAX_N], N[GP_MAX_N], PS[GP_MAX_N], PE[GP_MAX_N], ts[GP_MAX_N], te[GP_MAX_N];
@@ -26,23 +27,9 @@ std::vector<double> constructionTangents(const PatchCache& c) {
   for (int f = 0; f < c.numFaces(); ++f) {
     const int n = c.faceSize(f), first = c.faceOffsets[f];
     if (n < 3 || n > GP_MAX_N) continue;
-    for (int k = 0; k < n; ++k) {
-      const int v = c.faceVertices[first + k];
-      vid[k] = v;
-      V[k] = gpd::gp_v3(c.positions[3 * v], c.positions[3 * v + 1], c.positions[3 * v + 2]);
-      const double* nn = &c.cornerNormals[3 * size_t(first + k)];
-      N[k] = gpd::gp_v3(nn[0], nn[1], nn[2]);
-    }
-    const bool creased = faceHasCrease(c, f);
-    for (int k = 0; k < n && creased; ++k) {
-      int32_t a, b;
-      acrossCorners(c, f, k, a, b);
-      const double *na = &c.cornerNormals[3 * size_t(a)], *nb = &c.cornerNormals[3 * size_t(b)];
-      PS[k] = gpd::gp_v3(na[0], na[1], na[2]);
-      PE[k] = gpd::gp_v3(nb[0], nb[1], nb[2]);
-    }
+    const bool creased = detail::faceInputs<Gp<double>>(c, f, V, N, vid, PS, PE);
     gp_uint st = 0;
-    gpd::gp_patch_end_tangents(n, V, N, creased ? PS : N, creased ? PE : N, creased ? 1 : 0, vid, ts, te, &st);
+    gpd::gp_patch_end_tangents(n, V, N, PS, PE, creased ? 1 : 0, vid, ts, te, &st);
     for (int k = 0; k < n; ++k) {
       double* o = &t[6 * size_t(first + k)];
       o[0] = ts[k].x, o[1] = ts[k].y, o[2] = ts[k].z, o[3] = te[k].x, o[4] = te[k].y, o[5] = te[k].z;

@@ -14,13 +14,6 @@ struct Gp<float> {
   using vec3 = gpf::gp_vec3;
   using result = gpf::gp_eval_result;
   static vec3 v3(double x, double y, double z) { return gpf::gp_v3(float(x), float(y), float(z)); }
-  static gp_uint build(int n, const vec3* V, const vec3* N, const int* vid, int mode, float* recs) {
-    return gpf::gp_build_patch(n, V, N, vid, mode, recs);
-  }
-  static gp_uint buildCreased(int n, const vec3* V, const vec3* N, const vec3* PS, const vec3* PE, const int* vid,
-                              int mode, float* recs) {
-    return gpf::gp_build_patch_creased(n, V, N, PS, PE, vid, mode, recs);
-  }
   /// gp_build_patch_with: creased or not, with end tangents TS, TE where given (may be null).
   static gp_uint buildWith(int n, const vec3* V, const vec3* N, const vec3* PS, const vec3* PE, bool creased,
                            const vec3* TS, const vec3* TE, const int* vid, int mode, float* recs) {
@@ -48,13 +41,6 @@ struct Gp<double> {
   using vec3 = gpd::gp_vec3;
   using result = gpd::gp_eval_result;
   static vec3 v3(double x, double y, double z) { return gpd::gp_v3(x, y, z); }
-  static gp_uint build(int n, const vec3* V, const vec3* N, const int* vid, int mode, double* recs) {
-    return gpd::gp_build_patch(n, V, N, vid, mode, recs);
-  }
-  static gp_uint buildCreased(int n, const vec3* V, const vec3* N, const vec3* PS, const vec3* PE, const int* vid,
-                              int mode, double* recs) {
-    return gpd::gp_build_patch_creased(n, V, N, PS, PE, vid, mode, recs);
-  }
   /// gp_build_patch_with: creased or not, with end tangents TS, TE where given (may be null).
   static gp_uint buildWith(int n, const vec3* V, const vec3* N, const vec3* PS, const vec3* PE, bool creased,
                            const vec3* TS, const vec3* TE, const int* vid, int mode, double* recs) {
