@@ -137,9 +137,11 @@ PatchCache preparePatchCache(const PolygonMesh& mesh, const std::vector<Eigen::V
   c.slotTwin = computeSlotTwins(mesh);
   c.faceStatus.assign(mesh.numFaces(), 0u);
   c.faceBulge.assign(mesh.numFaces(), 0.f);
-  refreshEdgeTangents(c);
   const size_t recs = static_cast<size_t>(GP_E_NFIELDS) * mesh.numCorners();
-  if (!allocatePatches) return c;
+  if (!allocatePatches) {  // lazy construction reads the fans from here; a whole build makes its own
+    refreshEdgeTangents(c);
+    return c;
+  }
   if (options.precision == Precision::Double)
     c.edgeDataD.assign(recs, 0.0);
   else

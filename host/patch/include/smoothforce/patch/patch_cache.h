@@ -60,8 +60,9 @@ struct PatchCache {
   std::vector<double> computedNormals;
   /// #C*6 or empty: the edge-curve end tangents the fold repair gives at vertices whose fan of
   /// edge tangents is tangled (tangent_fans.h, TangentFans::tangents); construction uses them
-  /// where nonzero. Derived from positions and normals (refreshEdgeTangents), not stored in the
-  /// cache file; empty under FoldRepairMode::Off.
+  /// where nonzero. Derived from positions and normals (refreshEdgeTangents) by constructPatches,
+  /// the OpenCL constructor and, for a skeleton, preparePatchCache; not stored in the cache file;
+  /// empty unless FoldRepairMode::On.
   std::vector<double> edgeTangents;
   /// GP_E_NFIELDS * #C per-edge records, field-major: value of field i of slot s at
   /// [i * #C + s]. Exactly one of the two is filled, per options.precision.
