@@ -336,11 +336,9 @@ struct SampledRegularity {
   double minSine = 2, minNeighbourCosine = 2, minEdgeCosine = 2;
   int samples = 0;
 };
-/// Face f of the cache as the independent reference's patch.
-ref::RefPatch referencePatch(const PatchCache& c, int f) { return test::referencePatchOf(c, f); }
 SampledRegularity sampleRegularity(const PatchCache& c, int f, int grid) {
   const int n = c.faceSize(f);
-  const ref::RefPatch rp = referencePatch(c, f);
+  const ref::RefPatch rp = test::referencePatchOf(c, f);
   const ref::RefPatchEvaluator ev(rp);
   SampledRegularity r;
   // the fan triangle (O, C_k, C_k+1) sampled as (i C_k + j C_k+1) / grid: neighbours differ in i or j
@@ -436,7 +434,7 @@ TEST(PatchCertificate, APatchWithACornerInsideOutIsProvenFolded) {
   std::vector<int> insideOutFaces;  // by the reference
   for (int f = 0; f < c.numFaces(); ++f) {
     const int n = c.faceSize(f);
-    const ref::RefPatch rp = referencePatch(c, f);
+    const ref::RefPatch rp = test::referencePatchOf(c, f);
     double least = 1;
     for (int k = 0; k < n; ++k) {
       const Eigen::Vector3d out = ref::refEdgeCurveDerivative(rp, k, 0).normalized();
