@@ -17,6 +17,7 @@
 #include <smoothforce/patch/patch_certificate.h>
 #include <smoothforce/patch/patch_option_text.h>
 #include <smoothforce/patch/patch_eval.h>
+#include <smoothforce/patch/tangent_fans.h>
 #include <smoothforce/query/surface_distance.h>
 #include "py_common.h"
 
@@ -403,6 +404,24 @@ void bindCache(pyb::module_& m) {
           "(C, 3) float64 unit normals as computed, before fold_repair search turned some of them\n"
           "(corner_normals holds the turned ones; the rows that differ are the corners it changed),\n"
           "or None where no normal was turned (read-only view)")
+      .def_property_readonly(
+          "tangent_turns",
+          [](const PyCache& c) -> pyb::object {
+            std::vector<double> turns;
+            {
+              pyb::gil_scoped_release release;
+              turns = untangleTangentFans(*c.cache).turnDeg;
+            }
+            if (turns.empty()) return pyb::none();
+            pyb::array_t<double> out({static_cast<pyb::ssize_t>(turns.size() / 2), pyb::ssize_t{2}});
+            std::copy(turns.begin(), turns.end(), out.mutable_data());
+            return out;
+          },
+          "(C, 2) float64 degrees (0..180) by which fold_repair on turned the edge curves' directions where\n"
+          "it untangled a vertex fan: row s = corner k of its face, column 0 the edge k -> k+1 at its start\n"
+          "(leaving corner k), column 1 the same edge at its end (arriving at corner k+1), from the\n"
+          "construction's own direction; 0 where none turned. None where no fan was untangled (off, search,\n"
+          "open or non-manifold meshes, meshes without a tangled fan). Computed on each access (a new array)")
       .def_property_readonly(
           "face_status",
           [](pyb::object self) {

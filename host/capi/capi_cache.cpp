@@ -9,6 +9,7 @@
 #include <smoothforce/patch/patch_certificate.h>
 #include <smoothforce/patch/patch_option_text.h>
 #include <smoothforce/patch/patch_eval.h>
+#include <smoothforce/patch/tangent_fans.h>
 #include <smoothforce/query/normal_search.h>
 #include <smoothforce/query/surface_distance.h>
 #include <smoothforce/version.h>
@@ -172,6 +173,21 @@ double sf_cache_normal_turn(const sf_cache* cache, int32_t face, int32_t corner)
   if (!cache || face < 0 || face >= cache->cache->numFaces() || corner < 0 || corner >= cache->cache->faceSize(face))
     return -1;
   return cache->cache->normalTurnDeg(cache->cache->faceOffsets[face] + corner);
+}
+
+double sf_cache_tangent_turn(sf_cache* cache, int32_t face, int32_t edge, int32_t end) {
+  if (!cache || face < 0 || face >= cache->cache->numFaces() || edge < 0 || edge >= cache->cache->faceSize(face) ||
+      end < 0 || end > 1)
+    return -1;
+  try {
+    if (!cache->tangentTurns)
+      cache->tangentTurns = std::make_unique<std::vector<double>>(untangleTangentFans(*cache->cache).turnDeg);
+  } catch (const std::exception& e) {  // out of memory: no turn can be reported
+    cache->error = e.what();
+    return -1;
+  }
+  const std::vector<double>& t = *cache->tangentTurns;
+  return t.empty() ? 0.0 : t[2 * size_t(cache->cache->faceOffsets[face] + edge) + size_t(end)];
 }
 
 sf_status sf_cache_save(sf_cache* cache, const char* path) {

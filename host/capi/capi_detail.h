@@ -7,6 +7,7 @@
 #include <new>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <smoothforce.h>
 #include <smoothforce/base/error.h>
@@ -25,6 +26,8 @@ struct sf_cache {
   std::string source;
   std::string error;
   std::unique_ptr<sf::MeshReport> polygons;  ///< checkMesh of the base mesh, made on first request
+  /// sf::TangentFans::turnDeg of the cache (#C*2, empty: none turned), made on first request
+  std::unique_ptr<std::vector<double>> tangentTurns;
 };
 
 struct sf_surface {

@@ -179,14 +179,18 @@ TangentFans untangleTangentFans(const PatchCache& c) {
     }
     std::vector<double> theta;
     if (!nearestFeasible(phi, hs, theta, 1e-9)) continue;  // no such fan: the construction's stays
-    if (out.tangents.empty()) out.tangents.assign(size_t(ns) * 6, 0.0);
+    if (out.tangents.empty()) out.tangents.assign(size_t(ns) * 6, 0.0), out.turnDeg.assign(size_t(ns) * 2, 0.0);
     out.vertices.push_back(v);
     for (int i = 0; i < m; ++i) {
-      out.maxTurnDeg = std::max(out.maxTurnDeg, std::fabs(theta[i] - phi[i]) * 180 / kPi);
       const Vec3 d = std::cos(theta[i]) * u + std::sin(theta[i]) * w;
+      const Vec3 o = at(own, 2 * size_t(fan[i]));  // the construction's direction (unit, in the plane)
+      const double turn = std::atan2(o.cross(d).norm(), o.dot(d)) * 180 / kPi;
+      out.maxTurnDeg = std::max(out.maxTurnDeg, turn);
+      const size_t twin = size_t(c.slotTwin[fan[i]]);  // the same edge, ending at v
       double* start3 = &out.tangents[6 * size_t(fan[i])];
-      double* end3 = &out.tangents[6 * size_t(c.slotTwin[fan[i]]) + 3];  // the same edge, ending at v
+      double* end3 = &out.tangents[6 * twin + 3];
       for (int j = 0; j < 3; ++j) start3[j] = d[j], end3[j] = -d[j];
+      out.turnDeg[2 * size_t(fan[i])] = out.turnDeg[2 * twin + 1] = turn;
     }
   }
   return out;

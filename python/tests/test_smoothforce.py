@@ -512,6 +512,37 @@ def test_fold_repair_search_turns_normals_as_the_command_line_does_and_refuses_l
         sf.Cache.from_file(cube, normals="file", fold_repair="search", lazy=True)
 
 
+def test_fold_repair_on_reports_the_edge_tangents_it_turned(tmp_path):
+    """A cube whose file normal at vertex 7 is turned 120 degrees: its vertex fan tangles, and on turns
+    edge curves there and nowhere else. Every edge end's turn is the angle between the directions in
+    which the patch's boundary leaves the corner, evaluated on the caches built on and off."""
+    cube = str(tilted_cube(tmp_path / "cube.obj", 120))
+    on = sf.Cache.from_file(cube, normals="file")
+    off = sf.Cache.from_file(cube, normals="file", fold_repair="off")
+    assert off.tangent_turns is None
+    turns = on.tangent_turns
+    assert turns.shape == (on.num_corners, 2) and turns.dtype == np.float64
+    offsets, verts = np.asarray(on.face_offsets), np.asarray(on.face_vertices)
+
+    def leaving(cache, f, n, a, b):  # unit direction of the boundary from domain corner a towards b
+        ca, cb = (np.array([np.cos(2 * np.pi * j / n), np.sin(2 * np.pi * j / n)]) for j in (a, b))
+        uv = ca + np.array([[1e-7], [2e-7]]) * (cb - ca)
+        p = cache.evaluate(np.array([f, f]), uv[:, 0], uv[:, 1])["position"]
+        return (p[1] - p[0]) / np.linalg.norm(p[1] - p[0])
+
+    measured, at7 = np.zeros_like(turns), np.zeros(turns.shape, bool)
+    for f in range(on.num_faces):
+        n = offsets[f + 1] - offsets[f]
+        for k in range(n):
+            for end, (a, b) in enumerate(((k, (k + 1) % n), ((k + 1) % n, k))):
+                x, y = leaving(on, f, n, a, b), leaving(off, f, n, a, b)
+                measured[offsets[f] + k, end] = np.degrees(np.arctan2(np.linalg.norm(np.cross(x, y)), x @ y))
+                at7[offsets[f] + k, end] = verts[offsets[f] + a] == 7
+    np.testing.assert_allclose(turns, measured, atol=1e-3)
+    assert (turns[~at7] == 0).all()
+    assert (turns[at7] > 0).sum() >= 2
+
+
 def test_distance_to_measures_the_repair_against_the_part_and_the_other_construction(paths):
     """An extruded L, creased: the default surface is the part (its polygons) to rounding, the design
     page's folded caps stand off it; the same numbers as the command line's cache distance."""

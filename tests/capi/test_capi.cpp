@@ -29,6 +29,7 @@
 #include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/query/normal_search.h>
 #include <smoothforce/patch/patch_eval.h>
+#include <smoothforce/patch/tangent_fans.h>
 #include <smoothforce/runtime/safety.h>
 #include <smoothforce/runtime/scene.h>
 #include <smoothforce/runtime/servo_step.h>
@@ -811,6 +812,61 @@ TEST(CApi, FoldRepairByDefaultCutsAndNamesEveryPiecesSource) {
   EXPECT_NE(m.find("fold_repair: expected off|on|search, got 'sometimes'"), std::string::npos) << m;
   for (int f = 0; f < ref.numFaces(); ++f)  // on turns no normal
     for (int k = 0; k < ref.faceSize(f); ++k) EXPECT_EQ(sf_cache_normal_turn(cut.get(), f, k), 0.0);
+}
+
+// The edge curves' directions that fold_repair on turned where it untangled a vertex fan (the spot
+// cage has 22 such vertices), checked at both ends of every edge against the patches themselves:
+// the direction in which each patch's boundary leaves its corner, evaluated on the cache built on
+// and on the one built off (the construction's own).
+TEST(CApi, FoldRepairOnReportsEveryTurnedEdgeTangent) {
+  CachePtr on = fromFile(kSpot);
+  sf_cache_options o;
+  sf_cache_options_init(&o);
+  o.fold_repair = "off";
+  CachePtr off = fromFile(kSpot, &o);
+  ASSERT_TRUE(on && off);
+  const sf::PatchCache ref = cppCache();
+  // the boundary's direction leaving corner k along edge k (end 0) or leaving corner k+1 backwards
+  // along it (end 1), from two points 1e-7 and 2e-7 of the edge from the corner
+  auto direction = [](sf_cache* c, int face, int n, int k, int end) {
+    const Eigen::Vector2d a = sf::domainCorner(n, end ? (k + 1) % n : k), b = sf::domainCorner(n, end ? k : (k + 1) % n);
+    const int32_t faces[2] = {face, face};
+    const double xi[2] = {a.x() + 1e-7 * (b.x() - a.x()), a.x() + 2e-7 * (b.x() - a.x())};
+    const double eta[2] = {a.y() + 1e-7 * (b.y() - a.y()), a.y() + 2e-7 * (b.y() - a.y())};
+    double p[6];
+    EXPECT_EQ(sf_cache_evaluate(c, 2, faces, xi, eta, p, nullptr, nullptr), SF_OK);
+    return Eigen::Vector3d(p[3] - p[0], p[4] - p[1], p[5] - p[2]).normalized();
+  };
+  int ends = 0, turned = 0;
+  double largest = 0;
+  for (int f = 0; f < ref.numFaces(); ++f) {
+    const int n = ref.faceSize(f);
+    for (int k = 0; k < n; ++k)
+      for (int end = 0; end < 2; ++end, ++ends) {
+        const double turn = sf_cache_tangent_turn(on.get(), f, k, end);
+        EXPECT_EQ(sf_cache_tangent_turn(off.get(), f, k, end), 0.0);
+        const Eigen::Vector3d a = direction(on.get(), f, n, k, end), b = direction(off.get(), f, n, k, end);
+        const double deg = std::atan2(a.cross(b).norm(), a.dot(b)) * 180 / std::numbers::pi;
+        EXPECT_NEAR(turn, deg, 1e-3) << "face " << f << " edge " << k << " end " << end;
+        turned += turn > 1e-9;  // (a direction the projection kept can turn by a rounding error)
+        largest = std::max(largest, turn);
+        // the face across the edge runs it the other way: its end is this start
+        const int s = ref.faceOffsets[f] + k, t = ref.slotTwin[s];
+        ASSERT_GE(t, 0);
+        int g = 0;
+        while (ref.faceOffsets[g + 1] <= t) ++g;
+        EXPECT_EQ(sf_cache_tangent_turn(on.get(), g, t - ref.faceOffsets[g], 1 - end), turn);
+      }
+  }
+  std::printf("spot cage: %d of %d edge ends turned, at most %.2f degrees\n", turned, ends, largest);
+  EXPECT_EQ(ends, 2 * 732);
+  EXPECT_EQ(turned, 92);  // at the 22 untangled vertices, each edge end seen from both its faces
+  EXPECT_EQ(largest, sf::untangleTangentFans(ref).maxTurnDeg);
+  EXPECT_EQ(sf_cache_tangent_turn(on.get(), 0, 4, 0), -1);
+  EXPECT_EQ(sf_cache_tangent_turn(on.get(), 0, 0, 2), -1);
+  EXPECT_EQ(sf_cache_tangent_turn(on.get(), 180, 0, 0), -1);
+  EXPECT_EQ(sf_cache_tangent_turn(on.get(), -1, 0, 0), -1);
+  EXPECT_EQ(sf_cache_tangent_turn(nullptr, 0, 0, 0), -1);
 }
 
 TEST(CApi, FoldRepairSearchReportsEveryTurnedNormal) {

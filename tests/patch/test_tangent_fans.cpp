@@ -89,7 +89,7 @@ std::vector<int> orderedFan(const Fans& fans, int v) {
 
 TEST(TangentFans, EveryFanRunsInTheFacesOrderAndOnlyTangledFansChangeTheirFaces) {
   int insideOutOn = 0, insideOutOff = 0;
-  int meshes = 0, fans = 0, tangled = 0, untangled = 0, changedFaces = 0, keptFaces = 0, given = 0;
+  int meshes = 0, fans = 0, tangled = 0, untangled = 0, changedFaces = 0, keptFaces = 0, given = 0, turnedEnds = 0;
   std::map<std::string, int> perMesh;
   // every shared mesh, and cubes whose file normal at one corner is turned 90, 120 and 150
   // degrees (inputs built to fold: that corner's fan tangles)
@@ -159,11 +159,41 @@ TEST(TangentFans, EveryFanRunsInTheFacesOrderAndOnlyTangledFansChangeTheirFaces)
         const Eigen::Vector3d e = positionOf(a, t) - positionOf(a, v), et = e - e.dot(N) * N;
         const double cosine = built.out.at({v, t}).dot(et.normalized());
         EXPECT_GT(built.out.at({v, t}).dot(e), 0) << "vertex " << v;
-        if (bad) EXPECT_GE(cosine, std::cos(kFanMaxChordTurnDeg * kPi / 180) - 1e-9) << "vertex " << v;
+        if (bad) {
+          EXPECT_GE(cosine, std::cos(kFanMaxChordTurnDeg * kPi / 180) - 1e-9) << "vertex " << v;
+        }
       }
     }
     const TangentFans tf = untangleTangentFans(a);
     EXPECT_EQ(std::set<int>(tf.vertices.begin(), tf.vertices.end()), tangledHere);
+    // the turns it reports: at every end of every edge, the angle between the records' end
+    // tangents built and as read (the construction's own); turned only at the tangled vertices
+    if (tf.vertices.empty()) {
+      EXPECT_TRUE(tf.turnDeg.empty());
+    } else {
+      const size_t ns = a.numSlots();
+      ASSERT_EQ(tf.turnDeg.size(), 2 * ns);
+      double largest = 0;
+      for (int f = 0; f < a.numFaces(); ++f)
+        for (int k = 0; k < a.faceSize(f); ++k)
+          for (int end = 0; end < 2; ++end) {
+            const size_t s = a.faceOffsets[f] + k;
+            const size_t field = end ? GP_E_M1 : GP_E_M0;
+            const Eigen::Vector3d x(a.edgeDataD[field * ns + s], a.edgeDataD[(field + 1) * ns + s],
+                                    a.edgeDataD[(field + 2) * ns + s]),
+                y(b.edgeDataD[field * ns + s], b.edgeDataD[(field + 1) * ns + s], b.edgeDataD[(field + 2) * ns + s]);
+            const double deg = std::atan2(x.cross(y).norm(), x.dot(y)) * 180 / kPi;
+            const double turn = tf.turnDeg[2 * s + end];
+            EXPECT_NEAR(turn, deg, 1e-9) << "face " << f << " edge " << k << " end " << end;
+            const int v = a.faceVertices[a.faceOffsets[f] + (k + end) % a.faceSize(f)];
+            if (turn > 1e-9) {
+              EXPECT_TRUE(tangledHere.count(v)) << "face " << f << " edge " << k << " end " << end;
+              ++turnedEnds;
+            }
+            largest = std::max(largest, turn);
+          }
+      EXPECT_EQ(largest, tf.maxTurnDeg);
+    }
     tangled += static_cast<int>(tangledHere.size());
     untangled += static_cast<int>(tf.vertices.size());
     perMesh[std::filesystem::path(path).filename().string()] = static_cast<int>(tangledHere.size());
@@ -189,13 +219,16 @@ TEST(TangentFans, EveryFanRunsInTheFacesOrderAndOnlyTangledFansChangeTheirFaces)
               << "face " << f << " corner " << k << " field " << i;
     }
     const int insideOut = static_cast<int>(summarizePatchStatus(a).insideOutFaces.size());
-    if (path.ends_with("spot_control_mesh.obj")) EXPECT_EQ(insideOut, 0);  // 20 as read
+    if (path.ends_with("spot_control_mesh.obj")) {
+      EXPECT_EQ(insideOut, 0);  // 20 as read
+    }
     insideOutOn += insideOut;
     insideOutOff += static_cast<int>(summarizePatchStatus(b).insideOutFaces.size());
   }
   std::printf("untangled fans over %d meshes: %d closed fans of one normal, %d tangled (untangled %d); %d faces "
-              "changed, %d kept bit for bit, %d given tangents; faces with a corner inside out %d (off: %d)\n",
-              meshes, fans, tangled, untangled, changedFaces, keptFaces, given, insideOutOn, insideOutOff);
+              "changed, %d kept bit for bit, %d given tangents, %d edge ends turned; faces with a corner inside out %d (off: "
+              "%d)\n",
+              meshes, fans, tangled, untangled, changedFaces, keptFaces, given, turnedEnds, insideOutOn, insideOutOff);
   for (const auto& [name, count] : perMesh)
     if (count) std::printf("  %s: %d\n", name.c_str(), count);
   EXPECT_EQ(untangled, tangled);
@@ -203,6 +236,7 @@ TEST(TangentFans, EveryFanRunsInTheFacesOrderAndOnlyTangledFansChangeTheirFaces)
   EXPECT_EQ(perMesh["spot_control_mesh.obj"], 22);
   EXPECT_GT(meshes, 20);
   EXPECT_EQ(changedFaces, given);
+  EXPECT_EQ(turnedEnds, 106);  // 92 on the spot cage (each edge end counted in both its faces)
   // the corners still inside out are on the meshes this leaves alone: the Stanford bunnies, open
   // and non-manifold (the spot cage had 20, each tilted cube 2)
   EXPECT_EQ(insideOutOff, 290);

@@ -15,8 +15,9 @@ inline constexpr double kFanTangledGapDeg = 1.0;
 /// half the mean, 180 / valence). A corner that narrow is nearly singular and bends its patch
 /// sharply: on the spot cage, a 1-degree margin left the angle across face 64's edges shrinking
 /// 2.5 times per decade of distance, not tenfold (G1 only very near the edge); 5 degrees left
-/// HIPs whose contact start disagreed with the winding number near faces 61 and 66, 20 degrees a
-/// face (156) bent into two distance basins a contact start could miss; 10 degrees none of these.
+/// HIPs whose contact start disagreed with the winding number near faces 61 and 66, 20 degrees
+/// folded faces 156 and 157 along their shared edge (the certificate proves both folded); 10
+/// degrees none of these.
 inline constexpr double kFanGapDeg = 10.0;
 /// Largest angle (degrees) between an untangled tangent and its chord projected on the tangent
 /// plane: the edge curve must leave its vertex forward along its edge (its edge normal n_c is
@@ -42,6 +43,10 @@ struct TangentFans {
   /// direction of C_k'(0) at V_k, then of C_k'(1) at V_{k+1}; zeros where the construction's own
   /// stays. The two slots of an edge hold the same directions, negated and swapped.
   std::vector<double> tangents;
+  /// #C*2 or empty (no fan untangled): for slot s, the angle (degrees, in [0, 180]) by which
+  /// the direction of C_k'(0) at V_k (index 2 s) and of C_k'(1) at V_{k+1} (2 s + 1) turned from
+  /// the construction's own; 0 where it stays.
+  std::vector<double> turnDeg;
   std::vector<int> vertices;  ///< the untangled vertices, ascending
   double maxTurnDeg = 0;      ///< largest turn of one edge tangent
 };
