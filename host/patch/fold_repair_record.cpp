@@ -21,12 +21,6 @@ FoldRepairRecord foldRepairRecord(const PatchCache& c) {
   const TangentFans fans = untangleTangentFans(c);
   r.untangledVertices = static_cast<int>(fans.vertices.size());
   r.maxTangentTurnDeg = fans.maxTurnDeg;
-  auto givenTangent = [&](int s) {
-    if (fans.tangents.empty()) return false;
-    for (int i = 0; i < 6; ++i)
-      if (fans.tangents[6 * size_t(s) + i] != 0) return true;
-    return false;
-  };
   const bool searched = c.computedNormals.size() == c.cornerNormals.size();
   if (!searched && fans.tangents.empty()) return r;
 
@@ -55,7 +49,8 @@ FoldRepairRecord foldRepairRecord(const PatchCache& c) {
     fc.face = f;
     for (int k = 0; k < n; ++k) {
       if (turn[first + k] != 0) fc.turns.push_back({k, c.faceVertices[first + k], turn[first + k]});
-      bool changed = turn[first + k] != 0 || turn[first + (k + 1) % n] != 0 || givenTangent(first + k);
+      bool changed = turn[first + k] != 0 || turn[first + (k + 1) % n] != 0 ||
+                     givesEndTangents(fans.tangents, first + k, first + k + 1);
       if (creased && !changed) {
         int32_t a, b;
         acrossCorners(c, f, k, a, b);

@@ -198,12 +198,15 @@ TangentFans untangleTangentFans(const PatchCache& c) {
 
 void refreshEdgeTangents(PatchCache& cache) { cache.edgeTangents = untangleTangentFans(cache).tangents; }
 
-bool faceHasEdgeTangents(const PatchCache& c, int f) {
-  if (c.edgeTangents.empty()) return false;
-  const size_t first = size_t(c.faceOffsets[f]), last = size_t(c.faceOffsets[f + 1]);
+bool givesEndTangents(const std::vector<double>& tangents, size_t first, size_t last) {
+  if (tangents.empty()) return false;
   for (size_t i = 6 * first; i < 6 * last; ++i)
-    if (c.edgeTangents[i] != 0) return true;
+    if (tangents[i] != 0) return true;
   return false;
+}
+
+bool faceHasEdgeTangents(const PatchCache& c, int f) {
+  return givesEndTangents(c.edgeTangents, size_t(c.faceOffsets[f]), size_t(c.faceOffsets[f + 1]));
 }
 
 }  // namespace sf

@@ -25,6 +25,7 @@
 #include <smoothforce/query/surface_query.h>
 #include <smoothforce/mesh/mesh_check.h>
 #include <smoothforce/mesh/mesh_io.h>
+#include <smoothforce/mesh/topology.h>
 #include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/query/normal_search.h>
@@ -853,8 +854,7 @@ TEST(CApi, FoldRepairOnReportsEveryTurnedEdgeTangent) {
         // the face across the edge runs it the other way: its end is this start
         const int s = ref.faceOffsets[f] + k, t = ref.slotTwin[s];
         ASSERT_GE(t, 0);
-        int g = 0;
-        while (ref.faceOffsets[g + 1] <= t) ++g;
+        const int g = sf::slotFace(ref.faceOffsets, t);
         EXPECT_EQ(sf_cache_tangent_turn(on.get(), g, t - ref.faceOffsets[g], 1 - end), turn);
       }
   }

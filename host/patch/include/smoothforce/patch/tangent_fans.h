@@ -62,6 +62,10 @@ TangentFans untangleTangentFans(const PatchCache& cache);
 /// that patches built after a normal changed use fans of the normals they are built from).
 void refreshEdgeTangents(PatchCache& cache);
 
+/// True when `tangents` (#C*6 as TangentFans::tangents, or empty) gives an end tangent of one of
+/// the slots [first, last).
+bool givesEndTangents(const std::vector<double>& tangents, size_t first, size_t last);
+
 /// True when cache.edgeTangents gives some end tangent of face f.
 bool faceHasEdgeTangents(const PatchCache& cache, int f);
 
