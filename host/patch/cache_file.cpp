@@ -80,6 +80,10 @@ std::string hexDouble(double x) {
   return buf;
 }
 
+/// The fold repair search's name in the options hash. Its patches use untangled vertex fans;
+/// caches named "search" were built from the construction's own fans, and are refused.
+constexpr const char* kSearchName = "search;fans=untangled";
+
 /// The options as the cache's hash reads them. foldRepairName overrides the fold repair's name:
 /// version 0.5 named the repair "split", and its caches keep that name in their hash.
 std::string optionsText(const PatchOptions& o, const char* foldRepairName = nullptr) {
@@ -93,7 +97,9 @@ std::string optionsText(const PatchOptions& o, const char* foldRepairName = null
          (o.creases.angleDeg == 0 ? std::string() : ";crease-angle=" + hexDouble(o.creases.angleDeg)) +
          (o.foldRepair == FoldRepairMode::Off ? std::string()
                                                : std::string(";fold-repair=") +
-                                                     (foldRepairName ? foldRepairName : toString(o.foldRepair)));
+                                                     (foldRepairName ? foldRepairName
+                                                      : o.foldRepair == FoldRepairMode::Search ? kSearchName
+                                                                                               : toString(o.foldRepair)));
 }
 
 }  // namespace
@@ -240,6 +246,9 @@ PatchCache readPatchCache(const std::string& path, const CacheExpectation& expec
     if (o.foldRepair == FoldRepairMode::Off) return false;
     o.foldRepair = FoldRepairMode::Search;
     if (hashed(o)) return true;
+    if (const std::string before = optionsText(o, "search"); h.optionsHash == hashBytes(before.data(), before.size()))
+      throw fail("built by an older SmoothForce whose fold repair search kept the construction's tangled vertex fans: "
+                 "rebuild the cache");
     o.foldRepair = FoldRepairMode::On;
     return false;
   };

@@ -87,7 +87,7 @@ double wrapPositive(double a) {
 
 TangentFans untangleTangentFans(const PatchCache& c) {
   TangentFans out;
-  if (c.options.foldRepair != FoldRepairMode::On || c.numSlots() == 0) return out;
+  if (c.options.foldRepair == FoldRepairMode::Off || c.numSlots() == 0) return out;
   // closed manifold meshes only: there the surface has an inside, so the fault measure and the
   // winding number check what the turn does (on the open, non-manifold Stanford bunnies, a face
   // bent by an untangled fan had a nearest point the lazy contact query missed)

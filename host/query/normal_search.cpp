@@ -9,22 +9,23 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <memory>
+#include <cstring>
 #include <map>
+#include <memory>
 #include <numbers>
 #include <stdexcept>
 #include <string>
 
 #include <smoothforce/base/coordinate_range.h>
-#include <smoothforce/patch/fold_repair_record.h>
 #include <smoothforce/patch/normal_groups.h>
+#include <smoothforce/patch/tangent_fans.h>
 #include <smoothforce/query/patch_surface.h>
 #include <smoothforce/query/point_index.h>
 #include <smoothforce/query/surface_faults.h>
 
-#include "gp_config.h"  // GP_ST_* status bits
 #include "embree_point_query.h"
 #include "fault_verdict.h"
+#include "gp_config.h"  // GP_ST_* status bits
 #include "surface_tessellation.h"
 #include "winding_rays.h"
 
@@ -146,6 +147,28 @@ std::vector<size_t> touchedTriangles(const UniformTessellation& u, const std::ve
   return touched;
 }
 
+/// Marks in *marked every face of `c` some of whose edge-curve end tangents differ between a and
+/// b (each #C*6 as PatchCache::edgeTangents, or empty: none given).
+void markFacesWithOtherEndTangents(const PatchCache& c, const std::vector<double>& a, const std::vector<double>& b,
+                                   std::vector<char>* marked) {
+  if (a.empty() && b.empty()) return;
+  auto value = [](const std::vector<double>& t, size_t i) { return t.empty() ? 0.0 : t[i]; };
+  for (int f = 0; f < c.numFaces(); ++f)
+    for (size_t i = 6 * size_t(c.faceOffsets[f]); i < 6 * size_t(c.faceOffsets[f + 1]) && !(*marked)[f]; ++i)
+      if (value(a, i) != value(b, i)) (*marked)[f] = 1;
+}
+
+/// True when face f's edge records (every field of every slot) have the same bits in a and b
+/// (GP_E_NFIELDS * #C each, field-major as PatchCache::edgeDataD).
+template <class T>
+bool sameRecords(const PatchCache& c, const std::vector<T>& a, const std::vector<T>& b, int f) {
+  const size_t C = c.faceVertices.size();
+  for (int s = c.faceOffsets[f]; s < c.faceOffsets[f + 1]; ++s)
+    for (size_t i = 0; i < GP_E_NFIELDS; ++i)
+      if (std::memcmp(&a[i * C + size_t(s)], &b[i * C + size_t(s)], sizeof(T)) != 0) return false;
+  return true;
+}
+
 /// Sum in index order: the same total, and so the same choice, for any thread count.
 double sum(const std::vector<double>& a) {
   double s = 0;
@@ -182,7 +205,8 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
                                 std::to_string(o.searchTriangles));
   if (o.backend == Backend::OpenCL)
     throw std::invalid_argument("normal search: candidates are built on the host (Serial or Tbb)");
-  if (o.threads < 0) throw std::invalid_argument("normal search: threads must be >= 0, got " + std::to_string(o.threads));
+  if (o.threads < 0)
+    throw std::invalid_argument("normal search: threads must be >= 0, got " + std::to_string(o.threads));
   if (o.threads > 0 || o.backend == Backend::Serial) {
     NormalSearchOptions inner = o;  // oneTBB inside an arena of one thread is serial, with the same patches
     inner.threads = 0;
@@ -191,10 +215,6 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
     return arena.execute([&] { return searchNormalsAgainstFaults(cache, inner); });
   }
   if (!hasPatchData(cache)) throw std::invalid_argument("normal search: the cache has no patches built");
-  if (!cache.edgeTangents.empty())
-    throw std::invalid_argument(
-        "normal search: the cache's patches use untangled vertex fans (fold repair on); build it with fold repair "
-        "search, which keeps the construction's fans");
   const auto t0 = std::chrono::steady_clock::now();
   NormalSearchReport r;
   PatchSurfaceOptions fullOptions;
@@ -210,13 +230,19 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
     r.totalArea = f.totalArea;
     r.searchLevel = o.searchLevel;
     if (r.searchLevel == 0) {  // triangles grow with the square of the level; never coarser than the measure's
-      const double scale = std::sqrt(double(o.searchTriangles) / double(std::max<size_t>(1, full.uniform().tri.size())));
+      const double scale =
+          std::sqrt(double(o.searchTriangles) / double(std::max<size_t>(1, full.uniform().tri.size())));
       r.searchLevel = std::clamp(std::max(full.level(), static_cast<int>(std::floor(full.level() * scale))), 1, 64);
     }
   }
   if (r.faultBefore == 0) return r;
 
   const std::vector<double> original = cache.cornerNormals;
+  struct {
+    std::vector<double> edgeDataD;
+    std::vector<float> edgeDataF;
+    std::vector<uint32_t> faceStatus;
+  } const start{cache.edgeDataD, cache.edgeDataF, cache.faceStatus};  // the patches given, for the report
   const double maxAngle = o.maxRotationDeg * std::numbers::pi / 180;
   std::vector<int> faceOf(cache.numSlots());
   for (int f = 0; f < cache.numFaces(); ++f)
@@ -321,13 +347,6 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
       std::sort(star.begin(), star.end());
       star.erase(std::unique(star.begin(), star.end()), star.end());
       if (!faulted) return nullptr;
-      // the least decrease a move must bring: any beyond rounding, or `share` of the star's fault
-      double threshold = 1e-12 * r.totalArea;
-      if (share > 0) {
-        double starFault = 0;
-        for (const int f : star) starFault += faceFault[f];
-        threshold = std::max(threshold, share * starFault);
-      }
       const Eigen::Vector3d n0 = vec3(original, slots[0]), now = vec3(cache.cornerNormals, slots[0]);
       std::vector<Eigen::Vector3d> nowOf;
       for (const size_t m : moved) nowOf.push_back(vec3(cache.cornerNormals, groups[m][0]));
@@ -335,9 +354,6 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
       for (const int s : slots)
         if (const Eigen::Vector3d c = cornerNormal(s); c.squaredNorm() > 0) towards.push_back(c);
       if (towards.empty()) return nullptr;
-      for (const int f : star) inStar[f] = 1;
-      std::vector<Eigen::AlignedBox3d> oldBoxes(moved.size());
-      for (size_t i = 0; i < moved.size(); ++i) growByFaces(current, stars[i], &oldBoxes[i]);
       towards.push_back(minimaxDirection(towards, now));
       // the vertex's edges, as unit vectors away from it: a normal along one of them leaves that
       // edge's curve without a tangent direction (the design page's degenerate case)
@@ -355,14 +371,11 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
           if (std::abs(n.dot(e)) > kEdgeCos) return true;
         return false;
       };
-      uint32_t starStatus = 0;
-      for (const int f : star) starStatus |= cache.faceStatus[f];
-      std::unique_ptr<WindingRays> rest;  // every triangle off the star, traced once for all candidates
-      ++visit;
-      std::unique_ptr<Move> best;
+      // the candidates: the normal (and its mirror image's) turned halfway and all the way
+      // towards each direction, from the normal kept so far, clamped to the bound around the original
+      std::vector<std::vector<Eigen::Vector3d>> candidates;
       for (const Eigen::Vector3d& d : towards)
         for (const double t : {0.5, 1.0}) {
-          // the candidate from the normal kept so far, then clamped to the bound around the original
           Eigen::Vector3d n = turnTowards(now, d, t, std::numbers::pi);
           if (std::acos(std::clamp(n.dot(n0), -1.0, 1.0)) > maxAngle) n = turnTowards(n0, n, 1.0, maxAngle);
           if (mate >= 0 && static_cast<size_t>(mate) == g) {  // on the plane: the symmetric part
@@ -371,74 +384,119 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
             n = sym.normalized();
           }
           if ((n - now).norm() < 1e-9 || alongAnEdge(n)) continue;
-          std::vector<Eigen::Vector3d> normals{n};
-          if (moved.size() == 2) normals.push_back(symmetry.reflect(n));
+          candidates.push_back({n});
+          if (moved.size() == 2) candidates.back().push_back(symmetry.reflect(n));
+        }
+      // Where the cache untangles vertex fans, a turned normal also turns the construction's own
+      // directions of its edges at the neighbouring vertices (gp_edge_tangents uses both end
+      // normals), and so can tangle or untangle their fans: every face whose end tangents some
+      // candidate changes joins the star (with the moved vertex nearest to it, for the boxes).
+      if (!candidates.empty() && cache.options.foldRepair != FoldRepairMode::Off) {
+        const std::vector<double> nowTangents = cache.edgeTangents;
+        std::vector<char> fanChanged(cache.numFaces(), 0);
+        for (const std::vector<Eigen::Vector3d>& normals : candidates) {
           for (size_t i = 0; i < moved.size(); ++i) setNormal(groups[moved[i]], normals[i]);
-          constructPatches(cache, o.backend);
-          uint32_t status = 0;
-          for (const int f : star) status |= cache.faceStatus[f];
-          if (status & ~starStatus & kNewStatus) continue;  // a degenerate edge or a bulge the normal made
-          if (!rest) {
-            std::vector<int64_t> off;
-            off.reserve(current.tri.size());
-            for (size_t i = 0; i < current.tri.size(); ++i)
-              if (!inStar[current.triFace[i]]) off.push_back(static_cast<int64_t>(i));
-            rest = std::make_unique<WindingRays>(device, current, &off, origin);
-          }
-          auto candidate = std::make_unique<UniformTessellation>(
-              tessellateUniform(cache, level, /*errors=*/false, &star));
-          const WindingRays starRays(device, *candidate, nullptr, origin);
-          checkEmbree();
-          ++r.evaluations;
-          std::vector<Eigen::AlignedBox3d> boxes = oldBoxes;
-          for (size_t i = 0; i < moved.size(); ++i) {
-            growByFaces(*candidate, stars[i], &boxes[i]);
-            boxes[i].min().array() -= 2 * h;
-            boxes[i].max().array() += 2 * h;
-          }
-          std::vector<size_t> tt = touchedTriangles(current, inStar, boxes);
-          // triangle i of the candidate surface: the star's from its own tessellation (the same
-          // layout per face), the others from the current one
-          auto corners = [&](size_t i) {
-            const int f = current.triFace[i];
-            if (!inStar[f]) return &current.tri[i];
-            return &candidate->tri[size_t(candidate->faceFirstTri[f] + (int64_t(i) - current.faceFirstTri[f]))];
-          };
-          std::vector<double> fault(tt.size(), 0.0);
-          tbb::parallel_for(size_t(0), tt.size(), [&](size_t j) {
-            const size_t t = tt[j];
-            const bool onStar = inStar[current.triFace[t]];
-            const UniformTessellation& from = onStar ? *candidate : current;
-            const size_t at = size_t(corners(t) - from.tri.data());
-            fault[j] = faultArea(from, at, h, [&](const Eigen::Vector3d& q, int side) {
-              return windingFromRays([&](int k, bool* clean) {
-                // a triangle off the star keeps its probes for every candidate of this vertex,
-                // and so the rest's crossings there
-                if (onStar) return rest->crossings(q, k, clean) + starRays.crossings(q, k, clean);
-                const size_t e = 6 * t + 3 * size_t(side) + size_t(k);
-                if (restTraced.stamp[e] != visit) {
-                  bool c = true;
-                  restTraced.crossings[e] = rest->crossings(q, k, &c);
-                  restTraced.clean[e] = c;
-                  restTraced.stamp[e] = visit;
-                }
-                if (!restTraced.clean[e]) *clean = false;
-                return restTraced.crossings[e] + starRays.crossings(q, k, clean);
-              });
+          refreshEdgeTangents(cache);
+          markFacesWithOtherEndTangents(cache, nowTangents, cache.edgeTangents, &fanChanged);
+        }
+        for (size_t i = 0; i < moved.size(); ++i) setNormal(groups[moved[i]], nowOf[i]);
+        cache.edgeTangents = nowTangents;
+        for (const int f : star) fanChanged[f] = 0;
+        for (int f = 0; f < cache.numFaces(); ++f) {
+          if (!fanChanged[f]) continue;
+          star.push_back(f);
+          size_t nearest = 0;
+          const Eigen::Vector3d p = vec3(cache.positions, cache.faceVertices[cache.faceOffsets[f]]);
+          for (size_t i = 1; i < moved.size(); ++i)
+            if ((vec3(cache.positions, cache.faceVertices[groups[moved[i]][0]]) - p).squaredNorm() <
+                (vec3(cache.positions, cache.faceVertices[groups[moved[nearest]][0]]) - p).squaredNorm())
+              nearest = i;
+          stars[nearest].push_back(f);
+        }
+        std::sort(star.begin(), star.end());
+      }
+      // the least decrease a move must bring: any beyond rounding, or `share` of the star's fault
+      double threshold = 1e-12 * r.totalArea;
+      if (share > 0) {
+        double starFault = 0;
+        for (const int f : star) starFault += faceFault[f];
+        threshold = std::max(threshold, share * starFault);
+      }
+      for (const int f : star) inStar[f] = 1;
+      std::vector<Eigen::AlignedBox3d> oldBoxes(moved.size());
+      for (size_t i = 0; i < moved.size(); ++i) growByFaces(current, stars[i], &oldBoxes[i]);
+      uint32_t starStatus = 0;
+      for (const int f : star) starStatus |= cache.faceStatus[f];
+      std::unique_ptr<WindingRays> rest;  // every triangle off the star, traced once for all candidates
+      ++visit;
+      std::unique_ptr<Move> best;
+      for (const std::vector<Eigen::Vector3d>& normals : candidates) {
+        for (size_t i = 0; i < moved.size(); ++i) setNormal(groups[moved[i]], normals[i]);
+        constructPatches(cache, o.backend);
+        uint32_t status = 0;
+        for (const int f : star) status |= cache.faceStatus[f];
+        if (status & ~starStatus & kNewStatus) continue;  // a degenerate edge or a bulge the normal made
+        if (!rest) {
+          std::vector<int64_t> off;
+          off.reserve(current.tri.size());
+          for (size_t i = 0; i < current.tri.size(); ++i)
+            if (!inStar[current.triFace[i]]) off.push_back(static_cast<int64_t>(i));
+          rest = std::make_unique<WindingRays>(device, current, &off, origin);
+        }
+        auto candidate =
+            std::make_unique<UniformTessellation>(tessellateUniform(cache, level, /*errors=*/false, &star));
+        const WindingRays starRays(device, *candidate, nullptr, origin);
+        checkEmbree();
+        ++r.evaluations;
+        std::vector<Eigen::AlignedBox3d> boxes = oldBoxes;
+        for (size_t i = 0; i < moved.size(); ++i) {
+          growByFaces(*candidate, stars[i], &boxes[i]);
+          boxes[i].min().array() -= 2 * h;
+          boxes[i].max().array() += 2 * h;
+        }
+        std::vector<size_t> tt = touchedTriangles(current, inStar, boxes);
+        // triangle i of the candidate surface: the star's from its own tessellation (the same
+        // layout per face), the others from the current one
+        auto corners = [&](size_t i) {
+          const int f = current.triFace[i];
+          if (!inStar[f]) return &current.tri[i];
+          return &candidate->tri[size_t(candidate->faceFirstTri[f] + (int64_t(i) - current.faceFirstTri[f]))];
+        };
+        std::vector<double> fault(tt.size(), 0.0);
+        tbb::parallel_for(size_t(0), tt.size(), [&](size_t j) {
+          const size_t t = tt[j];
+          const bool onStar = inStar[current.triFace[t]];
+          const UniformTessellation& from = onStar ? *candidate : current;
+          const size_t at = size_t(corners(t) - from.tri.data());
+          fault[j] = faultArea(from, at, h, [&](const Eigen::Vector3d& q, int side) {
+            return windingFromRays([&](int k, bool* clean) {
+              // a triangle off the star keeps its probes for every candidate of this vertex,
+              // and so the rest's crossings there
+              if (onStar) return rest->crossings(q, k, clean) + starRays.crossings(q, k, clean);
+              const size_t e = 6 * t + 3 * size_t(side) + size_t(k);
+              if (restTraced.stamp[e] != visit) {
+                bool c = true;
+                restTraced.crossings[e] = rest->crossings(q, k, &c);
+                restTraced.clean[e] = c;
+                restTraced.stamp[e] = visit;
+              }
+              if (!restTraced.clean[e]) *clean = false;
+              return restTraced.crossings[e] + starRays.crossings(q, k, clean);
             });
           });
-          double before = 0;
-          for (const size_t i : tt) before += triFault[i];
-          if (const double delta = sum(fault) - before; delta < (best ? best->delta : -threshold)) {
-            if (!best) best = std::make_unique<Move>();
-            best->groups = moved;
-            best->normals = normals;
-            best->starTessellation = std::move(candidate);
-            best->touched = std::move(tt);
-            best->fault = std::move(fault);
-            best->delta = delta;
-          }
+        });
+        double before = 0;
+        for (const size_t i : tt) before += triFault[i];
+        if (const double delta = sum(fault) - before; delta < (best ? best->delta : -threshold)) {
+          if (!best) best = std::make_unique<Move>();
+          best->groups = moved;
+          best->normals = normals;
+          best->starTessellation = std::move(candidate);
+          best->touched = std::move(tt);
+          best->fault = std::move(fault);
+          best->delta = delta;
         }
+      }
       for (const int f : star) inStar[f] = 0;
       for (size_t i = 0; i < moved.size(); ++i) setNormal(groups[moved[i]], nowOf[i]);
       constructPatches(cache, o.backend);
@@ -504,10 +562,14 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
     for (const std::vector<int>& slots : groups) {
       const Eigen::Vector3d n0 = vec3(original, slots[0]), n = vec3(cache.cornerNormals, slots[0]);
       if (n == n0) continue;
-      r.changes.push_back({cache.faceVertices[slots[0]], std::acos(std::clamp(n.dot(n0), -1.0, 1.0)) * 180 / std::numbers::pi,
-                           slots});
+      r.changes.push_back(
+          {cache.faceVertices[slots[0]], std::acos(std::clamp(n.dot(n0), -1.0, 1.0)) * 180 / std::numbers::pi, slots});
     }
-    for (const FoldRepairRecord::FaceChange& fc : foldRepairRecord(cache).changed) r.changedFaces.push_back(fc.face);
+    for (int f = 0; f < cache.numFaces(); ++f)
+      if (cache.faceStatus[f] != start.faceStatus[f] ||
+          (cache.options.precision == Precision::Double ? !sameRecords(cache, cache.edgeDataD, start.edgeDataD, f)
+                                                        : !sameRecords(cache, cache.edgeDataF, start.edgeDataF, f)))
+        r.changedFaces.push_back(f);
   }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -21,25 +22,26 @@
 
 #include <smoothforce/base/error.h>
 #include <smoothforce/base/hash.h>
-#include <smoothforce/patch/fold_repair_record.h>
 #include <smoothforce/patch/cache_file.h>
+#include <smoothforce/patch/fold_repair_record.h>
 #include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/patch/normal_groups.h>
+#include <smoothforce/patch/tangent_fans.h>
 #include <smoothforce/query/normal_search.h>
 #include <smoothforce/query/patch_surface.h>
 #include <smoothforce/query/surface_faults.h>
 #include "cli_test_support.h"
 #include "file_bytes.h"
-#include "tilted_cube_support.h"
 #include "patch_test_support.h"
 #include "surface_tessellation.h"  // the uniform tessellation's layout (private to query)
 #include "test_hostile_support.h"
+#include "tilted_cube_support.h"
 
 namespace sf {
 namespace {
 
-/// The cache `--fold-repair search` starts from: the fold repair of `on` without its untangled
-/// vertex fans (searchNormalsAgainstFaults refuses a cache that has them).
+/// The cache `--fold-repair search` starts from: the fold repair of `on`, its tangled vertex
+/// fans untangled from the normals as computed.
 PatchCache searchableCache(const std::string& path, PatchOptions o = {}) {
   o.foldRepair = FoldRepairMode::Search;
   return buildPatchCache(loadMesh(path, o), o, Backend::Tbb);
@@ -73,18 +75,31 @@ bool samePatch(const PatchCache& a, const PatchCache& b, int f) {
   return a.faceStatus[f] == b.faceStatus[f];
 }
 
+/// True when a and b give face f's edge curves the same end tangents (PatchCache::edgeTangents,
+/// an empty array giving none).
+bool sameEndTangents(const PatchCache& a, const PatchCache& b, int f) {
+  for (size_t i = 6 * size_t(a.faceOffsets[f]); i < 6 * size_t(a.faceOffsets[f + 1]); ++i)
+    if ((a.edgeTangents.empty() ? 0.0 : a.edgeTangents[i]) != (b.edgeTangents.empty() ? 0.0 : b.edgeTangents[i]))
+      return false;
+  return true;
+}
+
 /// Checks what the search promises of `after` (searched from `before`): normals within the
-/// bound and reported as turned, untouched corners and patches bit for bit, G1 on every edge.
-void expectSearchContract(const PatchCache& before, const PatchCache& after, const NormalSearchReport& r,
-                          double boundDeg, const std::string& what) {
+/// bound and reported as turned, untouched corners bit for bit, and patches bit for bit where no
+/// corner turned and the untangled fans give the same end tangents; the faces reported changed
+/// are those whose patch bits differ; the cache's record lists every edge with a turned end or
+/// an untangled end tangent; G1 on every edge.
+/// Returns the number of faces changed by a neighbour's fan alone (no turned corner of their own).
+int expectSearchContract(const PatchCache& before, const PatchCache& after, const NormalSearchReport& r,
+                         double boundDeg, const std::string& what) {
   std::vector<char> turned(before.numSlots(), 0);
   for (const NormalChange& ch : r.changes) {
     EXPECT_LE(ch.rotationDeg, boundDeg + 1e-9) << what << " vertex " << ch.vertex;
     for (const int s : ch.corners) {
       turned[s] = 1;
       EXPECT_EQ(before.faceVertices[s], ch.vertex) << what;
-      const double deg =
-          std::acos(std::clamp(cornerNormal(before, s).dot(cornerNormal(after, s)), -1.0, 1.0)) * 180 / std::numbers::pi;
+      const double deg = std::acos(std::clamp(cornerNormal(before, s).dot(cornerNormal(after, s)), -1.0, 1.0)) * 180 /
+                         std::numbers::pi;
       EXPECT_NEAR(deg, ch.rotationDeg, 1e-6) << what << " corner " << s;
       EXPECT_NEAR(cornerNormal(after, s).norm(), 1.0, 1e-12) << what;
     }
@@ -93,20 +108,25 @@ void expectSearchContract(const PatchCache& before, const PatchCache& after, con
   for (int s = 0; s < before.numSlots(); ++s)
     if (!turned[s]) {
       ++keptCorners;
-      for (int i = 0; i < 3; ++i) ASSERT_EQ(before.cornerNormals[3 * s + i], after.cornerNormals[3 * s + i]) << what;
+      for (int i = 0; i < 3; ++i) EXPECT_EQ(before.cornerNormals[3 * s + i], after.cornerNormals[3 * s + i]) << what;
     }
   const std::set<int> changed(r.changedFaces.begin(), r.changedFaces.end());
+  int fanChanged = 0;  // faces changed by a neighbour's fan alone, without a turned corner
   for (int f = 0; f < before.numFaces(); ++f) {
     bool hasTurned = false;
     for (int s = before.faceOffsets[f]; s < before.faceOffsets[f + 1]; ++s) hasTurned = hasTurned || turned[s];
-    EXPECT_EQ(hasTurned, changed.count(f) == 1) << what << " face " << f;
-    if (!hasTurned) {
+    const bool same = samePatch(before, after, f), sameFans = sameEndTangents(before, after, f);
+    EXPECT_EQ(!same, changed.count(f) == 1) << what << " face " << f;
+    if (hasTurned || !sameFans) {
+      EXPECT_FALSE(same) << what << " face " << f << " has a turned corner or other end tangents";
+      fanChanged += !hasTurned;
+    } else {
       ++keptFaces;
-      EXPECT_TRUE(samePatch(before, after, f)) << what << " face " << f << " has no turned corner";
+      EXPECT_TRUE(same) << what << " face " << f << " has no turned corner and the same end tangents";
     }
   }
-  std::printf("%s: %zu normals turned, %d corners and %d faces kept bit for bit\n", what.c_str(), r.changes.size(),
-              keptCorners, keptFaces);
+  std::printf("%s: %zu normals turned, %d corners and %d faces kept bit for bit, %d faces changed by fans alone\n",
+              what.c_str(), r.changes.size(), keptCorners, keptFaces, fanChanged);
   // the cache's own record (what the cache file stores and cache info lists): the normals it
   // was given, and from them every turned corner with its angle and every changed edge curve
   EXPECT_EQ(after.computedNormals, before.cornerNormals) << what;
@@ -125,9 +145,11 @@ void expectSearchContract(const PatchCache& before, const PatchCache& after, con
   for (const FoldRepairRecord::FaceChange& fc : rec.changed) {
     recordFaces.push_back(fc.face);
     const int first = before.faceOffsets[fc.face], n = before.faceSize(fc.face);
-    std::vector<int> edges;  // the edges with a turned end, from the report's corners
+    std::vector<int> edges;  // the edges with a turned end (the report's corners) or an untangled end tangent
     for (int k = 0; k < n; ++k)
-      if (turned[first + k] || turned[first + (k + 1) % n]) edges.push_back(k);
+      if (turned[first + k] || turned[first + (k + 1) % n] ||
+          givesEndTangents(after.edgeTangents, first + k, first + k + 1))
+        edges.push_back(k);
     EXPECT_EQ(fc.edges, edges) << what << " face " << fc.face;
     for (const FoldRepairRecord::Turn& t : fc.turns) {
       ++turns;
@@ -137,17 +159,26 @@ void expectSearchContract(const PatchCache& before, const PatchCache& after, con
     }
   }
   EXPECT_EQ(turns, rec.turnedCorners) << what;
-  EXPECT_EQ(recordFaces, r.changedFaces) << what;
-  std::set<std::pair<int, int>> curves;  // mesh edges with a turned end, each once
-  for (int f = 0; f < before.numFaces(); ++f)
+  std::vector<int> expectedFaces;        // every face with a turned corner or an untangled end tangent
+  std::set<std::pair<int, int>> curves;  // mesh edges with a turned end or an untangled end tangent, each once
+  for (int f = 0; f < before.numFaces(); ++f) {
+    bool any = false;
     for (int k = 0, n = before.faceSize(f), first = before.faceOffsets[f]; k < n; ++k)
-      if (turned[first + k] || turned[first + (k + 1) % n])
+      if (turned[first + k] || turned[first + (k + 1) % n] ||
+          givesEndTangents(after.edgeTangents, first + k, first + k + 1)) {
         curves.insert(std::minmax(before.faceVertices[first + k], before.faceVertices[first + (k + 1) % n]));
+        any = true;
+      }
+    if (any) expectedFaces.push_back(f);
+  }
+  EXPECT_EQ(recordFaces, expectedFaces) << what;
+  for (const int f : r.changedFaces) EXPECT_TRUE(std::binary_search(recordFaces.begin(), recordFaces.end(), f)) << what;
   EXPECT_EQ(rec.edgeCurves, static_cast<int>(curves.size())) << what;
   // G1: the tangent-plane angle across every shared edge shrinks tenfold per decade towards it
   // (from 1e-5 inside the domains: folds left within 1e-4 of an edge, as on the spot cage's
   // bow-tie faces 60 and 150, delay the linear regime by a decade; test_patch_g1.cpp)
-  const test::G1Stats a = test::measureG1(after, 1e-5), b = test::measureG1(after, 1e-6), d = test::measureG1(after, 1e-7);
+  const test::G1Stats a = test::measureG1(after, 1e-5), b = test::measureG1(after, 1e-6),
+                      d = test::measureG1(after, 1e-7);
   EXPECT_EQ(a.edges, before.numSlots() / 2) << what;
   if (a.maxAngle > 1e-9) {
     EXPECT_LT(b.maxAngle, 0.2 * a.maxAngle) << what;
@@ -156,8 +187,9 @@ void expectSearchContract(const PatchCache& before, const PatchCache& after, con
     EXPECT_LT(d.maxAngle, 0.2 * b.maxAngle) << what;
   }
   EXPECT_LT(d.maxAngle, 1.0 * std::numbers::pi / 180) << what;  // spot cage: 0.23 degrees at 1e-7
-  EXPECT_LT(d.maxGap, 0.2 * b.maxGap + 1e-15) << what;  // G0: the gap at the same edge parameter shrinks too
+  EXPECT_LT(d.maxGap, 0.2 * b.maxGap + 1e-15) << what;          // G0: the gap at the same edge parameter shrinks too
   EXPECT_LT(d.maxGap, 1e-4) << what;
+  return fanChanged;
 }
 
 TEST(NormalSearch, RemovesAlmostAllOfTheSpotCagesFaultArea) {
@@ -170,23 +202,26 @@ TEST(NormalSearch, RemovesAlmostAllOfTheSpotCagesFaultArea) {
   ASSERT_TRUE(r.applied);
   const double own = faultFraction(before), ownAfter = faultFraction(after);
   const double fine = faultFraction(before, 24), fineAfter = faultFraction(after, 24);
-  std::printf("spot cage: fault %.4f%% -> %.4f%% (own level), %.4f%% -> %.4f%% (level 24); %zu normals, %zu faces, "
-              "%lld candidates at level %d, %.1f s\n",
-              100 * own, 100 * ownAfter, 100 * fine, 100 * fineAfter, r.changes.size(), r.changedFaces.size(),
-              static_cast<long long>(r.evaluations), r.searchLevel, r.seconds);
+  std::printf(
+      "spot cage: fault %.4f%% -> %.4f%% (own level), %.4f%% -> %.4f%% (level 24); %zu normals, %zu faces, "
+      "%lld candidates at level %d, %.1f s\n",
+      100 * own, 100 * ownAfter, 100 * fine, 100 * fineAfter, r.changes.size(), r.changedFaces.size(),
+      static_cast<long long>(r.evaluations), r.searchLevel, r.seconds);
   EXPECT_DOUBLE_EQ(r.faultBefore / r.totalArea, own);
   EXPECT_NEAR(r.faultAfter, ownAfter * r.totalArea, 0.01 * r.faultBefore);
-  // measured (search level 14, one pass, mirror pairs, the last pass at 21): 1.577% -> 0.0009% at
-  // the own level 12, 1.745% -> 0.0029% at 24 (without the last pass 0.0138% and 0.0247%)
-  EXPECT_GT(own, 0.015);
+  // measured (search level 14, one pass, mirror pairs, the last pass at 21, from the untangled fans
+  // of `on`): 1.373% -> 0.0006% at the own level 12, 1.474% -> 0.0002% at 24 (from the
+  // construction's own fans, before the search untangled them: 1.577% -> 0.0009%, 1.745% -> 0.0029%)
+  EXPECT_GT(own, 0.012);
   EXPECT_LT(ownAfter, 0.05 * own);
   EXPECT_LT(fineAfter, 0.05 * fine);
   EXPECT_GT(r.changes.size(), 20u);
   // the last pass, at 1.5 x the search level (its tessellation within the triangle budget):
   // its report against an independent measure at that level, and a finer level still, which
   // neither pass measured, where the overlaps thinner than the search level's triangles show.
-  // Measured at level 32: 0.0039% of the area (0.0303% without the last pass; with the default
-  // two passes 0.0156% without it, faces 35 and 125 crossing the face between them, and 0.0030%)
+  // Measured at level 32: 0.0012% of the area (from the construction's own fans 0.0039%, 0.0303%
+  // without the last pass; with the default two passes 0.0156% without it, faces 35 and 125
+  // crossing the face between them, and 0.0030%)
   EXPECT_EQ(r.polishLevel, (3 * r.searchLevel + 1) / 2);
   EXPECT_LE(double(before.numSlots()) * r.polishLevel * r.polishLevel, double(o.polishTriangles));
   double polishedArea = 0;
@@ -197,7 +232,9 @@ TEST(NormalSearch, RemovesAlmostAllOfTheSpotCagesFaultArea) {
   EXPECT_NEAR(r.polishFaultAfter, polishedArea, 0.01 * polishedArea);
   EXPECT_LT(r.polishFaultAfter, r.polishFaultBefore);
   EXPECT_LT(finest, 0.005 * own);
-  expectSearchContract(before, after, r, o.maxRotationDeg, "spot cage");
+  // a turned normal turns its edges' directions at the neighbouring vertices too: faces with no
+  // turned corner change where that changes a neighbour's untangled fan (measured: 2)
+  EXPECT_GT(expectSearchContract(before, after, r, o.maxRotationDeg, "spot cage"), 0);
   // the cage is its own mirror image across x = 0, and so is the searched surface: every vertex's
   // normal is the reflection of its mirror vertex's (found here by brute force)
   EXPECT_EQ(r.mirrorAxis, 0);
@@ -207,7 +244,8 @@ TEST(NormalSearch, RemovesAlmostAllOfTheSpotCagesFaultArea) {
     Eigen::Vector3d q(-after.positions[3 * v], after.positions[3 * v + 1], after.positions[3 * v + 2]);
     int w = -1;
     for (int u = 0; u < after.numVertices(); ++u)
-      if ((Eigen::Vector3d(after.positions[3 * u], after.positions[3 * u + 1], after.positions[3 * u + 2]) - q).norm() < 1e-9)
+      if ((Eigen::Vector3d(after.positions[3 * u], after.positions[3 * u + 1], after.positions[3 * u + 2]) - q).norm() <
+          1e-9)
         w = u;
     ASSERT_GE(w, 0) << "vertex " << v << " has no mirror image";
     Eigen::Vector3d nv = Eigen::Vector3d::Zero(), nw = Eigen::Vector3d::Zero();
@@ -226,7 +264,8 @@ TEST(NormalSearch, RemovesAlmostAllOfTheSpotCagesFaultArea) {
 std::string tiltedCube(double tiltDeg) { return test::writeTiltedCube(scratch().path, tiltDeg); }
 
 TEST(NormalSearch, CubesWithATurnedNormalLoseTheirOverlaps) {
-  // measured (fault area, own level 32): 90 degrees 4.15% -> 0, 120: 5.91% -> 0, 150: 10.3% -> 0.0003%
+  // measured (fault area, own level 32, fans untangled): 90 degrees 0.81% -> 0, 120: 12.8% -> 0,
+  // 150: 12.4% -> 0 (from the construction's own fans 4.15%, 5.91%, 10.3%)
   int cases = 0;
   for (const double tilt : {90.0, 120.0, 150.0}) {
     PatchOptions opt;
@@ -239,7 +278,7 @@ TEST(NormalSearch, CubesWithATurnedNormalLoseTheirOverlaps) {
     EXPECT_EQ(r.mirrorAxis, -1) << what;  // the turned file normal breaks every mirror symmetry
     const double own = faultFraction(before), ownAfter = faultFraction(after);
     std::printf("%s: fault %.4f%% -> %.4f%%\n", what.c_str(), 100 * own, 100 * ownAfter);
-    EXPECT_GT(own, 0.03) << what;
+    EXPECT_GT(own, 0.005) << what;
     EXPECT_LT(ownAfter, 0.01 * own) << what;
     expectSearchContract(before, after, r, 60, what);
     ++cases;
@@ -273,13 +312,24 @@ TEST(NormalSearch, TurnsNormalsBesideCreasesAndRecordsThePatchesTheyChange) {
     if (samePatch(before, after, f)) continue;
     differ.push_back(f);
     bool turned = false;
-    for (int s = before.faceOffsets[f]; s < before.faceOffsets[f + 1]; ++s) turned = turned || after.normalTurnDeg(s) > 0;
+    for (int s = before.faceOffsets[f]; s < before.faceOffsets[f + 1]; ++s)
+      turned = turned || after.normalTurnDeg(s) > 0;
     withoutTurn += !turned;
   }
   EXPECT_EQ(differ, r.changedFaces);
+  // the record lists what fold repair changed against the design page's construction on the
+  // computed normals: the faces the search changed, and those whose end tangents an untangled
+  // fan gives in both surfaces alike
   std::vector<int> recorded;
   for (const FoldRepairRecord::FaceChange& fc : foldRepairRecord(after).changed) recorded.push_back(fc.face);
-  EXPECT_EQ(recorded, differ);
+  std::vector<int> expected = differ;
+  for (int f = 0; f < before.numFaces(); ++f)
+    if (!std::binary_search(differ.begin(), differ.end(), f) && faceHasEdgeTangents(after, f)) {
+      EXPECT_TRUE(faceHasEdgeTangents(before, f) && sameEndTangents(before, after, f)) << "face " << f;
+      expected.push_back(f);
+    }
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(recorded, expected);
   EXPECT_GT(withoutTurn, 0);  // faces changed across a crease, without a turned corner of their own
   EXPECT_EQ(r.mirrorAxis, 0);
 }
@@ -312,8 +362,9 @@ TEST(NormalSearch, SearchesADenseMeshAtItsOwnLevelAtLeast) {
 
 TEST(NormalSearch, LeavesFaultFreeAndOpenSurfacesAsTheyAre) {
   int fine = 0, open = 0;
-  for (const char* rel : {"lagrange/cube.obj", "geomview/dodecahedron.off", "polygon_laplacian/quad-sphere.off",
-                          "pmp/chamfer-cube.off", "polygon_laplacian/tetris.obj", "pmp/L.off", "pmp/hole_capsule.off"}) {
+  for (const char* rel :
+       {"lagrange/cube.obj", "geomview/dodecahedron.off", "polygon_laplacian/quad-sphere.off", "pmp/chamfer-cube.off",
+        "polygon_laplacian/tetris.obj", "pmp/L.off", "pmp/hole_capsule.off"}) {
     const PatchCache before = searchableCache(test::sharedMesh(rel));
     PatchCache after = before;
     const NormalSearchReport r = searchNormalsAgainstFaults(after);
@@ -363,8 +414,8 @@ TEST(NormalSearch, FacesAtVerticesListEveryFaceOfEveryVertexOnce) {
   // against a brute-force scan of every face's corners, on meshes with quads, pentagons and
   // triangles, split pieces (L-plane's cut polygons) and a closed dense mesh
   int vertices = 0;
-  for (const char* rel : {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/L-plane.obj",
-                          "odedstein/spot_low_resolution.obj"}) {
+  for (const char* rel :
+       {"keenan_crane/spot_control_mesh.obj", "polygon_laplacian/L-plane.obj", "odedstein/spot_low_resolution.obj"}) {
     SCOPED_TRACE(rel);
     const PatchCache c = searchableCache(test::sharedMesh(rel));
     const std::vector<std::vector<int>> at = facesAtVertices(c);
@@ -405,10 +456,6 @@ TEST(NormalSearch, RefusesOptionsOutOfRange) {
   refused([](NormalSearchOptions& o) { o.threads = -1; });
   PatchCache skeleton = test::skeletonOf(c);
   EXPECT_THROW(searchNormalsAgainstFaults(skeleton), std::invalid_argument);
-  // fold repair on untangles the spot cage's fans: the search refuses those patches
-  PatchCache on = test::cacheFromFile(test::sharedMesh("keenan_crane/spot_control_mesh.obj"));
-  ASSERT_FALSE(on.edgeTangents.empty());
-  EXPECT_THROW(searchNormalsAgainstFaults(on), std::invalid_argument);
 }
 
 TEST(FoldRepairSearch, ReachesTheCacheFileAndTheCommandLineAndLazyConstructionRefusesIt) {
@@ -483,6 +530,14 @@ TEST(FoldRepairSearch, ReachesTheCacheFileAndTheCommandLineAndLazyConstructionRe
     std::memcpy(bytes.data() + 120, &sum, 8);
     std::ofstream((dir / "v3.sfcache").string(), std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
     EXPECT_THROW(readPatchCache((dir / "v3.sfcache").string()), InputError);
+    // a search cache from before the search untangled fans has other patches under the same
+    // options: refused, with the reason
+    try {
+      readPatchCache(std::string(SF_TEST_DATA) + "/legacy/cube_search_construction_fans.sfcache");
+      ADD_FAILURE() << "a search cache built with the construction's own fans was read";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("rebuild the cache"), std::string::npos) << e.what();
+    }
   }
 
   EXPECT_THROW(preparePatchSkeleton(lm, opt), InputError);
@@ -524,8 +579,8 @@ TEST(FoldRepairSearch, ReachesTheCacheFileAndTheCommandLineAndLazyConstructionRe
     corners += static_cast<int>(j["changed"][i]["turned"].size());
   }
   EXPECT_EQ(corners, rec.turnedCorners);
-  const test::CliResult lazy = test::smoothforce("loop --mesh " + cube +
-                                                 " --normals file --fold-repair search --device scripted --duration 0.01");
+  const test::CliResult lazy = test::smoothforce(
+      "loop --mesh " + cube + " --normals file --fold-repair search --device scripted --duration 0.01");
   EXPECT_EQ(lazy.status, 1) << lazy.out;
   EXPECT_NE(lazy.out.find("fold_repair search needs every patch"), std::string::npos) << lazy.out;
 }

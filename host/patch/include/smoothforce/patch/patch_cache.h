@@ -62,7 +62,7 @@ struct PatchCache {
   /// edge tangents is tangled (tangent_fans.h, TangentFans::tangents); construction uses them
   /// where nonzero. Derived from positions and normals (refreshEdgeTangents) by constructPatches,
   /// the OpenCL constructor and, for a skeleton, preparePatchCache; not stored in the cache file;
-  /// empty unless FoldRepairMode::On.
+  /// empty for FoldRepairMode::Off.
   std::vector<double> edgeTangents;
   /// GP_E_NFIELDS * #C per-edge records, field-major: value of field i of slot s at
   /// [i * #C + s]. Exactly one of the two is filled, per options.precision.

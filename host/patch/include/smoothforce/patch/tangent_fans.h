@@ -52,10 +52,10 @@ struct TangentFans {
 };
 
 /// The untangled fans of `cache` from its positions, corner normals and adjacency (its patch
-/// arrays are not read): FoldRepairMode::On only, empty for Off and Search (the normal search
-/// rebuilds and re-measures the faces of a vertex whose normal it turns; an untangled fan depends
-/// on the normals at both ends of its edges, so it would change faces the search does not
-/// re-measure). Deterministic, O(#C).
+/// arrays are not read): FoldRepairMode::On and Search (from the normals the search turned),
+/// empty for Off. A fan depends on the normals at both ends of its edges (the construction's own
+/// directions, gp_edge_tangents, use both), so turning one vertex normal can change the fans of
+/// its neighbours too. Deterministic, O(#C).
 TangentFans untangleTangentFans(const PatchCache& cache);
 
 /// Sets cache.edgeTangents to untangleTangentFans(cache).tangents (construction calls it, so

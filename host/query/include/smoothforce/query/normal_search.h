@@ -58,7 +58,7 @@ struct NormalSearchReport {
   double faultAfter = 0;        ///< m^2 (= faultBefore unless applied)
   double totalArea = 0;         ///< m^2 of the probed surface (before)
   std::vector<NormalChange> changes;  ///< the normals turned, in search order
-  std::vector<int> changedFaces;      ///< faces whose patch the turned normals changed, ascending (foldRepairRecord)
+  std::vector<int> changedFaces;      ///< faces whose patch the search changed (any bit of its records), ascending
   int searchLevel = 0;                ///< the level the candidates were compared at
   int polishLevel = 0;                ///< the level of the last pass, 0: none
   double polishFaultBefore = 0;       ///< m^2 at polishLevel, before the last pass (after the others)
@@ -76,11 +76,14 @@ struct NormalSearchReport {
 /// direction that maximises the smallest cosine to them (a normal with every corner sector of
 /// its fan positively oriented in its tangent plane, where one exists); the candidate that
 /// lowers the fault area most is kept. A candidate's area is compared only over the triangles it
-/// can change: those of the faces at the vertex, and every triangle in the box of their old and
-/// new tessellations (the winding number changes nowhere else). Every edge curve is still built
-/// from its own vertices' positions and normals, so G1 holds as before; faces without a turned
-/// corner keep their patches bit for bit, but for a face with a crease edge at a turned vertex
-/// (built with the normals across it; foldRepairRecord lists it). At the end the fault area is measured at the surface's
+/// can change: those of the faces at the vertex, of the faces whose untangled fan tangents it
+/// changes (tangent_fans.h: a normal turns its edges' own directions at the neighbouring
+/// vertices too, and so their fans), and every triangle in the box of their old and new
+/// tessellations (the winding number changes nowhere else). Every edge curve is still built
+/// from its own vertices' positions and normals (and the shared fan directions at its ends), so
+/// G1 holds as before; faces with no turned corner and the same end tangents keep their patches
+/// bit for bit, but for a face with a crease edge at a turned vertex (built with the normals
+/// across it; foldRepairRecord lists it). At the end the fault area is measured at the surface's
 /// own level; unless it fell, every normal is put back (applied false).
 ///
 /// On a mirror-symmetric mesh (keepSymmetry) a normal and its mirror image are one move: the
@@ -90,14 +93,14 @@ struct NormalSearchReport {
 /// replaced where applied, and cache.computedNormals then keeps the normals it was given (the
 /// record of what turned, which the cache file stores). The sampled fault measure is the
 /// objective, not a proof: certify the result (certifyPatches) where a proof per patch is needed.
-/// Throws std::invalid_argument for options out of range or a cache whose patches use untangled
-/// vertex fans (PatchCache::edgeTangents: fold repair on; build it with Search), std::runtime_error
-/// when Embree fails.
+/// Throws std::invalid_argument for options out of range or a cache without patches,
+/// std::runtime_error when Embree fails.
 /// Cost: about 10 measured candidates per normal visited. The rays of the surface off the
 /// vertex's faces are built once per normal, and each candidate tessellates and traces only those
 /// faces (the crossings add up to the whole surface's, so the choices are those of whole-surface
-/// rays): on the spot cage, 1,074 candidates (884 at level 14, 190 at level 21) in 10-11 s on
-/// 2 cores, peak RSS 130-150 MB.
+/// rays): on the spot cage, 962 candidates at levels 14 and 21 in 29-30 s on 2 Zen 3 vCPUs,
+/// peak RSS 130-136 MB (the faces whose fans a candidate changes cost a third more time than the
+/// vertex's own faces alone).
 NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSearchOptions& options = {});
 
 /// The last step of construction for a cache built with FoldRepairMode::Search (every patch
