@@ -417,10 +417,10 @@ void bindCache(pyb::module_& m) {
             std::copy(turns.begin(), turns.end(), out.mutable_data());
             return out;
           },
-          "(C, 2) float64 degrees (0..180) by which fold_repair on turned the edge curves' directions where\n"
+          "(C, 2) float64 degrees (0..180) by which fold_repair on or search turned the edge curves' directions where\n"
           "it untangled a vertex fan: row s = corner k of its face, column 0 the edge k -> k+1 at its start\n"
           "(leaving corner k), column 1 the same edge at its end (arriving at corner k+1), from the\n"
-          "construction's own direction; 0 where none turned. None where no fan was untangled (off, search,\n"
+          "construction's own direction; 0 where none turned. None where no fan was untangled (off,\n"
           "open or non-manifold meshes, meshes without a tangled fan). Computed on each access (a new array)")
       .def_property_readonly(
           "face_status",

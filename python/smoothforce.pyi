@@ -118,10 +118,10 @@ class Cache:
     @property
     def tangent_turns(self) -> typing.Any:
         """
-        (C, 2) float64 degrees (0..180) by which fold_repair on turned the edge curves' directions where
+        (C, 2) float64 degrees (0..180) by which fold_repair on or search turned the edge curves' directions where
         it untangled a vertex fan: row s = corner k of its face, column 0 the edge k -> k+1 at its start
         (leaving corner k), column 1 the same edge at its end (arriving at corner k+1), from the
-        construction's own direction; 0 where none turned. None where no fan was untangled (off, search,
+        construction's own direction; 0 where none turned. None where no fan was untangled (off,
         open or non-manifold meshes, meshes without a tangled fan). Computed on each access (a new array)
         """
     @property
