@@ -26,6 +26,7 @@
 #include <smoothforce/patch/fold_repair_record.h>
 #include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/patch/normal_groups.h>
+#include <smoothforce/patch/patch_build.h>
 #include <smoothforce/patch/tangent_fans.h>
 #include <smoothforce/query/normal_search.h>
 #include <smoothforce/query/patch_surface.h>
@@ -125,6 +126,13 @@ int expectSearchContract(const PatchCache& before, const PatchCache& after, cons
       EXPECT_TRUE(same) << what << " face " << f << " has no turned corner and the same end tangents";
     }
   }
+  // the patches are those of the normals found: built again from them (fans and all), the same bits
+  PatchCache rebuilt = after;
+  constructPatches(rebuilt, Backend::Tbb);
+  int rebuiltSame = 0;
+  for (int f = 0; f < after.numFaces(); ++f) rebuiltSame += samePatch(after, rebuilt, f);
+  EXPECT_EQ(rebuiltSame, after.numFaces()) << what;
+  EXPECT_EQ(rebuilt.edgeTangents, after.edgeTangents) << what;
   std::printf("%s: %zu normals turned, %d corners and %d faces kept bit for bit, %d faces changed by fans alone\n",
               what.c_str(), r.changes.size(), keptCorners, keptFaces, fanChanged);
   // the cache's own record (what the cache file stores and cache info lists): the normals it
