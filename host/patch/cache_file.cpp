@@ -84,6 +84,12 @@ std::string hexDouble(double x) {
 /// caches named "search" were built from the construction's own fans, and are refused.
 constexpr const char* kSearchName = "search;fans=untangled";
 
+/// The fold repair's name as the options hash reads it: `name` where given, else the mode's.
+std::string foldRepairText(const PatchOptions& o, const char* name) {
+  if (name) return name;
+  return o.foldRepair == FoldRepairMode::Search ? kSearchName : toString(o.foldRepair);
+}
+
 /// The options as the cache's hash reads them. foldRepairName overrides the fold repair's name:
 /// version 0.5 named the repair "split", and its caches keep that name in their hash.
 std::string optionsText(const PatchOptions& o, const char* foldRepairName = nullptr) {
@@ -96,10 +102,7 @@ std::string optionsText(const PatchOptions& o, const char* foldRepairName = null
          (o.creases.tags && o.creases.groups && !o.creases.normals ? std::string() : ";creases=" + creaseMarksText(o.creases)) +
          (o.creases.angleDeg == 0 ? std::string() : ";crease-angle=" + hexDouble(o.creases.angleDeg)) +
          (o.foldRepair == FoldRepairMode::Off ? std::string()
-                                               : std::string(";fold-repair=") +
-                                                     (foldRepairName ? foldRepairName
-                                                      : o.foldRepair == FoldRepairMode::Search ? kSearchName
-                                                                                               : toString(o.foldRepair)));
+                                               : std::string(";fold-repair=") + foldRepairText(o, foldRepairName));
 }
 
 }  // namespace

@@ -144,15 +144,16 @@ int32_t sf_cache_face_source(const sf_cache* cache, int32_t face);
  *  none (and for every corner under the other modes); -1 for a NULL cache or a face or corner
  *  out of range. */
 double sf_cache_normal_turn(const sf_cache* cache, int32_t face, int32_t corner);
-/** Degrees (0 .. 180) by which fold_repair "on" or "search" turned an edge curve's direction where it
- *  untangled a vertex fan (docs/guide.md, --fold-repair): edge `edge` (0 .. n-1, from corner
- *  edge to corner edge + 1) of face `face`, at its start (end 0: the direction leaving corner
- *  edge) or at its end (end 1: the direction arriving at corner edge + 1), from the
+/** Degrees (0 .. 180) by which fold_repair "on" or "search" turned an edge curve's direction
+ *  where it untangled a vertex fan (docs/guide.md, --fold-repair): edge `edge` (0 .. n-1, from
+ *  corner edge to corner edge + 1) of face `face`, at its start (end 0: the direction leaving
+ *  corner edge) or at its end (end 1: the direction arriving at corner edge + 1), from the
  *  construction's own direction (the chord projected on the vertex's tangent plane) to the one
  *  the patch was built with (under search, from the turned normals). 0 where none turned (every
- *  edge under off, and on open or non-manifold meshes); -1 for a NULL cache or a face, edge or end out of range. The two
- *  faces of an edge report the same turns (the one's start is the other's end). Computed from
- *  the cache's positions and normals on the first call, then kept with the handle. */
+ *  edge under off, and on open or non-manifold meshes); -1 for a NULL cache or a face, edge or
+ *  end out of range. The two faces of an edge report the same turns (the one's start is the
+ *  other's end). Computed from the cache's positions and normals on the first call, then kept
+ *  with the handle. */
 double sf_cache_tangent_turn(sf_cache* cache, int32_t face, int32_t edge, int32_t end);
 /** Writes the cache file atomically (a lazy cache cannot be written: SF_ERROR_INPUT). */
 sf_status sf_cache_save(sf_cache* cache, const char* path);
