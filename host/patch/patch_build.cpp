@@ -205,11 +205,14 @@ struct SizeGroups {
   std::vector<size_t> start;     // faces of size n: [start[n], start[n + 1])
   std::vector<int32_t> creased;  // faces with a crease edge or given end tangents, in order
 };
-SizeGroups groupBySize(const PatchCache& c) {
+// the faces `faces` (null: all) by size
+SizeGroups groupBySize(const PatchCache& c, const std::vector<int>* faces) {
   SizeGroups g;
   g.start.assign(GP_MAX_N + 2, 0);
   std::vector<char> plain(c.numFaces(), 0);
-  for (int f = 0; f < c.numFaces(); ++f) {
+  const int count = faces ? static_cast<int>(faces->size()) : c.numFaces();
+  for (int i = 0; i < count; ++i) {
+    const int f = faces ? (*faces)[i] : i;
     const int n = c.faceSize(f);
     if (n < 3 || n > GP_MAX_N) continue;
     if (faceHasCrease(c, f) || faceHasEdgeTangents(c, f)) {
@@ -222,14 +225,16 @@ SizeGroups groupBySize(const PatchCache& c) {
   for (int n = 0; n <= GP_MAX_N; ++n) g.start[n + 1] += g.start[n];
   g.faces.resize(g.start[GP_MAX_N + 1]);
   std::vector<size_t> pos(g.start.begin(), g.start.end() - 1);
-  for (int f = 0; f < c.numFaces(); ++f)
-    if (plain[f]) g.faces[pos[c.faceSize(f)]++] = f;
+  for (int i = 0; i < count; ++i)
+    if (const int f = faces ? (*faces)[i] : i; plain[f]) g.faces[pos[c.faceSize(f)]++] = f;
   return g;
 }
 
+// builds the faces `faces` (null: all)
 template <class Real>
-void buildAll(PatchCache& c, const BuildOptions& o) {
-  const int nf = c.numFaces();
+void buildAll(PatchCache& c, const BuildOptions& o, const std::vector<int>* faces) {
+  const int nf = faces ? static_cast<int>(faces->size()) : c.numFaces();
+  auto face = [faces](int i) { return faces ? (*faces)[i] : i; };
   const SimdTarget target = resolveSimdTarget(o.simd);
   auto inArena = [&](auto&& body) {
     if (o.backend == Backend::Serial) return body();
@@ -241,23 +246,23 @@ void buildAll(PatchCache& c, const BuildOptions& o) {
   };
   if (target == SimdTarget::Scalar) {
     if (o.backend == Backend::Serial) {
-      for (int f = 0; f < nf; ++f) buildFace<Real>(c, f);
+      for (int i = 0; i < nf; ++i) buildFace<Real>(c, face(i));
       return;
     }
     inArena([&] {
       tbb::parallel_for(tbb::blocked_range<int>(0, nf, 64), [&](const tbb::blocked_range<int>& r) {
-        for (int f = r.begin(); f != r.end(); ++f) buildFace<Real>(c, f);
+        for (int i = r.begin(); i != r.end(); ++i) buildFace<Real>(c, face(i));
       });
     });
     return;
   }
   const simd_detail::BuildFns* fns = simd_detail::buildFns(target);
   const simd_detail::BuildFn fn = std::is_same_v<Real, double> ? fns->buildD : fns->buildF;
-  for (int f = 0; f < nf; ++f) {  // faces without a patch: as buildFace leaves them
-    const int n = c.faceSize(f);
+  for (int i = 0; i < nf; ++i) {  // faces without a patch: as buildFace leaves them
+    const int f = face(i), n = c.faceSize(f);
     if (n < 3 || n > GP_MAX_N) c.faceStatus[f] = GP_ST_TOO_MANY_SIDES, c.faceBulge[f] = 0.f;
   }
-  const SizeGroups g = groupBySize(c);
+  const SizeGroups g = groupBySize(c, faces);
   // work items: runs of up to 64 faces of one size
   std::vector<std::pair<size_t, size_t>> items;
   for (int n = 3; n <= GP_MAX_N; ++n)
@@ -293,16 +298,37 @@ void gather(const PatchCache& c, const std::vector<Real>& data, int f, Real* rec
 
 }  // namespace
 
-void constructPatches(PatchCache& cache, const BuildOptions& options) {
+namespace {
+
+void buildFaces(PatchCache& cache, const BuildOptions& options, const std::vector<int>* faces, const char* caller) {
   if (options.backend == Backend::OpenCL)
-    throw std::invalid_argument("constructPatches: use the OpenCL backend's constructPatchesOpenCL");
+    throw std::invalid_argument(std::string(caller) + ": use the OpenCL backend's constructPatchesOpenCL");
   if (!hasPatchData(cache) && cache.numFaces() > 0)
-    throw std::invalid_argument("constructPatches: the cache has no patch arrays (prepared as a skeleton)");
+    throw std::invalid_argument(std::string(caller) + ": the cache has no patch arrays (prepared as a skeleton)");
+  if (faces) {
+    std::vector<char> seen(cache.numFaces(), 0);
+    for (const int f : *faces) {
+      if (f < 0 || f >= cache.numFaces())
+        throw std::invalid_argument(std::string(caller) + ": face " + std::to_string(f) + " out of range [0, " +
+                                    std::to_string(cache.numFaces()) + ")");
+      if (seen[f]++) throw std::invalid_argument(std::string(caller) + ": face " + std::to_string(f) + " given twice");
+    }
+  }
   refreshEdgeTangents(cache);  // the fans of the normals the patches are built from
   if (cache.options.precision == Precision::Double)
-    buildAll<double>(cache, options);
+    buildAll<double>(cache, options, faces);
   else
-    buildAll<float>(cache, options);
+    buildAll<float>(cache, options, faces);
+}
+
+}  // namespace
+
+void constructPatches(PatchCache& cache, const BuildOptions& options) {
+  buildFaces(cache, options, nullptr, "constructPatches");
+}
+
+void constructPatchesOf(PatchCache& cache, const std::vector<int>& faces, const BuildOptions& options) {
+  buildFaces(cache, options, &faces, "constructPatchesOf");
 }
 
 void constructPatches(PatchCache& cache, Backend backend, int threads) {

@@ -2,6 +2,8 @@
 // Patch construction on the CPU with options: backend, threads and SIMD target.
 #pragma once
 
+#include <vector>
+
 #include <smoothforce/patch/patch_cache.h>
 #include <smoothforce/patch/patch_simd.h>
 
@@ -20,5 +22,15 @@ struct BuildOptions {
 /// uses the same 15 samples per edge). Throws std::invalid_argument for Backend::OpenCL, a
 /// target this CPU or build lacks, or a skeleton cache (no patch arrays).
 void constructPatches(PatchCache& cache, const BuildOptions& options);
+
+/// Builds the patches of `faces` only (face ids, each at most once), bit-identical to what
+/// constructPatches builds for them; every other face keeps its records, status and bulge. The
+/// edge tangents are refreshed for the whole mesh from the current corner normals (vertex fans,
+/// tangent_fans.h), so the caller must list every face whose inputs changed since its patch was
+/// built: its corners' positions or normals, or an end tangent of one of its edges (a turned
+/// normal can change the fan, and so the end tangents, at a neighbouring vertex). For callers
+/// that change a few normals and rebuild many times (the normal search). Throws
+/// std::invalid_argument as constructPatches does, and for a face id out of range or repeated.
+void constructPatchesOf(PatchCache& cache, const std::vector<int>& faces, const BuildOptions& options);
 
 }  // namespace sf
