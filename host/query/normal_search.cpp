@@ -18,6 +18,7 @@
 
 #include <smoothforce/base/coordinate_range.h>
 #include <smoothforce/patch/normal_groups.h>
+#include <smoothforce/patch/patch_build.h>
 #include <smoothforce/patch/tangent_fans.h>
 #include <smoothforce/query/patch_surface.h>
 #include <smoothforce/query/point_index.h>
@@ -430,9 +431,13 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
       std::unique_ptr<WindingRays> rest;  // every triangle off the star, traced once for all candidates
       ++visit;
       std::unique_ptr<Move> best;
+      // a candidate changes the patches of the star alone: the faces at the moved vertices, and
+      // those whose end tangents the fans of its normals change
+      BuildOptions build;
+      build.backend = o.backend;
       for (const std::vector<Eigen::Vector3d>& normals : candidates) {
         for (size_t i = 0; i < moved.size(); ++i) setNormal(groups[moved[i]], normals[i]);
-        constructPatches(cache, o.backend);
+        constructPatchesOf(cache, star, build);
         uint32_t status = 0;
         for (const int f : star) status |= cache.faceStatus[f];
         if (status & ~starStatus & kNewStatus) continue;  // a degenerate edge or a bulge the normal made
@@ -499,7 +504,7 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
       }
       for (const int f : star) inStar[f] = 0;
       for (size_t i = 0; i < moved.size(); ++i) setNormal(groups[moved[i]], nowOf[i]);
-      constructPatches(cache, o.backend);
+      constructPatchesOf(cache, star, build);
       if (best) best->star = std::move(star);
       return best;
     };
