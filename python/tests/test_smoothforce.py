@@ -250,10 +250,12 @@ def test_trace_matches_cli_trace_on_every_hip(spot, paths, tmp_path):
 
 def test_surface_query_agrees_with_a_contact_start_at_every_point(spot):
     """Surface.query on the spot cage: every face centre pressed 1 cm in and 5 cm out; the sign of the
-    distance is the patch method's contact verdict at a contact start (a fresh trace of one HIP), and
-    inside, the distance is the depth of that contact (its SCP is the nearest point) except where a
-    nearer sheet sees the HIP from outside (the cage's overlapping sheets: counted, at most 3%).
-    Answers do not depend on the thread count; bad points give NaN; a lazy cache is refused."""
+    distance is the patch method's contact verdict at a contact start, and inside, the distance is
+    the depth of that contact (its SCP is the nearest point) except where a nearer sheet sees the HIP
+    from outside (the cage's overlapping sheets: counted, at most 3%). The contact starts come from
+    one trace that visits a point ten diagonals away before each HIP (out of contact there, so each
+    HIP starts a contact afresh), checked against a fresh trace of one HIP, field for field, on every
+    20th. Answers do not depend on the thread count; bad points give NaN; a lazy cache is refused."""
     cache = sf.Cache.from_file(spot)
     pts = cache.evaluate(np.arange(cache.num_faces, dtype=np.int32), np.zeros(cache.num_faces),
                          np.zeros(cache.num_faces))
@@ -265,14 +267,28 @@ def test_surface_query_agrees_with_a_contact_start_at_every_point(spot):
     one = surface.query(hips, threads=1)
     for name in q.dtype.names:
         np.testing.assert_array_equal(one[name], q[name])
+    lo, hi = hips.min(axis=0), hips.max(axis=0)
+    visits = np.empty((2 * len(hips), 3))
+    visits[0::2] = hi + 10 * np.linalg.norm(hi - lo)
+    visits[1::2] = hips
+    trace = sf.trace(cache, visits)
+    assert not trace["contact"][0::2].any()
+    starts = trace[1::2]
+    fresh = 0
+    for i in range(0, len(hips), 20):
+        t = sf.trace(cache, hips[i][None, :])
+        for name in t.dtype.names:
+            np.testing.assert_array_equal(t[name][0], starts[name][i], err_msg=f"{name} of HIP {i}")
+        fresh += 1
+    assert fresh == 18
     other_depth = 0
     for i, h in enumerate(hips):
-        t = sf.trace(cache, h[None, :])
-        assert bool(t["contact"][0]) == bool(q["signed_distance"][i] < 0), i
+        t = starts[i]
+        assert bool(t["contact"]) == bool(q["signed_distance"][i] < 0), i
         assert bool(q["status"][i] & sf.SF_TRACK_INSIDE) == bool(q["signed_distance"][i] < 0)
         np.testing.assert_allclose(np.linalg.norm(q["point"][i] - h), abs(q["signed_distance"][i]), rtol=1e-12)
-        if t["contact"][0]:
-            other_depth += abs(np.linalg.norm(t["scp"][0] - h) + q["signed_distance"][i]) > 1e-9
+        if t["contact"]:
+            other_depth += abs(np.linalg.norm(t["scp"] - h) + q["signed_distance"][i]) > 1e-9
     assert (q["signed_distance"][: cache.num_faces] < 0).sum() > 0.9 * cache.num_faces
     assert (q["signed_distance"][cache.num_faces:] > 0).sum() > 0.9 * cache.num_faces
     assert other_depth <= 0.03 * len(hips)
