@@ -180,6 +180,15 @@ GP_FN_INLINE gp_eval_result gp_patch_eval_dom_n(const gp_domain* dom, const int 
   for (int k = 0; k < n; ++k) {
     const GP_MASK has = W[k] > GP_R(0.0); /* a corner without weight adds nothing */
     if (!GP_ANY(has)) continue;
+#ifdef GP_INTERVAL
+    /* on a box where W_k may vanish, the increments below enclose both cases without a select
+     * (whose undecided mask would keep only the hull of both sides, losing every correlation):
+     * where W_k = 0, so are w, its gradient and the factors ou and ov, and the other factors are
+     * bounded (else the sum is unbounded anyway), so the increment's model holds 0 there */
+    const GP_MASK add = (GP_MASK)(1);
+#else
+    const GP_MASK add = has;
+#endif
     const int km = k == 0 ? n - 1 : k - 1;
     const GP_REAL* rk = recs + k * GP_E_NFIELDS;
     const GP_REAL* rm = recs + km * GP_E_NFIELDS;
@@ -205,7 +214,7 @@ GP_FN_INLINE gp_eval_result gp_patch_eval_dom_n(const gp_domain* dom, const int 
     r = gp_sel3(sp, gp_sub(r, gp_scale(gp_add(gp_scale(a, u * v * v), gp_scale(b, u * u * v)), is)), r);
 #endif
     const GP_REAL w = W[k] * iS;
-    out.pos = gp_sel3(has, gp_madd(out.pos, r, w), out.pos);
+    out.pos = gp_sel3(add, gp_madd(out.pos, r, w), out.pos);
     if (!deriv) continue;
     const GP_REAL ux = tx[k], uy = ty[k], vx = -tx[km], vy = -ty[km];
     gp_vec3 ru = gp_madd(gp_add(Cd[k], dTQ), Td[k], v);    /* P' + v T_P' + (T_Q - T_Q(0)) */
@@ -241,12 +250,12 @@ GP_FN_INLINE gp_eval_result gp_patch_eval_dom_n(const gp_domain* dom, const int 
       pv = pv * (d[j] * d[j]);
     }
     const GP_REAL ou = (GP_R(1.0) - u) * (GP_R(1.0) - u) * pu * iS, ov = (GP_R(1.0) - v) * (GP_R(1.0) - v) * pv * iS;
-    out.dxi = gp_sel3(has, gp_madd(gp_madd(out.dxi, r, wx), gp_sub(gp_scale(ru, ux * ou), gp_scale(rv, tx[km] * ov)),
-                                   GP_R(1.0)),
-                      out.dxi);
-    out.deta = gp_sel3(has, gp_madd(gp_madd(out.deta, r, wy), gp_sub(gp_scale(ru, uy * ou), gp_scale(rv, ty[km] * ov)),
-                                    GP_R(1.0)),
-                       out.deta);
+    out.dxi = gp_sel3(
+        add, gp_madd(gp_madd(out.dxi, r, wx), gp_sub(gp_scale(ru, ux * ou), gp_scale(rv, tx[km] * ov)), GP_R(1.0)),
+        out.dxi);
+    out.deta = gp_sel3(
+        add, gp_madd(gp_madd(out.deta, r, wy), gp_sub(gp_scale(ru, uy * ou), gp_scale(rv, ty[km] * ov)), GP_R(1.0)),
+        out.deta);
 #else
     out.dxi = gp_sel3(has, gp_madd(gp_madd(out.dxi, r, wx), gp_add(gp_scale(ru, ux), gp_scale(rv, vx)), w), out.dxi);
     out.deta = gp_sel3(has, gp_madd(gp_madd(out.deta, r, wy), gp_add(gp_scale(ru, uy), gp_scale(rv, vy)), w), out.deta);

@@ -22,14 +22,14 @@ namespace sf::gpi {
 using ::sf::gpd::gp_domain;
 using ::sf::gpd::gp_domain_of;
 using ::sf::gpd::gp_quality_sample;
-using ::sf::interval::Affine;
+using ::sf::interval::Taylor;
 using gp_lane_mask = ::sf::interval::Mask;
 using gp_lane_status = unsigned;
 using gp_lane_vid = int;
 #define GP_LANES 1
 #define GP_INTERVAL 1
 #define GP_SREAL double
-#define GP_REAL ::sf::interval::Affine
+#define GP_REAL ::sf::interval::Taylor
 #define GP_IS_DOUBLE 1
 #include "gp_instantiate.h"
 }  // namespace sf::gpi
@@ -37,8 +37,8 @@ using gp_lane_vid = int;
 namespace sf {
 namespace {
 
-using interval::Affine;
 using interval::Interval;
+using interval::Taylor;
 
 struct Box {
   double x0, x1, y0, y1;
@@ -46,17 +46,17 @@ struct Box {
   double d[3];  ///< unit direction J is bounded along on this box
 };
 
-/// The affine forms of a box: centre plus half-width times its noise symbol.
-void boxForms(double x0, double x1, double y0, double y1, Affine* xi, Affine* eta) {
+/// The Taylor models of a box's coordinates: centre plus half-width times its symbol.
+void boxForms(double x0, double x1, double y0, double y1, Taylor* xi, Taylor* eta) {
   const double cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
-  *xi = Affine(cx, interval::roundUp(std::max(x1 - cx, cx - x0)), 0.0, 0.0);
-  *eta = Affine(cy, 0.0, interval::roundUp(std::max(y1 - cy, cy - y0)), 0.0);
+  *xi = Taylor(cx, interval::roundUp(std::max(x1 - cx, cx - x0)), 0.0, 0.0);
+  *eta = Taylor(cy, 0.0, interval::roundUp(std::max(y1 - cy, cy - y0)), 0.0);
 }
 
 /// The patch math's enclosure over a box of the domain, with derivatives.
-gpi::gp_eval_result evalBox(const gpd::gp_domain* dom, const std::array<Affine, GP_MAX_N * GP_E_NFIELDS>& irecs,
+gpi::gp_eval_result evalBox(const gpd::gp_domain* dom, const std::array<Taylor, GP_MAX_N * GP_E_NFIELDS>& irecs,
                             CrossTangentMode mode, double x0, double x1, double y0, double y1) {
-  Affine xi, eta;
+  Taylor xi, eta;
   boxForms(x0, x1, y0, y1, &xi, &eta);
   return gpi::gp_patch_eval_dom_d(dom, irecs.data(), static_cast<int>(mode), xi, eta, 1);
 }
@@ -69,10 +69,10 @@ struct CellBound {
 };
 CellBound boundJ(const gpi::gp_eval_result& r, const double d[3]) {
   const gpi::gp_vec3 N = gpi::gp_cross(r.dxi, r.deta);
-  return {(N.x * Affine(d[0]) + N.y * Affine(d[1]) + N.z * Affine(d[2])).range(),
+  return {(N.x * Taylor(d[0]) + N.y * Taylor(d[1]) + N.z * Taylor(d[2])).range(),
           gp_sqrt(N.x * N.x + N.y * N.y + N.z * N.z).hi()};
 }
-CellBound boundCell(const gpd::gp_domain* dom, const std::array<Affine, GP_MAX_N * GP_E_NFIELDS>& irecs,
+CellBound boundCell(const gpd::gp_domain* dom, const std::array<Taylor, GP_MAX_N * GP_E_NFIELDS>& irecs,
                     CrossTangentMode mode, double x0, double x1, double y0, double y1, const double d[3]) {
   return boundJ(evalBox(dom, irecs, mode, x0, x1, y0, y1), d);
 }
@@ -93,7 +93,7 @@ void centreNormal(int n, const double* drecs, CrossTangentMode mode, const Box& 
 /// local directions (drecs, the records in double), each box is bounded along the unit normal at
 /// its own centre instead (d is the start's), which proves dG/dxi x dG/deta != 0 on it: the
 /// patch is regular, not a height field; a box proven negative then proves nothing.
-PatchCertificate certifyAlong(int n, const std::array<Affine, GP_MAX_N * GP_E_NFIELDS>& irecs, CrossTangentMode mode,
+PatchCertificate certifyAlong(int n, const std::array<Taylor, GP_MAX_N * GP_E_NFIELDS>& irecs, CrossTangentMode mode,
                               const CertificateOptions& o, const double d[3], const double* drecs = nullptr) {
   PatchCertificate out;
   const double nl = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
@@ -166,7 +166,7 @@ PatchCertificate certifyAlong(int n, const std::array<Affine, GP_MAX_N * GP_E_NF
 /// there. -1: proven against one of them (the patch meets its neighbours, which share n_c and
 /// N_k, upside down there: it folds against them; *margin the upper bound < 0 of the cosine);
 /// +1: proven along n_c at every edge's midpoint; 0: neither.
-int boundaryOrientation(int n, const std::array<Affine, GP_MAX_N * GP_E_NFIELDS>& irecs, const double* drecs,
+int boundaryOrientation(int n, const std::array<Taylor, GP_MAX_N * GP_E_NFIELDS>& irecs, const double* drecs,
                         CrossTangentMode mode, double* margin) {
   gpd::gp_domain scratch;
   const gpd::gp_domain* dom = gpd::gp_domain_of(n, &scratch, 1);
@@ -206,11 +206,11 @@ template <class Real>
 PatchCertificate certify(int n, const Real* recs, CrossTangentMode mode, const CertificateOptions& o) {
   PatchCertificate out;
   if (n < 3 || n > GP_MAX_N) return out;
-  std::array<Affine, GP_MAX_N * GP_E_NFIELDS> irecs;
+  std::array<Taylor, GP_MAX_N * GP_E_NFIELDS> irecs;
   for (int i = 0; i < n * GP_E_NFIELDS; ++i) {
     const double x = static_cast<double>(recs[i]);
     if (!std::isfinite(x)) return out;
-    irecs[i] = Affine(x);
+    irecs[i] = Taylor(x);
   }
   std::array<double, GP_MAX_N * GP_E_NFIELDS> drecs;
   for (int i = 0; i < n * GP_E_NFIELDS; ++i) drecs[i] = static_cast<double>(recs[i]);
@@ -320,8 +320,8 @@ PatchEnclosure enclosePatch(int n, const double* recs, CrossTangentMode mode, co
                             double x1, double y0, double y1) {
   PatchEnclosure out;
   if (n < 3 || n > GP_MAX_N) return out;
-  std::array<Affine, GP_MAX_N * GP_E_NFIELDS> irecs;
-  for (int i = 0; i < n * GP_E_NFIELDS; ++i) irecs[i] = Affine(recs[i]);
+  std::array<Taylor, GP_MAX_N * GP_E_NFIELDS> irecs;
+  for (int i = 0; i < n * GP_E_NFIELDS; ++i) irecs[i] = Taylor(recs[i]);
   gpd::gp_domain scratch;
   const gpi::gp_eval_result r = evalBox(gpd::gp_domain_of(n, &scratch, 1), irecs, mode, x0, x1, y0, y1);
   const gpi::gp_vec3* v[3] = {&r.pos, &r.dxi, &r.deta};

@@ -198,7 +198,7 @@ TEST(PatchCertificate, CertifiedPatchesTurnNowhereAgainstTheirDirection) {
                                    {"polygon_laplacian/tetris.obj", 1, -1, -1},
                                    {"pmp/L.off", 1, 0, 1},
                                    {"keenan_crane/spot_control_mesh.obj", 30, -1, -1},
-                                   {"odedstein/sphere.obj", 320, 2, 0},
+                                   {"odedstein/sphere.obj", 320, 4, 0},
                                    {"keenan_crane/spot_control_mesh.obj", 1, 2, 0, 400000, true, {39, 129}},
                                    {"keenan_crane/spot_control_mesh.obj", 1, 1, 0, 500000, true, {81}},
                                    {"keenan_crane/spot_control_mesh.obj", 1, 4, 0, 400000, false, {22, 74, 112, 164}}};

@@ -6,12 +6,16 @@
 // Interval: [lo, hi], arithmetic rounded outward (each bound of a correctly rounded operation
 // moved one step away). Plain intervals lose correlation at every operation: over the patch
 // math a box of width w gave derivative bounds about 2000 w wide (measured on the spot cage),
-// so the certificate would need boxes of 1e-6. Affine (below) keeps the first-order part
-// exactly: x = c + gx ex + gy ey + err e, with ex, ey the box's two coordinates scaled to
-// [-1, 1] and e an error symbol in [-1, 1], so the excess of a bound shrinks with the square of
-// the box's size (affine arithmetic: J. Stolfi, L. H. de Figueiredo, "Self-validated numerical
-// methods and applications", IMPA 1997; nonlinear steps by Taylor's theorem with the Lagrange
-// remainder).
+// so the certificate would need boxes of 1e-6. Taylor (below) keeps the first- and second-order
+// parts exactly: x = c + gx ex + gy ey + hxx ex^2 + hxy ex ey + hyy ey^2 + err e, with ex, ey the
+// box's two coordinates scaled to [-1, 1] and e an error symbol in [-1, 1], so the excess of a
+// bound shrinks with the cube of the box's size (a second-order Taylor model: K. Makino, M. Berz,
+// "Taylor models and other validated functional inclusion methods", Int. J. Pure Appl. Math. 4,
+// 2003; nonlinear steps by Taylor's theorem with the Lagrange remainder). Its first-order
+// predecessor (affine arithmetic: J. Stolfi, L. H. de Figueiredo, "Self-validated numerical
+// methods and applications", IMPA 1997) lumped every product's quadratic part into err, where the
+// rational blend's cancellations were lost: on a flat square patch, over a box 1/64 of the
+// domain wide, its bound of J was 170 times as wide as the second-order one (docs/certificate.md).
 //
 // Comparisons give a three-valued mask (certainly / possibly true); GP_SEL of an undecided mask
 // is the hull of both sides, GP_ANY is "possibly", GP_ALL "certainly", so that the branch-free
@@ -24,9 +28,9 @@
 #include <limits>
 
 #if defined(__GNUC__)
-#define SF_AFFINE_INLINE inline __attribute__((always_inline))
+#define SF_TAYLOR_INLINE inline __attribute__((always_inline))
 #else
-#define SF_AFFINE_INLINE inline
+#define SF_TAYLOR_INLINE inline
 #endif
 
 namespace sf::interval {
@@ -156,90 +160,135 @@ inline void gp_iv_twist_factors(Interval u, Interval v, Interval* f) {
   f[5] = u * (q * q);
 }
 
-/// An affine form c + gx ex + gy ey + err e over a box (ex, ey, e in [-1, 1]); see the top of
-/// this file. Every operation adds its rounding to err (a relative 2^-49 of the magnitudes it
-/// combined, plus the smallest subnormal), so the exact real result on every point of the box
-/// lies in the result's range.
-struct Affine {
-  double c = 0, gx = 0, gy = 0, err = 0;
-  Affine() = default;
-  Affine(double x) : c(x) {}  // NOLINT: a constant, like a scalar
-  Affine(double c_, double gx_, double gy_, double e) : c(c_), gx(gx_), gy(gy_), err(e) {}
-  /// The constant form of an interval (no correlation kept).
-  static Affine of(Interval i) {
+/// A second-order Taylor model c + gx ex + gy ey + hxx ex^2 + hxy ex ey + hyy ey^2 + err e over a
+/// box (ex, ey, e in [-1, 1]); see the top of this file. Products keep their terms up to the
+/// second order and bound the rest (third and fourth order, and every term err touches) in err;
+/// every operation adds its rounding to err (a relative 2^-49 of the magnitudes it combined, plus
+/// the smallest subnormal), so the exact real result on every point of the box lies in the
+/// result's range.
+struct Taylor {
+  double c = 0, gx = 0, gy = 0, hxx = 0, hxy = 0, hyy = 0, err = 0;
+  Taylor() = default;
+  Taylor(double x) : c(x) {}  // NOLINT: a constant, like a scalar
+  /// The first-order model c + gx ex + gy ey + err e.
+  Taylor(double c_, double gx_, double gy_, double e) : c(c_), gx(gx_), gy(gy_), err(e) {}
+  Taylor(double c_, double gx_, double gy_, double hxx_, double hxy_, double hyy_, double e)
+      : c(c_), gx(gx_), gy(gy_), hxx(hxx_), hxy(hxy_), hyy(hyy_), err(e) {}
+  /// The constant model of an interval (no correlation kept).
+  static Taylor of(Interval i) {
     if (!(i.lo > -kInf && i.hi < kInf)) return {0.0, 0.0, 0.0, kInf};
     const double m = 0.5 * i.lo + 0.5 * i.hi;
     return {m, 0.0, 0.0, roundUp(std::max(i.hi - m, m - i.lo))};
   }
-  double rad() const { return roundUp(std::fabs(gx) + std::fabs(gy) + err); }
+  /// Bounds of |first-order part| and |second-order part| over the box (not rounded).
+  SF_TAYLOR_INLINE double lin() const { return std::fabs(gx) + std::fabs(gy); }
+  SF_TAYLOR_INLINE double quad() const { return std::fabs(hxx) + std::fabs(hxy) + std::fabs(hyy); }
+  /// A bound of |x - c| over the box.
+  double rad() const { return wide(lin() + quad() + err); }
+  /// The range: ex^2 and ey^2 lie in [0, 1], so hxx ex^2 and hyy ey^2 take only their sign.
   Interval range() const {
-    if (!(err < kInf) || !(std::fabs(c) < kInf) || !(std::fabs(gx) < kInf) || !(std::fabs(gy) < kInf))
-      return {-kInf, kInf};
-    const double r = rad();
-    return {roundDown(c - r), roundUp(c + r)};
+    const double l = lin() + std::fabs(hxy) + err;
+    if (!(l < kInf) || !(std::fabs(c) < kInf) || !(quad() < kInf)) return {-kInf, kInf};
+    const double below = wide(l + std::max(0.0, -hxx) + std::max(0.0, -hyy));
+    const double above = wide(l + std::max(0.0, hxx) + std::max(0.0, hyy));
+    return {roundDown(c - below), roundUp(c + above)};
   }
   double lo() const { return range().lo; }
   double hi() const { return range().hi; }
 
   // A NaN or an infinity anywhere propagates to range(), which then gives the whole line.
+  /// A bound of a sum of up to eight non-negative terms, rounded up (infinity stays).
+  static SF_TAYLOR_INLINE double wide(double x) { return x * (1.0 + 0x1p-48) + DBL_TRUE_MIN; }
   /// A bound of a sum of non-negative terms, rounded up (infinity stays).
-  static SF_AFFINE_INLINE double up(double x) { return x * (1.0 + 0x1p-51) + DBL_TRUE_MIN; }
-  static SF_AFFINE_INLINE double slop(double mag) { return mag * 0x1p-49 + 4 * DBL_TRUE_MIN; }
-  friend SF_AFFINE_INLINE Affine operator+(Affine a, Affine b) {
-    const double mag = std::fabs(a.c) + std::fabs(a.gx) + std::fabs(a.gy) + a.err + std::fabs(b.c) + std::fabs(b.gx) +
-                       std::fabs(b.gy) + b.err;
-    return {a.c + b.c, a.gx + b.gx, a.gy + b.gy, up(a.err + b.err + slop(mag))};
+  static SF_TAYLOR_INLINE double up(double x) { return x * (1.0 + 0x1p-51) + DBL_TRUE_MIN; }
+  static SF_TAYLOR_INLINE double slop(double mag) { return mag * 0x1p-49 + 4 * DBL_TRUE_MIN; }
+  /// A bound of |x| over the box (not rounded).
+  SF_TAYLOR_INLINE double mag() const { return std::fabs(c) + lin() + quad() + err; }
+  friend SF_TAYLOR_INLINE Taylor operator+(Taylor a, Taylor b) {
+    return {a.c + b.c,
+            a.gx + b.gx,
+            a.gy + b.gy,
+            a.hxx + b.hxx,
+            a.hxy + b.hxy,
+            a.hyy + b.hyy,
+            up(a.err + b.err + slop(a.mag() + b.mag()))};
   }
-  friend SF_AFFINE_INLINE Affine operator-(Affine a) { return {-a.c, -a.gx, -a.gy, a.err}; }
-  friend SF_AFFINE_INLINE Affine operator-(Affine a, Affine b) { return a + (-b); }
-  /// The product's quadratic part A ex^2 + B ex ey + C ey^2 lies in (A + C) / 2 +- ((|A| + |C|) / 2
-  /// + |B|), since ex^2, ey^2 lie in [0, 1]: its middle goes to the centre.
-  friend SF_AFFINE_INLINE Affine operator*(Affine a, Affine b) {
-    const double la = std::fabs(a.gx) + std::fabs(a.gy), lb = std::fabs(b.gx) + std::fabs(b.gy);
-    const double mag = (std::fabs(a.c) + la + a.err) * (std::fabs(b.c) + lb + b.err);
-    const double A = a.gx * b.gx, B = a.gx * b.gy + a.gy * b.gx, C = a.gy * b.gy;
-    const double e = std::fabs(a.c) * b.err + std::fabs(b.c) * a.err + 0.5 * (std::fabs(A) + std::fabs(C)) +
-                     std::fabs(B) + a.err * lb + b.err * la + a.err * b.err;
-    return {a.c * b.c + 0.5 * (A + C), a.c * b.gx + b.c * a.gx, a.c * b.gy + b.c * a.gy, up(e + slop(mag))};
+  friend SF_TAYLOR_INLINE Taylor operator-(Taylor a) { return {-a.c, -a.gx, -a.gy, -a.hxx, -a.hxy, -a.hyy, a.err}; }
+  friend SF_TAYLOR_INLINE Taylor operator-(Taylor a, Taylor b) { return a + (-b); }
+  /// (ca + La + Qa + Ea e)(cb + Lb + Qb + Eb e'), L and Q the first- and second-order parts: the
+  /// terms up to the second order exactly; La Qb + Qa Lb + Qa Qb and every term with an E in err.
+  friend SF_TAYLOR_INLINE Taylor operator*(Taylor a, Taylor b) {
+    const double la = a.lin(), lb = b.lin(), qa = a.quad(), qb = b.quad();
+    const double pa = std::fabs(a.c) + la + qa, pb = std::fabs(b.c) + lb + qb;  // bounds of |x - err e|
+    const double e = la * qb + qa * lb + qa * qb + a.err * pb + b.err * pa + a.err * b.err;
+    return {a.c * b.c,
+            a.c * b.gx + b.c * a.gx,
+            a.c * b.gy + b.c * a.gy,
+            a.c * b.hxx + b.c * a.hxx + a.gx * b.gx,
+            a.c * b.hxy + b.c * a.hxy + a.gx * b.gy + a.gy * b.gx,
+            a.c * b.hyy + b.c * a.hyy + a.gy * b.gy,
+            up(e + slop((pa + a.err) * (pb + b.err)))};
   }
-  /// 1 / b: the tangent at b.c plus the Lagrange remainder R^2 / (min|x| c^2); the whole line
-  /// where b's range holds 0.
-  friend Affine recip(Affine b) {
+  /// f(x) = f0 + f1 d + f2 d^2 + rem e with d = x - c: the second-order Taylor polynomial of f at
+  /// the centre (f0 = f(c), f1 = f'(c), f2 = f''(c) / 2, each within a few roundings) plus
+  /// rem >= 0, a bound of the Lagrange remainder over the range.
+  static Taylor expand(const Taylor& x, double f0, double f1, double f2, double rem) {
+    Taylor d = x;
+    d.c = 0;
+    const Taylor d2 = d * d;
+    const double R = x.rad();
+    const double mag = std::fabs(f0) + std::fabs(f1) * R + std::fabs(f2) * R * R + rem;
+    return {f0,
+            f1 * d.gx,
+            f1 * d.gy,
+            f1 * d.hxx + f2 * d2.hxx,
+            f1 * d.hxy + f2 * d2.hxy,
+            f1 * d.hyy + f2 * d2.hyy,
+            up(std::fabs(f1) * d.err + std::fabs(f2) * d2.err + rem + slop(4 * mag))};
+  }
+  /// 1 / b: 1/x = 1/c - d/c^2 + d^2/c^3 - d^3 / (c^3 x) exactly, so the remainder is at most
+  /// R^3 / (|c|^3 min|x|) (R = rad()); where that model is wider than the interval 1 / range, the
+  /// interval (near a pole the remainder grows without bound); the whole line where b's range
+  /// holds 0.
+  friend Taylor recip(Taylor b) {
     const Interval r = b.range();
     if (r.lo <= 0 && r.hi >= 0) return {0.0, 0.0, 0.0, kInf};
-    const double xmin = std::min(std::fabs(r.lo), std::fabs(r.hi)), c0 = b.c;
-    const double f = 1.0 / c0, d = -f * f, R = b.rad();
-    const double rem = R * R / (xmin * c0 * c0);
-    const double mag = std::fabs(f) + std::fabs(d) * R + rem;
-    return {f, d * b.gx, d * b.gy, up(std::fabs(d) * b.err + rem + slop(mag))};
+    const double xmin = std::min(std::fabs(r.lo), std::fabs(r.hi)), f = 1.0 / b.c, R = b.rad();
+    const double ac = std::fabs(b.c);
+    const Taylor t = expand(b, f, -f * f, f * f * f, (R * R * R) / ((ac * ac) * (ac * xmin)));
+    return narrower(t, Interval(1.0) / r);
   }
-  friend Affine operator/(Affine a, Affine b) { return a * recip(b); }
-  Affine& operator+=(Affine b) { return *this = *this + b; }
-  Affine& operator-=(Affine b) { return *this = *this - b; }
-  Affine& operator*=(Affine b) { return *this = *this * b; }
+  friend Taylor operator/(Taylor a, Taylor b) { return a * recip(b); }
+  Taylor& operator+=(Taylor b) { return *this = *this + b; }
+  Taylor& operator-=(Taylor b) { return *this = *this - b; }
+  Taylor& operator*=(Taylor b) { return *this = *this * b; }
 
-  friend Mask operator<(Affine a, Affine b) { return a.range() < b.range(); }
-  friend Mask operator>(Affine a, Affine b) { return a.range() > b.range(); }
-  friend Mask operator<=(Affine a, Affine b) { return a.range() <= b.range(); }
-  friend Mask operator>=(Affine a, Affine b) { return a.range() >= b.range(); }
+  friend Mask operator<(Taylor a, Taylor b) { return a.range() < b.range(); }
+  friend Mask operator>(Taylor a, Taylor b) { return a.range() > b.range(); }
+  friend Mask operator<=(Taylor a, Taylor b) { return a.range() <= b.range(); }
+  friend Mask operator>=(Taylor a, Taylor b) { return a.range() >= b.range(); }
 
-  /// sqrt: the tangent at c plus the remainder R^2 / (8 min(x)^1.5); where the range reaches
-  /// 0, the interval [0, sqrt(hi)].
-  friend Affine gp_sqrt(Affine a) {
+  /// sqrt: the third derivative over 6 is 1 / (16 x^2.5), so the remainder is at most
+  /// R^3 / (16 min(x)^2.5); where that model is wider than the interval sqrt(range), the interval,
+  /// as where the range reaches 0.
+  friend Taylor gp_sqrt(Taylor a) {
     const Interval r = a.range();
     if (!(r.lo > 0) || !(a.c > 0)) return of(gp_sqrt(r));
-    const double s = std::sqrt(a.c), d = 0.5 / s, R = a.rad();
-    const double rem = R * R / (8.0 * r.lo * std::sqrt(r.lo));
-    const double mag = s + d * R + rem;
-    return {s, d * a.gx, d * a.gy, up(d * a.err + rem + slop(mag))};
+    const double s = std::sqrt(a.c), R = a.rad();
+    const Taylor t = expand(a, s, 0.5 / s, -0.125 / (a.c * s), (R * R * R) / (16.0 * (r.lo * r.lo) * std::sqrt(r.lo)));
+    return narrower(t, gp_sqrt(r));
   }
-  friend Affine gp_fabs(Affine a) {
+  /// t, or the constant model of i where t's uncorrelated part alone is wider than i (both
+  /// enclose the same function; the model's correlation is worth keeping wherever it is not lost
+  /// in its error term).
+  static Taylor narrower(const Taylor& t, Interval i) { return !(t.err > 0.5 * (i.hi - i.lo)) ? t : of(i); }
+  friend Taylor gp_fabs(Taylor a) {
     const Interval r = a.range();
     if (r.lo >= 0) return a;
     if (r.hi <= 0) return -a;
     return of(gp_fabs(r));
   }
-  friend Affine gp_sel(Mask m, Affine a, Affine b) {
+  friend Taylor gp_sel(Mask m, Taylor a, Taylor b) {
     if (m.certain) return a;
     if (!m.possible) return b;
     const Interval ra = a.range(), rb = b.range();
@@ -247,78 +296,78 @@ struct Affine {
   }
 };
 
-/// The domain distances' clamp at 0, on affine forms: x itself. At a point of the domain every
+/// The domain distances' clamp at 0, on Taylor models: x itself. At a point of the domain every
 /// d_k >= 0 already (the scalar clamp only absorbs rounding); a box that crosses the domain's
 /// boundary then encloses the unclamped continuation there too, a superset of what its points
-/// in the domain take. Clamping would turn d_k into a constant form and lose the first-order
+/// in the domain take. Clamping would turn d_k into a constant model and lose the
 /// correlation that keeps the Hermite basis' cancellations (80 times wider bounds, measured).
-inline Affine gp_iv_clamp0(Affine x) { return x; }
+inline Taylor gp_iv_clamp0(Taylor x) { return x; }
 
-/// a / (a + b) for a, b >= 0: as an affine quotient where a + b > 0 on the box, else from the
+/// a / (a + b) for a, b >= 0: as a Taylor quotient where a + b > 0 on the box, else from the
 /// monotone interval bounds (gp_iv_ratio of the ranges).
-inline Affine gp_iv_ratio(Affine a, Affine b) {
-  const Affine s = a + b;
+inline Taylor gp_iv_ratio(Taylor a, Taylor b) {
+  const Taylor s = a + b;
   if (s.lo() > 0) return a * recip(s);
-  return Affine::of(gp_iv_ratio(a.range(), b.range()));
+  return Taylor::of(gp_iv_ratio(a.range(), b.range()));
 }
 
-/// The twist term's factors (see the Interval version): as affine forms where u + v > 0 on the
+/// The twist term's factors (see the Interval version): as Taylor models where u + v > 0 on the
 /// box, else from the monotone interval bounds.
-inline void gp_iv_twist_factors(Affine u, Affine v, Affine* f) {
-  const Affine s = u + v;
+inline void gp_iv_twist_factors(Taylor u, Taylor v, Taylor* f) {
+  const Taylor s = u + v;
   if (s.lo() > 0) {
-    const Affine is = recip(s), m = u * v * is, p = v * is, q = u * is;
+    const Taylor is = recip(s), m = u * v * is, p = v * is, q = u * is;
     f[0] = m * v;
     f[1] = m * u;
     f[2] = v * (p * p);
-    f[3] = m * (Affine(1.0) + p);
-    f[4] = m * (Affine(1.0) + q);
+    f[3] = m * (Taylor(1.0) + p);
+    f[4] = m * (Taylor(1.0) + q);
     f[5] = u * (q * q);
     return;
   }
   Interval fi[6];
   gp_iv_twist_factors(u.range(), v.range(), fi);
-  for (int i = 0; i < 6; ++i) f[i] = Affine::of(fi[i]);
+  for (int i = 0; i < 6; ++i) f[i] = Taylor::of(fi[i]);
 }
 
 /// Pieces of a wide edge parameter range (gp_eval.h): a range wider than 1/16 is cut into
 /// pieces at most 1/32 wide (gp_iv_pieces of them) whose evaluations' hull encloses the edge
 /// functions on it.
-inline bool gp_iv_wide(Affine t) {
+inline bool gp_iv_wide(Taylor t) {
   const Interval r = t.range();
   return !(r.hi - r.lo <= 1.0 / 16);
 }
 /// t's range clipped to [0, 1] (t's part in the domain: t_k lies in [0, 1] at every point of it).
-inline Interval gp_iv_unit_part(Affine t) {
+inline Interval gp_iv_unit_part(Taylor t) {
   const Interval r = t.range();
   double lo = std::max(0.0, r.lo), hi = std::min(1.0, r.hi);
   if (!(lo <= hi)) lo = hi = std::clamp(r.lo, 0.0, 1.0);  // no point of the domain: any value
   return {lo, hi};
 }
-inline int gp_iv_pieces(Affine t) {
+inline int gp_iv_pieces(Taylor t) {
   const Interval r = gp_iv_unit_part(t);
   return std::max(1, static_cast<int>(std::ceil((r.hi - r.lo) * 32)));
 }
-/// Piece i of m of t's unit part; neighbouring pieces share their bound. The form runs on the
+/// Piece i of m of t's unit part; neighbouring pieces share their bound. The model runs on the
 /// first noise symbol, so that what is computed from it keeps its first-order dependence on t:
-/// it must not meet the box's forms, only its range may (gp_iv_hull).
-inline Affine gp_iv_piece(Affine t, int i, int m) {
+/// it must not meet the box's models, only its range may (gp_iv_hull).
+inline Taylor gp_iv_piece(Taylor t, int i, int m) {
   const Interval r = gp_iv_unit_part(t);
   const double lo = r.lo, hi = r.hi, w = hi - lo;
   const double a = i == 0 ? lo : lo + w * i / m;
   const double b = i + 1 == m ? hi : lo + w * (i + 1) / m;
   const double c = 0.5 * a + 0.5 * b;
-  return Affine(c, roundUp(std::max(b - c, c - a)), 0.0, 0.0);
+  return Taylor(c, roundUp(std::max(b - c, c - a)), 0.0, 0.0);
 }
-/// True when the form's range is bounded.
-inline bool gp_iv_bounded(Affine a) {
+/// True when the model's range is bounded.
+inline bool gp_iv_bounded(Taylor a) {
   const Interval r = a.range();
   return r.lo > -kInf && r.hi < kInf;
 }
-/// The hull of two forms' ranges, as a constant form.
-inline Affine gp_iv_hull(Affine a, Affine b) {
+/// The hull of two models' ranges, as a constant model.
+inline Taylor gp_iv_hull(Taylor a, Taylor b) {
   const Interval ra = a.range(), rb = b.range();
-  return Affine::of({std::min(ra.lo, rb.lo), std::max(ra.hi, rb.hi)});
+  return Taylor::of({std::min(ra.lo, rb.lo), std::max(ra.hi, rb.hi)});
 }
 
 }  // namespace sf::interval

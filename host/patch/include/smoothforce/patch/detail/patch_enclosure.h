@@ -11,7 +11,7 @@ namespace sf::detail {
 /// Bounds of G, dG/dxi and dG/deta (each 3 coordinates) over the box [x0, x1] x [y0, y1] of the
 /// domain of the patch with records recs (n * GP_E_NFIELDS, record-major, double), for every
 /// point of the box that lies in the domain (the regular n-gon): the patch math of kernels/
-/// evaluated in affine arithmetic (gp_interval.h).
+/// evaluated on second-order Taylor models (gp_interval.h).
 struct PatchEnclosure {
   interval::Interval pos[3], dxi[3], deta[3];
   interval::Interval J;  ///< dot(dG/dxi x dG/deta, nFace)
