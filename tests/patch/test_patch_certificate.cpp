@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <numbers>
 #include <random>
 
@@ -176,6 +177,60 @@ TEST(PatchCertificate, EnclosuresHoldEverySampledPointOfEveryBox) {
   EXPECT_EQ(violations, 0);
   EXPECT_EQ(boxes, 6864);
   EXPECT_GT(points, 50000);
+}
+
+/// The value of model t's polynomial part at (ex, ey) of its box.
+double polynomialAt(const interval::Taylor& t, double ex, double ey) {
+  return t.c + t.gx * ex + t.gy * ey + t.hxx * ex * ex + t.hxy * ex * ey + t.hyy * ey * ey;
+}
+
+TEST(PatchCertificate, TaylorModelsHoldEverySampledValueOfTheirOperations) {
+  // random exact quadratics a, b over the box (no error term), each operation's model against
+  // the same function evaluated in double at 7 x 7 points of the box: |f - P| <= err, up to the
+  // double evaluation's own rounding; reciprocals and square roots also near their pole, where
+  // the model falls back to the interval
+  using interval::Taylor;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> U(-1, 1);
+  auto quadratic = [&](double centre, double spread) {
+    return Taylor(centre, spread * U(rng), spread * U(rng), 0.3 * spread * U(rng), 0.3 * spread * U(rng),
+                  0.3 * spread * U(rng), 0.0);
+  };
+  long checked = 0, violations = 0, fallbacks = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    const double spread = std::pow(10.0, -3 + 3 * (U(rng) + 1) / 2);  // 1e-3 .. 1
+    const Taylor a = quadratic(2 * U(rng), spread), b = quadratic(2 * U(rng), spread);
+    const Taylor p = quadratic(1.5 + U(rng), spread);  // positive for most spreads, near 0 for some
+    struct Op {
+      Taylor model;
+      std::function<double(double, double)> f;
+    };
+    std::vector<Op> ops = {
+        {a + b, [&](double x, double y) { return polynomialAt(a, x, y) + polynomialAt(b, x, y); }},
+        {a - b, [&](double x, double y) { return polynomialAt(a, x, y) - polynomialAt(b, x, y); }},
+        {a * b, [&](double x, double y) { return polynomialAt(a, x, y) * polynomialAt(b, x, y); }},
+        {a * b * a, [&](double x, double y) { return polynomialAt(a, x, y) * polynomialAt(b, x, y) * polynomialAt(a, x, y); }}};
+    if (!(p.range().lo <= 0)) {
+      ops.push_back({recip(p), [&](double x, double y) { return 1 / polynomialAt(p, x, y); }});
+      ops.push_back({gp_sqrt(p), [&](double x, double y) { return std::sqrt(polynomialAt(p, x, y)); }});
+      ops.push_back({a / p, [&](double x, double y) { return polynomialAt(a, x, y) / polynomialAt(p, x, y); }});
+      fallbacks += recip(p).gx == 0 && p.gx != 0;
+    }
+    for (const Op& op : ops)
+      for (int i = 0; i <= 6; ++i)
+        for (int j = 0; j <= 6; ++j) {
+          const double x = -1 + i / 3.0, y = -1 + j / 3.0, v = op.f(x, y);
+          ++checked;
+          const double slack = 1e-14 * (std::fabs(v) + op.model.mag());
+          violations += !(std::fabs(v - polynomialAt(op.model, x, y)) <= op.model.err + slack) ||
+                        !op.model.range().contains(v);
+        }
+  }
+  std::printf("Taylor models: %ld sampled values, %ld outside their model; %ld reciprocals fell back to the interval\n",
+              checked, violations, fallbacks);
+  EXPECT_EQ(violations, 0);
+  EXPECT_GT(checked, 500000);
+  EXPECT_GT(fallbacks, 0);
 }
 
 TEST(PatchCertificate, CertifiedPatchesTurnNowhereAgainstTheirDirection) {
