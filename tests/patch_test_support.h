@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -127,6 +128,28 @@ inline G1Stats measureG1(const PatchCache& c, double delta, int samples = 9) {
     }
   }
   return st;
+}
+
+/// Face f's edge records (every field, in the cache's precision), status and bulge, bit for bit.
+inline bool samePatch(const PatchCache& a, const PatchCache& b, int f) {
+  const size_t C = a.faceVertices.size();
+  for (int s = a.faceOffsets[f]; s < a.faceOffsets[f + 1]; ++s)
+    for (size_t i = 0; i < GP_E_NFIELDS; ++i) {
+      const bool same = a.options.precision == Precision::Double
+                            ? std::memcmp(&a.edgeDataD[i * C + s], &b.edgeDataD[i * C + s], sizeof(double)) == 0
+                            : std::memcmp(&a.edgeDataF[i * C + s], &b.edgeDataF[i * C + s], sizeof(float)) == 0;
+      if (!same) return false;
+    }
+  return a.faceStatus[f] == b.faceStatus[f] && std::memcmp(&a.faceBulge[f], &b.faceBulge[f], sizeof(float)) == 0;
+}
+
+/// True when a and b give face f's edge curves the same end tangents (PatchCache::edgeTangents,
+/// an empty array giving none).
+inline bool sameEndTangents(const PatchCache& a, const PatchCache& b, int f) {
+  for (size_t i = 6 * size_t(a.faceOffsets[f]); i < 6 * size_t(a.faceOffsets[f + 1]); ++i)
+    if ((a.edgeTangents.empty() ? 0.0 : a.edgeTangents[i]) != (b.edgeTangents.empty() ? 0.0 : b.edgeTangents[i]))
+      return false;
+  return true;
 }
 
 }  // namespace sf::test

@@ -10,7 +10,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -32,18 +31,7 @@ PatchCache builtCache(const std::string& rel, Precision p, FoldRepairMode mode) 
   return buildPatchCache(loadMesh(test::sharedMesh(rel), o), o, Backend::Tbb);
 }
 
-/// Face f's records, status and bulge bit for bit.
-bool samePatch(const PatchCache& a, const PatchCache& b, int f) {
-  const size_t C = a.faceVertices.size();
-  for (int s = a.faceOffsets[f]; s < a.faceOffsets[f + 1]; ++s)
-    for (size_t i = 0; i < GP_E_NFIELDS; ++i) {
-      const bool same = a.options.precision == Precision::Double
-                            ? std::memcmp(&a.edgeDataD[i * C + s], &b.edgeDataD[i * C + s], sizeof(double)) == 0
-                            : std::memcmp(&a.edgeDataF[i * C + s], &b.edgeDataF[i * C + s], sizeof(float)) == 0;
-      if (!same) return false;
-    }
-  return a.faceStatus[f] == b.faceStatus[f] && std::memcmp(&a.faceBulge[f], &b.faceBulge[f], sizeof(float)) == 0;
-}
+using test::samePatch;
 
 int differingFaces(const PatchCache& a, const PatchCache& b) {
   int n = 0;
@@ -55,11 +43,7 @@ int differingFaces(const PatchCache& a, const PatchCache& b) {
 std::vector<int> facesWithOtherEndTangents(const PatchCache& a, const PatchCache& b) {
   std::vector<int> out;
   for (int f = 0; f < a.numFaces(); ++f)
-    for (size_t i = 6 * size_t(a.faceOffsets[f]); i < 6 * size_t(a.faceOffsets[f + 1]); ++i)
-      if ((a.edgeTangents.empty() ? 0.0 : a.edgeTangents[i]) != (b.edgeTangents.empty() ? 0.0 : b.edgeTangents[i])) {
-        out.push_back(f);
-        break;
-      }
+    if (!test::sameEndTangents(a, b, f)) out.push_back(f);
   return out;
 }
 

@@ -67,23 +67,8 @@ Eigen::Vector3d cornerNormal(const PatchCache& c, int s) {
   return {c.cornerNormals[3 * s], c.cornerNormals[3 * s + 1], c.cornerNormals[3 * s + 2]};
 }
 
-/// The edge records of face f's slots, every field, as bytes.
-bool samePatch(const PatchCache& a, const PatchCache& b, int f) {
-  const size_t C = a.faceVertices.size();
-  for (int s = a.faceOffsets[f]; s < a.faceOffsets[f + 1]; ++s)
-    for (size_t i = 0; i < GP_E_NFIELDS; ++i)
-      if (std::memcmp(&a.edgeDataD[i * C + s], &b.edgeDataD[i * C + s], sizeof(double)) != 0) return false;
-  return a.faceStatus[f] == b.faceStatus[f];
-}
-
-/// True when a and b give face f's edge curves the same end tangents (PatchCache::edgeTangents,
-/// an empty array giving none).
-bool sameEndTangents(const PatchCache& a, const PatchCache& b, int f) {
-  for (size_t i = 6 * size_t(a.faceOffsets[f]); i < 6 * size_t(a.faceOffsets[f + 1]); ++i)
-    if ((a.edgeTangents.empty() ? 0.0 : a.edgeTangents[i]) != (b.edgeTangents.empty() ? 0.0 : b.edgeTangents[i]))
-      return false;
-  return true;
-}
+using test::sameEndTangents;
+using test::samePatch;
 
 /// Checks what the search promises of `after` (searched from `before`): normals within the
 /// bound and reported as turned, untouched corners bit for bit, and patches bit for bit where no
