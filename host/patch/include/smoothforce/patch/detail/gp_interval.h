@@ -247,9 +247,9 @@ struct Taylor {
             up(std::fabs(f1) * d.err + std::fabs(f2) * d2.err + rem + slop(4 * mag))};
   }
   /// 1 / b: 1/x = 1/c - d/c^2 + d^2/c^3 - d^3 / (c^3 x) exactly, so the remainder is at most
-  /// R^3 / (|c|^3 min|x|) (R = rad()); where that model is wider than the interval 1 / range, the
-  /// interval (near a pole the remainder grows without bound); the whole line where b's range
-  /// holds 0.
+  /// R^3 / (|c|^3 min|x|) (R = rad()); the interval 1 / range where the model's error term is
+  /// wider than that (narrower: near a pole the remainder grows without bound); the whole line
+  /// where b's range holds 0.
   friend Taylor recip(Taylor b) {
     const Interval r = b.range();
     if (r.lo <= 0 && r.hi >= 0) return {0.0, 0.0, 0.0, kInf};
@@ -269,8 +269,8 @@ struct Taylor {
   friend Mask operator>=(Taylor a, Taylor b) { return a.range() >= b.range(); }
 
   /// sqrt: the third derivative over 6 is 1 / (16 x^2.5), so the remainder is at most
-  /// R^3 / (16 min(x)^2.5); where that model is wider than the interval sqrt(range), the interval,
-  /// as where the range reaches 0.
+  /// R^3 / (16 min(x)^2.5); the interval sqrt(range) where the model's error term is wider than
+  /// that (narrower), and where the range reaches 0.
   friend Taylor gp_sqrt(Taylor a) {
     const Interval r = a.range();
     if (!(r.lo > 0) || !(a.c > 0)) return of(gp_sqrt(r));
@@ -278,9 +278,10 @@ struct Taylor {
     const Taylor t = expand(a, s, 0.5 / s, -0.125 / (a.c * s), (R * R * R) / (16.0 * (r.lo * r.lo) * std::sqrt(r.lo)));
     return narrower(t, gp_sqrt(r));
   }
-  /// t, or the constant model of i where t's uncorrelated part alone is wider than i (both
-  /// enclose the same function; the model's correlation is worth keeping wherever it is not lost
-  /// in its error term).
+  /// t, or the constant model of i where t's error term alone is wider than i's half-width (both
+  /// enclose the same function; the model's correlation is worth keeping wherever its error term
+  /// does not swamp it: a model whose range is a little wider than i keeps the cancellations
+  /// that the operations after it need).
   static Taylor narrower(const Taylor& t, Interval i) { return !(t.err > 0.5 * (i.hi - i.lo)) ? t : of(i); }
   friend Taylor gp_fabs(Taylor a) {
     const Interval r = a.range();
