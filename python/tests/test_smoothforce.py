@@ -709,3 +709,33 @@ def test_every_bad_sweep_option_gets_the_shared_message(spot, key, value, expect
     with pytest.raises(ValueError) as e:
         sf.sweep(cache, depths="1%", **{key: value})
     assert str(e.value) == f"{key}: expected {expected}, got '{value}'"
+
+
+def test_certify_margins_match_the_command_line_and_survive_save(paths, tmp_path):
+    """Cache.certify() on pmp/L.off as read (its hexagon proven folded) and cut into convex pieces
+    (both certified): the margins are None before, a read-only (F,) float32 view after, the same on a
+    second call, written by save() and read back bit for bit, and `cache info --json` of the saved
+    file counts the same certified, folded and undecided faces with the same smallest margin. A lazy
+    cache is refused."""
+    path = str(paths["shared"] / "pmp" / "L.off")
+    counts = {}
+    for repair in ("off", "on"):
+        cache = sf.Cache.from_file(path, fold_repair=repair)
+        assert cache.certificates is None
+        m = cache.certify()
+        assert m.dtype == np.float32 and m.shape == (cache.num_faces,) and not m.flags.writeable
+        assert np.array_equal(cache.certify(), m) and np.array_equal(cache.certificates, m)
+        saved = tmp_path / f"L_{repair}.sfcache"
+        cache.save(str(saved))
+        assert np.array_equal(sf.Cache.from_file(str(saved)).certificates, m)
+        info = json.loads(subprocess.run([paths["cli"], "cache", "info", str(saved), "--json"], check=True,
+                                         capture_output=True, text=True).stdout)["certificate"]
+        assert info["certified"] == int((m > 0).sum())
+        assert info["folded"] == int((m < 0).sum()) and info["undecided"] == int((m == 0).sum())
+        assert info["folded_faces"] == [int(f) for f in np.flatnonzero(m < 0)]
+        if (m > 0).any():
+            assert info["min_margin"] == pytest.approx(float(m[m > 0].min()), rel=1e-6)
+        counts[repair] = (int((m > 0).sum()), int((m < 0).sum()), cache.num_faces)
+    assert counts == {"off": (0, 1, 1), "on": (2, 0, 2)}
+    with pytest.raises(ValueError, match="lazy"):
+        sf.Cache.from_file(path, lazy=True).certify()

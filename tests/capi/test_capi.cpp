@@ -28,6 +28,7 @@
 #include <smoothforce/mesh/topology.h>
 #include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/patch/patch_certificate.h>
 #include <smoothforce/query/normal_search.h>
 #include <smoothforce/patch/patch_eval.h>
 #include <smoothforce/patch/tangent_fans.h>
@@ -905,6 +906,54 @@ TEST(CApi, FoldRepairSearchReportsEveryTurnedNormal) {
   EXPECT_EQ(sf_cache_normal_turn(searched.get(), -1, 0), -1);
   EXPECT_EQ(sf_cache_normal_turn(nullptr, 0, 0), -1);
   std::filesystem::remove_all(dir);
+}
+
+/// sf_cache_certify against C++ certifyPatches on the same cache, face by face and bit for bit:
+/// pmp/L.off as read (its hexagon proven folded) and cut into convex pieces (certified), and the
+/// cube; the count it returns, a second call (the stored margins again), NULL outputs, and a lazy
+/// cache refused with a message.
+TEST(CApi, CertifyEqualsTheCppCertificateOnEveryFace) {
+  int faces = 0, certifiedTotal = 0, foldedTotal = 0;
+  for (const auto& [rel, repair] : {std::pair<std::string, const char*>{"pmp/L.off", "off"},
+                                    {"pmp/L.off", "on"},
+                                    {"lagrange/cube.obj", "on"}}) {
+    SCOPED_TRACE(rel + " " + repair);
+    const std::string path = std::string(SF_SHARED_MESHES) + "/" + rel;
+    sf_cache_options o;
+    sf_cache_options_init(&o);
+    o.fold_repair = repair;
+    CachePtr c = fromFile(path, &o);
+    ASSERT_TRUE(c);
+    const int n = sf_cache_num_faces(c.get());
+    std::vector<float> margins(n, 7.0f), again(n, 7.0f);
+    int32_t certified = -1, certifiedAgain = -1;
+    ASSERT_EQ(sf_cache_certify(c.get(), margins.data(), &certified), SF_OK) << sf_cache_error(c.get());
+    ASSERT_EQ(sf_cache_certify(c.get(), again.data(), &certifiedAgain), SF_OK);
+    EXPECT_EQ(sf_cache_certify(c.get(), nullptr, nullptr), SF_OK);
+    EXPECT_EQ(again, margins);
+    EXPECT_EQ(certifiedAgain, certified);
+
+    sf::PatchOptions po;
+    po.foldRepair = std::string(repair) == "off" ? sf::FoldRepairMode::Off : sf::FoldRepairMode::On;
+    sf::PatchCache cpp = sf::buildPatchCache(sf::loadMesh(path, po), po, sf::Backend::Tbb);
+    const sf::CertificateSummary s = sf::certifyPatches(cpp);
+    ASSERT_EQ(static_cast<int>(cpp.faceCertificate.size()), n);
+    for (int f = 0; f < n; ++f) EXPECT_EQ(margins[f], cpp.faceCertificate[f]) << "face " << f;
+    EXPECT_EQ(certified, s.certified);
+    faces += n;
+    certifiedTotal += certified;
+    foldedTotal += s.folded;
+  }
+  EXPECT_EQ(faces, 1 + 2 + 6);
+  EXPECT_EQ(certifiedTotal, 2 + 6);  // the pieces and the cube
+  EXPECT_EQ(foldedTotal, 1);         // the hexagon as read
+  sf_cache_options o;
+  sf_cache_options_init(&o);
+  o.lazy = 1;
+  CachePtr lazy = fromFile(std::string(SF_SHARED_MESHES) + "/lagrange/cube.obj", &o);
+  float m[6];
+  EXPECT_EQ(sf_cache_certify(lazy.get(), m, nullptr), SF_ERROR_INPUT);
+  EXPECT_NE(std::string(sf_cache_error(lazy.get())).find("lazy"), std::string::npos);
 }
 
 }  // namespace
