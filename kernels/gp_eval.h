@@ -260,8 +260,14 @@ GP_FN_INLINE gp_eval_result gp_patch_eval_dom_n(const gp_domain* dom, const int 
     out.dxi = gp_sel3(has, gp_madd(gp_madd(out.dxi, r, wx), gp_add(gp_scale(ru, ux), gp_scale(rv, vx)), w), out.dxi);
     out.deta = gp_sel3(has, gp_madd(gp_madd(out.deta, r, wy), gp_add(gp_scale(ru, uy), gp_scale(rv, vy)), w), out.deta);
 #endif
+#ifndef GP_INTERVAL
     nfb = gp_sel3(has, gp_madd(nfb, gp_get3(rk, GP_E_N0), w), nfb);
+#endif
   }
+#ifdef GP_INTERVAL
+  /* the certificate bounds dG/dxi x dG/deta itself and reads no unit normal: none computed */
+  (void)nfb;
+#else
   if (deriv) {
     const gp_vec3 nn = gp_cross(out.dxi, out.deta);
     /* rank-deficient Jacobian (e.g. at a 180-degree corner): the normal is noise, flag it */
@@ -277,6 +283,7 @@ GP_FN_INLINE gp_eval_result gp_patch_eval_dom_n(const gp_domain* dom, const int 
       out.status |= GP_SEL(regular, (GP_STATUS)0u, (GP_STATUS)GP_ST_SINGULAR);
     }
   }
+#endif
   if (GP_ANY(outside)) { /* lanes only: some lanes outside */
     out.pos = gp_sel3(outside, gp_zero3(), out.pos);
     out.dxi = gp_sel3(outside, gp_zero3(), out.dxi);
