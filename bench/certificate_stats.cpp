@@ -4,7 +4,7 @@
 // (folded) or left undecided within the budget,
 // the smallest certified margin, the interval evaluations spent and the wall time; and the
 // construction's own sampled fold flag (GP_ST_FOLD) beside it.
-//   certificate_stats [--start S] [--depth D] [--cells C] [MESH...]   (default: every shared mesh)
+//   certificate_stats [--start S] [--quad-start Q] [--depth D] [--cells C] [MESH...]   (default: every shared mesh)
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -23,8 +23,12 @@ int run(std::vector<std::string> args) {
   CertificateOptions o;
   std::vector<std::string> meshes;
   for (size_t i = 0; i < args.size(); ++i) {
-    if ((args[i] == "--depth" || args[i] == "--cells" || args[i] == "--start") && i + 1 < args.size()) {
-      (args[i] == "--depth" ? o.maxDepth : args[i] == "--cells" ? o.maxCells : o.startDepth) = std::stoi(args[i + 1]);
+    if ((args[i] == "--depth" || args[i] == "--cells" || args[i] == "--start" || args[i] == "--quad-start") &&
+        i + 1 < args.size()) {
+      (args[i] == "--depth"   ? o.maxDepth
+       : args[i] == "--cells" ? o.maxCells
+       : args[i] == "--start" ? o.startDepth
+                              : o.quadStartDepth) = std::stoi(args[i + 1]);
       ++i;
     } else if (args[i].rfind("--", 0) == 0) {
       std::fprintf(stderr, "certificate_stats: unknown option %s\n", args[i].c_str());

@@ -111,7 +111,8 @@ PatchCertificate certifyAlong(int n, const std::array<Taylor, GP_MAX_N * GP_E_NF
   }
   std::vector<Box> stack;
   const int maxDepth = n == 3 ? o.triangleMaxDepth : o.maxDepth, maxCells = n == 3 ? o.triangleMaxCells : o.maxCells;
-  const int start = std::clamp(o.startDepth, 0, std::max(0, maxDepth)), g = 1 << std::min(start, 12);
+  const int start = std::clamp(n == 4 ? o.quadStartDepth : o.startDepth, 0, std::max(0, maxDepth)),
+            g = 1 << std::min(start, 12);
   for (int j = g - 1; j >= 0; --j)
     for (int i = g - 1; i >= 0; --i)
       stack.push_back({lo[0] + (hi[0] - lo[0]) * i / g, lo[0] + (hi[0] - lo[0]) * (i + 1) / g,

@@ -25,12 +25,14 @@ enum class CertificateVerdict : int {
 };
 
 /// Budget of the adaptive subdivision: the domain's bounding box is cut into a grid of
-/// 2^startDepth x 2^startDepth cells, and a cell that is neither proven nor disproven is split
-/// into quadrants, down to maxDepth levels (cells 2^-maxDepth of the box wide); at most
-/// maxCells evaluations per patch. On the spot cage's patches cells of 2^-7 to 2^-8 of the box
-/// prove J > 0; larger ones almost never do, hence the start. Triangles get their own, deeper
-/// budget: their blending's gradients are steeper (the edge parameters' denominators vanish at
-/// their domain's corners), and the bounds of a nearly flat triangle of a sphere (odedstein
+/// 2^startDepth x 2^startDepth cells (quads: 2^quadStartDepth), and a cell that is neither
+/// proven nor disproven is split into quadrants, down to maxDepth levels (cells 2^-maxDepth of
+/// the box wide); at most maxCells evaluations per patch. On the second-order models most of a
+/// quad's domain is proven on cells 2^-5 of the box; the other polygons' outer bands (near
+/// their domain's boundary, where the blending's denominators are small) need 2^-6 and finer,
+/// where a coarser start only adds the cells that fail (docs/certificate.md, "Start depth").
+/// Triangles get their own, deeper budget: their blending's gradients are steeper (the edge
+/// parameters' denominators vanish at their domain's corners), and the bounds of a nearly flat triangle of a sphere (odedstein
 /// sphere.obj) prove J > 0 only on cells of 2^-10 to 2^-11 of the box; three triangles of the
 /// spot cage's Catmull-Clark limit need cells of 2^-13 to 2^-14 near a corner (384,000-406,000
 /// cells), hence depth 14 and 500,000 cells.
@@ -39,6 +41,7 @@ enum class CertificateVerdict : int {
 /// "Budget and direction").
 struct CertificateOptions {
   int startDepth = 6;
+  int quadStartDepth = 5;
   int maxDepth = 11;
   int maxCells = 400000;
   int triangleMaxDepth = 14;
