@@ -205,14 +205,20 @@ struct SizeGroups {
   std::vector<size_t> start;     // faces of size n: [start[n], start[n + 1])
   std::vector<int32_t> creased;  // faces with a crease edge or given end tangents, in order
 };
+// the i-th of the faces `faces` (null: all of c's) and their number
+int faceAt(const std::vector<int>* faces, int i) { return faces ? (*faces)[i] : i; }
+int faceCount(const PatchCache& c, const std::vector<int>* faces) {
+  return faces ? static_cast<int>(faces->size()) : c.numFaces();
+}
+
 // the faces `faces` (null: all) by size
 SizeGroups groupBySize(const PatchCache& c, const std::vector<int>* faces) {
   SizeGroups g;
   g.start.assign(GP_MAX_N + 2, 0);
   std::vector<char> plain(c.numFaces(), 0);
-  const int count = faces ? static_cast<int>(faces->size()) : c.numFaces();
+  const int count = faceCount(c, faces);
   for (int i = 0; i < count; ++i) {
-    const int f = faces ? (*faces)[i] : i;
+    const int f = faceAt(faces, i);
     const int n = c.faceSize(f);
     if (n < 3 || n > GP_MAX_N) continue;
     if (faceHasCrease(c, f) || faceHasEdgeTangents(c, f)) {
@@ -226,15 +232,15 @@ SizeGroups groupBySize(const PatchCache& c, const std::vector<int>* faces) {
   g.faces.resize(g.start[GP_MAX_N + 1]);
   std::vector<size_t> pos(g.start.begin(), g.start.end() - 1);
   for (int i = 0; i < count; ++i)
-    if (const int f = faces ? (*faces)[i] : i; plain[f]) g.faces[pos[c.faceSize(f)]++] = f;
+    if (const int f = faceAt(faces, i); plain[f]) g.faces[pos[c.faceSize(f)]++] = f;
   return g;
 }
 
 // builds the faces `faces` (null: all)
 template <class Real>
 void buildAll(PatchCache& c, const BuildOptions& o, const std::vector<int>* faces) {
-  const int nf = faces ? static_cast<int>(faces->size()) : c.numFaces();
-  auto face = [faces](int i) { return faces ? (*faces)[i] : i; };
+  const int nf = faceCount(c, faces);
+  auto face = [faces](int i) { return faceAt(faces, i); };
   const SimdTarget target = resolveSimdTarget(o.simd);
   auto inArena = [&](auto&& body) {
     if (o.backend == Backend::Serial) return body();
