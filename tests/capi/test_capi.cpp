@@ -69,11 +69,16 @@ void domainPoints(const sf::PatchCache& c, std::vector<int32_t>& f, std::vector<
   }
 }
 
+/// The mesh at `path` built by the C++ API with the options o.
+sf::PatchCache cppCache(const std::string& path, const sf::PatchOptions& o) {
+  return sf::buildPatchCache(sf::loadMesh(path, o), o, sf::Backend::Tbb);
+}
+
 /// The spot cage built by the C++ API (as its Catmull-Clark limit with cage CatmullClark).
 sf::PatchCache cppCache(sf::CageMode cage = sf::CageMode::None) {
   sf::PatchOptions o;
   o.cage = cage;
-  return sf::buildPatchCache(sf::loadMesh(kSpot, o), o, sf::Backend::Tbb);
+  return cppCache(kSpot, o);
 }
 
 TEST(CApi, EvaluateEqualsTheEngineOnEveryFace) {
@@ -935,7 +940,7 @@ TEST(CApi, CertifyEqualsTheCppCertificateOnEveryFace) {
 
     sf::PatchOptions po;
     po.foldRepair = std::string(repair) == "off" ? sf::FoldRepairMode::Off : sf::FoldRepairMode::On;
-    sf::PatchCache cpp = sf::buildPatchCache(sf::loadMesh(path, po), po, sf::Backend::Tbb);
+    sf::PatchCache cpp = cppCache(path, po);
     const sf::CertificateSummary s = sf::certifyPatches(cpp);
     ASSERT_EQ(static_cast<int>(cpp.faceCertificate.size()), n);
     for (int f = 0; f < n; ++f) EXPECT_EQ(margins[f], cpp.faceCertificate[f]) << "face " << f;

@@ -121,7 +121,9 @@ bool checkAgainstSamples(const PatchCertificate& pc, int n, const double* recs, 
   int count = 0;
   const double cosine = other ? smallestSampledCosine(n, recs, 0, d, grid, &count) : cosineToFace;
   EXPECT_GE(cosine, pc.margin * (1 - 1e-12));
-  if (cosineToFace <= 0) EXPECT_TRUE(other) << "certified along the face normal with a sampled turn-over";
+  if (cosineToFace <= 0) {
+    EXPECT_TRUE(other) << "certified along the face normal with a sampled turn-over";
+  }
   return other;
 }
 
@@ -205,11 +207,12 @@ TEST(PatchCertificate, TaylorModelsHoldEverySampledValueOfTheirOperations) {
       Taylor model;
       std::function<double(double, double)> f;
     };
-    std::vector<Op> ops = {
-        {a + b, [&](double x, double y) { return polynomialAt(a, x, y) + polynomialAt(b, x, y); }},
-        {a - b, [&](double x, double y) { return polynomialAt(a, x, y) - polynomialAt(b, x, y); }},
-        {a * b, [&](double x, double y) { return polynomialAt(a, x, y) * polynomialAt(b, x, y); }},
-        {a * b * a, [&](double x, double y) { return polynomialAt(a, x, y) * polynomialAt(b, x, y) * polynomialAt(a, x, y); }}};
+    std::vector<Op> ops = {{a + b, [&](double x, double y) { return polynomialAt(a, x, y) + polynomialAt(b, x, y); }},
+                           {a - b, [&](double x, double y) { return polynomialAt(a, x, y) - polynomialAt(b, x, y); }},
+                           {a * b, [&](double x, double y) { return polynomialAt(a, x, y) * polynomialAt(b, x, y); }},
+                           {a * b * a, [&](double x, double y) {
+                              return polynomialAt(a, x, y) * polynomialAt(b, x, y) * polynomialAt(a, x, y);
+                            }}};
     if (!(p.range().lo <= 0)) {
       ops.push_back({recip(p), [&](double x, double y) { return 1 / polynomialAt(p, x, y); }});
       ops.push_back({gp_sqrt(p), [&](double x, double y) { return std::sqrt(polynomialAt(p, x, y)); }});
@@ -408,8 +411,10 @@ SampledRegularity sampleRegularity(const PatchCache& c, int f, int grid) {
         r.minSine = std::min(r.minSine, N.norm() / (e.dxi.norm() * e.deta.norm()));
         normal[i * (grid + 1) + j] = N.normalized();
         ++r.samples;
-        if (i > 0) r.minNeighbourCosine = std::min(r.minNeighbourCosine, N.normalized().dot(normal[(i - 1) * (grid + 1) + j]));
-        if (j > 0) r.minNeighbourCosine = std::min(r.minNeighbourCosine, N.normalized().dot(normal[i * (grid + 1) + j - 1]));
+        if (i > 0)
+          r.minNeighbourCosine = std::min(r.minNeighbourCosine, N.normalized().dot(normal[(i - 1) * (grid + 1) + j]));
+        if (j > 0)
+          r.minNeighbourCosine = std::min(r.minNeighbourCosine, N.normalized().dot(normal[i * (grid + 1) + j - 1]));
       }
     for (int i = 1; i < grid; ++i) {  // edge k, away from its corners
       const Eigen::Vector2d x = ref::refDomainEdgePoint(n, k, double(i) / grid, 1e-7);
@@ -464,7 +469,9 @@ TEST(PatchCertificate, RegularPatchesHaveNoSampledFoldAndMeetEveryEdgeAlongItsNo
       int count = 0;
       EXPECT_LE(smallestSampledCosine(n, recs.data(), 0, newellNormal(it.cache, it.face), 60, &count), 0.05);
     }
-    if (sampledTurn) EXPECT_NE(pc.verdict, CertificateVerdict::Regular);
+    if (sampledTurn) {
+      EXPECT_NE(pc.verdict, CertificateVerdict::Regular);
+    }
     std::printf("%s: verdict %d, %d cells; sampled sine %.3g, neighbour cosine %.3g, edge cosine %.3g\n",
                 it.name.c_str(), static_cast<int>(pc.verdict), pc.cells, r.minSine, r.minNeighbourCosine,
                 r.minEdgeCosine);
