@@ -307,7 +307,8 @@ void bindCache(pyb::module_& m) {
           "(its polygon's normal or, where that does not prove it, the mean of its corner normals). Returns\n"
           "the (F,) float32 margins (read-only view): > 0 certified (a lower bound on the cosine between\n"
           "patch normal and that direction), < 0 proven to turn over against its polygon, 0 undecided or no\n"
-          "patch. About a tenth of a second of one core per patch; save() then writes them.")
+          "patch. About 0.05 s of one core per quad, 0.1-1 s per triangle or larger polygon; save() then\n"
+          "writes them.")
       .def(
           "distance_to",
           [](const PyCache& self, const PyCache& other, const std::string& to, int level) {

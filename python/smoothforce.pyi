@@ -51,7 +51,8 @@ class Cache:
         (its polygon's normal or, where that does not prove it, the mean of its corner normals). Returns
         the (F,) float32 margins (read-only view): > 0 certified (a lower bound on the cosine between
         patch normal and that direction), < 0 proven to turn over against its polygon, 0 undecided or no
-        patch. About a second of one core per patch; save() then writes them.
+        patch. About 0.05 s of one core per quad, 0.1-1 s per triangle or larger polygon; save() then
+        writes them.
         """
     def distance_to(self, other: Cache, *, to: str = 'patches', level: int = 8) -> dict:
         """
