@@ -164,8 +164,8 @@ sf_status sf_cache_save(sf_cache* cache, const char* path);
  *  a value > 0 where certified (a lower bound on the cosine between the patch normal and the
  *  face normal), < 0 where the patch is proven to turn over, 0 where undecided or without
  *  patch; *certified (may be NULL) the number certified. Costs about 0.05 s of one core per quad
- *  and 0.1-1 s per triangle or larger polygon. sf_cache_save then writes them (cache format 2); haptics created before keep the
- *  cache they were made with. SF_ERROR_INPUT for a lazy cache. */
+ *  and 0.1-1 s per triangle or larger polygon. sf_cache_save then writes them (cache format 2);
+ *  haptics created before keep the cache they were made with. SF_ERROR_INPUT for a lazy cache. */
 sf_status sf_cache_certify(sf_cache* cache, float* margins, int32_t* certified);
 
 /** Evaluates count points on the patches: face (0-based) and (xi, eta) in the face's domain,

@@ -28,14 +28,14 @@ enum class CertificateVerdict : int {
 /// 2^startDepth x 2^startDepth cells (quads: 2^quadStartDepth), and a cell that is neither
 /// proven nor disproven is split into quadrants, down to maxDepth levels (cells 2^-maxDepth of
 /// the box wide); at most maxCells evaluations per patch. On the second-order models most of a
-/// quad's domain is proven on cells 2^-5 of the box; the other polygons' outer bands (near
-/// their domain's boundary, where the blending's denominators are small) need 2^-6 and finer,
-/// where a coarser start only adds the cells that fail (docs/certificate.md, "Start depth").
+/// quad's domain is proven on cells 2^-5 of the box; the other polygons' outer bands (near their
+/// domain's boundary, where the blending's denominators are small) need 2^-6 and finer, where a
+/// coarser start only adds the cells that fail (docs/certificate.md, "Quads start coarser").
 /// Triangles get their own, deeper budget: their blending's gradients are steeper (the edge
-/// parameters' denominators vanish at their domain's corners), and the bounds of a nearly flat triangle of a sphere (odedstein
-/// sphere.obj) prove J > 0 only on cells of 2^-10 to 2^-11 of the box; three triangles of the
-/// spot cage's Catmull-Clark limit need cells of 2^-13 to 2^-14 near a corner (384,000-406,000
-/// cells), hence depth 14 and 500,000 cells.
+/// parameters' denominators vanish at their domain's corners), and the bounds of a nearly flat
+/// triangle of a sphere (odedstein sphere.obj) prove J > 0 only on cells of 2^-10 to 2^-11 of the
+/// box; three triangles of the spot cage's Catmull-Clark limit need cells of 2^-13 to 2^-14 near a
+/// corner (384,000-406,000 cells), hence depth 14 and 500,000 cells.
 /// maxDepth 11: most patches the Newell normal leaves undecided at depth 9 are decided two
 /// levels deeper at little cost, since only the cells near J = 0 go deeper (docs/certificate.md,
 /// "Budget and direction").
