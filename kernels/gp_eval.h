@@ -72,7 +72,7 @@ GP_FN_INLINE gp_vec3 gp_iv_hull3(gp_vec3 a, gp_vec3 b) {
 
 /* The result of one patch evaluation. */
 typedef struct {
-  gp_vec3 pos, dxi, deta, normal; /* G, dG/dxi, dG/deta, unit normal */
+  gp_vec3 pos, dxi, deta, normal; /* G, dG/dxi, dG/deta, unit normal (zero under GP_INTERVAL) */
   GP_STATUS status;               /* GP_ST_* bits */
 } gp_eval_result;
 
