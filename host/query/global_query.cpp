@@ -109,9 +109,16 @@ PatchNearest refineCandidates(const SurfaceCandidate* c, int n, double spacing, 
     if (near(c[i].face, c[i].X)) continue;
     if (pending && matches(i)) {
       pending = false;
-      if (!firstStart || (surface && first->startMinimum && first->distance <= 2 * c[i].distance - c[i].lower &&
-                          surface->overTriangle(c[i].triangle, first->face, Eigen::Vector2d(first->xi, first->eta)))) {
+      if (!firstStart) {
         take(c[i].face, c[i].X, *first);
+        continue;
+      }
+      if (surface && first->startMinimum && first->distance <= 2 * c[i].distance - c[i].lower &&
+          surface->overTriangle(c[i].triangle, first->face, Eigen::Vector2d(first->xi, first->eta))) {
+        // the seed's own start, not the candidate's, marks the basin explored: the candidate's
+        // point may lie in another basin the error bound allows over that triangle, which the
+        // candidates beside it must still reach
+        take(firstStart->face, firstStart->X, *first);
         continue;
       }
     }
