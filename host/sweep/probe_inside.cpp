@@ -30,19 +30,23 @@ bool polygonsClosed(const PatchCache& cache) {
   return true;
 }
 
-/// About twice the level of the patch method's own query (PatchSurfaceOptions defaults), at most
-/// 64 and at most kBudget triangles (n L^2 per n-gon).
-int oracleLevel(const PatchCache& cache) {
-  constexpr double kBudget = 4e6;
-  const int chosen = choosePatchSurfaceLevel(cache, PatchSurfaceOptions{});
+/// The largest level (at most 64) whose uniform tessellation has at most `budget` triangles
+/// (n L^2 per n-gon).
+int levelWithin(const PatchCache& cache, double budget) {
   double perLevel2 = 0;  // triangles at level 1
   for (int f = 0; f < cache.numFaces(); ++f) perLevel2 += cache.faceSize(f);
-  const int fits = perLevel2 > 0 ? static_cast<int>(std::floor(std::sqrt(kBudget / perLevel2))) : 64;
-  return std::clamp(std::min(2 * chosen, fits), std::max(1, chosen), 64);
+  return perLevel2 > 0 ? static_cast<int>(std::floor(std::sqrt(budget / perLevel2))) : 64;
+}
+
+/// About twice the level of the patch method's own query (PatchSurfaceOptions defaults), at most
+/// 64 and at most 4 M triangles.
+int oracleLevel(const PatchCache& cache) {
+  const int chosen = choosePatchSurfaceLevel(cache, PatchSurfaceOptions{});
+  return std::clamp(std::min(2 * chosen, levelWithin(cache, 4e6)), std::max(1, chosen), 64);
 }
 }  // namespace
 
-ProbeInsideTest::ProbeInsideTest(const PatchCache& cache, ForceMethod method) {
+ProbeInsideTest::ProbeInsideTest(const PatchCache& cache, ForceMethod method) : cache_(&cache) {
   if (method == ForceMethod::Patch) {
     if (!hasPatchData(cache))
       throw InputError("inside test: the patch method's surface needs built patches (a prebuilt cache)");
@@ -86,7 +90,14 @@ int ProbeInsideTest::level() const noexcept { return surface_ ? surface_->level(
 double ProbeInsideTest::surfaceFaultDistance(const Eigen::Vector3d& q) const {
   if (!surface_ || !closed_) return std::numeric_limits<double>::infinity();
   std::call_once(faultsOnce_, [this] {
-    faults_ = faultTriangles(*surface_, measureSurfaceFaults(*surface_));
+    // folds and overlaps thinner than a triangle show only at finer levels: the finest level
+    // within 10^6 triangles (winding only, dropped once its faults are taken), and never coarser
+    // than the test's own
+    PatchSurfaceOptions o;
+    o.level = std::clamp(levelWithin(*cache_, 1e6), surface_->level(), 64);
+    o.windingOnly = true;
+    const PatchSurface fine(*cache_, o);
+    faults_ = faultTriangles(fine, measureSurfaceFaults(fine));
     std::vector<Eigen::Vector3d> centroids;
     for (const auto& t : faults_) {
       const Eigen::Vector3d c = (t[0] + t[1] + t[2]) / 3.0;

@@ -43,15 +43,16 @@ class ProbeInsideTest {
   std::vector<uint32_t> classify(const std::vector<Eigen::Vector3d>& hips) const;
   /// Level of the patch tessellation (0 for the polygon methods).
   int level() const noexcept;
-  /// Distance (m) from q to the nearest surface fault of the test's tessellation (surface_faults.h:
-  /// a folded, overlapping or thin triangle); infinite where there is none: the polygon methods,
-  /// an open surface, a surface without faults. The faults are measured on the first call
-  /// (measureSurfaceFaults over the test's triangles, in parallel: about a second for 10^6
-  /// triangles on 2 cores) and indexed (a k-d tree over their centroids), then reused;
-  /// thread-safe.
+  /// Distance (m) from q to the nearest surface fault of the patch surface (surface_faults.h: a
+  /// folded, overlapping or thin triangle of its uniform tessellation at the finest level within
+  /// 10^6 triangles, at most 64, at least level()); infinite where there is none: the polygon
+  /// methods, an open surface, a surface without faults. The faults are measured on the first
+  /// call (measureSurfaceFaults, in parallel: about a second for 10^6 triangles on 2 cores) and
+  /// indexed (a k-d tree over their centroids), then reused; thread-safe.
   double surfaceFaultDistance(const Eigen::Vector3d& q) const;
 
  private:
+  const PatchCache* cache_;
   bool closed_ = false;
   std::unique_ptr<const PatchSurface> surface_;
   mutable std::once_flag faultsOnce_;
