@@ -26,25 +26,31 @@ Eigen::Matrix<double, 3, 2> jacobian(const PatchPoint& p) {
 }
 
 /// Error bound of a triangle from its corners (domain X, evaluations c) and its 4 samples s: the
-/// larger of twice the sampled deviation |G(X) - linear(X)| and the first-order bound
-/// (h / 2) osc(J), h its longest domain edge and osc(J) the largest difference of the Jacobian
-/// between the 7 points (mean value theorem along each segment; it sees folds that the midpoints
-/// miss). Infinite when an evaluation is not finite.
+/// larger of twice the sampled deviation |G(X) - linear(X)| and a bound from the Jacobians J.
+/// With J = Jl + rho, Jl the linear interpolation of the corners' Jacobians (exact where G is
+/// quadratic), the mean value theorem along the segments from X to the corners V_a gives
+/// G(X) - linear(X) = -1/2 sum_a lambda_a J_a (V_a - X) - sum_a lambda_a avg(rho) (V_a - X): the
+/// first part is the quadratic that vanishes at the corners with midpoint values
+/// -(J_a - J_b)(V_a - V_b) / 8, at most 4/3 of the largest (at the centroid), and the second at most
+/// h max|rho| (h the longest domain edge), max|rho| taken at the 4 samples: it sees the folds and
+/// turns inside the triangle that the midpoints miss. Infinite when an evaluation is not finite.
 double triangleError(const std::array<Eigen::Vector2d, 3>& X, const PatchPoint* c, const PatchPoint* s) {
-  double dev = 0;
-  Eigen::Matrix<double, 3, 2> J[7];
+  double dev = 0, rho = 0;
+  Eigen::Matrix<double, 3, 2> J[3];
   for (int a = 0; a < 3; ++a) J[a] = jacobian(c[a]);
   for (int k = 0; k < 4; ++k) {
     const Eigen::Vector3d lin = kW[k][0] * c[0].pos + kW[k][1] * c[1].pos + kW[k][2] * c[2].pos;
     dev = std::max(dev, (s[k].pos - lin).norm());
-    J[3 + k] = jacobian(s[k]);
+    const Eigen::Matrix<double, 3, 2> Jl = kW[k][0] * J[0] + kW[k][1] * J[1] + kW[k][2] * J[2];
+    rho = std::max(rho, (jacobian(s[k]) - Jl).norm());
   }
-  double osc = 0;
-  for (int a = 0; a < 7; ++a)
-    for (int b = 0; b < a; ++b) osc = std::max(osc, (J[a] - J[b]).norm());
-  double h = 0;
-  for (int a = 0; a < 3; ++a) h = std::max(h, (X[a] - X[(a + 1) % 3]).norm());
-  const double e = std::max(2 * dev, 0.5 * h * osc);
+  double h = 0, quadratic = 0;
+  for (int a = 0; a < 3; ++a) {
+    const int b = (a + 1) % 3;
+    h = std::max(h, (X[a] - X[b]).norm());
+    quadratic = std::max(quadratic, ((J[a] - J[b]) * (X[a] - X[b])).norm() / 6);
+  }
+  const double e = std::max(2 * dev, quadratic + h * rho);
   return std::isfinite(e) ? e : std::numeric_limits<double>::infinity();
 }
 

@@ -66,11 +66,13 @@ struct PatchSurfaceOptions {
 ///
 /// Two tessellations (surface_tessellation.h), each triangle with an error bound on the distance
 /// between a patch point G(X) and the triangle's point at the same X: the larger of twice the
-/// largest such distance at its centroid and edge midpoints, and h osc(J) / 2 (h its longest
-/// domain edge, osc(J) the largest difference of the patch's Jacobian between those 7 points: a
-/// first-order bound that sees the folds the midpoints miss), plus the evaluation noise of the
-/// cache's precision. These are estimates, not proofs: the tests check the queries they serve
-/// against dense sampling and an independent inside test.
+/// largest such distance at its centroid and edge midpoints, and a bound from the patch's
+/// Jacobian J: the quadratic the corners' Jacobians predict (at most max |(J_a - J_b)(V_a - V_b)|
+/// / 6 over the domain edges) plus h max|J - Jl| (h its longest domain edge, Jl the linear
+/// interpolation of the corners' Jacobians, the difference taken at the centroid and edge
+/// midpoints: it sees the folds the midpoints miss), plus the evaluation noise of the cache's
+/// precision. These are estimates, not proofs: the tests check the queries they serve against
+/// dense sampling and an independent inside test.
 /// - uniform: every face at one level L (domainRingPoints: n L^2 triangles per n-gon; one L, so
 ///   that neighbouring patches share their boundary vertices up to rounding and the
 ///   tessellation is closed where the patch surface is): the rays of winding() and inErrorBand();
