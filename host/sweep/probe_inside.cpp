@@ -33,8 +33,7 @@ bool polygonsClosed(const PatchCache& cache) {
 /// The largest level (at most 64) whose uniform tessellation has at most `budget` triangles
 /// (n L^2 per n-gon).
 int levelWithin(const PatchCache& cache, double budget) {
-  double perLevel2 = 0;  // triangles at level 1
-  for (int f = 0; f < cache.numFaces(); ++f) perLevel2 += cache.faceSize(f);
+  const double perLevel2 = static_cast<double>(cache.numSlots());  // triangles at level 1
   return perLevel2 > 0 ? static_cast<int>(std::floor(std::sqrt(budget / perLevel2))) : 64;
 }
 
@@ -92,12 +91,17 @@ double ProbeInsideTest::surfaceFaultDistance(const Eigen::Vector3d& q) const {
   std::call_once(faultsOnce_, [this] {
     // folds and overlaps thinner than a triangle show only at finer levels: the finest level
     // within 10^6 triangles (winding only, dropped once its faults are taken), and never coarser
-    // than the test's own
-    PatchSurfaceOptions o;
-    o.level = std::clamp(levelWithin(*cache_, 1e6), surface_->level(), 64);
-    o.windingOnly = true;
-    const PatchSurface fine(*cache_, o);
-    faults_ = faultTriangles(fine, measureSurfaceFaults(fine));
+    // than the test's own, whose tessellation serves where it is that level (the same verdicts)
+    const int level = std::clamp(levelWithin(*cache_, 1e6), surface_->level(), 64);
+    if (level == surface_->level()) {
+      faults_ = faultTriangles(*surface_, measureSurfaceFaults(*surface_));
+    } else {
+      PatchSurfaceOptions o;
+      o.level = level;
+      o.windingOnly = true;
+      const PatchSurface fine(*cache_, o);
+      faults_ = faultTriangles(fine, measureSurfaceFaults(fine));
+    }
     std::vector<Eigen::Vector3d> centroids;
     for (const auto& t : faults_) {
       const Eigen::Vector3d c = (t[0] + t[1] + t[2]) / 3.0;

@@ -11,7 +11,6 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cstdio>
 #include <vector>
 
