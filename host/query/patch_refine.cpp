@@ -18,6 +18,8 @@ struct PatchRefiner::RefineState {
   const PatchCache* cache = nullptr;
   LazyPatches* lazy = nullptr;
   std::vector<double> fieldMajor;  ///< a lazy face's double records, field-major, for `pairs`
+  int fieldFace = -1;              ///< the prebuilt float cache's face whose widened records fieldMajor holds
+  uint32_t fieldStatus = 0;        ///< that face's GP_ST_* bits
 
   /// The state a seed (a start evaluated, not refined: maxIterations 0) left: its point's
   /// evaluation and second differences. A later seed at exactly that point (the sweep's HIP step
@@ -30,6 +32,13 @@ struct PatchRefiner::RefineState {
   /// (built when needed) transposed to field-major, then evaluated as evalPoints does.
   static void lazyPoints(void* user, int f, const double* x, const double* y, int count,
                          gpd::gp_eval_result* out) noexcept;
+
+  /// gp_refine_mesh's evalPoints hook with float records (a float cache, prebuilt or lazy): the
+  /// face's records widened to double as the loader widens them, field-major, evaluated as
+  /// evalPoints does (the bits of gp_patch_eval on the widened records). A prebuilt cache's face
+  /// is kept widened for the next call on it.
+  static void floatPoints(void* user, int f, const double* x, const double* y, int count,
+                          gpd::gp_eval_result* out) noexcept;
 
   /// gp_refine_mesh's evalNative hook for float records: the descent evaluates them in float, as
   /// the cache's own evaluation does (PatchRefiner::eval).
@@ -126,6 +135,35 @@ void PatchRefiner::RefineState::lazyPoints(void* user, int f, const double* x, c
   toEvalResults(p, count, out);
 }
 
+void PatchRefiner::RefineState::floatPoints(void* user, int f, const double* x, const double* y, int count,
+                                            gpd::gp_eval_result* out) noexcept {
+  auto* st = static_cast<RefineState*>(user);
+  const int n = st->cache->faceSize(f);
+  count = std::clamp(count, 0, 4);
+  if (st->lazy || st->fieldFace != f) {  // a lazy store may build or rebuild a face's records in place
+    uint32_t status = 0;
+    const float* r = nullptr;
+    if (st->lazy) {
+      r = st->lazy->recordsF(f, status);
+    } else {
+      gatherRecords(*st->cache, f, st->widen.data());
+      r = st->widen.data();
+      status = st->cache->faceStatus[f];
+    }
+    if (!r) {  // not buildable: as gp_rf_eval reports it (the refinement evaluates only evaluable faces)
+      for (int k = 0; k < count; ++k) out[k] = gpd::gp_patch_eval(0, nullptr, 0, x[k], y[k]);
+      return;
+    }
+    for (int k = 0; k < n; ++k)
+      for (int i = 0; i < GP_E_NFIELDS; ++i) st->fieldMajor[size_t(i) * n + k] = r[size_t(k) * GP_E_NFIELDS + i];
+    st->fieldFace = st->lazy ? -1 : f;
+    st->fieldStatus = status;
+  }
+  PatchPoint p[4];
+  st->pairs->evaluateRecords(n, st->mesh.mode, st->fieldStatus, st->fieldMajor.data(), x, y, count, p);
+  toEvalResults(p, count, out);
+}
+
 gpd::gp_eval_result PatchRefiner::RefineState::native(void* user, int f, double x, double y) noexcept {
   const PatchPoint p = static_cast<PatchRefiner*>(user)->eval(f, {x, y});
   gpd::gp_eval_result r;
@@ -169,12 +207,11 @@ PatchRefiner::PatchRefiner(const PatchCache& cache, LazyPatches* lazy)
     ns.widen.resize(GP_MAX_N * GP_E_NFIELDS);
     m.load = &RefineState::load;
     m.user = &ns;
-    if (lazy && cache.options.precision == Precision::Double) {
-      ns.pairs = std::make_unique<FacePointEvaluator>();
-      ns.fieldMajor.resize(GP_MAX_N * GP_E_NFIELDS);
-      m.evalPoints = &RefineState::lazyPoints;
-      m.pointsUser = &ns;
-    }
+    ns.pairs = std::make_unique<FacePointEvaluator>();
+    ns.fieldMajor.resize(GP_MAX_N * GP_E_NFIELDS);
+    m.evalPoints =
+        lazy && cache.options.precision == Precision::Double ? &RefineState::lazyPoints : &RefineState::floatPoints;
+    m.pointsUser = &ns;
   } else {  // a skeleton without a lazy store: no face is evaluable
     m.load = [](void*, int, double*) noexcept -> gp_uint { return GP_ST_TOO_MANY_SIDES; };
   }

@@ -3,9 +3,15 @@
 // variants against each other, Eq. 15 transitions and boundary edges.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdio>
+#include <memory>
 #include <random>
+#include <tuple>
 
 #include <smoothforce/force/force_tracking.h>
+#include <smoothforce/patch/detail/gp_math.h>
+#include <smoothforce/patch/lazy_patches.h>
 #include <smoothforce/query/embree_scene.h>
 #include <smoothforce/query/mean_value.h>
 #include <smoothforce/query/patch_refine.h>
@@ -215,6 +221,100 @@ TEST(Refine, RepeatedSeedEqualsAFreshOne) {
   EXPECT_EQ(seeds, 6000);
   EXPECT_GT(repeats, 4000);  // three in four seeds repeat the last point
   EXPECT_GT(minima, 2000);   // most seeds under a HIP along the normal are minima
+}
+
+// Float caches, prebuilt and lazy: PatchRefiner's Newton refinement evaluates a face's float
+// records widened to double on SIMD lanes (FacePointEvaluator). The independent computation is
+// the kernels' own scalar path on the same widened records (gp_refine_newton with a loader and no
+// evaluation hook); every refinement must give its bits, on every shared mesh, from random starts
+// under HIPs near the surface and anywhere in its box.
+TEST(Refine, FloatCachesRefineToTheKernelsScalarBits) {
+  long compared = 0, differ = 0;
+  int meshes = 0;
+  for (const std::string& path : test::sharedMeshFiles()) {
+    const auto built =
+        std::make_shared<const PatchCache>(test::cacheFromFile(path, CrossTangentMode::Corrected, Precision::Float));
+    const auto skeleton = std::make_shared<const PatchCache>(test::skeletonFromFile(path, Precision::Float));
+    const double diag = boundingDiagonal(*built);
+    RefineOptions options = ForceOptions{};
+    gpd::gp_refine_options o;
+    o.maxIterations = options.maxIterations;
+    o.angleTol = options.angleTolerance;
+    o.positionTol = options.positionTolerance * std::max(diag, 1e-300);
+    o.modelFinal = options.finalStep == FinalStep::Model;
+    std::mt19937 rng(17);
+    std::uniform_int_distribution<int> pf(0, built->numFaces() - 1);
+    std::uniform_real_distribution<double> u(-0.7, 0.7), off(-0.03, 0.03);
+    for (int lazy = 0; lazy < 2; ++lazy) {
+      const PatchCache& c = lazy ? *skeleton : *built;
+      LazyPatches store(skeleton, 0), kernelStore(skeleton, 0);
+      PatchRefiner refiner(c, lazy ? &store : nullptr);
+      // the kernels' scalar path: records widened by a loader, evaluated by gp_patch_eval
+      struct Source {
+        const PatchCache* cache;
+        LazyPatches* lazy;
+      } source{&c, lazy ? &kernelStore : nullptr};
+      gpd::gp_refine_mesh mesh{};
+      mesh.faceOffsets = c.faceOffsets.data();
+      mesh.slotTwin = c.slotTwin.data();
+      mesh.numFaces = c.numFaces();
+      mesh.numSlots = c.numSlots();
+      mesh.mode = static_cast<int>(c.options.crossTangent);
+      mesh.scale = std::max(diag, 1e-300);
+      mesh.floatRecords = 1;
+      mesh.user = &source;
+      mesh.load = [](void* user, int f, double* recs) noexcept -> gp_uint {
+        const auto* s = static_cast<const Source*>(user);
+        const size_t count = static_cast<size_t>(s->cache->faceSize(f)) * GP_E_NFIELDS;
+        float widen[GP_MAX_N * GP_E_NFIELDS];
+        uint32_t status = s->cache->faceStatus.empty() ? 0 : s->cache->faceStatus[f];
+        if (s->lazy) {
+          const float* r = s->lazy->recordsF(f, status);
+          if (recs && r) std::copy_n(r, count, recs);
+          return status;
+        }
+        if (recs) {
+          gatherRecords(*s->cache, f, widen);
+          std::copy_n(widen, count, recs);
+        }
+        return status;
+      };
+      auto work = std::make_unique<gpd::gp_refine_work>();
+      for (int i = 0; i < 150; ++i) {
+        int f = 0;
+        Eigen::Vector2d X;
+        do {
+          f = pf(rng);
+          X = Eigen::Vector2d(u(rng), u(rng));
+        } while (!insideDomain(built->faceSize(f), X.x(), X.y()) || (built->faceStatus[f] & GP_ST_NOT_BUILT));
+        const PatchPoint p = evaluatePatch(*built, f, X.x(), X.y());
+        const Eigen::Vector3d hip = i % 2
+                                        ? Eigen::Vector3d(p.pos + diag * off(rng) * p.normal)
+                                        : Eigen::Vector3d(p.pos + diag * Eigen::Vector3d(off(rng), off(rng), off(rng)));
+        const int start = pf(rng);  // from the centre of another face too: walks across edges
+        for (const auto& [face, x, y] : {std::tuple{f, X.x(), X.y()}, std::tuple{start, 0.0, 0.0}}) {
+          const RefineResult a = refiner.refine(hip, face, x, y, options);
+          work->loaded = -1;
+          const gpd::gp_refine_result b =
+              gpd::gp_refine_newton(&mesh, work.get(), gpd::gp_v3(hip.x(), hip.y(), hip.z()), face, x, y, -1, &o);
+          const bool same = a.scp == Eigen::Vector3d(b.scp.x, b.scp.y, b.scp.z) &&
+                            a.normal == Eigen::Vector3d(b.normal.x, b.normal.y, b.normal.z) && a.face == b.face &&
+                            a.xi == b.xi && a.eta == b.eta && a.status == b.status && a.iterations == b.iterations;
+          if (!same && differ++ < 3)
+            ADD_FAILURE() << path << (lazy ? " (lazy)" : " (prebuilt)") << ": HIP " << hip.transpose() << " from face "
+                          << face << ": SCP " << a.scp.transpose() << " face " << a.face << " against the kernels' "
+                          << b.scp.x << " " << b.scp.y << " " << b.scp.z << " face " << b.face;
+          ++compared;
+        }
+      }
+    }
+    ++meshes;
+  }
+  std::printf("float caches: %ld refinements compared on %d meshes, prebuilt and lazy; %ld differ\n", compared, meshes,
+              differ);
+  EXPECT_EQ(meshes, 28);
+  EXPECT_EQ(compared, 28L * 2 * 150 * 2);
+  EXPECT_EQ(differ, 0);
 }
 
 }  // namespace
