@@ -17,6 +17,7 @@
 // asserted.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -158,6 +159,8 @@ TEST(HeldContact, NoStepInsideTheSurfaceIsOutOfContactAlongTheSectionLoops) {
   long steps = 0, inside = 0, outOfContact = 0, handovers = 0;
   for (const std::string& path : test::sharedMeshFiles()) {
     auto cache = std::make_shared<const PatchCache>(test::cacheFromFile(path));
+    // an open mesh (a boundary edge: PatchSurface::closed is false) is skipped before its surface is built
+    if (std::any_of(cache->slotTwin.begin(), cache->slotTwin.end(), [](int t) { return t < 0; })) continue;
     auto surface = std::make_shared<const PatchSurface>(*cache, patchSurfaceOptions(options));
     if (!surface->closed()) continue;
     const std::vector<Eigen::Vector3d> loop = defaultTrajectory(*cache);
