@@ -181,10 +181,14 @@ bool bandFn(RTCPointQueryFunctionArguments* args) {
 
 }  // namespace
 
-int choosePatchSurfaceLevel(const PatchCache& cache, const PatchSurfaceOptions& o) {
+namespace {
+
+/// choosePatchSurfaceLevel, keeping its level-2 tessellation (with error bounds) in *probeOut
+/// where it made one.
+int chooseLevel(const PatchCache& cache, const PatchSurfaceOptions& o, UniformTessellation* probeOut) {
   if (o.level > 0) return o.level;
   // a triangle's error shrinks like its size squared: error(L) ~ error(2) (2 / L)^2
-  const UniformTessellation probe = tessellateUniform(cache, 2);
+  UniformTessellation probe = tessellateUniform(cache, 2);
   if (probe.error.empty()) return 1;
   std::vector<double> e = probe.error;
   for (double& x : e) x = std::isfinite(x) ? x : 0.0;
@@ -195,7 +199,14 @@ int choosePatchSurfaceLevel(const PatchCache& cache, const PatchSurfaceOptions& 
   int L = 1;
   while (L < 32 && e[k] * 4.0 / (double(L) * L) > target) ++L;
   while (L > 1 && trianglesAtLevel(cache, L) > o.triangleBudget) --L;
+  if (probeOut) *probeOut = std::move(probe);
   return L;
+}
+
+}  // namespace
+
+int choosePatchSurfaceLevel(const PatchCache& cache, const PatchSurfaceOptions& o) {
+  return chooseLevel(cache, o, nullptr);
 }
 
 PatchSurface::PatchSurface(const PatchCache& cache, const PatchSurfaceOptions& options)
@@ -206,9 +217,13 @@ PatchSurface::PatchSurface(const PatchCache& cache, const PatchSurfaceOptions& o
     throw InputError("patch surface: targetError must be > 0, subdivision in 0..8 and adaptiveBudget >= 1");
   const double diag = boundingDiagonal(cache);
   const double noise = evaluationNoise(cache);
-  // winding only: no band, and so no error bounds to compute (the same vertices)
-  uniform_ = std::make_unique<UniformTessellation>(
-      tessellateUniform(cache, choosePatchSurfaceLevel(cache, options), !options.windingOnly));
+  // winding only: no band, and so no error bounds to compute (the same vertices); at level 2 the
+  // level's choice already made the tessellation with its error bounds (dense meshes)
+  UniformTessellation probe;
+  const int level = chooseLevel(cache, options, &probe);
+  uniform_ = std::make_unique<UniformTessellation>(level == 2 && probe.level == 2 && !options.windingOnly
+                                                       ? std::move(probe)
+                                                       : tessellateUniform(cache, level, !options.windingOnly));
   for (double& e : uniform_->error) e += noise;
   bandError_.assign(cache.numFaces(), 0.0);
   for (size_t t = 0; t < uniform_->tri.size(); ++t)
