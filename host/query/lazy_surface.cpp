@@ -15,6 +15,7 @@
 #include <string>
 
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <smoothforce/patch/detail/gp_math.h>
@@ -44,6 +45,49 @@ namespace {
 
 constexpr int kObb = 18;         ///< floats per oriented box (makeObb)
 constexpr int kCellSamples = 4;  ///< samples per cell side, less one: a sector has (2 kCellSamples + 1)^2
+
+/// One face's patch records as FacePointEvaluator::evaluateRecords takes them: n corners' records
+/// in field-major order (field i of corner k at fieldMajor[i * n + k]), built from the face's
+/// edge data (buildPatchEdges) in double, and the cross-tangent mode.
+struct FaceRecords {
+  int n = 0, mode = 0;
+  double recordMajor[GP_MAX_N * GP_E_NFIELDS];  ///< as buildPatchEdges writes them
+  double fieldMajor[GP_MAX_N * GP_E_NFIELDS];
+  /// Builds face f's records; false where the face gets no patch.
+  bool build(const PatchCache& cache, int f) noexcept {
+    if (buildPatchEdges(cache, f, recordMajor) & GP_ST_NOT_BUILT) return false;
+    n = cache.faceSize(f);
+    mode = static_cast<int>(cache.options.crossTangent);
+    for (int k = 0; k < n; ++k)
+      for (int i = 0; i < GP_E_NFIELDS; ++i) fieldMajor[i * n + k] = recordMajor[k * GP_E_NFIELDS + i];
+    return true;
+  }
+};
+
+/// The evaluator of the calling thread's batch of faces (the construction's sector boxes, every
+/// face's cells): samples 16 at a time on its SIMD lanes, the bits of one scalar evaluation at a
+/// time. None (null) in a servo step's on-demand cells, which evaluate one at a time and never
+/// allocate; an evaluator's scratch is about 230 kB, so it lives only as long as the batch.
+thread_local FacePointEvaluator* tlEvaluator = nullptr;
+
+/// Lends each thread of a parallel loop over faces an evaluator for the loop's duration.
+class BatchEvaluators {
+ public:
+  /// Runs body(f) for f in [0, count) in parallel, chunks of `grain` faces, each thread with its evaluator.
+  template <class Body>
+  void run(int count, int grain, const Body& body) {
+    tbb::parallel_for(tbb::blocked_range<int>(0, count, grain), [&](const tbb::blocked_range<int>& r) {
+      FacePointEvaluator* previous = tlEvaluator;
+      tlEvaluator = &evaluators_.local();
+      for (int f = r.begin(); f < r.end(); ++f) body(f);
+      tlEvaluator = previous;
+    });
+  }
+
+ private:
+  tbb::enumerable_thread_specific<FacePointEvaluator> evaluators_;
+};
+
 
 void onError(void* user, RTCError code, const char* str) {
   auto* impl = static_cast<LazyPatchSurface::Impl*>(user);
@@ -164,9 +208,7 @@ LazyPatchSurface::LazyPatchSurface(const PatchCache& cache, const PolygonFacets&
   impl_->pad = float(1e-5 * scale) + 1e-30f;
   // every face's sector and swept boxes now, in parallel (each face writes only its own slots):
   // 9 evaluations per corner sector, so that no servo step has to compute them
-  tbb::parallel_for(tbb::blocked_range<int>(0, cache.numFaces(), 64), [&](const tbb::blocked_range<int>& r) {
-    for (int f = r.begin(); f < r.end(); ++f) computeSectors(f);
-  });
+  BatchEvaluators().run(cache.numFaces(), 64, [&](int f) { computeSectors(f); });
   // the BVH's face boxes: the a-priori box, cut down to the box of the face's swept boxes where
   // it has them (5-10 times smaller across on coarse cages, so a HIP near the surface lies in a
   // few faces' boxes instead of a hundred)
@@ -335,24 +377,6 @@ namespace {
 /// epsilons of its points at home).
 constexpr double kFarRounding = 64 * std::numeric_limits<double>::epsilon();
 
-/// One face's patch records as FacePointEvaluator::evaluateRecords takes them: n corners' records
-/// in field-major order (field i of corner k at fieldMajor[i * n + k]), built from the face's
-/// edge data (buildPatchEdges) in double, and the cross-tangent mode.
-struct FaceRecords {
-  int n = 0, mode = 0;
-  double fieldMajor[GP_MAX_N * GP_E_NFIELDS];
-  /// Builds face f's records; false where the face gets no patch.
-  bool build(const PatchCache& cache, int f) noexcept {
-    double recs[GP_MAX_N * GP_E_NFIELDS];
-    if (buildPatchEdges(cache, f, recs) & GP_ST_NOT_BUILT) return false;
-    n = cache.faceSize(f);
-    mode = static_cast<int>(cache.options.crossTangent);
-    for (int k = 0; k < n; ++k)
-      for (int i = 0; i < GP_E_NFIELDS; ++i) fieldMajor[i * n + k] = recs[k * GP_E_NFIELDS + i];
-    return true;
-  }
-};
-
 /// Samples corner sector k of a patch on an (L+1) x (L+1) grid (p[i][j] at ray fraction i/L and
 /// edge fraction j/L) and returns the margin of boxes around them: the sector's largest sum of
 /// second differences along both grid directions, times `factor` (the patch leaves the samples'
@@ -363,11 +387,18 @@ struct FaceRecords {
 template <int L>
 double sampleSector(const FaceRecords& face, int k, double factor, const Eigen::Vector3d& origin,
                     Eigen::Vector3d (&p)[L + 1][L + 1]) {
-  // the (L+1)^2 samples 16 at a time on SIMD lanes (FacePointEvaluator: the bits of one evaluation
-  // at a time); one evaluator per thread, allocated once, so that a servo step never allocates
-  thread_local FacePointEvaluator evaluator;
   constexpr int kCount = (L + 1) * (L + 1), kGroup = 16;
-  for (int first = 0; first < kCount; first += kGroup) {
+  if (!tlEvaluator) {  // one at a time: a servo step's face (no allocation)
+    const gpd::gp_domain* dom = gpd::gp_domain_of(face.n, nullptr, 1);
+    for (int j = 0; j <= L; ++j)
+      for (int i = 0; i <= L; ++i) {
+        const Eigen::Vector2d X = sectorPoint(face.n, k, double(i) / L, double(j) / L);
+        const gpd::gp_eval_result r = gpd::gp_patch_eval_dom(dom, face.recordMajor, face.mode, X.x(), X.y());
+        p[i][j] = Eigen::Vector3d(r.pos.x, r.pos.y, r.pos.z);
+        if (!p[i][j].allFinite()) return -1;
+      }
+  }
+  for (int first = 0; tlEvaluator && first < kCount; first += kGroup) {  // 16 at a time on SIMD lanes
     const int count = std::min(kGroup, kCount - first);
     double xi[kGroup], eta[kGroup];
     PatchPoint r[kGroup];
@@ -377,7 +408,7 @@ double sampleSector(const FaceRecords& face, int k, double factor, const Eigen::
       xi[m] = X.x();
       eta[m] = X.y();
     }
-    evaluator.evaluateRecords(face.n, face.mode, 0, face.fieldMajor, xi, eta, count, r);
+    tlEvaluator->evaluateRecords(face.n, face.mode, 0, face.fieldMajor, xi, eta, count, r);
     for (int m = 0; m < count; ++m) {
       Eigen::Vector3d& q = p[(first + m) % (L + 1)][(first + m) / (L + 1)];
       q = r[m].pos;
@@ -507,9 +538,7 @@ int LazyPatchSurface::computeCells(int f) noexcept {
 
 void LazyPatchSurface::computeAllCells() noexcept {
   // each face writes only its own slots and count; the count of sampled faces is taken after
-  tbb::parallel_for(tbb::blocked_range<int>(0, cache_.numFaces(), 16), [&](const tbb::blocked_range<int>& r) {
-    for (int f = r.begin(); f < r.end(); ++f) computeCells(f);
-  });
+  BatchEvaluators().run(cache_.numFaces(), 16, [&](int f) { computeCells(f); });
   sampledCount_ = static_cast<int>(std::count_if(cellCount_.begin(), cellCount_.end(), [](int16_t c) { return c >= 0; }));
   allCells_ = true;
 }
