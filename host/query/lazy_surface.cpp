@@ -88,7 +88,6 @@ class BatchEvaluators {
   tbb::enumerable_thread_specific<FacePointEvaluator> evaluators_;
 };
 
-
 void onError(void* user, RTCError code, const char* str) {
   auto* impl = static_cast<LazyPatchSurface::Impl*>(user);
   if (impl->error[0] == 0) std::snprintf(impl->error, sizeof impl->error, "Embree error %d: %s", int(code), str);
