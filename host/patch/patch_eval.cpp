@@ -192,6 +192,22 @@ FacePointEvaluator::FacePointEvaluator() : cache_(nullptr), scratch_(std::make_u
 
 FacePointEvaluator::~FacePointEvaluator() = default;
 
+namespace {
+template <class Real>
+void transposeRecords(int n, const Real* recordMajor, double* fieldMajor) noexcept {
+  for (int k = 0; k < n; ++k)
+    for (int i = 0; i < GP_E_NFIELDS; ++i)
+      fieldMajor[static_cast<size_t>(i) * n + k] = recordMajor[static_cast<size_t>(k) * GP_E_NFIELDS + i];
+}
+}  // namespace
+
+void recordsFieldMajor(int n, const double* recordMajor, double* fieldMajor) noexcept {
+  transposeRecords(n, recordMajor, fieldMajor);
+}
+void recordsFieldMajor(int n, const float* recordMajor, double* fieldMajor) noexcept {
+  transposeRecords(n, recordMajor, fieldMajor);
+}
+
 void FacePointEvaluator::evaluateRecords(int n, int mode, uint32_t faceStatus, const double* recs, const double* xi,
                                          const double* eta, int count, PatchPoint* out) noexcept {
   count = std::clamp(count, 0, 16);

@@ -46,22 +46,15 @@ namespace {
 constexpr int kObb = 18;         ///< floats per oriented box (makeObb)
 constexpr int kCellSamples = 4;  ///< samples per cell side, less one: a sector has (2 kCellSamples + 1)^2
 
-/// One face's patch records as FacePointEvaluator::evaluateRecords takes them: n corners' records
-/// in field-major order (field i of corner k at fieldMajor[i * n + k]), built from the face's
-/// edge data (buildPatchEdges) in double, and the cross-tangent mode.
+/// One face's patch records, built from the face's edge data (buildPatchEdges) in double, and the
+/// cross-tangent mode; in a batch (tlEvaluator) also field-major, as
+/// FacePointEvaluator::evaluateRecords takes them.
 struct FaceRecords {
   int n = 0, mode = 0;
   double recordMajor[GP_MAX_N * GP_E_NFIELDS];  ///< as buildPatchEdges writes them
-  double fieldMajor[GP_MAX_N * GP_E_NFIELDS];
+  double fieldMajor[GP_MAX_N * GP_E_NFIELDS];   ///< recordsFieldMajor of recordMajor, in a batch only
   /// Builds face f's records; false where the face gets no patch.
-  bool build(const PatchCache& cache, int f) noexcept {
-    if (buildPatchEdges(cache, f, recordMajor) & GP_ST_NOT_BUILT) return false;
-    n = cache.faceSize(f);
-    mode = static_cast<int>(cache.options.crossTangent);
-    for (int k = 0; k < n; ++k)
-      for (int i = 0; i < GP_E_NFIELDS; ++i) fieldMajor[i * n + k] = recordMajor[k * GP_E_NFIELDS + i];
-    return true;
-  }
+  bool build(const PatchCache& cache, int f) noexcept;
 };
 
 /// The evaluator of the calling thread's batch of faces (the construction's sector boxes, every
@@ -69,6 +62,14 @@ struct FaceRecords {
 /// time. None (null) in a servo step's on-demand cells, which evaluate one at a time and never
 /// allocate; an evaluator's scratch is about 230 kB, so it lives only as long as the batch.
 thread_local FacePointEvaluator* tlEvaluator = nullptr;
+
+bool FaceRecords::build(const PatchCache& cache, int f) noexcept {
+  if (buildPatchEdges(cache, f, recordMajor) & GP_ST_NOT_BUILT) return false;
+  n = cache.faceSize(f);
+  mode = static_cast<int>(cache.options.crossTangent);
+  if (tlEvaluator) recordsFieldMajor(n, recordMajor, fieldMajor);  // a servo step's faces evaluate one point at a time
+  return true;
+}
 
 /// Lends each thread of a parallel loop over faces an evaluator for the loop's duration.
 class BatchEvaluators {

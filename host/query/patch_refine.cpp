@@ -17,7 +17,7 @@ struct PatchRefiner::RefineState {
   std::unique_ptr<FacePointEvaluator> pairs;  ///< the finite differences' point pairs (records read in place)
   const PatchCache* cache = nullptr;
   LazyPatches* lazy = nullptr;
-  std::vector<double> fieldMajor;  ///< a lazy face's double records, field-major, for `pairs`
+  std::vector<double> fieldMajor;  ///< one face's records in double, field-major, for `pairs` (recordPoints)
   int fieldFace = -1;              ///< the prebuilt float cache's face whose widened records fieldMajor holds
   uint32_t fieldStatus = 0;        ///< that face's GP_ST_* bits
 
@@ -28,17 +28,13 @@ struct PatchRefiner::RefineState {
   void keepSeed() noexcept { seed = work.kept; }
   void takeSeed() noexcept { work.kept = seed; }
 
-  /// gp_refine_mesh's evalPoints hook with a lazy store of double records: the face's records
-  /// (built when needed) transposed to field-major, then evaluated as evalPoints does.
-  static void lazyPoints(void* user, int f, const double* x, const double* y, int count,
-                         gpd::gp_eval_result* out) noexcept;
-
-  /// gp_refine_mesh's evalPoints hook with float records (a float cache, prebuilt or lazy): the
-  /// face's records widened to double as the loader widens them, field-major, evaluated as
-  /// evalPoints does (the bits of gp_patch_eval on the widened records). A prebuilt cache's face
-  /// is kept widened for the next call on it.
-  static void floatPoints(void* user, int f, const double* x, const double* y, int count,
-                          gpd::gp_eval_result* out) noexcept;
+  /// gp_refine_mesh's evalPoints hook where the cache's records cannot be read in place (a lazy
+  /// store, double or float; a prebuilt float cache): the face's records, widened to double as the
+  /// loader widens them, field-major, evaluated as evalPoints does (the bits of gp_patch_eval on
+  /// those records). A prebuilt cache's face is kept for the next call on it; a lazy store may
+  /// build or rebuild a face's records in place, so its faces are read again every call.
+  static void recordPoints(void* user, int f, const double* x, const double* y, int count,
+                           gpd::gp_eval_result* out) noexcept;
 
   /// gp_refine_mesh's evalNative hook for float records: the descent evaluates them in float, as
   /// the cache's own evaluation does (PatchRefiner::eval).
@@ -117,45 +113,31 @@ void evalPoints(void* user, int f, const double* x, const double* y, int count, 
 }
 }  // namespace
 
-void PatchRefiner::RefineState::lazyPoints(void* user, int f, const double* x, const double* y, int count,
-                                           gpd::gp_eval_result* out) noexcept {
-  auto* st = static_cast<RefineState*>(user);
-  uint32_t status = 0;
-  const double* r = st->lazy->recordsD(f, status);
-  const int n = st->cache->faceSize(f);
-  count = std::clamp(count, 0, 4);
-  if (!r) {  // not buildable: as gp_rf_eval reports it (the refinement evaluates only evaluable faces)
-    for (int k = 0; k < count; ++k) out[k] = gpd::gp_patch_eval(0, nullptr, 0, x[k], y[k]);
-    return;
-  }
-  for (int k = 0; k < n; ++k)
-    for (int i = 0; i < GP_E_NFIELDS; ++i) st->fieldMajor[size_t(i) * n + k] = r[size_t(k) * GP_E_NFIELDS + i];
-  PatchPoint p[4];
-  st->pairs->evaluateRecords(n, st->mesh.mode, status, st->fieldMajor.data(), x, y, count, p);
-  toEvalResults(p, count, out);
-}
-
-void PatchRefiner::RefineState::floatPoints(void* user, int f, const double* x, const double* y, int count,
-                                            gpd::gp_eval_result* out) noexcept {
+void PatchRefiner::RefineState::recordPoints(void* user, int f, const double* x, const double* y, int count,
+                                             gpd::gp_eval_result* out) noexcept {
   auto* st = static_cast<RefineState*>(user);
   const int n = st->cache->faceSize(f);
   count = std::clamp(count, 0, 4);
-  if (st->lazy || st->fieldFace != f) {  // a lazy store may build or rebuild a face's records in place
+  if (st->lazy || st->fieldFace != f) {
     uint32_t status = 0;
-    const float* r = nullptr;
-    if (st->lazy) {
-      r = st->lazy->recordsF(f, status);
-    } else {
+    bool built = true;
+    if (!st->lazy) {
       gatherRecords(*st->cache, f, st->widen.data());
-      r = st->widen.data();
+      recordsFieldMajor(n, st->widen.data(), st->fieldMajor.data());
       status = st->cache->faceStatus[f];
+    } else if (st->cache->options.precision == Precision::Double) {
+      const double* r = st->lazy->recordsD(f, status);
+      built = r != nullptr;
+      if (built) recordsFieldMajor(n, r, st->fieldMajor.data());
+    } else {
+      const float* r = st->lazy->recordsF(f, status);
+      built = r != nullptr;
+      if (built) recordsFieldMajor(n, r, st->fieldMajor.data());
     }
-    if (!r) {  // not buildable: as gp_rf_eval reports it (the refinement evaluates only evaluable faces)
+    if (!built) {  // not buildable: as gp_rf_eval reports it (the refinement evaluates only evaluable faces)
       for (int k = 0; k < count; ++k) out[k] = gpd::gp_patch_eval(0, nullptr, 0, x[k], y[k]);
       return;
     }
-    for (int k = 0; k < n; ++k)
-      for (int i = 0; i < GP_E_NFIELDS; ++i) st->fieldMajor[size_t(i) * n + k] = r[size_t(k) * GP_E_NFIELDS + i];
     st->fieldFace = st->lazy ? -1 : f;
     st->fieldStatus = status;
   }
@@ -209,8 +191,7 @@ PatchRefiner::PatchRefiner(const PatchCache& cache, LazyPatches* lazy)
     m.user = &ns;
     ns.pairs = std::make_unique<FacePointEvaluator>();
     ns.fieldMajor.resize(GP_MAX_N * GP_E_NFIELDS);
-    m.evalPoints =
-        lazy && cache.options.precision == Precision::Double ? &RefineState::lazyPoints : &RefineState::floatPoints;
+    m.evalPoints = &RefineState::recordPoints;
     m.pointsUser = &ns;
   } else {  // a skeleton without a lazy store: no face is evaluable
     m.load = [](void*, int, double*) noexcept -> gp_uint { return GP_ST_TOO_MANY_SIDES; };

@@ -77,6 +77,13 @@ class FacePointEvaluator {
   std::unique_ptr<Scratch> scratch_;
 };
 
+/// Writes n (3..GP_MAX_N) corner records from record-major order (field i of corner k at
+/// recordMajor[k * GP_E_NFIELDS + i], as buildPatchEdges, the caches and a lazy store hold them)
+/// into the field-major order FacePointEvaluator::evaluateRecords takes (field i of corner k at
+/// fieldMajor[i * n + k]); float records are widened to double, exactly.
+void recordsFieldMajor(int n, const double* recordMajor, double* fieldMajor) noexcept;
+void recordsFieldMajor(int n, const float* recordMajor, double* fieldMajor) noexcept;
+
 /// Options of the CPU batch evaluator.
 struct EvalOptions {
   Backend backend = Backend::Tbb;      ///< Serial (the calling thread) or Tbb; OpenCL: opencl_backend.h
