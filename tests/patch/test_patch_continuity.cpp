@@ -78,20 +78,27 @@ std::string faceList(const std::vector<int>& faces) {
   return list;
 }
 
-/// Chords of every built face's domain (parallel to each of its edges, at the given insets: the
+/// Chords of the built faces' domains (parallel to each of its edges, at the given insets: the
 /// fractions of the way to the centre), sampled and evaluated: s[chordStart[c], chordStart[c + 1])
 /// is chord c, in face order.
 struct Chords {
   std::vector<Sample> s;
   std::vector<size_t> chordStart;
   std::vector<PatchPoint> p;
+  std::vector<int32_t> face;
+  std::vector<double> xi, eta;
   int faces = 0;
 };
 
-Chords sampleChords(const PatchCache& c, std::initializer_list<double> insets) {
+/// The chords of faces [f0, f1) into h, whose buffers are reused: a dense mesh's chords, a
+/// batch of faces at a time, never hold more than a batch's samples (the whole of bunny_hr's
+/// would be gigabytes).
+void sampleChords(const PatchCache& c, std::initializer_list<double> insets, int f0, int f1, Chords& h) {
   constexpr int kSamples = 64;  // per chord, over 3 edge lengths (clipped to the domain)
-  Chords h;
-  for (int f = 0; f < c.numFaces(); ++f) {
+  h.s.clear();
+  h.chordStart.clear();
+  h.faces = 0;
+  for (int f = f0; f < f1; ++f) {
     if (c.faceStatus[f] & GP_ST_NOT_BUILT) continue;
     ++h.faces;
     const int n = c.faceSize(f);
@@ -108,17 +115,19 @@ Chords sampleChords(const PatchCache& c, std::initializer_list<double> insets) {
     }
   }
   h.chordStart.push_back(h.s.size());
-  std::vector<int32_t> face(h.s.size());
-  std::vector<double> xi(h.s.size()), eta(h.s.size());
+  h.face.resize(h.s.size());
+  h.xi.resize(h.s.size());
+  h.eta.resize(h.s.size());
   for (size_t i = 0; i < h.s.size(); ++i) {
-    face[i] = h.s[i].face;
-    xi[i] = h.s[i].X.x();
-    eta[i] = h.s[i].X.y();
+    h.face[i] = h.s[i].face;
+    h.xi[i] = h.s[i].X.x();
+    h.eta[i] = h.s[i].X.y();
   }
   h.p.resize(h.s.size());
-  evaluatePatches(c, face.data(), xi.data(), eta.data(), h.s.size(), h.p.data(), Backend::Tbb);
-  return h;
+  evaluatePatches(c, h.face.data(), h.xi.data(), h.eta.data(), h.s.size(), h.p.data(), Backend::Tbb);
 }
+
+constexpr int kChordFaces = 2048;  ///< faces per batch of chords
 
 TEST(PatchContinuity, NoTearInsideAnyFaceOfAnyBundledMesh) {
   int meshes = 0, faces = 0;
@@ -128,18 +137,21 @@ TEST(PatchContinuity, NoTearInsideAnyFaceOfAnyBundledMesh) {
     SCOPED_TRACE(path);
     const PatchCache c = test::cacheFromFile(path);
     const double diag = boundingDiagonal(c);
-    const Chords h = sampleChords(c, {0.15, 0.5});
-    faces += h.faces;
     std::vector<int> torn;  // faces with a tear, ascending (the steps come face by face, in face order)
-    for (size_t ch = 0; ch + 1 < h.chordStart.size(); ++ch)
-      for (size_t i = h.chordStart[ch]; i + 1 < h.chordStart[ch + 1]; ++i) {
-        ++steps;
-        if (stepFits(h.p[i], h.p[i + 1], h.s[i + 1].X - h.s[i].X, 1e-12 * diag)) continue;
-        ++bisected;
-        const double jump =
-            changeAfterBisection(c, h.s[i].face, h.s[i].X, h.s[i + 1].X, [](const PatchPoint& p) { return p.pos; });
-        if (jump > 1e-4 * diag && (torn.empty() || torn.back() != h.s[i].face)) torn.push_back(h.s[i].face);
-      }
+    Chords h;
+    for (int f0 = 0; f0 < c.numFaces(); f0 += kChordFaces) {
+      sampleChords(c, {0.15, 0.5}, f0, std::min(c.numFaces(), f0 + kChordFaces), h);
+      faces += h.faces;
+      for (size_t ch = 0; ch + 1 < h.chordStart.size(); ++ch)
+        for (size_t i = h.chordStart[ch]; i + 1 < h.chordStart[ch + 1]; ++i) {
+          ++steps;
+          if (stepFits(h.p[i], h.p[i + 1], h.s[i + 1].X - h.s[i].X, 1e-12 * diag)) continue;
+          ++bisected;
+          const double jump =
+              changeAfterBisection(c, h.s[i].face, h.s[i].X, h.s[i + 1].X, [](const PatchPoint& p) { return p.pos; });
+          if (jump > 1e-4 * diag && (torn.empty() || torn.back() != h.s[i].face)) torn.push_back(h.s[i].face);
+        }
+    }
     EXPECT_EQ(faceList(torn), "") << "faces that tear";
     tornFaces += torn.size();
     ++meshes;
@@ -161,23 +173,27 @@ TEST(PatchContinuity, NoCreaseInsideAnyFaceOfAnyBundledMesh) {
     const PatchCache c = test::cacheFromFile(path);
     const double floor = 1e-9 * boundingDiagonal(c);  // m per domain unit: below it a derivative is noise
     // a third chord near the centre: L.off's crease is crossed by none of the other two
-    const Chords h = sampleChords(c, {0.15, 0.5, 0.85});
     std::vector<int> creased;  // faces with a crease, ascending
-    for (size_t ch = 0; ch + 1 < h.chordStart.size(); ++ch) {
-      if (h.chordStart[ch + 1] - h.chordStart[ch] < 2) continue;
-      // the chord's derivative scale: the largest derivative along it (a smooth fold passes
-      // through zero, so the step's own derivatives are no scale)
-      const Eigen::Vector2d u = (h.s[h.chordStart[ch] + 1].X - h.s[h.chordStart[ch]].X).normalized();
-      const auto alongU = [&u](const PatchPoint& p) { return along(p, u); };
-      double scale = floor;
-      for (size_t i = h.chordStart[ch]; i < h.chordStart[ch + 1]; ++i) scale = std::max(scale, along(h.p[i], u).norm());
-      for (size_t i = h.chordStart[ch]; i + 1 < h.chordStart[ch + 1]; ++i) {
-        ++steps;
-        if ((along(h.p[i + 1], u) - along(h.p[i], u)).norm() <= 0.1 * scale) continue;
-        ++bisected;
-        if (changeAfterBisection(c, h.s[i].face, h.s[i].X, h.s[i + 1].X, alongU) > 1e-2 * scale &&
-            (creased.empty() || creased.back() != h.s[i].face))
-          creased.push_back(h.s[i].face);
+    Chords h;
+    for (int f0 = 0; f0 < c.numFaces(); f0 += kChordFaces) {
+      sampleChords(c, {0.15, 0.5, 0.85}, f0, std::min(c.numFaces(), f0 + kChordFaces), h);
+      for (size_t ch = 0; ch + 1 < h.chordStart.size(); ++ch) {
+        if (h.chordStart[ch + 1] - h.chordStart[ch] < 2) continue;
+        // the chord's derivative scale: the largest derivative along it (a smooth fold passes
+        // through zero, so the step's own derivatives are no scale)
+        const Eigen::Vector2d u = (h.s[h.chordStart[ch] + 1].X - h.s[h.chordStart[ch]].X).normalized();
+        const auto alongU = [&u](const PatchPoint& p) { return along(p, u); };
+        double scale = floor;
+        for (size_t i = h.chordStart[ch]; i < h.chordStart[ch + 1]; ++i)
+          scale = std::max(scale, along(h.p[i], u).norm());
+        for (size_t i = h.chordStart[ch]; i + 1 < h.chordStart[ch + 1]; ++i) {
+          ++steps;
+          if ((along(h.p[i + 1], u) - along(h.p[i], u)).norm() <= 0.1 * scale) continue;
+          ++bisected;
+          if (changeAfterBisection(c, h.s[i].face, h.s[i].X, h.s[i + 1].X, alongU) > 1e-2 * scale &&
+              (creased.empty() || creased.back() != h.s[i].face))
+            creased.push_back(h.s[i].face);
+        }
       }
     }
     EXPECT_EQ(faceList(creased), "") << "faces with a crease";
