@@ -203,6 +203,18 @@ int boundaryOrientation(int n, const std::array<Taylor, GP_MAX_N * GP_E_NFIELDS>
   return verdict;
 }
 
+/// True where unit(a) and unit(b) agree within 1e-12: a run along b would repeat a's (a flat
+/// polygon's Newell normal, its corner normals' mean and its normal cone's centre are one
+/// direction up to rounding), so the certificate tries it once.
+bool sameDirection(const double a[3], const double b[3]) {
+  const double la = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]),
+               lb = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
+  if (!(la > 0) || !(lb > 0) || !std::isfinite(la) || !std::isfinite(lb)) return false;
+  double d2 = 0;
+  for (int i = 0; i < 3; ++i) d2 += (a[i] / la - b[i] / lb) * (a[i] / la - b[i] / lb);
+  return d2 <= 1e-24;
+}
+
 template <class Real>
 PatchCertificate certify(int n, const Real* recs, CrossTangentMode mode, const CertificateOptions& o) {
   PatchCertificate out;
@@ -252,7 +264,7 @@ PatchCertificate certify(int n, const Real* recs, CrossTangentMode mode, const C
     if (l > 0 && std::isfinite(l))
       for (int i = 0; i < 3; ++i) mean[i] += double(c[i]) / l;
   }
-  if (o.cornerNormalDirection) {
+  if (o.cornerNormalDirection && !sameDirection(mean, newell)) {
     // then along the mean of its unit corner normals: a curved patch (a subdivision limit's,
     // say) can turn past 90 degrees from its polygon's plane and still be a regular height field
     PatchCertificate second = certifyAlong(n, irecs, mode, o, mean);
@@ -280,8 +292,9 @@ PatchCertificate certify(int n, const Real* recs, CrossTangentMode mode, const C
       const Eigen::Vector3d axis = minimaxDirection(normals, start);
       double worst = 1;
       for (const Eigen::Vector3d& N : normals) worst = std::min(worst, N.dot(axis));
-      if (worst > 0) {  // else the samples already turn past a half-space: no direction proves it
-        const double cone[3] = {axis.x(), axis.y(), axis.z()};
+      const double cone[3] = {axis.x(), axis.y(), axis.z()};
+      const bool tried = sameDirection(cone, newell) || (o.cornerNormalDirection && sameDirection(cone, mean));
+      if (worst > 0 && !tried) {  // else the samples already turn past a half-space: no direction proves it
         PatchCertificate third = certifyAlong(n, irecs, mode, o, cone);
         third.cells += out.cells;
         if (third.verdict == CertificateVerdict::Certified) return third;
