@@ -39,10 +39,11 @@ constexpr int kMaxFaceCells = LazyPatchSurface::kCellsPerSector * SF_MAX_PATCH_S
 /// qualified beyond those kept. A cell's `triangle` holds its place in the batch of faces (face
 /// rank x kMaxFaceCells + cell), so that ties in lower bound come in the order of the faces' box
 /// distances (nearest box first: the face most likely to hold the nearest point is refined first,
-/// and its distance prunes the rest).
+/// and its distance prunes the rest). A face's cells, computed on first use, are sampled on the
+/// lent evaluator's SIMD lanes (the step's refiner's).
 int collectCells(LazyPatchSurface& surface, const PatchCache& cache, const FaceDistance* near, size_t m,
                  const Eigen::Vector3d& hip, double bound, const SurfaceCandidate* after, SurfaceCandidate* c, int from,
-                 bool* more) noexcept {
+                 bool* more, FacePointEvaluator* evaluator) noexcept {
   int n = from;
   *more = false;
   for (size_t i = 0; i < m; ++i) {
@@ -52,7 +53,7 @@ int collectCells(LazyPatchSurface& surface, const PatchCache& cache, const FaceD
     double faceLower = std::numeric_limits<double>::infinity();
     for (int k = 0; k < cache.faceSize(f); ++k) faceLower = std::min(faceLower, surface.sectorDistance(f, k, hip));
     if (!(std::max(near[i].distance, faceLower) < bound)) continue;
-    const int cells = surface.cells(f);
+    const int cells = surface.cells(f, evaluator);
     for (int j = 0; j < cells; ++j) {
       SurfaceCandidate e;
       e.face = f;
@@ -119,7 +120,8 @@ void lazyGlobalStep(LazyPatchSurface& surface, const PolygonScene& scene, const 
     const SurfaceCandidate* afterCell = nullptr;
     for (int cellBatch = 0; cellBatch < kMaxCellBatches; ++cellBatch) {
       bool more = false;
-      const int n = collectCells(surface, cache, near, m, hip, bound(), afterCell, c.data(), started ? 0 : 1, &more);
+      const int n = collectCells(surface, cache, near, m, hip, bound(), afterCell, c.data(), started ? 0 : 1, &more,
+                                 refiner.pointEvaluator());
       const PatchNearest b =
           refineCandidates(c.data(), n, kStartSpacing, refiner, hip, options, started ? nullptr : &first);
       if (started)

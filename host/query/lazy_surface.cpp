@@ -58,9 +58,10 @@ struct FaceRecords {
 };
 
 /// The evaluator of the calling thread's batch of faces (the construction's sector boxes, every
-/// face's cells): samples 16 at a time on its SIMD lanes, the bits of one scalar evaluation at a
-/// time. None (null) in a servo step's on-demand cells, which evaluate one at a time and never
-/// allocate; an evaluator's scratch is about 230 kB, so it lives only as long as the batch.
+/// face's cells), or the one a servo step lends for a face's on-demand cells (its refiner's):
+/// samples 16 at a time on its SIMD lanes, the bits of one scalar evaluation at a time. Null:
+/// one at a time. An evaluator's scratch is about 230 kB, so a batch's lives only as long as the
+/// batch, and a step only borrows one (a step never allocates).
 thread_local FacePointEvaluator* tlEvaluator = nullptr;
 
 bool FaceRecords::build(const PatchCache& cache, int f) noexcept {
@@ -489,10 +490,14 @@ bool LazyPatchSurface::computeSectors(int f) noexcept {
   return true;
 }
 
-int LazyPatchSurface::cells(int f) noexcept {
+int LazyPatchSurface::cells(int f, FacePointEvaluator* evaluator) noexcept {
   if (cellCount_[f] >= 0) return cellCount_[f];
   ++sampledCount_;
-  return computeCells(f);
+  if (!evaluator || tlEvaluator) return computeCells(f);
+  tlEvaluator = evaluator;  // lent for this face (computeCells does not throw)
+  const int n = computeCells(f);
+  tlEvaluator = nullptr;
+  return n;
 }
 
 int LazyPatchSurface::computeCells(int f) noexcept {

@@ -204,6 +204,8 @@ PatchRefiner::PatchRefiner(const PatchCache& cache, LazyPatches* lazy)
 
 PatchRefiner::~PatchRefiner() = default;
 
+FacePointEvaluator* PatchRefiner::pointEvaluator() noexcept { return state_->pairs.get(); }
+
 uint32_t PatchRefiner::faceStatus(int f) const noexcept { return lazy_ ? lazy_->status(f) : cache_.faceStatus[f]; }
 
 bool PatchRefiner::evaluable(int f) const noexcept {

@@ -84,6 +84,11 @@ class PatchRefiner {
   bool evaluable(int f) const noexcept;
   /// One evaluation through the refiner's record buffer (same values as evaluatePatch).
   PatchPoint eval(int f, const Eigen::Vector2d& X) noexcept;
+  /// The SIMD evaluator the refinement's point pairs go through, to lend between refinements
+  /// (LazyPatchSurface::cells): its scratch is allocated with the refiner, so a servo step that
+  /// borrows it allocates nothing. evaluateRecords on it costs the refiner at most one reload of
+  /// its kept face. Null where the cache has no patches and no lazy store.
+  FacePointEvaluator* pointEvaluator() noexcept;
 
  private:
   void load(int f) noexcept;
