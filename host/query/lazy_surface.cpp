@@ -68,7 +68,7 @@ bool FaceRecords::build(const PatchCache& cache, int f) noexcept {
   if (buildPatchEdges(cache, f, recordMajor) & GP_ST_NOT_BUILT) return false;
   n = cache.faceSize(f);
   mode = static_cast<int>(cache.options.crossTangent);
-  if (tlEvaluator) recordsFieldMajor(n, recordMajor, fieldMajor);  // a servo step's faces evaluate one point at a time
+  if (tlEvaluator) recordsFieldMajor(n, recordMajor, fieldMajor);  // without one, sampleSector reads recordMajor
   return true;
 }
 

@@ -16,6 +16,8 @@
 
 namespace sf {
 
+class FacePointEvaluator;
+
 /// A face and the distance (m) from a query point to its box.
 struct FaceDistance {
   int face = -1;
@@ -56,8 +58,6 @@ struct FaceDistance {
 /// estimate. For one renderer: not
 /// thread-safe (cells() caches); the cache and facets must outlive it. Memory: 180 floats per
 /// corner, allocated in the constructor.
-class FacePointEvaluator;
-
 class LazyPatchSurface {
  public:
   /// The most faces facesWithin() returns.
