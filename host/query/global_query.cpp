@@ -61,6 +61,14 @@ PatchNearest refineCandidates(const SurfaceCandidate* c, int n, double spacing, 
       if (seenFace[j] == f && (seenX[j] - X).norm() < spacing) return true;
     return false;
   };
+  auto account = [&](const RefineResult& r) {
+    if (!usableRefinement(r)) return;
+    const bool below = (hip - r.scp).dot(r.normal) < 0;
+    (below ? q.anyBelow : q.anyAbove) = true;
+    if (!below) q.nearestAbove = std::min(q.nearestAbove, r.distance);
+    if (r.distance < q.nearest.distance) q.nearest = r;
+    if (below && r.distance < q.nearestBelow.distance) q.nearestBelow = r;
+  };
   auto take = [&](int f, const Eigen::Vector2d& X, const RefineResult& r) {
     ++q.refined;
     if (seen + 2 <= 2 * kSeen) {
@@ -69,12 +77,7 @@ PatchNearest refineCandidates(const SurfaceCandidate* c, int n, double spacing, 
       seenFace[seen] = r.face;
       seenX[seen++] = Eigen::Vector2d(r.xi, r.eta);
     }
-    if (!usableRefinement(r)) return;
-    const bool below = (hip - r.scp).dot(r.normal) < 0;
-    (below ? q.anyBelow : q.anyAbove) = true;
-    if (!below) q.nearestAbove = std::min(q.nearestAbove, r.distance);
-    if (r.distance < q.nearest.distance) q.nearest = r;
-    if (below && r.distance < q.nearestBelow.distance) q.nearestBelow = r;
+    account(r);
   };
   // the refinement already done: from c[0]; or from a seed, which stands in for the first
   // candidate refined whose start lies within `spacing` of the seed's on the same face, only
@@ -84,7 +87,11 @@ PatchNearest refineCandidates(const SurfaceCandidate* c, int n, double spacing, 
   // flat triangle's region are what the error bounds exclude; within `spacing` they are not)
   // no farther than the patch can be there (its distance + error bound); otherwise the
   // candidate's own refinement runs: the candidates refined are those of the query without it.
-  bool pending = first != nullptr;
+  // The seed's point, a point of the patch surface like theirs, then still counts where it is
+  // nearer than all of theirs (below): the candidate's refinement may have ended in another basin
+  // (two minima of the distance within `spacing` on one face, which the skip of the candidates
+  // beside it then never reaches).
+  bool pending = first != nullptr, standIn = false;
   auto matches = [&](int i) {
     return firstStart ? c[i].face == firstStart->face && (c[i].X - firstStart->X).norm() < spacing : i == 0;
   };
@@ -111,6 +118,7 @@ PatchNearest refineCandidates(const SurfaceCandidate* c, int n, double spacing, 
       pending = false;
       if (!firstStart) {
         take(c[i].face, c[i].X, *first);
+        standIn = true;
         continue;
       }
       if (surface && first->startMinimum && first->distance <= 2 * c[i].distance - c[i].lower &&
@@ -119,11 +127,19 @@ PatchNearest refineCandidates(const SurfaceCandidate* c, int n, double spacing, 
         // point may lie in another basin the error bound allows over that triangle, which the
         // candidates beside it must still reach
         take(firstStart->face, firstStart->X, *first);
+        standIn = true;
         continue;
       }
     }
     take(c[i].face, c[i].X, refiner.refine(hip, c[i].face, c[i].X.x(), c[i].X.y(), options));
   }
+  // a converged point nearer than every candidate's and not theirs (apart by more than the
+  // refinement's tolerance: a seed that did not converge, or converged to the same point, leaves
+  // the result of the query without a seed)
+  if (first && !standIn && usableRefinement(*first) && (first->status & SF_TRACK_CONVERGED) &&
+      first->distance < q.nearest.distance &&
+      !((first->scp - q.nearest.scp).norm() <= 4 * std::sin(options.angleTolerance) * first->distance))
+    account(*first);
   return q;
 }
 

@@ -55,8 +55,11 @@ void mergeNearest(PatchNearest& q, const PatchNearest& more) noexcept;
 /// refined whose start lies within `spacing` of the seed's on the same face, when it converged
 /// at its start to a strict local minimum (RefineResult::startMinimum) over that candidate's
 /// own triangle (surface->overTriangle) no farther than the patch can be there (the
-/// candidate's distance plus error bound); otherwise that candidate's refinement runs and the
-/// seed is unused: the candidates refined are those of the query without a seed. surface: the
+/// candidate's distance plus error bound); otherwise that candidate's refinement runs (the
+/// candidates refined are those of the query without a seed) and first's point still counts
+/// where it converged nearer than all of theirs and apart from them (more than 4 sin
+/// (angleTolerance) times its distance), as does such a first that no candidate's turn reached;
+/// the result is otherwise that of the query without a seed. surface: the
 /// candidates' (null: a seed never stands in). Refinements that end degenerate are skipped.
 /// Never throws or allocates.
 PatchNearest refineCandidates(const SurfaceCandidate* c, int n, double spacing, PatchRefiner& refiner,
