@@ -188,9 +188,10 @@ namespace {
 int chooseLevel(const PatchCache& cache, const PatchSurfaceOptions& o, UniformTessellation* probeOut) {
   if (o.level > 0) return o.level;
   // a triangle's error shrinks like its size squared: error(L) ~ error(2) (2 / L)^2
-  UniformTessellation probe = tessellateUniform(cache, 2);
-  if (probe.error.empty()) return 1;
-  std::vector<double> e = probe.error;
+  // from the level estimate (tessellateUniform), not the error bounds: see triangleError
+  std::vector<double> e;
+  UniformTessellation probe = tessellateUniform(cache, 2, true, nullptr, &e);
+  if (e.empty()) return 1;
   for (double& x : e) x = std::isfinite(x) ? x : 0.0;
   const size_t k = e.size() * 9 / 10;
   std::nth_element(e.begin(), e.begin() + k, e.end());

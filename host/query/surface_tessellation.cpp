@@ -25,16 +25,38 @@ Eigen::Matrix<double, 3, 2> jacobian(const PatchPoint& p) {
   return J;
 }
 
-/// Error bound of a triangle from its corners (domain X, evaluations c) and its 4 samples s: the
-/// larger of twice the sampled deviation |G(X) - linear(X)| and a bound from the Jacobians J.
-/// With J = Jl + rho, Jl the linear interpolation of the corners' Jacobians (exact where G is
-/// quadratic), the mean value theorem along the segments from X to the corners V_a gives
-/// G(X) - linear(X) = -1/2 sum_a lambda_a J_a (V_a - X) - sum_a lambda_a avg(rho) (V_a - X): the
-/// first part is the quadratic that vanishes at the corners with midpoint values
-/// -(J_a - J_b)(V_a - V_b) / 8, at most 4/3 of the largest (at the centroid), and the second at most
-/// h max|rho| (h the longest domain edge), max|rho| taken at the 4 samples: it sees the folds and
-/// turns inside the triangle that the midpoints miss. Infinite when an evaluation is not finite.
-double triangleError(const std::array<Eigen::Vector2d, 3>& X, const PatchPoint* c, const PatchPoint* s) {
+/// Radius of the smallest circle holding the domain triangle X: half its longest edge where it
+/// has no acute-only angles (right, obtuse or degenerate), its circumradius otherwise. It is the
+/// largest value of sqrt(sum_a lambda_a |V_a - X|^2) over the triangle (that sum is R^2 - |X -
+/// O|^2 about the circumcentre O), and so of sum_a lambda_a |V_a - X| (Jensen).
+double enclosingRadius(const std::array<Eigen::Vector2d, 3>& X) {
+  double e2[3];
+  for (int a = 0; a < 3; ++a) e2[a] = (X[(a + 1) % 3] - X[a]).squaredNorm();
+  const double longest = std::max({e2[0], e2[1], e2[2]});
+  const double area2 = std::abs((X[1] - X[0]).x() * (X[2] - X[0]).y() - (X[1] - X[0]).y() * (X[2] - X[0]).x());
+  if (2 * longest >= e2[0] + e2[1] + e2[2] || !(area2 > 0)) return 0.5 * std::sqrt(longest);
+  return std::sqrt(e2[0] * e2[1] * e2[2]) / (2 * area2);  // abc / (4 area)
+}
+
+/// Error of a triangle from its corners (domain X, evaluations c) and its 4 samples s: the larger
+/// of twice the sampled deviation |G(X) - linear(X)| and a bound from the Jacobians J. With J =
+/// Jl + rho, Jl the linear interpolation of the corners' Jacobians (exact where G is quadratic),
+/// the mean value theorem along the segments from X to the corners V_a gives G(X) - linear(X) =
+/// -1/2 sum_a lambda_a J_a (V_a - X) - sum_a lambda_a avg(rho) (V_a - X): the first part is the
+/// quadratic that vanishes at the corners with midpoint values -(J_a - J_b)(V_a - V_b) / 8, at
+/// most 4/3 of the largest (at the centroid), and the second at most r max|rho| (r the radius of
+/// the smallest circle holding the domain triangle, at most 0.58 of its longest edge), max|rho|
+/// taken at the 4 samples: it sees the folds and turns inside the triangle that the midpoints
+/// miss. Infinite when an evaluation is not finite.
+///
+/// `levelEstimate` (optional) receives the same estimate with the longest domain edge h for r:
+/// the tessellation's level is chosen from it (choosePatchSurfaceLevel). The level is also the
+/// spacing 1 / level within which the global query's refinements stand in for each other
+/// (refineCandidates), and at the coarser levels the tighter bound would choose, candidates of
+/// other basins were skipped there (three exactness tests failed): the bounds tighten, the
+/// level does not.
+double triangleError(const std::array<Eigen::Vector2d, 3>& X, const PatchPoint* c, const PatchPoint* s,
+                     double* levelEstimate = nullptr) {
   double dev = 0, rho = 0;
   Eigen::Matrix<double, 3, 2> J[3];
   for (int a = 0; a < 3; ++a) J[a] = jacobian(c[a]);
@@ -50,8 +72,9 @@ double triangleError(const std::array<Eigen::Vector2d, 3>& X, const PatchPoint* 
     h = std::max(h, (X[a] - X[b]).norm());
     quadratic = std::max(quadratic, ((J[a] - J[b]) * (X[a] - X[b])).norm() / 6);
   }
-  const double e = std::max(2 * dev, quadratic + h * rho);
-  return std::isfinite(e) ? e : std::numeric_limits<double>::infinity();
+  auto finite = [](double e) { return std::isfinite(e) ? e : std::numeric_limits<double>::infinity(); };
+  if (levelEstimate) *levelEstimate = finite(std::max(2 * dev, quadratic + h * rho));
+  return finite(std::max(2 * dev, quadratic + enclosingRadius(X) * rho));
 }
 
 /// A batch of points to evaluate.
@@ -94,7 +117,8 @@ int64_t trianglesAtLevel(const PatchCache& cache, int L) {
   return n;
 }
 
-UniformTessellation tessellateUniform(const PatchCache& cache, int L, bool errors, const std::vector<int>* only) {
+UniformTessellation tessellateUniform(const PatchCache& cache, int L, bool errors, const std::vector<int>* only,
+                                      std::vector<double>* levelEstimate) {
   UniformTessellation t;
   t.level = L;
   // layout: every built face's ring points and triangles, in face order; first[i]..first[i+1]:
@@ -126,6 +150,7 @@ UniformTessellation tessellateUniform(const PatchCache& cache, int L, bool error
   }
   t.vertex.resize(t.domain.size());
   t.error.resize(t.tri.size());
+  if (levelEstimate) levelEstimate->assign(errors ? t.tri.size() : 0, 0.0);
   // positions and error bounds a few faces at a time: the evaluations of a chunk (its vertices,
   // then 4 samples per triangle) stay in cache instead of one array of every point; the values
   // are the same (PatchEvaluator's results do not depend on how the points are grouped)
@@ -144,7 +169,8 @@ UniformTessellation tessellateUniform(const PatchCache& cache, int L, bool error
     for (size_t i = t0; i < t1; ++i) {
       const auto& tr = t.tri[i];
       const PatchPoint c[3] = {pts[tr[0] - v0], pts[tr[1] - v0], pts[tr[2] - v0]};
-      t.error[i] = triangleError({t.domain[tr[0]], t.domain[tr[1]], t.domain[tr[2]]}, c, &sp[4 * (i - t0)]);
+      t.error[i] = triangleError({t.domain[tr[0]], t.domain[tr[1]], t.domain[tr[2]]}, c, &sp[4 * (i - t0)],
+                                 levelEstimate ? &(*levelEstimate)[i] : nullptr);
     }
   });
   return t;

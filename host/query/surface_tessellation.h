@@ -45,8 +45,12 @@ struct SurfaceTriangle {
 /// the built faces it lists (faceFirstTri -1 for the others). errors false leaves every error 0
 /// (a tessellation for rays alone, about a fifth of the evaluations); the vertices are the same
 /// bits either way, and a face's vertices and triangles do not depend on which others are there.
+/// With errors and `levelEstimate`, that receives per triangle the estimate the level is chosen
+/// from (the error's residual term over the longest domain edge instead of the smallest
+/// enclosing circle's radius: at least the error, see triangleError).
 UniformTessellation tessellateUniform(const PatchCache& cache, int L, bool errors = true,
-                                      const std::vector<int>* only = nullptr);
+                                      const std::vector<int>* only = nullptr,
+                                      std::vector<double>* levelEstimate = nullptr);
 
 /// The uniform triangles, each subdivided into 4 (at its domain edge midpoints) while its error
 /// exceeds `maxError` (m), at most `maxDepth` times, and while the result stays within `budget`

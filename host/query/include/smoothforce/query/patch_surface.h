@@ -41,7 +41,8 @@ inline bool candidateBefore(const SurfaceCandidate& a, const SurfaceCandidate& b
 /// Options of PatchSurface. Errors are fractions of the mesh's bounding-box diagonal.
 struct PatchSurfaceOptions {
   int level = 0;  ///< uniform tessellation level (each polygon edge split in L), 1..64; 0: chosen
-  /// level 0: the smallest L (<= 32) whose 90th-percentile triangle error is at most this, unless
+  /// level 0: the smallest L (<= 32) whose 90th-percentile triangle error is at most this (the
+  /// error estimated over the longest domain edge, not the bound's enclosing circle), unless
   /// that takes more than triangleBudget triangles (then the largest L that fits); and the
   /// adaptive tessellation subdivides triangles while their error exceeds it
   double targetError = 1e-3;
@@ -68,11 +69,11 @@ struct PatchSurfaceOptions {
 /// between a patch point G(X) and the triangle's point at the same X: the larger of twice the
 /// largest such distance at its centroid and edge midpoints, and a bound from the patch's
 /// Jacobian J: the quadratic the corners' Jacobians predict (at most max |(J_a - J_b)(V_a - V_b)|
-/// / 6 over the domain edges) plus h max|J - Jl| (h its longest domain edge, Jl the linear
-/// interpolation of the corners' Jacobians, the difference taken at the centroid and edge
-/// midpoints: it sees the folds the midpoints miss), plus the evaluation noise of the cache's
-/// precision. These are estimates, not proofs: the tests check the queries they serve against
-/// dense sampling and an independent inside test.
+/// / 6 over the domain edges) plus r max|J - Jl| (r the radius of the smallest circle holding the
+/// domain triangle, Jl the linear interpolation of the corners' Jacobians, the difference taken
+/// at the centroid and edge midpoints: it sees the folds the midpoints miss), plus the evaluation
+/// noise of the cache's precision. These are estimates, not proofs: the tests check the queries
+/// they serve against dense sampling and an independent inside test.
 /// - uniform: every face at one level L (domainRingPoints: n L^2 triangles per n-gon; one L, so
 ///   that neighbouring patches share their boundary vertices up to rounding and the
 ///   tessellation is closed where the patch surface is): the rays of winding() and inErrorBand();
