@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <smoothforce/query/global_query.h>
 
+#include <smoothforce/patch/patch_eval.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -42,6 +44,61 @@ void mergeNearest(PatchNearest& q, const PatchNearest& more) noexcept {
   q.candidates += more.candidates;
   q.refined += more.refined;
 }
+
+namespace {
+
+/// The starts of candidates c[skipped[0..n)] whose lower bound is below `nearest` evaluated on
+/// the patch (distance to hip, infinite where the start is no patch point), then those nearer
+/// than `nearest` refined through `take`,
+/// nearest start first, while they stay nearer than the nearest found (`nearest`, updated by
+/// take). simd: the refiner's SIMD evaluator reads the cache's records in place (a prebuilt double
+/// cache); otherwise the starts are evaluated one at a time through the refiner (float records).
+template <class Take>
+void refineSkipped(const SurfaceCandidate* c, int* skipped, int n, PatchRefiner& refiner, const Eigen::Vector3d& hip,
+                   const RefineOptions& options, Take& take, const double& nearest, bool simd) noexcept {
+  FacePointEvaluator* ev = simd ? refiner.pointEvaluator() : nullptr;
+  int kept = 0;  // those whose lower bound is still below the nearest found
+  for (int k = 0; k < n; ++k)
+    if (c[skipped[k]].lower < nearest) skipped[kept++] = skipped[k];
+  n = kept;
+  double dist[PatchSurface::kMaxCandidates];
+  bool done[PatchSurface::kMaxCandidates] = {};
+  for (int a = 0; a < n; ++a) {
+    if (done[a]) continue;
+    const int f = c[skipped[a]].face;
+    int at[16], m = 0;
+    double xi[16], eta[16];
+    for (int b = a; b < n && m < 16; ++b)
+      if (!done[b] && c[skipped[b]].face == f) {
+        done[b] = true;
+        at[m] = b;
+        xi[m] = c[skipped[b]].X.x();
+        eta[m++] = c[skipped[b]].X.y();
+      }
+    PatchPoint p[16];
+    const bool evaluable = refiner.evaluable(f);
+    if (evaluable && ev)
+      ev->evaluate(f, xi, eta, m, p);
+    else if (evaluable)  // float records: one at a time through the refiner's own buffer
+      for (int k = 0; k < m; ++k) p[k] = refiner.eval(f, Eigen::Vector2d(xi[k], eta[k]));
+    for (int k = 0; k < m; ++k)
+      dist[at[k]] =
+          evaluable && !(p[k].status & (SF_ST_OUTSIDE | SF_ST_TOO_MANY_SIDES | SF_ST_NONFINITE)) && p[k].pos.allFinite()
+              ? (p[k].pos - hip).norm()
+              : std::numeric_limits<double>::infinity();
+  }
+  for (int k = 1; k < n; ++k)  // by start distance (insertion sort: a handful)
+    for (int j = k; j > 0 && dist[j - 1] > dist[j]; --j) {
+      std::swap(dist[j - 1], dist[j]);
+      std::swap(skipped[j - 1], skipped[j]);
+    }
+  for (int k = 0; k < n && dist[k] < nearest; ++k) {
+    const SurfaceCandidate& s = c[skipped[k]];
+    take(s.face, s.X, refiner.refine(hip, s.face, s.X.x(), s.X.y(), options));
+  }
+}
+
+}  // namespace
 
 PatchNearest refineCandidates(const SurfaceCandidate* c, int n, double spacing, PatchRefiner& refiner,
                               const Eigen::Vector3d& hip, const RefineOptions& options,
@@ -107,13 +164,18 @@ PatchNearest refineCandidates(const SurfaceCandidate* c, int n, double spacing, 
     for (; at > 0 && c[order[at - 1]].distance > c[k].distance; --at) order[at] = order[at - 1];
     order[at] = k;
   }
-  for (int k = 0; k < n; ++k) {
+  int deferred[PatchSurface::kMaxCandidates];
+  int nDeferred = 0;
+  for (int k = 0; k < n && k < static_cast<int>(PatchSurface::kMaxCandidates); ++k) {
     const int i = byDistance ? order[k] : k;
     if (c[i].lower >= q.nearest.distance) {
       if (byDistance) continue;  // a later one may still have a lower bound below it
       break;
     }
-    if (near(c[i].face, c[i].X)) continue;
+    if (near(c[i].face, c[i].X)) {  // checked below, once every other candidate is refined
+      if (surface) deferred[nDeferred++] = i;
+      continue;
+    }
     if (pending && matches(i)) {
       pending = false;
       if (!firstStart) {
@@ -133,6 +195,14 @@ PatchNearest refineCandidates(const SurfaceCandidate* c, int n, double spacing, 
     }
     take(c[i].face, c[i].X, refiner.refine(hip, c[i].face, c[i].X.x(), c[i].X.y(), options));
   }
+  // a candidate skipped as within `spacing` of a start or result refined is taken for the same
+  // basin, unless the patch at its own start is nearer than every point found: the refinement
+  // only descends, so from there it ends nearer still, in a basin not yet explored (two minima
+  // of the distance within `spacing` on one face). Its start is evaluated to tell, 16 points of a
+  // face at a time on the refiner's SIMD evaluator, and those nearer are refined, nearest first.
+  if (nDeferred > 0)
+    refineSkipped(c, deferred, nDeferred, refiner, hip, options, take, q.nearest.distance,
+                  surface->cache().options.precision == Precision::Double);
   // a converged point nearer than every candidate's and not theirs (apart by more than the
   // refinement's tolerance: a seed that did not converge, or converged to the same point, leaves
   // the result of the query without a seed)

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // Properties of the SCP query over whole meshes: for every closed mesh of
 // ../shared/meshes and generated analytic shapes, 10^4 HIPs pressed in along the patch normal at
-// three depths, each a contact start; and constant-depth trajectories across many patch
+// three depths, each a contact start (and, on the tessellation, a global query without a seed);
+// and constant-depth trajectories across many patch
 // boundaries. Checked against DenseOracle (its own ray parity and nearest point on a dense
 // tessellation), never against the production query's own decisions.
 #include <gtest/gtest.h>
@@ -20,6 +21,7 @@
 #include <smoothforce/force/force_tracking.h>
 #include <smoothforce/patch/patch_eval.h>
 #include <smoothforce/query/embree_scene.h>
+#include <smoothforce/query/global_query.h>
 #include <smoothforce/sweep/sweep_sampling.h>
 #include "gp_config.h"
 #include "patch_test_support.h"
@@ -71,7 +73,7 @@ void checkContactStarts(const std::string& shape, Query query, int stride) {
   tbb::enumerable_thread_specific<std::unique_ptr<PatchRefiner>> refiners(
       [&] { return std::make_unique<PatchRefiner>(*cache); });
   std::atomic<int> tested{0}, faults{0}, lazyFaults{0}, mismatches{0}, inside{0}, contacts{0}, notNearest{0},
-      notStationary{0}, foldEdges{0}, raysDisagree{0};
+      notStationary{0}, foldEdges{0}, raysDisagree{0}, globalFarther{0};
   std::mutex printMutex;
   int printed = 0;
   tbb::parallel_for(0, 3 * kPerDepth, [&](int g) {
@@ -105,6 +107,18 @@ void checkContactStarts(const std::string& shape, Query query, int stride) {
       ++lazyFaults;
       return;
     }
+    // the batch query's global nearest point (no seed, no state): never farther than the oracle's
+    if (surface) {
+      const PatchNearest global = nearestOnPatches(*surface, *refiners.local(), hip, options);
+      if (!(global.nearest.distance <= q.distance + 1e-6 * diag)) {
+        ++globalFarther;
+        std::lock_guard<std::mutex> lock(printMutex);
+        if (printed++ < 5)
+          ADD_FAILURE() << shape << ": HIP " << g << " at depth " << depth / diag << " x diagonal: global query "
+                        << global.nearest.distance / diag << " x diagonal on face " << global.nearest.face
+                        << ", nearest face " << q.face << " at " << q.distance / diag;
+      }
+    }
     inside += truth;
     contacts += s.contact;
     if (s.contact != truth) {
@@ -134,13 +148,14 @@ void checkContactStarts(const std::string& shape, Query query, int stride) {
   const int n = tested.load();
   std::printf(
       "  %s%s: %d HIPs (dense level %d, %zu triangles): %d inside, %d in contact; surface faults %d; "
-      "fold-edge SCPs %d; rays disagreeing %d; lazy faults %d\n",
+      "fold-edge SCPs %d; rays disagreeing %d; lazy faults %d; global queries (no seed) farther %d\n",
       shape.c_str(), lazy ? " (lazy patches)" : boxes ? " (bounds index)" : "", n, oracle.level(), oracle.numTriangles(), inside.load(),
-      contacts.load(), faults.load(), foldEdges.load(), raysDisagree.load(), lazyFaults.load());
+      contacts.load(), faults.load(), foldEdges.load(), raysDisagree.load(), lazyFaults.load(), globalFarther.load());
   ::testing::Test::RecordProperty("surface_faults", faults.load());
   ASSERT_EQ(n, (3 * kPerDepth + stride - 1) / stride);
   EXPECT_EQ(mismatches.load(), 0) << shape;
   EXPECT_EQ(notNearest.load(), 0) << shape;
+  EXPECT_EQ(globalFarther.load(), 0) << shape;
   EXPECT_EQ(notStationary.load(), 0) << shape;
   EXPECT_LE(faults.load(), faultBound(shape) * n) << shape;
   EXPECT_LE(foldEdges.load(), faultBound(shape) * n) << shape << ": SCPs held on fold edges";

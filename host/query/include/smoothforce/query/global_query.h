@@ -45,7 +45,9 @@ void mergeNearest(PatchNearest& q, const PatchNearest& more) noexcept;
 
 /// Refines the candidates c[0..n) (sorted by lower bound: PatchSurface::candidates, or lazy
 /// cells) whose lower bound is below the nearest distance found so far, skipping a start within
-/// `spacing` (domain units) of an earlier start or result on the same face. The order: with a
+/// `spacing` (domain units) of an earlier start or result on the same face; with a surface, such
+/// a skipped start is evaluated once the others are refined, and refined where the patch there
+/// is nearer than every point found (another minimum within `spacing`). The order: with a
 /// surface, by the distance to the candidate's triangle (ties as given), so that the triangle
 /// under the HIP's foot point comes before a neighbour whose wider error bound put it first by
 /// lower bound; without one (cells, no distance), as given, stopping at the first lower bound not
