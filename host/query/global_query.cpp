@@ -166,14 +166,14 @@ PatchNearest refineCandidates(const SurfaceCandidate* c, int n, double spacing, 
   }
   int deferred[PatchSurface::kMaxCandidates];
   int nDeferred = 0;
-  for (int k = 0; k < n && k < static_cast<int>(PatchSurface::kMaxCandidates); ++k) {
+  for (int k = 0; k < n; ++k) {
     const int i = byDistance ? order[k] : k;
     if (c[i].lower >= q.nearest.distance) {
       if (byDistance) continue;  // a later one may still have a lower bound below it
       break;
     }
     if (near(c[i].face, c[i].X)) {  // checked below, once every other candidate is refined
-      if (surface) deferred[nDeferred++] = i;
+      if (surface && nDeferred < static_cast<int>(PatchSurface::kMaxCandidates)) deferred[nDeferred++] = i;
       continue;
     }
     if (pending && matches(i)) {
