@@ -29,8 +29,12 @@ namespace sf {
 struct PatchSurface::Impl {
   RTCDevice device = nullptr;
   std::atomic<int64_t> embreeBytes{0};  ///< what the device holds (its memory monitor)
-  RTCScene points = nullptr;  ///< user geometry: the adaptive triangles, boxes inflated by their error
-  RTCScene band = nullptr;    ///< user geometry: the uniform triangles, boxes inflated by their error
+  /// user geometry, boxes inflated by each triangle's error bound: the adaptive triangles (the
+  /// candidates' primitives 0..N-1, N = the adaptive tessellation's size), then the uniform
+  /// triangles it split (bandOnly): the error band's primitives are the uniform triangles, those
+  /// kept whole among the first N and the split ones after them
+  RTCScene points = nullptr;
+  std::vector<int32_t> bandOnly;      ///< uniform triangles the adaptive tessellation split, ascending
   std::unique_ptr<WindingRays> rays;  ///< the uniform triangles as Embree triangles (winding())
   const PatchSurface* surface = nullptr;
   float pad = 0;                    ///< m: float rounding of the BVHs, added to boxes and radii
@@ -38,8 +42,7 @@ struct PatchSurface::Impl {
   char error[256] = {0};
   ~Impl() {
     rays.reset();  // (its scene, before the device)
-    for (RTCScene s : {points, band})
-      if (s) rtcReleaseScene(s);
+    if (points) rtcReleaseScene(points);
     if (device) rtcReleaseDevice(device);
   }
 };
@@ -64,13 +67,13 @@ double closestOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, con
 }
 
 /// The candidate record of triangle t (index id) at distance d, closest point (u, v, w).
-SurfaceCandidate candidateRecord(const SurfaceTriangle& t, int id, double d, double u, double v, double w) {
+SurfaceCandidate candidateRecord(const AdaptiveTriangleRef& t, int id, double d, double u, double v, double w) {
   SurfaceCandidate c;
   c.face = t.face;
   c.triangle = id;
   c.distance = d;
   c.lower = d - t.error;
-  c.X = u * t.X[0] + v * t.X[1] + w * t.X[2];
+  c.X = u * *t.X[0] + v * *t.X[1] + w * *t.X[2];
   return c;
 }
 
@@ -86,26 +89,40 @@ void setBounds(RTCBounds* b, const Eigen::Vector3d& lo, const Eigen::Vector3d& h
 
 void pointBounds(const RTCBoundsFunctionArguments* args) {
   const auto* impl = static_cast<const PatchSurface::Impl*>(args->geometryUserPtr);
-  const SurfaceTriangle& t = impl->surface->pointTriangles()[args->primID];
-  const Eigen::Vector3d lo = t.P[0].cwiseMin(t.P[1]).cwiseMin(t.P[2]), hi = t.P[0].cwiseMax(t.P[1]).cwiseMax(t.P[2]);
+  const AdaptiveTriangleRef t = adaptiveTriangleRef(impl->surface->uniform(), impl->surface->adaptive(), args->primID);
+  const Eigen::Vector3d lo = t.P[0]->cwiseMin(*t.P[1]).cwiseMin(*t.P[2]),
+                        hi = t.P[0]->cwiseMax(*t.P[1]).cwiseMax(*t.P[2]);
   setBounds(args->bounds_o, lo - impl->origin, hi - impl->origin, t.error, impl->pad);
 }
 
-void bandBounds(const RTCBoundsFunctionArguments* args) {
+/// The shared BVH's primitive: adaptive triangle primID, or after them the split uniform one.
+void surfaceBounds(const RTCBoundsFunctionArguments* args) {
   const auto* impl = static_cast<const PatchSurface::Impl*>(args->geometryUserPtr);
+  const size_t n = impl->surface->adaptive().size();
+  if (args->primID < n) {
+    pointBounds(args);
+    return;
+  }
   const UniformTessellation& u = impl->surface->uniform();
-  const auto& tr = u.tri[args->primID];
+  const int32_t t = impl->bandOnly[args->primID - n];
+  const auto& tr = u.tri[t];
   const Eigen::Vector3d &a = u.vertex[tr[0]], &b = u.vertex[tr[1]], &c = u.vertex[tr[2]];
   setBounds(args->bounds_o, a.cwiseMin(b).cwiseMin(c) - impl->origin, a.cwiseMax(b).cwiseMax(c) - impl->origin,
-            u.error[args->primID], impl->pad);
+            u.error[t], impl->pad);
 }
 
 // ---- candidates ----
 
 constexpr size_t kMaxCandidates = PatchSurface::kMaxCandidates;
 
-struct CandidateState {
-  const std::vector<SurfaceTriangle>* tri;
+/// Which query runs on the shared BVH: the first part of both point-query states.
+struct QueryState {
+  bool band;
+};
+
+struct CandidateState : QueryState {
+  const UniformTessellation* uniform;
+  const AdaptiveTessellation* tri;
   Eigen::Vector3d q;
   double bound;  ///< min over the triangles seen of (distance + error)
   float pad;
@@ -117,10 +134,11 @@ struct CandidateState {
 };
 
 bool candidateFn(RTCPointQueryFunctionArguments* args) {
-  auto* st = static_cast<CandidateState*>(args->userPtr);
-  const SurfaceTriangle& t = (*st->tri)[args->primID];
+  auto* st = static_cast<CandidateState*>(static_cast<QueryState*>(args->userPtr));
+  if (args->primID >= st->tri->size()) return false;  // a split uniform triangle: the band's only
+  const AdaptiveTriangleRef t = adaptiveTriangleRef(*st->uniform, *st->tri, args->primID);
   double u, v, w;
-  const double d = std::sqrt(closestOnTriangle(st->q, t.P[0], t.P[1], t.P[2], u, v, w));
+  const double d = std::sqrt(closestOnTriangle(st->q, *t.P[0], *t.P[1], *t.P[2], u, v, w));
   const double e = t.error;
   if (!(d - e <= st->bound)) return false;
   const int id = static_cast<int>(args->primID);
@@ -150,12 +168,14 @@ bool candidateFn(RTCPointQueryFunctionArguments* args) {
 
 // ---- error band ----
 
-struct BandState {
+struct BandState : QueryState {
   const UniformTessellation* u;
+  const AdaptiveTessellation* a;         ///< the shared BVH's first primitives
+  const std::vector<int32_t>* bandOnly;  ///< and the others
   Eigen::Vector3d q;
-  bool inside;
-  double reach;  ///< m, distance + error bound of the triangle found
-  int face;      ///< its face
+  bool inside = false;
+  double reach = std::numeric_limits<double>::infinity();  ///< m, distance + error bound of the triangle found
+  int face = -1;                                           ///< its face
 };
 
 /// Whether st.q lies in the error band of uniform triangle t (then st records it).
@@ -172,11 +192,18 @@ bool testBand(BandState& st, int64_t t) {
 }
 
 bool bandFn(RTCPointQueryFunctionArguments* args) {
-  auto* st = static_cast<BandState*>(args->userPtr);
+  auto* st = static_cast<BandState*>(static_cast<QueryState*>(args->userPtr));
   if (st->inside) return false;
-  if (!testBand(*st, args->primID)) return false;
-  args->query->radius = 0;  // found one: stop looking
+  const size_t n = st->a->size();
+  const int64_t t = args->primID < n ? st->a->ref[args->primID] : (*st->bandOnly)[args->primID - n];
+  if (t < 0 || !testBand(*st, t)) return false;  // t < 0: a piece of a split triangle, no band's
+  args->query->radius = 0;                       // found one: stop looking
   return true;
+}
+
+/// The shared BVH's point query: the candidates' or the band's, as the state says.
+bool surfaceQueryFn(RTCPointQueryFunctionArguments* args) {
+  return static_cast<const QueryState*>(args->userPtr)->band ? bandFn(args) : candidateFn(args);
 }
 
 }  // namespace
@@ -211,7 +238,10 @@ int choosePatchSurfaceLevel(const PatchCache& cache, const PatchSurfaceOptions& 
 }
 
 PatchSurface::PatchSurface(const PatchCache& cache, const PatchSurfaceOptions& options)
-    : cache_(cache), windingOnly_(options.windingOnly), impl_(std::make_unique<Impl>()) {
+    : cache_(cache),
+      windingOnly_(options.windingOnly),
+      points_(std::make_unique<AdaptiveTessellation>()),
+      impl_(std::make_unique<Impl>()) {
   if (!hasPatchData(cache)) throw InputError("the patch surface needs built patches (a cache, not a skeleton)");
   if (options.level < 0 || options.level > 64) throw InputError("patch surface level must be in 0..64");
   if (!(options.targetError > 0) || options.subdivision < 0 || options.subdivision > 8 || options.adaptiveBudget < 1)
@@ -230,13 +260,14 @@ PatchSurface::PatchSurface(const PatchCache& cache, const PatchSurfaceOptions& o
   for (size_t t = 0; t < uniform_->tri.size(); ++t)
     bandError_[uniform_->triFace[t]] = std::max(bandError_[uniform_->triFace[t]], uniform_->error[t]);
   if (options.candidates && !options.windingOnly)
-    points_ = tessellateAdaptive(cache, *uniform_, std::max(options.targetError * diag, kNoiseFloor * noise),
-                                 options.subdivision, static_cast<size_t>(options.adaptiveBudget));
-  for (SurfaceTriangle& t : points_) t.error += noise;
+    *points_ = tessellateAdaptive(cache, *uniform_, std::max(options.targetError * diag, kNoiseFloor * noise),
+                                  options.subdivision, static_cast<size_t>(options.adaptiveBudget));
+  points_->pad = noise;
   error_.assign(cache.numFaces(), 0.0);
-  for (const SurfaceTriangle& t : points_) {
-    error_[t.face] = std::max(error_[t.face], t.error);
-    maxError_ = std::max(maxError_, t.error);
+  for (size_t t = 0; t < points_->size(); ++t) {
+    const AdaptiveTriangleRef p = adaptiveTriangleRef(*uniform_, *points_, t);
+    error_[p.face] = std::max(error_[p.face], p.error);
+    maxError_ = std::max(maxError_, p.error);
   }
   closed_ = true;
   for (int f = 0; f < cache.numFaces(); ++f) {
@@ -265,13 +296,18 @@ PatchSurface::PatchSurface(const PatchCache& cache, const PatchSurfaceOptions& o
   impl_->pad = float(1e-5 * extent) + 1e-30f;
   impl_->device = newEmbreeDevice(onError, impl_.get(), &impl_->embreeBytes);
   const UniformTessellation& u = *uniform_;
-  RTCGeometry gp =
-      points_.empty() ? nullptr : userGeometry(impl_->device, points_.size(), impl_.get(), pointBounds, candidateFn);
-  RTCGeometry gb = u.tri.empty() || options.windingOnly
-                       ? nullptr
-                       : userGeometry(impl_->device, u.tri.size(), impl_.get(), bandBounds, bandFn);
-  impl_->points = sceneOf(impl_->device, gp, false);
-  impl_->band = sceneOf(impl_->device, gb, false);
+  if (!options.windingOnly) {  // the band's triangles: those kept whole, then the split ones
+    std::vector<char> whole(u.tri.size(), 0);
+    for (const int32_t r : points_->ref)
+      if (r >= 0) whole[r] = 1;
+    for (size_t t = 0; t < u.tri.size(); ++t)
+      if (!whole[t]) impl_->bandOnly.push_back(static_cast<int32_t>(t));
+  }
+  const size_t prims = points_->size() + impl_->bandOnly.size();
+  if (prims > size_t(std::numeric_limits<unsigned>::max()))
+    throw std::length_error("patch surface: more triangles than a BVH takes");
+  RTCGeometry g = prims == 0 ? nullptr : userGeometry(impl_->device, prims, impl_.get(), surfaceBounds, surfaceQueryFn);
+  impl_->points = sceneOf(impl_->device, g, false);
   impl_->rays = std::make_unique<WindingRays>(impl_->device, u, nullptr, impl_->origin);
   if (impl_->error[0]) throw std::runtime_error(std::string("building the patch surface BVHs: ") + impl_->error);
 }
@@ -279,7 +315,8 @@ PatchSurface::PatchSurface(const PatchCache& cache, const PatchSurfaceOptions& o
 PatchSurface::~PatchSurface() = default;
 
 size_t PatchSurface::bytes() const noexcept {
-  return vectorBytes(error_, bandError_, points_) + uniform_->bytes() + embreeBytes(impl_->embreeBytes);
+  return vectorBytes(error_, bandError_, impl_->bandOnly) + points_->bytes() + uniform_->bytes() +
+         embreeBytes(impl_->embreeBytes);
 }
 
 int PatchSurface::level() const noexcept { return uniform_->level; }
@@ -287,9 +324,11 @@ size_t PatchSurface::numTriangles() const noexcept { return uniform_->tri.size()
 
 size_t PatchSurface::candidates(const Eigen::Vector3d& q, SurfaceCandidate* out, size_t cap, double reach,
                                 int reachFace, const SurfaceCandidate* after) const noexcept {
-  if (points_.empty() || !inCoordinateRange(q) || cap == 0) return 0;  // beyond: Embree refuses the point
+  if (points_->ref.empty() || !inCoordinateRange(q) || cap == 0) return 0;  // beyond: Embree refuses the point
   CandidateState st;
-  st.tri = &points_;
+  st.band = false;
+  st.uniform = uniform_.get();
+  st.tri = points_.get();
   st.after = after;
   st.q = q;
   st.bound = std::numeric_limits<double>::infinity();
@@ -303,14 +342,15 @@ size_t PatchSurface::candidates(const Eigen::Vector3d& q, SurfaceCandidate* out,
   // search runs again without the radius: the same candidates always.
   const double r0 = searchRadius(reach, reachFace);
   if (r0 < 1e30) {
-    embreePointQuery(impl_->points, q - impl_->origin, &st, float(r0) * (1.0f + 1e-6f) + st.pad);
+    embreePointQuery(impl_->points, q - impl_->origin, static_cast<QueryState*>(&st),
+                     float(r0) * (1.0f + 1e-6f) + st.pad);
     if (!(st.bound <= r0)) {
       st.bound = std::numeric_limits<double>::infinity();
       st.count = 0;
-      embreePointQuery(impl_->points, q - impl_->origin, &st);
+      embreePointQuery(impl_->points, q - impl_->origin, static_cast<QueryState*>(&st));
     }
   } else {
-    embreePointQuery(impl_->points, q - impl_->origin, &st);
+    embreePointQuery(impl_->points, q - impl_->origin, static_cast<QueryState*>(&st));
   }
   size_t n = 0;
   for (size_t i = 0; i < st.count; ++i)
@@ -324,23 +364,26 @@ size_t PatchSurface::candidates(const Eigen::Vector3d& q, SurfaceCandidate* out,
 }
 
 SurfaceCandidate PatchSurface::candidateOf(const Eigen::Vector3d& q, int t) const noexcept {
-  if (t < 0 || static_cast<size_t>(t) >= points_.size()) return SurfaceCandidate{};
-  const SurfaceTriangle& tri = points_[t];
+  if (t < 0 || static_cast<size_t>(t) >= points_->size()) return SurfaceCandidate{};
+  const AdaptiveTriangleRef tri = adaptiveTriangleRef(*uniform_, *points_, static_cast<size_t>(t));
   double u, v, w;
-  const double d = std::sqrt(closestOnTriangle(q, tri.P[0], tri.P[1], tri.P[2], u, v, w));
+  const double d = std::sqrt(closestOnTriangle(q, *tri.P[0], *tri.P[1], *tri.P[2], u, v, w));
   return candidateRecord(tri, t, d, u, v, w);
 }
 
-size_t PatchSurface::numPointTriangles() const noexcept { return points_.size(); }
+size_t PatchSurface::numPointTriangles() const noexcept { return points_->size(); }
 
 void PatchSurface::pointTriangle(size_t t, Eigen::Vector3d corners[3], double* error) const noexcept {
-  for (int k = 0; k < 3; ++k) corners[k] = points_[t].P[k];
-  *error = points_[t].error;
+  const AdaptiveTriangleRef p = adaptiveTriangleRef(*uniform_, *points_, t);
+  for (int k = 0; k < 3; ++k) corners[k] = *p.P[k];
+  *error = p.error;
 }
 
 bool PatchSurface::overTriangle(int t, int f, const Eigen::Vector2d& X) const noexcept {
-  if (t < 0 || static_cast<size_t>(t) >= points_.size() || points_[t].face != f || !X.allFinite()) return false;
-  const auto& c = points_[t].X;
+  if (t < 0 || static_cast<size_t>(t) >= points_->size() || !X.allFinite()) return false;
+  const AdaptiveTriangleRef p = adaptiveTriangleRef(*uniform_, *points_, static_cast<size_t>(t));
+  if (p.face != f) return false;
+  const Eigen::Vector2d c[3] = {*p.X[0], *p.X[1], *p.X[2]};
   auto cross = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); };
   const double area = cross(c[1] - c[0], c[2] - c[0]);  // twice the signed area
   if (!(std::abs(area) > 0)) return false;
@@ -353,7 +396,12 @@ bool PatchSurface::overTriangle(int t, int f, const Eigen::Vector2d& X) const no
 bool PatchSurface::inErrorBand(const Eigen::Vector3d& q, double* reach, int* reachFace, int hintFace,
                                const Eigen::Vector2d& hintX, const Eigen::Vector3d& hintPoint) const noexcept {
   if (uniform_->tri.empty() || windingOnly_ || !inCoordinateRange(q) || beyondBands(q)) return false;
-  BandState st{uniform_.get(), q, false, std::numeric_limits<double>::infinity(), -1};
+  BandState st;
+  st.band = true;
+  st.u = uniform_.get();
+  st.a = points_.get();
+  st.bandOnly = &impl_->bandOnly;
+  st.q = q;
   // the triangle over the hint first: in its band, q is in a band (any triangle's band will do).
   // The hint's point lies within that triangle's error e of it, so q within e of the triangle lies
   // within 2e of the point: farther than twice the face's widest band, the test cannot succeed.
@@ -361,7 +409,8 @@ bool PatchSurface::inErrorBand(const Eigen::Vector3d& q, double* reach, int* rea
                     !((q - hintPoint).norm() > 2 * bandError_[hintFace]);
   if (const int64_t t = near ? uniformTriangleAt(*uniform_, cache_, hintFace, hintX) : -1; t >= 0) testBand(st, t);
   if (!st.inside)
-    embreePointQuery(impl_->band, q - impl_->origin, &st, impl_->pad);  // boxes are inflated by the errors: q must lie in one
+    // boxes are inflated by the errors: q must lie in one
+    embreePointQuery(impl_->points, q - impl_->origin, static_cast<QueryState*>(&st), impl_->pad);
   if (st.inside && reach) *reach = st.reach;
   if (st.inside && reachFace) *reachFace = st.face;
   return st.inside;

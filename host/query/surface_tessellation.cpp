@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include <smoothforce/patch/detail/gp_traits.h>
 #include <smoothforce/patch/patch_eval.h>
@@ -217,10 +218,30 @@ int64_t uniformTriangleAt(const UniformTessellation& u, const PatchCache& cache,
   return u.faceFirstTri[f] + int64_t(n) * (r - 1) * (r - 1) + int64_t(k) * (2 * r - 1) + (down ? r + j : j);
 }
 
-std::vector<SurfaceTriangle> tessellateAdaptive(const PatchCache& cache, const UniformTessellation& u, double maxError,
-                                                int maxDepth, size_t budget) {
-  std::vector<SurfaceTriangle> done, todo;
+AdaptiveTessellation tessellateAdaptive(const PatchCache& cache, const UniformTessellation& u, double maxError,
+                                        int maxDepth, size_t budget) {
+  constexpr size_t kMaxRef = size_t(std::numeric_limits<int32_t>::max());
+  if (u.tri.size() > kMaxRef) throw std::length_error("adaptive tessellation: too many uniform triangles");
+  AdaptiveTessellation out;
+  // the triangles still to split, and for those of depth 0 the uniform triangle each is (-1 for
+  // a piece): one kept whole at the end is stored as that reference
+  std::vector<SurfaceTriangle> todo;
+  std::vector<int32_t> todoRef;
+  auto keep = [&](const SurfaceTriangle& s, int32_t uniformRef) {
+    if (uniformRef >= 0) {
+      out.ref.push_back(uniformRef);
+      return;
+    }
+    if (out.children.size() >= kMaxRef) throw std::length_error("adaptive tessellation: too many triangles");
+    out.ref.push_back(-1 - static_cast<int32_t>(out.children.size()));
+    out.children.push_back(s);
+  };
+  out.ref.reserve(u.tri.size());  // most are kept whole
   for (size_t i = 0; i < u.tri.size(); ++i) {
+    if (!(u.error[i] > maxError)) {
+      out.ref.push_back(static_cast<int32_t>(i));
+      continue;
+    }
     SurfaceTriangle s;
     s.face = u.triFace[i];
     for (int a = 0; a < 3; ++a) {
@@ -228,20 +249,25 @@ std::vector<SurfaceTriangle> tessellateAdaptive(const PatchCache& cache, const U
       s.P[a] = u.vertex[u.tri[i][a]];
     }
     s.error = u.error[i];
-    (s.error > maxError ? todo : done).push_back(s);
+    todo.push_back(s);
+    todoRef.push_back(static_cast<int32_t>(i));
   }
   bool full = false;
   for (int depth = 0; depth < maxDepth && !todo.empty() && !full; ++depth) {
     // each split adds 3 triangles: where the budget cannot take them all, the largest errors first
-    const size_t have = done.size() + todo.size();
+    const size_t have = out.size() + todo.size();
     const size_t room = budget > have ? (budget - have) / 3 : 0;
     if (room < todo.size()) {
-      std::stable_sort(todo.begin(), todo.end(),
-                       [](const SurfaceTriangle& a, const SurfaceTriangle& b) { return a.error > b.error; });
-      done.insert(done.end(), todo.begin() + static_cast<std::ptrdiff_t>(room), todo.end());
-      todo.resize(room);
+      std::vector<size_t> order(todo.size());
+      for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+      std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return todo[a].error > todo[b].error; });
+      for (size_t i = room; i < order.size(); ++i) keep(todo[order[i]], todoRef[order[i]]);
+      std::vector<SurfaceTriangle> first(room);
+      for (size_t i = 0; i < room; ++i) first[i] = todo[order[i]];
+      todo = std::move(first);
       full = true;
     }
+    todoRef.clear();
     // children at the edge midpoints: corners (a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca)
     std::vector<SurfaceTriangle> kids(4 * todo.size());
     // a chunk of parents at a time: per parent its 3 corners and 3 edge midpoints (the children's
@@ -280,11 +306,17 @@ std::vector<SurfaceTriangle> tessellateAdaptive(const PatchCache& cache, const U
       }
     });
     todo.clear();
-    for (const SurfaceTriangle& c : kids)
-      (c.error > maxError && depth + 1 < maxDepth && !full ? todo : done).push_back(c);
+    for (const SurfaceTriangle& c : kids) {
+      if (c.error > maxError && depth + 1 < maxDepth && !full) {
+        todo.push_back(c);
+        todoRef.push_back(-1);
+      } else {
+        keep(c, -1);
+      }
+    }
   }
-  done.insert(done.end(), todo.begin(), todo.end());
-  return done;
+  for (size_t i = 0; i < todo.size(); ++i) keep(todo[i], todoRef[i]);
+  return out;
 }
 
 }  // namespace sf

@@ -52,12 +52,61 @@ UniformTessellation tessellateUniform(const PatchCache& cache, int L, bool error
                                       const std::vector<int>* only = nullptr,
                                       std::vector<double>* levelEstimate = nullptr);
 
+/// The adaptive tessellation over a uniform one: per triangle, in the order tessellateAdaptive
+/// makes them, either a uniform triangle it keeps whole (ref[i] >= 0, its index in the uniform
+/// tessellation: the same corners, domain corners and error) or a piece of a split one (ref[i] <
+/// 0: children[-1 - ref[i]]). On dense meshes almost every triangle is kept whole, so each costs
+/// 4 bytes here instead of a SurfaceTriangle's 136. `pad` (m) is added to every error bound.
+struct AdaptiveTessellation {
+  std::vector<int32_t> ref;
+  std::vector<SurfaceTriangle> children;
+  double pad = 0;
+  size_t size() const noexcept { return ref.size(); }
+  size_t bytes() const noexcept { return vectorBytes(ref, children); }
+};
+
+/// Triangle t (< a.size()) of the adaptive tessellation a over u read in place: its corners (m)
+/// and domain corners (in u's arrays, or in the piece's own), its face, and its error bound (m,
+/// a.pad included).
+struct AdaptiveTriangleRef {
+  const Eigen::Vector3d* P[3];
+  const Eigen::Vector2d* X[3];
+  int face;
+  double error;
+};
+inline AdaptiveTriangleRef adaptiveTriangleRef(const UniformTessellation& u, const AdaptiveTessellation& a, size_t t) {
+  AdaptiveTriangleRef p;
+  const int32_t r = a.ref[t];
+  if (r < 0) {
+    const SurfaceTriangle& s = a.children[static_cast<size_t>(-1 - r)];
+    for (int k = 0; k < 3; ++k) p.P[k] = &s.P[k], p.X[k] = &s.X[k];
+    p.face = s.face;
+    p.error = s.error + a.pad;
+  } else {
+    for (int k = 0; k < 3; ++k) p.P[k] = &u.vertex[u.tri[r][k]], p.X[k] = &u.domain[u.tri[r][k]];
+    p.face = u.triFace[r];
+    p.error = u.error[r] + a.pad;
+  }
+  return p;
+}
+
+/// The same triangle as a copy.
+inline SurfaceTriangle adaptiveTriangle(const UniformTessellation& u, const AdaptiveTessellation& a, size_t t) {
+  const AdaptiveTriangleRef p = adaptiveTriangleRef(u, a, t);
+  SurfaceTriangle s;
+  s.face = p.face;
+  for (int k = 0; k < 3; ++k) s.X[k] = *p.X[k], s.P[k] = *p.P[k];
+  s.error = p.error;
+  return s;
+}
+
 /// The uniform triangles, each subdivided into 4 (at its domain edge midpoints) while its error
 /// exceeds `maxError` (m), at most `maxDepth` times, and while the result stays within `budget`
 /// triangles: where a round would exceed it, only the triangles of largest error (ties: the
-/// earlier) are split that fit, and subdivision stops.
-std::vector<SurfaceTriangle> tessellateAdaptive(const PatchCache& cache, const UniformTessellation& uniform,
-                                                double maxError, int maxDepth, size_t budget = SIZE_MAX);
+/// earlier) are split that fit, and subdivision stops. The result's pad is 0. Needs fewer than
+/// 2^31 uniform triangles and children (std::length_error otherwise).
+AdaptiveTessellation tessellateAdaptive(const PatchCache& cache, const UniformTessellation& uniform, double maxError,
+                                        int maxDepth, size_t budget = SIZE_MAX);
 
 /// The evaluation noise (m) added to every triangle's error bound: the larger of the rounding of
 /// the cache's precision relative to the mesh's bounding-box diagonal (1e-13 in double, 2e-6 in

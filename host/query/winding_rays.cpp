@@ -93,7 +93,10 @@ WindingRays::WindingRays(RTCDevice device, const UniformTessellation& u, const s
     rtcSetGeometryIntersectFilterFunction(g, windingFilter);
     rtcCommitGeometry(g);
   }
-  scene_ = sceneOf(device, g, true);
+  // Embree's Morton build: a ray or two per query, as fast as on the binned SAH build (sweep
+  // probes measured alike) in about a third less memory; which triangles a ray crosses does not
+  // depend on the BVH
+  scene_ = sceneOf(device, g, true, RTC_BUILD_QUALITY_LOW);
 }
 
 WindingRays::~WindingRays() {

@@ -254,7 +254,7 @@ TEST(CoordinateRange, PatchSurfaceFarFromTheOriginStaysTheSize) {
     for (auto& p : m.positions) p += d * Eigen::Vector3d(0.48, -0.6, 0.64);
     const PatchCache cache = buildPatchCache(loadMesh(std::move(m), 1, po), po, Backend::Tbb);
     const PatchSurface surface(cache);
-    adaptive = surface.pointTriangles().size();
+    adaptive = surface.numPointTriangles();
     return surface.level();
   };
   size_t home = 0, far = 0;

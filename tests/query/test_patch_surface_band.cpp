@@ -4,6 +4,7 @@
 // hinted band test gives the BVH query's verdict for every query, with a right or a wrong hint.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -148,6 +149,127 @@ TEST(PatchSurfaceBand, HintKeepsTheVerdict) {
     EXPECT_GT(hintedBand, inBand / 2) << rel;  // most bands found on the hint's face
     std::printf("  %s: %zu HIPs, %zu in a band (%zu on the hint's face), the same verdict for all\n", rel, hips, inBand,
                 hintedBand);
+  }
+}
+
+/// Distance from q to triangle abc: to its plane where the foot lies inside, else to the nearest
+/// of its edges.
+double pointTriangleDistance(const Eigen::Vector3d& q, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                             const Eigen::Vector3d& c) {
+  auto segment = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& r) {
+    const Eigen::Vector3d e = r - p;
+    const double l2 = e.squaredNorm();
+    const double t = l2 > 0 ? std::clamp((q - p).dot(e) / l2, 0.0, 1.0) : 0.0;
+    return (p + t * e - q).norm();
+  };
+  const Eigen::Vector3d n = (b - a).cross(c - a);
+  const double n2 = n.squaredNorm();
+  if (n2 > 0) {
+    const Eigen::Vector3d foot = q - (q - a).dot(n) / n2 * n;
+    const bool inside = (b - a).cross(foot - a).dot(n) >= 0 && (c - b).cross(foot - b).dot(n) >= 0 &&
+                        (a - c).cross(foot - c).dot(n) >= 0;
+    if (inside) return (q - foot).norm();
+  }
+  return std::min({segment(a, b), segment(b, c), segment(c, a)});
+}
+
+// The one BVH that serves the candidate search and the band test answers as a scan of every
+// triangle: HIPs on the normal lines of patch points at depths from 1e-6 to 1e-2 of the diagonal
+// on both sides, on meshes whose adaptive tessellation splits many uniform triangles (the
+// quad-sphere), some (the spot cage) and none (the dodecahedron at its level). inErrorBand holds
+// exactly where some uniform triangle lies within its error bound, and candidates() lists exactly
+// the adaptive triangles whose lower bound is at most the smallest (distance + bound), in (lower
+// bound, index) order, with the records candidateOf gives. Every triangle the adaptive
+// tessellation kept whole is its uniform triangle, error bound and all, and the pieces and the
+// triangles kept whole cover each face's domain once.
+TEST(PatchSurfaceBand, SharedBvhAnswersAsAScanOfEveryTriangle) {
+  const char* meshes[] = {"polygon_laplacian/quad-sphere.off", "keenan_crane/spot_control_mesh.obj",
+                          "geomview/dodecahedron.off"};
+  for (const char* rel : meshes) {
+    const PatchCache c = test::cacheFromFile(test::sharedMesh(rel));
+    const PatchSurface surface(c);
+    const UniformTessellation& u = surface.uniform();
+    const AdaptiveTessellation& a = surface.adaptive();
+    const double diag = boundingDiagonal(c);
+    ASSERT_EQ(a.size(), surface.numPointTriangles());
+    // the triangles kept whole, and the domain area each face's triangles cover
+    size_t whole = 0;
+    std::vector<int> uses(u.tri.size(), 0);
+    std::vector<double> area(c.numFaces(), 0.0), uniformArea(c.numFaces(), 0.0);
+    auto domainArea = [](const Eigen::Vector2d& p, const Eigen::Vector2d& q, const Eigen::Vector2d& r) {
+      const Eigen::Vector2d e = q - p, f = r - p;
+      return 0.5 * std::abs(e.x() * f.y() - e.y() * f.x());
+    };
+    for (size_t t = 0; t < a.size(); ++t) {
+      const SurfaceTriangle s = adaptiveTriangle(u, a, t);
+      area[s.face] += domainArea(s.X[0], s.X[1], s.X[2]);
+      if (a.ref[t] < 0) continue;
+      ++whole;
+      const int32_t r = a.ref[t];
+      ++uses[r];
+      bool same = s.face == u.triFace[r] && s.error == u.error[r] + a.pad;
+      for (int k = 0; k < 3; ++k) same = same && s.P[k] == u.vertex[u.tri[r][k]] && s.X[k] == u.domain[u.tri[r][k]];
+      EXPECT_TRUE(same) << rel << " triangle " << t;
+    }
+    for (size_t t = 0; t < u.tri.size(); ++t) {
+      EXPECT_LE(uses[t], 1) << rel << " uniform triangle " << t;
+      uniformArea[u.triFace[t]] += domainArea(u.domain[u.tri[t][0]], u.domain[u.tri[t][1]], u.domain[u.tri[t][2]]);
+    }
+    for (int f = 0; f < c.numFaces(); ++f) EXPECT_NEAR(area[f], uniformArea[f], 1e-12) << rel << " face " << f;
+
+    size_t hips = 0, bandSame = 0, inBand = 0, listSame = 0, listed = 0;
+    for (int f = 0; f < c.numFaces(); f += std::max(1, c.numFaces() / 24)) {
+      const int n = c.faceSize(f);
+      for (const Eigen::Vector2d& X : {Eigen::Vector2d(0.1, -0.05), Eigen::Vector2d(0.7 * domainCorner(n, 1))}) {
+        const PatchPoint p = evaluatePatch(c, f, X.x(), X.y());
+        for (double d : {-1e-2, -1e-3, -1e-4, -1e-6, 1e-6, 1e-4, 1e-3, 1e-2}) {
+          const Eigen::Vector3d q = p.pos + d * diag * p.normal;
+          ++hips;
+          // the band, by a scan of the uniform triangles (distances of this file's own; a triangle
+          // within 1e-12 of the diagonal of its bound's edge may go either way)
+          bool within = false, near = false;
+          for (size_t t = 0; t < u.tri.size() && !within; ++t) {
+            const double e = u.error[t] - pointTriangleDistance(q, u.vertex[u.tri[t][0]], u.vertex[u.tri[t][1]],
+                                                                u.vertex[u.tri[t][2]]);
+            within = e > 1e-12 * diag;
+            near = near || std::abs(e) <= 1e-12 * diag;
+          }
+          const bool band = surface.inErrorBand(q);
+          bandSame += band == within || (near && !within);
+          inBand += band;
+          // the candidates, by a scan of the adaptive triangles
+          std::vector<SurfaceCandidate> scan(a.size());
+          double bound = std::numeric_limits<double>::infinity();
+          for (size_t t = 0; t < a.size(); ++t) {
+            scan[t] = surface.candidateOf(q, static_cast<int>(t));
+            bound = std::min(bound, scan[t].distance + (scan[t].distance - scan[t].lower));
+          }
+          std::vector<SurfaceCandidate> want;
+          for (const SurfaceCandidate& x : scan)
+            if (x.lower <= bound) want.push_back(x);
+          std::sort(want.begin(), want.end(), [](const SurfaceCandidate& x, const SurfaceCandidate& y) {
+            return candidateBefore(x, y);
+          });
+          if (want.size() > PatchSurface::kMaxCandidates) want.resize(PatchSurface::kMaxCandidates);
+          CandidateBuffer<> got;
+          const size_t m = surface.candidates(q, got.data(), got.size());
+          bool same = m == want.size();
+          for (size_t i = 0; same && i < m; ++i)
+            same = got[i].triangle == want[i].triangle && got[i].face == want[i].face && got[i].X == want[i].X &&
+                   got[i].distance == want[i].distance && got[i].lower == want[i].lower;
+          listSame += same;
+          listed += m;
+        }
+      }
+    }
+    EXPECT_EQ(bandSame, hips) << rel;
+    EXPECT_EQ(listSame, hips) << rel;
+    EXPECT_GT(inBand, hips / 8) << rel;  // both verdicts represented
+    EXPECT_LT(inBand, hips) << rel;
+    EXPECT_GE(hips, size_t(8 * 12)) << rel;
+    std::printf("  %s: %zu adaptive triangles (%zu kept whole of %zu uniform), %zu HIPs, %zu in a band, %zu candidates; "
+                "band and candidates as the scans for all\n",
+                rel, a.size(), whole, u.tri.size(), hips, inBand, listed);
   }
 }
 

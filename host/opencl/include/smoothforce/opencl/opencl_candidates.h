@@ -43,7 +43,7 @@ class OpenCLCandidateSearch {
 
   /// For queries q[0, n) (m): count[i] = how many candidates q[i] has, at most cap (1..kMaxCap;
   /// cap: there may be more), and ids[offset[i], offset[i] + count[i]) their triangle indices
-  /// (PatchSurface::pointTriangles(), SurfaceCandidate::triangle) in (lower bound, index) order,
+  /// (PatchSurface::pointTriangle, SurfaceCandidate::triangle) in (lower bound, index) order,
   /// as PatchSurface::candidates(q[i], out, cap) lists them (PatchSurface::candidateOf gives each
   /// one's record); ids is resized to hold them all. count[i] = -1 where the device did not
   /// search: q[i] outside the coordinate range (inCoordinateRange), the walk's stack full, or the

@@ -16,7 +16,7 @@
 namespace sf {
 
 struct UniformTessellation;
-struct SurfaceTriangle;
+struct AdaptiveTessellation;
 
 /// A tessellation triangle whose part of the patch may hold the point nearest a query: its
 /// point nearest the query (face, domain coordinates X) and lower = that distance minus the
@@ -48,10 +48,11 @@ struct PatchSurfaceOptions {
   double targetError = 1e-3;
   int64_t triangleBudget = 1'000'000;
   int subdivision = 6;  ///< at most this many halvings of a triangle, 0..8
-  /// the adaptive tessellation stops subdividing at this many triangles (136 bytes each, plus
-  /// Embree's BVH), the worst error bounds split first: normals that disagree with the geometry
-  /// bulge every patch, and 4 such faces took 9 GB unbounded. The bundled meshes need at most
-  /// 3.5 million (bun_zipper.ply); a triangle left coarser keeps its wider, valid bound.
+  /// the adaptive tessellation stops subdividing at this many triangles (a piece of a split
+  /// triangle holds 136 bytes, one kept whole 4, plus Embree's BVH), the worst error bounds split
+  /// first: normals that disagree with the geometry bulge every patch, and 4 such faces took 9 GB
+  /// unbounded. The bundled meshes need at most 3.5 million (bun_zipper.ply); a triangle left
+  /// coarser keeps its wider, valid bound.
   int64_t adaptiveBudget = 4'000'000;
   /// false: only what winding() and inErrorBand() need (an inside test, as the sweep's): no
   /// adaptive tessellation and no BVH over it; candidates() then finds none
@@ -78,7 +79,12 @@ struct PatchSurfaceOptions {
 ///   that neighbouring patches share their boundary vertices up to rounding and the
 ///   tessellation is closed where the patch surface is): the rays of winding() and inErrorBand();
 /// - adaptive: the uniform triangles subdivided while their error bound exceeds the target: the
-///   point queries of candidates(), on boxes inflated by the bounds (Embree user geometry).
+///   point queries of candidates(), on boxes inflated by the bounds (Embree user geometry). A
+///   triangle kept whole is read from the uniform tessellation (surface_tessellation.h,
+///   AdaptiveTessellation), and one BVH serves both point queries: its primitives are the
+///   adaptive triangles and then the uniform triangles they split, so that the band's (the uniform
+///   triangles) are those kept whole and the split ones. On dense meshes, where almost none is
+///   split, the surface holds about half the bytes of separate copies and BVHs.
 /// Queries are const and thread-safe (state on the stack), and do not allocate, lock or throw.
 /// The cache must outlive the surface.
 class PatchSurface {
@@ -170,10 +176,12 @@ class PatchSurface {
   const PatchCache& cache() const noexcept { return cache_; }
 
   const UniformTessellation& uniform() const noexcept { return *uniform_; }
-  /// Bytes the surface holds: both tessellations, their error bounds and the three BVHs (Embree's
+  /// Bytes the surface holds: both tessellations, their error bounds and the two BVHs (Embree's
   /// own count of what its device allocated); the cache not counted.
   size_t bytes() const noexcept;
-  const std::vector<SurfaceTriangle>& pointTriangles() const noexcept { return points_; }
+  /// The adaptive tessellation candidates() searches (surface_tessellation.h: uniform triangles
+  /// kept whole by reference, the pieces of split ones by value).
+  const AdaptiveTessellation& adaptive() const noexcept { return *points_; }
   /// The adaptive triangles candidates() searches: how many, and triangle t's corners (m) and
   /// error bound (m), for a search run elsewhere (OpenCLCandidateSearch). t < numPointTriangles().
   size_t numPointTriangles() const noexcept;
@@ -190,7 +198,7 @@ class PatchSurface {
   std::vector<double> bandError_;  ///< #F, m: the largest uniform triangle error per face (the widest band)
   Eigen::Vector3d bandLo_{0, 0, 0}, bandHi_{-1, -1, -1};  ///< m: beyondBands' box (empty: none)
   std::unique_ptr<UniformTessellation> uniform_;
-  std::vector<SurfaceTriangle> points_;
+  std::unique_ptr<AdaptiveTessellation> points_;
   std::unique_ptr<Impl> impl_;
 };
 
