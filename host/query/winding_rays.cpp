@@ -93,10 +93,7 @@ WindingRays::WindingRays(RTCDevice device, const UniformTessellation& u, const s
     rtcSetGeometryIntersectFilterFunction(g, windingFilter);
     rtcCommitGeometry(g);
   }
-  // Embree's Morton build: a ray or two per query, as fast as on the binned SAH build (sweep
-  // probes measured alike) in about a third less memory; which triangles a ray crosses does not
-  // depend on the BVH
-  scene_ = sceneOf(device, g, true, RTC_BUILD_QUALITY_LOW);
+  scene_ = sceneOf(device, g, true);
 }
 
 WindingRays::~WindingRays() {
