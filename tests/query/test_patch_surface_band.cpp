@@ -17,6 +17,7 @@
 #include <smoothforce/patch/tessellate.h>
 #include <smoothforce/query/patch_refine.h>
 #include <smoothforce/query/patch_surface.h>
+#include <smoothforce/sweep/sweep_reference.h>
 #include "patch_test_support.h"
 #include "surface_tessellation.h"
 
@@ -152,27 +153,6 @@ TEST(PatchSurfaceBand, HintKeepsTheVerdict) {
   }
 }
 
-/// Distance from q to triangle abc: to its plane where the foot lies inside, else to the nearest
-/// of its edges.
-double pointTriangleDistance(const Eigen::Vector3d& q, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                             const Eigen::Vector3d& c) {
-  auto segment = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& r) {
-    const Eigen::Vector3d e = r - p;
-    const double l2 = e.squaredNorm();
-    const double t = l2 > 0 ? std::clamp((q - p).dot(e) / l2, 0.0, 1.0) : 0.0;
-    return (p + t * e - q).norm();
-  };
-  const Eigen::Vector3d n = (b - a).cross(c - a);
-  const double n2 = n.squaredNorm();
-  if (n2 > 0) {
-    const Eigen::Vector3d foot = q - (q - a).dot(n) / n2 * n;
-    const bool inside = (b - a).cross(foot - a).dot(n) >= 0 && (c - b).cross(foot - b).dot(n) >= 0 &&
-                        (a - c).cross(foot - c).dot(n) >= 0;
-    if (inside) return (q - foot).norm();
-  }
-  return std::min({segment(a, b), segment(b, c), segment(c, a)});
-}
-
 // The one BVH that serves the candidate search and the band test answers as a scan of every
 // triangle: HIPs on the normal lines of patch points at depths from 1e-6 to 1e-2 of the diagonal
 // on both sides, on meshes whose adaptive tessellation splits many uniform triangles (the
@@ -225,12 +205,14 @@ TEST(PatchSurfaceBand, SharedBvhAnswersAsAScanOfEveryTriangle) {
         for (double d : {-1e-2, -1e-3, -1e-4, -1e-6, 1e-6, 1e-4, 1e-3, 1e-2}) {
           const Eigen::Vector3d q = p.pos + d * diag * p.normal;
           ++hips;
-          // the band, by a scan of the uniform triangles (distances of this file's own; a triangle
-          // within 1e-12 of the diagonal of its bound's edge may go either way)
+          // the band, by a scan of the uniform triangles (the sweep reference's point-triangle distance, not the
+          // query's; a triangle within 1e-12 of the diagonal of its bound's edge may go either way)
           bool within = false, near = false;
           for (size_t t = 0; t < u.tri.size() && !within; ++t) {
-            const double e = u.error[t] - pointTriangleDistance(q, u.vertex[u.tri[t][0]], u.vertex[u.tri[t][1]],
-                                                                u.vertex[u.tri[t][2]]);
+            const double e =
+                u.error[t] -
+                (closestPointOnTriangle(q, u.vertex[u.tri[t][0]], u.vertex[u.tri[t][1]], u.vertex[u.tri[t][2]]) - q)
+                    .norm();
             within = e > 1e-12 * diag;
             near = near || std::abs(e) <= 1e-12 * diag;
           }
@@ -247,9 +229,8 @@ TEST(PatchSurfaceBand, SharedBvhAnswersAsAScanOfEveryTriangle) {
           std::vector<SurfaceCandidate> want;
           for (const SurfaceCandidate& x : scan)
             if (x.lower <= bound) want.push_back(x);
-          std::sort(want.begin(), want.end(), [](const SurfaceCandidate& x, const SurfaceCandidate& y) {
-            return candidateBefore(x, y);
-          });
+          std::sort(want.begin(), want.end(),
+                    [](const SurfaceCandidate& x, const SurfaceCandidate& y) { return candidateBefore(x, y); });
           if (want.size() > PatchSurface::kMaxCandidates) want.resize(PatchSurface::kMaxCandidates);
           CandidateBuffer<> got;
           const size_t m = surface.candidates(q, got.data(), got.size());
@@ -267,9 +248,10 @@ TEST(PatchSurfaceBand, SharedBvhAnswersAsAScanOfEveryTriangle) {
     EXPECT_GT(inBand, hips / 8) << rel;  // both verdicts represented
     EXPECT_LT(inBand, hips) << rel;
     EXPECT_GE(hips, size_t(8 * 12)) << rel;
-    std::printf("  %s: %zu adaptive triangles (%zu kept whole of %zu uniform), %zu HIPs, %zu in a band, %zu candidates; "
-                "band and candidates as the scans for all\n",
-                rel, a.size(), whole, u.tri.size(), hips, inBand, listed);
+    std::printf(
+        "  %s: %zu adaptive triangles (%zu kept whole of %zu uniform), %zu HIPs, %zu in a band, %zu candidates; "
+        "band and candidates as the scans for all\n",
+        rel, a.size(), whole, u.tri.size(), hips, inBand, listed);
   }
 }
 
