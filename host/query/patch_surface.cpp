@@ -122,7 +122,7 @@ struct QueryState {
 
 struct CandidateState : QueryState {
   const UniformTessellation* uniform;
-  const AdaptiveTessellation* tri;
+  const AdaptiveTessellation* adaptive;
   Eigen::Vector3d q;
   double bound;  ///< min over the triangles seen of (distance + error)
   float pad;
@@ -135,8 +135,8 @@ struct CandidateState : QueryState {
 
 bool candidateFn(RTCPointQueryFunctionArguments* args) {
   auto* st = static_cast<CandidateState*>(static_cast<QueryState*>(args->userPtr));
-  if (args->primID >= st->tri->size()) return false;  // a split uniform triangle: the band's only
-  const AdaptiveTriangleRef t = adaptiveTriangleRef(*st->uniform, *st->tri, args->primID);
+  if (args->primID >= st->adaptive->size()) return false;  // a split uniform triangle: the band's only
+  const AdaptiveTriangleRef t = adaptiveTriangleRef(*st->uniform, *st->adaptive, args->primID);
   double u, v, w;
   const double d = std::sqrt(closestOnTriangle(st->q, *t.P[0], *t.P[1], *t.P[2], u, v, w));
   const double e = t.error;
@@ -328,7 +328,7 @@ size_t PatchSurface::candidates(const Eigen::Vector3d& q, SurfaceCandidate* out,
   CandidateState st;
   st.band = false;
   st.uniform = uniform_.get();
-  st.tri = points_.get();
+  st.adaptive = points_.get();
   st.after = after;
   st.q = q;
   st.bound = std::numeric_limits<double>::infinity();
