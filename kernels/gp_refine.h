@@ -48,6 +48,10 @@
 #define GP_RF_TINY GP_R(1.0e-37)
 #endif
 #define GP_RF_MAX_CROSS 8
+#undef GP_RF_CREASE_COS
+#define GP_RF_CREASE_COS GP_R(0.99995) /* normals more than 0.01 rad apart across an edge: a crease */
+#undef GP_RF_EDGE_NEAR
+#define GP_RF_EDGE_NEAR (GP_R(1024.0) * GP_EPS) /* domain distance (1-norm) at which an iterate is on an edge */
 #undef GP_RF_D2_REUSE
 /* Second derivatives are taken again once the iterate is this far (domain units, per coordinate;
  * the domain's circumradius is 1) from where they were taken, or on another face: lagged ones
@@ -585,6 +589,20 @@ GP_FN void gp_rf_move(const gp_refine_mesh* m, gp_refine_work* w, int* f, GP_REA
     const GP_REAL rx = (GP_R(1.0) - tau) * dx, ry = (GP_R(1.0) - tau) * dy;
     const gp_vec3 D = gp_add(gp_scale(ja, rx), gp_scale(jb, ry));
     const gp_eval_result pe = gp_rf_eval(m, w, g, gx, gy);
+    if (c == 0 && tau > GP_RF_AT_ONCE && GP_FABS(ix - *x) + GP_FABS(iy - *y) > GP_RF_EDGE_NEAR) {
+      /* a step from inside the face that leaves it across a crease (the two sides' normals apart
+       * at the exit point) stops on the edge: the rest of the step, a displacement along this
+       * side's tangent plane, means nothing on the other side's, and carried over it took the
+       * iterate off a sheet whose own nearest point lay just inside the edge (a flat cap's curved
+       * rim). The next step starts on the edge and crosses at once if it still points out (an
+       * iterate within GP_RF_EDGE_NEAR of the edge in the domain is on it: one stopped there lies
+       * a rounding inside, and stopping again moved it nowhere). */
+      const gp_eval_result pf = gp_rf_eval(m, w, *f, ix, iy);
+      if (gp_dot(pf.normal, pe.normal) < GP_RF_CREASE_COS) {
+        gp_dom_edge_point(n, k, t, x, y GP_DT_M(m));
+        return;
+      }
+    }
     const GP_REAL a00 = gp_dot(pe.dxi, pe.dxi), a01 = gp_dot(pe.dxi, pe.deta), a11 = gp_dot(pe.deta, pe.deta);
     const GP_REAL v0 = gp_dot(pe.dxi, D), v1 = gp_dot(pe.deta, D);
     const GP_REAL det = a00 * a11 - a01 * a01;

@@ -144,4 +144,24 @@ bool belowOtherSide(const PatchCache& c, PatchRefiner& refiner, const Eigen::Vec
   return acrossCrease(c, refiner, r.face, r.edge, {r.xi, r.eta}, &g, &Y, &p) && (hip - r.scp).dot(p.normal) < 0;
 }
 
+int creaseSidesVerdict(const PatchCache& c, PatchRefiner& refiner, const Eigen::Vector3d& hip,
+                       const RefineResult& r) noexcept {
+  if (!usableRefinement(r) || r.edge < 0 || r.face < 0 || r.face >= c.numFaces() || r.edge >= c.faceSize(r.face) ||
+      !isCreaseEdge(c, r.face, r.edge))
+    return -1;
+  int g;
+  Eigen::Vector2d Y;
+  PatchPoint p;
+  if (!acrossCrease(c, refiner, r.face, r.edge, {r.xi, r.eta}, &g, &Y, &p)) return -1;
+  const bool own = (hip - r.scp).dot(r.normal) < 0, other = (hip - r.scp).dot(p.normal) < 0;
+  if (own == other) return own ? 1 : 0;
+  // the sides disagree: at a valley (the other sheet rises above this side's tangent plane just
+  // past the crease) the solid is the union of the two sides' half spaces there, at a ridge their
+  // intersection
+  const PatchPoint past = refiner.eval(g, 0.9 * Y);
+  if (!past.pos.allFinite()) return -1;
+  const bool valley = (past.pos - r.scp).dot(r.normal) > 0;
+  return valley ? 1 : 0;
+}
+
 }  // namespace sf::detail

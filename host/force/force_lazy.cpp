@@ -142,14 +142,19 @@ void lazyGlobalStep(LazyPatchSurface& surface, const PolygonScene& scene, const 
   RefineResult scp = q.nearest;
   if (usableRefinement(q.nearest)) {
     const bool below = (hip - q.nearest.scp).dot(q.nearest.normal) < 0;
-    // held on a fold edge of a closed mesh, the point has two sides by itself: the base polygons'
-    // inside test decides (a sheet about as near on the other side is left to the nearest point:
-    // on the spot cage's folds the polygons disagree with the patches more often than not)
+    // held on a fold edge of a closed mesh, the point has two sides by itself: on a crease curve
+    // (a valley's, or a ridge's seen from outside) the two sides' tangent planes decide
+    // (creaseSidesVerdict); elsewhere the base polygons' inside test decides (a sheet about as
+    // near on the other side is left to the nearest point: on the spot cage's folds the polygons
+    // disagree with the patches more often than not)
     const bool conflict = q.nearest.status & SF_TRACK_FOLD_EDGE;
+    const int creaseVerdict = conflict && closed && !far ? creaseSidesVerdict(cache, refiner, hip, q.nearest) : -1;
     if (far && closed)
       inside = true;
     else if (closed)
-      inside = conflict ? scene.contains(hip, Eigen::Vector3d::Zero()) : below;
+      inside = !conflict            ? below
+               : creaseVerdict >= 0 ? creaseVerdict == 1
+                                    : scene.contains(hip, Eigen::Vector3d::Zero());
     else  // open: no inside; only the side of a point off every boundary and fold edge (openInside)
       inside = openInside(q.nearest, hip);
     if (inside && q.anyBelow) scp = q.nearestBelow;

@@ -48,6 +48,15 @@ RefineResult nearerAcrossCreases(const PolygonScene& scene, PatchRefiner& refine
 bool belowOtherSide(const PatchCache& cache, PatchRefiner& refiner, const Eigen::Vector3d& hip,
                     const RefineResult& r) noexcept;
 
+/// The inside verdict of a HIP whose nearest point r is held on a crease edge (r.edge, a fold
+/// edge of the refinement: the crease curve itself is nearest), from the two sides' tangent
+/// planes there: 1 below both, 0 above both; where they disagree, 1 at a valley (the other
+/// sheet rises above r's tangent plane just past the crease: the solid is the union of the two
+/// half spaces there) and 0 at a ridge (their intersection); -1 where r is not held on a crease
+/// edge. Never throws or allocates.
+int creaseSidesVerdict(const PatchCache& cache, PatchRefiner& refiner, const Eigen::Vector3d& hip,
+                       const RefineResult& r) noexcept;
+
 /// Ends a step: contact at SCP r (F = k (SCP - HIP)) or none; keeps the contact state.
 void setContact(bool contact, const RefineResult& r, const Eigen::Vector3d& hip, const ForceOptions& options,
                 PatchContactState& state, ForceSample& s) noexcept;
