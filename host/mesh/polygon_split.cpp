@@ -162,6 +162,12 @@ bool cut(const std::vector<Vec2>& q, const std::vector<int>& idx, std::vector<st
 
 }  // namespace
 
+bool isFlatFace(const PolygonMesh& mesh, int f) {
+  std::vector<Vec2> q;
+  double planarity = 0;
+  return projectFace(mesh, f, q, &planarity) && planarity <= kFlatHeight;
+}
+
 std::vector<double> planarCornerAngles(const PolygonMesh& mesh, int f) {
   std::vector<Vec2> q;
   if (!projectFace(mesh, f, q)) return {};

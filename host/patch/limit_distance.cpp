@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include <smoothforce/base/error.h>
 #include <smoothforce/mesh/cage_limit.h>
 #include <smoothforce/patch/normal_groups.h>
 #include <smoothforce/patch/patch_eval.h>
@@ -71,6 +72,10 @@ LimitDistance measureLimitDistance(const PatchCache& cache, const LoadedMesh& lo
     throw std::invalid_argument("measureLimitDistance: the mesh was not loaded with a cage");
   if (loaded.mesh.faceOffsets != cache.faceOffsets || loaded.mesh.faceVertices != cache.faceVertices)
     throw std::invalid_argument("measureLimitDistance: the cache was not built from this mesh");
+  // the cage's limit surface is that of its faces as read: a fold repair cut leaves other faces
+  if (loaded.mesh.positions.size() != loaded.cagePositions.size() || !loaded.split.splitFaces.empty() ||
+      !loaded.split.fannedFaces.empty())
+    throw InputError("limit distance: the fold repair cut faces of the cage (--fold-repair off measures it)");
   if (level < 1 || level > 64) throw InputError("limit distance: level " + std::to_string(level) + " outside 1..64");
   PolygonMesh cage = loaded.mesh;
   cage.positions = loaded.cagePositions;

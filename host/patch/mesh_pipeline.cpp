@@ -9,6 +9,7 @@
 #include <smoothforce/base/hash.h>
 #include <smoothforce/mesh/mesh_io.h>
 #include <smoothforce/mesh/topology.h>
+#include <smoothforce/patch/straight_corner_split.h>
 #include "gp_config.h"  // GP_* status bits and record layout
 
 namespace sf {
@@ -51,7 +52,10 @@ LoadedMesh loadMesh(PolygonMesh mesh, uint64_t meshHash, const PatchOptions& opt
     out.normalReport.fallbackVertices = std::move(limit.fallbackVertices);
     out.normalReport.fileHasNormals = !out.mesh.fileNormals.empty() || !out.mesh.fileCornerNormals.empty();
   }
-  if (options.foldRepair != FoldRepairMode::Off) out.split = splitBadCorners(out.mesh, &out.cornerNormals);
+  if (options.foldRepair != FoldRepairMode::Off) {
+    out.split = splitBadCorners(out.mesh, &out.cornerNormals);
+    splitStraightPatchCorners(out.mesh, out.cornerNormals, options, out.split);
+  }
   out.normalFallbacks = out.normalReport.fallbackVertices;
   out.creaseCorners = out.normalReport.creaseCorners;
   return out;

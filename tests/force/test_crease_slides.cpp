@@ -32,6 +32,7 @@
 #include <smoothforce/sweep/sweep_run.h>
 
 #include "patch_test_support.h"
+#include "polygon_mesh_support.h"
 #include "query_test_support.h"
 #include "test_hostile_support.h"
 
@@ -73,38 +74,6 @@ std::string voxelObj(const std::vector<std::array<int, 3>>& cells) {
              std::to_string(q[3]) + "\n";
       }
   return v + f;
-}
-
-/// A closed solid of revolution over a regular n-gon: rings of n vertices at the profile's
-/// (radius, height) points, side quads between consecutive rings, an n-gon cap at each end.
-/// The rings listed in `creased` are tagged crease rims (OpenSubdiv `t crease`, 0-based), as
-/// are the caps' rims: flat caps and annuli meet curved sides at ridges, and a step in (a
-/// smaller radius above a larger) at a valley.
-std::string turnedObj(int n, const std::vector<std::array<double, 2>>& profile, const std::vector<int>& creased) {
-  std::string s;
-  const int rings = static_cast<int>(profile.size());
-  for (const auto& [radius, z] : profile)
-    for (int i = 0; i < n; ++i) {
-      const double a = 2 * std::numbers::pi * i / n;
-      char buf[96];
-      std::snprintf(buf, sizeof buf, "v %.17g %.17g %.17g\n", radius * std::cos(a), radius * std::sin(a), z);
-      s += buf;
-    }
-  for (int r : creased)
-    for (int i = 0; i < n; ++i)
-      s += "t crease 2/1/0 " + std::to_string(r * n + i) + " " + std::to_string(r * n + (i + 1) % n) + " 10\n";
-  s += "f";
-  for (int i = n - 1; i >= 0; --i) s += " " + std::to_string(i + 1);
-  s += "\nf";
-  for (int i = 0; i < n; ++i) s += " " + std::to_string((rings - 1) * n + i + 1);
-  s += "\n";
-  for (int r = 0; r + 1 < rings; ++r)
-    for (int i = 0; i < n; ++i) {
-      const int j = (i + 1) % n;
-      s += "f " + std::to_string(r * n + i + 1) + " " + std::to_string(r * n + j + 1) + " " +
-           std::to_string((r + 1) * n + j + 1) + " " + std::to_string((r + 1) * n + i + 1) + "\n";
-    }
-  return s;
 }
 
 /// A closed cylinder (radius 1, height 2, n sides) as CAD exports write one: triangles only (the
@@ -332,10 +301,11 @@ TEST(CreaseSlides, EveryCreaseHoldsContactAndTheNearestSheet) {
                                                {0, 1, 0}, {1, 1, 0}, {2, 1, 0}, {1, 1, 1}, {2, 1, 1}, {2, 1, 2}};
   std::ofstream(dir.path / "ell.obj") << voxelObj(ell);
   std::ofstream(dir.path / "stairs.obj") << voxelObj(stairs);
-  std::ofstream(dir.path / "prism.obj") << turnedObj(12, {{1, 0}, {1, 0.5}, {1, 1}}, {0, 2});
+  std::ofstream(dir.path / "prism.obj") << test::turnedObj(12, {{1, 0}, {1, 0.5}, {1, 1}}, {0, 2});
   std::ofstream(dir.path / "cylinder.obj") << triangulatedCylinderObj(16);
   // a cylinder on a wider one: the annulus between them meets the upper side at a curved valley
-  std::ofstream(dir.path / "stepped.obj") << turnedObj(10, {{1, 0}, {1, 0.6}, {0.5, 0.6}, {0.5, 1.2}}, {0, 1, 2, 3});
+  std::ofstream(dir.path / "stepped.obj")
+      << test::turnedObj(10, {{1, 0}, {1, 0.6}, {0.5, 0.6}, {0.5, 1.2}}, {0, 1, 2, 3});
   std::array<int, 2> total{0, 0};
   auto add = [&](const std::array<int, 2>& k) { total[0] += k[0], total[1] += k[1]; };
   add(slideAcrossEveryCrease(load("L block (voxels)", (dir.path / "ell.obj").string(), 30)));

@@ -200,6 +200,15 @@ void build(const std::string& mesh, std::string out, const PatchArgs& args, bool
       std::printf("  left whole (outline not simple, or no diagonal cuts them):%s\n",
                   faceIdsText(lm.split.unsplitFaces).c_str());
   }
+  if (opt.foldRepair != FoldRepairMode::Off && (!lm.split.fannedFaces.empty() || !lm.split.unfannedFaces.empty())) {
+    std::printf(
+        "fold repair: %s: %zu flat polygons with a straight corner between creases fanned into %d triangles "
+        "about %d new centre vertices (faces as read:%s)\n",
+        toString(opt.foldRepair), lm.split.fannedFaces.size(), lm.split.fanTriangles, lm.split.addedVertices,
+        faceIdsText(lm.split.fannedFaces).c_str());
+    if (!lm.split.unfannedFaces.empty())
+      std::printf("  left whole (their centre sees not every edge):%s\n", faceIdsText(lm.split.unfannedFaces).c_str());
+  }
   throwIfInterrupted("cache build");
   PatchCache cache = preparePatchCache(lm.mesh, lm.cornerNormals, opt, lm.fileHash);
   const double secs = construct(cache, args);

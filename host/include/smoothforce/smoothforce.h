@@ -46,6 +46,7 @@
 #include <smoothforce/patch/patch_option_text.h>
 #include <smoothforce/patch/patch_options.h>
 #include <smoothforce/patch/patch_simd.h>
+#include <smoothforce/patch/straight_corner_split.h>
 #include <smoothforce/patch/tangent_fans.h>
 #include <smoothforce/patch/tessellate.h>
 

@@ -64,6 +64,14 @@ struct PolygonSplitReport {
   /// bow-tie) or has no area, they have more than kMaxSplitCorners corners, or no diagonal cuts
   /// them (ascending).
   std::vector<int> unsplitFaces;
+  /// Flat faces with a straight patch corner cut into a fan about a new centre vertex
+  /// (splitStraightPatchCorners, patch/straight_corner_split.h): as read, ascending.
+  std::vector<int> fannedFaces;
+  int fanTriangles = 0;   ///< triangles they became
+  int addedVertices = 0;  ///< centre vertices appended to the mesh (one per fanned face)
+  /// Flat faces with a straight patch corner left whole: the fan about their centre would not
+  /// be positively oriented, or they have more than kMaxSplitCorners corners (ascending).
+  std::vector<int> unfannedFaces;
 };
 
 /// Flat faces (kFlatHeight) of `mesh` with a bad corner
@@ -79,6 +87,9 @@ struct PolygonSplitReport {
 /// Faces checkMesh would call degenerate or self-crossing, and faces of more than
 /// kMaxSplitCorners corners, are left whole (reported).
 PolygonSplitReport splitBadCorners(PolygonMesh& mesh, std::vector<Eigen::Vector3d>* cornerNormals = nullptr);
+
+/// Face f lies within kFlatHeight of its Newell plane (false for a face without a plane).
+bool isFlatFace(const PolygonMesh& mesh, int f);
 
 /// The interior angles (radians) of face f's corners on its Newell plane, in corner order
 /// (empty for a face without area).

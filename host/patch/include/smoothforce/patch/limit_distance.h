@@ -31,7 +31,8 @@ struct LimitDistance {
 /// surface is that of loaded.cagePositions on loaded.mesh's faces; faces are matched by index).
 /// level: 1..64. approxLevel: Bfr's approximation level of irregular regions (1..10). Throws
 /// std::invalid_argument when `loaded` holds no cage or its faces differ from the cache's,
-/// InputError for a level out of range.
+/// InputError for a level out of range or a cage whose faces the fold repair cut (the limit
+/// surface is that of the faces as read; --fold-repair off measures it).
 LimitDistance measureLimitDistance(const PatchCache& cache, const LoadedMesh& loaded, int level = 16,
                                    int approxLevel = 8);
 

@@ -26,8 +26,9 @@ struct LoadedMesh {
   /// positions (#V, m; mesh.positions then holds the limit positions). Empty without a cage.
   std::vector<Eigen::Vector3d> cagePositions;
   int cageBoundaryVertices = 0;  ///< with a cage: referenced vertices on a boundary
-  /// With fold repair Split: the faces that were cut into convex pieces (mesh then holds the
-  /// pieces, mesh.faceSource their faces as read; report and normals were made before the cut).
+  /// With fold repair On or Search: the faces that were cut into convex pieces or fanned about a
+  /// new centre vertex (mesh then holds the pieces, mesh.faceSource their faces as read, and the
+  /// centres after the vertices read; report and normals were made before the cut).
   PolygonSplitReport split;
 };
 
@@ -35,10 +36,12 @@ struct LoadedMesh {
 /// and computes corner normals per options.normals (normals.h: NormalMode, NormalReport).
 /// With options.cage CatmullClark, then moves every referenced vertex to its Catmull-Clark
 /// limit position and uses its limit normal at every corner (catmullClarkLimit, cage_limit.h;
-/// the report stays the one of the cage as read). With options.foldRepair On, last cuts the
-/// polygons with a reflex or straight corner into convex pieces (splitBadCorners; their corners
-/// keep the normals computed above). Throws InputError (file:line, element; with a
-/// cage also: normals other than Auto, and the topology cageProblem names).
+/// the report stays the one of the cage as read). With options.foldRepair On or Search, last
+/// cuts the flat polygons with a reflex or straight corner into convex pieces (splitBadCorners;
+/// their corners keep the normals computed above), then fans the flat polygons whose patch has
+/// a straight corner about a new centre vertex (splitStraightPatchCorners). Throws InputError
+/// (file:line, element; with a cage also: normals other than Auto, and the topology cageProblem
+/// names).
 LoadedMesh loadMesh(const std::string& path, const PatchOptions& options);
 
 /// The same for a mesh already in memory (mesh_arrays.h builds one from arrays): checks it,

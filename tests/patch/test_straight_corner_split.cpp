@@ -1,0 +1,215 @@
+// SPDX-License-Identifier: Apache-2.0
+// The fold repair's fan split (straight_corner_split.h) on turned parts whose flat caps meet
+// creased rims: the crease runs smoothly through every rim vertex, so the design page's cap
+// patch leaves every such vertex with both edge curves along the crease, a straight corner where
+// its Jacobian vanishes. Over every part: off leaves exactly those corners straight (from the
+// built records); the default fans exactly the caps about one new vertex each, inside the cap on
+// its plane, keeps every other patch bit for bit and every rim curve point for point, leaves no
+// straight corner between crease edges, certifies every patch, and the closed surface has no
+// fault. Triangles (the ears of a cap triangulated about a rim vertex) are left whole.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include <smoothforce/patch/detail/gp_math.h>
+#include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/patch/patch_build.h>
+#include <smoothforce/patch/patch_certificate.h>
+#include <smoothforce/patch/patch_eval.h>
+#include <smoothforce/query/patch_surface.h>
+#include <smoothforce/query/surface_faults.h>
+
+#include "polygon_mesh_support.h"
+#include "test_hostile_support.h"
+
+namespace sf {
+namespace {
+
+/// The angle (radians, (-pi, pi]) between the edge curves leaving corner k of face f, about the
+/// corner normal, from the built records: C_k'(0) against -C_k-1'(1) (Eq. 8-9).
+double recordCornerAngle(const PatchCache& c, int f, int k) {
+  const int n = c.faceSize(f);
+  std::vector<double> d(size_t(n) * GP_E_NFIELDS);
+  gatherRecords(c, f, d.data());
+  const double* a = &d[size_t(k) * GP_E_NFIELDS + GP_E_M0];
+  const double* b = &d[size_t((k + n - 1) % n) * GP_E_NFIELDS + GP_E_M1];
+  const double* m = &d[size_t(k) * GP_E_NFIELDS + GP_E_N0];
+  const Eigen::Vector3d out(a[0], a[1], a[2]), in(-b[0], -b[1], -b[2]), normal(m[0], m[1], m[2]);
+  return std::atan2(out.cross(in).dot(normal), out.dot(in));
+}
+
+/// Corners between two crease edges within 1 degree of straight, over every face.
+int straightCreaseCorners(const PatchCache& c) {
+  int count = 0;
+  for (int f = 0; f < c.numFaces(); ++f)
+    for (int k = 0, n = c.faceSize(f); k < n; ++k)
+      count += isCreaseEdge(c, f, k) && isCreaseEdge(c, f, (k + n - 1) % n) &&
+               std::fabs(recordCornerAngle(c, f, k)) >= std::numbers::pi * (179.0 / 180);
+  return count;
+}
+
+/// The OBJ of a closed cylinder (radius 1, height 1, n sides) with tagged crease rims whose caps
+/// are triangulated as CAD exports often do, as a fan about their first rim vertex: each cap's
+/// two ears hold both rim edges of a vertex.
+std::string earCappedCylinderObj(int n) {
+  std::string s;
+  char buf[96];
+  for (int z = 0; z < 2; ++z)
+    for (int i = 0; i < n; ++i) {
+      std::snprintf(buf, sizeof buf, "v %.17g %.17g %d\n", std::cos(2 * std::numbers::pi * i / n),
+                    std::sin(2 * std::numbers::pi * i / n), z);
+      s += buf;
+    }
+  for (int r = 0; r < 2; ++r)
+    for (int i = 0; i < n; ++i)
+      s += "t crease 2/1/0 " + std::to_string(r * n + i) + " " + std::to_string(r * n + (i + 1) % n) + " 10\n";
+  for (int i = 1; i + 1 < n; ++i) {  // 1-based ids: bottom facing down, top facing up
+    s += "f 1 " + std::to_string(i + 2) + " " + std::to_string(i + 1) + "\n";
+    s += "f " + std::to_string(n + 1) + " " + std::to_string(n + i + 1) + " " + std::to_string(n + i + 2) + "\n";
+  }
+  for (int i = 0; i < n; ++i) {
+    const int j = (i + 1) % n;
+    s += "f " + std::to_string(i + 1) + " " + std::to_string(j + 1) + " " + std::to_string(n + j + 1) + " " +
+         std::to_string(n + i + 1) + "\n";
+  }
+  return s;
+}
+
+struct Part {
+  std::string name, obj;
+  std::vector<int> caps;  ///< faces as read that have a straight crease corner
+  int straightCorners;    ///< such corners of the design page's construction
+};
+
+TEST(StraightCornerSplit, CreasedFlatCapsAreFannedKeepTheirSurfaceAndCertify) {
+  hostile::TempDir dir("sf_straight_corners");
+  std::vector<Part> parts = {
+      {"pentagonal prism", test::turnedObj(5, {{1, 0}, {1, 1}}, {0, 1}), {0, 1}, 10},
+      {"12-sided prism", test::turnedObj(12, {{1, 0}, {1, 0.5}, {1, 1}}, {0, 2}), {0, 1}, 24},
+      {"stepped cylinder", test::turnedObj(10, {{1, 0}, {1, 0.6}, {0.5, 0.6}, {0.5, 1.2}}, {0, 1, 2, 3}), {0, 1}, 20},
+  };
+  int fannedCaps = 0, fanTriangles = 0, certified = 0, patches = 0, rimPoints = 0, keptFaces = 0;
+  for (const Part& part : parts) {
+    SCOPED_TRACE(part.name);
+    const std::string path = (dir.path / "part.obj").string();
+    std::ofstream(path) << part.obj;
+    PatchOptions off, on;
+    off.foldRepair = FoldRepairMode::Off;
+    const LoadedMesh asRead = loadMesh(path, off), fanned = loadMesh(path, on);
+    const PatchCache before = buildPatchCache(asRead, off, Backend::Tbb);
+    PatchCache after = buildPatchCache(fanned, on, Backend::Tbb);
+    EXPECT_EQ(straightCreaseCorners(before), part.straightCorners);
+    EXPECT_EQ(straightCreaseCorners(after), 0);
+
+    // exactly the caps, one centre each, appended after the vertices read
+    const PolygonSplitReport& r = fanned.split;
+    EXPECT_EQ(r.fannedFaces, part.caps);
+    EXPECT_TRUE(r.unfannedFaces.empty());
+    EXPECT_TRUE(r.splitFaces.empty());
+    ASSERT_EQ(r.addedVertices, static_cast<int>(part.caps.size()));
+    ASSERT_EQ(fanned.mesh.numVertices(), asRead.mesh.numVertices() + r.addedVertices);
+    int expectTriangles = 0;
+    for (int f : part.caps) expectTriangles += asRead.mesh.faceSize(f);
+    EXPECT_EQ(r.fanTriangles, expectTriangles);
+    EXPECT_EQ(after.numFaces(), before.numFaces() - static_cast<int>(part.caps.size()) + expectTriangles);
+    fannedCaps += r.addedVertices;
+    fanTriangles += r.fanTriangles;
+
+    // face by face against the faces as read: caps as fans, every other face its patch bit for bit
+    int g = 0;
+    for (int f = 0; f < before.numFaces(); ++f) {
+      const int n = before.faceSize(f);
+      const bool cap = std::find(part.caps.begin(), part.caps.end(), f) != part.caps.end();
+      if (!cap) {
+        ASSERT_EQ(after.faceSource[g], f);
+        std::vector<double> a(size_t(n) * GP_E_NFIELDS), b(a.size());
+        gatherRecords(before, f, a.data());
+        gatherRecords(after, g, b.data());
+        EXPECT_EQ(a, b) << "face " << f;
+        keptFaces += a == b;
+        ++g;
+        continue;
+      }
+      // the cap's plane and normal (one normal at every corner: a flat creased cap)
+      const Eigen::Vector3d normal(&before.cornerNormals[3 * size_t(before.faceOffsets[f])]);
+      const Eigen::Vector3d v0(&before.positions[3 * size_t(before.faceVertices[before.faceOffsets[f]])]);
+      const int centre = after.faceVertices[after.faceOffsets[g] + 2];
+      const Eigen::Vector3d c(&after.positions[3 * size_t(centre)]);
+      EXPECT_GE(centre, asRead.mesh.numVertices());
+      EXPECT_LT(std::fabs((c - v0).dot(normal)), 1e-12);
+      for (int k = 0; k < n; ++k, ++g) {
+        ASSERT_EQ(after.faceSource[g], f);
+        ASSERT_EQ(after.faceSize(g), 3);
+        const int first = after.faceOffsets[g];
+        EXPECT_EQ(after.faceVertices[first], before.faceVertices[before.faceOffsets[f] + k]);
+        EXPECT_EQ(after.faceVertices[first + 1], before.faceVertices[before.faceOffsets[f] + (k + 1) % n]);
+        EXPECT_EQ(after.faceVertices[first + 2], centre);
+        // inside the cap: the triangle turns the cap's way
+        const Eigen::Vector3d a(&after.positions[3 * size_t(after.faceVertices[first])]),
+            b(&after.positions[3 * size_t(after.faceVertices[first + 1])]);
+        EXPECT_GT((b - a).cross(c - a).dot(normal), 0);
+        // the rim curve point for point, and the triangle on the cap's plane
+        for (int j = 1; j < 10; ++j) {
+          const double t = j / 10.0;
+          const Eigen::Vector2d x = (1 - t) * domainCorner(n, k) + t * domainCorner(n, (k + 1) % n);
+          const Eigen::Vector2d y = (1 - t) * domainCorner(3, 0) + t * domainCorner(3, 1);
+          const PatchPoint p = evaluatePatch(before, f, x.x(), x.y()), q = evaluatePatch(after, g, y.x(), y.y());
+          EXPECT_LT((p.pos - q.pos).norm(), 1e-12) << "cap " << f << " edge " << k << " t " << t;
+          rimPoints += (p.pos - q.pos).norm() < 1e-12;
+          const PatchPoint inside = evaluatePatch(after, g, 0.5 * y.x(), 0.5 * y.y());
+          EXPECT_LT(std::fabs((inside.pos - v0).dot(normal)), 1e-12);
+          EXPECT_GT(inside.normal.dot(normal), 1 - 1e-12);
+        }
+      }
+    }
+    EXPECT_EQ(g, after.numFaces());
+
+    // every patch certified; the closed surface without a fault
+    const CertificateSummary cs = certifyPatches(after);
+    EXPECT_EQ(cs.certified, after.numFaces()) << "uncertified " << ::testing::PrintToString(cs.uncertifiedFaces);
+    certified += cs.certified;
+    patches += after.numFaces();
+    const SurfaceFaults faults = measureSurfaceFaults(PatchSurface(after));
+    EXPECT_TRUE(faults.closed);
+    EXPECT_EQ(faults.faultArea(), 0.0);
+    std::printf("%-30s %2zu caps fanned into %3d triangles; %d of %d patches certified; fault area %g\n",
+                part.name.c_str(), part.caps.size(), r.fanTriangles, cs.certified, after.numFaces(),
+                faults.faultArea());
+  }
+  EXPECT_EQ(fannedCaps, 6);
+  EXPECT_EQ(fanTriangles, 5 * 2 + 12 * 2 + 10 * 2);
+  EXPECT_EQ(certified, patches);
+  EXPECT_EQ(rimPoints, 9 * fanTriangles);
+  EXPECT_EQ(keptFaces, 5 + 24 + 30);  // the sides
+}
+
+TEST(StraightCornerSplit, TrianglesAreLeftWhole) {
+  // caps triangulated about a rim vertex: their two ears hold a straight corner each, and are
+  // left as read (their fans folded), every patch the one of the fold repair off
+  hostile::TempDir dir("sf_straight_corner_ears");
+  const std::string path = (dir.path / "ears.obj").string();
+  std::ofstream(path) << earCappedCylinderObj(8);
+  PatchOptions off, on;
+  off.foldRepair = FoldRepairMode::Off;
+  const LoadedMesh asRead = loadMesh(path, off), repaired = loadMesh(path, on);
+  EXPECT_TRUE(repaired.split.fannedFaces.empty());
+  EXPECT_TRUE(repaired.split.unfannedFaces.empty());
+  EXPECT_EQ(repaired.split.addedVertices, 0);
+  EXPECT_EQ(repaired.mesh.positions, asRead.mesh.positions);
+  const PatchCache before = buildPatchCache(asRead, off, Backend::Tbb);
+  const PatchCache after = buildPatchCache(repaired, on, Backend::Tbb);
+  ASSERT_EQ(after.numFaces(), 20);
+  EXPECT_EQ(straightCreaseCorners(before), 4);
+  EXPECT_EQ(straightCreaseCorners(after), 4);
+  EXPECT_EQ(after.edgeDataD, before.edgeDataD);
+}
+
+}  // namespace
+}  // namespace sf
