@@ -182,13 +182,9 @@ PolygonSplitReport splitBadCorners(PolygonMesh& mesh, std::vector<Eigen::Vector3
   PolygonSplitReport report;
   const int nf = mesh.numFaces();
   const std::vector<int> crossing = findSelfCrossingFaces(mesh);
-  const bool fileCorner = static_cast<int>(mesh.fileCornerNormals.size()) == mesh.numCorners();
-  const bool groups = static_cast<int>(mesh.faceSmoothingGroups.size()) == nf;
-  const bool sourced = static_cast<int>(mesh.faceSource.size()) == nf;
   if (cornerNormals && static_cast<int>(cornerNormals->size()) != mesh.numCorners())
     throw std::invalid_argument("splitBadCorners: need one normal per corner");
-  PolygonMesh out;
-  std::vector<Eigen::Vector3d> normals;
+  FaceRewrite out(mesh, cornerNormals);
   std::vector<Vec2> q;
   for (int f = 0; f < nf; ++f) {
     const int m = mesh.faceSize(f), first = mesh.faceOffsets[f];
@@ -213,23 +209,49 @@ PolygonSplitReport splitBadCorners(PolygonMesh& mesh, std::vector<Eigen::Vector3
     else
       report.splitFaces.push_back(f), report.pieces += static_cast<int>(pieces.size());
     for (const std::vector<int>& piece : pieces) {
-      for (int k : piece) {
-        out.faceVertices.push_back(mesh.faceVertices[first + k]);
-        if (fileCorner) out.fileCornerNormals.push_back(mesh.fileCornerNormals[first + k]);
-        if (cornerNormals) normals.push_back((*cornerNormals)[first + k]);
-      }
-      out.faceOffsets.push_back(static_cast<int32_t>(out.faceVertices.size()));
-      if (groups) out.faceSmoothingGroups.push_back(mesh.faceSmoothingGroups[f]);
-      out.faceSource.push_back(sourced ? mesh.faceSource[f] : f);
+      for (int k : piece) out.copyCorner(first + k);
+      out.closeFace(f);
     }
   }
-  mesh.faceOffsets = std::move(out.faceOffsets);
-  mesh.faceVertices = std::move(out.faceVertices);
-  if (fileCorner) mesh.fileCornerNormals = std::move(out.fileCornerNormals);
-  if (groups) mesh.faceSmoothingGroups = std::move(out.faceSmoothingGroups);
-  mesh.faceSource = std::move(out.faceSource);
-  if (cornerNormals) *cornerNormals = std::move(normals);
+  out.commit(mesh, cornerNormals);
   return report;
+}
+
+FaceRewrite::FaceRewrite(const PolygonMesh& mesh, const std::vector<Eigen::Vector3d>* cornerNormals)
+    : mesh_(mesh),
+      normalsIn_(cornerNormals),
+      fileCorner_(static_cast<int>(mesh.fileCornerNormals.size()) == mesh.numCorners()),
+      groups_(static_cast<int>(mesh.faceSmoothingGroups.size()) == mesh.numFaces()),
+      sourced_(static_cast<int>(mesh.faceSource.size()) == mesh.numFaces()) {
+  if (cornerNormals && static_cast<int>(cornerNormals->size()) != mesh.numCorners())
+    throw std::invalid_argument("FaceRewrite: need one normal per corner");
+}
+
+void FaceRewrite::copyCorner(int slot) {
+  out_.faceVertices.push_back(mesh_.faceVertices[slot]);
+  if (fileCorner_) out_.fileCornerNormals.push_back(mesh_.fileCornerNormals[slot]);
+  if (normalsIn_) normals_.push_back((*normalsIn_)[slot]);
+}
+
+void FaceRewrite::addCorner(int vertex, const Eigen::Vector3d& normal) {
+  out_.faceVertices.push_back(vertex);
+  if (fileCorner_) out_.fileCornerNormals.push_back(normal);
+  if (normalsIn_) normals_.push_back(normal);
+}
+
+void FaceRewrite::closeFace(int f) {
+  out_.faceOffsets.push_back(static_cast<int32_t>(out_.faceVertices.size()));
+  if (groups_) out_.faceSmoothingGroups.push_back(mesh_.faceSmoothingGroups[f]);
+  out_.faceSource.push_back(sourced_ ? mesh_.faceSource[f] : f);
+}
+
+void FaceRewrite::commit(PolygonMesh& mesh, std::vector<Eigen::Vector3d>* cornerNormals) {
+  mesh.faceOffsets = std::move(out_.faceOffsets);
+  mesh.faceVertices = std::move(out_.faceVertices);
+  if (fileCorner_) mesh.fileCornerNormals = std::move(out_.fileCornerNormals);
+  if (groups_) mesh.faceSmoothingGroups = std::move(out_.faceSmoothingGroups);
+  mesh.faceSource = std::move(out_.faceSource);
+  if (cornerNormals && normalsIn_) *cornerNormals = std::move(normals_);
 }
 
 }  // namespace sf

@@ -73,9 +73,10 @@ LimitDistance measureLimitDistance(const PatchCache& cache, const LoadedMesh& lo
   if (loaded.mesh.faceOffsets != cache.faceOffsets || loaded.mesh.faceVertices != cache.faceVertices)
     throw std::invalid_argument("measureLimitDistance: the cache was not built from this mesh");
   // the cage's limit surface is that of its faces as read: a fold repair cut leaves other faces
-  if (loaded.mesh.positions.size() != loaded.cagePositions.size() || !loaded.split.splitFaces.empty() ||
-      !loaded.split.fannedFaces.empty())
+  if (!loaded.split.splitFaces.empty() || !loaded.split.fannedFaces.empty())
     throw InputError("limit distance: the fold repair cut faces of the cage (--fold-repair off measures it)");
+  if (loaded.mesh.positions.size() != loaded.cagePositions.size())
+    throw std::invalid_argument("measureLimitDistance: the cage has not one position per vertex of the mesh");
   if (level < 1 || level > 64) throw InputError("limit distance: level " + std::to_string(level) + " outside 1..64");
   PolygonMesh cage = loaded.mesh;
   cage.positions = loaded.cagePositions;

@@ -88,6 +88,32 @@ struct PolygonSplitReport {
 /// kMaxSplitCorners corners, are left whole (reported).
 PolygonSplitReport splitBadCorners(PolygonMesh& mesh, std::vector<Eigen::Vector3d>* cornerNormals = nullptr);
 
+/// Collects the faces that replace every face of a mesh (the fold repair's cuts), in order,
+/// carrying per-corner data (mesh.fileCornerNormals where there is one per corner, corner normals
+/// when given) and per-face data (mesh.faceSmoothingGroups where there is one per face,
+/// mesh.faceSource: each new face maps to the face as read) along; commit() installs them.
+class FaceRewrite {
+ public:
+  /// `cornerNormals`: one per corner of `mesh` (#C), or null. Both must outlive this object.
+  FaceRewrite(const PolygonMesh& mesh, const std::vector<Eigen::Vector3d>* cornerNormals);
+  /// Appends corner `slot` of the mesh (an index into mesh.faceVertices) to the face under way.
+  void copyCorner(int slot);
+  /// Appends a corner at `vertex` with `normal` (its corner normal and file corner normal).
+  void addCorner(int vertex, const Eigen::Vector3d& normal);
+  /// Closes the face under way as a piece of the mesh's face f (its group and source).
+  void closeFace(int f);
+  /// Replaces the mesh's faces, per-face and per-corner arrays (and *cornerNormals, when the
+  /// constructor was given them) with those collected.
+  void commit(PolygonMesh& mesh, std::vector<Eigen::Vector3d>* cornerNormals);
+
+ private:
+  const PolygonMesh& mesh_;
+  const std::vector<Eigen::Vector3d>* normalsIn_;
+  bool fileCorner_, groups_, sourced_;
+  PolygonMesh out_;
+  std::vector<Eigen::Vector3d> normals_;
+};
+
 /// Face f lies within kFlatHeight of its Newell plane (false for a face without a plane).
 bool isFlatFace(const PolygonMesh& mesh, int f);
 
