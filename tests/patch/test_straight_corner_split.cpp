@@ -6,7 +6,8 @@
 // built records); the default fans exactly the caps about one new vertex each, inside the cap on
 // its plane, keeps every other patch bit for bit and every rim curve point for point, leaves no
 // straight corner between crease edges, certifies every patch, and the closed surface has no
-// fault. Triangles (the ears of a cap triangulated about a rim vertex) are left whole.
+// fault. A cap triangulated from its rim alone is merged into one polygon and fanned the same way;
+// one fanned about its centre as read is left as read.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -56,9 +57,12 @@ int straightCreaseCorners(const PatchCache& c) {
 }
 
 /// The OBJ of a closed cylinder (radius 1, height 1, n sides) with tagged crease rims whose caps
-/// are triangulated as CAD exports often do, as a fan about their first rim vertex: each cap's
-/// two ears hold both rim edges of a vertex.
-std::string earCappedCylinderObj(int n) {
+/// are triangulated as CAD exports often do: from the rim alone, as a fan about their first rim
+/// vertex (each cap's two ears hold both rim edges of a vertex), or, with `centres`, as a fan
+/// about a vertex at each cap's centre (vertices 2n, 2n+1). Without `tags` the rims are not
+/// tagged (--crease-angle finds them); with `splitSides` each side is two triangles (an STL-like
+/// export).
+std::string cylinderWithTriangulatedCapsObj(int n, bool centres = false, bool tags = true, bool splitSides = false) {
   std::string s;
   char buf[96];
   for (int z = 0; z < 2; ++z)
@@ -67,19 +71,43 @@ std::string earCappedCylinderObj(int n) {
                     std::sin(2 * std::numbers::pi * i / n), z);
       s += buf;
     }
-  for (int r = 0; r < 2; ++r)
+  if (centres) s += "v 0 0 0\nv 0 0 1\n";
+  for (int r = 0; r < 2 && tags; ++r)
     for (int i = 0; i < n; ++i)
       s += "t crease 2/1/0 " + std::to_string(r * n + i) + " " + std::to_string(r * n + (i + 1) % n) + " 10\n";
-  for (int i = 1; i + 1 < n; ++i) {  // 1-based ids: bottom facing down, top facing up
-    s += "f 1 " + std::to_string(i + 2) + " " + std::to_string(i + 1) + "\n";
-    s += "f " + std::to_string(n + 1) + " " + std::to_string(n + i + 1) + " " + std::to_string(n + i + 2) + "\n";
+  auto id = [](int v) { return std::to_string(v + 1); };  // OBJ ids are 1-based
+  // caps: the bottom facing down, the top facing up
+  for (int i = centres ? 0 : 1; i < (centres ? n : n - 1); ++i) {
+    const int j = (i + 1) % n;
+    if (centres) {
+      s += "f " + id(2 * n) + " " + id(j) + " " + id(i) + "\n";
+      s += "f " + id(2 * n + 1) + " " + id(n + i) + " " + id(n + j) + "\n";
+    } else {
+      s += "f " + id(0) + " " + id(j) + " " + id(i) + "\n";
+      s += "f " + id(n) + " " + id(n + i) + " " + id(n + j) + "\n";
+    }
   }
   for (int i = 0; i < n; ++i) {
     const int j = (i + 1) % n;
-    s += "f " + std::to_string(i + 1) + " " + std::to_string(j + 1) + " " + std::to_string(n + j + 1) + " " +
-         std::to_string(n + i + 1) + "\n";
+    if (splitSides)
+      s += "f " + id(i) + " " + id(j) + " " + id(n + j) + "\nf " + id(i) + " " + id(n + j) + " " + id(n + i) + "\n";
+    else
+      s += "f " + id(i) + " " + id(j) + " " + id(n + j) + " " + id(n + i) + "\n";
   }
   return s;
+}
+
+/// Certifies every patch of `c` and measures its closed surface's faults, expecting every patch
+/// certified and no fault; returns the patches certified and prints `what` with the counts.
+int expectCertifiedWithoutFault(PatchCache& c, const std::string& what) {
+  const CertificateSummary cs = certifyPatches(c);
+  EXPECT_EQ(cs.certified, c.numFaces()) << "uncertified " << ::testing::PrintToString(cs.uncertifiedFaces);
+  const SurfaceFaults faults = measureSurfaceFaults(PatchSurface(c));
+  EXPECT_TRUE(faults.closed);
+  EXPECT_EQ(faults.faultArea(), 0.0);
+  std::printf("%s; %d of %d patches certified; fault area %g\n", what.c_str(), cs.certified, c.numFaces(),
+              faults.faultArea());
+  return cs.certified;
 }
 
 struct Part {
@@ -172,16 +200,11 @@ TEST(StraightCornerSplit, CreasedFlatCapsAreFannedKeepTheirSurfaceAndCertify) {
     EXPECT_EQ(g, after.numFaces());
 
     // every patch certified; the closed surface without a fault
-    const CertificateSummary cs = certifyPatches(after);
-    EXPECT_EQ(cs.certified, after.numFaces()) << "uncertified " << ::testing::PrintToString(cs.uncertifiedFaces);
-    certified += cs.certified;
+    char what[96];
+    std::snprintf(what, sizeof what, "%-30s %2zu caps fanned into %3d triangles", part.name.c_str(), part.caps.size(),
+                  r.fanTriangles);
+    certified += expectCertifiedWithoutFault(after, what);
     patches += after.numFaces();
-    const SurfaceFaults faults = measureSurfaceFaults(PatchSurface(after));
-    EXPECT_TRUE(faults.closed);
-    EXPECT_EQ(faults.faultArea(), 0.0);
-    std::printf("%-30s %2zu caps fanned into %3d triangles; %d of %d patches certified; fault area %g\n",
-                part.name.c_str(), part.caps.size(), r.fanTriangles, cs.certified, after.numFaces(),
-                faults.faultArea());
   }
   EXPECT_EQ(fannedCaps, 6);
   EXPECT_EQ(fanTriangles, 5 * 2 + 12 * 2 + 10 * 2);
@@ -190,12 +213,111 @@ TEST(StraightCornerSplit, CreasedFlatCapsAreFannedKeepTheirSurfaceAndCertify) {
   EXPECT_EQ(keptFaces, 5 + 24 + 30);  // the sides
 }
 
-TEST(StraightCornerSplit, TrianglesAreLeftWhole) {
-  // caps triangulated about a rim vertex: their two ears hold a straight corner each, and are
-  // left as read (their fans folded), every patch the one of the fold repair off
+TEST(StraightCornerSplit, TriangulatedFlatCapsAreMergedFannedAndCertify) {
+  // caps triangulated from their rim alone: the two ears of each hold a straight corner, so the
+  // cap's triangles become one polygon, fanned about its centre; the sides keep their patches
   hostile::TempDir dir("sf_straight_corner_ears");
-  const std::string path = (dir.path / "ears.obj").string();
-  std::ofstream(path) << earCappedCylinderObj(8);
+  int caps = 0, fanTriangles = 0, certified = 0, patches = 0, rimPoints = 0, keptFaces = 0;
+  // sides, rims tagged (else found by their 90 degree dihedral angle; the sides' 30 and 22.5 are
+  // not creases), sides split into triangles (an STL-like export, whose caps fold as read)
+  struct Variant {
+    int n;
+    bool tags, splitSides;
+  };
+  int sideFaces = 0;
+  for (const auto& [n, tags, splitSides] : std::vector<Variant>{
+           {5, true, false}, {8, true, false}, {12, true, false}, {12, false, false}, {16, false, true}}) {
+    SCOPED_TRACE("n " + std::to_string(n) + (tags ? " tagged" : " by angle") + (splitSides ? ", sides split" : ""));
+    const std::string path = (dir.path / "ears.obj").string();
+    std::ofstream(path) << cylinderWithTriangulatedCapsObj(n, false, tags, splitSides);
+    PatchOptions off, on;
+    off.foldRepair = FoldRepairMode::Off;
+    if (!tags) off.creases.angleDeg = on.creases.angleDeg = 40;
+    const LoadedMesh asRead = loadMesh(path, off), repaired = loadMesh(path, on);
+    const PatchCache before = buildPatchCache(asRead, off, Backend::Tbb);
+    PatchCache after = buildPatchCache(repaired, on, Backend::Tbb);
+    const int capTriangles = 2 * (n - 2);  // faces 0 .. capTriangles-1 as read
+    EXPECT_EQ(straightCreaseCorners(before), 4);
+    EXPECT_EQ(straightCreaseCorners(after), 0);
+    const PolygonSplitReport& r = repaired.split;
+    std::vector<int> expected(capTriangles);
+    for (int f = 0; f < capTriangles; ++f) expected[f] = f;
+    EXPECT_EQ(r.fannedFaces, expected);
+    EXPECT_TRUE(r.unfannedFaces.empty());
+    ASSERT_EQ(r.addedVertices, 2);
+    ASSERT_EQ(r.fanTriangles, 2 * n);
+    const int sides = splitSides ? 2 * n : n;
+    ASSERT_EQ(after.numFaces(), 2 * n + sides);
+    sideFaces += sides;
+    ASSERT_EQ(after.numVertices(), 2 * n + 2);
+    caps += r.addedVertices;
+    fanTriangles += r.fanTriangles;
+    for (int g = 0; g < after.numFaces(); ++g) {
+      if (g >= 2 * n) {  // a side: its patch bit for bit
+        const int f = g - 2 * n + capTriangles;
+        ASSERT_EQ(after.faceSource[g], f);
+        ASSERT_EQ(after.faceSize(g), before.faceSize(f));
+        std::vector<double> a(size_t(before.faceSize(f)) * GP_E_NFIELDS), b(a.size());
+        gatherRecords(before, f, a.data());
+        gatherRecords(after, g, b.data());
+        EXPECT_EQ(a, b) << "face " << f;
+        keptFaces += a == b;
+        continue;
+      }
+      // a fan triangle (rim vertex, next rim vertex, centre) of the bottom (source 0) or top (1)
+      ASSERT_EQ(after.faceSize(g), 3);
+      const int cap = after.faceSource[g], first = after.faceOffsets[g];
+      ASSERT_TRUE(cap == 0 || cap == 1) << cap;
+      const Eigen::Vector3d normal(0, 0, cap == 0 ? -1 : 1);
+      const int va = after.faceVertices[first], vb = after.faceVertices[first + 1];
+      const int centre = after.faceVertices[first + 2];
+      EXPECT_EQ(centre, 2 * n + cap);
+      EXPECT_EQ(va / n, cap);
+      EXPECT_EQ(vb / n, cap);
+      const Eigen::Vector3d a(&after.positions[3 * size_t(va)]), b(&after.positions[3 * size_t(vb)]),
+          c(&after.positions[3 * size_t(centre)]);
+      EXPECT_LT(std::fabs(c.z() - cap), 1e-12);
+      EXPECT_GT((b - a).cross(c - a).dot(normal), 0);
+      // the rim edge's curve point for point against the triangle as read that holds it
+      int held = -1, k = -1;
+      for (int f = 0; f < capTriangles && held < 0; ++f)
+        for (int j = 0; j < 3; ++j)
+          if (before.faceVertices[before.faceOffsets[f] + j] == va &&
+              before.faceVertices[before.faceOffsets[f] + (j + 1) % 3] == vb)
+            held = f, k = j;
+      ASSERT_GE(held, 0) << "no triangle as read holds edge " << va << "-" << vb;
+      for (int j = 1; j < 10; ++j) {
+        const double t = j / 10.0;
+        const Eigen::Vector2d x = (1 - t) * domainCorner(3, k) + t * domainCorner(3, (k + 1) % 3);
+        const Eigen::Vector2d y = (1 - t) * domainCorner(3, 0) + t * domainCorner(3, 1);
+        const PatchPoint p = evaluatePatch(before, held, x.x(), x.y()), q = evaluatePatch(after, g, y.x(), y.y());
+        EXPECT_LT((p.pos - q.pos).norm(), 1e-12) << "fan triangle " << g << " t " << t;
+        rimPoints += (p.pos - q.pos).norm() < 1e-12;
+        const PatchPoint inside = evaluatePatch(after, g, 0.5 * y.x(), 0.5 * y.y());
+        EXPECT_LT(std::fabs(inside.pos.z() - cap), 1e-12);
+        EXPECT_GT(inside.normal.dot(normal), 1 - 1e-12);
+      }
+    }
+    char what[128];
+    std::snprintf(what, sizeof what, "n %2d, %-8s%s: %d cap triangles merged and fanned into %d", n,
+                  tags ? "tagged" : "by angle", splitSides ? ", sides split" : "", capTriangles, r.fanTriangles);
+    certified += expectCertifiedWithoutFault(after, what);
+    patches += after.numFaces();
+  }
+  EXPECT_EQ(caps, 10);
+  EXPECT_EQ(fanTriangles, 2 * (5 + 8 + 12 + 12 + 16));
+  EXPECT_EQ(certified, patches);
+  EXPECT_EQ(rimPoints, 9 * fanTriangles);
+  EXPECT_EQ(sideFaces, 5 + 8 + 12 + 12 + 2 * 16);
+  EXPECT_EQ(keptFaces, sideFaces);
+}
+
+TEST(StraightCornerSplit, CapsFannedAsReadAreLeftAsRead) {
+  // caps already fanned about their centre have no straight corner: nothing is merged or fanned,
+  // every patch is the one of the fold repair off
+  hostile::TempDir dir("sf_straight_corner_centres");
+  const std::string path = (dir.path / "centres.obj").string();
+  std::ofstream(path) << cylinderWithTriangulatedCapsObj(8, true);
   PatchOptions off, on;
   off.foldRepair = FoldRepairMode::Off;
   const LoadedMesh asRead = loadMesh(path, off), repaired = loadMesh(path, on);
@@ -205,9 +327,8 @@ TEST(StraightCornerSplit, TrianglesAreLeftWhole) {
   EXPECT_EQ(repaired.mesh.positions, asRead.mesh.positions);
   const PatchCache before = buildPatchCache(asRead, off, Backend::Tbb);
   const PatchCache after = buildPatchCache(repaired, on, Backend::Tbb);
-  ASSERT_EQ(after.numFaces(), 20);
-  EXPECT_EQ(straightCreaseCorners(before), 4);
-  EXPECT_EQ(straightCreaseCorners(after), 4);
+  ASSERT_EQ(after.numFaces(), 24);
+  EXPECT_EQ(straightCreaseCorners(before), 0);
   EXPECT_EQ(after.edgeDataD, before.edgeDataD);
 }
 

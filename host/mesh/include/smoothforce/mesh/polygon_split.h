@@ -64,8 +64,9 @@ struct PolygonSplitReport {
   /// bow-tie) or has no area, they have more than kMaxSplitCorners corners, or no diagonal cuts
   /// them (ascending).
   std::vector<int> unsplitFaces;
-  /// Flat faces with a straight patch corner cut into a fan about a new centre vertex
-  /// (splitStraightPatchCorners, patch/straight_corner_split.h): as read, ascending.
+  /// Flat faces with a straight patch corner cut into a fan about a new centre vertex, and the
+  /// triangles of flat caps merged into one polygon first (splitStraightPatchCorners,
+  /// patch/straight_corner_split.h): as read, ascending.
   std::vector<int> fannedFaces;
   int fanTriangles = 0;   ///< triangles they became
   int addedVertices = 0;  ///< centre vertices appended to the mesh (one per fanned face)

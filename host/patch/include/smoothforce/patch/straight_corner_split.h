@@ -13,33 +13,42 @@
 namespace sf {
 
 /// The fold repair's second cut (FoldRepairMode On and Search; loadMesh runs it after
-/// splitBadCorners). A flat polygon (its vertices within kFlatHeight of its Newell plane) can
-/// have a patch corner that is straight although its own corner is not: where a crease runs
-/// smoothly through the vertex along both of the polygon's edges there (the rim of a turned
-/// part's flat cap), both edge curves leave the vertex along the crease, in opposite directions
+/// splitBadCorners). A flat polygon (its vertices within kFlatHeight of its Newell plane) can have
+/// a patch corner that is straight although its own corner is not: where a crease runs smoothly
+/// through the vertex along both of the polygon's edges there (the rim of a turned part's flat
+/// cap), both edge curves leave the vertex along the crease, in opposite directions
 /// (gp_crease_edge_tangents), so the patch's Jacobian vanishes at that corner and no certificate
-/// can prove it regular there (rounding turns some a hair past straight: a corner inside out).
-/// No cut on the polygon's own
-/// diagonals helps: every such cut leaves a piece (an ear) holding both edges of some corner. So
-/// each flat polygon with a corner between two of its crease edges whose edge curves' end
-/// tangents are within kStraightCornerDeg degrees of straight (either way) in the vertex's
-/// tangent plane is
-/// replaced by the fan of triangles (V_k, V_k+1, centre) about one new vertex: the polygon's own
-/// patch (the design page's construction) evaluated at its domain's centre, with that patch's
-/// normal there, or, where every corner of the polygon has the same normal, with that normal.
-/// The edges of the polygon keep their edge curves (built from the same two vertices and
-/// normals), so the neighbours' patches are unchanged and the surface stays G1 across every
-/// edge; a flat polygon with one normal keeps its plane. Each triangle's corner at V_k sits
-/// between the crease and the spoke to the centre, no longer straight.
-/// Triangles are left whole: an ear of a cap triangulated about one of its rim vertices (both rim
-/// edges of a vertex in one triangle) has a straight corner too, but its fan about its patch's
-/// centre is thin, and on an octagonal cylinder 4 of its 12 triangles were proven to fold where
-/// the ears alone were only undecided, without a fault. Faces whose fan would not be positively oriented on the
-/// polygon's plane around the centre (a centre outside the polygon's kernel), and faces with more than kMaxSplitCorners
-/// corners, are left whole and listed in report.unfannedFaces. Updates mesh (positions: the centres appended; faces,
-/// fileCornerNormals, faceSmoothingGroups, fileNormals where one per vertex, faceSource) and cornerNormals (#C, one per
-/// corner) in place; report.fannedFaces (faces as read, mesh.faceSource), report.fanTriangles and report.addedVertices
-/// say what was cut. options give the cross-tangent mode of the patch the centre is taken from.
+/// can prove it regular there (rounding turns some a hair past straight: a corner inside out). No
+/// cut on the polygon's own diagonals helps: every such cut leaves a piece (an ear) holding both
+/// edges of some corner. So each flat polygon with a corner between two of its crease edges whose
+/// edge curves' end tangents are within kStraightCornerDeg degrees of straight (either way) in the
+/// vertex's tangent plane is replaced by the fan of triangles (V_k, V_k+1, centre) about one new
+/// vertex: the polygon's own patch (the design page's construction) evaluated at its domain's
+/// centre, with that patch's normal there, or, where every corner of the polygon has the same
+/// normal, with that normal. The edges of the polygon keep their edge curves (built from the same
+/// two vertices and normals), so the neighbours' patches are unchanged and the surface stays G1
+/// across every edge; a flat polygon with one normal keeps its plane. Each triangle's corner at V_k
+/// sits between the crease and the spoke to the centre, no longer straight.
+///
+/// A cap triangulated from its rim alone (a CAD export: triangles joined across edges that are not
+/// creases, a disc whose every vertex is on its rim) has such corners in its ears (both rim edges
+/// of a vertex in one triangle), and a fan about one ear's own centre is thin (on an octagonal
+/// cylinder 4 of its 12 triangles were proven to fold where the ears alone were only undecided). So
+/// where such a cap is flat (its rim within kFlatHeight of one plane, every corner normal within
+/// 1e-6 radians of that plane's normal) and one of its triangles has a straight patch corner, its
+/// triangles are merged into the polygon of its rim first, and that polygon is fanned as above; the
+/// cap keeps its plane and its rim curves. Its fan triangles map to its first triangle as read
+/// (mesh.faceSource stays ascending, pieces after their face as read); its other triangles have no
+/// face left, and report.fannedFaces lists them all. A cap whose fan fails keeps its triangles.
+///
+/// Faces whose fan would not be positively oriented on the polygon's plane around the centre (a
+/// centre outside the polygon's kernel), and faces with more than kMaxSplitCorners corners, are
+/// left whole and listed in report.unfannedFaces (a cap: all its triangles). Updates mesh
+/// (positions: the centres appended; faces, fileCornerNormals, faceSmoothingGroups, fileNormals
+/// where one per vertex, faceSource) and cornerNormals (#C, one per corner) in place;
+/// report.fannedFaces (faces as read, mesh.faceSource), report.fanTriangles and
+/// report.addedVertices say what was cut. options give the cross-tangent mode of the patch the
+/// centre is taken from.
 void splitStraightPatchCorners(PolygonMesh& mesh, std::vector<Eigen::Vector3d>& cornerNormals,
                                const PatchOptions& options, PolygonSplitReport& report);
 
