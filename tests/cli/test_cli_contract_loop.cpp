@@ -264,8 +264,9 @@ TEST_F(LoopContract, SigintAndSigtermStopEveryCommandAlike) {
   int checked = 0;
   for (int sig : {SIGINT, SIGTERM}) {
     const std::string name = sig == SIGINT ? "SIGINT" : "SIGTERM";
-    // loop: the report of the steps run, then 130 / 143
-    CliStreams r = run("loop --mesh " + sphere + " --device scripted --duration 60", sig, 0.5);
+    // loop: the report of the steps run, then 130 / 143 (missed deadlines never latch a fault
+    // here: a loaded machine's stall must not stop the loop before the signal does)
+    CliStreams r = run("loop --mesh " + sphere + " --device scripted --duration 60 --max-missed 1000000", sig, 0.5);
     EXPECT_EQ(r.status, 128 + sig) << r.err;
     EXPECT_NE(r.out.find(", stopped early"), std::string::npos) << r.out;
     EXPECT_NE(r.err.find("loop: interrupted by " + name), std::string::npos) << r.err;
