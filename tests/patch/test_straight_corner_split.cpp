@@ -225,14 +225,14 @@ TEST(StraightCornerSplit, TriangulatedFlatCapsAreMergedFannedAndCertify) {
     bool tags, splitSides;
   };
   int sideFaces = 0;
-  for (const auto& [n, tags, splitSides] : std::vector<Variant>{
-           {5, true, false}, {8, true, false}, {12, true, false}, {12, false, false}, {16, false, true}}) {
+  for (const auto& [n, tags, splitSides] :
+       std::vector<Variant>{{5, true, false}, {8, false, false}, {12, false, true}}) {
     SCOPED_TRACE("n " + std::to_string(n) + (tags ? " tagged" : " by angle") + (splitSides ? ", sides split" : ""));
     const std::string path = (dir.path / "ears.obj").string();
     std::ofstream(path) << cylinderWithTriangulatedCapsObj(n, false, tags, splitSides);
     PatchOptions off, on;
     off.foldRepair = FoldRepairMode::Off;
-    if (!tags) off.creases.angleDeg = on.creases.angleDeg = 40;
+    if (!tags) off.creases.angleDeg = on.creases.angleDeg = 50;
     const LoadedMesh asRead = loadMesh(path, off), repaired = loadMesh(path, on);
     const PatchCache before = buildPatchCache(asRead, off, Backend::Tbb);
     PatchCache after = buildPatchCache(repaired, on, Backend::Tbb);
@@ -304,11 +304,11 @@ TEST(StraightCornerSplit, TriangulatedFlatCapsAreMergedFannedAndCertify) {
     certified += expectCertifiedWithoutFault(after, what);
     patches += after.numFaces();
   }
-  EXPECT_EQ(caps, 10);
-  EXPECT_EQ(fanTriangles, 2 * (5 + 8 + 12 + 12 + 16));
+  EXPECT_EQ(caps, 6);
+  EXPECT_EQ(fanTriangles, 2 * (5 + 8 + 12));
   EXPECT_EQ(certified, patches);
   EXPECT_EQ(rimPoints, 9 * fanTriangles);
-  EXPECT_EQ(sideFaces, 5 + 8 + 12 + 12 + 2 * 16);
+  EXPECT_EQ(sideFaces, 5 + 8 + 2 * 12);
   EXPECT_EQ(keptFaces, sideFaces);
 }
 
