@@ -67,12 +67,11 @@ std::vector<int> firstCorners(const PolygonMesh& m) {
   return first;
 }
 
-/// Angle between two unit vectors (radians, accurate near 0 and pi).
+}  // namespace
+
 double angleBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b));
 }
-
-}  // namespace
 
 NormalMode parseNormalMode(const std::string& s) {
   if (s == "auto") return NormalMode::Auto;

@@ -17,6 +17,7 @@
 
 #include <smoothforce/base/error.h>
 #include <smoothforce/base/thread_limit.h>
+#include <smoothforce/mesh/normals.h>
 #include <smoothforce/mesh/topology.h>
 #include <smoothforce/patch/detail/face_inputs.h>
 #include <smoothforce/patch/detail/gp_traits.h>
@@ -41,7 +42,7 @@ double PatchCache::normalTurnDeg(int s) const {
   if (computedNormals.empty()) return 0;
   const Eigen::Map<const Eigen::Vector3d> a(&computedNormals[3 * size_t(s)]), b(&cornerNormals[3 * size_t(s)]);
   if (a == b) return 0;
-  return std::atan2(a.cross(b).norm(), a.dot(b)) * 180 / std::numbers::pi;
+  return angleBetween(a, b) * 180 / std::numbers::pi;
 }
 
 void acrossCorners(const PatchCache& c, int f, int k, int32_t& atStart, int32_t& atEnd) {

@@ -94,9 +94,6 @@ struct Outline {
 /// A cap's corner normals are its plane's normal: within this angle (radians) of it.
 constexpr double kCapNormalTolerance = 1e-6;
 
-/// The angle (radians) between a and b.
-double angleBetween(const Vec3& a, const Vec3& b) { return std::atan2(a.cross(b).norm(), a.dot(b)); }
-
 /// Triangle f's corner normals all lie within kCapNormalTolerance of its plane's normal.
 bool isFlatCapTriangle(const PolygonMesh& mesh, const std::vector<Vec3>& cornerNormals, int f) {
   if (mesh.faceSize(f) != 3) return false;
@@ -147,9 +144,9 @@ Outline flatCap(const PolygonMesh& mesh, const std::vector<Vec3>& cornerNormals,
   const int corners = static_cast<int>(next.size());
   const bool disc = cap.faces.size() >= 2 && corners == static_cast<int>(cap.faces.size()) + 2 &&
                     corners == static_cast<int>(vertices.size()) && corners <= std::min(kMaxSplitCorners, GP_MAX_N);
-  for (int i = 1; i < corners && disc; ++i)
-    if (next[i].first == next[i - 1].first) return {};  // a vertex the boundary passes twice
   if (!disc) return {};
+  for (int i = 1; i < corners; ++i)
+    if (next[i].first == next[i - 1].first) return {};  // a vertex the boundary passes twice
   auto endVertex = [&](int slot) {
     const int f = slotFace(mesh.faceOffsets, slot), k = slot - mesh.faceOffsets[f];
     return mesh.faceVertex(f, k + 1);
@@ -159,8 +156,9 @@ Outline flatCap(const PolygonMesh& mesh, const std::vector<Vec3>& cornerNormals,
   int slot = next.front().second;
   for (int step = 0; step < corners; ++step) {
     cap.slots.push_back(slot);
-    const auto it = std::lower_bound(next.begin(), next.end(), std::make_pair(endVertex(slot), -1));
-    if (it == next.end() || it->first != endVertex(slot)) return {};
+    const int end = endVertex(slot);
+    const auto it = std::lower_bound(next.begin(), next.end(), std::make_pair(end, -1));
+    if (it == next.end() || it->first != end) return {};
     slot = it->second;
     if (slot == next.front().second && step + 1 < corners) return {};  // more than one loop
   }

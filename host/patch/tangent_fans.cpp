@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include <smoothforce/mesh/normals.h>
 #include <smoothforce/patch/detail/face_inputs.h>
 #include <smoothforce/patch/detail/gp_traits.h>
 
@@ -142,7 +143,7 @@ TangentFans untangleTangentFans(const PatchCache& c) {
       const Vec3 a = at(c.positions, c.faceVertices[first + (k + 1) % n]) - P;
       chord[i] = a - a.dot(N) * N;
       const Vec3 b = at(c.positions, c.faceVertices[first + (k + n - 1) % n]) - P;
-      corner[i] = std::atan2(a.cross(b).norm(), a.dot(b));
+      corner[i] = angleBetween(a, b);
     }
     double winding = 0;
     bool tangled = false;
@@ -184,7 +185,7 @@ TangentFans untangleTangentFans(const PatchCache& c) {
     for (int i = 0; i < m; ++i) {
       const Vec3 d = std::cos(theta[i]) * u + std::sin(theta[i]) * w;
       const Vec3 o = at(own, 2 * size_t(fan[i]));  // the construction's direction (unit, in the plane)
-      const double turn = std::atan2(o.cross(d).norm(), o.dot(d)) * 180 / kPi;
+      const double turn = angleBetween(o, d) * 180 / kPi;
       out.maxTurnDeg = std::max(out.maxTurnDeg, turn);
       const size_t twin = size_t(c.slotTwin[fan[i]]);  // the same edge, ending at v
       double* start3 = &out.tangents[6 * size_t(fan[i])];

@@ -12,6 +12,7 @@
 #include <limits>
 
 #include <smoothforce/base/thread_limit.h>
+#include <smoothforce/mesh/normals.h>
 #include <smoothforce/query/point_index.h>
 #include <smoothforce/sweep/morton_order.h>
 
@@ -34,10 +35,6 @@ Percentiles percentiles(std::vector<double> v) {
   p.p999 = rank(0.999);
   p.max = v.back();
   return p;
-}
-
-double angleBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  return std::atan2(a.cross(b).norm(), a.dot(b));
 }
 
 Discontinuity forceDiscontinuity(const std::vector<Eigen::Vector3d>& positions,

@@ -85,8 +85,10 @@ void printFoldRepair(const PatchCache& c) {
   } else {
     size_t pieces = 0;
     for (const FoldRepairRecord::Cut& cut : r.cuts) pieces += cut.faces.size();
-    std::printf("fold repair: %s: %zu faces as read cut into %zu convex pieces; the cache's faces are the pieces\n",
-                toString(c.options.foldRepair), r.cuts.size(), pieces);
+    std::printf(
+        "fold repair: %s: %zu faces as read cut into %zu convex pieces (a flat cap merged from triangles: under its "
+        "first); the cache's faces are the pieces\n",
+        toString(c.options.foldRepair), r.cuts.size(), pieces);
     for (size_t i = 0; i < r.cuts.size() && i < 10; ++i) {
       std::string ids;  // every piece (faceIdsText would stop at 10)
       for (const int f : r.cuts[i].faces) (ids += ' ') += std::to_string(f);

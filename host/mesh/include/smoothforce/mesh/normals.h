@@ -2,6 +2,7 @@
 // Vertex normals for patch construction.
 #pragma once
 
+#include <Eigen/Core>
 #include <string>
 #include <vector>
 
@@ -9,6 +10,10 @@
 #include <smoothforce/mesh/mesh.h>
 
 namespace sf {
+
+/// Angle between two vectors (any length, not zero), radians in [0, pi]; the atan2 form, accurate
+/// near 0 and pi where acos of the dot product is not.
+double angleBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b);
 
 /// How vertex normals are obtained.
 /// Auto:  the file's normals wherever the file gives one normal per vertex: per vertex in

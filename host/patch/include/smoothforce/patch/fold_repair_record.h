@@ -13,7 +13,9 @@ namespace sf {
 /// normals the search turned) and the untangled vertex fans (tangent_fans.h, derived from the
 /// cache's positions and normals). Angles in degrees.
 struct FoldRepairRecord {
-  /// A face as read that the split cut: its pieces, the cache's faces (ascending).
+  /// A face as read that the fold repair cut (into convex pieces, or into a fan): its pieces, the
+  /// cache's faces (ascending). A flat cap merged from several triangles before its fan is listed
+  /// under its first triangle; its other triangles have no faces of their own.
   struct Cut {
     int faceAsRead = -1;
     std::vector<int> faces;

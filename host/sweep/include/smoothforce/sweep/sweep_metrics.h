@@ -41,7 +41,4 @@ Discontinuity forceDiscontinuity(const std::vector<Eigen::Vector3d>& positions,
 /// is out of contact count as differences too (contact lost is a jump).
 std::vector<double> consecutiveDifferences(const std::vector<float>& forces);
 
-/// Angle between two vectors, rad, in [0, pi] (atan2 form, accurate for small angles).
-double angleBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b);
-
 }  // namespace sf
