@@ -107,19 +107,15 @@ bool isFlatCapTriangle(const PolygonMesh& mesh, const std::vector<Vec3>& cornerN
 }
 
 /// The triangles joined to triangle `seed` across edges that are not creases, all flat cap
-/// triangles, as one outline: empty where they are not a disc whose every vertex is on its
-/// boundary (a loop of at most kMaxSplitCorners and GP_MAX_N corners, the triangles two fewer),
-/// within kFlatHeight of one plane whose normal all their corner normals are (kCapNormalTolerance).
-/// Marks the triangles in `taken`.
-Outline flatCap(const PolygonMesh& mesh, const std::vector<Vec3>& cornerNormals, const PatchCache& c,
-                const std::vector<char>& capTriangle, int seed, std::vector<char>& taken) {
-  Outline cap;
-  std::vector<int> stack{seed};
+/// triangles (capTriangle), ascending. Marks them in `taken`.
+std::vector<int> flatRegion(const PolygonMesh& mesh, const PatchCache& c, const std::vector<char>& capTriangle,
+                            int seed, std::vector<char>& taken) {
+  std::vector<int> faces, stack{seed};
   taken[seed] = 1;
   while (!stack.empty()) {
     const int f = stack.back();
     stack.pop_back();
-    cap.faces.push_back(f);
+    faces.push_back(f);
     for (int k = 0; k < 3; ++k) {
       const int twin = c.slotTwin[mesh.faceOffsets[f] + k];
       if (twin < 0 || isCreaseEdge(c, f, k)) continue;
@@ -127,7 +123,36 @@ Outline flatCap(const PolygonMesh& mesh, const std::vector<Vec3>& cornerNormals,
       if (capTriangle[g] && !taken[g]) taken[g] = 1, stack.push_back(g);
     }
   }
-  std::sort(cap.faces.begin(), cap.faces.end());
+  std::sort(faces.begin(), faces.end());
+  return faces;
+}
+
+/// An outline of at most kMaxSplitCorners and GP_MAX_N corners, within kFlatHeight of one plane
+/// whose normal every corner normal of its triangles is (kCapNormalTolerance).
+bool flatOutline(const PolygonMesh& mesh, const std::vector<Vec3>& cornerNormals, const Outline& o) {
+  const int corners = static_cast<int>(o.slots.size());
+  if (corners > std::min(kMaxSplitCorners, GP_MAX_N)) return false;
+  PolygonMesh outline;
+  outline.positions.reserve(corners);
+  std::vector<int32_t> loop(corners);
+  for (int k = 0; k < corners; ++k)
+    outline.positions.push_back(mesh.positions[mesh.faceVertices[o.slots[k]]]), loop[k] = k;
+  outline.addFace(loop);
+  const Vec3 plane = newellNormal(outline, 0);
+  if (!isFlatFace(outline, 0)) return false;
+  for (const int f : o.faces)
+    for (int k = 0; k < 3; ++k)
+      if (angleBetween(cornerNormals[mesh.faceOffsets[f] + k], plane) > kCapNormalTolerance) return false;
+  return true;
+}
+
+/// The flat region `faces` (flatRegion) as the outline of its boundary: empty where it is not a
+/// disc whose every vertex is on its boundary (one loop of at most kMaxSplitCorners and GP_MAX_N
+/// corners, the triangles two fewer) or not flat (flatOutline).
+Outline discOutline(const PolygonMesh& mesh, const std::vector<Vec3>& cornerNormals, const PatchCache& c,
+                    const std::vector<int>& faces) {
+  Outline cap;
+  cap.faces = faces;
   // the boundary: edges whose twin is not one of the cap's triangles, each vertex starting one
   std::vector<std::pair<int, int>> next;  // (start vertex, slot)
   std::vector<int> vertices;
@@ -163,23 +188,118 @@ Outline flatCap(const PolygonMesh& mesh, const std::vector<Vec3>& cornerNormals,
     if (slot == next.front().second && step + 1 < corners) return {};  // more than one loop
   }
   if (slot != next.front().second) return {};
-  // the loop on its own, for its plane
-  PolygonMesh outline;
-  outline.positions.reserve(corners);
-  std::vector<int32_t> loop(corners);
-  for (int k = 0; k < corners; ++k)
-    outline.positions.push_back(mesh.positions[mesh.faceVertices[cap.slots[k]]]), loop[k] = k;
-  outline.addFace(loop);
-  const Vec3 plane = newellNormal(outline, 0);
-  if (!isFlatFace(outline, 0)) return {};
-  for (const int f : cap.faces)
-    for (int k = 0; k < 3; ++k)
-      if (angleBetween(cornerNormals[mesh.faceOffsets[f] + k], plane) > kCapNormalTolerance) return {};
+  if (!flatOutline(mesh, cornerNormals, cap)) return {};
   return cap;
 }
 
-/// Every face of the mesh as an outline, in order, except that each flat cap (flatCap) holding a
-/// triangle with a straight patch corner becomes one outline, at the place of its first triangle.
+/// The flat region `faces` (flatRegion) that is not a disc of its rim but has every vertex on its
+/// boundary (an annulus triangulated from its two rims) cut into convex pieces of its own
+/// triangles (none where a vertex lies inside the region): starting from
+/// the triangles, two pieces are merged across the longest edge they share (not a crease: the
+/// region has none inside) while the merged outline stays convex at both ends of that edge (no
+/// corner within kStraightCornerDeg of straight or beyond, on the region's plane), passes no
+/// vertex twice and has at most kMaxSplitCorners and GP_MAX_N corners (Hertel and Mehlhorn's
+/// greedy partition, at most four times the fewest convex pieces). Returns the pieces of two or
+/// more triangles that are flat (flatOutline); the other triangles stay as they are.
+std::vector<Outline> convexPieces(const PolygonMesh& mesh, const std::vector<Vec3>& cornerNormals, const PatchCache& c,
+                                  const std::vector<int>& faces) {
+  const int m = static_cast<int>(faces.size());
+  // triangulated from its rims alone: every vertex on the boundary (a cap already fanned about a
+  // vertex inside it has no straight corner and stays as it is)
+  std::vector<int> vertices, rims;
+  for (const int f : faces)
+    for (int k = 0; k < 3; ++k) {
+      const int slot = mesh.faceOffsets[f] + k, twin = c.slotTwin[slot];
+      vertices.push_back(mesh.faceVertices[slot]);
+      if (twin < 0 || !std::binary_search(faces.begin(), faces.end(), slotFace(mesh.faceOffsets, twin)))
+        rims.push_back(mesh.faceVertices[slot]);
+    }
+  std::sort(vertices.begin(), vertices.end());
+  std::sort(rims.begin(), rims.end());
+  if (std::unique(vertices.begin(), vertices.end()) - vertices.begin() !=
+      std::unique(rims.begin(), rims.end()) - rims.begin())
+    return {};
+  auto local = [&](int f) { return static_cast<int>(std::lower_bound(faces.begin(), faces.end(), f) - faces.begin()); };
+  auto vertexAt = [&](int slot) { return mesh.faceVertices[slot]; };
+  Vec3 normal = Vec3::Zero();
+  for (const int f : faces) normal += newellNormal(mesh, f);
+  if (!(normal.norm() > 0) || !normal.allFinite()) return {};
+  normal.normalize();
+  std::vector<Outline> piece(m);
+  std::vector<int> owner(m);  // the piece that holds triangle i (union by relabelling)
+  for (int i = 0; i < m; ++i) {
+    piece[i].faces = {faces[i]};
+    for (int k = 0; k < 3; ++k) piece[i].slots.push_back(mesh.faceOffsets[faces[i]] + k);
+    owner[i] = i;
+  }
+  struct Shared {
+    double length;
+    int slot, twin;
+  };
+  std::vector<Shared> shared;
+  for (const int f : faces)
+    for (int k = 0; k < 3; ++k) {
+      const int slot = mesh.faceOffsets[f] + k, twin = c.slotTwin[slot];
+      if (twin < 0 || twin < slot || isCreaseEdge(c, f, k)) continue;
+      const int g = slotFace(mesh.faceOffsets, twin);
+      if (!std::binary_search(faces.begin(), faces.end(), g)) continue;
+      const double length = (mesh.positions[mesh.faceVertex(f, k + 1)] - mesh.positions[vertexAt(slot)]).norm();
+      shared.push_back({length, slot, twin});
+    }
+  std::sort(shared.begin(), shared.end(), [](const Shared& a, const Shared& b) {
+    return a.length != b.length ? a.length > b.length : a.slot < b.slot;
+  });
+  const double straight = std::numbers::pi * (1 - kStraightCornerDeg / 180);
+  // the interior angle at b of the corner a -> b -> c, on the region's plane, in [0, 2 pi)
+  auto convex = [&](int a, int b, int cc) {
+    const Vec3 e1 = mesh.positions[a] - mesh.positions[b], e2 = mesh.positions[cc] - mesh.positions[b];
+    double angle = std::atan2(e2.cross(e1).dot(normal), e2.dot(e1));
+    if (angle < 0) angle += 2 * std::numbers::pi;
+    return angle < straight;
+  };
+  const int maxCorners = std::min(kMaxSplitCorners, GP_MAX_N);
+  for (const Shared& e : shared) {
+    const int p = owner[local(slotFace(mesh.faceOffsets, e.slot))],
+              q = owner[local(slotFace(mesh.faceOffsets, e.twin))];
+    if (p == q) continue;
+    const std::vector<int>&ps = piece[p].slots, &qs = piece[q].slots;
+    const int np = static_cast<int>(ps.size()), nq = static_cast<int>(qs.size());
+    if (np + nq - 2 > maxCorners) continue;
+    const int ip = static_cast<int>(std::find(ps.begin(), ps.end(), e.slot) - ps.begin());
+    const int iq = static_cast<int>(std::find(qs.begin(), qs.end(), e.twin) - qs.begin());
+    if (ip == np || iq == nq) continue;
+    // p's edges from the shared edge's end round to its start, then q's the same way
+    std::vector<int> loop;
+    loop.reserve(np + nq - 2);
+    for (int j = 1; j < np; ++j) loop.push_back(ps[(ip + j) % np]);
+    for (int j = 1; j < nq; ++j) loop.push_back(qs[(iq + j) % nq]);
+    std::vector<int> vertices(loop.size());
+    std::transform(loop.begin(), loop.end(), vertices.begin(), vertexAt);
+    std::vector<int> sorted = vertices;
+    std::sort(sorted.begin(), sorted.end());
+    if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) continue;
+    // the two corners the merge changes: at the shared edge's ends (loop positions 0 and np - 1)
+    const int nl = static_cast<int>(loop.size());
+    auto cornerOk = [&](int j) { return convex(vertices[(j + nl - 1) % nl], vertices[j], vertices[(j + 1) % nl]); };
+    if (!cornerOk(0) || !cornerOk(np - 1)) continue;
+    piece[p].slots = std::move(loop);
+    piece[p].faces.insert(piece[p].faces.end(), piece[q].faces.begin(), piece[q].faces.end());
+    for (const int f : piece[q].faces) owner[local(f)] = p;
+    piece[q] = {};
+  }
+  std::vector<Outline> out;
+  for (Outline& o : piece) {
+    if (o.faces.size() < 2) continue;
+    std::sort(o.faces.begin(), o.faces.end());
+    if (flatOutline(mesh, cornerNormals, o)) out.push_back(std::move(o));
+  }
+  return out;
+}
+
+/// Every face of the mesh as an outline, in order, except in each flat region of cap triangles
+/// (flatRegion) holding a triangle with a straight patch corner: a disc becomes one outline
+/// (discOutline), another region its convex pieces (convexPieces), each at the place of its first
+/// triangle.
 std::vector<Outline> outlines(const PolygonMesh& mesh, const std::vector<Vec3>& cornerNormals, const PatchCache& c,
                               const std::vector<char>& capTriangle) {
   const int nf = mesh.numFaces();
@@ -187,11 +307,19 @@ std::vector<Outline> outlines(const PolygonMesh& mesh, const std::vector<Vec3>& 
   std::vector<int> capAt(nf, -1);  // the cap whose first triangle f is
   std::vector<Outline> caps;
   for (int f = 0; f < nf; ++f) {
-    if (!capTriangle[f] || taken[f] || !hasStraightPatchCorner(c, f)) continue;
-    Outline cap = flatCap(mesh, cornerNormals, c, capTriangle, f, taken);
-    if (cap.slots.empty()) continue;
-    capAt[cap.faces.front()] = static_cast<int>(caps.size());
-    caps.push_back(std::move(cap));
+    if (!capTriangle[f] || taken[f]) continue;
+    const std::vector<int> region = flatRegion(mesh, c, capTriangle, f, taken);
+    if (region.size() < 2) continue;
+    Outline disc = discOutline(mesh, cornerNormals, c, region);
+    std::vector<Outline> pieces;
+    if (disc.slots.empty())  // pieces without a straight patch corner are not fanned: they keep their triangles
+      pieces = convexPieces(mesh, cornerNormals, c, region);
+    else if (std::any_of(region.begin(), region.end(), [&](int g) { return hasStraightPatchCorner(c, g); }))
+      pieces.push_back(std::move(disc));
+    for (Outline& cap : pieces) {
+      capAt[cap.faces.front()] = static_cast<int>(caps.size());
+      caps.push_back(std::move(cap));
+    }
   }
   std::vector<char> merged(nf, 0);
   for (const Outline& cap : caps)
@@ -286,16 +414,24 @@ void splitStraightPatchCorners(PolygonMesh& mesh, std::vector<Eigen::Vector3d>& 
   if (std::none_of(fans.begin(), fans.end(), [](const auto& fan) { return fan.has_value(); })) return;
 
   const bool vertexNormals = !mesh.fileNormals.empty() && mesh.fileNormals.size() == mesh.positions.size();
-  FaceRewrite out(mesh, &cornerNormals);
+  // faces as read in order: each fan at the place of its polygon's first face, the rest as read
+  std::vector<int> fanAt(nf, -1);
+  std::vector<char> fanned(nf, 0);
   for (size_t i = 0; i < polygons.size(); ++i) {
-    const Outline& o = polygons[i];
-    if (!fans[i]) {  // as read: a face, or a cap's triangles
-      for (const int f : o.faces) {
-        for (int k = 0; k < mesh.faceSize(f); ++k) out.copyCorner(mesh.faceOffsets[f] + k);
-        out.closeFace(f);
-      }
+    if (!fans[i]) continue;
+    fanAt[polygons[i].faces.front()] = static_cast<int>(i);
+    for (const int f : polygons[i].faces) fanned[f] = 1;
+  }
+  FaceRewrite out(mesh, &cornerNormals);
+  for (int f = 0; f < nf; ++f) {
+    if (!fanned[f]) {
+      for (int k = 0; k < mesh.faceSize(f); ++k) out.copyCorner(mesh.faceOffsets[f] + k);
+      out.closeFace(f);
       continue;
     }
+    if (fanAt[f] < 0) continue;  // a merged cap's other triangle
+    const size_t i = static_cast<size_t>(fanAt[f]);
+    const Outline& o = polygons[i];
     const int centre = static_cast<int>(mesh.positions.size()), n = static_cast<int>(o.slots.size());
     mesh.positions.push_back(fans[i]->centre);
     if (vertexNormals) mesh.fileNormals.push_back(fans[i]->normal);

@@ -7,10 +7,12 @@
 // its plane, keeps every other patch bit for bit and every rim curve point for point, leaves no
 // straight corner between crease edges, certifies every patch, and the closed surface has no
 // fault. A cap triangulated from its rim alone is merged into one polygon and fanned the same way;
-// one fanned about its centre as read is left as read.
+// a flat annulus triangulated from its two rims is cut into convex pieces, fanned the same way;
+// a cap fanned about its centre as read is left as read.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -110,6 +112,15 @@ int expectCertifiedWithoutFault(PatchCache& c, const std::string& what) {
   return cs.certified;
 }
 
+/// Face g of `after` has the patch of face f of `before`, bit for bit (the same size and records).
+bool samePatch(const PatchCache& before, int f, const PatchCache& after, int g) {
+  if (after.faceSize(g) != before.faceSize(f)) return false;
+  std::vector<double> a(size_t(before.faceSize(f)) * GP_E_NFIELDS), b(a.size());
+  gatherRecords(before, f, a.data());
+  gatherRecords(after, g, b.data());
+  return a == b;
+}
+
 struct Part {
   std::string name, obj;
   std::vector<int> caps;  ///< faces as read that have a straight crease corner
@@ -157,11 +168,9 @@ TEST(StraightCornerSplit, CreasedFlatCapsAreFannedKeepTheirSurfaceAndCertify) {
       const bool cap = std::find(part.caps.begin(), part.caps.end(), f) != part.caps.end();
       if (!cap) {
         ASSERT_EQ(after.faceSource[g], f);
-        std::vector<double> a(size_t(n) * GP_E_NFIELDS), b(a.size());
-        gatherRecords(before, f, a.data());
-        gatherRecords(after, g, b.data());
-        EXPECT_EQ(a, b) << "face " << f;
-        keptFaces += a == b;
+        const bool same = samePatch(before, f, after, g);
+        EXPECT_TRUE(same) << "face " << f;
+        keptFaces += same;
         ++g;
         continue;
       }
@@ -256,12 +265,9 @@ TEST(StraightCornerSplit, TriangulatedFlatCapsAreMergedFannedAndCertify) {
       if (g >= 2 * n) {  // a side: its patch bit for bit
         const int f = g - 2 * n + capTriangles;
         ASSERT_EQ(after.faceSource[g], f);
-        ASSERT_EQ(after.faceSize(g), before.faceSize(f));
-        std::vector<double> a(size_t(before.faceSize(f)) * GP_E_NFIELDS), b(a.size());
-        gatherRecords(before, f, a.data());
-        gatherRecords(after, g, b.data());
-        EXPECT_EQ(a, b) << "face " << f;
-        keptFaces += a == b;
+        const bool same = samePatch(before, f, after, g);
+        EXPECT_TRUE(same) << "face " << f;
+        keptFaces += same;
         continue;
       }
       // a fan triangle (rim vertex, next rim vertex, centre) of the bottom (source 0) or top (1)
@@ -310,6 +316,114 @@ TEST(StraightCornerSplit, TriangulatedFlatCapsAreMergedFannedAndCertify) {
   EXPECT_EQ(rimPoints, 9 * fanTriangles);
   EXPECT_EQ(sideFaces, 5 + 8 + 2 * 12);
   EXPECT_EQ(keptFaces, sideFaces);
+}
+
+/// A stepped shaft exported as triangles alone (an STL-like part, creases found by angle): a
+/// cylinder of radius 1 and height 0.6 with `outer` sides under one of radius 0.5 and height 0.6
+/// with `inner` sides (outer a multiple of inner). Faces as read: the bottom cap triangulated from
+/// its rim (outer - 2), the wide sides' quads split (2 outer), the annulus between the two rims
+/// triangulated from them (under each inner rim vertex i the triangles to outer rim vertices
+/// k i .. k (i + 1), then the one on inner rim edge i; outer + inner), the narrow sides' quads
+/// split (2 inner), the top cap (inner - 2).
+std::string steppedShaftObj(int outer, int inner) {
+  std::string s;
+  char buf[96];
+  auto ring = [&](int n, double r, double z) {
+    for (int i = 0; i < n; ++i) {
+      std::snprintf(buf, sizeof buf, "v %.17g %.17g %.17g\n", r * std::cos(2 * std::numbers::pi * i / n),
+                    r * std::sin(2 * std::numbers::pi * i / n), z);
+      s += buf;
+    }
+  };
+  ring(outer, 1, 0);
+  ring(outer, 1, 0.6);
+  ring(inner, 0.5, 0.6);
+  ring(inner, 0.5, 1.2);
+  const int B = 1, O = B + outer, I = O + outer, T = I + inner;  // OBJ ids are 1-based
+  auto f = [&](int a, int b, int c) {
+    s += "f " + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(c) + "\n";
+  };
+  for (int i = 1; i < outer - 1; ++i) f(B, B + i + 1, B + i);
+  for (int i = 0; i < outer; ++i) {
+    const int j = (i + 1) % outer;
+    f(B + i, B + j, O + j);
+    f(B + i, O + j, O + i);
+  }
+  const int k = outer / inner;
+  for (int i = 0; i < inner; ++i) {
+    for (int j = k * i; j < k * (i + 1); ++j) f(O + j, O + (j + 1) % outer, I + i);
+    f(O + (k * (i + 1)) % outer, I + (i + 1) % inner, I + i);
+  }
+  for (int i = 0; i < inner; ++i) {
+    const int j = (i + 1) % inner;
+    f(I + i, I + j, T + j);
+    f(I + i, T + j, T + i);
+  }
+  for (int i = 1; i < inner - 1; ++i) f(T, T + i, T + i + 1);
+  return s;
+}
+
+TEST(StraightCornerSplit, FlatAnnuliAreCutIntoConvexPiecesFannedAndCertify) {
+  // the annulus is no disc, and none of its triangles holds two rim edges (no straight corner as
+  // read), yet each triangle on an inner rim edge (a valley) was proven to fold beside it (4 of 4
+  // and 4 of 4 here; 8 of 8 on a 16/8 shaft): the annulus is cut into convex pieces of k + 1
+  // triangles (outer rim vertices k i .. k (i + 1), inner rim edge i), each has a straight corner
+  // at its middle outer rim vertices and is fanned; the caps as before; the sides kept
+  hostile::TempDir dir("sf_straight_corner_annuli");
+  int certified = 0, patches = 0, keptFaces = 0, sideFaces = 0, pieceCentres = 0;
+  for (const auto& [outer, inner] : std::vector<std::pair<int, int>>{{8, 4}, {12, 4}}) {
+    SCOPED_TRACE(std::to_string(outer) + "/" + std::to_string(inner));
+    const std::string path = (dir.path / "shaft.obj").string();
+    std::ofstream(path) << steppedShaftObj(outer, inner);
+    PatchOptions off, on;
+    off.foldRepair = FoldRepairMode::Off;
+    off.creases.angleDeg = on.creases.angleDeg = 50;
+    const LoadedMesh asRead = loadMesh(path, off), repaired = loadMesh(path, on);
+    const PatchCache before = buildPatchCache(asRead, off, Backend::Tbb);
+    PatchCache after = buildPatchCache(repaired, on, Backend::Tbb);
+    const int k = outer / inner, bottom = outer - 2, annulusFirst = bottom + 2 * outer, annulus = outer + inner;
+    const int topFirst = annulusFirst + annulus + 2 * inner;
+    ASSERT_EQ(before.numFaces(), topFirst + inner - 2);
+    const PolygonSplitReport& r = repaired.split;
+    // a square top's corners are where three creases meet, with straight edge curves: not fanned
+    const bool topFanned = inner > 4;
+    std::vector<int> expected;
+    for (int f = 0; f < before.numFaces(); ++f)
+      if (f < bottom || (f >= annulusFirst && f < annulusFirst + annulus) || (topFanned && f >= topFirst))
+        expected.push_back(f);
+    EXPECT_EQ(r.fannedFaces, expected);
+    EXPECT_TRUE(r.unfannedFaces.empty());
+    EXPECT_EQ(r.addedVertices, 1 + topFanned + inner);  // the caps' centres and one per piece
+    EXPECT_EQ(r.fanTriangles, outer + (topFanned ? inner : 0) + inner * (k + 3));
+    ASSERT_EQ(after.numFaces(), static_cast<int>(before.numFaces() - expected.size()) + r.fanTriangles);
+    for (int g = 0; g < after.numFaces(); ++g) {
+      const int f = after.faceSource[g];
+      if (!std::binary_search(expected.begin(), expected.end(), f)) {  // not fanned: its patch bit for bit
+        ++sideFaces;
+        const bool same = samePatch(before, f, after, g);
+        EXPECT_TRUE(same) << "face " << f;
+        keptFaces += same;
+        continue;
+      }
+      // a fan triangle: its centre (corner 2) on its piece's plane, between the rims on the annulus
+      ASSERT_EQ(after.faceSize(g), 3);
+      if (f < annulusFirst || f >= topFirst) continue;
+      const Eigen::Vector3d c(&after.positions[3 * size_t(after.faceVertices[after.faceOffsets[g] + 2])]);
+      EXPECT_LT(std::fabs(c.z() - 0.6), 1e-12);
+      EXPECT_GT(c.head<2>().norm(), 0.5);
+      EXPECT_LT(c.head<2>().norm(), 1.0);
+      pieceCentres += std::fabs(c.z() - 0.6) < 1e-12;
+    }
+    char what[128];
+    std::snprintf(what, sizeof what, "shaft %2d/%d: annulus cut into %d pieces, %d fan triangles in all", outer, inner,
+                  inner, r.fanTriangles);
+    certified += expectCertifiedWithoutFault(after, what);
+    patches += after.numFaces();
+  }
+  EXPECT_EQ(certified, patches);
+  EXPECT_EQ(sideFaces, 2 * (8 + 4) + 2 + 2 * (12 + 4) + 2);  // the sides and the square tops
+  EXPECT_EQ(keptFaces, sideFaces);
+  EXPECT_EQ(pieceCentres, 4 * 5 + 4 * 6);  // pieces of 5 and 6 corners
 }
 
 TEST(StraightCornerSplit, CapsFannedAsReadAreLeftAsRead) {

@@ -204,8 +204,9 @@ void build(const std::string& mesh, std::string out, const PatchArgs& args, bool
   }
   if (opt.foldRepair != FoldRepairMode::Off && (!lm.split.fannedFaces.empty() || !lm.split.unfannedFaces.empty())) {
     std::printf(
-        "fold repair: %s: %zu faces as read (flat polygons with a straight corner between creases, a flat cap's "
-        "triangles merged first) fanned into %d triangles about %d new centre vertices (faces:%s)\n",
+        "fold repair: %s: %zu faces as read (flat polygons with a straight corner between creases; a flat cap's "
+        "triangles merged first, a flat annulus's into convex pieces) fanned into %d triangles about %d new centre "
+        "vertices (faces:%s)\n",
         toString(opt.foldRepair), lm.split.fannedFaces.size(), lm.split.fanTriangles, lm.split.addedVertices,
         faceIdsText(lm.split.fannedFaces).c_str());
     if (!lm.split.unfannedFaces.empty())

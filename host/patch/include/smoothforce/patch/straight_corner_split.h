@@ -40,6 +40,11 @@ namespace sf {
 /// cap keeps its plane and its rim curves. Its fan triangles map to its first triangle as read
 /// (mesh.faceSource stays ascending, pieces after their face as read); its other triangles have no
 /// face left, and report.fannedFaces lists them all. A cap whose fan fails keeps its triangles.
+/// A flat region of such triangles that is not a disc of its rim (the annulus of a stepped shaft
+/// between its two rims, triangulated from them: each triangle with an edge on the inner rim, a
+/// valley, then folds beside that edge) is cut into convex pieces of its triangles instead (a
+/// greedy merge across the longest shared edges while the piece stays convex), and each piece
+/// with a straight patch corner is fanned as above; the other pieces keep their triangles.
 ///
 /// Faces whose fan would not be positively oriented on the polygon's plane around the centre (a
 /// centre outside the polygon's kernel), and faces with more than kMaxSplitCorners corners, are
