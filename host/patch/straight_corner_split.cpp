@@ -296,10 +296,10 @@ std::vector<Outline> convexPieces(const PolygonMesh& mesh, const std::vector<Vec
   return out;
 }
 
-/// Every face of the mesh as an outline, in order, except in each flat region of cap triangles
-/// (flatRegion) holding a triangle with a straight patch corner: a disc becomes one outline
-/// (discOutline), another region its convex pieces (convexPieces), each at the place of its first
-/// triangle.
+/// Every face of the mesh as an outline, in order, except in the flat regions of cap triangles
+/// (flatRegion): a disc one of whose triangles has a straight patch corner becomes one outline
+/// (discOutline), a region that is no disc its convex pieces (convexPieces, which the fan takes only
+/// where they have a straight patch corner), each at the place of its first triangle.
 std::vector<Outline> outlines(const PolygonMesh& mesh, const std::vector<Vec3>& cornerNormals, const PatchCache& c,
                               const std::vector<char>& capTriangle) {
   const int nf = mesh.numFaces();
