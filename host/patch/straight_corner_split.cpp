@@ -127,11 +127,10 @@ std::vector<int> flatRegion(const PolygonMesh& mesh, const PatchCache& c, const 
   return faces;
 }
 
-/// An outline of at most kMaxSplitCorners and GP_MAX_N corners, within kFlatHeight of one plane
-/// whose normal every corner normal of its triangles is (kCapNormalTolerance).
+/// An outline within kFlatHeight of one plane whose normal every corner normal of its triangles is
+/// (kCapNormalTolerance).
 bool flatOutline(const PolygonMesh& mesh, const std::vector<Vec3>& cornerNormals, const Outline& o) {
   const int corners = static_cast<int>(o.slots.size());
-  if (corners > std::min(kMaxSplitCorners, GP_MAX_N)) return false;
   PolygonMesh outline;
   outline.positions.reserve(corners);
   std::vector<int32_t> loop(corners);
@@ -147,8 +146,9 @@ bool flatOutline(const PolygonMesh& mesh, const std::vector<Vec3>& cornerNormals
 }
 
 /// The flat region `faces` (flatRegion) as the outline of its boundary: empty where it is not a
-/// disc whose every vertex is on its boundary (one loop of at most kMaxSplitCorners and GP_MAX_N
-/// corners, the triangles two fewer) or not flat (flatOutline).
+/// disc whose every vertex is on its boundary (one loop, the triangles two fewer than its corners;
+/// any number of corners: a cap of more than GP_MAX_N is fanned without a patch of its own) or not
+/// flat (flatOutline).
 Outline discOutline(const PolygonMesh& mesh, const std::vector<Vec3>& cornerNormals, const PatchCache& c,
                     const std::vector<int>& faces) {
   Outline cap;
@@ -168,7 +168,7 @@ Outline discOutline(const PolygonMesh& mesh, const std::vector<Vec3>& cornerNorm
   vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
   const int corners = static_cast<int>(next.size());
   const bool disc = cap.faces.size() >= 2 && corners == static_cast<int>(cap.faces.size()) + 2 &&
-                    corners == static_cast<int>(vertices.size()) && corners <= std::min(kMaxSplitCorners, GP_MAX_N);
+                    corners == static_cast<int>(vertices.size());
   if (!disc) return {};
   for (int i = 1; i < corners; ++i)
     if (next[i].first == next[i - 1].first) return {};  // a vertex the boundary passes twice
@@ -291,7 +291,8 @@ std::vector<Outline> convexPieces(const PolygonMesh& mesh, const std::vector<Vec
   for (Outline& o : piece) {
     if (o.faces.size() < 2) continue;
     std::sort(o.faces.begin(), o.faces.end());
-    if (flatOutline(mesh, cornerNormals, o)) out.push_back(std::move(o));
+    if (static_cast<int>(o.slots.size()) <= maxCorners && flatOutline(mesh, cornerNormals, o))
+      out.push_back(std::move(o));
   }
   return out;
 }
@@ -389,17 +390,41 @@ void splitStraightPatchCorners(PolygonMesh& mesh, std::vector<Eigen::Vector3d>& 
   std::vector<std::optional<Fan>> fans(polygons.size());
   for (size_t i = 0; i < polygons.size(); ++i) {
     const int f = static_cast<int>(i), n = pm.faceSize(f), first = pm.faceOffsets[f];
-    if (n < 4 || n > GP_MAX_N || !isFlatFace(pm, f)) continue;
+    if (n < 4 || !isFlatFace(pm, f)) continue;
     bool valid = true;  // finite data: the construction flags the rest
     for (int k = 0; k < n && valid; ++k)
       valid = pm.positions[pm.faceVertex(f, k)].allFinite() && pn[first + k].allFinite();
-    if (!valid || !hasStraightPatchCorner(pc, f)) continue;
+    if (!valid) continue;
     Fan fan;
-    Vec3 centreNormal;
-    bool ok = n <= kMaxSplitCorners && patchCentre(pc, f, fan.centre, centreNormal);
-    bool oneNormal = true;
-    for (int k = 1; k < n; ++k) oneNormal = oneNormal && pn[first + k] == pn[first];
-    fan.normal = oneNormal ? pn[first] : centreNormal;
+    bool ok = true;
+    if (n > GP_MAX_N) {
+      // a cap merged from more triangles than a patch takes corners (a finely divided cylinder's,
+      // triangulated from its rim): no patch of its own, so fanned where one of its triangles as
+      // read has a straight patch corner, about its area centroid with its corners' one normal
+      const Outline& o = polygons[i];
+      if (o.faces.size() < 2 ||
+          std::none_of(o.faces.begin(), o.faces.end(), [&](int g) { return hasStraightPatchCorner(asRead, g); }))
+        continue;
+      Vec3 weighted = Vec3::Zero();
+      double area = 0;
+      for (const int g : o.faces) {
+        const Vec3 &a = mesh.positions[mesh.faceVertex(g, 0)], &b = mesh.positions[mesh.faceVertex(g, 1)],
+                   &c3 = mesh.positions[mesh.faceVertex(g, 2)];
+        const double w = (b - a).cross(c3 - a).norm();
+        weighted += w * (a + b + c3) / 3;
+        area += w;
+      }
+      fan.centre = weighted / area;
+      fan.normal = pn[first];
+      ok = area > 0 && fan.centre.allFinite();
+    } else {
+      if (!hasStraightPatchCorner(pc, f)) continue;
+      Vec3 centreNormal;
+      ok = n <= kMaxSplitCorners && patchCentre(pc, f, fan.centre, centreNormal);
+      bool oneNormal = true;
+      for (int k = 1; k < n; ++k) oneNormal = oneNormal && pn[first + k] == pn[first];
+      fan.normal = oneNormal ? pn[first] : centreNormal;
+    }
     // every triangle of the fan turns the polygon's way about its Newell normal
     const Vec3 plane = newellNormal(pm, f);
     for (int k = 0; k < n && ok; ++k) {

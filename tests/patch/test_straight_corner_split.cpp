@@ -6,9 +6,10 @@
 // built records); the default fans exactly the caps about one new vertex each, inside the cap on
 // its plane, keeps every other patch bit for bit and every rim curve point for point, leaves no
 // straight corner between crease edges, certifies every patch, and the closed surface has no
-// fault. A cap triangulated from its rim alone is merged into one polygon and fanned the same way;
-// a flat annulus triangulated from its two rims is cut into convex pieces, fanned the same way;
-// a cap fanned about its centre as read is left as read.
+// fault. A cap triangulated from its rim alone is merged into one polygon and fanned the same way
+// (one of more corners than a patch takes, about its area centroid); a flat annulus triangulated
+// from its two rims is cut into convex pieces, fanned the same way; a cap fanned about its centre
+// as read is left as read.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -119,6 +120,17 @@ bool samePatch(const PatchCache& before, int f, const PatchCache& after, int g) 
   gatherRecords(before, f, a.data());
   gatherRecords(after, g, b.data());
   return a == b;
+}
+
+/// The report of an n-sided cylinder whose two caps, triangulated from their rim (faces 0 ..
+/// 2 (n - 2) - 1 as read), were each merged and fanned about one new vertex.
+void expectBothCapsFanned(const PolygonSplitReport& r, int n) {
+  std::vector<int> expected(2 * (n - 2));
+  for (int f = 0; f < 2 * (n - 2); ++f) expected[f] = f;
+  EXPECT_EQ(r.fannedFaces, expected);
+  EXPECT_TRUE(r.unfannedFaces.empty());
+  EXPECT_EQ(r.addedVertices, 2);
+  EXPECT_EQ(r.fanTriangles, 2 * n);
 }
 
 struct Part {
@@ -249,10 +261,7 @@ TEST(StraightCornerSplit, TriangulatedFlatCapsAreMergedFannedAndCertify) {
     EXPECT_EQ(straightCreaseCorners(before), 4);
     EXPECT_EQ(straightCreaseCorners(after), 0);
     const PolygonSplitReport& r = repaired.split;
-    std::vector<int> expected(capTriangles);
-    for (int f = 0; f < capTriangles; ++f) expected[f] = f;
-    EXPECT_EQ(r.fannedFaces, expected);
-    EXPECT_TRUE(r.unfannedFaces.empty());
+    expectBothCapsFanned(r, n);
     ASSERT_EQ(r.addedVertices, 2);
     ASSERT_EQ(r.fanTriangles, 2 * n);
     const int sides = splitSides ? 2 * n : n;
@@ -316,6 +325,70 @@ TEST(StraightCornerSplit, TriangulatedFlatCapsAreMergedFannedAndCertify) {
   EXPECT_EQ(rimPoints, 9 * fanTriangles);
   EXPECT_EQ(sideFaces, 5 + 8 + 2 * 12);
   EXPECT_EQ(keptFaces, sideFaces);
+}
+
+TEST(StraightCornerSplit, CapsOfMoreCornersThanAPatchAreFannedAboutTheirCentroid) {
+  // a finely divided cylinder's caps triangulated from their rim (66 corners, more than a patch
+  // takes): as read every cap triangle folds; by default each cap is fanned about its area centroid
+  // (the rim's centre), every fan triangle's patch turns the cap's way on a dense grid of its
+  // domain, the sides keep their patches and the closed surface has no fault. (Certifying its 198
+  // patches takes about a minute on 2 cores: cache build --certify, docs/fold-levers.md.)
+  hostile::TempDir dir("sf_straight_corner_big_caps");
+  const int n = 66, capTriangles = 2 * (n - 2);
+  const std::string path = (dir.path / "cylinder.obj").string();
+  std::ofstream(path) << cylinderWithTriangulatedCapsObj(n, false, false);
+  PatchOptions off, on;
+  off.foldRepair = FoldRepairMode::Off;
+  off.creases.angleDeg = on.creases.angleDeg = 50;
+  const LoadedMesh asRead = loadMesh(path, off), repaired = loadMesh(path, on);
+  const PatchCache before = buildPatchCache(asRead, off, Backend::Tbb);
+  const PatchCache after = buildPatchCache(repaired, on, Backend::Tbb);
+  const SurfaceFaults faultsOff = measureSurfaceFaults(PatchSurface(before));
+  EXPECT_GT(faultsOff.faultArea(), 0.01 * faultsOff.totalArea);  // the caps as read, inside out
+  const PolygonSplitReport& r = repaired.split;
+  expectBothCapsFanned(r, n);
+  ASSERT_EQ(r.addedVertices, 2);
+  ASSERT_EQ(r.fanTriangles, 2 * n);
+  ASSERT_EQ(after.numFaces(), 3 * n);
+  for (int cap = 0; cap < 2; ++cap) {  // the centres: the rims' centres, on the caps' planes
+    const Eigen::Vector3d c(&after.positions[3 * size_t(2 * n + cap)]);
+    EXPECT_LT((c - Eigen::Vector3d(0, 0, cap)).norm(), 1e-12) << "cap " << cap;
+  }
+  int kept = 0, samples = 0, turned = 0;
+  const int steps = 20;  // a triangular grid of the domain, corners and edges included
+  for (int g = 0; g < after.numFaces(); ++g) {
+    const int f = after.faceSource[g];
+    if (f >= capTriangles) {
+      kept += samePatch(before, f, after, g);
+      continue;
+    }
+    ASSERT_EQ(after.faceSize(g), 3);
+    const int cap = after.faceVertices[after.faceOffsets[g]] / n;  // rim vertices 0..n-1 bottom, n..2n-1 top
+    const Eigen::Vector3d normal(0, 0, cap == 0 ? -1 : 1);
+    for (int i = 0; i <= steps; ++i)
+      for (int j = 0; i + j <= steps; ++j) {
+        const double a = double(i) / steps, b = double(j) / steps;
+        const Eigen::Vector2d x = a * domainCorner(3, 0) + b * domainCorner(3, 1) + (1 - a - b) * domainCorner(3, 2);
+        const PatchPoint p = evaluatePatch(after, g, x.x(), x.y());
+        ++samples;
+        EXPECT_LT(std::fabs(p.pos.z() - cap), 1e-12) << "fan triangle " << g;
+        // the Jacobian's turn against the cap's normal, away from the corners where it vanishes
+        const double turn = p.dxi.cross(p.deta).dot(normal);
+        const bool corner = a == 1 || b == 1 || a + b == 0;
+        turned += !corner && !(turn > 0);
+        EXPECT_TRUE(corner || turn > 0) << "fan triangle " << g << " at " << x.transpose();
+      }
+  }
+  EXPECT_EQ(kept, n);
+  EXPECT_EQ(turned, 0);
+  EXPECT_EQ(samples, 2 * n * (steps + 1) * (steps + 2) / 2);
+  const SurfaceFaults faults = measureSurfaceFaults(PatchSurface(after));
+  EXPECT_TRUE(faults.closed);
+  EXPECT_EQ(faults.faultArea(), 0.0);
+  std::printf(
+      "%d-sided cylinder: caps of %d triangles fanned into %d; %d fan-triangle samples turn the cap's way; "
+      "fault area %g (as read %g of %g)\n",
+      n, capTriangles, r.fanTriangles, samples, faults.faultArea(), faultsOff.faultArea(), faultsOff.totalArea);
 }
 
 /// A stepped shaft exported as triangles alone (an STL-like part, creases found by angle): a
