@@ -399,12 +399,11 @@ void splitStraightPatchCorners(PolygonMesh& mesh, std::vector<Eigen::Vector3d>& 
     bool ok = true;
     if (n > GP_MAX_N) {
       // a cap merged from more triangles than a patch takes corners (a finely divided cylinder's,
-      // triangulated from its rim): no patch of its own, so fanned where one of its triangles as
-      // read has a straight patch corner, about its area centroid with its corners' one normal
+      // triangulated from its rim): no patch of its own, so fanned about its area centroid with its
+      // corners' one normal. Only a disc cap one of whose triangles has a straight patch corner is
+      // merged that large (outlines; convex pieces stop at GP_MAX_N); a face as read is left.
       const Outline& o = polygons[i];
-      if (o.faces.size() < 2 ||
-          std::none_of(o.faces.begin(), o.faces.end(), [&](int g) { return hasStraightPatchCorner(asRead, g); }))
-        continue;
+      if (o.faces.size() < 2) continue;
       Vec3 weighted = Vec3::Zero();
       double area = 0;
       for (const int g : o.faces) {
