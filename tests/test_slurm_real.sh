@@ -3,8 +3,8 @@
 # ctest slurm_real: a real single-node Slurm (Debian slurm-wlm + munge) started on localhost
 # in a scratch directory (its own munge key and socket, its own ports and slurm.conf through
 # SLURM_CONF: nothing under /etc is touched), which runs tools/slurm/sweep_array.sh as an
-# --array=1-4 job and tools/slurm/sweep_merge.sh as an afterok dependent job, both with
-# sbatch --wait; the merge must be byte-identical to the unsharded run. A failing array must
+# --array=1-4 job (sbatch --wait) and tools/slurm/sweep_merge.sh as an afterok dependent job
+# (polled); the merge must be byte-identical to the unsharded run. A failing array must
 # leave its afterok merge unrun. Skips (exit 77) only when not root or when the packages
 # cannot be installed. Usage: test_slurm_real.sh SMOOTHFORCE REPO
 set -euo pipefail
@@ -113,8 +113,17 @@ array_pid=$!
 for _ in $(seq 1 100); do [ -s "$work/array.id" ] && break; sleep 0.1; done
 jid=$(head -1 "$work/array.id" | cut -d';' -f1)
 [[ "$jid" =~ ^[0-9]+$ ]] || fail "no array job id: $(cat "$work/array.id" "$work/array.err")"
-timeout 600 sbatch --parsable --wait --dependency="afterok:$jid" "${submit[@]}" -o "$work/merge.log" \
-  "$repo/tools/slurm/sweep_merge.sh" "$work/out" >/dev/null || fail "the merge job failed"
+# the merge: submitted as users do, then polled (sbatch --wait backs off to 30 s between polls)
+merge=$(sbatch --parsable --dependency="afterok:$jid" "${submit[@]}" -o "$work/merge.log" \
+  "$repo/tools/slurm/sweep_merge.sh" "$work/out" --no-plots | cut -d';' -f1)
+[[ "$merge" =~ ^[0-9]+$ ]] || fail "no merge job id: $merge"
+state=""
+for _ in $(seq 1 1200); do
+  state=$(scontrol show job "$merge" -o 2>/dev/null | grep -o 'JobState=[A-Z_]*' | cut -d= -f2 || true)
+  case "$state" in COMPLETED | FAILED | CANCELLED | TIMEOUT | NODE_FAIL | OUT_OF_MEMORY) break ;; esac
+  sleep 0.5
+done
+[ "$state" = COMPLETED ] || fail "the merge job ended $state"
 wait "$array_pid" || fail "the array job failed: $(cat "$work/array.err")"
 array_pid=""
 for k in 1 2 3 4; do
