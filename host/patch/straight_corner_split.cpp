@@ -145,30 +145,41 @@ bool flatOutline(const PolygonMesh& mesh, const std::vector<Vec3>& cornerNormals
   return true;
 }
 
-/// The flat region `faces` (flatRegion) as the outline of its boundary: empty where it is not a
-/// disc whose every vertex is on its boundary (one loop, the triangles two fewer than its corners;
-/// any number of corners: a cap of more than GP_MAX_N is fanned without a patch of its own) or not
-/// flat (flatOutline).
-Outline discOutline(const PolygonMesh& mesh, const std::vector<Vec3>& cornerNormals, const PatchCache& c,
-                    const std::vector<int>& faces) {
-  Outline cap;
-  cap.faces = faces;
-  // the boundary: edges whose twin is not one of the cap's triangles, each vertex starting one
-  std::vector<std::pair<int, int>> next;  // (start vertex, slot)
+/// The boundary of a flat region (flatRegion's sorted triangles): its edges, those whose twin is
+/// not one of the region's triangles, as (start vertex, slot) sorted by vertex, and the region's
+/// distinct vertices, sorted.
+struct RegionBoundary {
+  std::vector<std::pair<int, int>> edges;
   std::vector<int> vertices;
-  for (const int f : cap.faces)
+};
+
+RegionBoundary regionBoundary(const PolygonMesh& mesh, const PatchCache& c, const std::vector<int>& faces) {
+  RegionBoundary b;
+  for (const int f : faces)
     for (int k = 0; k < 3; ++k) {
       const int slot = mesh.faceOffsets[f] + k, twin = c.slotTwin[slot];
-      vertices.push_back(mesh.faceVertices[slot]);
-      if (twin < 0 || !std::binary_search(cap.faces.begin(), cap.faces.end(), slotFace(mesh.faceOffsets, twin)))
-        next.emplace_back(mesh.faceVertices[slot], slot);
+      b.vertices.push_back(mesh.faceVertices[slot]);
+      if (twin < 0 || !std::binary_search(faces.begin(), faces.end(), slotFace(mesh.faceOffsets, twin)))
+        b.edges.emplace_back(mesh.faceVertices[slot], slot);
     }
-  std::sort(next.begin(), next.end());
-  std::sort(vertices.begin(), vertices.end());
-  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+  std::sort(b.edges.begin(), b.edges.end());
+  std::sort(b.vertices.begin(), b.vertices.end());
+  b.vertices.erase(std::unique(b.vertices.begin(), b.vertices.end()), b.vertices.end());
+  return b;
+}
+
+/// The flat region `faces` (flatRegion) with boundary `b` (regionBoundary) as the outline of its
+/// boundary: empty where it is not a disc whose every vertex is on its boundary (one loop, the
+/// triangles two fewer than its corners; any number of corners: a cap of more than GP_MAX_N is
+/// fanned without a patch of its own) or not flat (flatOutline).
+Outline discOutline(const PolygonMesh& mesh, const std::vector<Vec3>& cornerNormals, const std::vector<int>& faces,
+                    const RegionBoundary& b) {
+  Outline cap;
+  cap.faces = faces;
+  const std::vector<std::pair<int, int>>& next = b.edges;  // each vertex of a disc starts one
   const int corners = static_cast<int>(next.size());
   const bool disc = cap.faces.size() >= 2 && corners == static_cast<int>(cap.faces.size()) + 2 &&
-                    corners == static_cast<int>(vertices.size());
+                    corners == static_cast<int>(b.vertices.size());
   if (!disc) return {};
   for (int i = 1; i < corners; ++i)
     if (next[i].first == next[i - 1].first) return {};  // a vertex the boundary passes twice
@@ -192,8 +203,8 @@ Outline discOutline(const PolygonMesh& mesh, const std::vector<Vec3>& cornerNorm
   return cap;
 }
 
-/// The flat region `faces` (flatRegion) that is not a disc of its rim but has every vertex on its
-/// boundary (an annulus triangulated from its two rims) cut into convex pieces of its own
+/// The flat region `faces` (flatRegion, boundary `b`) that is not a disc of its rim but has every
+/// vertex on its boundary (an annulus triangulated from its two rims) cut into convex pieces of its own
 /// triangles (none where a vertex lies inside the region): starting from
 /// the triangles, two pieces are merged across the longest edge they share (not a crease: the
 /// region has none inside) while the merged outline stays convex at both ends of that edge (no
@@ -202,23 +213,13 @@ Outline discOutline(const PolygonMesh& mesh, const std::vector<Vec3>& cornerNorm
 /// greedy partition, at most four times the fewest convex pieces). Returns the pieces of two or
 /// more triangles that are flat (flatOutline); the other triangles stay as they are.
 std::vector<Outline> convexPieces(const PolygonMesh& mesh, const std::vector<Vec3>& cornerNormals, const PatchCache& c,
-                                  const std::vector<int>& faces) {
+                                  const std::vector<int>& faces, const RegionBoundary& b) {
   const int m = static_cast<int>(faces.size());
   // triangulated from its rims alone: every vertex on the boundary (a cap already fanned about a
-  // vertex inside it has no straight corner and stays as it is)
-  std::vector<int> vertices, rims;
-  for (const int f : faces)
-    for (int k = 0; k < 3; ++k) {
-      const int slot = mesh.faceOffsets[f] + k, twin = c.slotTwin[slot];
-      vertices.push_back(mesh.faceVertices[slot]);
-      if (twin < 0 || !std::binary_search(faces.begin(), faces.end(), slotFace(mesh.faceOffsets, twin)))
-        rims.push_back(mesh.faceVertices[slot]);
-    }
-  std::sort(vertices.begin(), vertices.end());
-  std::sort(rims.begin(), rims.end());
-  if (std::unique(vertices.begin(), vertices.end()) - vertices.begin() !=
-      std::unique(rims.begin(), rims.end()) - rims.begin())
-    return {};
+  // vertex inside it has no straight corner and stays as it is); the edges are sorted by vertex
+  int rimVertices = 0;
+  for (size_t i = 0; i < b.edges.size(); ++i) rimVertices += i == 0 || b.edges[i].first != b.edges[i - 1].first;
+  if (rimVertices != static_cast<int>(b.vertices.size())) return {};
   auto local = [&](int f) { return static_cast<int>(std::lower_bound(faces.begin(), faces.end(), f) - faces.begin()); };
   auto vertexAt = [&](int slot) { return mesh.faceVertices[slot]; };
   Vec3 normal = Vec3::Zero();
@@ -311,10 +312,11 @@ std::vector<Outline> outlines(const PolygonMesh& mesh, const std::vector<Vec3>& 
     if (!capTriangle[f] || taken[f]) continue;
     const std::vector<int> region = flatRegion(mesh, c, capTriangle, f, taken);
     if (region.size() < 2) continue;
-    Outline disc = discOutline(mesh, cornerNormals, c, region);
+    const RegionBoundary boundary = regionBoundary(mesh, c, region);
+    Outline disc = discOutline(mesh, cornerNormals, region, boundary);
     std::vector<Outline> pieces;
     if (disc.slots.empty())  // pieces without a straight patch corner are not fanned: they keep their triangles
-      pieces = convexPieces(mesh, cornerNormals, c, region);
+      pieces = convexPieces(mesh, cornerNormals, c, region, boundary);
     else if (std::any_of(region.begin(), region.end(), [&](int g) { return hasStraightPatchCorner(c, g); }))
       pieces.push_back(std::move(disc));
     for (Outline& cap : pieces) {
