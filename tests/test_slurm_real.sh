@@ -113,7 +113,8 @@ array_pid=$!
 for _ in $(seq 1 100); do [ -s "$work/array.id" ] && break; sleep 0.1; done
 jid=$(head -1 "$work/array.id" | cut -d';' -f1)
 [[ "$jid" =~ ^[0-9]+$ ]] || fail "no array job id: $(cat "$work/array.id" "$work/array.err")"
-# the merge: submitted as users do, then polled (sbatch --wait backs off to 30 s between polls)
+# the merge: submitted as users do, then polled (sbatch --wait's polls back off: it saw the
+# merge's end up to 24 s late)
 merge=$(sbatch --parsable --dependency="afterok:$jid" "${submit[@]}" -o "$work/merge.log" \
   "$repo/tools/slurm/sweep_merge.sh" "$work/out" --no-plots | cut -d';' -f1)
 [[ "$merge" =~ ^[0-9]+$ ]] || fail "no merge job id: $merge"
@@ -123,7 +124,7 @@ for _ in $(seq 1 1200); do
   case "$state" in COMPLETED | FAILED | CANCELLED | TIMEOUT | NODE_FAIL | OUT_OF_MEMORY) break ;; esac
   sleep 0.5
 done
-[ "$state" = COMPLETED ] || fail "the merge job ended $state"
+[ "$state" = COMPLETED ] || fail "the merge job: ${state:-no state} after up to 600 s (COMPLETED expected)"
 wait "$array_pid" || fail "the array job failed: $(cat "$work/array.err")"
 array_pid=""
 for k in 1 2 3 4; do

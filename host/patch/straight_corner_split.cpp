@@ -146,10 +146,11 @@ bool flatOutline(const PolygonMesh& mesh, const std::vector<Vec3>& cornerNormals
 }
 
 /// The boundary of a flat region (flatRegion's sorted triangles): its edges, those whose twin is
-/// not one of the region's triangles, as (start vertex, slot) sorted by vertex, and the region's
-/// distinct vertices, sorted.
+/// not one of the region's triangles, as (start vertex, slot) sorted by vertex; how many distinct
+/// vertices start them; and the region's distinct vertices, sorted.
 struct RegionBoundary {
   std::vector<std::pair<int, int>> edges;
+  int rimVertices = 0;
   std::vector<int> vertices;
 };
 
@@ -163,6 +164,7 @@ RegionBoundary regionBoundary(const PolygonMesh& mesh, const PatchCache& c, cons
         b.edges.emplace_back(mesh.faceVertices[slot], slot);
     }
   std::sort(b.edges.begin(), b.edges.end());
+  for (size_t i = 0; i < b.edges.size(); ++i) b.rimVertices += i == 0 || b.edges[i].first != b.edges[i - 1].first;
   std::sort(b.vertices.begin(), b.vertices.end());
   b.vertices.erase(std::unique(b.vertices.begin(), b.vertices.end()), b.vertices.end());
   return b;
@@ -176,13 +178,12 @@ Outline discOutline(const PolygonMesh& mesh, const std::vector<Vec3>& cornerNorm
                     const RegionBoundary& b) {
   Outline cap;
   cap.faces = faces;
-  const std::vector<std::pair<int, int>>& next = b.edges;  // each vertex of a disc starts one
+  const std::vector<std::pair<int, int>>& next = b.edges;
   const int corners = static_cast<int>(next.size());
+  // each vertex on the boundary, and starting one boundary edge (none that it passes twice)
   const bool disc = cap.faces.size() >= 2 && corners == static_cast<int>(cap.faces.size()) + 2 &&
-                    corners == static_cast<int>(b.vertices.size());
+                    corners == static_cast<int>(b.vertices.size()) && corners == b.rimVertices;
   if (!disc) return {};
-  for (int i = 1; i < corners; ++i)
-    if (next[i].first == next[i - 1].first) return {};  // a vertex the boundary passes twice
   auto endVertex = [&](int slot) {
     const int f = slotFace(mesh.faceOffsets, slot), k = slot - mesh.faceOffsets[f];
     return mesh.faceVertex(f, k + 1);
@@ -204,22 +205,19 @@ Outline discOutline(const PolygonMesh& mesh, const std::vector<Vec3>& cornerNorm
 }
 
 /// The flat region `faces` (flatRegion, boundary `b`) that is not a disc of its rim but has every
-/// vertex on its boundary (an annulus triangulated from its two rims) cut into convex pieces of its own
-/// triangles (none where a vertex lies inside the region): starting from
-/// the triangles, two pieces are merged across the longest edge they share (not a crease: the
-/// region has none inside) while the merged outline stays convex at both ends of that edge (no
-/// corner within kStraightCornerDeg of straight or beyond, on the region's plane), passes no
-/// vertex twice and has at most kMaxSplitCorners and GP_MAX_N corners (Hertel and Mehlhorn's
-/// greedy partition, at most four times the fewest convex pieces). Returns the pieces of two or
-/// more triangles that are flat (flatOutline); the other triangles stay as they are.
+/// vertex on its boundary (an annulus triangulated from its two rims) cut into convex pieces of its
+/// own triangles (none where a vertex lies inside the region): starting from the triangles, two pieces are merged
+/// across the longest edge they share (not a crease: the region has none inside) while the merged outline stays convex
+/// at both ends of that edge (no corner within kStraightCornerDeg of straight or beyond, on the region's plane), passes
+/// no vertex twice and has at most kMaxSplitCorners and GP_MAX_N corners (Hertel and Mehlhorn's greedy partition, at
+/// most four times the fewest convex pieces). Returns the pieces of two or more triangles that are flat (flatOutline);
+/// the other triangles stay as they are.
 std::vector<Outline> convexPieces(const PolygonMesh& mesh, const std::vector<Vec3>& cornerNormals, const PatchCache& c,
                                   const std::vector<int>& faces, const RegionBoundary& b) {
   const int m = static_cast<int>(faces.size());
   // triangulated from its rims alone: every vertex on the boundary (a cap already fanned about a
-  // vertex inside it has no straight corner and stays as it is); the edges are sorted by vertex
-  int rimVertices = 0;
-  for (size_t i = 0; i < b.edges.size(); ++i) rimVertices += i == 0 || b.edges[i].first != b.edges[i - 1].first;
-  if (rimVertices != static_cast<int>(b.vertices.size())) return {};
+  // vertex inside it has no straight corner and stays as it is)
+  if (b.rimVertices != static_cast<int>(b.vertices.size())) return {};
   auto local = [&](int f) { return static_cast<int>(std::lower_bound(faces.begin(), faces.end(), f) - faces.begin()); };
   auto vertexAt = [&](int slot) { return mesh.faceVertices[slot]; };
   Vec3 normal = Vec3::Zero();
