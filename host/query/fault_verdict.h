@@ -11,21 +11,21 @@
 
 namespace sf {
 
-/// The verdict of triangle (a, b, c) (m) of a closed surface whose winding number around a point
-/// is winding(point, side): probed at its centroid, offset h (m) along its unit normal on both
-/// sides (side 0 in front, 1 behind: the same two points for the same triangle, for a caller
-/// that keeps what it traced there); twice its area (m^2) in *area2 (0, Degenerate, for a
-/// triangle without a normal).
-template <class Winding>
+/// The verdict of triangle (a, b, c) (m) of a closed surface: its winding numbers probed at the
+/// centroid, offset h (m) along the unit normal n on both sides, from windings(back, n, 2h,
+/// &atBack, &atFront) (back = centroid - h n, front = back + 2h n: windingsAlongRay's contract);
+/// twice its area (m^2) in *area2 (0, Degenerate, for a triangle without a normal).
+template <class Windings>
 SurfaceVerdict faultVerdict(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c, double h,
-                            Winding&& winding, double* area2) noexcept {
+                            Windings&& windings, double* area2) noexcept {
   const Eigen::Vector3d x = (b - a).cross(c - a);
   const double len = x.norm();
   *area2 = 0;
   if (!(len > 0) || !std::isfinite(len)) return SurfaceVerdict::Degenerate;
   *area2 = len;
   const Eigen::Vector3d n = x / len, mid = (a + b + c) / 3.0;
-  const int front = winding(Eigen::Vector3d(mid + h * n), 0), back = winding(Eigen::Vector3d(mid - h * n), 1);
+  int front = 0, back = 0;
+  windings(Eigen::Vector3d(mid - h * n), n, 2 * h, &back, &front);
   return front == 0 && back == 1 ? SurfaceVerdict::Consistent
          : front > back          ? SurfaceVerdict::Folded
          : front < back          ? SurfaceVerdict::Overlapping

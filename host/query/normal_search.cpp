@@ -125,12 +125,21 @@ void growByFaces(const UniformTessellation& u, const std::vector<int>& faces, Ei
 }
 
 /// The fault area (m^2; 0 where Consistent or Degenerate) of triangle t of `u`, probed at offset
-/// h with the winding number winding(point) (fault_verdict.h).
-template <class Winding>
-double faultArea(const UniformTessellation& u, size_t t, double h, Winding&& winding) {
+/// h (fault_verdict.h), with the winding numbers from the crossings of the scenes that make up the
+/// surface (windingsAlongRay): split(back, dir, length, &near, &far, &clean) as
+/// WindingRays::splitCrossings, crossings(q, k, &clean) as WindingRays::crossings.
+template <class Split, class Crossings>
+double faultArea(const UniformTessellation& u, size_t t, double h, Split&& split, Crossings&& crossings) {
   double area2 = 0;
-  const SurfaceVerdict v =
-      faultVerdict(u.vertex[u.tri[t][0]], u.vertex[u.tri[t][1]], u.vertex[u.tri[t][2]], h, winding, &area2);
+  const SurfaceVerdict v = faultVerdict(
+      u.vertex[u.tri[t][0]], u.vertex[u.tri[t][1]], u.vertex[u.tri[t][2]], h,
+      [&](const Eigen::Vector3d& back, const Eigen::Vector3d& dir, double length, int* atBack, int* atFront) {
+        windingsAlongRay(
+            back, dir, length,
+            [&](int* nearSum, int* farSum, bool* clean) { split(back, dir, length, nearSum, farSum, clean); },
+            crossings, atBack, atFront);
+      },
+      &area2);
   return v != SurfaceVerdict::Consistent && v != SurfaceVerdict::Degenerate ? 0.5 * area2 : 0.0;
 }
 
@@ -293,21 +302,25 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
       const WindingRays whole(device, current, nullptr, origin);
       checkEmbree();
       tbb::parallel_for(size_t(0), current.tri.size(), [&](size_t t) {
-        triFault[t] = faultArea(current, t, h, [&](const Eigen::Vector3d& q, int) {
-          return windingFromRays([&](int k, bool* clean) { return whole.crossings(q, k, clean); });
-        });
+        triFault[t] = faultArea(
+            current, t, h,
+            [&](const Eigen::Vector3d& back, const Eigen::Vector3d& dir, double length, int* nearSum, int* farSum,
+                bool* clean) { whole.splitCrossings(back, dir, length, nearSum, farSum, clean); },
+            [&](const Eigen::Vector3d& q, int k, bool* clean) { return whole.crossings(q, k, clean); });
       });
     }
     std::vector<char> inStar(cache.numFaces(), 0);
-    // the rest's crossings of each ray (3) from each probe (2) of each triangle off the star, kept
-    // for the candidates of one vertex visit (stamp: the visit that traced it)
+    // the rest's crossings of the ray through both probes of each triangle off the star (before
+    // and beyond the front probe), kept for the candidates of one vertex visit (stamp: the visit
+    // that traced it)
     struct {
-      std::vector<int32_t> stamp, crossings;
+      std::vector<int32_t> stamp, nearSum, farSum;
       std::vector<uint8_t> clean;
     } restTraced;
-    restTraced.stamp.assign(6 * current.tri.size(), 0);
-    restTraced.crossings.assign(6 * current.tri.size(), 0);
-    restTraced.clean.assign(6 * current.tri.size(), 0);
+    restTraced.stamp.assign(current.tri.size(), 0);
+    restTraced.nearSum.assign(current.tri.size(), 0);
+    restTraced.farSum.assign(current.tri.size(), 0);
+    restTraced.clean.assign(current.tri.size(), 0);
     int32_t visit = 0;
 
     std::vector<double> faceFault(cache.numFaces(), 0.0);
@@ -473,22 +486,33 @@ NormalSearchReport searchNormalsAgainstFaults(PatchCache& cache, const NormalSea
           const bool onStar = inStar[current.triFace[t]];
           const UniformTessellation& from = onStar ? *candidate : current;
           const size_t at = size_t(corners(t) - from.tri.data());
-          fault[j] = faultArea(from, at, h, [&](const Eigen::Vector3d& q, int side) {
-            return windingFromRays([&](int k, bool* clean) {
-              // a triangle off the star keeps its probes for every candidate of this vertex,
-              // and so the rest's crossings there
-              if (onStar) return rest->crossings(q, k, clean) + starRays.crossings(q, k, clean);
-              const size_t e = 6 * t + 3 * size_t(side) + size_t(k);
-              if (restTraced.stamp[e] != visit) {
-                bool c = true;
-                restTraced.crossings[e] = rest->crossings(q, k, &c);
-                restTraced.clean[e] = c;
-                restTraced.stamp[e] = visit;
-              }
-              if (!restTraced.clean[e]) *clean = false;
-              return restTraced.crossings[e] + starRays.crossings(q, k, clean);
-            });
-          });
+          fault[j] = faultArea(
+              from, at, h,
+              [&](const Eigen::Vector3d& back, const Eigen::Vector3d& dir, double length, int* nearSum, int* farSum,
+                  bool* clean) {
+                // a triangle off the star keeps its probes for every candidate of this vertex, and so
+                // the rest's crossings there
+                if (onStar) {
+                  rest->splitCrossings(back, dir, length, nearSum, farSum, clean);
+                } else {
+                  if (restTraced.stamp[t] != visit) {
+                    int n = 0, f = 0;
+                    bool c = true;
+                    rest->splitCrossings(back, dir, length, &n, &f, &c);
+                    restTraced.nearSum[t] = n;
+                    restTraced.farSum[t] = f;
+                    restTraced.clean[t] = c;
+                    restTraced.stamp[t] = visit;
+                  }
+                  *nearSum += restTraced.nearSum[t];
+                  *farSum += restTraced.farSum[t];
+                  if (!restTraced.clean[t]) *clean = false;
+                }
+                starRays.splitCrossings(back, dir, length, nearSum, farSum, clean);
+              },
+              [&](const Eigen::Vector3d& q, int k, bool* clean) {
+                return rest->crossings(q, k, clean) + starRays.crossings(q, k, clean);
+              });
         });
         double before = 0;
         for (const size_t i : tt) before += triFault[i];

@@ -421,4 +421,20 @@ int PatchSurface::winding(const Eigen::Vector3d& q) const noexcept {
   return windingFromRays([&](int k, bool* clean) { return impl_->rays->crossings(q, k, clean); });
 }
 
+void PatchSurface::windingsAlong(const Eigen::Vector3d& back, const Eigen::Vector3d& dir, double length, int* atBack,
+                                 int* atFront) const noexcept {
+  if (uniform_->tri.empty() || !inCoordinateRange(back) || !inCoordinateRange(back + length * dir)) {
+    *atBack = winding(back);
+    *atFront = winding(back + length * dir);
+    return;
+  }
+  windingsAlongRay(
+      back, dir, length,
+      [&](int* nearSum, int* farSum, bool* clean) {
+        impl_->rays->splitCrossings(back, dir, length, nearSum, farSum, clean);
+      },
+      [&](const Eigen::Vector3d& q, int k, bool* clean) { return impl_->rays->crossings(q, k, clean); }, atBack,
+      atFront);
+}
+
 }  // namespace sf

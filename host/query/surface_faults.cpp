@@ -52,8 +52,12 @@ double surfaceProbeOffset(const PatchSurface& surface) { return 1e-5 * boundingD
 
 SurfaceVerdict triangleVerdict(const PatchSurface& surface, size_t t, double h, double* area2) noexcept {
   const UniformTessellation& u = surface.uniform();
-  return faultVerdict(u.vertex[u.tri[t][0]], u.vertex[u.tri[t][1]], u.vertex[u.tri[t][2]], h,
-                      [&](const Eigen::Vector3d& q, int) { return surface.winding(q); }, area2);
+  return faultVerdict(
+      u.vertex[u.tri[t][0]], u.vertex[u.tri[t][1]], u.vertex[u.tri[t][2]], h,
+      [&](const Eigen::Vector3d& back, const Eigen::Vector3d& dir, double length, int* atBack, int* atFront) {
+        surface.windingsAlong(back, dir, length, atBack, atFront);
+      },
+      area2);
 }
 
 std::vector<std::array<Eigen::Vector3d, 3>> faultTriangles(const PatchSurface& surface, const SurfaceFaults& faults) {

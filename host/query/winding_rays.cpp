@@ -18,7 +18,9 @@ struct WindingContext {
   const UniformTessellation* u;
   const int64_t* ids;  ///< scene primitive -> u->tri index (null: the identity)
   Eigen::Vector3d dir;
-  int winding;
+  int winding;      ///< the crossings beyond `split` along the ray (all of them with an infinite split)
+  int nearWinding;  ///< ... and those before it
+  float split;
   bool clean;      ///< every crossing so far transversal and inside its triangle, away from its edges
   float minDepth;  ///< ... and at least this far along the ray (its float origin's rounding, many times)
 };
@@ -39,10 +41,11 @@ void windingFilter(const RTCFilterFunctionNArguments* args) {
   const Eigen::Vector3d& a = wc->u->vertex[tr[0]];
   const Eigen::Vector3d n = (wc->u->vertex[tr[1]] - a).cross(wc->u->vertex[tr[2]] - a);
   const double s = n.dot(wc->dir);
-  wc->winding += s > 0 ? 1 : (s < 0 ? -1 : 0);
+  const float t = RTCRayN_tfar(args->ray, args->N, 0);
+  (t < wc->split ? wc->nearWinding : wc->winding) += s > 0 ? 1 : (s < 0 ? -1 : 0);
   const float bu = RTCHitN_u(args->hit, args->N, 0), bv = RTCHitN_v(args->hit, args->N, 0);
   if (!(std::min({bu, bv, 1.0f - bu - bv}) >= kWindingEdgeMargin && std::abs(s) >= kWindingMinSine * n.norm() &&
-        RTCRayN_tfar(args->ray, args->N, 0) >= wc->minDepth))
+        t >= wc->minDepth && !(std::abs(t - wc->split) < wc->minDepth)))
     wc->clean = false;
   args->valid[0] = 0;  // reject: keep traversing for the further crossings
 }
@@ -100,20 +103,42 @@ WindingRays::~WindingRays() {
   if (scene_) rtcReleaseScene(scene_);
 }
 
-int WindingRays::crossings(const Eigen::Vector3d& q, int k, bool* clean) const noexcept {
+namespace {
+
+/// Traces the ray from q (m, in the world) along unit dir through `scene` (in the frame of
+/// `origin`), its crossings counted and split at `split` (m) as WindingContext says.
+WindingContext traceWinding(RTCScene scene, const UniformTessellation& u, const std::vector<int64_t>& ids,
+                            const Eigen::Vector3d& origin, const Eigen::Vector3d& q, const Eigen::Vector3d& dir,
+                            float split) noexcept {
   WindingContext wc;
   rtcInitIntersectContext(&wc.base);
-  wc.u = &u_;
-  wc.ids = ids_.empty() ? nullptr : ids_.data();
-  wc.dir = kDirections[k];
-  wc.winding = 0;
+  wc.u = &u;
+  wc.ids = ids.empty() ? nullptr : ids.data();
+  wc.dir = dir;
+  wc.winding = wc.nearWinding = 0;
+  wc.split = split;
   wc.clean = true;
-  const Eigen::Vector3d o = q - origin_;  // the ray's origin in the scene's frame
+  const Eigen::Vector3d o = q - origin;  // the ray's origin in the scene's frame
   wc.minDepth = kWindingMinDepth * float(o.cwiseAbs().maxCoeff());
-  RTCRayHit rh = embreeRay(o, kDirections[k], std::numeric_limits<float>::infinity());
-  rtcIntersect1(scene_, &wc.base, &rh);
+  RTCRayHit rh = embreeRay(o, dir, std::numeric_limits<float>::infinity());
+  rtcIntersect1(scene, &wc.base, &rh);
+  return wc;
+}
+
+}  // namespace
+
+int WindingRays::crossings(const Eigen::Vector3d& q, int k, bool* clean) const noexcept {
+  const WindingContext wc = traceWinding(scene_, u_, ids_, origin_, q, kDirections[k], -1.0f);
   if (!wc.clean) *clean = false;
   return wc.winding;
+}
+
+void WindingRays::splitCrossings(const Eigen::Vector3d& q, const Eigen::Vector3d& dir, double length, int* nearSum,
+                                 int* farSum, bool* clean) const noexcept {
+  const WindingContext wc = traceWinding(scene_, u_, ids_, origin_, q, dir, float(length));
+  if (!wc.clean) *clean = false;
+  *nearSum += wc.nearWinding;
+  *farSum += wc.winding;
 }
 
 }  // namespace sf

@@ -38,6 +38,12 @@ class WindingRays {
   /// ray's start; *clean is left as it was otherwise, so that one flag can gather several scenes.
   int crossings(const Eigen::Vector3d& q, int k, bool* clean) const noexcept;
 
+  /// Signed crossings, as crossings(), of the ray from q along unit `dir`, split at `length` (m,
+  /// > 0) along it: those nearer added to *nearSum, the others to *farSum. *clean as crossings(),
+  /// and false too where a crossing lies within the origin's rounding of `length`.
+  void splitCrossings(const Eigen::Vector3d& q, const Eigen::Vector3d& dir, double length, int* nearSum, int* farSum,
+                      bool* clean) const noexcept;
+
  private:
   const UniformTessellation& u_;
   std::vector<int64_t> ids_;  ///< scene primitive -> u.tri index (empty: the identity)
@@ -62,6 +68,29 @@ int windingFromRays(Crossings&& crossings) noexcept {
   if (w[0] == w[2]) return w[0];
   if (w[1] == w[2]) return w[1];
   return w[0];
+}
+
+/// The winding numbers at `back` and at front = back + length * dir (m; unit dir, length > 0):
+/// from one ray from back along dir where every crossing it makes is clean (split(&near, &far,
+/// &clean) as WindingRays::splitCrossings, summed over the scenes that make up the surface):
+/// front's is the crossings beyond length, back's all of them (the winding number changes by
+/// each crossing between the two points). Otherwise each by windingFromRays (crossings(point, k,
+/// &clean) as there). Returns whether the one ray decided.
+template <class Split, class Crossings>
+bool windingsAlongRay(const Eigen::Vector3d& back, const Eigen::Vector3d& dir, double length, Split&& split,
+                      Crossings&& crossings, int* atBack, int* atFront) noexcept {
+  int nearSum = 0, farSum = 0;
+  bool clean = true;
+  split(&nearSum, &farSum, &clean);
+  if (clean) {
+    *atFront = farSum;
+    *atBack = nearSum + farSum;
+    return true;
+  }
+  const Eigen::Vector3d front = back + length * dir;
+  *atBack = windingFromRays([&](int k, bool* c) { return crossings(back, k, c); });
+  *atFront = windingFromRays([&](int k, bool* c) { return crossings(front, k, c); });
+  return false;
 }
 
 }  // namespace sf

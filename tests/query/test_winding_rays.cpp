@@ -2,7 +2,8 @@
 // WindingRays (winding_rays.h) and the partial tessellations the normal search traces: over
 // every triangle of the spot cage's uniform tessellation, the crossings of each ray with two
 // disjoint halves of the surface add up to the whole's, clean where and only where both halves
-// are, so the winding number from the halves is the whole surface's (and PatchSurface's); a
+// are, so the winding number from the halves is the whole surface's (and PatchSurface's), the
+// same for the ray along each triangle's normal that gives both its probes' winding numbers; a
 // tessellation of some faces, or without error bounds, has the full one's vertices bit for bit.
 #include <gtest/gtest.h>
 
@@ -68,10 +69,39 @@ TEST(WindingRays, CrossingsOfDisjointPartsAddUpToTheWholeSurfaces) {
 
   const double h = 1e-5 * boundingDiagonal(c);
   std::atomic<int> probes{0}, sums{0}, cleanAgree{0}, windingAgree{0}, unclean{0}, inside{0};
+  std::atomic<int> pairs{0}, splitSums{0}, splitCleanAgree{0}, oneRay{0}, pairAgree{0};
   tbb::parallel_for(size_t(0), whole.tri.size(), [&](size_t t) {
     const auto& tr = whole.tri[t];
     const Eigen::Vector3d a = whole.vertex[tr[0]], b = whole.vertex[tr[1]], cc = whole.vertex[tr[2]];
     const Eigen::Vector3d n = (b - a).cross(cc - a).normalized(), mid = (a + b + cc) / 3.0;
+    // both probes from one ray along the normal: split at the front probe, over the whole scene
+    // and over the parts; the winding numbers as PatchSurface::winding's at each probe
+    {
+      const Eigen::Vector3d back = mid - h * n;
+      ++pairs;
+      int nearAll = 0, farAll = 0, nearParts = 0, farParts = 0;
+      bool cleanAll = true, cleanParts = true;
+      all.splitCrossings(back, n, 2 * h, &nearAll, &farAll, &cleanAll);
+      restRays.splitCrossings(back, n, 2 * h, &nearParts, &farParts, &cleanParts);
+      partRays.splitCrossings(back, n, 2 * h, &nearParts, &farParts, &cleanParts);
+      splitSums += nearAll == nearParts && farAll == farParts;
+      splitCleanAgree += cleanAll == cleanParts;
+      int atBack = 0, atFront = 0;
+      oneRay += windingsAlongRay(
+          back, n, 2 * h,
+          [&](int* nearSum, int* farSum, bool* clean) {
+            restRays.splitCrossings(back, n, 2 * h, nearSum, farSum, clean);
+            partRays.splitCrossings(back, n, 2 * h, nearSum, farSum, clean);
+          },
+          [&](const Eigen::Vector3d& q, int k, bool* clean) {
+            return restRays.crossings(q, k, clean) + partRays.crossings(q, k, clean);
+          },
+          &atBack, &atFront);
+      int surfaceBack = 0, surfaceFront = 0;
+      surface.windingsAlong(back, n, 2 * h, &surfaceBack, &surfaceFront);
+      pairAgree += atBack == surface.winding(back) && atFront == surface.winding(mid + h * n) &&
+                   surfaceBack == atBack && surfaceFront == atFront;
+    }
     for (const double side : {1.0, -1.0}) {
       const Eigen::Vector3d q = mid + side * h * n;
       ++probes;
@@ -97,6 +127,12 @@ TEST(WindingRays, CrossingsOfDisjointPartsAddUpToTheWholeSurfaces) {
   EXPECT_EQ(windingAgree, probes);
   EXPECT_GT(inside, probes / 3);  // about half the probes lie inside (the back sides)
   EXPECT_GT(unclean, 0);          // and the rule meets rays that graze an edge
+  std::printf("%d probe pairs, %d decided by the one ray along the normal\n", pairs.load(), oneRay.load());
+  EXPECT_EQ(pairs, static_cast<int>(whole.tri.size()));
+  EXPECT_EQ(splitSums, pairs);
+  EXPECT_EQ(splitCleanAgree, pairs);
+  EXPECT_EQ(pairAgree, pairs);
+  EXPECT_GE(oneRay, pairs * 99 / 100);  // the ray along the normal crosses cleanly almost everywhere
 }
 
 }  // namespace

@@ -151,6 +151,14 @@ class PatchSurface {
   /// outside.
   int winding(const Eigen::Vector3d& q) const noexcept;
 
+  /// winding() at `back` and at back + length * dir (m; unit dir, length > 0) in *atBack and
+  /// *atFront, from one ray from back along dir where every crossing it makes is clean (also at
+  /// the far point: the winding number changes by each crossing between the two points), else
+  /// as winding() at each. For two nearby points (a surface's probes either side of it), one ray
+  /// instead of two or more.
+  void windingsAlong(const Eigen::Vector3d& back, const Eigen::Vector3d& dir, double length, int* atBack,
+                     int* atFront) const noexcept;
+
   /// Level of the uniform tessellation, and its triangle count.
   int level() const noexcept;
   size_t numTriangles() const noexcept;
