@@ -18,8 +18,8 @@ struct WindingContext {
   const UniformTessellation* u;
   const int64_t* ids;  ///< scene primitive -> u->tri index (null: the identity)
   Eigen::Vector3d dir;
-  int winding;      ///< the crossings beyond `split` along the ray (all of them with an infinite split)
-  int nearWinding;  ///< ... and those before it
+  int nearWinding;  ///< the signed crossings nearer than `split` along the ray (all of them with an infinite split)
+  int farWinding;   ///< ... and the others
   float split;
   bool clean;      ///< every crossing so far transversal and inside its triangle, away from its edges
   float minDepth;  ///< ... and at least this far along the ray (its float origin's rounding, many times)
@@ -29,7 +29,8 @@ struct WindingContext {
 /// computes them in float: far above their rounding) ...
 constexpr float kWindingEdgeMargin = 1e-4f;
 /// ... and the ray meets the triangle's plane at a sine of at least this, at a distance of at least
-/// this times the origin's largest coordinate (about 80 float roundings of it).
+/// this times the origin's largest coordinate (about 80 float roundings of it) from the ray's start
+/// and from its split.
 constexpr double kWindingMinSine = 1e-3;
 constexpr float kWindingMinDepth = 1e-5f;
 
@@ -42,7 +43,7 @@ void windingFilter(const RTCFilterFunctionNArguments* args) {
   const Eigen::Vector3d n = (wc->u->vertex[tr[1]] - a).cross(wc->u->vertex[tr[2]] - a);
   const double s = n.dot(wc->dir);
   const float t = RTCRayN_tfar(args->ray, args->N, 0);
-  (t < wc->split ? wc->nearWinding : wc->winding) += s > 0 ? 1 : (s < 0 ? -1 : 0);
+  (t < wc->split ? wc->nearWinding : wc->farWinding) += s > 0 ? 1 : (s < 0 ? -1 : 0);
   const float bu = RTCHitN_u(args->hit, args->N, 0), bv = RTCHitN_v(args->hit, args->N, 0);
   if (!(std::min({bu, bv, 1.0f - bu - bv}) >= kWindingEdgeMargin && std::abs(s) >= kWindingMinSine * n.norm() &&
         t >= wc->minDepth && !(std::abs(t - wc->split) < wc->minDepth)))
@@ -115,7 +116,7 @@ WindingContext traceWinding(RTCScene scene, const UniformTessellation& u, const 
   wc.u = &u;
   wc.ids = ids.empty() ? nullptr : ids.data();
   wc.dir = dir;
-  wc.winding = wc.nearWinding = 0;
+  wc.nearWinding = wc.farWinding = 0;
   wc.split = split;
   wc.clean = true;
   const Eigen::Vector3d o = q - origin;  // the ray's origin in the scene's frame
@@ -128,9 +129,10 @@ WindingContext traceWinding(RTCScene scene, const UniformTessellation& u, const 
 }  // namespace
 
 int WindingRays::crossings(const Eigen::Vector3d& q, int k, bool* clean) const noexcept {
-  const WindingContext wc = traceWinding(scene_, u_, ids_, origin_, q, kDirections[k], -1.0f);
+  const WindingContext wc =
+      traceWinding(scene_, u_, ids_, origin_, q, kDirections[k], std::numeric_limits<float>::infinity());
   if (!wc.clean) *clean = false;
-  return wc.winding;
+  return wc.nearWinding;
 }
 
 void WindingRays::splitCrossings(const Eigen::Vector3d& q, const Eigen::Vector3d& dir, double length, int* nearSum,
@@ -138,7 +140,7 @@ void WindingRays::splitCrossings(const Eigen::Vector3d& q, const Eigen::Vector3d
   const WindingContext wc = traceWinding(scene_, u_, ids_, origin_, q, dir, float(length));
   if (!wc.clean) *clean = false;
   *nearSum += wc.nearWinding;
-  *farSum += wc.winding;
+  *farSum += wc.farWinding;
 }
 
 }  // namespace sf
