@@ -222,29 +222,32 @@ void countStep(const CreaseSlide& p, size_t i, double d, const ForceSample& r, c
 }
 
 /// Slides across both directions of every crease edge at 0.1%, 0.25% and 1% of the diagonal,
-/// with the prebuilt and the lazy tracker; returns {valley slides, ridge slides}.
-std::array<int, 2> slideAcrossEveryCrease(const CreasedMesh& m) {
+/// with the prebuilt and the lazy tracker; returns {valley slides, ridge slides}. certify: also
+/// prove that no patch folds (false for a mesh whose every patch another test certifies, built
+/// with the same options).
+std::array<int, 2> slideAcrossEveryCrease(const CreasedMesh& m, bool certify = true) {
   const PatchCache& c = *m.cache;
   const double diag = boundingDiagonal(c);
   ForceOptions fo;
   std::unique_ptr<ForceRenderer> renderer[2] = {
       makePatchForceRenderer(m.cache, std::make_shared<const PolygonScene>(c), fo),
       makePatchForceRenderer(m.skeleton, std::make_shared<const PolygonScene>(*m.skeleton), fo)};
-  {
-    // the creased surface as a whole: no fault (folded or overlapping sheets) on the closed
-    // surface, and no patch proven to turn over against its polygon
-    const SurfaceFaults faults = measureSurfaceFaults(PatchSurface(c));
-    EXPECT_TRUE(faults.closed) << m.name;
-    EXPECT_EQ(faults.faultArea(), 0.0) << m.name;
+  // the creased surface as a whole: no fault (folded or overlapping sheets) on the closed
+  // surface, and no patch proven to turn over against its polygon
+  const SurfaceFaults faults = measureSurfaceFaults(PatchSurface(c));
+  EXPECT_TRUE(faults.closed) << m.name;
+  EXPECT_EQ(faults.faultArea(), 0.0) << m.name;
+  std::printf("crease slides %-26s surface faults %.3g m^2 of %.3g\n", m.name.c_str(), faults.faultArea(),
+              faults.totalArea);
+  if (certify) {
     PatchCache certified = c;
     CertificateOptions budget;
     budget.maxCells = budget.triangleMaxCells = 12000;  // an undecided patch costs at most this many cells
     budget.regularity = false;  // the test asks for no patch proven folded: the fixed directions decide that
     certifyPatches(certified, 0, budget);
     const CertificateSummary cs = summarizeCertificates(certified);
-    std::printf("crease slides %-26s surface faults %.3g m^2 of %.3g; certificate: %d of %d certified, %d undecided, "
-                "%d proven to fold\n",
-                m.name.c_str(), faults.faultArea(), faults.totalArea, cs.certified, c.numFaces(), cs.undecided, cs.folded);
+    std::printf("crease slides %-26s certificate: %d of %d certified, %d undecided, %d proven to fold\n",
+                m.name.c_str(), cs.certified, c.numFaces(), cs.undecided, cs.folded);
     EXPECT_EQ(cs.folded, 0) << m.name;
   }
   test::DenseOracle oracle(c);
@@ -310,8 +313,10 @@ TEST(CreaseSlides, EveryCreaseHoldsContactAndTheNearestSheet) {
   auto add = [&](const std::array<int, 2>& k) { total[0] += k[0], total[1] += k[1]; };
   add(slideAcrossEveryCrease(load("L block (voxels)", (dir.path / "ell.obj").string(), 30)));
   add(slideAcrossEveryCrease(load("stairs (voxels)", (dir.path / "stairs.obj").string(), 30)));
-  add(slideAcrossEveryCrease(load("prism (tagged rims)", (dir.path / "prism.obj").string(), 0)));
-  add(slideAcrossEveryCrease(load("stepped cylinder (tagged)", (dir.path / "stepped.obj").string(), 0)));
+  // StraightCornerSplit.CreasedFlatCapsAreFannedKeepTheirSurfaceAndCertify certifies every patch of
+  // these two, built from the same files with the same (default) options: not proven again here
+  add(slideAcrossEveryCrease(load("prism (tagged rims)", (dir.path / "prism.obj").string(), 0), false));
+  add(slideAcrossEveryCrease(load("stepped cylinder (tagged)", (dir.path / "stepped.obj").string(), 0), false));
   add(slideAcrossEveryCrease(
       load("triangulated cylinder (split)", (dir.path / "cylinder.obj").string(), 0, NormalMode::File)));
   add(slideAcrossEveryCrease(load("cube", test::sharedMesh("lagrange/cube.obj"), 30)));
