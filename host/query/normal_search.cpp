@@ -134,10 +134,7 @@ double faultArea(const UniformTessellation& u, size_t t, double h, Split&& split
   const SurfaceVerdict v = faultVerdict(
       u.vertex[u.tri[t][0]], u.vertex[u.tri[t][1]], u.vertex[u.tri[t][2]], h,
       [&](const Eigen::Vector3d& back, const Eigen::Vector3d& dir, double length, int* atBack, int* atFront) {
-        windingsAlongRay(
-            back, dir, length,
-            [&](int* nearSum, int* farSum, bool* clean) { split(back, dir, length, nearSum, farSum, clean); },
-            crossings, atBack, atFront);
+        windingsAlongRay(back, dir, length, split, crossings, atBack, atFront);
       },
       &area2);
   return v != SurfaceVerdict::Consistent && v != SurfaceVerdict::Degenerate ? 0.5 * area2 : 0.0;

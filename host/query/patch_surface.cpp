@@ -430,8 +430,8 @@ void PatchSurface::windingsAlong(const Eigen::Vector3d& back, const Eigen::Vecto
   }
   windingsAlongRay(
       back, dir, length,
-      [&](int* nearSum, int* farSum, bool* clean) {
-        impl_->rays->splitCrossings(back, dir, length, nearSum, farSum, clean);
+      [&](const Eigen::Vector3d& q, const Eigen::Vector3d& d, double l, int* nearSum, int* farSum, bool* clean) {
+        impl_->rays->splitCrossings(q, d, l, nearSum, farSum, clean);
       },
       [&](const Eigen::Vector3d& q, int k, bool* clean) { return impl_->rays->crossings(q, k, clean); }, atBack,
       atFront);

@@ -71,8 +71,9 @@ int windingFromRays(Crossings&& crossings) noexcept {
 }
 
 /// The winding numbers at `back` and at front = back + length * dir (m; unit dir, length > 0):
-/// from one ray from back along dir where every crossing it makes is clean (split(&near, &far,
-/// &clean) as WindingRays::splitCrossings, summed over the scenes that make up the surface):
+/// from one ray from back along dir where every crossing it makes is clean (split(back, dir,
+/// length, &near, &far, &clean) as WindingRays::splitCrossings, summed over the scenes that make
+/// up the surface):
 /// front's is the crossings beyond length, back's all of them (the winding number changes by
 /// each crossing between the two points). Otherwise each by windingFromRays (crossings(point, k,
 /// &clean) as there). Returns whether the one ray decided.
@@ -81,7 +82,7 @@ bool windingsAlongRay(const Eigen::Vector3d& back, const Eigen::Vector3d& dir, d
                       Crossings&& crossings, int* atBack, int* atFront) noexcept {
   int nearSum = 0, farSum = 0;
   bool clean = true;
-  split(&nearSum, &farSum, &clean);
+  split(back, dir, length, &nearSum, &farSum, &clean);
   if (clean) {
     *atFront = farSum;
     *atBack = nearSum + farSum;

@@ -89,9 +89,9 @@ TEST(WindingRays, CrossingsOfDisjointPartsAddUpToTheWholeSurfaces) {
       int atBack = 0, atFront = 0;
       oneRay += windingsAlongRay(
           back, n, 2 * h,
-          [&](int* nearSum, int* farSum, bool* clean) {
-            restRays.splitCrossings(back, n, 2 * h, nearSum, farSum, clean);
-            partRays.splitCrossings(back, n, 2 * h, nearSum, farSum, clean);
+          [&](const Eigen::Vector3d& q, const Eigen::Vector3d& d, double l, int* nearSum, int* farSum, bool* clean) {
+            restRays.splitCrossings(q, d, l, nearSum, farSum, clean);
+            partRays.splitCrossings(q, d, l, nearSum, farSum, clean);
           },
           [&](const Eigen::Vector3d& q, int k, bool* clean) {
             return restRays.crossings(q, k, clean) + partRays.crossings(q, k, clean);
