@@ -2,9 +2,11 @@
 // The patch method's global query on a skeleton cache: faces chosen by their patch boxes,
 // patches built only where they can hold the nearest point (force_tracking_detail.h).
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include <smoothforce/base/status.h>
+#include <smoothforce/patch/patch_eval.h>
 #include <smoothforce/query/embree_scene.h>
 #include <smoothforce/query/lazy_surface.h>
 #include <smoothforce/query/mean_value.h>
@@ -81,6 +83,20 @@ std::shared_ptr<LazyPatchSurface> makeBoundsIndex(const PatchCache& cache, const
   return surface;
 }
 
+namespace {
+/// r with its edge set to the domain edge its point lies on (within 1e-9) where the refinement
+/// left it unset (it sets it on boundary and fold edges only).
+RefineResult heldOnDomainEdge(const PatchCache& cache, RefineResult r) noexcept {
+  if (r.edge >= 0 || r.face < 0 || r.face >= cache.numFaces()) return r;
+  const int n = cache.faceSize(r.face);
+  if (n < 3 || insideDomain(n, r.xi, r.eta, -1e-9)) return r;
+  int k = 0;
+  domainEdgeMax(n, {r.xi, r.eta}, k);
+  r.edge = k;
+  return r;
+}
+}  // namespace
+
 void lazyGlobalStep(LazyPatchSurface& surface, const PolygonScene& scene, const PatchCache& cache,
                     PatchRefiner& refiner, const Eigen::Vector3d& hip, const ForceOptions& options, double* lambda,
                     PatchContactState& state, ForceSample& s) noexcept {
@@ -141,23 +157,36 @@ void lazyGlobalStep(LazyPatchSurface& surface, const PolygonScene& scene, const 
   bool inside = false;
   RefineResult scp = q.nearest;
   if (usableRefinement(q.nearest)) {
-    const bool below = (hip - q.nearest.scp).dot(q.nearest.normal) < 0;
+    const Eigen::Vector3d toHip = hip - q.nearest.scp;
+    const double side = toHip.dot(q.nearest.normal);
+    const bool below = side < 0;
     // held on a fold edge of a closed mesh, the point has two sides by itself: on a crease curve
     // (a valley's, or a ridge's seen from outside) the two sides' tangent planes decide
     // (creaseSidesVerdict); elsewhere the base polygons' inside test decides (a sheet about as
     // near on the other side is left to the nearest point: on the spot cage's folds the polygons
     // disagree with the patches more often than not)
-    const bool conflict = q.nearest.status & SF_TRACK_FOLD_EDGE;
-    const int creaseVerdict = conflict && closed && !far ? creaseSidesVerdict(cache, refiner, hip, q.nearest) : -1;
+    const bool foldEdge = q.nearest.status & SF_TRACK_FOLD_EDGE;
+    // a HIP off the surface in its nearest point's tangent plane (within 1e-9 rad, where rounding
+    // picks the side) is on neither side of it: its nearest point then lies on the patch's
+    // boundary (elsewhere HIP - SCP runs along the normal), on a crease curve, and the crease's two
+    // sides decide as on a fold edge (at a valley, level with one sheet and below the other is
+    // inside)
+    const bool level = toHip.squaredNorm() > 0 && std::abs(side) <= 1e-9 * toHip.norm();
+    const bool conflict = foldEdge || level;
+    const int creaseVerdict =
+        conflict && closed && !far ? creaseSidesVerdict(cache, refiner, hip, heldOnDomainEdge(cache, q.nearest)) : -1;
     if (far && closed)
       inside = true;
     else if (closed)
       inside = !conflict            ? below
                : creaseVerdict >= 0 ? creaseVerdict == 1
-                                    : scene.contains(hip, Eigen::Vector3d::Zero());
+               : foldEdge           ? scene.contains(hip, Eigen::Vector3d::Zero())
+                                    : below;
     else  // open: no inside; only the side of a point off every boundary and fold edge (openInside)
       inside = openInside(q.nearest, hip);
-    if (inside && q.anyBelow) scp = q.nearestBelow;
+    // the SCP: the nearest point the HIP is below; a level nearest point is itself the nearest
+    // (a refinement on the other sheet can stall along the crease short of it)
+    if (inside && q.anyBelow && !level) scp = q.nearestBelow;
   }
   if (inside) s.status |= SF_TRACK_INSIDE;
   setContact(inside, scp, hip, options, state, s);

@@ -259,7 +259,12 @@ bool insidePatchSurface(const PatchSurface& surface, const Eigen::Vector3d& hip,
   const int verdict = windingVerdict == -2 ? insideByWinding(surface, hip) : windingVerdict;
   const bool useWinding = conflict || verdict >= 0;
   const bool inside = useWinding ? (verdict >= 0 ? verdict == 1 : surface.winding(hip) >= 1) : below;
-  if (inside && scp && q.anyBelow) *scp = q.nearestBelow;
+  // the SCP: the nearest point the HIP is below; a nearest point whose tangent plane holds the HIP
+  // (within 1e-9 rad: its nearest point on a valley's crease, level with one sheet) is itself the
+  // nearest (a refinement on the other sheet can stall along the crease short of it)
+  const Eigen::Vector3d toHip = hip - q.nearest.scp;
+  const bool level = toHip.squaredNorm() > 0 && std::abs(toHip.dot(q.nearest.normal)) <= 1e-9 * toHip.norm();
+  if (inside && scp && q.anyBelow && !level) *scp = q.nearestBelow;
   return inside;
 }
 

@@ -326,6 +326,57 @@ TEST(CreaseSlides, EveryCreaseHoldsContactAndTheNearestSheet) {
   EXPECT_GT(total[1], 0);
 }
 
+/// HIPs level with one sheet of a valley: inside a cylinder standing on a wider one, at the height
+/// of the annulus between them (its vertices' z, and 1e-12 of the diagonal above and below), near
+/// the upper cylinder's wall. The foot on the wall lies on the valley's crease curve, in the
+/// annulus's tangent plane, so that plane alone cannot tell the HIP's side. Every such HIP is
+/// inside (the dense oracle's winding number), and a contact start there makes contact, prebuilt
+/// and lazy, at the nearest patch point.
+TEST(CreaseSlides, HipsLevelWithOneSheetOfAValleyAreInside) {
+  hostile::TempDir dir("sf_crease_level");
+  std::ofstream(dir.path / "stepped.obj")
+      << test::turnedObj(10, {{1, 0}, {1, 0.6}, {0.5, 0.6}, {0.5, 1.2}}, {0, 1, 2, 3});
+  const CreasedMesh m = load("stepped cylinder (tagged)", (dir.path / "stepped.obj").string(), 0);
+  const PatchCache& c = *m.cache;
+  const double diag = boundingDiagonal(c);
+  double level = NAN;  // the annulus's z as read
+  for (int v = 0; v < c.numVertices(); ++v)
+    if (std::abs(c.positions[3 * v + 2] - 0.6) < 1e-9) level = c.positions[3 * v + 2];
+  ASSERT_TRUE(std::isfinite(level));
+  ForceOptions fo;
+  std::unique_ptr<ForceRenderer> renderer[2] = {
+      makePatchForceRenderer(m.cache, std::make_shared<const PolygonScene>(c), fo),
+      makePatchForceRenderer(m.skeleton, std::make_shared<const PolygonScene>(*m.skeleton), fo)};
+  test::DenseOracle oracle(c);
+  PatchRefiner refiner(c);
+  const double apothem = 0.5 * std::cos(std::numbers::pi / 10);  // the upper wall's nearest radius
+  int hips = 0, contacts[2] = {0, 0}, notNearest[2] = {0, 0};
+  for (int j = 0; j < 40; ++j)
+    for (const double f : {0.002, 0.01, 0.05})
+      for (const double dz : {0.0, 1e-12, -1e-12}) {
+        const double a = 2 * std::numbers::pi * (j + 0.3) / 40, r = apothem * (1 - f);
+        const Eigen::Vector3d hip(r * std::cos(a), r * std::sin(a), level + dz * diag);
+        ASSERT_GE(oracle.winding(hip), 1) << hip.transpose();
+        const test::DenseOracle::Nearest o = oracle.nearest(hip, refiner);
+        ++hips;
+        for (int i = 0; i < 2; ++i) {
+          renderer[i]->reset();
+          const ForceSample s = renderer[i]->step(hip);
+          contacts[i] += s.contact;
+          EXPECT_TRUE(s.contact) << (i ? "lazy" : "prebuilt") << " at " << hip.transpose() << " status " << std::hex
+                                 << s.status;
+          notNearest[i] += s.contact && (s.scp - hip).norm() > o.distance + 1e-9 * diag;
+        }
+      }
+  std::printf("level with a valley's sheet: %d HIPs inside; contact prebuilt %d, lazy %d; not nearest %d, %d\n", hips,
+              contacts[0], contacts[1], notNearest[0], notNearest[1]);
+  EXPECT_EQ(hips, 360);
+  EXPECT_EQ(contacts[0], hips);
+  EXPECT_EQ(contacts[1], hips);
+  EXPECT_EQ(notNearest[0], 0);
+  EXPECT_EQ(notNearest[1], 0);
+}
+
 /// Sweeps over creased solids, on the oneTBB and the OpenCL backends: no HIP inside the surface
 /// (the sweep's own inside test) is left without contact, the backends agree on every contact,
 /// and along the default trajectory (the section at half height, across the blocks' ridges and
