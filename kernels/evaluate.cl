@@ -36,7 +36,7 @@ __kernel void gp_evaluate(const int numFaces, const int numSlots, const int mode
       GP_REAL recs[GP_MAX_N * GP_E_NFIELDS];
       for (int k = 0; k < n; ++k)
         for (int i = 0; i < GP_E_NFIELDS; ++i) recs[k * GP_E_NFIELDS + i] = edgeData[(size_t)i * numSlots + first + k];
-      r = gp_patch_eval(n, recs, mode, qXi[q], qEta[q], domainTable);
+      r = gp_patch_eval(n, recs, gp_eval_mode(mode, faceStatus[f]), qXi[q], qEta[q], domainTable);
       r.status |= faceStatus[f];
     }
   }

@@ -83,6 +83,12 @@ static inline double gp_sin(double x) { return std::sin(x); }
 #define GP_CT_PAPER 1     /* Eq. 11-14 as printed */
 #define GP_CT_BLEND 2     /* q(t) = (1-t) d0 + t d1, projected */
 
+/* The evaluation mode (the `mode` of gp_patch_eval and the functions that take one): the
+ * cross-tangent mode in the low byte, and GP_EVAL_AFFINE for a face with GP_ST_AFFINE
+ * (gp_eval_mode). The construction takes the cross-tangent mode alone. */
+#define GP_CT_MASK 0xff
+#define GP_EVAL_AFFINE 0x100
+
 /* Status bits: per patch (construction) and per evaluation. */
 #define GP_ST_GUARD 0x1u            /* a backward end tangent was replaced (guard 1) */
 #define GP_ST_ZERO_EDGE 0x2u        /* an edge of (near) zero length */
@@ -97,6 +103,11 @@ static inline double gp_sin(double x) { return std::sin(x); }
 /* position, derivatives and normal from the refinement's quadratic model at this point, not
  * from an evaluation (gp_refine_options.modelFinal) */
 #define GP_ST_MODEL_POINT 0x400u
+/* construction: a flat triangle whose edges are straight (end tangents the chord) and whose
+ * corner normals are all its plane's, built by the default construction (fold repair on): its
+ * patch is the affine map of the domain triangle (gp_patch_eval_affine3), which has the same
+ * boundary and tangent plane and never folds */
+#define GP_ST_AFFINE 0x800u
 /* the bits of a face that has no patch (not built: its records are zeros, not evaluable) */
 #define GP_ST_NOT_BUILT (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE)
 #define GP_ST_DEGENERATE_MASK (GP_ST_ZERO_EDGE | GP_ST_EDGE_NORMAL | GP_ST_CROSS_TANGENT | GP_ST_NOT_BUILT)

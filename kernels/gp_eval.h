@@ -76,6 +76,74 @@ typedef struct {
   GP_STATUS status;               /* GP_ST_* bits */
 } gp_eval_result;
 
+/* The evaluation mode of a face: the cross-tangent mode (GP_CT_*) and, for a face whose
+ * construction status has GP_ST_AFFINE, GP_EVAL_AFFINE. */
+GP_FN int gp_eval_mode(int ctMode, gp_uint faceStatus) {
+  return (faceStatus & GP_ST_AFFINE) ? (ctMode | GP_EVAL_AFFINE) : ctMode;
+}
+
+/* Sets the unit normal of an evaluation from its derivatives; where dG/dxi x dG/deta vanishes
+ * against their lengths, the fallback normal nfb (or, where that vanishes too, N_0 of recs) and
+ * GP_ST_SINGULAR. */
+GP_FN_INLINE void gp_eval_normal(gp_eval_result* out, gp_vec3 nfb, const GP_REAL* recs) {
+  const gp_vec3 nn = gp_cross(out->dxi, out->deta);
+  /* rank-deficient Jacobian (e.g. at a 180-degree corner): the normal is noise, flag it */
+  const GP_REAL jmax = gp_max(gp_len(out->dxi), gp_len(out->deta));
+  const GP_REAL scale = jmax * jmax;
+  /* unit(nn); where |nn| <= tiny scale, the weighted vertex normals (computed only then) */
+  const GP_REAL lnn = gp_len(nn);
+  const GP_MASK regular = lnn > GP_TINY * scale;
+  out->normal = gp_scale(nn, GP_R(1.0) / lnn);
+  if (GP_ANY(!regular)) {
+    GP_STATUS ignore = 0u;
+    out->normal = gp_sel3(regular, out->normal, gp_unit_or(nfb, gp_get3(recs, GP_E_N0), GP_TINY, &ignore, 0u));
+    out->status |= GP_SEL(regular, (GP_STATUS)0u, (GP_STATUS)GP_ST_SINGULAR);
+  }
+}
+
+/* Zeros and GP_ST_OUTSIDE on the lanes outside the domain (lanes only: a single point outside
+ * returns before it is evaluated). */
+GP_FN_INLINE void gp_eval_outside(gp_eval_result* out, GP_MASK outside) {
+  if (GP_ANY(outside)) {
+    out->pos = gp_sel3(outside, gp_zero3(), out->pos);
+    out->dxi = gp_sel3(outside, gp_zero3(), out->dxi);
+    out->deta = gp_sel3(outside, gp_zero3(), out->deta);
+    out->normal = gp_sel3(outside, gp_zero3(), out->normal);
+    out->status = GP_SEL(outside, (GP_STATUS)GP_ST_OUTSIDE, out->status);
+  }
+}
+
+/* The patch of a face with GP_ST_AFFINE (a flat triangle with straight edges whose corner normals
+ * are all its plane's): the affine map of the domain triangle onto V_0 V_1 V_2,
+ * G(X) = V_0 + lambda_1 (V_1 - V_0) + lambda_2 (V_2 - V_0), with the barycentric coordinates
+ * lambda_{k+2} = d_k / (3 cos(pi/3)) (d_k of Eq. 3; corner k + 2 lies opposite edge k). On edge k
+ * it is (1 - t_k) V_k + t_k V_{k+1}, the Gregory patch's point there (the Hermite edge curve whose
+ * end tangents are the chord, Eq. 6, is that line at t_k), and its tangent plane is the face's
+ * plane, which the neighbours' patches take along the edge from the same corner normals: the
+ * surface stays closed and G1. The Gregory patch of such a triangle folds in its own plane where
+ * the triangle is thin or obtuse (the corner interpolators of Eq. 2 do not reproduce an affine
+ * map; docs/fold-levers.md); the affine map never does. */
+GP_FN_INLINE gp_eval_result gp_patch_eval_affine3(const gp_domain* dom, const GP_REAL* recs, GP_REAL xi, GP_REAL eta,
+                                                  int deriv) {
+  gp_eval_result out;
+  out.pos = out.dxi = out.deta = out.normal = gp_zero3();
+  out.status = 0u;
+  const gp_vec3 v0 = gp_get3(recs, GP_E_V0);
+  const gp_vec3 e1 = gp_sub(gp_get3(recs + GP_E_NFIELDS, GP_E_V0), v0);
+  const gp_vec3 e2 = gp_sub(gp_get3(recs + 2 * GP_E_NFIELDS, GP_E_V0), v0);
+  const GP_REAL ih = GP_R(1.0) / (GP_R(3.0) * dom->apothem); /* 1 / the domain triangle's height */
+  const GP_REAL l1 = (dom->apothem - (xi * dom->mx[2] + eta * dom->my[2])) * ih;
+  const GP_REAL l2 = (dom->apothem - (xi * dom->mx[0] + eta * dom->my[0])) * ih;
+  out.pos = gp_madd(gp_madd(v0, e1, l1), e2, l2);
+  if (!deriv) return out;
+  out.dxi = gp_add(gp_scale(e1, -dom->mx[2] * ih), gp_scale(e2, -dom->mx[0] * ih));
+  out.deta = gp_add(gp_scale(e1, -dom->my[2] * ih), gp_scale(e2, -dom->my[0] * ih));
+#ifndef GP_INTERVAL
+  gp_eval_normal(&out, gp_get3(recs, GP_E_N0), recs);
+#endif
+  return out;
+}
+
 /* The body of gp_patch_eval_dom_d for an n-gon (n = dom->n), inlined where n is a constant so
  * that the short loops over the edges (distances, edge parameters, weights) unroll and their
  * index arithmetic folds (the same operations in the same order: the same bits as with n
@@ -99,6 +167,12 @@ GP_FN_INLINE gp_eval_result gp_patch_eval_dom_n(const gp_domain* dom, const int 
     out.status = GP_ST_OUTSIDE;
     return out;
   }
+  if (n == 3 && (mode & GP_EVAL_AFFINE)) {
+    out = gp_patch_eval_affine3(dom, recs, xi, eta, deriv);
+    gp_eval_outside(&out, outside);
+    return out;
+  }
+  mode &= GP_CT_MASK;
   /* u_k = d_{k-1} / (d_{k-1} + d_{k+1}) is also 1 - v_{k+1}: one edge parameter t_k per edge
    * serves corners k and k+1. Gradients: grad d_j = -m_j. */
   GP_REAL t[GP_MAX_N], tx[GP_MAX_N], ty[GP_MAX_N];
@@ -268,29 +342,9 @@ GP_FN_INLINE gp_eval_result gp_patch_eval_dom_n(const gp_domain* dom, const int 
   /* the certificate bounds dG/dxi x dG/deta itself and reads no unit normal: none computed */
   (void)nfb;
 #else
-  if (deriv) {
-    const gp_vec3 nn = gp_cross(out.dxi, out.deta);
-    /* rank-deficient Jacobian (e.g. at a 180-degree corner): the normal is noise, flag it */
-    const GP_REAL jmax = gp_max(gp_len(out.dxi), gp_len(out.deta));
-    const GP_REAL scale = jmax * jmax;
-    /* unit(nn); where |nn| <= tiny scale, the weighted vertex normals (computed only then) */
-    const GP_REAL lnn = gp_len(nn);
-    const GP_MASK regular = lnn > GP_TINY * scale;
-    out.normal = gp_scale(nn, GP_R(1.0) / lnn);
-    if (GP_ANY(!regular)) {
-      GP_STATUS ignore = 0u;
-      out.normal = gp_sel3(regular, out.normal, gp_unit_or(nfb, gp_get3(recs, GP_E_N0), GP_TINY, &ignore, 0u));
-      out.status |= GP_SEL(regular, (GP_STATUS)0u, (GP_STATUS)GP_ST_SINGULAR);
-    }
-  }
+  if (deriv) gp_eval_normal(&out, nfb, recs);
 #endif
-  if (GP_ANY(outside)) { /* lanes only: some lanes outside */
-    out.pos = gp_sel3(outside, gp_zero3(), out.pos);
-    out.dxi = gp_sel3(outside, gp_zero3(), out.dxi);
-    out.deta = gp_sel3(outside, gp_zero3(), out.deta);
-    out.normal = gp_sel3(outside, gp_zero3(), out.normal);
-    out.status = GP_SEL(outside, (GP_STATUS)GP_ST_OUTSIDE, out.status);
-  }
+  gp_eval_outside(&out, outside);
   return out;
 }
 

@@ -230,7 +230,7 @@ GP_FN gp_eval_result gp_rf_eval(const gp_refine_mesh* m, gp_refine_work* w, int 
     }
     w->loaded = f;
   }
-  gp_eval_result r = gp_patch_eval(n, w->recs, m->mode, x, y GP_DT_M(m));
+  gp_eval_result r = gp_patch_eval(n, w->recs, gp_eval_mode(m->mode, w->loadedStatus), x, y GP_DT_M(m));
   r.status |= w->loadedStatus;
   return r;
 }

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy
 import os
 import typing
-__all__: list[str] = ['Cache', 'Haptic', 'SF_PROBE_INSIDE', 'SF_PROBE_ON_FAULT', 'SF_PROBE_UNDECIDED', 'SF_ST_BULGE', 'SF_ST_CROSS_TANGENT', 'SF_ST_EDGE_NORMAL', 'SF_ST_FOLD', 'SF_ST_GUARD', 'SF_ST_MODEL_POINT', 'SF_ST_NONFINITE', 'SF_ST_OUTSIDE', 'SF_ST_SINGULAR', 'SF_ST_TOO_MANY_SIDES', 'SF_ST_ZERO_EDGE', 'SF_TRACK_BAD_HIP', 'SF_TRACK_BOUNDARY', 'SF_TRACK_CONVERGED', 'SF_TRACK_DEGENERATE', 'SF_TRACK_ENTER', 'SF_TRACK_FOLD_EDGE', 'SF_TRACK_GLOBAL', 'SF_TRACK_INSIDE', 'SF_TRACK_LEAVE', 'SF_TRACK_MAX_ITER', 'SF_TRACK_NO_POLYGON', 'SF_TRACK_PROXY_LIMIT', 'SF_TRACK_STALLED', 'Surface', 'read_sweep', 'sweep', 'trace']
+__all__: list[str] = ['Cache', 'Haptic', 'SF_PROBE_INSIDE', 'SF_PROBE_ON_FAULT', 'SF_PROBE_UNDECIDED', 'SF_ST_AFFINE', 'SF_ST_BULGE', 'SF_ST_CROSS_TANGENT', 'SF_ST_EDGE_NORMAL', 'SF_ST_FOLD', 'SF_ST_GUARD', 'SF_ST_MODEL_POINT', 'SF_ST_NONFINITE', 'SF_ST_OUTSIDE', 'SF_ST_SINGULAR', 'SF_ST_TOO_MANY_SIDES', 'SF_ST_ZERO_EDGE', 'SF_TRACK_BAD_HIP', 'SF_TRACK_BOUNDARY', 'SF_TRACK_CONVERGED', 'SF_TRACK_DEGENERATE', 'SF_TRACK_ENTER', 'SF_TRACK_FOLD_EDGE', 'SF_TRACK_GLOBAL', 'SF_TRACK_INSIDE', 'SF_TRACK_LEAVE', 'SF_TRACK_MAX_ITER', 'SF_TRACK_NO_POLYGON', 'SF_TRACK_PROXY_LIMIT', 'SF_TRACK_STALLED', 'Surface', 'read_sweep', 'sweep', 'trace']
 class Cache:
     """
     A whole mesh's Gregory patches (or, lazy, the mesh whose patches a renderer builds near the contact).
@@ -248,6 +248,7 @@ def trace(cache: Cache, hips: typing.Any, *, method: str = 'patch', stiffness: f
 SF_PROBE_INSIDE: int = 536870912
 SF_PROBE_ON_FAULT: int = 2147483648
 SF_PROBE_UNDECIDED: int = 1073741824
+SF_ST_AFFINE: int = 2048
 SF_ST_BULGE: int = 32
 SF_ST_CROSS_TANGENT: int = 8
 SF_ST_EDGE_NORMAL: int = 4

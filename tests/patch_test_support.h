@@ -51,6 +51,16 @@ inline PatchCache cacheFromFile(const std::string& path, CrossTangentMode mode =
   return buildPatchCache(loadMesh(path, o), o, Backend::Tbb);
 }
 
+/// Whether the status `on` of a face the default construction built matches `off`, the same face's
+/// with the same records under the design page's construction (FoldRepairMode::Off): equal, but
+/// where `on` marks the face GP_ST_AFFINE (a flat triangle with straight edges evaluated as its
+/// affine map, markAffineTriangles), whose fold and bulge bits are the affine map's (never a fold).
+inline bool sameStatusAsDesign(uint32_t on, uint32_t off) {
+  if (!(on & GP_ST_AFFINE)) return on == off;
+  const uint32_t quality = GP_ST_FOLD | GP_ST_BULGE;
+  return (on & ~(GP_ST_AFFINE | quality)) == (off & ~quality) && !(on & GP_ST_FOLD);
+}
+
 /// A built cache as a skeleton of itself: the same mesh, normals and options, no patch data and
 /// no status (lazy construction builds the patches, lazy_patches.h).
 inline PatchCache skeletonOf(const PatchCache& built) {

@@ -26,6 +26,7 @@ SF_CAPI_SAME_BIT(SF_ST_SINGULAR);
 SF_CAPI_SAME_BIT(SF_ST_TOO_MANY_SIDES);
 SF_CAPI_SAME_BIT(SF_ST_NONFINITE);
 SF_CAPI_SAME_BIT(SF_ST_MODEL_POINT);
+SF_CAPI_SAME_BIT(SF_ST_AFFINE);
 SF_CAPI_SAME_BIT(SF_TRACK_CONVERGED);
 SF_CAPI_SAME_BIT(SF_TRACK_MAX_ITER);
 SF_CAPI_SAME_BIT(SF_TRACK_STALLED);
@@ -40,8 +41,8 @@ SF_CAPI_SAME_BIT(SF_TRACK_PROXY_LIMIT);
 SF_CAPI_SAME_BIT(SF_TRACK_INSIDE);
 SF_CAPI_SAME_BIT(SF_TRACK_FOLD_EDGE);
 #undef SF_CAPI_SAME_BIT
-// the 24 above and the sweep's 3 SF_PROBE_* bits (not in C) are every bit the library names
-static_assert(std::size(sf::kStatusBits) == 24 + 3, "a status bit of status.h is missing from smoothforce.h");
+// the 25 above and the sweep's 3 SF_PROBE_* bits (not in C) are every bit the library names
+static_assert(std::size(sf::kStatusBits) == 25 + 3, "a status bit of status.h is missing from smoothforce.h");
 
 ForceOptions forceOptions(const sf_haptic_options& o, ForceMethod* method) {
   // the shared reader (force_option_text.h): the fields are its keys

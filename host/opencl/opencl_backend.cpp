@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <smoothforce/opencl/opencl_context.h>
+#include <smoothforce/patch/patch_build.h>
 #include <smoothforce/patch/tangent_fans.h>
 #include "gp_config.h"
 #include "opencl_program.h"
@@ -106,6 +107,7 @@ void OpenCLConstructor::construct(PatchCache& cache) {
   } catch (const cl::Error& e) {
     rethrowOpenCL("constructPatchesOpenCL on " + deviceName(), e);
   }
+  markAffineTriangles(cache);  // as constructPatches does, on the host
 }
 
 std::string OpenCLConstructor::deviceName() const { return impl_->dev.ctx.info().name; }

@@ -12,11 +12,12 @@
 #include <type_traits>
 #include <vector>
 
-#include <smoothforce/base/staged_output.h>
 #include <smoothforce/base/coordinate_range.h>
 #include <smoothforce/base/hash.h>
+#include <smoothforce/base/staged_output.h>
 #include <smoothforce/mesh/mesh.h>
 #include <smoothforce/mesh/topology.h>
+#include <smoothforce/patch/patch_build.h>
 #include "gp_config.h"  // GP_* status bits and record layout
 
 namespace sf {
@@ -351,11 +352,15 @@ PatchCache readPatchCache(const std::string& path, const CacheExpectation& expec
       throw fail("slot " + std::to_string(s) + " and its neighbour " + std::to_string(t) +
                  " do not name each other across two faces");
   }
-  constexpr uint32_t kConstructionBits = 0x3FFu & ~GP_ST_OUTSIDE;  // GP_ST_GUARD .. GP_ST_NONFINITE
+  // GP_ST_GUARD .. GP_ST_NONFINITE, and GP_ST_AFFINE (checked against the records below)
+  constexpr uint32_t kConstructionBits = (0x3FFu & ~GP_ST_OUTSIDE) | GP_ST_AFFINE;
   for (uint64_t f = 0; f < h.numFaces; ++f) {
     const uint32_t st = c.faceStatus[f];
     const bool tooMany = c.faceOffsets[f + 1] - c.faceOffsets[f] > GP_MAX_N;
-    if ((st & ~kConstructionBits) || bool(st & GP_ST_TOO_MANY_SIDES) != tooMany)
+    const bool affineOk =
+        !(st & GP_ST_AFFINE) || (opt.foldRepair != FoldRepairMode::Off &&
+                                 c.faceOffsets[f + 1] - c.faceOffsets[f] == 3 && !(st & GP_ST_NOT_BUILT));
+    if ((st & ~kConstructionBits) || bool(st & GP_ST_TOO_MANY_SIDES) != tooMany || !affineOk)
       throw fail("face " + std::to_string(f) + " has a status word the construction cannot give (" +
                  std::to_string(st) + ")");
   }
@@ -397,6 +402,18 @@ PatchCache readPatchCache(const std::string& path, const CacheExpectation& expec
                        " does not carry corner normal " + std::to_string(s) +
                        " (the normals do not match the patches built from them)");
         }
+      }
+      // a triangle marked affine is one (markAffineTriangles): else its affine map would not meet
+      // its neighbours' edge curves
+      if (c.faceStatus[f] & GP_ST_AFFINE) {
+        Real recs[3 * GP_E_NFIELDS];
+        for (int k = 0; k < 3; ++k)
+          for (int i = 0; i < GP_E_NFIELDS; ++i) recs[k * GP_E_NFIELDS + i] = data[i * C + c.faceOffsets[f] + k];
+        if (!isAffineTriangle(3, recs,
+                              std::is_same_v<Real, double> ? kAffineTriangleTolerance : kAffineTriangleToleranceFloat))
+          throw fail("face " + std::to_string(f) +
+                     " is marked as a flat triangle with straight edges (evaluated as its affine map) but its "
+                     "patch records are not one");
       }
     }
   };

@@ -100,6 +100,7 @@ PatchStatusSummary summarizePatchStatus(const PatchCache& cache) {
       s.bulgeFaces.push_back(f);
     }
     if (st & GP_ST_DEGENERATE_MASK) s.degenerateFaces.push_back(f);
+    if (st & GP_ST_AFFINE) s.affineFaces.push_back(f);
     s.maxBulge = std::max(s.maxBulge, cache.faceBulge[f]);
   }
   if (!hasPatchData(cache)) return s;

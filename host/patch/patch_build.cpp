@@ -164,6 +164,57 @@ std::vector<float>& edgeData<float>(PatchCache& c) {
 }
 
 template <class Real>
+void gather(const PatchCache& c, const std::vector<Real>& data, int f, Real* recs) {
+  const int n = c.faceSize(f), first = c.faceOffsets[f];
+  const size_t ns = c.numSlots();
+  for (int i = 0; i < GP_E_NFIELDS; ++i)  // a field's n values lie side by side
+    for (int k = 0; k < n; ++k) recs[k * GP_E_NFIELDS + i] = data[i * ns + first + k];
+}
+
+template <class Real>
+bool affineTriangle(int n, const Real* recs, double tol) {
+  if (n != 3) return false;
+  auto get = [&](int k, int field) {
+    const Real* r = recs + k * GP_E_NFIELDS + field;
+    return Eigen::Vector3d(double(r[0]), double(r[1]), double(r[2]));
+  };
+  const Eigen::Vector3d v0 = get(0, GP_E_V0), cross = (get(1, GP_E_V0) - v0).cross(get(2, GP_E_V0) - v0);
+  double longest = 0;
+  for (int k = 0; k < 3; ++k) longest = std::max(longest, (get(k, GP_E_V1) - get(k, GP_E_V0)).norm());
+  if (!(cross.norm() > tol * longest * longest)) return false;  // also NaN
+  const Eigen::Vector3d normal = cross.normalized();
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d chord = get(k, GP_E_V1) - get(k, GP_E_V0);
+    const double bound = tol * chord.norm();
+    if (!((get(k, GP_E_M0) - chord).norm() <= bound && (get(k, GP_E_M1) - chord).norm() <= bound &&
+          (get(k, GP_E_N0) - normal).norm() <= tol && (get(k, GP_E_N1) - normal).norm() <= tol))
+      return false;
+  }
+  return true;
+}
+
+/// The default construction's tolerance of isAffineTriangle in the cache's precision.
+template <class Real>
+constexpr double kAffineTolerance =
+    std::is_same_v<Real, double> ? kAffineTriangleTolerance : kAffineTriangleToleranceFloat;
+
+/// Status st of a built face with records recs, with GP_ST_AFFINE where markAffineTriangles gives
+/// it, the quality bits and bulge (where bulgeOut is not null) then from the affine map.
+template <class Real>
+uint32_t withAffine(const PatchCache& c, int n, const Real* recs, uint32_t st, float* bulgeOut, bool quality) {
+  if (c.options.foldRepair == FoldRepairMode::Off || (st & (GP_ST_DEGENERATE_MASK | GP_ST_AFFINE)) ||
+      !affineTriangle(n, recs, kAffineTolerance<Real>))
+    return st;
+  st |= GP_ST_AFFINE;
+  if (!quality) return st;
+  Real bulge = 0;
+  const int mode = gpd::gp_eval_mode(static_cast<int>(c.options.crossTangent), st);
+  st = (st & ~(GP_ST_FOLD | GP_ST_BULGE)) | Gp<Real>::quality(n, recs, mode, &bulge);
+  if (bulgeOut) *bulgeOut = static_cast<float>(bulge);
+  return st;
+}
+
+template <class Real>
 uint32_t buildRecords(const PatchCache& c, int f, Real* recs, float* bulgeOut, bool quality = true) {
   using G = Gp<Real>;
   const int n = c.faceSize(f), first = c.faceOffsets[f];
@@ -182,7 +233,7 @@ uint32_t buildRecords(const PatchCache& c, int f, Real* recs, float* bulgeOut, b
   Real bulge = 0;
   if (quality && !(st & GP_ST_NOT_BUILT)) st |= G::quality(n, recs, mode, &bulge);
   if (bulgeOut) *bulgeOut = static_cast<float>(bulge);
-  return st;
+  return withAffine(c, n, recs, st, bulgeOut, quality);
 }
 
 /// Builds face f with buildRecords and scatters the records field-major into the cache.
@@ -296,11 +347,16 @@ void buildAll(PatchCache& c, const BuildOptions& o, const std::vector<int>* face
 }
 
 template <class Real>
-void gather(const PatchCache& c, const std::vector<Real>& data, int f, Real* recs) {
-  const int n = c.faceSize(f), first = c.faceOffsets[f];
-  const size_t ns = c.numSlots();
-  for (int i = 0; i < GP_E_NFIELDS; ++i)  // a field's n values lie side by side
-    for (int k = 0; k < n; ++k) recs[k * GP_E_NFIELDS + i] = data[i * ns + first + k];
+void markAffine(PatchCache& c, const std::vector<int>* faces) {
+  if (c.options.foldRepair == FoldRepairMode::Off) return;
+  const std::vector<Real>& data = edgeData<Real>(c);
+  Real recs[3 * GP_E_NFIELDS];
+  for (int i = 0, count = faceCount(c, faces); i < count; ++i) {
+    const int f = faceAt(faces, i);
+    if (c.faceSize(f) != 3 || (c.faceStatus[f] & (GP_ST_NOT_BUILT | GP_ST_AFFINE))) continue;
+    gather(c, data, f, recs);
+    c.faceStatus[f] = withAffine(c, 3, recs, c.faceStatus[f], &c.faceBulge[f], true);
+  }
 }
 
 }  // namespace
@@ -326,6 +382,7 @@ void buildFaces(PatchCache& cache, const BuildOptions& options, const std::vecto
     buildAll<double>(cache, options, faces);
   else
     buildAll<float>(cache, options, faces);
+  markAffineTriangles(cache, faces);  // the SIMD path builds lanes of different faces: marked here
 }
 
 }  // namespace
@@ -354,6 +411,18 @@ uint32_t buildPatchRecords(const PatchCache& skeleton, int f, float* recs, float
 
 uint32_t buildPatchEdges(const PatchCache& skeleton, int f, double* recs) noexcept {
   return buildRecords(skeleton, f, recs, nullptr, false);
+}
+
+bool isAffineTriangle(int n, const double* recs, double tolerance) { return affineTriangle(n, recs, tolerance); }
+bool isAffineTriangle(int n, const float* recs, double tolerance) { return affineTriangle(n, recs, tolerance); }
+
+void markAffineTriangles(PatchCache& cache, const std::vector<int>* faces) {
+  if (!hasPatchData(cache) && cache.numFaces() > 0)
+    throw std::invalid_argument("markAffineTriangles: the cache has no patch arrays (prepared as a skeleton)");
+  if (cache.options.precision == Precision::Double)
+    markAffine<double>(cache, faces);
+  else
+    markAffine<float>(cache, faces);
 }
 
 void gatherRecords(const PatchCache& cache, int f, double* recs) { gather(cache, cache.edgeDataD, f, recs); }

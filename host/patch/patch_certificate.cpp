@@ -55,10 +55,10 @@ void boxForms(double x0, double x1, double y0, double y1, Taylor* xi, Taylor* et
 
 /// The patch math's enclosure over a box of the domain, with derivatives.
 gpi::gp_eval_result evalBox(const gpd::gp_domain* dom, const std::array<Taylor, GP_MAX_N * GP_E_NFIELDS>& irecs,
-                            CrossTangentMode mode, double x0, double x1, double y0, double y1) {
+                            int mode, double x0, double x1, double y0, double y1) {
   Taylor xi, eta;
   boxForms(x0, x1, y0, y1, &xi, &eta);
-  return gpi::gp_patch_eval_dom_d(dom, irecs.data(), static_cast<int>(mode), xi, eta, 1);
+  return gpi::gp_patch_eval_dom_d(dom, irecs.data(), mode, xi, eta, 1);
 }
 
 /// J = dot(dG/dxi x dG/deta, d) and the upper bound of |dG/dxi x dG/deta| over a box, from its
@@ -72,17 +72,17 @@ CellBound boundJ(const gpi::gp_eval_result& r, const double d[3]) {
   return {(N.x * Taylor(d[0]) + N.y * Taylor(d[1]) + N.z * Taylor(d[2])).range(),
           gp_sqrt(N.x * N.x + N.y * N.y + N.z * N.z).hi()};
 }
-CellBound boundCell(const gpd::gp_domain* dom, const std::array<Taylor, GP_MAX_N * GP_E_NFIELDS>& irecs,
-                    CrossTangentMode mode, double x0, double x1, double y0, double y1, const double d[3]) {
+CellBound boundCell(const gpd::gp_domain* dom, const std::array<Taylor, GP_MAX_N * GP_E_NFIELDS>& irecs, int mode,
+                    double x0, double x1, double y0, double y1, const double d[3]) {
   return boundJ(evalBox(dom, irecs, mode, x0, x1, y0, y1), d);
 }
 
 /// d = the unit patch normal at the domain point nearest the centre of box b (double records
 /// drecs); d unchanged where that normal is not defined (singular, not finite).
-void centreNormal(int n, const double* drecs, CrossTangentMode mode, const Box& b, double d[3]) {
+void centreNormal(int n, const double* drecs, int mode, const Box& b, double d[3]) {
   double x = 0.5 * (b.x0 + b.x1), y = 0.5 * (b.y0 + b.y1);
   gpd::gp_dom_clamp(n, &x, &y);
-  const gpd::gp_eval_result p = gpd::gp_patch_eval(n, drecs, static_cast<int>(mode), x, y);
+  const gpd::gp_eval_result p = gpd::gp_patch_eval(n, drecs, mode, x, y);
   const double l2 = p.normal.x * p.normal.x + p.normal.y * p.normal.y + p.normal.z * p.normal.z;
   if ((p.status & (GP_ST_OUTSIDE | GP_ST_SINGULAR)) || !(std::abs(l2 - 1) < 1e-6)) return;
   d[0] = p.normal.x, d[1] = p.normal.y, d[2] = p.normal.z;
@@ -93,7 +93,7 @@ void centreNormal(int n, const double* drecs, CrossTangentMode mode, const Box& 
 /// local directions (drecs, the records in double), each box is bounded along the unit normal at
 /// its own centre instead (d is the start's), which proves dG/dxi x dG/deta != 0 on it: the
 /// patch is regular, not a height field; a box proven negative then proves nothing.
-PatchCertificate certifyAlong(int n, const std::array<Taylor, GP_MAX_N * GP_E_NFIELDS>& irecs, CrossTangentMode mode,
+PatchCertificate certifyAlong(int n, const std::array<Taylor, GP_MAX_N * GP_E_NFIELDS>& irecs, int mode,
                               const CertificateOptions& o, const double d[3], const double* drecs = nullptr) {
   PatchCertificate out;
   const double nl = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
@@ -111,7 +111,10 @@ PatchCertificate certifyAlong(int n, const std::array<Taylor, GP_MAX_N * GP_E_NF
   }
   std::vector<Box> stack;
   const int maxDepth = n == 3 ? o.triangleMaxDepth : o.maxDepth, maxCells = n == 3 ? o.triangleMaxCells : o.maxCells;
-  const int start = std::clamp(n == 4 ? o.quadStartDepth : o.startDepth, 0, std::max(0, maxDepth)),
+  // an affine patch's J is constant: one cell, the domain's box, decides it
+  const int start = (mode & GP_EVAL_AFFINE)
+                        ? 0
+                        : std::clamp(n == 4 ? o.quadStartDepth : o.startDepth, 0, std::max(0, maxDepth)),
             g = 1 << std::min(start, 12);
   for (int j = g - 1; j >= 0; --j)
     for (int i = g - 1; i >= 0; --i)
@@ -167,8 +170,8 @@ PatchCertificate certifyAlong(int n, const std::array<Taylor, GP_MAX_N * GP_E_NF
 /// there. -1: proven against one of them (the patch meets its neighbours, which share n_c and
 /// N_k, upside down there: it folds against them; *margin the upper bound < 0 of the cosine);
 /// +1: proven along n_c at every edge's midpoint; 0: neither.
-int boundaryOrientation(int n, const std::array<Taylor, GP_MAX_N * GP_E_NFIELDS>& irecs, const double* drecs,
-                        CrossTangentMode mode, double* margin) {
+int boundaryOrientation(int n, const std::array<Taylor, GP_MAX_N * GP_E_NFIELDS>& irecs, const double* drecs, int mode,
+                        double* margin) {
   gpd::gp_domain scratch;
   const gpd::gp_domain* dom = gpd::gp_domain_of(n, &scratch, 1);
   int verdict = 1;
@@ -216,7 +219,7 @@ bool sameDirection(const double a[3], const double b[3]) {
 }
 
 template <class Real>
-PatchCertificate certify(int n, const Real* recs, CrossTangentMode mode, const CertificateOptions& o) {
+PatchCertificate certify(int n, const Real* recs, int mode, const CertificateOptions& o) {
   PatchCertificate out;
   if (n < 3 || n > GP_MAX_N) return out;
   std::array<Taylor, GP_MAX_N * GP_E_NFIELDS> irecs;
@@ -281,7 +284,7 @@ PatchCertificate certify(int n, const Real* recs, CrossTangentMode mode, const C
     for (int j = 0; j <= g; ++j)
       for (int i = 0; i <= g; ++i) {
         const double x = -1 + 2.0 * i / g, y = -1 + 2.0 * j / g;
-        const gpd::gp_eval_result p = gpd::gp_patch_eval(n, drecs.data(), static_cast<int>(mode), x, y);
+        const gpd::gp_eval_result p = gpd::gp_patch_eval(n, drecs.data(), mode, x, y);
         const Eigen::Vector3d N(p.normal.x, p.normal.y, p.normal.z);
         if (!(p.status & GP_ST_OUTSIDE) && std::isfinite(N.squaredNorm()) && N.squaredNorm() > 0.5)
           normals.push_back(N);
@@ -307,7 +310,7 @@ PatchCertificate certify(int n, const Real* recs, CrossTangentMode mode, const C
   // n_c where the construction is G1 (corrected and blended cross tangents; the printed ones keep
   // a jump at backward end tangents), so with a normal that vanishes nowhere its side of n_c at
   // the edge's midpoint is its side along the whole edge.
-  if (!o.regularity || mode == CrossTangentMode::Paper) return out;
+  if (!o.regularity || (mode & GP_CT_MASK) == GP_CT_PAPER) return out;
   PatchCertificate fourth = certifyAlong(n, irecs, mode, o, newell, drecs.data());
   fourth.cells += out.cells;
   if (fourth.verdict == CertificateVerdict::Certified) {
@@ -337,7 +340,8 @@ PatchEnclosure enclosePatch(int n, const double* recs, CrossTangentMode mode, co
   std::array<Taylor, GP_MAX_N * GP_E_NFIELDS> irecs;
   for (int i = 0; i < n * GP_E_NFIELDS; ++i) irecs[i] = Taylor(recs[i]);
   gpd::gp_domain scratch;
-  const gpi::gp_eval_result r = evalBox(gpd::gp_domain_of(n, &scratch, 1), irecs, mode, x0, x1, y0, y1);
+  const gpi::gp_eval_result r =
+      evalBox(gpd::gp_domain_of(n, &scratch, 1), irecs, static_cast<int>(mode), x0, x1, y0, y1);
   const gpi::gp_vec3* v[3] = {&r.pos, &r.dxi, &r.deta};
   interval::Interval* o[3] = {out.pos, out.dxi, out.deta};
   for (int i = 0; i < 3; ++i) o[i][0] = v[i]->x.range(), o[i][1] = v[i]->y.range(), o[i][2] = v[i]->z.range();
@@ -346,11 +350,13 @@ PatchEnclosure enclosePatch(int n, const double* recs, CrossTangentMode mode, co
 }
 }  // namespace detail
 
-PatchCertificate certifyPatch(int n, const double* recs, CrossTangentMode mode, const CertificateOptions& options) {
-  return certify(n, recs, mode, options);
+PatchCertificate certifyPatch(int n, const double* recs, CrossTangentMode mode, const CertificateOptions& options,
+                              uint32_t faceStatus) {
+  return certify(n, recs, gpd::gp_eval_mode(static_cast<int>(mode), faceStatus), options);
 }
-PatchCertificate certifyPatch(int n, const float* recs, CrossTangentMode mode, const CertificateOptions& options) {
-  return certify(n, recs, mode, options);
+PatchCertificate certifyPatch(int n, const float* recs, CrossTangentMode mode, const CertificateOptions& options,
+                              uint32_t faceStatus) {
+  return certify(n, recs, gpd::gp_eval_mode(static_cast<int>(mode), faceStatus), options);
 }
 
 CertificateSummary certifyPatches(PatchCache& cache, int threads, const CertificateOptions& options) {
@@ -365,11 +371,11 @@ CertificateSummary certifyPatches(PatchCache& cache, int threads, const Certific
     if (cache.options.precision == Precision::Double) {
       std::array<double, GP_MAX_N * GP_E_NFIELDS> recs;
       gatherRecords(cache, f, recs.data());
-      c = certifyPatch(n, recs.data(), cache.options.crossTangent, options);
+      c = certifyPatch(n, recs.data(), cache.options.crossTangent, options, cache.faceStatus[f]);
     } else {
       std::array<float, GP_MAX_N * GP_E_NFIELDS> recs;
       gatherRecords(cache, f, recs.data());
-      c = certifyPatch(n, recs.data(), cache.options.crossTangent, options);
+      c = certifyPatch(n, recs.data(), cache.options.crossTangent, options, cache.faceStatus[f]);
     }
     cache.faceCertificate[f] = towardZero(c.margin);
     regular[f] = c.verdict == CertificateVerdict::Regular;

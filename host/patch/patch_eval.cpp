@@ -81,7 +81,8 @@ PatchPoint evalFace(const PatchCache& c, int f, double xi, double eta) {
     return p;
   }
   gatherRecords(c, f, recs);
-  fill<Real>(p, Gp<Real>::eval(n, recs, static_cast<int>(c.options.crossTangent), xi, eta), c.faceStatus[f]);
+  const int mode = gpd::gp_eval_mode(static_cast<int>(c.options.crossTangent), c.faceStatus[f]);
+  fill<Real>(p, Gp<Real>::eval(n, recs, mode, xi, eta), c.faceStatus[f]);
   return p;
 }
 
@@ -98,8 +99,9 @@ void evalGroupScalar(const simd_detail::EvalGroup& g) {
   for (int i = 0; i < GP_E_NFIELDS; ++i)
     for (int k = 0; k < g.n; ++k) recs[k * GP_E_NFIELDS + i] = data[static_cast<size_t>(i) * g.numSlots + g.first + k];
   const auto* dom = Gp<Real>::domain(g.n);
+  const int mode = gpd::gp_eval_mode(g.mode, g.faceStatus);
   for (size_t j = 0; j < g.count; ++j) {
-    fill<Real>(g.sorted ? g.sorted[j] : g.out[g.idx[j]], Gp<Real>::evalDom(dom, recs, g.mode, g.xs[j], g.ys[j]),
+    fill<Real>(g.sorted ? g.sorted[j] : g.out[g.idx[j]], Gp<Real>::evalDom(dom, recs, mode, g.xs[j], g.ys[j]),
                g.faceStatus);
   }
 }

@@ -18,7 +18,7 @@ struct EvalGroup {
   const void* data = nullptr;  ///< the cache's field-major records, double or float
   size_t numSlots = 0;         ///< #C, the stride of a field
   int first = 0;               ///< first slot of the face
-  uint32_t faceStatus = 0;     ///< OR-ed into every point's status
+  uint32_t faceStatus = 0;     ///< OR-ed into every point's status; GP_ST_AFFINE selects the affine map
   const uint32_t* idx = nullptr;
   size_t count = 0;
   const double* xi = nullptr;

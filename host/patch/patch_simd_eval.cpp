@@ -86,12 +86,13 @@ void EvalGroupT(const simd_detail::EvalGroup& g) {
       for (int k = 0; k < g.n; ++k) recs[k * GP_E_NFIELDS + i] = Lane(hn::Set(d, field[k]));
     }
   const typename M::Dom* dom = M::domain(g.n);
+  const int mode = sf::gpd::gp_eval_mode(g.mode, g.faceStatus);
   HWY_ALIGN T res[12][kMax];
   HWY_ALIGN U st[kMax];
   for (size_t base = 0; base < g.count; base += L) {
     const size_t valid = g.count - base < L ? g.count - base : L;
     // the spare lanes of the last vector compute the points after the group (never stored)
-    const auto r = M::eval(dom, recs, g.mode, Lane(LoadPoints(d, g.xs + base)), Lane(LoadPoints(d, g.ys + base)));
+    const auto r = M::eval(dom, recs, mode, Lane(LoadPoints(d, g.xs + base)), Lane(LoadPoints(d, g.ys + base)));
     const Lane* comp[12] = {&r.pos.x,  &r.pos.y,  &r.pos.z,  &r.dxi.x,    &r.dxi.y,    &r.dxi.z,
                             &r.deta.x, &r.deta.y, &r.deta.z, &r.normal.x, &r.normal.y, &r.normal.z};
     for (int c = 0; c < 12; ++c) hn::Store(comp[c]->v, d, res[c]);

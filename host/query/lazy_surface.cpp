@@ -46,9 +46,9 @@ namespace {
 constexpr int kObb = 18;         ///< floats per oriented box (makeObb)
 constexpr int kCellSamples = 4;  ///< samples per cell side, less one: a sector has (2 kCellSamples + 1)^2
 
-/// One face's patch records, built from the face's edge data (buildPatchEdges) in double, and the
-/// cross-tangent mode; in a batch (tlEvaluator) also field-major, as
-/// FacePointEvaluator::evaluateRecords takes them.
+/// One face's patch records, built from the face's edge data (buildPatchEdges) in double, and its
+/// evaluation mode (gp_eval_mode of the construction's status); in a batch (tlEvaluator) also
+/// field-major, as FacePointEvaluator::evaluateRecords takes them.
 struct FaceRecords {
   int n = 0, mode = 0;
   double recordMajor[GP_MAX_N * GP_E_NFIELDS];  ///< as buildPatchEdges writes them
@@ -65,9 +65,10 @@ struct FaceRecords {
 thread_local FacePointEvaluator* tlEvaluator = nullptr;
 
 bool FaceRecords::build(const PatchCache& cache, int f) noexcept {
-  if (buildPatchEdges(cache, f, recordMajor) & GP_ST_NOT_BUILT) return false;
+  const uint32_t status = buildPatchEdges(cache, f, recordMajor);
+  if (status & GP_ST_NOT_BUILT) return false;
   n = cache.faceSize(f);
-  mode = static_cast<int>(cache.options.crossTangent);
+  mode = gpd::gp_eval_mode(static_cast<int>(cache.options.crossTangent), status);
   if (tlEvaluator) recordsFieldMajor(n, recordMajor, fieldMajor);  // without one, sampleSector reads recordMajor
   return true;
 }

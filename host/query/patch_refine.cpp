@@ -237,7 +237,8 @@ PatchPoint PatchRefiner::eval(int f, const Eigen::Vector2d& X) noexcept {
     return p;
   }
   load(f);
-  const int n = cache_.faceSize(f), mode = static_cast<int>(cache_.options.crossTangent);
+  const int n = cache_.faceSize(f),
+            mode = gpd::gp_eval_mode(static_cast<int>(cache_.options.crossTangent), faceStatus(f));
   auto copy = [&](const auto& r) {
     p.pos = {r.pos.x, r.pos.y, r.pos.z};
     p.dxi = {r.dxi.x, r.dxi.y, r.dxi.z};

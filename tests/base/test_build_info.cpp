@@ -128,13 +128,14 @@ TEST(BaseStatus, BitsAreDistinctAndTrackBitsLieAboveThePatchBits) {
     EXPECT_EQ(in, 1) << name << ": one of the three prefixes";
     ++n;
   }
-  EXPECT_EQ(n, 27);
-  EXPECT_EQ(allSt, SF_ST_MODEL_POINT * 2 - 1);  // 0x1 .. 0x400, no gap
+  EXPECT_EQ(n, 28);
+  EXPECT_EQ(allSt, SF_ST_AFFINE * 2 - 1);  // 0x1 .. 0x800, no gap
   EXPECT_EQ(allTrack, SF_TRACK_MASK);
   EXPECT_EQ(allProbe, SF_PROBE_MASK);
   EXPECT_EQ(kStatusBits[10].value, SF_ST_MODEL_POINT);
   EXPECT_STREQ(kStatusBits[10].name, "SF_ST_MODEL_POINT");
-  EXPECT_EQ(SF_TRACK_MASK & (SF_ST_MODEL_POINT * 2 - 1), 0u);
+  EXPECT_EQ(kStatusBits[11].value, SF_ST_AFFINE);
+  EXPECT_EQ(SF_TRACK_MASK & (SF_ST_AFFINE * 2 - 1), 0u);
   // the kernels' spelling (compile-time asserted in base/status.cpp as well)
   EXPECT_EQ(SF_ST_DEGENERATE_MASK, uint32_t(GP_ST_DEGENERATE_MASK));
   EXPECT_EQ(SF_TRACK_DEGENERATE, uint32_t(GP_TRACK_DEGENERATE));

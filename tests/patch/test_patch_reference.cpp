@@ -43,7 +43,26 @@ struct Diff {
 /// Angle between unit vectors, accurate for tiny angles (acos is not: it bottoms out at 2e-8).
 double angle(const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return std::atan2(a.cross(b).norm(), a.dot(b)); }
 
-/// Max differences between the cache's patches and the reference, relative to each face's size.
+/// The patch of a face with GP_ST_AFFINE (a flat triangle with straight edges and its plane's
+/// normals, markAffineTriangles): the affine map of the domain triangle onto V_0 V_1 V_2 at x, from
+/// the corners alone.
+ref::RefEval affineReference(const ref::RefPatch& rp, const Eigen::Vector2d& x) {
+  const Eigen::Vector2d a = domainCorner(3, 0);
+  Eigen::Matrix2d T;
+  T << domainCorner(3, 1) - a, domainCorner(3, 2) - a;
+  const Eigen::Matrix2d Ti = T.inverse();
+  const Eigen::Vector2d l = Ti * (x - a);
+  const Eigen::Vector3d e1 = rp.V[1] - rp.V[0], e2 = rp.V[2] - rp.V[0];
+  ref::RefEval r;
+  r.pos = rp.V[0] + l.x() * e1 + l.y() * e2;
+  r.dxi = Ti(0, 0) * e1 + Ti(1, 0) * e2;
+  r.deta = Ti(0, 1) * e1 + Ti(1, 1) * e2;
+  r.normal = r.dxi.cross(r.deta).normalized();
+  return r;
+}
+
+/// Max differences between the cache's patches and the reference, relative to each face's size
+/// (a face marked GP_ST_AFFINE against its affine map).
 Diff compare(const PatchCache& c, CrossTangentMode mode, int samples) {
   std::mt19937 rng(5);
   Diff d;
@@ -63,7 +82,7 @@ Diff compare(const PatchCache& c, CrossTangentMode mode, int samples) {
         continue;
       }
       ++d.compared;
-      const ref::RefEval r = ev.evaluate(x.x(), x.y());
+      const ref::RefEval r = (c.faceStatus[f] & GP_ST_AFFINE) ? affineReference(rp, x) : ev.evaluate(x.x(), x.y());
       d.pos = std::max(d.pos, (p.pos - r.pos).norm() / size);
       d.deriv = std::max(d.deriv, std::max((p.dxi - r.dxi).norm(), (p.deta - r.deta).norm()) / size);
       // the normal is as well conditioned as the tangent frame: skip nearly parallel dG/dxi, dG/deta

@@ -174,19 +174,22 @@ void addSurfaceArgs(CLI::App& cmd, PatchArgs& a) {
                                     "degrees apart (0: off)")
                          ->check(patchOptionCheck("crease_angle"))
                          ->capture_default_str();
-  a.foldRepairOpt = cmd.add_option("--fold-repair", a.foldRepair,
-                                   "off|on|search: on (split is a synonym) cuts every flat polygon (its vertices on its plane, "
-                                   "whatever its corner normals) with a reflex or straight corner (within 1 degree) "
-                                   "into convex pieces on diagonals between its own vertices before building patches: "
-                                   "the patch of such a polygon folds, or is singular at the straight corner. The cache "
-                                   "holds the pieces; cache info names the faces cut and the pieces of each. search: on, "
-                                   "then vertex normals turned (at most 60 degrees) where that removes fault area of "
-                                   "the closed patch surface, with their mirror images on a symmetric mesh: the lever "
-                                   "for curved polygons (seconds; cache info lists the normals turned; needs the "
-                                   "whole surface, so not for lazy --mesh rendering). off: the "
-                                   "design page's construction on the polygons as read (docs/fold-levers.md)")
-                      ->check(patchOptionCheck("fold_repair"))
-                      ->capture_default_str();
+  a.foldRepairOpt =
+      cmd.add_option("--fold-repair", a.foldRepair,
+                     "off|on|search: on (split is a synonym) cuts every flat polygon (its vertices on its plane, "
+                     "whatever its corner normals) with a reflex or straight corner (within 1 degree) "
+                     "into convex pieces on diagonals between its own vertices before building patches: "
+                     "the patch of such a polygon folds, or is singular at the straight corner. The cache "
+                     "holds the pieces; cache info names the faces cut and the pieces of each. A flat "
+                     "triangle with straight edges and its plane's corner normals is evaluated as its "
+                     "affine map (the same surface where its patch did not fold). search: on, "
+                     "then vertex normals turned (at most 60 degrees) where that removes fault area of "
+                     "the closed patch surface, with their mirror images on a symmetric mesh: the lever "
+                     "for curved polygons (seconds; cache info lists the normals turned; needs the "
+                     "whole surface, so not for lazy --mesh rendering). off: the "
+                     "design page's construction on the polygons as read (docs/fold-levers.md)")
+          ->check(patchOptionCheck("fold_repair"))
+          ->capture_default_str();
 }
 
 void addBackendArgs(CLI::App& cmd, PatchArgs& a) {

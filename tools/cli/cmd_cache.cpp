@@ -37,6 +37,11 @@ void printPatchSummary(const PatchCache& c) {
   list("fold", s.foldFaces);
   list("bulge", s.bulgeFaces);
   list("degenerate", s.degenerateFaces);
+  if (!s.affineFaces.empty())
+    std::printf(
+        "  flat triangles with straight edges and their plane's normals, each patch its affine map (the "
+        "same surface, never folded), %zu faces:%s\n",
+        s.affineFaces.size(), faceIdsText(s.affineFaces).c_str());
   if (!s.insideOutFaces.empty())
     std::printf("  corners inside out (the two edge curves leave the vertex in the wrong order about its normal: the "
                 "patch folds there), %zu faces:%s\n",

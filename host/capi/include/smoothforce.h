@@ -50,6 +50,8 @@ enum sf_status_bits {
   SF_ST_NONFINITE = 0x200,          /**< non-finite input */
   SF_ST_MODEL_POINT = 0x400,        /**< the SCP and normal come from the refinement's quadratic
                                          model (final_step "model"), not a patch evaluation */
+  SF_ST_AFFINE = 0x800,             /**< the patch is its flat triangle's affine map (straight edges,
+                                         every corner normal the plane's; fold repair on) */
   SF_TRACK_CONVERGED = 0x10000,     /**< refinement met the tolerances */
   SF_TRACK_MAX_ITER = 0x20000,      /**< refinement hit the iteration cap */
   SF_TRACK_STALLED = 0x40000,       /**< no step could decrease the distance before the tolerance */
@@ -62,7 +64,8 @@ enum sf_status_bits {
   SF_TRACK_BAD_HIP = 0x2000000,     /**< HIP not finite or beyond 1e15 m: not rendered, state reset */
   SF_TRACK_PROXY_LIMIT = 0x4000000, /**< god-object: more than 3 constraints or the pass limit */
   SF_TRACK_INSIDE = 0x8000000,      /**< contact started: the HIP is inside the surface */
-  SF_TRACK_FOLD_EDGE = 0x10000000   /**< the SCP is held on an edge where the surface turns back (a fold, or a crease at a valley) */
+  SF_TRACK_FOLD_EDGE =
+      0x10000000 /**< the SCP is held on an edge where the surface turns back (a fold, or a crease at a valley) */
 };
 
 /** A whole-mesh patch cache (or a mesh whose patches are built on demand). */

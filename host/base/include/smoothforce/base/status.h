@@ -33,13 +33,16 @@ inline constexpr uint32_t SF_ST_NONFINITE = 0x200u;       ///< non-finite input
 /// the SCP, derivatives and normal come from the refinement's quadratic model at the SCP's domain
 /// point, not from an evaluation of the patch (RefineOptions::finalStep = FinalStep::Model)
 inline constexpr uint32_t SF_ST_MODEL_POINT = 0x400u;
+/// the patch is its flat triangle's affine map: straight edges, every corner normal the plane's
+/// (the default construction, markAffineTriangles: the same surface, never folded)
+inline constexpr uint32_t SF_ST_AFFINE = 0x800u;
 /// The most sides a polygon's patch can have (GP_MAX_N); larger faces get no patch.
 inline constexpr int SF_MAX_PATCH_SIDES = 64;
 /// The bits that make a patch degenerate (its surface is a fallback or missing).
 inline constexpr uint32_t SF_ST_DEGENERATE_MASK =
     SF_ST_ZERO_EDGE | SF_ST_EDGE_NORMAL | SF_ST_CROSS_TANGENT | SF_ST_TOO_MANY_SIDES | SF_ST_NONFINITE;
 
-/// SF_TRACK_* bits: 0x10000 .. 0x10000000, above the SF_ST_* bits (0x1 .. 0x400), which
+/// SF_TRACK_* bits: 0x10000 .. 0x10000000, above the SF_ST_* bits (0x1 .. 0x800), which
 /// ForceSample::status also carries (the patch's construction and evaluation bits).
 /// CONVERGED .. DEGENERATE and FOLD_EDGE equal the refinement's GP_TRACK_* (kernels/gp_config.h).
 inline constexpr uint32_t SF_TRACK_CONVERGED = 0x10000u;  ///< refinement met the tolerances
@@ -83,15 +86,16 @@ struct StatusBit {
 #define SF_STATUS_BIT(name) \
   StatusBit { #name, name }  // the name spelled once
 inline constexpr StatusBit kStatusBits[] = {
-    SF_STATUS_BIT(SF_ST_GUARD),          SF_STATUS_BIT(SF_ST_ZERO_EDGE),     SF_STATUS_BIT(SF_ST_EDGE_NORMAL),
-    SF_STATUS_BIT(SF_ST_CROSS_TANGENT),  SF_STATUS_BIT(SF_ST_FOLD),          SF_STATUS_BIT(SF_ST_BULGE),
-    SF_STATUS_BIT(SF_ST_OUTSIDE),        SF_STATUS_BIT(SF_ST_SINGULAR),      SF_STATUS_BIT(SF_ST_TOO_MANY_SIDES),
-    SF_STATUS_BIT(SF_ST_NONFINITE),      SF_STATUS_BIT(SF_ST_MODEL_POINT),   SF_STATUS_BIT(SF_TRACK_CONVERGED),
-    SF_STATUS_BIT(SF_TRACK_MAX_ITER),    SF_STATUS_BIT(SF_TRACK_STALLED),    SF_STATUS_BIT(SF_TRACK_BOUNDARY),
-    SF_STATUS_BIT(SF_TRACK_DEGENERATE),  SF_STATUS_BIT(SF_TRACK_GLOBAL),     SF_STATUS_BIT(SF_TRACK_ENTER),
-    SF_STATUS_BIT(SF_TRACK_LEAVE),       SF_STATUS_BIT(SF_TRACK_NO_POLYGON), SF_STATUS_BIT(SF_TRACK_BAD_HIP),
-    SF_STATUS_BIT(SF_TRACK_PROXY_LIMIT), SF_STATUS_BIT(SF_TRACK_INSIDE),     SF_STATUS_BIT(SF_TRACK_FOLD_EDGE),
-    SF_STATUS_BIT(SF_PROBE_INSIDE),      SF_STATUS_BIT(SF_PROBE_UNDECIDED),  SF_STATUS_BIT(SF_PROBE_ON_FAULT),
+    SF_STATUS_BIT(SF_ST_GUARD),         SF_STATUS_BIT(SF_ST_ZERO_EDGE),      SF_STATUS_BIT(SF_ST_EDGE_NORMAL),
+    SF_STATUS_BIT(SF_ST_CROSS_TANGENT), SF_STATUS_BIT(SF_ST_FOLD),           SF_STATUS_BIT(SF_ST_BULGE),
+    SF_STATUS_BIT(SF_ST_OUTSIDE),       SF_STATUS_BIT(SF_ST_SINGULAR),       SF_STATUS_BIT(SF_ST_TOO_MANY_SIDES),
+    SF_STATUS_BIT(SF_ST_NONFINITE),     SF_STATUS_BIT(SF_ST_MODEL_POINT),    SF_STATUS_BIT(SF_ST_AFFINE),
+    SF_STATUS_BIT(SF_TRACK_CONVERGED),  SF_STATUS_BIT(SF_TRACK_MAX_ITER),    SF_STATUS_BIT(SF_TRACK_STALLED),
+    SF_STATUS_BIT(SF_TRACK_BOUNDARY),   SF_STATUS_BIT(SF_TRACK_DEGENERATE),  SF_STATUS_BIT(SF_TRACK_GLOBAL),
+    SF_STATUS_BIT(SF_TRACK_ENTER),      SF_STATUS_BIT(SF_TRACK_LEAVE),       SF_STATUS_BIT(SF_TRACK_NO_POLYGON),
+    SF_STATUS_BIT(SF_TRACK_BAD_HIP),    SF_STATUS_BIT(SF_TRACK_PROXY_LIMIT), SF_STATUS_BIT(SF_TRACK_INSIDE),
+    SF_STATUS_BIT(SF_TRACK_FOLD_EDGE),  SF_STATUS_BIT(SF_PROBE_INSIDE),      SF_STATUS_BIT(SF_PROBE_UNDECIDED),
+    SF_STATUS_BIT(SF_PROBE_ON_FAULT),
 };
 #undef SF_STATUS_BIT
 

@@ -33,4 +33,26 @@ void constructPatches(PatchCache& cache, const BuildOptions& options);
 /// std::invalid_argument as constructPatches does, and for a face id out of range or repeated.
 void constructPatchesOf(PatchCache& cache, const std::vector<int>& faces, const BuildOptions& options);
 
+/// The tolerances of markAffineTriangles in a double and a float cache (isAffineTriangle).
+inline constexpr double kAffineTriangleTolerance = 1e-9, kAffineTriangleToleranceFloat = 1e-5;
+
+/// Whether a triangle's built records (3 x GP_E_NFIELDS, record-major) are a flat triangle with
+/// straight edges whose corner normals are all its plane's: every end tangent equal to its edge's
+/// chord and every corner normal equal to the unit normal of V_0 V_1 V_2 (right-handed), each
+/// within `tolerance` (relative to the edge length; of the unit vectors), and that normal defined
+/// (twice the area above `tolerance` times the longest edge squared). false for n != 3.
+bool isAffineTriangle(int n, const double* recs, double tolerance);
+bool isAffineTriangle(int n, const float* recs, double tolerance);
+
+/// The default construction's treatment of flat triangles (fold repair on; nothing with
+/// FoldRepairMode::Off): every built triangle of `faces` (null: all) whose records pass
+/// isAffineTriangle (kAffineTriangleTolerance, kAffineTriangleToleranceFloat) gets GP_ST_AFFINE, so that every
+/// evaluation takes its patch as the affine map of the domain triangle (kernels/gp_eval.h,
+/// gp_patch_eval_affine3: the same boundary and tangent plane, never folded), and its quality bits
+/// and bulge measured again on that map. The Gregory patch of such a triangle folds in its own
+/// plane where the triangle is thin or obtuse (docs/fold-levers.md). constructPatches,
+/// constructPatchesOf, the lazy construction and the OpenCL construction apply it; a triangle
+/// already marked is left as it is. Throws std::invalid_argument for a skeleton cache.
+void markAffineTriangles(PatchCache& cache, const std::vector<int>* faces = nullptr);
+
 }  // namespace sf

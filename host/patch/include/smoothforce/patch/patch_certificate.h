@@ -95,9 +95,13 @@ struct PatchCertificate {
 /// boundary projects to a simple curve there), a regular one no point where its normal vanishes;
 /// both lie on n_c's side at every edge's midpoint, so with the construction's G1 (the patch
 /// normal parallel to n_c along an edge) and a normal that vanishes nowhere, along the whole edge:
-/// the patch meets its neighbours without turning back. Never throws; thread-safe.
-PatchCertificate certifyPatch(int n, const double* recs, CrossTangentMode mode, const CertificateOptions& options = {});
-PatchCertificate certifyPatch(int n, const float* recs, CrossTangentMode mode, const CertificateOptions& options = {});
+/// the patch meets its neighbours without turning back. faceStatus: the face's construction status
+/// (GP_ST_AFFINE: the patch is its triangle's affine map, markAffineTriangles). Never throws;
+/// thread-safe.
+PatchCertificate certifyPatch(int n, const double* recs, CrossTangentMode mode, const CertificateOptions& options = {},
+                              uint32_t faceStatus = 0);
+PatchCertificate certifyPatch(int n, const float* recs, CrossTangentMode mode, const CertificateOptions& options = {},
+                              uint32_t faceStatus = 0);
 
 /// Counts of a cache's certificates, and the faces that are not certified (ids, ascending).
 struct CertificateSummary {

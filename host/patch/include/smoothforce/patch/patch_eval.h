@@ -67,7 +67,8 @@ class FacePointEvaluator {
   void evaluate(int f, const double* xi, const double* eta, int count, PatchPoint* out) noexcept;
   /// The same on double records given by the caller: n (3..GP_MAX_N) records of GP_E_NFIELDS,
   /// field-major (field i of corner k at recs[i * n + k]); mode: the cross-tangent mode (GP_CT_*);
-  /// faceStatus: the face's GP_ST_* construction bits, added to every point's status.
+  /// faceStatus: the face's GP_ST_* construction bits, added to every point's status (GP_ST_AFFINE:
+  /// the patch is the triangle's affine map, gp_eval_mode).
   void evaluateRecords(int n, int mode, uint32_t faceStatus, const double* recs, const double* xi, const double* eta,
                        int count, PatchPoint* out) noexcept;
 
