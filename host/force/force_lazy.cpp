@@ -2,7 +2,6 @@
 // The patch method's global query on a skeleton cache: faces chosen by their patch boxes,
 // patches built only where they can hold the nearest point (force_tracking_detail.h).
 #include <algorithm>
-#include <cmath>
 #include <limits>
 
 #include <smoothforce/base/status.h>
@@ -157,21 +156,17 @@ void lazyGlobalStep(LazyPatchSurface& surface, const PolygonScene& scene, const 
   bool inside = false;
   RefineResult scp = q.nearest;
   if (usableRefinement(q.nearest)) {
-    const Eigen::Vector3d toHip = hip - q.nearest.scp;
-    const double side = toHip.dot(q.nearest.normal);
-    const bool below = side < 0;
+    const bool below = (hip - q.nearest.scp).dot(q.nearest.normal) < 0;
     // held on a fold edge of a closed mesh, the point has two sides by itself: on a crease curve
     // (a valley's, or a ridge's seen from outside) the two sides' tangent planes decide
     // (creaseSidesVerdict); elsewhere the base polygons' inside test decides (a sheet about as
     // near on the other side is left to the nearest point: on the spot cage's folds the polygons
     // disagree with the patches more often than not)
     const bool foldEdge = q.nearest.status & SF_TRACK_FOLD_EDGE;
-    // a HIP off the surface in its nearest point's tangent plane (within 1e-9 rad, where rounding
-    // picks the side) is on neither side of it: its nearest point then lies on the patch's
-    // boundary (elsewhere HIP - SCP runs along the normal), on a crease curve, and the crease's two
-    // sides decide as on a fold edge (at a valley, level with one sheet and below the other is
-    // inside)
-    const bool level = toHip.squaredNorm() > 0 && std::abs(side) <= 1e-9 * toHip.norm();
+    // a HIP level with its nearest point (on a crease curve) is on neither side of it: the
+    // crease's two sides decide as on a fold edge (at a valley, level with one sheet and below
+    // the other is inside)
+    const bool level = levelWithTangentPlane(q.nearest, hip);
     const bool conflict = foldEdge || level;
     const int creaseVerdict =
         conflict && closed && !far ? creaseSidesVerdict(cache, refiner, hip, heldOnDomainEdge(cache, q.nearest)) : -1;

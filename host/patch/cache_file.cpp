@@ -357,9 +357,7 @@ PatchCache readPatchCache(const std::string& path, const CacheExpectation& expec
   for (uint64_t f = 0; f < h.numFaces; ++f) {
     const uint32_t st = c.faceStatus[f];
     const bool tooMany = c.faceOffsets[f + 1] - c.faceOffsets[f] > GP_MAX_N;
-    const bool affineOk =
-        !(st & GP_ST_AFFINE) || (opt.foldRepair != FoldRepairMode::Off &&
-                                 c.faceOffsets[f + 1] - c.faceOffsets[f] == 3 && !(st & GP_ST_NOT_BUILT));
+    const bool affineOk = !(st & GP_ST_AFFINE) || (opt.foldRepair != FoldRepairMode::Off && !(st & GP_ST_NOT_BUILT));
     if ((st & ~kConstructionBits) || bool(st & GP_ST_TOO_MANY_SIDES) != tooMany || !affineOk)
       throw fail("face " + std::to_string(f) + " has a status word the construction cannot give (" +
                  std::to_string(st) + ")");
@@ -406,11 +404,9 @@ PatchCache readPatchCache(const std::string& path, const CacheExpectation& expec
       // a triangle marked affine is one (markAffineTriangles): else its affine map would not meet
       // its neighbours' edge curves
       if (c.faceStatus[f] & GP_ST_AFFINE) {
-        Real recs[3 * GP_E_NFIELDS];
-        for (int k = 0; k < 3; ++k)
-          for (int i = 0; i < GP_E_NFIELDS; ++i) recs[k * GP_E_NFIELDS + i] = data[i * C + c.faceOffsets[f] + k];
-        if (!isAffineTriangle(3, recs,
-                              std::is_same_v<Real, double> ? kAffineTriangleTolerance : kAffineTriangleToleranceFloat))
+        Real recs[GP_MAX_N * GP_E_NFIELDS];
+        gatherRecords(c, static_cast<int>(f), recs);
+        if (!isAffineTriangle(c.faceSize(static_cast<int>(f)), recs))
           throw fail("face " + std::to_string(f) +
                      " is marked as a flat triangle with straight edges (evaluated as its affine map) but its "
                      "patch records are not one");

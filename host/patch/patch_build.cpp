@@ -193,17 +193,12 @@ bool affineTriangle(int n, const Real* recs, double tol) {
   return true;
 }
 
-/// The default construction's tolerance of isAffineTriangle in the cache's precision.
-template <class Real>
-constexpr double kAffineTolerance =
-    std::is_same_v<Real, double> ? kAffineTriangleTolerance : kAffineTriangleToleranceFloat;
-
 /// Status st of a built face with records recs, with GP_ST_AFFINE where markAffineTriangles gives
 /// it, the quality bits and bulge (where bulgeOut is not null) then from the affine map.
 template <class Real>
 uint32_t withAffine(const PatchCache& c, int n, const Real* recs, uint32_t st, float* bulgeOut, bool quality) {
   if (c.options.foldRepair == FoldRepairMode::Off || (st & (GP_ST_DEGENERATE_MASK | GP_ST_AFFINE)) ||
-      !affineTriangle(n, recs, kAffineTolerance<Real>))
+      !isAffineTriangle(n, recs))
     return st;
   st |= GP_ST_AFFINE;
   if (!quality) return st;

@@ -27,6 +27,11 @@ bool usableRefinement(const RefineResult& r) noexcept {
   return !(r.status & SF_TRACK_DEGENERATE) && r.scp.allFinite() && r.normal.allFinite() && r.normal.squaredNorm() > 0.5;
 }
 
+bool levelWithTangentPlane(const RefineResult& r, const Eigen::Vector3d& hip) noexcept {
+  const Eigen::Vector3d toHip = hip - r.scp;
+  return toHip.squaredNorm() > 0 && std::abs(toHip.dot(r.normal)) <= 1e-9 * toHip.norm();
+}
+
 void tighterReach(const PatchSurface& surface, double r, int face, double& reach, int& reachFace) noexcept {
   if (surface.searchRadius(r, face) < surface.searchRadius(reach, reachFace)) {
     reach = r;
@@ -259,12 +264,10 @@ bool insidePatchSurface(const PatchSurface& surface, const Eigen::Vector3d& hip,
   const int verdict = windingVerdict == -2 ? insideByWinding(surface, hip) : windingVerdict;
   const bool useWinding = conflict || verdict >= 0;
   const bool inside = useWinding ? (verdict >= 0 ? verdict == 1 : surface.winding(hip) >= 1) : below;
-  // the SCP: the nearest point the HIP is below; a nearest point whose tangent plane holds the HIP
-  // (within 1e-9 rad: its nearest point on a valley's crease, level with one sheet) is itself the
-  // nearest (a refinement on the other sheet can stall along the crease short of it)
-  const Eigen::Vector3d toHip = hip - q.nearest.scp;
-  const bool level = toHip.squaredNorm() > 0 && std::abs(toHip.dot(q.nearest.normal)) <= 1e-9 * toHip.norm();
-  if (inside && scp && q.anyBelow && !level) *scp = q.nearestBelow;
+  // the SCP: the nearest point the HIP is below; a nearest point level with the HIP (on a valley's
+  // crease) is itself the nearest (a refinement on the other sheet can stall along the crease
+  // short of it)
+  if (inside && scp && q.anyBelow && !levelWithTangentPlane(q.nearest, hip)) *scp = q.nearestBelow;
   return inside;
 }
 

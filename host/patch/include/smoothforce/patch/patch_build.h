@@ -40,13 +40,14 @@ inline constexpr double kAffineTriangleTolerance = 1e-9, kAffineTriangleToleranc
 /// straight edges whose corner normals are all its plane's: every end tangent equal to its edge's
 /// chord and every corner normal equal to the unit normal of V_0 V_1 V_2 (right-handed), each
 /// within `tolerance` (relative to the edge length; of the unit vectors), and that normal defined
-/// (twice the area above `tolerance` times the longest edge squared). false for n != 3.
-bool isAffineTriangle(int n, const double* recs, double tolerance);
-bool isAffineTriangle(int n, const float* recs, double tolerance);
+/// (twice the area above `tolerance` times the longest edge squared). false for n != 3. The
+/// default tolerance is the default construction's for records of that precision.
+bool isAffineTriangle(int n, const double* recs, double tolerance = kAffineTriangleTolerance);
+bool isAffineTriangle(int n, const float* recs, double tolerance = kAffineTriangleToleranceFloat);
 
 /// The default construction's treatment of flat triangles (fold repair on; nothing with
 /// FoldRepairMode::Off): every built triangle of `faces` (null: all) whose records pass
-/// isAffineTriangle (kAffineTriangleTolerance, kAffineTriangleToleranceFloat) gets GP_ST_AFFINE, so that every
+/// isAffineTriangle (its default tolerance) gets GP_ST_AFFINE, so that every
 /// evaluation takes its patch as the affine map of the domain triangle (kernels/gp_eval.h,
 /// gp_patch_eval_affine3: the same boundary and tangent plane, never folded), and its quality bits
 /// and bulge measured again on that map. The Gregory patch of such a triangle folds in its own

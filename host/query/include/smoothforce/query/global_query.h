@@ -23,6 +23,12 @@ PatchSurfaceOptions patchSurfaceOptions(const RefineOptions& options);
 /// A refined point that can carry a contact: not degenerate, finite, with a unit normal.
 bool usableRefinement(const RefineResult& r) noexcept;
 
+/// Whether the HIP (m), off the surface, lies in the tangent plane of the refined point r (within
+/// 1e-9 rad), where rounding picks its side: r is then no interior nearest point (there HIP - SCP
+/// runs along the normal) but one on the patch's boundary, on a crease curve, level with r's sheet
+/// (a valley's corner), and r's side does not tell inside from outside.
+bool levelWithTangentPlane(const RefineResult& r, const Eigen::Vector3d& hip) noexcept;
+
 /// Keeps the tighter of two bounds on a point's distance to the patch surface (m; each with the
 /// face of the patch point it is measured to, -1: unknown): the one whose candidate search
 /// starts at the smaller radius (PatchSurface::searchRadius).
