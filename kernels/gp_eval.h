@@ -113,18 +113,27 @@ GP_FN_INLINE void gp_eval_outside(gp_eval_result* out, GP_MASK outside) {
   }
 }
 
-/* The patch of a face with GP_ST_AFFINE (a flat triangle with straight edges whose corner normals
- * are all its plane's): the affine map of the domain triangle onto V_0 V_1 V_2,
- * G(X) = V_0 + lambda_1 (V_1 - V_0) + lambda_2 (V_2 - V_0), with the barycentric coordinates
- * lambda_{k+2} = d_k / (3 cos(pi/3)) (d_k of Eq. 3; corner k + 2 lies opposite edge k). On edge k
- * it is (1 - t_k) V_k + t_k V_{k+1}, the Gregory patch's point there (the Hermite edge curve whose
- * end tangents are the chord, Eq. 6, is that line at t_k), and its tangent plane is the face's
- * plane, which the neighbours' patches take along the edge from the same corner normals: the
- * surface stays closed and G1. The Gregory patch of such a triangle folds in its own plane where
- * the triangle is thin or obtuse (the corner interpolators of Eq. 2 do not reproduce an affine
- * map; docs/fold-levers.md); the affine map never does. */
+/* The patch of a face with GP_ST_AFFINE (a flat triangle whose corner normals are all its plane's,
+ * its edge curves in that plane): the affine map of the domain triangle onto V_0 V_1 V_2 plus each
+ * edge curve's deviation from its chord, blended in,
+ *   G(X) = V_0 + lambda_1 (V_1 - V_0) + lambda_2 (V_2 - V_0)
+ *          + sum_k (lambda_k + lambda_{k+1}) (C_k(t_k) - (1 - t_k) V_k - t_k V_{k+1}),
+ * with the barycentric coordinates lambda_{k+2} = d_k / (3 cos(pi/3)) (d_k of Eq. 3; corner k + 2
+ * lies opposite edge k) and t_k the edge parameter of Eq. 4. The deviation of the Hermite curve
+ * (Eq. 6) is h10(t) (M_0 - E) + h11(t) (M_1 - E) with E = V_1 - V_0, zero on a straight edge. On
+ * edge k, t_k runs along the edge and the other edges' deviations vanish (their t sits at an end),
+ * so G is C_k(t_k), the Gregory patch's point there; it lies in the plane, which the neighbours'
+ * patches take as their tangent plane along the edge from the same corner normals: the surface
+ * stays closed and G1. With s = lambda_k + lambda_{k+1} (so s t_k = lambda_{k+1}), the blended
+ * deviation is s (t (1-t)^2 a - t^2 (1-t) b), a = M_0 - E, b = M_1 - E; its partials in
+ * p = d_{k-1} and q = d_{k+1} are polynomials in t (bounded where s -> 0, at the corner opposite
+ * the edge; the certificate's enclosures need no cancelled form). The Gregory patch of a flat
+ * triangle folds in its own plane where the triangle is thin or obtuse (the corner interpolators
+ * of Eq. 2 do not reproduce an affine map; docs/fold-levers.md); the affine map with straight
+ * edges never does, and markAffineTriangles marks a triangle with curved edges only where a bound
+ * on the deviations' Jacobian proves this map regular. */
 GP_FN_INLINE gp_eval_result gp_patch_eval_affine3(const gp_domain* dom, const GP_REAL* recs, GP_REAL xi, GP_REAL eta,
-                                                  int deriv) {
+                                                  const GP_REAL* d, int deriv) {
   gp_eval_result out;
   out.pos = out.dxi = out.deta = out.normal = gp_zero3();
   out.status = 0u;
@@ -135,9 +144,39 @@ GP_FN_INLINE gp_eval_result gp_patch_eval_affine3(const gp_domain* dom, const GP
   const GP_REAL l1 = (dom->apothem - (xi * dom->mx[2] + eta * dom->my[2])) * ih;
   const GP_REAL l2 = (dom->apothem - (xi * dom->mx[0] + eta * dom->my[0])) * ih;
   out.pos = gp_madd(gp_madd(v0, e1, l1), e2, l2);
+  if (deriv) {
+    out.dxi = gp_add(gp_scale(e1, -dom->mx[2] * ih), gp_scale(e2, -dom->mx[0] * ih));
+    out.deta = gp_add(gp_scale(e1, -dom->my[2] * ih), gp_scale(e2, -dom->my[0] * ih));
+  }
+  GP_UNROLL
+  for (int k = 0; k < 3; ++k) { /* the curved edges' deviations from their chords */
+    const GP_REAL* rec = recs + k * GP_E_NFIELDS;
+    const gp_vec3 e = gp_sub(gp_get3(rec, GP_E_V1), gp_get3(rec, GP_E_V0));
+    const gp_vec3 a = gp_sub(gp_get3(rec, GP_E_M0), e), b = gp_sub(gp_get3(rec, GP_E_M1), e);
+    const int km = k == 0 ? 2 : k - 1, kp = k == 2 ? 0 : k + 1;
+    const GP_REAL p = d[km], q = d[kp], s = p + q;
+    const GP_REAL t = GP_EDGE_PARAM(p, q, s, s > GP_R(0.0)), t1 = GP_R(1.0) - t;
+    /* position: ih s t (1-t) ((1-t) a - t b) */
+    const gp_vec3 dev = gp_scale(gp_sub(gp_scale(a, t1), gp_scale(b, t)), ih * s * t * t1);
+#ifdef GP_INTERVAL
+    const GP_MASK curved = (GP_MASK)(1); /* a straight edge adds exact zeros */
+#else
+    /* a straight edge (a = b = 0 exactly) leaves the affine map's bits */
+    const GP_MASK curved =
+        GP_FABS(a.x) + GP_FABS(a.y) + GP_FABS(a.z) + GP_FABS(b.x) + GP_FABS(b.y) + GP_FABS(b.z) > GP_R(0.0);
+    if (!GP_ANY(curved)) continue;
+#endif
+    out.pos = gp_sel3(curved, gp_add(out.pos, dev), out.pos);
+    if (!deriv) continue;
+    /* partials of s h10(t) and s (-h11(t)) in p and q (t = p / s); grad p = -m_{k-1}, grad q = -m_{k+1} */
+    const gp_vec3 dp = gp_sub(gp_scale(a, t1 * t1 * (GP_R(1.0) - GP_R(2.0) * t)), gp_scale(b, GP_R(2.0) * t * t1 * t1));
+    const gp_vec3 dq = gp_sub(gp_scale(a, GP_R(2.0) * t * t * t1), gp_scale(b, t * t * (GP_R(2.0) * t - GP_R(1.0))));
+    const gp_vec3 gx = gp_scale(gp_add(gp_scale(dp, dom->mx[km]), gp_scale(dq, dom->mx[kp])), -ih);
+    const gp_vec3 gy = gp_scale(gp_add(gp_scale(dp, dom->my[km]), gp_scale(dq, dom->my[kp])), -ih);
+    out.dxi = gp_sel3(curved, gp_add(out.dxi, gx), out.dxi);
+    out.deta = gp_sel3(curved, gp_add(out.deta, gy), out.deta);
+  }
   if (!deriv) return out;
-  out.dxi = gp_add(gp_scale(e1, -dom->mx[2] * ih), gp_scale(e2, -dom->mx[0] * ih));
-  out.deta = gp_add(gp_scale(e1, -dom->my[2] * ih), gp_scale(e2, -dom->my[0] * ih));
 #ifndef GP_INTERVAL
   gp_eval_normal(&out, gp_get3(recs, GP_E_N0), recs);
 #endif
@@ -168,7 +207,7 @@ GP_FN_INLINE gp_eval_result gp_patch_eval_dom_n(const gp_domain* dom, const int 
     return out;
   }
   if (n == 3 && (mode & GP_EVAL_AFFINE)) {
-    out = gp_patch_eval_affine3(dom, recs, xi, eta, deriv);
+    out = gp_patch_eval_affine3(dom, recs, xi, eta, d, deriv);
     gp_eval_outside(&out, outside);
     return out;
   }

@@ -401,15 +401,15 @@ PatchCache readPatchCache(const std::string& path, const CacheExpectation& expec
                        " (the normals do not match the patches built from them)");
         }
       }
-      // a triangle marked affine is one (markAffineTriangles): else its affine map would not meet
-      // its neighbours' edge curves
+      // a triangle marked affine is one (markAffineTriangles): else its map would not lie in the
+      // neighbours' tangent planes or could fold
       if (c.faceStatus[f] & GP_ST_AFFINE) {
         Real recs[GP_MAX_N * GP_E_NFIELDS];
         gatherRecords(c, static_cast<int>(f), recs);
         if (!isAffineTriangle(c.faceSize(static_cast<int>(f)), recs))
           throw fail("face " + std::to_string(f) +
-                     " is marked as a flat triangle with straight edges (evaluated as its affine map) but its "
-                     "patch records are not one");
+                     " is marked as a flat triangle (evaluated as its affine map with its edge curves) but its "
+                     "patch records are not one, or that map is not proven regular");
       }
     }
   };

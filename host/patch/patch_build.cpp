@@ -172,25 +172,88 @@ void gather(const PatchCache& c, const std::vector<Real>& data, int f, Real* rec
 }
 
 template <class Real>
-bool affineTriangle(int n, const Real* recs, double tol) {
-  if (n != 3) return false;
+double affineMargin(int n, const Real* recs, double tol) {
+  if (n != 3) return 0;
   auto get = [&](int k, int field) {
     const Real* r = recs + k * GP_E_NFIELDS + field;
     return Eigen::Vector3d(double(r[0]), double(r[1]), double(r[2]));
   };
-  const Eigen::Vector3d v0 = get(0, GP_E_V0), cross = (get(1, GP_E_V0) - v0).cross(get(2, GP_E_V0) - v0);
+  const Eigen::Vector3d v0 = get(0, GP_E_V0), e1 = get(1, GP_E_V0) - v0, e2 = get(2, GP_E_V0) - v0;
+  const Eigen::Vector3d cross = e1.cross(e2);
   double longest = 0;
   for (int k = 0; k < 3; ++k) longest = std::max(longest, (get(k, GP_E_V1) - get(k, GP_E_V0)).norm());
-  if (!(cross.norm() > tol * longest * longest)) return false;  // also NaN
+  if (!(cross.norm() > tol * longest * longest)) return 0;  // also NaN
   const Eigen::Vector3d normal = cross.normalized();
+  // the plane's basis (u, w, normal) and the affine map's in-plane Jacobian A (columns d/dxi,
+  // d/deta; gp_patch_eval_affine3)
+  const Eigen::Vector3d u = e1.normalized(), w = normal.cross(u);
+  gpd::gp_domain scratch;
+  const gpd::gp_domain* dom = gpd::gp_domain_of(3, &scratch, 0);
+  const double ih = 1.0 / (3.0 * dom->apothem);
+  const Eigen::Vector3d jx = -(dom->mx[2] * e1 + dom->mx[0] * e2) * ih, jy = -(dom->my[2] * e1 + dom->my[0] * e2) * ih;
+  Eigen::Matrix2d A;
+  A << jx.dot(u), jy.dot(u), jx.dot(w), jy.dot(w);
+  const double det = A.determinant();
+  if (!(det > 0)) return 0;
+  Eigen::Matrix2d adj;
+  adj << A(1, 1), -A(0, 1), -A(1, 0), A(0, 0);
+  // The curved edges' part P of the Jacobian: per edge k, -ih times the gradients' directions
+  // m_{k-1}, m_{k+1} (of d_{k-1}, d_{k+1}) times combinations of a = M0 - E and b = M1 - E with
+  // coefficients cubic in t = t_k: alpha = (1-t)^2 (1-2t), beta = 2t(1-t)^2 (for d_{k-1}),
+  // gamma = 2t^2(1-t), delta = t^2(2t-1) (for d_{k+1}). In the plane,
+  // det(A + s P) = det A + s tr(adj(A) P) + s^2 det P, and tr(adj(A) P) = -ih sum_k f_k(t_k) with
+  // f_k(t) = m_{k-1}.adj(A)(alpha a - beta b) + m_{k+1}.adj(A)(gamma a - delta b), a cubic whose
+  // largest value on [0, 1] (at an end or where f' = 0) bounds it, each t_k taken independently
+  // (the direction of each deviation against A counts: one along the triangle's tall direction
+  // moves det little). det P = sum_k det P_k + sum_{j<k} tr(adj(P_j) P_k), with
+  // det P_k = ih^2 (beta gamma - alpha delta) det(a, b) det(m_{k-1}, m_{k+1}), that coefficient
+  // t^2 (1-t)^2 <= 1/16, and |tr(adj(P_j) P_k)| <= |P_j| |P_k| (Frobenius norms, bounded from the
+  // coefficients' largest values 1, 8/27, 8/27, 1). det(A + s P) > 0 for every s in [0, 1] where
+  // the bound below is: regular, and on the plane's side from the affine map (s = 0) on.
+  double T = 0, norm = 0, out = 0, detP = 0, norms[3] = {0, 0, 0};
   for (int k = 0; k < 3; ++k) {
-    const Eigen::Vector3d chord = get(k, GP_E_V1) - get(k, GP_E_V0);
-    const double bound = tol * chord.norm();
-    if (!((get(k, GP_E_M0) - chord).norm() <= bound && (get(k, GP_E_M1) - chord).norm() <= bound &&
-          (get(k, GP_E_N0) - normal).norm() <= tol && (get(k, GP_E_N1) - normal).norm() <= tol))
-      return false;
+    const Eigen::Vector3d chord = get(k, GP_E_V1) - get(k, GP_E_V0), m0 = get(k, GP_E_M0), m1 = get(k, GP_E_M1);
+    const double len = chord.norm();
+    // the corner normals are the plane's; the end tangents lie in it and run along the edge
+    if (!((get(k, GP_E_N0) - normal).norm() <= tol && (get(k, GP_E_N1) - normal).norm() <= tol &&
+          std::abs(m0.dot(normal)) <= tol * len && std::abs(m1.dot(normal)) <= tol * len && m0.dot(chord) > 0 &&
+          m1.dot(chord) > 0))
+      return 0;
+    const Eigen::Vector3d a3 = m0 - chord, b3 = m1 - chord;
+    const Eigen::Vector2d a(a3.dot(u), a3.dot(w)), b(b3.dot(u), b3.dot(w));
+    const int km = k == 0 ? 2 : k - 1, kp = k == 2 ? 0 : k + 1;
+    const Eigen::Vector2d gm(dom->mx[km], dom->my[km]), gp(dom->mx[kp], dom->my[kp]);
+    const double A1 = gm.dot(adj * a), B1 = gm.dot(adj * b), A2 = gp.dot(adj * a), B2 = gp.dot(adj * b);
+    const double c[4] = {A1, -4 * A1 - 2 * B1, 5 * A1 + 4 * B1 + 2 * A2 + B2, -2 * (A1 + B1 + A2 + B2)};
+    auto f = [&](double t) { return c[0] + t * (c[1] + t * (c[2] + t * c[3])); };
+    double top = std::max(f(0), f(1));
+    // f' = c1 + 2 c2 t + 3 c3 t^2
+    const double qa = 3 * c[3], qb = 2 * c[2], qc = c[1];
+    if (qa != 0) {
+      const double disc = qb * qb - 4 * qa * qc;
+      if (disc >= 0)
+        for (const double sg : {-1.0, 1.0})
+          if (const double t = (-qb + sg * std::sqrt(disc)) / (2 * qa); t > 0 && t < 1) top = std::max(top, f(t));
+    } else if (qb != 0) {
+      if (const double t = -qc / qb; t > 0 && t < 1) top = std::max(top, f(t));
+    }
+    // rounding of the coefficients and of the cubic's value: a relative 1e-12 of their sizes
+    top += 1e-12 * (std::abs(A1) + std::abs(B1) + std::abs(A2) + std::abs(B2));
+    T += ih * top;
+    norms[k] = ih * 35.0 / 27.0 * (a3.norm() + b3.norm());
+    norm += norms[k];
+    detP += ih * ih / 16.0 * std::abs(a.x() * b.y() - a.y() * b.x()) * std::abs(gm.x() * gp.y() - gm.y() * gp.x());
+    out += ih * 35.0 / 27.0 * (std::abs(a3.dot(normal)) + std::abs(b3.dot(normal)));
   }
-  return true;
+  T = std::max(T, 0.0);
+  detP += norms[0] * norms[1] + norms[0] * norms[2] + norms[1] * norms[2];
+  const double lower = det - T - detP;
+  // a relative 1e-9 for the rounding of the above (each a few operations on the records)
+  if (!(lower > 1e-9 * det)) return 0;
+  // cosine to the plane's normal: n . (Jx x Jy) = det(A + P) >= lower, and the part of Jx x Jy
+  // across the normal comes from the out-of-plane parts of P only
+  const double across = out * (jx.norm() + jy.norm() + 2 * norm);
+  return lower / std::hypot(lower, across);
 }
 
 /// Status st of a built face with records recs, with GP_ST_AFFINE where markAffineTriangles gives
@@ -408,8 +471,10 @@ uint32_t buildPatchEdges(const PatchCache& skeleton, int f, double* recs) noexce
   return buildRecords(skeleton, f, recs, nullptr, false);
 }
 
-bool isAffineTriangle(int n, const double* recs, double tolerance) { return affineTriangle(n, recs, tolerance); }
-bool isAffineTriangle(int n, const float* recs, double tolerance) { return affineTriangle(n, recs, tolerance); }
+double affineTriangleMargin(int n, const double* recs, double tolerance) { return affineMargin(n, recs, tolerance); }
+double affineTriangleMargin(int n, const float* recs, double tolerance) { return affineMargin(n, recs, tolerance); }
+bool isAffineTriangle(int n, const double* recs, double tolerance) { return affineMargin(n, recs, tolerance) > 0; }
+bool isAffineTriangle(int n, const float* recs, double tolerance) { return affineMargin(n, recs, tolerance) > 0; }
 
 void markAffineTriangles(PatchCache& cache, const std::vector<int>* faces) {
   if (!hasPatchData(cache) && cache.numFaces() > 0)

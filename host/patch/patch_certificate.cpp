@@ -7,6 +7,8 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -16,6 +18,7 @@
 #include <smoothforce/patch/detail/gp_math.h>
 #include <smoothforce/patch/detail/patch_enclosure.h>
 #include <smoothforce/patch/normal_groups.h>
+#include <smoothforce/patch/patch_build.h>
 
 // ---- the patch math on intervals (GP_INTERVAL: gp_eval.h's range-keeping forms) ----
 namespace sf::gpi {
@@ -350,13 +353,38 @@ PatchEnclosure enclosePatch(int n, const double* recs, CrossTangentMode mode, co
 }
 }  // namespace detail
 
+namespace {
+/// A patch marked GP_ST_AFFINE: the affine map plus its curved edges' deviations, proven regular
+/// along its plane's normal by affineTriangleMargin (a bound on the map's Jacobian, not cells);
+/// the cells' certificate where that proves nothing (records whose mark is not the construction's).
+template <class Real>
+PatchCertificate certifyWith(int n, const Real* recs, CrossTangentMode mode, const CertificateOptions& options,
+                             uint32_t faceStatus) {
+  if ((faceStatus & GP_ST_AFFINE) && n == 3) {
+    if (const double margin = affineTriangleMargin(n, recs); margin > 0) {
+      auto vertex = [&](int k) {
+        const Real* r = recs + k * GP_E_NFIELDS + GP_E_V0;
+        return Eigen::Vector3d(double(r[0]), double(r[1]), double(r[2]));
+      };
+      const Eigen::Vector3d normal = (vertex(1) - vertex(0)).cross(vertex(2) - vertex(0)).normalized();
+      PatchCertificate c;
+      c.verdict = CertificateVerdict::Certified;
+      c.margin = margin;
+      for (int i = 0; i < 3; ++i) c.direction[i] = normal[i];
+      return c;
+    }
+  }
+  return certify(n, recs, gpd::gp_eval_mode(static_cast<int>(mode), faceStatus), options);
+}
+}  // namespace
+
 PatchCertificate certifyPatch(int n, const double* recs, CrossTangentMode mode, const CertificateOptions& options,
                               uint32_t faceStatus) {
-  return certify(n, recs, gpd::gp_eval_mode(static_cast<int>(mode), faceStatus), options);
+  return certifyWith(n, recs, mode, options, faceStatus);
 }
 PatchCertificate certifyPatch(int n, const float* recs, CrossTangentMode mode, const CertificateOptions& options,
                               uint32_t faceStatus) {
-  return certify(n, recs, gpd::gp_eval_mode(static_cast<int>(mode), faceStatus), options);
+  return certifyWith(n, recs, mode, options, faceStatus);
 }
 
 CertificateSummary certifyPatches(PatchCache& cache, int threads, const CertificateOptions& options) {

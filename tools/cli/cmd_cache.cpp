@@ -39,8 +39,8 @@ void printPatchSummary(const PatchCache& c) {
   list("degenerate", s.degenerateFaces);
   if (!s.affineFaces.empty())
     std::printf(
-        "  flat triangles with straight edges and their plane's normals, each patch its affine map (the "
-        "same surface, never folded), %zu faces:%s\n",
+        "  flat triangles with their plane's normals, each patch its affine map with its edge curves (the "
+        "same boundary, proven regular), %zu faces:%s\n",
         s.affineFaces.size(), faceIdsText(s.affineFaces).c_str());
   if (!s.insideOutFaces.empty())
     std::printf("  corners inside out (the two edge curves leave the vertex in the wrong order about its normal: the "

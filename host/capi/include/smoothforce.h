@@ -50,8 +50,9 @@ enum sf_status_bits {
   SF_ST_NONFINITE = 0x200,          /**< non-finite input */
   SF_ST_MODEL_POINT = 0x400,        /**< the SCP and normal come from the refinement's quadratic
                                          model (final_step "model"), not a patch evaluation */
-  SF_ST_AFFINE = 0x800,             /**< the patch is its flat triangle's affine map (straight edges,
-                                         every corner normal the plane's; fold repair on) */
+  SF_ST_AFFINE = 0x800,             /**< the patch is its flat triangle's affine map plus its curved
+                                         edges' deviations (every corner normal the plane's, the map
+                                         proven regular; fold repair on) */
   SF_TRACK_CONVERGED = 0x10000,     /**< refinement met the tolerances */
   SF_TRACK_MAX_ITER = 0x20000,      /**< refinement hit the iteration cap */
   SF_TRACK_STALLED = 0x40000,       /**< no step could decrease the distance before the tolerance */

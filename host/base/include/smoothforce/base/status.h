@@ -33,8 +33,9 @@ inline constexpr uint32_t SF_ST_NONFINITE = 0x200u;       ///< non-finite input
 /// the SCP, derivatives and normal come from the refinement's quadratic model at the SCP's domain
 /// point, not from an evaluation of the patch (RefineOptions::finalStep = FinalStep::Model)
 inline constexpr uint32_t SF_ST_MODEL_POINT = 0x400u;
-/// the patch is its flat triangle's affine map: straight edges, every corner normal the plane's
-/// (the default construction, markAffineTriangles: the same surface, never folded)
+/// the patch is its flat triangle's affine map plus its curved edges' deviations from their chords:
+/// every corner normal the plane's, the edge curves in it, the map proven regular (the default
+/// construction, markAffineTriangles: the same boundary, never folded)
 inline constexpr uint32_t SF_ST_AFFINE = 0x800u;
 /// The most sides a polygon's patch can have (GP_MAX_N); larger faces get no patch.
 inline constexpr int SF_MAX_PATCH_SIDES = 64;

@@ -73,8 +73,8 @@ struct PatchStatusSummary {
   /// the patch meets its neighbours upside down at that corner and folds there. Empty for a
   /// cache without patch data.
   std::vector<int> insideOutFaces;
-  /// Flat triangles with straight edges whose patch is their affine map (GP_ST_AFFINE,
-  /// markAffineTriangles).
+  /// Flat triangles whose patch is their affine map plus their curved edges' deviations
+  /// (GP_ST_AFFINE, markAffineTriangles).
   std::vector<int> affineFaces;
 };
 PatchStatusSummary summarizePatchStatus(const PatchCache& cache);

@@ -25,7 +25,9 @@ struct PatchBox {
 /// The box of every face's patch (#F), from its vertices and normals alone: the face's edge
 /// records (Eq. 6-14, buildPatchEdges: no quality sampling, no patch evaluation) bounded by
 /// gp_patch_box (kernels/gp_bound.h: the patch is a convex combination of its corner
-/// interpolators, each bounded term by term), joined with the polygon's vertices, and widened
+/// interpolators, each bounded term by term; for a triangle marked GP_ST_AFFINE instead the
+/// triangle's box plus the box of its edges' deviations from their chords, each blended in with a
+/// weight in [0, 1]), joined with the polygon's vertices, and widened
 /// by 1e-9 (double caches) or 1e-5 (float) of the face's extent plus its distance from the
 /// origin for rounding. Works on a skeleton
 /// (preparePatchSkeleton) as on a built cache; the float patches of a float cache differ from

@@ -36,24 +36,35 @@ void constructPatchesOf(PatchCache& cache, const std::vector<int>& faces, const 
 /// The tolerances of markAffineTriangles in a double and a float cache (isAffineTriangle).
 inline constexpr double kAffineTriangleTolerance = 1e-9, kAffineTriangleToleranceFloat = 1e-5;
 
-/// Whether a triangle's built records (3 x GP_E_NFIELDS, record-major) are a flat triangle with
-/// straight edges whose corner normals are all its plane's: every end tangent equal to its edge's
-/// chord and every corner normal equal to the unit normal of V_0 V_1 V_2 (right-handed), each
-/// within `tolerance` (relative to the edge length; of the unit vectors), and that normal defined
-/// (twice the area above `tolerance` times the longest edge squared). false for n != 3. The
-/// default tolerance is the default construction's for records of that precision.
+/// For a triangle's built records (3 x GP_E_NFIELDS, record-major) that are a flat triangle whose
+/// patch the default construction takes as its affine map plus its edges' deviations from their
+/// chords (kernels/gp_eval.h, gp_patch_eval_affine3), a proven lower bound > 0 on the cosine
+/// between that map's normal and the plane's over the whole domain; else 0. Such a triangle has
+/// every corner normal equal to the unit normal of V_0 V_1 V_2 (right-handed; within `tolerance`)
+/// and that normal defined (twice the area above `tolerance` times the longest edge squared),
+/// every end tangent in that plane (within `tolerance` of its edge's length) and running along its
+/// edge (positive along the chord), and a map proven regular: det(A + P) > 0 in the plane, A the
+/// affine map's Jacobian and P the part of the curved edges' deviations, bounded over the domain
+/// from the deviations' directions against A (a straight edge adds nothing: the affine map's
+/// margin is 1 up to the tangents' tolerance). 0 for n != 3. The default tolerance is the default
+/// construction's for records of that precision.
+double affineTriangleMargin(int n, const double* recs, double tolerance = kAffineTriangleTolerance);
+double affineTriangleMargin(int n, const float* recs, double tolerance = kAffineTriangleToleranceFloat);
+
+/// affineTriangleMargin > 0: the triangles markAffineTriangles marks.
 bool isAffineTriangle(int n, const double* recs, double tolerance = kAffineTriangleTolerance);
 bool isAffineTriangle(int n, const float* recs, double tolerance = kAffineTriangleToleranceFloat);
 
 /// The default construction's treatment of flat triangles (fold repair on; nothing with
 /// FoldRepairMode::Off): every built triangle of `faces` (null: all) whose records pass
-/// isAffineTriangle (its default tolerance) gets GP_ST_AFFINE, so that every
-/// evaluation takes its patch as the affine map of the domain triangle (kernels/gp_eval.h,
-/// gp_patch_eval_affine3: the same boundary and tangent plane, never folded), and its quality bits
-/// and bulge measured again on that map. The Gregory patch of such a triangle folds in its own
-/// plane where the triangle is thin or obtuse (docs/fold-levers.md). constructPatches,
-/// constructPatchesOf, the lazy construction and the OpenCL construction apply it; a triangle
-/// already marked is left as it is. Throws std::invalid_argument for a skeleton cache.
+/// isAffineTriangle (its default tolerance) gets GP_ST_AFFINE, so that every evaluation takes its
+/// patch as the affine map of the domain triangle plus its curved edges' deviations from their
+/// chords (kernels/gp_eval.h, gp_patch_eval_affine3: the same boundary and tangent plane, regular),
+/// and its quality bits and bulge measured again on that map. The Gregory patch of such a triangle
+/// folds in its own plane where the triangle is thin or obtuse (docs/fold-levers.md).
+/// constructPatches, constructPatchesOf, the lazy construction and the OpenCL construction apply
+/// it; a triangle already marked is left as it is. Throws std::invalid_argument for a skeleton
+/// cache.
 void markAffineTriangles(PatchCache& cache, const std::vector<int>* faces = nullptr);
 
 }  // namespace sf
