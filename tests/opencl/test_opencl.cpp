@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <random>
 #include <string>
@@ -21,8 +22,12 @@
 #include <smoothforce/mesh/normals.h>
 #include <smoothforce/opencl/opencl_backend.h>
 #include <smoothforce/opencl/opencl_context.h>
+#include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/patch/patch_build.h>
 #include <smoothforce/patch/patch_eval.h>
 #include "gp_config.h"  // GP_* status bits and record layout
+#include "patch_test_support.h"
+#include "test_hostile_support.h"
 
 namespace {
 
@@ -312,6 +317,67 @@ TEST_F(OpenCLBackend, OneShotWrappersMatch) {
   EXPECT_EQ(compare(a, b, boundingDiagonal(cpu)).vec, 0.0);
   // an empty batch is fine
   evaluatePatchesOpenCL(gpu, nullptr, static_cast<const double*>(nullptr), nullptr, 0, nullptr);
+}
+
+// Flat triangles marked GP_ST_AFFINE, with straight and curved edges (a plate with a round hole,
+// its rim a crease curve): the device marks the same faces, builds the same records and evaluates
+// the same bits as the CPU (double), or within the float tolerance.
+TEST_F(OpenCLBackend, FlatTrianglesWithCurvedEdgesMatchCpu) {
+  hostile::TempDir dir("sf_opencl_plate");
+  const std::filesystem::path path = dir.path / "plate24.obj";
+  std::ofstream(path) << test::holedPlateObj(24, 0.5, 0.4);
+  for (Precision p : {Precision::Double, Precision::Float}) {
+    SCOPED_TRACE(toString(p));
+    PatchOptions o;
+    o.creases.angleDeg = 30;
+    o.precision = p;
+    const LoadedMesh lm = loadMesh(path.string(), o);
+    const PatchCache cpu = buildPatchCache(lm, o, Backend::Tbb);
+    PatchCache gpu = preparePatchCache(lm.mesh, lm.cornerNormals, o, lm.fileHash);
+    constructor_->construct(gpu);
+    EXPECT_EQ(cpu.faceStatus, gpu.faceStatus);
+    int marked = 0, curved = 0;
+    for (int f = 0; f < cpu.numFaces(); ++f) {
+      if (!(cpu.faceStatus[f] & GP_ST_AFFINE)) continue;
+      ++marked;
+      double recs[3 * GP_E_NFIELDS];
+      if (p == Precision::Double) {
+        gatherRecords(cpu, f, recs);
+      } else {
+        float fr[3 * GP_E_NFIELDS];
+        gatherRecords(cpu, f, fr);
+        std::copy(fr, fr + 3 * GP_E_NFIELDS, recs);
+      }
+      bool bent = false;
+      for (int k = 0; k < 3; ++k) {
+        const double* r = recs + k * GP_E_NFIELDS;
+        const Eigen::Vector3d chord = Eigen::Vector3d(r + GP_E_V1) - Eigen::Vector3d(r + GP_E_V0);
+        bent |= (Eigen::Vector3d(r + GP_E_M0) - chord).norm() > 1e-3 * chord.norm();
+      }
+      curved += bent;
+    }
+    EXPECT_EQ(marked, 2 * (24 + 4) + 8);  // top, bottom and the outer sides
+    EXPECT_EQ(curved, 2 * 24);            // the rim's triangles
+    size_t unequal = 0;
+    const double d = p == Precision::Double ? maxRecordDiff(cpu.edgeDataD, gpu.edgeDataD, &unequal)
+                                            : maxRecordDiff(cpu.edgeDataF, gpu.edgeDataF, &unequal);
+    const Queries q = randomQueries(cpu, 64, 11);
+    std::vector<PatchPoint> a(q.face.size()), b(q.face.size());
+    evaluatePatches(cpu, q.face.data(), q.xi.data(), q.eta.data(), a.size(), a.data(), Backend::Tbb);
+    evaluator(cpu).evaluate(q.face.data(), q.xi.data(), q.eta.data(), b.size(), b.data());
+    const Diff e = compare(a, b, boundingDiagonal(cpu));
+    std::printf("[ OpenCL   ] holed plate %-6s %d affine faces (%d curved): max|rec diff| %.3g, max|diff|/diag %.3g\n",
+                toString(p), marked, curved, d, e.vec);
+    EXPECT_EQ(e.statusMismatch, 0);
+    if (p == Precision::Double || exactFloat_) {
+      EXPECT_EQ(unequal, 0u);
+      EXPECT_EQ(e.vec, 0.0);
+      EXPECT_EQ(e.normal, 0.0);
+    } else {
+      EXPECT_LE(d, 1e-5 * boundingDiagonal(cpu));
+      EXPECT_LE(e.vec, kEvalTolF);
+    }
+  }
 }
 
 TEST_F(OpenCLBackend, RejectsUnpreparedCache) {

@@ -86,54 +86,6 @@ const Slab kSlabs[] = {
     {"long thin strip", 20, 8, 0.05, 0.02},
 };
 
-/// A plate [-1, 1]^2 x [0, h] with a round hole of radius r through it, its rim a polygon of m
-/// vertices: top and bottom fanned from each rim segment to the nearest corner of the square (with
-/// a triangle where the fan turns a corner), the outer sides quads cut into two triangles, the
-/// hole's wall m quads cut likewise. The top and bottom triangles at the rim have a curved edge
-/// under a crease angle below the wall's (the crease curve through the rim's vertices).
-std::string holedPlateObj(int m, double r, double h) {
-  std::string s;
-  int count = 0;
-  auto vertex = [&](double x, double y, double z) {
-    char buf[96];
-    std::snprintf(buf, sizeof buf, "v %.17g %.17g %.17g\n", x, y, z);
-    s += buf;
-    return ++count;
-  };
-  const double pi = std::acos(-1.0);
-  int square[2][4], rim[2][64];
-  for (int l = 0; l < 2; ++l) {
-    for (int q = 0; q < 4; ++q)  // corner q at 45 + 90 q degrees
-      square[l][q] = vertex(q == 0 || q == 3 ? 1 : -1, q < 2 ? 1 : -1, l * h);
-    for (int i = 0; i < m; ++i) rim[l][i] = vertex(r * std::cos(2 * pi * i / m), r * std::sin(2 * pi * i / m), l * h);
-  }
-  auto face = [&](std::vector<int> f, bool flip) {
-    if (flip) std::reverse(f.begin(), f.end());
-    s += "f";
-    for (int v : f) s += " " + std::to_string(v);
-    s += "\n";
-  };
-  // the square's corner nearest rim vertex i
-  auto cornerOf = [&](int i) { return int(std::lround((360.0 * i / m - 45) / 90)) % 4; };
-  for (int l = 0; l < 2; ++l)
-    for (int i = 0; i < m; ++i) {
-      const int j = (i + 1) % m, q = (cornerOf(i) + 4) % 4, q2 = (cornerOf(j) + 4) % 4;
-      face({rim[l][i], rim[l][j], square[l][q]}, l == 0);
-      if (q2 != q) face({rim[l][j], square[l][q2], square[l][q]}, l == 0);
-    }
-  for (int q = 0; q < 4; ++q) {  // outer sides, facing out
-    const int n = (q + 1) % 4;
-    face({square[0][q], square[1][n], square[0][n]}, false);
-    face({square[0][q], square[1][q], square[1][n]}, false);
-  }
-  for (int i = 0; i < m; ++i) {  // the hole's wall, facing the axis
-    const int j = (i + 1) % m;
-    face({rim[0][i], rim[0][j], rim[1][j]}, false);
-    face({rim[0][i], rim[1][j], rim[1][i]}, false);
-  }
-  return s;
-}
-
 PatchCache slabCache(const std::string& path, FoldRepairMode repair, Precision precision = Precision::Double) {
   PatchOptions o;
   o.creases.angleDeg = 30;
@@ -348,7 +300,7 @@ TEST(AffineTriangles, FlatTrianglesWithCurvedEdgesKeepTheirCurvesAndNeverFold) {
   double worst = 0, worstDerivative = 0, worstGap = 0, worstTurn = 0, smallestCos = 1, worstFloat = 0;
   for (const int m : {16, 24, 40}) {
     const std::string path = (dir.path / ("plate" + std::to_string(m) + ".obj")).string();
-    std::ofstream(path) << holedPlateObj(m, 0.5, 0.4);
+    std::ofstream(path) << test::holedPlateObj(m, 0.5, 0.4);
     PatchCache off = slabCache(path, FoldRepairMode::Off), on = slabCache(path, FoldRepairMode::On),
                onFloat = slabCache(path, FoldRepairMode::On, Precision::Float);
     ASSERT_EQ(off.numFaces(), on.numFaces()) << m;  // nothing to cut: the same faces
