@@ -103,10 +103,10 @@ static inline double gp_sin(double x) { return std::sin(x); }
 /* position, derivatives and normal from the refinement's quadratic model at this point, not
  * from an evaluation (gp_refine_options.modelFinal) */
 #define GP_ST_MODEL_POINT 0x400u
-/* construction: a flat triangle whose edges are straight (end tangents the chord) and whose
- * corner normals are all its plane's, built by the default construction (fold repair on): its
- * patch is the affine map of the domain triangle (gp_patch_eval_affine3), which has the same
- * boundary and tangent plane and never folds */
+/* construction: a flat triangle whose corner normals are all its plane's and whose edge curves
+ * lie in it, built by the default construction (fold repair on) where its map is proven regular:
+ * its patch is the affine map of the domain triangle plus each curved edge's deviation from its
+ * chord (gp_patch_eval_affine3), which has the same boundary and tangent plane */
 #define GP_ST_AFFINE 0x800u
 /* the bits of a face that has no patch (not built: its records are zeros, not evaluable) */
 #define GP_ST_NOT_BUILT (GP_ST_TOO_MANY_SIDES | GP_ST_NONFINITE)

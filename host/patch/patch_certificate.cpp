@@ -114,7 +114,8 @@ PatchCertificate certifyAlong(int n, const std::array<Taylor, GP_MAX_N * GP_E_NF
   }
   std::vector<Box> stack;
   const int maxDepth = n == 3 ? o.triangleMaxDepth : o.maxDepth, maxCells = n == 3 ? o.triangleMaxCells : o.maxCells;
-  // an affine patch's J is constant: one cell, the domain's box, decides it
+  // a marked patch reaches here only without its bound's proof (certifyWith): one cell first, the
+  // domain's box, which decides it where its edges are straight (J constant)
   const int start = (mode & GP_EVAL_AFFINE)
                         ? 0
                         : std::clamp(n == 4 ? o.quadStartDepth : o.startDepth, 0, std::max(0, maxDepth)),

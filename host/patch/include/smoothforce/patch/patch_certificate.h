@@ -96,7 +96,9 @@ struct PatchCertificate {
 /// both lie on n_c's side at every edge's midpoint, so with the construction's G1 (the patch
 /// normal parallel to n_c along an edge) and a normal that vanishes nowhere, along the whole edge:
 /// the patch meets its neighbours without turning back. faceStatus: the face's construction status
-/// (GP_ST_AFFINE: the patch is its triangle's affine map, markAffineTriangles). Never throws;
+/// (GP_ST_AFFINE: the patch is its triangle's affine map plus its curved edges' deviations,
+/// markAffineTriangles; certified from affineTriangleMargin's bound on its Jacobian, with that
+/// margin and the plane's normal as direction, where the bound proves it). Never throws;
 /// thread-safe.
 PatchCertificate certifyPatch(int n, const double* recs, CrossTangentMode mode, const CertificateOptions& options = {},
                               uint32_t faceStatus = 0);
