@@ -18,6 +18,7 @@
 #include <smoothforce/base/error.h>
 #include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/patch/patch_bounds.h>
 #include <smoothforce/patch/patch_build.h>
 #include <smoothforce/patch/patch_certificate.h>
 #include <smoothforce/patch/patch_eval.h>
@@ -293,7 +294,8 @@ Eigen::Vector3d flatTrianglePoint(const PatchCache& c, int f, const Eigen::Vecto
 // folded, the default one certifies every patch and leaves no fault. Each marked patch is the
 // formula's map at every point of a domain grid (and its derivatives the map's difference
 // quotients), meets its neighbours at every edge, turns its normal nowhere off its plane's (a
-// dense check of what the bound proves), and every SIMD target gives the scalar bits.
+// dense check of what the bound proves), lies in its a-priori box (patchBoxes), and every SIMD
+// target gives the scalar bits.
 TEST(AffineTriangles, FlatTrianglesWithCurvedEdgesKeepTheirCurvesAndNeverFold) {
   hostile::TempDir dir("sf_affine_plate");
   int foldedOff = 0, curvedTotal = 0, points = 0;
@@ -306,7 +308,8 @@ TEST(AffineTriangles, FlatTrianglesWithCurvedEdgesKeepTheirCurvesAndNeverFold) {
     ASSERT_EQ(off.numFaces(), on.numFaces()) << m;  // nothing to cut: the same faces
     const int flat = 2 * (m + 4) + 8;               // top and bottom, m + 4 each, and the outer sides
     ASSERT_EQ(on.numFaces(), flat + 2 * m) << m;
-    int marked = 0, curved = 0;
+    const std::vector<PatchBox> boxes = patchBoxes(on);  // the lazy query's a-priori boxes
+    int marked = 0, curved = 0, outsideBox = 0;
     std::vector<int32_t> faces;
     std::vector<double> xs, ys;
     for (int f = 0; f < on.numFaces(); ++f) {
@@ -333,6 +336,8 @@ TEST(AffineTriangles, FlatTrianglesWithCurvedEdgesKeepTheirCurvesAndNeverFold) {
           const PatchPoint p = evaluatePatch(on, f, X.x(), X.y());
           ASSERT_FALSE(p.status & GP_ST_NOT_A_PATCH_POINT) << m << " face " << f;
           worst = std::max(worst, (p.pos - flatTrianglePoint(on, f, X)).norm());
+          outsideBox += !(boxes[f].valid && (p.pos.array() >= boxes[f].lo.array()).all() &&
+                          (p.pos.array() <= boxes[f].hi.array()).all());
           smallestCos = std::min(smallestCos, p.normal.dot(plane));
           worstFloat = std::max(worstFloat, (evaluatePatch(onFloat, f, X.x(), X.y()).pos - p.pos).norm());
           faces.push_back(f);
@@ -364,6 +369,7 @@ TEST(AffineTriangles, FlatTrianglesWithCurvedEdgesKeepTheirCurvesAndNeverFold) {
       }
     }
     EXPECT_EQ(marked, flat) << m;
+    EXPECT_EQ(outsideBox, 0) << m;
     EXPECT_EQ(curved, 2 * m) << m;  // the rim's triangles, top and bottom
     curvedTotal += curved;
     for (SimdTarget t : supportedSimdTargets()) {
