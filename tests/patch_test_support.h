@@ -76,6 +76,19 @@ inline std::string holedPlateObj(int m, double r, double h) {
   return s;
 }
 
+/// Whether a face's records (n x GP_E_NFIELDS, record-major) have a curved edge: an end tangent
+/// off its edge's chord by more than `relative` times the chord's length.
+inline bool hasCurvedEdge(int n, const double* recs, double relative) {
+  for (int k = 0; k < n; ++k) {
+    const double* r = recs + k * GP_E_NFIELDS;
+    const Eigen::Vector3d chord = Eigen::Vector3d(r + GP_E_V1) - Eigen::Vector3d(r + GP_E_V0);
+    if ((Eigen::Vector3d(r + GP_E_M0) - chord).norm() > relative * chord.norm() ||
+        (Eigen::Vector3d(r + GP_E_M1) - chord).norm() > relative * chord.norm())
+      return true;
+  }
+  return false;
+}
+
 /// A cache built on the CPU from an in-code shape, using the shape's vertex normals.
 inline PatchCache cacheFromShape(const ref::RefMesh& m, CrossTangentMode mode = CrossTangentMode::Corrected,
                                  Precision precision = Precision::Double, Backend backend = Backend::Serial) {

@@ -21,11 +21,7 @@ std::vector<PatchBox> patchBoxes(const PatchCache& cache) {
       const int n = cache.faceSize(f), first = cache.faceOffsets[f];
       const uint32_t st = buildPatchEdges(cache, f, recs);
       if (st & GP_ST_NOT_BUILT) continue;
-      gpd::gp_vec3 lo, hi;
-      gpd::gp_patch_box(n, recs, &lo, &hi);
       PatchBox& b = boxes[f];
-      b.lo = Eigen::Vector3d(lo.x, lo.y, lo.z);
-      b.hi = Eigen::Vector3d(hi.x, hi.y, hi.z);
       if (st & GP_ST_AFFINE) {  // the affine map plus each edge's deviation from its chord, blended
         // in with a weight in [0, 1]: that deviation's Bezier control points are 0, (M0 - E) / 3,
         // (E - M1) / 3, 0 (gp_patch_eval_affine3); the affine part lies in the triangle's box
@@ -44,6 +40,11 @@ std::vector<PatchBox> patchBoxes(const PatchCache& cache) {
         }
         b.lo += dlo;
         b.hi += dhi;
+      } else {
+        gpd::gp_vec3 lo, hi;
+        gpd::gp_patch_box(n, recs, &lo, &hi);
+        b.lo = Eigen::Vector3d(lo.x, lo.y, lo.z);
+        b.hi = Eigen::Vector3d(hi.x, hi.y, hi.z);
       }
       for (int k = 0; k < n; ++k) {  // the polygon's vertices (the box of r_k holds them already)
         const Eigen::Vector3d v =

@@ -348,13 +348,7 @@ TEST_F(OpenCLBackend, FlatTrianglesWithCurvedEdgesMatchCpu) {
         gatherRecords(cpu, f, fr);
         std::copy(fr, fr + 3 * GP_E_NFIELDS, recs);
       }
-      bool bent = false;
-      for (int k = 0; k < 3; ++k) {
-        const double* r = recs + k * GP_E_NFIELDS;
-        const Eigen::Vector3d chord = Eigen::Vector3d(r + GP_E_V1) - Eigen::Vector3d(r + GP_E_V0);
-        bent |= (Eigen::Vector3d(r + GP_E_M0) - chord).norm() > 1e-3 * chord.norm();
-      }
-      curved += bent;
+      curved += test::hasCurvedEdge(3, recs, 1e-3);
     }
     EXPECT_EQ(marked, 2 * (24 + 4) + 8);  // top, bottom and the outer sides
     EXPECT_EQ(curved, 2 * 24);            // the rim's triangles

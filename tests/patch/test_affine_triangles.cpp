@@ -107,6 +107,23 @@ Eigen::Vector3d affinePoint(const PatchCache& c, int f, const Eigen::Vector2d& X
   return V[0] + l.x() * (V[1] - V[0]) + l.y() * (V[2] - V[0]);
 }
 
+/// How many of the points (faces[q], xs[q], ys[q]) target t's batch evaluation gives with the
+/// scalar path's bits (position, derivatives, normal, status).
+size_t sameAsScalar(const PatchCache& c, SimdTarget t, const std::vector<int32_t>& faces, const std::vector<double>& xs,
+                    const std::vector<double>& ys) {
+  EvalOptions eo;
+  eo.simd = t;
+  std::vector<PatchPoint> out(faces.size());
+  PatchEvaluator(c, eo).evaluate(faces.data(), xs.data(), ys.data(), faces.size(), out.data());
+  size_t same = 0;
+  for (size_t q = 0; q < faces.size(); ++q) {
+    const PatchPoint p = evaluatePatch(c, faces[q], xs[q], ys[q]);
+    same += out[q].pos == p.pos && out[q].dxi == p.dxi && out[q].deta == p.deta && out[q].normal == p.normal &&
+            out[q].status == p.status;
+  }
+  return same;
+}
+
 /// Face f of `b` has the patch of face f of `a`, bit for bit (the same size and records).
 bool samePatch(const PatchCache& a, const PatchCache& b, int f) {
   if (a.faceSize(f) != b.faceSize(f)) return false;
@@ -228,19 +245,8 @@ TEST(AffineTriangles, EveryPathEvaluatesTheAffineMap) {
   EXPECT_LT(worst, 1e-15);
   EXPECT_LT(worstDerivative, 1e-8);
   EXPECT_LT(worstFloat, 1e-6);
-  for (SimdTarget t : supportedSimdTargets()) {
-    EvalOptions eo;
-    eo.simd = t;
-    std::vector<PatchPoint> out(faces.size());
-    PatchEvaluator(c, eo).evaluate(faces.data(), xs.data(), ys.data(), faces.size(), out.data());
-    int same = 0;
-    for (size_t q = 0; q < faces.size(); ++q) {
-      const PatchPoint p = evaluatePatch(c, faces[q], xs[q], ys[q]);
-      same += out[q].pos == p.pos && out[q].dxi == p.dxi && out[q].deta == p.deta && out[q].normal == p.normal &&
-              out[q].status == p.status;
-    }
-    EXPECT_EQ(same, points) << toString(t);
-  }
+  for (SimdTarget t : supportedSimdTargets())
+    EXPECT_EQ(sameAsScalar(c, t, faces, xs, ys), size_t(points)) << toString(t);
   std::printf("affine faces: %d points; position %.2g, derivatives %.2g off the affine map, float %.2g\n", points,
               worst, worstDerivative, worstFloat);
   EXPECT_GT(points, 40 * 91);
@@ -319,13 +325,7 @@ TEST(AffineTriangles, FlatTrianglesWithCurvedEdgesKeepTheirCurvesAndNeverFold) {
       EXPECT_TRUE(onFloat.faceStatus[f] & GP_ST_AFFINE) << m << " face " << f;
       double recs[3 * GP_E_NFIELDS];
       gatherRecords(on, f, recs);
-      bool isCurved = false;
-      for (int k = 0; k < 3; ++k) {
-        const double* r = recs + k * GP_E_NFIELDS;
-        const Eigen::Vector3d chord = Eigen::Vector3d(r + GP_E_V1) - Eigen::Vector3d(r + GP_E_V0);
-        isCurved |= (Eigen::Vector3d(r + GP_E_M0) - chord).norm() > 1e-6 * chord.norm();
-      }
-      curved += isCurved;
+      curved += test::hasCurvedEdge(3, recs, 1e-6);
       Eigen::Vector3d V[3];
       for (int k = 0; k < 3; ++k) V[k] = Eigen::Vector3d(recs + k * GP_E_NFIELDS + GP_E_V0);
       const Eigen::Vector3d plane = (V[1] - V[0]).cross(V[2] - V[0]).normalized();
@@ -372,19 +372,8 @@ TEST(AffineTriangles, FlatTrianglesWithCurvedEdgesKeepTheirCurvesAndNeverFold) {
     EXPECT_EQ(outsideBox, 0) << m;
     EXPECT_EQ(curved, 2 * m) << m;  // the rim's triangles, top and bottom
     curvedTotal += curved;
-    for (SimdTarget t : supportedSimdTargets()) {
-      EvalOptions eo;
-      eo.simd = t;
-      std::vector<PatchPoint> out(faces.size());
-      PatchEvaluator(on, eo).evaluate(faces.data(), xs.data(), ys.data(), faces.size(), out.data());
-      size_t same = 0;
-      for (size_t q = 0; q < faces.size(); ++q) {
-        const PatchPoint p = evaluatePatch(on, faces[q], xs[q], ys[q]);
-        same += out[q].pos == p.pos && out[q].dxi == p.dxi && out[q].deta == p.deta && out[q].normal == p.normal &&
-                out[q].status == p.status;
-      }
-      EXPECT_EQ(same, faces.size()) << m << " " << toString(t);
-    }
+    for (SimdTarget t : supportedSimdTargets())
+      EXPECT_EQ(sameAsScalar(on, t, faces, xs, ys), faces.size()) << m << " " << toString(t);
     // the marked faces' certificates: the design page's patches (a budget enough to prove folds,
     // not to decide every patch) and the default's (the map's bound: no cells); the wall's Gregory
     // patches are the design page's in both constructions, and the surface check below covers them
