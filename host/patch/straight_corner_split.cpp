@@ -4,7 +4,9 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <stdexcept>
@@ -14,6 +16,7 @@
 #include <smoothforce/patch/detail/face_inputs.h>
 #include <smoothforce/patch/detail/gp_traits.h>
 #include <smoothforce/patch/patch_cache.h>
+#include <smoothforce/patch/tangent_fans.h>
 
 namespace sf {
 
@@ -69,6 +72,199 @@ bool patchCentre(const PatchCache& c, int f, Vec3& point, Vec3& normal) {
   return point.allFinite() && normal.allFinite() && normal.squaredNorm() > 0.5;
 }
 
+/// A cubic Bezier curve: an edge curve of the construction (Hermite with end derivatives the
+/// chord length times the unit end tangents: control points V0 + L t0 / 3, V1 - L t1 / 3) or a
+/// straight cut.
+using Bezier = std::array<Vec3, 4>;
+
+Vec3 bezierPoint(const Bezier& b, double t) {
+  const double u = 1 - t;
+  return u * u * u * b[0] + 3 * u * u * t * b[1] + 3 * u * t * t * b[2] + t * t * t * b[3];
+}
+
+Vec3 bezierDerivative(const Bezier& b, double t) {
+  const double u = 1 - t;
+  return 3 * (u * u * (b[1] - b[0]) + 2 * u * t * (b[2] - b[1]) + t * t * (b[3] - b[2]));
+}
+
+/// A flat polygon as the construction bounds it: its corners, each edge's curve (edge k from
+/// V_k to V_k+1) and its unit Newell normal, for face f of c.
+struct CurvedOutline {
+  std::vector<Vec3> corners;
+  std::vector<Bezier> curves;
+  Vec3 plane;
+};
+
+CurvedOutline curvedOutline(const PatchCache& c, int f, const Vec3& plane) {
+  const int n = c.faceSize(f);
+  G::vec3 V[GP_MAX_N], N[GP_MAX_N], PS[GP_MAX_N], PE[GP_MAX_N], ts[GP_MAX_N], te[GP_MAX_N];
+  int vid[GP_MAX_N];
+  const bool creased = detail::faceInputs<G>(c, f, V, N, vid, PS, PE);
+  gp_uint st = 0;
+  gpd::gp_patch_end_tangents(n, V, N, PS, PE, creased ? 1 : 0, vid, ts, te, &st);
+  CurvedOutline o;
+  o.plane = plane;
+  for (int k = 0; k < n; ++k) {
+    const Vec3 a = toEigen(V[k]), b = toEigen(V[k + 1 == n ? 0 : k + 1]);
+    const double len = (b - a).norm();
+    o.corners.push_back(a);
+    o.curves.push_back({a, a + toEigen(ts[k]) * (len / 3), b - toEigen(te[k]) * (len / 3), b});
+  }
+  return o;
+}
+
+/// The edges of a piece of outline o, its corners `piece` (indices into o.corners, in order): the
+/// outline's own curve between consecutive corners, a straight cut between the others.
+/// Which of them are cuts in *cuts.
+std::vector<Bezier> pieceEdges(const CurvedOutline& o, const std::vector<int>& piece, std::vector<char>* cuts) {
+  const int n = static_cast<int>(o.corners.size()), m = static_cast<int>(piece.size());
+  std::vector<Bezier> edges;
+  cuts->assign(m, 0);
+  for (int i = 0; i < m; ++i) {
+    const int a = piece[i], b = piece[(i + 1) % m];
+    if (b == (a + 1) % n) {
+      edges.push_back(o.curves[a]);
+    } else {
+      const Vec3 &p = o.corners[a], &q = o.corners[b];
+      edges.push_back({p, p + (q - p) / 3, p + (q - p) * (2.0 / 3), q});
+      (*cuts)[i] = 1;
+    }
+  }
+  return edges;
+}
+
+/// How well a fan about `centre` keeps a polygon's edge curves `edges` (in order, turning about
+/// `plane`, its unit normal), as a sine: positive where the fan is sound, the smaller of two margins.
+/// - The curves: the smallest, over the edges k and 33 points C_k(t) of each (t = 0, 1/32, .., 1),
+///   of the sine of the angle at which `centre` sees the curve pass, ((C_k - centre) x C_k') .
+///   plane / (|C_k - centre| |C_k'|). Positive: each fan triangle (V_k, V_k+1, centre) sees its
+///   edge curve turn one way about the centre, corners included, so its outline of the curve and
+///   two spokes does not cross itself (a centre beyond a curve that bows in gives a negative
+///   value: those triangles fold, whatever their patch).
+/// - The spokes: the sine of the smallest margin, over the edges, by which the angle the chord
+///   V_k V_k+1 subtends at `centre` exceeds kFanTangledGapDeg or falls short of 180 minus it.
+///   Spokes closer than that are a tangled fan at the new vertex (tangent_fans.h), and turning
+///   them apart bends them across the fan's triangles: a slab's parallelogram quad of 3-degree
+///   corners sees its short edges at under a degree from any centre, and its fan, untangled by
+///   4.9 degrees, folded on 16 of 16 faces (75% of the area at fault); a long flat slot cap sees
+///   its far arc at under a degree from its centre, and that fan, untangled by 34-38 degrees,
+///   folded on every triangle.
+/// -1 where the data is not finite.
+double fanMargin(const std::vector<Bezier>& edges, const Vec3& centre, const Vec3& plane) {
+  const double least = kFanTangledGapDeg * std::numbers::pi / 180;
+  double worst = 1;
+  for (const Bezier& e : edges) {
+    for (int i = 0; i <= 32; ++i) {
+      const Vec3 r = bezierPoint(e, i / 32.0) - centre, d = bezierDerivative(e, i / 32.0);
+      const double norms = r.norm() * d.norm();
+      const double sine = norms > 0 ? r.cross(d).dot(plane) / norms : -1;
+      if (!std::isfinite(sine)) return -1;
+      worst = std::min(worst, sine);
+    }
+    const Vec3 ra = e[0] - centre, rb = e[3] - centre;
+    const double gap = std::atan2(ra.cross(rb).dot(plane), ra.dot(rb));
+    if (!std::isfinite(gap)) return -1;
+    worst = std::min(worst, std::sin(std::min(gap - least, std::numbers::pi - least - gap)));
+  }
+  return worst;
+}
+
+/// How well a piece bounded by `edges` (in order about `plane`) stands as one polygon, as a sine:
+/// positive where every corner, the angle between its two edges' tangents there, lies between
+/// kFanTangledGapDeg and 180 - kPieceStraightCornerDeg degrees (no straight corner, as the first
+/// cut's pieces), the piece has at most GP_MAX_N corners and no cut crosses another edge (16
+/// chords per curve; `cuts` flags the edges that are cuts).
+double pieceMargin(const std::vector<Bezier>& edges, const std::vector<char>& cuts, const Vec3& plane) {
+  const int m = static_cast<int>(edges.size());
+  if (m < 3 || m > GP_MAX_N) return -1;
+  const double lo = kFanTangledGapDeg * std::numbers::pi / 180,
+               hi = std::numbers::pi * (1 - kPieceStraightCornerDeg / 180);
+  double worst = 1;
+  for (int i = 0; i < m; ++i) {
+    const Vec3 in = bezierDerivative(edges[(i + m - 1) % m], 1), out = bezierDerivative(edges[i], 0);
+    // the interior angle: pi minus the turn from the incoming direction to the outgoing one
+    const double angle = std::numbers::pi - std::atan2(in.cross(out).dot(plane), in.dot(out));
+    if (!std::isfinite(angle)) return -1;
+    worst = std::min(worst, std::sin(std::min(angle - lo, hi - angle)));
+  }
+  // a cut (straight) against every edge it does not meet at a corner, both on the plane
+  auto cross2 = [&](const Vec3& a, const Vec3& b, const Vec3& c) { return (b - a).cross(c - a).dot(plane); };
+  for (int i = 0; i < m && worst > 0; ++i) {
+    if (!cuts[i]) continue;
+    const Bezier& cut = edges[i];
+    for (int j = 0; j < m && worst > 0; ++j) {
+      if (j == i || j == (i + 1) % m || (j + 1) % m == i) continue;
+      for (int s = 0; s < 16 && worst > 0; ++s) {
+        const Vec3 p = bezierPoint(edges[j], s / 16.0), q = bezierPoint(edges[j], (s + 1) / 16.0);
+        const bool crosses = cross2(cut[0], cut[3], p) * cross2(cut[0], cut[3], q) <= 0 &&
+                             cross2(p, q, cut[0]) * cross2(p, q, cut[3]) <= 0;
+        if (crosses) worst = -1;
+      }
+    }
+  }
+  return worst;
+}
+
+/// The area centroid of the polygon of a piece's corners on `plane`.
+Vec3 pieceCentroid(const CurvedOutline& o, const std::vector<int>& piece) {
+  Vec3 weighted = Vec3::Zero();
+  double area = 0;
+  for (size_t i = 1; i + 1 < piece.size(); ++i) {
+    const Vec3 &a = o.corners[piece[0]], &b = o.corners[piece[i]], &c = o.corners[piece[i + 1]];
+    const double w = (b - a).cross(c - a).dot(o.plane);
+    weighted += w * (a + b + c) / 3, area += w;
+  }
+  return area > 0 ? Vec3(weighted / area) : Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
+}
+
+/// A piece of a fanned polygon: its corners (indices into the polygon's, in order) and, where it
+/// is fanned, the centre it is fanned about.
+struct FanPiece {
+  std::vector<int> corners;
+  bool fanned = false;
+  Vec3 centre = Vec3::Zero();
+};
+
+/// How well a piece stands: as one polygon (pieceMargin) where it can, else as a fan about its
+/// area centroid (fanMargin); the centre in *centre where fanned.
+double pieceScore(const CurvedOutline& o, const std::vector<int>& piece, bool* fanned, Vec3* centre) {
+  std::vector<char> cuts;
+  const std::vector<Bezier> edges = pieceEdges(o, piece, &cuts);
+  const double whole = pieceMargin(edges, cuts, o.plane);
+  *fanned = !(whole > 0);
+  if (!*fanned) return whole;
+  *centre = pieceCentroid(o, piece);
+  return centre->allFinite() ? fanMargin(edges, *centre, o.plane) : -1;
+}
+
+/// The pieces of outline o's corners `piece` that stand (pieceScore > 0): the piece itself, or
+/// the two sides of the cut between two of its corners whose worse side stands best, each cut
+/// again where it does not stand, at most `depth` cuts deep. False where no plan stands.
+bool planPieces(const CurvedOutline& o, const std::vector<int>& piece, int depth, std::vector<FanPiece>& out) {
+  FanPiece p{piece};
+  if (pieceScore(o, piece, &p.fanned, &p.centre) > 0) {
+    out.push_back(std::move(p));
+    return true;
+  }
+  const int m = static_cast<int>(piece.size());
+  if (depth == 0 || m < 4) return false;
+  double best = -2;
+  std::vector<int> bestA, bestB;
+  for (int i = 0; i < m; ++i)
+    for (int j = i + 2; j < m; ++j) {
+      if (i == 0 && j == m - 1) continue;  // an edge, not a cut
+      const std::vector<int> a(piece.begin() + i, piece.begin() + j + 1);
+      std::vector<int> b(piece.begin() + j, piece.end());
+      b.insert(b.end(), piece.begin(), piece.begin() + i + 1);
+      bool fa, fb;
+      Vec3 ca, cb;
+      const double score = std::min(pieceScore(o, a, &fa, &ca), pieceScore(o, b, &fb, &cb));
+      if (score > best) best = score, bestA = a, bestB = b;
+    }
+  if (bestA.empty()) return false;
+  return planPieces(o, bestA, depth - 1, out) && planPieces(o, bestB, depth - 1, out);
+}
+
 /// The construction's inputs for `mesh`'s faces, as buildPatchCache will see them.
 PatchCache constructionInputs(const PolygonMesh& mesh, const std::vector<Vec3>& cornerNormals,
                               const PatchOptions& options) {
@@ -90,6 +286,9 @@ struct Outline {
   std::vector<int> slots;
   std::vector<int> faces;
 };
+
+/// The most cuts deep planPieces goes (a long slot's cap: one cut off each end).
+constexpr int kMaxFanCuts = 6;
 
 /// A cap's corner normals are its plane's normal: within this angle (radians) of it.
 constexpr double kCapNormalTolerance = 1e-6;
@@ -384,8 +583,11 @@ void splitStraightPatchCorners(PolygonMesh& mesh, std::vector<Eigen::Vector3d>& 
   const PatchCache& pc = caps ? c : asRead;
   const std::vector<Vec3>& pn = caps ? mergedNormals : cornerNormals;
 
+  // each polygon fanned: its pieces (one fan about its centre, or the plan of cuts and fans that
+  // planPieces makes) and the normal of its new vertices
   struct Fan {
-    Vec3 centre, normal;
+    std::vector<FanPiece> pieces;
+    Vec3 normal;
   };
   std::vector<std::optional<Fan>> fans(polygons.size());
   for (size_t i = 0; i < polygons.size(); ++i) {
@@ -396,6 +598,10 @@ void splitStraightPatchCorners(PolygonMesh& mesh, std::vector<Eigen::Vector3d>& 
       valid = pm.positions[pm.faceVertex(f, k)].allFinite() && pn[first + k].allFinite();
     if (!valid) continue;
     Fan fan;
+    FanPiece whole;
+    for (int k = 0; k < n; ++k) whole.corners.push_back(k);
+    whole.fanned = true;
+    const Vec3 plane = newellNormal(pm, f);
     bool ok = true;
     if (n > GP_MAX_N) {
       // a cap merged from more triangles than a patch takes corners (a finely divided cylinder's,
@@ -413,25 +619,36 @@ void splitStraightPatchCorners(PolygonMesh& mesh, std::vector<Eigen::Vector3d>& 
         weighted += w * (a + b + c3) / 3;
         area += w;
       }
-      fan.centre = weighted / area;
+      whole.centre = weighted / area;
       fan.normal = pn[first];
-      ok = area > 0 && fan.centre.allFinite();
+      ok = area > 0 && whole.centre.allFinite();
+      // every triangle of the fan turns the polygon's way about its Newell normal
+      for (int k = 0; k < n && ok; ++k) {
+        const Vec3 &a = pm.positions[pm.faceVertex(f, k)], &b = pm.positions[pm.faceVertex(f, k + 1)];
+        ok = (b - a).cross(whole.centre - a).dot(plane) > 0;
+      }
+      if (ok) fan.pieces.push_back(std::move(whole));
     } else {
       if (!hasStraightPatchCorner(pc, f)) continue;
       Vec3 centreNormal;
-      ok = n <= kMaxSplitCorners && patchCentre(pc, f, fan.centre, centreNormal);
+      ok = n <= kMaxSplitCorners && patchCentre(pc, f, whole.centre, centreNormal);
       bool oneNormal = true;
       for (int k = 1; k < n; ++k) oneNormal = oneNormal && pn[first + k] == pn[first];
       fan.normal = oneNormal ? pn[first] : centreNormal;
-    }
-    // every triangle of the fan turns the polygon's way about its Newell normal
-    const Vec3 plane = newellNormal(pm, f);
-    for (int k = 0; k < n && ok; ++k) {
-      const Vec3 &a = pm.positions[pm.faceVertex(f, k)], &b = pm.positions[pm.faceVertex(f, k + 1)];
-      ok = (b - a).cross(fan.centre - a).dot(plane) > 0;
+      const CurvedOutline outline = curvedOutline(pc, f, plane.normalized());
+      std::vector<char> cuts;
+      if (ok && fanMargin(pieceEdges(outline, whole.corners, &cuts), whole.centre, outline.plane) > 0) {
+        fan.pieces.push_back(std::move(whole));  // the fan about the patch's centre
+      } else if (oneNormal && n <= kMaxSplitCorners) {
+        // a polygon whose centre does not see every edge (a long slot's cap, a thin one): cut on
+        // diagonals into pieces that stand whole or fan about their own centroids, on its plane
+        ok = planPieces(outline, whole.corners, kMaxFanCuts, fan.pieces);
+      } else {
+        ok = false;
+      }
     }
     addSources(mesh, polygons[i], ok ? report.fannedFaces : report.unfannedFaces);
-    if (ok) fans[i] = fan;
+    if (ok) fans[i] = std::move(fan);
   }
   sortUnique(report.fannedFaces);
   sortUnique(report.unfannedFaces);
@@ -456,17 +673,26 @@ void splitStraightPatchCorners(PolygonMesh& mesh, std::vector<Eigen::Vector3d>& 
     if (fanAt[f] < 0) continue;  // a merged cap's other triangle
     const size_t i = static_cast<size_t>(fanAt[f]);
     const Outline& o = polygons[i];
-    const int centre = static_cast<int>(mesh.positions.size()), n = static_cast<int>(o.slots.size());
-    mesh.positions.push_back(fans[i]->centre);
-    if (vertexNormals) mesh.fileNormals.push_back(fans[i]->normal);
-    for (int k = 0; k < n; ++k) {
-      out.copyCorner(o.slots[k]);
-      out.copyCorner(o.slots[(k + 1) % n]);
-      out.addCorner(centre, fans[i]->normal);
-      out.closeFace(o.faces.front());  // a cap's first triangle: sources stay in order
+    for (const FanPiece& piece : fans[i]->pieces) {
+      const int m = static_cast<int>(piece.corners.size());
+      if (!piece.fanned) {
+        for (const int k : piece.corners) out.copyCorner(o.slots[k]);
+        out.closeFace(o.faces.front());  // a cap's first triangle: sources stay in order
+        ++report.fanPieces;
+        continue;
+      }
+      const int centre = static_cast<int>(mesh.positions.size());
+      mesh.positions.push_back(piece.centre);
+      if (vertexNormals) mesh.fileNormals.push_back(fans[i]->normal);
+      for (int k = 0; k < m; ++k) {
+        out.copyCorner(o.slots[piece.corners[k]]);
+        out.copyCorner(o.slots[piece.corners[(k + 1) % m]]);
+        out.addCorner(centre, fans[i]->normal);
+        out.closeFace(o.faces.front());
+      }
+      report.fanTriangles += m;
+      ++report.addedVertices;
     }
-    report.fanTriangles += n;
-    ++report.addedVertices;
   }
   out.commit(mesh, &cornerNormals);
 }

@@ -27,6 +27,7 @@
 #include <smoothforce/patch/patch_build.h>
 #include <smoothforce/patch/patch_certificate.h>
 #include <smoothforce/patch/patch_eval.h>
+#include <smoothforce/patch/patch_option_text.h>
 #include <smoothforce/query/patch_surface.h>
 #include <smoothforce/query/surface_faults.h>
 
@@ -517,6 +518,143 @@ TEST(StraightCornerSplit, CapsFannedAsReadAreLeftAsRead) {
   ASSERT_EQ(after.numFaces(), 24);
   EXPECT_EQ(straightCreaseCorners(before), 0);
   EXPECT_EQ(after.edgeDataD, before.edgeDataD);
+}
+
+/// The OBJ of a flat slot's prism: a stadium (straight sides 2a long, half-circle ends of radius r
+/// in k segments each) extruded by h, its caps one polygon each (faces 0 and 1), its sides quads.
+/// Under --crease-angle 30 the rims are creases that run smoothly through every arc vertex, so
+/// each cap has 2 (k - 1) straight patch corners, and a long cap's centre sees its far arcs at
+/// under a degree.
+std::string slotPrismObj(double a, double r, int k, double h) {
+  std::vector<Eigen::Vector2d> rim;
+  for (int end = 0; end < 2; ++end)
+    for (int i = 0; i <= k; ++i) {
+      const double t = std::numbers::pi * (i / double(k) + end - 0.5);
+      rim.emplace_back((end ? -a : a) + r * std::cos(t), r * std::sin(t));
+    }
+  const int n = static_cast<int>(rim.size());
+  std::string s, top = "f", bottom = "f";
+  char buf[96];
+  for (int z = 0; z < 2; ++z)
+    for (const Eigen::Vector2d& p : rim) {
+      std::snprintf(buf, sizeof buf, "v %.17g %.17g %.17g\n", p.x(), p.y(), z * h);
+      s += buf;
+    }
+  for (int i = 0; i < n; ++i) top += " " + std::to_string(n + i + 1), bottom += " " + std::to_string(n - i);
+  s += top + "\n" + bottom + "\n";
+  for (int i = 0; i < n; ++i) {
+    const int j = (i + 1) % n;
+    s += "f " + std::to_string(i + 1) + " " + std::to_string(j + 1) + " " + std::to_string(n + j + 1) + " " +
+         std::to_string(n + i + 1) + "\n";
+  }
+  return s;
+}
+
+/// The OBJ of a slab whose top and bottom are strips of m flat parallelogram quads (dx wide, w
+/// deep, the far row shifted by `skew` along the strip: corners of atan(w / skew)), h thick, its
+/// ends skewed quads too. Under --crease-angle 30 the crease along each long top and bottom edge
+/// runs on smoothly through the end quad's obtuse corner, a straight patch corner.
+std::string skewedSlabObj(int m, double skew, double dx, double w, double h) {
+  std::string s;
+  char buf[96];
+  auto id = [m](int i, int j, int z) { return std::to_string(z * 2 * (m + 1) + j * (m + 1) + i + 1); };
+  for (int z = 0; z < 2; ++z)
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i <= m; ++i) {
+        std::snprintf(buf, sizeof buf, "v %.17g %.17g %.17g\n", i * dx + j * skew, j * w, z * h);
+        s += buf;
+      }
+  auto quad = [&](const std::string& a, const std::string& b, const std::string& c, const std::string& d) {
+    s += "f " + a + " " + b + " " + c + " " + d + "\n";
+  };
+  for (int i = 0; i < m; ++i) {
+    quad(id(i, 0, 1), id(i + 1, 0, 1), id(i + 1, 1, 1), id(i, 1, 1));  // top
+    quad(id(i, 0, 0), id(i, 1, 0), id(i + 1, 1, 0), id(i + 1, 0, 0));  // bottom
+    quad(id(i, 0, 0), id(i + 1, 0, 0), id(i + 1, 0, 1), id(i, 0, 1));  // front
+    quad(id(i, 1, 0), id(i, 1, 1), id(i + 1, 1, 1), id(i + 1, 1, 0));  // back
+  }
+  quad(id(0, 0, 0), id(0, 0, 1), id(0, 1, 1), id(0, 1, 0));
+  quad(id(m, 0, 0), id(m, 1, 0), id(m, 1, 1), id(m, 0, 1));
+  return s;
+}
+
+TEST(StraightCornerSplit, LongAndThinCapsAreCutIntoPiecesOrLeftWholeNeverWorseThanOff) {
+  // Flat polygons with straight patch corners whose centre does not see every edge curve at a
+  // degree or more: a long slot's cap is cut on diagonals into pieces that stand whole or fan
+  // about their own centroid; a thin skewed quad that no plan keeps is left as the design page
+  // builds it. Over every mesh: the default proves no patch folded, has no more fault area than
+  // off, and where it cut or fanned certifies every patch with no fault at all, where off leaves
+  // fault area on every slot (its caps fold on the three longer ones).
+  hostile::TempDir dir("sf_straight_corner_long");
+  struct Case {
+    std::string name, obj;
+    std::vector<int> fanned, unfanned;  ///< faces as read
+  };
+  const std::vector<Case> cases = {
+      {"slot 3:1, 6 segments", slotPrismObj(1, 0.5, 6, 0.3), {0, 1}, {}},
+      {"slot 6:1, 6 segments", slotPrismObj(3, 0.5, 6, 0.3), {0, 1}, {}},
+      {"slot 11:1, 8 segments", slotPrismObj(5, 0.5, 8, 0.3), {0, 1}, {}},
+      {"slot 21:1, 10 segments", slotPrismObj(10, 0.5, 10, 0.3), {0, 1}, {}},
+      {"slab of 14-degree quads", skewedSlabObj(12, 0.2, 0.1, 0.05, 0.02), {0, 1, 44, 45}, {}},
+      {"slab of 3-degree quads", skewedSlabObj(12, 1.0, 0.1, 0.05, 0.02), {}, {0, 1, 44, 45}},
+      {"slab of 3-degree quads, 20", skewedSlabObj(20, 0.4, 0.05, 0.02, 0.02), {}, {0, 1, 76, 77}},
+  };
+  int pieces = 0, fanTriangles = 0, centres = 0, certified = 0, patches = 0, offFaulty = 0;
+  for (const Case& cs : cases) {
+    SCOPED_TRACE(cs.name);
+    const std::string path = (dir.path / "part.obj").string();
+    std::ofstream(path) << cs.obj;
+    PatchOptions off, on;
+    setCreaseAngle(off, 30);
+    setCreaseAngle(on, 30);
+    off.foldRepair = FoldRepairMode::Off;
+    const LoadedMesh asRead = loadMesh(path, off), repaired = loadMesh(path, on);
+    PatchCache before = buildPatchCache(asRead, off, Backend::Tbb);
+    PatchCache after = buildPatchCache(repaired, on, Backend::Tbb);
+    const PolygonSplitReport& r = repaired.split;
+    EXPECT_EQ(r.fannedFaces, cs.fanned);
+    EXPECT_EQ(r.unfannedFaces, cs.unfanned);
+    pieces += r.fanPieces, fanTriangles += r.fanTriangles, centres += r.addedVertices;
+
+    const CertificateSummary onCert = certifyPatches(after);
+    const double offFault = measureSurfaceFaults(PatchSurface(before)).faultArea();
+    const SurfaceFaults onFaults = measureSurfaceFaults(PatchSurface(after));
+    EXPECT_TRUE(onFaults.closed);
+    EXPECT_EQ(onCert.folded, 0) << ::testing::PrintToString(onCert.foldedFaces);
+    EXPECT_LE(onFaults.faultArea(), offFault);
+    offFaulty += offFault > 0;
+    if (!cs.fanned.empty()) {
+      EXPECT_EQ(onCert.certified, after.numFaces()) << ::testing::PrintToString(onCert.uncertifiedFaces);
+      EXPECT_EQ(onFaults.faultArea(), 0.0);
+      // every piece of a cut cap lies on its plane, inside its rim's box, and turns its way
+      for (int g = 0; g < after.numFaces(); ++g) {
+        const int f = after.faceSource[g];
+        if (std::find(cs.fanned.begin(), cs.fanned.end(), f) == cs.fanned.end()) continue;
+        const Eigen::Vector3d normal(&before.cornerNormals[3 * size_t(before.faceOffsets[f])]);
+        const Eigen::Vector3d v0(&before.positions[3 * size_t(before.faceVertices[before.faceOffsets[f]])]);
+        for (int j = 0; j < 25; ++j) {
+          const Eigen::Vector2d x = 0.9 * (j / 25.0) * domainCorner(after.faceSize(g), j % after.faceSize(g));
+          const PatchPoint p = evaluatePatch(after, g, x.x(), x.y());
+          EXPECT_LT(std::fabs((p.pos - v0).dot(normal)), 1e-12) << "piece " << g;
+          EXPECT_GT(p.normal.dot(normal), 1 - 1e-12) << "piece " << g;
+        }
+      }
+    }
+    std::printf(
+        "%-28s off: fault %.3g m^2; on: %d pieces whole, %d fan triangles about %d centres, %d of %d certified, "
+        "fault %.3g m^2\n",
+        cs.name.c_str(), offFault, r.fanPieces, r.fanTriangles, r.addedVertices, onCert.certified, after.numFaces(),
+        onFaults.faultArea());
+    certified += onCert.certified, patches += after.numFaces();
+  }
+  // the two longer slots' caps cut in two (11:1: two fans; 21:1: two fans and two pieces whole),
+  // the other caps and end quads fanned about their patch's centre
+  EXPECT_EQ(pieces, 4);
+  EXPECT_EQ(fanTriangles, 2 * 14 + 2 * 14 + 2 * (18 + 2) + 2 * 22 + 4 * 4);
+  EXPECT_EQ(centres, 2 + 2 + 4 + 4 + 4);
+  // every patch certified but the 8 end quads left whole, whose straight corner's Jacobian vanishes
+  EXPECT_EQ(certified, patches - 8);
+  EXPECT_EQ(offFaulty, 5);
 }
 
 }  // namespace

@@ -211,11 +211,12 @@ void build(const std::string& mesh, std::string out, const PatchArgs& args, bool
     std::printf(
         "fold repair: %s: %zu faces as read (flat polygons with a straight corner between creases; a flat cap's "
         "triangles merged first, a flat annulus's into convex pieces) fanned into %d triangles about %d new centre "
-        "vertices (faces:%s)\n",
+        "vertices and %d pieces cut off on diagonals (faces:%s)\n",
         toString(opt.foldRepair), lm.split.fannedFaces.size(), lm.split.fanTriangles, lm.split.addedVertices,
-        faceIdsText(lm.split.fannedFaces).c_str());
+        lm.split.fanPieces, faceIdsText(lm.split.fannedFaces).c_str());
     if (!lm.split.unfannedFaces.empty())
-      std::printf("  left whole (their centre sees not every edge):%s\n", faceIdsText(lm.split.unfannedFaces).c_str());
+      std::printf("  left whole (no centre of theirs or of pieces cut on their diagonals sees every edge curve):%s\n",
+                  faceIdsText(lm.split.unfannedFaces).c_str());
   }
   throwIfInterrupted("cache build");
   PatchCache cache = preparePatchCache(lm.mesh, lm.cornerNormals, opt, lm.fileHash);

@@ -64,14 +64,17 @@ struct PolygonSplitReport {
   /// bow-tie) or has no area, they have more than kMaxSplitCorners corners, or no diagonal cuts
   /// them (ascending).
   std::vector<int> unsplitFaces;
-  /// Flat faces with a straight patch corner cut into a fan about a new centre vertex, and the
-  /// triangles of flat caps merged into one polygon first (splitStraightPatchCorners,
-  /// patch/straight_corner_split.h): as read, ascending.
+  /// Flat faces with a straight patch corner cut into a fan about a new centre vertex (or, where
+  /// that centre does not see every edge, into pieces on diagonals, fanned about their own
+  /// centres or whole), and the triangles of flat caps merged into one polygon first
+  /// (splitStraightPatchCorners, patch/straight_corner_split.h): as read, ascending.
   std::vector<int> fannedFaces;
-  int fanTriangles = 0;   ///< triangles they became
+  int fanTriangles = 0;   ///< fan triangles they became
+  int fanPieces = 0;      ///< pieces cut off them on diagonals that stand unfanned
   int addedVertices = 0;  ///< centre vertices appended to the mesh (one per fanned face)
-  /// Flat faces with a straight patch corner left whole: the fan about their centre would not
-  /// be positively oriented, or they have more than kMaxSplitCorners corners (ascending).
+  /// Flat faces with a straight patch corner left whole: no fan about their centre, nor pieces
+  /// cut on their diagonals, sees every edge curve, or they have more than kMaxSplitCorners
+  /// corners (ascending).
   std::vector<int> unfannedFaces;
 };
 

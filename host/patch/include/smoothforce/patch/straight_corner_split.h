@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // The fold repair's fan split: flat polygons whose patch has a straight corner (a crease running
-// smoothly through the vertex) cut into triangles about a new centre vertex.
+// smoothly through the vertex) cut into triangles about a new centre vertex, or on diagonals into
+// pieces fanned about their own centres where one centre does not see every edge.
 #pragma once
 
 #include <Eigen/Core>
@@ -48,8 +49,17 @@ namespace sf {
 /// greedy merge across the longest shared edges while the piece stays convex), and each piece
 /// with a straight patch corner is fanned as above; the other pieces keep their triangles.
 ///
-/// Faces whose fan would not be positively oriented on the polygon's plane around the centre (a
-/// centre outside the polygon's kernel), and faces with more than kMaxSplitCorners corners, are
+/// A fan stands only where its centre sees every edge curve of the polygon (as the construction
+/// builds it) turn one way about it, and sees each edge's chord at kFanTangledGapDeg or more (and
+/// 180 minus that or less): a centre outside the curved outline's kernel folds the fan's
+/// triangles, and spokes closer than that would be untangled apart (tangent_fans.h), bending them
+/// across thin triangles. A polygon with one corner normal whose centre fails (a long slot's cap
+/// sees its far arcs at under a degree; a thin skewed quad its short edges) is cut on diagonals
+/// between its own vertices, greedily (the cut whose worse side stands best), at most 6 cuts
+/// deep, into pieces that either stand whole (every corner between kFanTangledGapDeg and 180 -
+/// kPieceStraightCornerDeg degrees between its edge tangents, no cut crossing an edge curve) or
+/// fan about their own area centroid under the same test; report.fanPieces counts the pieces
+/// that stand whole. Faces no plan keeps, and faces with more than kMaxSplitCorners corners, are
 /// left whole and listed in report.unfannedFaces (a cap: all its triangles). Updates mesh
 /// (positions: the centres appended; faces, fileCornerNormals, faceSmoothingGroups, fileNormals
 /// where one per vertex, faceSource) and cornerNormals (#C, one per corner) in place;
