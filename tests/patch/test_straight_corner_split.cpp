@@ -584,7 +584,7 @@ TEST(StraightCornerSplit, LongAndThinCapsAreCutIntoPiecesOrLeftWholeNeverWorseTh
   // about their own centroid; a thin skewed quad that no plan keeps is left as the design page
   // builds it. Over every mesh: the default proves no patch folded, has no more fault area than
   // off, and where it cut or fanned certifies every patch with no fault at all, where off leaves
-  // fault area on every slot (its caps fold on the three longer ones).
+  // fault area on every slot (its caps fold on the three longer ones) and on one slab.
   hostile::TempDir dir("sf_straight_corner_long");
   struct Case {
     std::string name, obj;
@@ -596,6 +596,7 @@ TEST(StraightCornerSplit, LongAndThinCapsAreCutIntoPiecesOrLeftWholeNeverWorseTh
       {"slot 11:1, 8 segments", slotPrismObj(5, 0.5, 8, 0.3), {0, 1}, {}},
       {"slot 21:1, 10 segments", slotPrismObj(10, 0.5, 10, 0.3), {0, 1}, {}},
       {"slab of 14-degree quads", skewedSlabObj(12, 0.2, 0.1, 0.05, 0.02), {0, 1, 44, 45}, {}},
+      {"slab of 6-degree quads", skewedSlabObj(12, 0.5, 0.1, 0.05, 0.02), {}, {0, 1, 44, 45}},
       {"slab of 3-degree quads", skewedSlabObj(12, 1.0, 0.1, 0.05, 0.02), {}, {0, 1, 44, 45}},
       {"slab of 3-degree quads, 20", skewedSlabObj(20, 0.4, 0.05, 0.02, 0.02), {}, {0, 1, 76, 77}},
   };
@@ -647,13 +648,13 @@ TEST(StraightCornerSplit, LongAndThinCapsAreCutIntoPiecesOrLeftWholeNeverWorseTh
         onFaults.faultArea());
     certified += onCert.certified, patches += after.numFaces();
   }
-  // the two longer slots' caps cut in two (11:1: two fans; 21:1: two fans and two pieces whole),
-  // the other caps and end quads fanned about their patch's centre
-  EXPECT_EQ(pieces, 4);
-  EXPECT_EQ(fanTriangles, 2 * 14 + 2 * 14 + 2 * (18 + 2) + 2 * 22 + 4 * 4);
-  EXPECT_EQ(centres, 2 + 2 + 4 + 4 + 4);
-  // every patch certified but the 8 end quads left whole, whose straight corner's Jacobian vanishes
-  EXPECT_EQ(certified, patches - 8);
+  // the 3:1 slot's caps and the 14-degree slab's end quads fanned about their patch's centre; the
+  // other slots' caps cut: 6:1 once into two fans, 11:1 and 21:1 into two fans and two pieces whole
+  EXPECT_EQ(pieces, 2 * 2 + 2 * 2);
+  EXPECT_EQ(fanTriangles, 2 * 14 + 2 * (14 + 2) + 2 * 18 + 2 * 22 + 4 * 4);
+  EXPECT_EQ(centres, 2 + 4 + 4 + 4 + 4);
+  // every patch certified but the 12 end quads left whole, whose straight corner's Jacobian vanishes
+  EXPECT_EQ(certified, patches - 12);
   EXPECT_EQ(offFaulty, 5);
 }
 

@@ -50,22 +50,20 @@ namespace sf {
 /// with a straight patch corner is fanned as above; the other pieces keep their triangles.
 ///
 /// A fan stands only where its centre sees every edge curve of the polygon (as the construction
-/// builds it) turn one way about it, and sees each edge's chord at kFanTangledGapDeg or more (and
-/// 180 minus that or less): a centre outside the curved outline's kernel folds the fan's
-/// triangles, and spokes closer than that would be untangled apart (tangent_fans.h), bending them
-/// across thin triangles. A polygon with one corner normal whose centre fails (a long slot's cap
-/// sees its far arcs at under a degree; a thin skewed quad its short edges) is cut on diagonals
-/// between its own vertices, greedily (the cut whose worse side stands best), at most 6 cuts
-/// deep, into pieces that either stand whole (every corner between kFanTangledGapDeg and 180 -
-/// kPieceStraightCornerDeg degrees between its edge tangents, no cut crossing an edge curve) or
-/// fan about their own area centroid under the same test; report.fanPieces counts the pieces
-/// that stand whole. Faces no plan keeps, and faces with more than kMaxSplitCorners corners, are
-/// left whole and listed in report.unfannedFaces (a cap: all its triangles). Updates mesh
-/// (positions: the centres appended; faces, fileCornerNormals, faceSmoothingGroups, fileNormals
-/// where one per vertex, faceSource) and cornerNormals (#C, one per corner) in place;
-/// report.fannedFaces (faces as read, mesh.faceSource), report.fanTriangles and
-/// report.addedVertices say what was cut. options give the cross-tangent mode of the patch the
-/// centre is taken from.
+/// builds it) turn one way about it, at 1 degree or more, and sees each edge's chord at
+/// kFanTangledGapDeg plus 1 degree or more (and 180 minus that or less): a centre outside the
+/// curved outline's kernel folds the fan's triangles, and spokes closer than kFanTangledGapDeg
+/// would be untangled apart (tangent_fans.h), bending them across thin triangles. A polygon with one corner normal
+/// whose centre fails (a long slot's cap sees its far arcs at under a degree; a thin skewed quad its short edges) is
+/// cut on diagonals between its own vertices, greedily (the cut whose worse side stands best), at most 6 cuts deep,
+/// into pieces that either stand whole (every corner between kFanTangledGapDeg and 180 - kPieceStraightCornerDeg
+/// degrees between its edge tangents, no cut crossing an edge curve) or fan about their own area centroid under the
+/// same tests (each with the same 1-degree margin); report.fanPieces counts the pieces that stand whole. Faces no plan
+/// keeps, and faces with more than kMaxSplitCorners corners, are left whole and listed in report.unfannedFaces (a cap:
+/// all its triangles). Updates mesh (positions: the centres appended; faces, fileCornerNormals, faceSmoothingGroups,
+/// fileNormals where one per vertex, faceSource) and cornerNormals (#C, one per corner) in place; report.fannedFaces
+/// (faces as read, mesh.faceSource), report.fanTriangles and report.addedVertices say what was cut. options give the
+/// cross-tangent mode of the patch the centre is taken from.
 void splitStraightPatchCorners(PolygonMesh& mesh, std::vector<Eigen::Vector3d>& cornerNormals,
                                const PatchOptions& options, PolygonSplitReport& report);
 
