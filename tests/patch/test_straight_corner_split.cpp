@@ -522,8 +522,8 @@ TEST(StraightCornerSplit, CapsFannedAsReadAreLeftAsRead) {
 
 /// The OBJ of a flat slot's prism: a stadium (straight sides 2a long, half-circle ends of radius r
 /// in k segments each) extruded by h, its caps one polygon each (faces 0 and 1), its sides quads.
-/// Under --crease-angle 30 the rims are creases that run smoothly through every arc vertex, so
-/// each cap has 2 (k - 1) straight patch corners, and a long cap's centre sees its far arcs at
+/// Under --crease-angle 30 the rims are creases that run smoothly through every rim vertex, so
+/// every corner of a cap is a straight patch corner, and a long cap's centre sees its far arcs at
 /// under a degree.
 std::string slotPrismObj(double a, double r, int k, double h) {
   std::vector<Eigen::Vector2d> rim;
