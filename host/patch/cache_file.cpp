@@ -325,8 +325,10 @@ PatchCache readPatchCache(const std::string& path, const CacheExpectation& expec
     if (!(std::fabs(c.faceCertificate[f]) <= 1.f) || (c.faceCertificate[f] != 0 && (c.faceStatus[f] & GP_ST_NOT_BUILT)))
       throw fail("face " + std::to_string(f) + " has a certificate margin the certificate cannot give (" +
                  std::to_string(c.faceCertificate[f]) + ")");
-  for (size_t f = 0; f < c.faceSource.size(); ++f)  // pieces follow their faces as read, in order
-    if (c.faceSource[f] < 0 || (f > 0 && c.faceSource[f] < c.faceSource[f - 1]) || c.faceSource[f] > int64_t(f))
+  // pieces follow their faces as read, in order; a cap merged from several faces as read and cut
+  // into fewer pieces leaves fewer faces than sources, so a source may exceed its face's index
+  for (size_t f = 0; f < c.faceSource.size(); ++f)
+    if (c.faceSource[f] < 0 || (f > 0 && c.faceSource[f] < c.faceSource[f - 1]))
       throw fail("face " + std::to_string(f) + " has a source face the split cannot give (" +
                  std::to_string(c.faceSource[f]) + ")");
   if (c.faceOffsets.front() != 0 || c.faceOffsets.back() != static_cast<int32_t>(h.numSlots))

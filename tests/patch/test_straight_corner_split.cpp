@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include <smoothforce/patch/cache_file.h>
 #include <smoothforce/patch/detail/gp_math.h>
 #include <smoothforce/patch/mesh_pipeline.h>
 #include <smoothforce/patch/patch_build.h>
@@ -550,6 +551,29 @@ std::string slotPrismObj(double a, double r, int k, double h) {
   return s;
 }
 
+/// slotPrismObj with each cap triangulated from its rim alone, as a fan about its first rim
+/// vertex (faces 0 .. 2 (2k + 2 - 2) - 1, the two caps' triangles interleaved), then the sides.
+std::string slotPrismWithTriangulatedCapsObj(double a, double r, int k, double h) {
+  const std::string whole = slotPrismObj(a, r, k, h);
+  const int n = 2 * (k + 1);
+  std::string s;
+  size_t at = 0;
+  for (int line = 0; at < whole.size(); ++line) {
+    const size_t end = whole.find('\n', at);
+    const std::string text = whole.substr(at, end - at);
+    at = end + 1;
+    if (line == 2 * n) {  // the top cap, then the bottom cap's line: replaced by their triangles
+      for (int i = 1; i + 1 < n; ++i) {
+        s += "f " + std::to_string(n + 1) + " " + std::to_string(n + i + 1) + " " + std::to_string(n + i + 2) + "\n";
+        s += "f 1 " + std::to_string(n - i + 1) + " " + std::to_string(n - i) + "\n";
+      }
+    } else if (line != 2 * n + 1) {
+      s += text + "\n";
+    }
+  }
+  return s;
+}
+
 /// The OBJ of a slab whose top and bottom are strips of m flat parallelogram quads (dx wide, w
 /// deep, the far row shifted by `skew` along the strip: corners of atan(w / skew)), h thick, its
 /// ends skewed quads too. Under --crease-angle 30 the crease along each long top and bottom edge
@@ -584,7 +608,8 @@ TEST(StraightCornerSplit, LongAndThinCapsAreCutIntoPiecesOrLeftWholeNeverWorseTh
   // about their own centroid; a thin skewed quad that no plan keeps is left as the design page
   // builds it. Over every mesh: the default proves no patch folded, has no more fault area than
   // off, and where it cut or fanned certifies every patch with no fault at all, where off leaves
-  // fault area on every slot (its caps fold on the three longer ones) and on one slab.
+  // fault area on every slot (its caps fold on the longer ones) and on one slab; the cache file
+  // keeps the pieces and their sources (a merged cap's pieces can be fewer than its triangles).
   hostile::TempDir dir("sf_straight_corner_long");
   struct Case {
     std::string name, obj;
@@ -595,6 +620,12 @@ TEST(StraightCornerSplit, LongAndThinCapsAreCutIntoPiecesOrLeftWholeNeverWorseTh
       {"slot 6:1, 6 segments", slotPrismObj(3, 0.5, 6, 0.3), {0, 1}, {}},
       {"slot 11:1, 8 segments", slotPrismObj(5, 0.5, 8, 0.3), {0, 1}, {}},
       {"slot 21:1, 10 segments", slotPrismObj(10, 0.5, 10, 0.3), {0, 1}, {}},
+      // caps triangulated from the rim (a CAD export), merged into one polygon, then cut into
+      // four pieces whole each: fewer faces than the 2 x 8 triangles read
+      {"slot 33:1, 4 segments, triangulated caps",
+       slotPrismWithTriangulatedCapsObj(8, 0.5, 4, 0.2),
+       {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15},
+       {}},
       {"slab of 14-degree quads", skewedSlabObj(12, 0.2, 0.1, 0.05, 0.02), {0, 1, 44, 45}, {}},
       {"slab of 6-degree quads", skewedSlabObj(12, 0.5, 0.1, 0.05, 0.02), {}, {0, 1, 44, 45}},
       {"slab of 3-degree quads", skewedSlabObj(12, 1.0, 0.1, 0.05, 0.02), {}, {0, 1, 44, 45}},
@@ -616,6 +647,12 @@ TEST(StraightCornerSplit, LongAndThinCapsAreCutIntoPiecesOrLeftWholeNeverWorseTh
     EXPECT_EQ(r.fannedFaces, cs.fanned);
     EXPECT_EQ(r.unfannedFaces, cs.unfanned);
     pieces += r.fanPieces, fanTriangles += r.fanTriangles, centres += r.addedVertices;
+    // the cache file keeps the pieces and their sources
+    const std::string cachePath = (dir.path / "part.sfcache").string();
+    writePatchCache(after, cachePath);
+    const PatchCache back = readPatchCache(cachePath);
+    EXPECT_EQ(back.faceSource, after.faceSource);
+    EXPECT_EQ(back.faceVertices, after.faceVertices);
 
     const CertificateSummary onCert = certifyPatches(after);
     const double offFault = measureSurfaceFaults(PatchSurface(before)).faultArea();
@@ -649,13 +686,14 @@ TEST(StraightCornerSplit, LongAndThinCapsAreCutIntoPiecesOrLeftWholeNeverWorseTh
     certified += onCert.certified, patches += after.numFaces();
   }
   // the 3:1 slot's caps and the 14-degree slab's end quads fanned about their patch's centre; the
-  // other slots' caps cut: 6:1 once into two fans, 11:1 and 21:1 into two fans and two pieces whole
-  EXPECT_EQ(pieces, 2 * 2 + 2 * 2);
+  // other slots' caps cut: 6:1 once into two fans, 11:1 and 21:1 into two fans and two pieces
+  // whole, the 33:1 slot's merged caps into four pieces whole
+  EXPECT_EQ(pieces, 2 * 2 + 2 * 2 + 2 * 4);
   EXPECT_EQ(fanTriangles, 2 * 14 + 2 * (14 + 2) + 2 * 18 + 2 * 22 + 4 * 4);
   EXPECT_EQ(centres, 2 + 4 + 4 + 4 + 4);
   // every patch certified but the 12 end quads left whole, whose straight corner's Jacobian vanishes
   EXPECT_EQ(certified, patches - 12);
-  EXPECT_EQ(offFaulty, 5);
+  EXPECT_EQ(offFaulty, 6);
 }
 
 }  // namespace
