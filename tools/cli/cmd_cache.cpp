@@ -209,7 +209,8 @@ void build(const std::string& mesh, std::string out, const PatchArgs& args, bool
   }
   if (opt.foldRepair != FoldRepairMode::Off && (!lm.split.fannedFaces.empty() || !lm.split.unfannedFaces.empty())) {
     std::printf(
-        "fold repair: %s: %zu faces as read (flat polygons with a straight corner between creases; a flat cap's "
+        "fold repair: %s: %zu faces as read (flat polygons with a straight corner between creases or more than 12 "
+        "corners on their plane's one normal; a flat cap's "
         "triangles merged first, a flat annulus's into convex pieces) fanned into %d triangles about %d new centre "
         "vertices and %d pieces cut off on diagonals (faces:%s)\n",
         toString(opt.foldRepair), lm.split.fannedFaces.size(), lm.split.fanTriangles, lm.split.addedVertices,

@@ -29,7 +29,11 @@ namespace sf {
 /// normal, with that normal. The edges of the polygon keep their edge curves (built from the same
 /// two vertices and normals), so the neighbours' patches are unchanged and the surface stays G1
 /// across every edge; a flat polygon with one normal keeps its plane. Each triangle's corner at V_k
-/// sits between the crease and the spoke to the centre, no longer straight.
+/// sits between the crease and the spoke to the centre, no longer straight. A flat polygon of more
+/// than 12 corners whose corner normals are all its plane's (within 1e-6 radians; a gear's face once
+/// splitBadCorners has cut its teeth off) is fanned the same way with or without such a corner: its
+/// patch is the flat polygon, which the fan's affine triangles keep, while the certificate's bounds
+/// of a patch of that many corners seldom decide it (a 24-gon undecided after minutes).
 ///
 /// A cap triangulated from its rim alone (a CAD export: triangles joined across edges that are not
 /// creases, a disc whose every vertex is on its rim) has such corners in its ears (both rim edges
