@@ -291,7 +291,7 @@ TEST(FoldRepairSplit, TheCommandLineBuildsReportsAndKeepsIt) {
   const std::string mesh = test::sharedMesh("pmp/L.off"), cache = (dir / "L.sfcache").string();
   test::CliResult r = test::smoothforce("cache build " + mesh + " --fold-repair split -o " + cache);
   ASSERT_EQ(r.status, 0) << r.out;
-  EXPECT_NE(r.out.find("fold repair: on: 1 flat polygons with a reflex or straight corner cut into 2 convex pieces"),
+  EXPECT_NE(r.out.find("fold repair: on: 1 flat polygon with a reflex or straight corner cut into 2 convex pieces"),
             std::string::npos)
       << r.out;
   r = test::smoothforce("cache info " + cache + " --json");

@@ -91,9 +91,9 @@ void printFoldRepair(const PatchCache& c) {
     size_t pieces = 0;
     for (const FoldRepairRecord::Cut& cut : r.cuts) pieces += cut.faces.size();
     std::printf(
-        "fold repair: %s: %zu faces as read cut into %zu convex pieces (a flat cap merged from triangles: under its "
-        "first); the cache's faces are the pieces\n",
-        toString(c.options.foldRepair), r.cuts.size(), pieces);
+        "fold repair: %s: %zu %s as read replaced by %zu pieces (convex pieces cut on diagonals, fan triangles; a "
+        "flat cap merged from its triangles is listed under its first); the cache's faces are the pieces\n",
+        toString(c.options.foldRepair), r.cuts.size(), r.cuts.size() == 1 ? "face" : "faces", pieces);
     for (size_t i = 0; i < r.cuts.size() && i < 10; ++i) {
       std::string ids;  // every piece (faceIdsText would stop at 10)
       for (const int f : r.cuts[i].faces) (ids += ' ') += std::to_string(f);
@@ -200,20 +200,22 @@ void build(const std::string& mesh, std::string out, const PatchArgs& args, bool
   std::printf("normals: %s\n", toString(opt.normals));
   for (const std::string& line : lm.normalReport.describe()) std::printf("  %s\n", line.c_str());
   if (opt.foldRepair != FoldRepairMode::Off && (!lm.split.splitFaces.empty() || !lm.split.unsplitFaces.empty())) {
-    std::printf("fold repair: %s: %zu flat polygons with a reflex or straight corner cut into %d convex pieces (faces as read:%s)\n",
-                toString(opt.foldRepair), lm.split.splitFaces.size(), lm.split.pieces,
-                faceIdsText(lm.split.splitFaces).c_str());
+    std::printf(
+        "fold repair: %s: %zu flat %s with a reflex or straight corner cut into %d convex pieces (faces as read:%s)\n",
+        toString(opt.foldRepair), lm.split.splitFaces.size(), lm.split.splitFaces.size() == 1 ? "polygon" : "polygons",
+        lm.split.pieces, faceIdsText(lm.split.splitFaces).c_str());
     if (!lm.split.unsplitFaces.empty())
       std::printf("  left whole (outline not simple, or no diagonal cuts them):%s\n",
                   faceIdsText(lm.split.unsplitFaces).c_str());
   }
   if (opt.foldRepair != FoldRepairMode::Off && (!lm.split.fannedFaces.empty() || !lm.split.unfannedFaces.empty())) {
     std::printf(
-        "fold repair: %s: %zu faces as read (flat polygons with a straight corner between creases or more than 12 "
+        "fold repair: %s: %zu %s as read (flat polygons with a straight corner between creases or more than 12 "
         "corners on their plane's one normal; a flat cap's "
         "triangles merged first, a flat annulus's into convex pieces) fanned into %d triangles about %d new centre "
-        "vertices and %d pieces cut off on diagonals (faces:%s)\n",
-        toString(opt.foldRepair), lm.split.fannedFaces.size(), lm.split.fanTriangles, lm.split.addedVertices,
+        "%s and %d pieces cut off on diagonals (faces:%s)\n",
+        toString(opt.foldRepair), lm.split.fannedFaces.size(), lm.split.fannedFaces.size() == 1 ? "face" : "faces",
+        lm.split.fanTriangles, lm.split.addedVertices, lm.split.addedVertices == 1 ? "vertex" : "vertices",
         lm.split.fanPieces, faceIdsText(lm.split.fannedFaces).c_str());
     if (!lm.split.unfannedFaces.empty())
       std::printf("  left whole (no centre of theirs or of pieces cut on their diagonals sees every edge curve):%s\n",
