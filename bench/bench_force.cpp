@@ -24,6 +24,7 @@
 #include <random>
 
 #include <smoothforce/force/force_method.h>
+#include <smoothforce/force/force_presets.h>
 #include <smoothforce/force/force_tracking.h>
 #include <smoothforce/mesh/topology.h>
 #include <smoothforce/query/embree_scene.h>
@@ -109,6 +110,7 @@ std::unique_ptr<ForceRenderer> renderer(const Scene& sc, int method) {
   if (method == 3) o.refine = RefineMethod::PaperDescent;
   if (method == 5) o.finalStep = FinalStep::Model;
   if (method == 6) o.surfaceIndex = SurfaceIndex::Bounds;
+  if (method == 7) applyForcePreset(findForcePreset("fast"), o);
   if (method == 4) {
     o.patchCapacity = 1024;
     return makeForceRenderer(sc.skeleton, sc.skeletonScene, ForceMethod::Patch, o);
@@ -117,17 +119,21 @@ std::unique_ptr<ForceRenderer> renderer(const Scene& sc, int method) {
 }
 
 std::string label(int mesh, int method) {
-  static const char* names[] = {"patch/newton",   "direct",
-                                "shading",        "patch/paper",
-                                "patch/newton, lazy", "patch/newton, model final step",
-                                "patch/newton, bounds index"};
+  static const char* names[] = {"patch/newton",
+                                "direct",
+                                "shading",
+                                "patch/paper",
+                                "patch/newton, lazy",
+                                "patch/newton, model final step",
+                                "patch/newton, bounds index",
+                                "patch/newton, preset fast"};
   return std::string(mesh == 0 ? "spot cage, " : "quad-sphere, ") + names[method];
 }
 
 // args: mesh (0 spot, 1 quad-sphere), method (0 patch/newton, 1 direct, 2 shading, 3 patch/paper,
 // 4 patch/newton on the skeleton, patches built lazily, 5 patch/newton with FinalStep::Model,
-// 6 patch/newton with SurfaceIndex::Bounds, the servo loop's; the others on a prebuilt cache use the
-// tessellation, auto's choice for a batch)
+// 6 patch/newton with SurfaceIndex::Bounds, the servo loop's, 7 patch/newton with --preset fast;
+// the others on a prebuilt cache use the tessellation, auto's choice for a batch)
 void BM_ContactStart(benchmark::State& state) {
   const Scene& sc = scene(static_cast<int>(state.range(0)));
   const int method = static_cast<int>(state.range(1));
@@ -188,7 +194,7 @@ void BM_TrackingStep(benchmark::State& state) {
   state.counters["iterations"] = double(iterations) / double(state.iterations());
 }
 
-#define SF_FORCE_ARGS ArgsProduct({{0, 1}, {0, 6, 5, 4, 3, 1, 2}})->Unit(benchmark::kMicrosecond)
+#define SF_FORCE_ARGS ArgsProduct({{0, 1}, {0, 7, 6, 5, 4, 3, 1, 2}})->Unit(benchmark::kMicrosecond)
 BENCHMARK(BM_ContactStart)->SF_FORCE_ARGS;
 BENCHMARK(BM_FreeStep)->SF_FORCE_ARGS;
 BENCHMARK(BM_OutsideStep)->SF_FORCE_ARGS;

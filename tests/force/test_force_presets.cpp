@@ -91,14 +91,67 @@ TEST(ForcePresets, ApplySetsRefinementOnlyAndTightensFromFastToAccurate) {
     EXPECT_EQ(o.stiffness, 123);
     EXPECT_EQ(o.refine, p.refine);
     EXPECT_EQ(o.angleTolerance, p.angleTolerance);
+    EXPECT_EQ(o.positionTolerance, p.positionTolerance);
     EXPECT_EQ(o.maxIterations, p.maxIterations);
     EXPECT_EQ(o.initialGuess, p.initialGuess);
     EXPECT_EQ(o.tessellationLevel, p.tessellationLevel);
     EXPECT_NO_THROW(validateForceOptions(o));
   }
   const auto& v = forcePresets();
-  for (size_t i = 1; i < v.size(); ++i) EXPECT_LT(v[i].angleTolerance, v[i - 1].angleTolerance);
+  for (size_t i = 1; i < v.size(); ++i) {
+    EXPECT_LT(v[i].angleTolerance, v[i - 1].angleTolerance);
+    EXPECT_LE(v[i].positionTolerance, v[i - 1].positionTolerance);
+  }
+  // accurate is never looser than no preset: both of its tolerances at most the defaults
+  const ForceOptions defaults;
+  EXPECT_LE(findForcePreset("accurate").angleTolerance, defaults.angleTolerance);
+  EXPECT_LE(findForcePreset("accurate").positionTolerance, defaults.positionTolerance);
   EXPECT_EQ(findForcePreset("accurate").precision, Precision::Double);
+}
+
+TEST(ForcePresets, FasterPresetsTakeFewerRefinementStepsOnEverySlide) {
+  // The refinement stops at the smaller of the angle and the position tolerance, so a preset that
+  // loosened only the angle's changed nothing (every preset took the default's steps). Over slides
+  // pressed 0.5% and 1% into the spot cage and the quad-sphere, from one surface sample to the next
+  // (40 of them, 30 steps apart): fast takes fewer iterations than balanced, balanced fewer than
+  // accurate, and accurate as many as no preset (whose tolerances it keeps); each step's iterations
+  // at most the preset's cap.
+  int slides = 0;
+  for (const std::string& mesh : {kSpot, kSphere}) {
+    const auto cache = doubleCache(mesh);
+    const double diag = boundingDiagonal(*cache);
+    for (const double depth : {0.005, 0.01}) {
+      const std::vector<SurfaceSample> at = PatchSurfaceSampler(*cache, 8).sample(40, 3);
+      std::vector<Eigen::Vector3d> hips;
+      for (size_t i = 0; i + 1 < at.size(); ++i)
+        for (int j = 0; j < 30; ++j) {
+          const double t = j / 30.0;
+          hips.push_back((1 - t) * (at[i].point - depth * diag * at[i].normal) +
+                         t * (at[i + 1].point - depth * diag * at[i + 1].normal));
+        }
+      std::vector<long> iterations;
+      for (const char* name : {"fast", "balanced", "accurate", ""}) {
+        ForceOptions o;
+        if (*name) applyForcePreset(findForcePreset(name), o);
+        auto r = makeForceRenderer(cache, ForceMethod::Patch, o);
+        long sum = 0;
+        for (const Eigen::Vector3d& h : hips) {
+          const ForceSample s = r->step(h);
+          EXPECT_LE(s.iterations, o.maxIterations);
+          sum += s.iterations;
+        }
+        iterations.push_back(sum);
+      }
+      std::printf("%s at %.1f%%: iterations over %zu steps: fast %ld, balanced %ld, accurate %ld, no preset %ld\n",
+                  mesh.c_str() + mesh.rfind('/') + 1, 100 * depth, hips.size(), iterations[0], iterations[1],
+                  iterations[2], iterations[3]);
+      EXPECT_LT(iterations[0], iterations[1]) << mesh << " " << depth;
+      EXPECT_LT(iterations[1], iterations[2]) << mesh << " " << depth;
+      EXPECT_EQ(iterations[2], iterations[3]) << mesh << " " << depth;
+      ++slides;
+    }
+  }
+  EXPECT_EQ(slides, 4);
 }
 
 TEST(InitialGuess, ParsesAndValidatesTheLevel) {
