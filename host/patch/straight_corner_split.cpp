@@ -573,8 +573,7 @@ void splitStraightPatchCorners(PolygonMesh& mesh, std::vector<Eigen::Vector3d>& 
   bool candidates = false;
   for (int f = 0; f < nf; ++f) {
     capTriangle[f] = isFlatCapTriangle(mesh, cornerNormals, f);
-    candidates =
-        candidates || capTriangle[f] || (mesh.faceSize(f) >= 4 && mesh.faceSize(f) <= GP_MAX_N && isFlatFace(mesh, f));
+    candidates = candidates || capTriangle[f] || (mesh.faceSize(f) >= 4 && isFlatFace(mesh, f));
   }
   if (!candidates) return;
   const PatchCache asRead = constructionInputs(mesh, cornerNormals, options);
@@ -615,25 +614,42 @@ void splitStraightPatchCorners(PolygonMesh& mesh, std::vector<Eigen::Vector3d>& 
     for (int k = 0; k < n; ++k) whole.corners.push_back(k);
     whole.fanned = true;
     const Vec3 plane = newellNormal(pm, f);
+    bool oneNormal = true;
+    for (int k = 1; k < n; ++k) oneNormal = oneNormal && pn[first + k] == pn[first];
+    // a polygon of many corners on its plane's one normal (a gear's face, its teeth cut off by
+    // splitBadCorners): its patch is the polygon itself, which the fan's affine triangles keep,
+    // but the certificate's bounds of a patch of so many corners seldom decide it (minutes each)
+    const bool many = oneNormal && n > kFanManyCorners && angleBetween(pn[first], plane) <= kCapNormalTolerance;
     bool ok = true;
     if (n > GP_MAX_N) {
-      // a cap merged from more triangles than a patch takes corners (a finely divided cylinder's,
-      // triangulated from its rim): no patch of its own, so fanned about its area centroid with its
-      // corners' one normal. Only a disc cap one of whose triangles has a straight patch corner is
-      // merged that large (outlines; convex pieces stop at GP_MAX_N); a face as read is left.
+      // no patch of its own: a cap merged from more triangles than a patch takes corners (a finely
+      // divided cylinder's, triangulated from its rim; only a disc cap one of whose triangles has a
+      // straight patch corner is merged that large: outlines, convex pieces stop at GP_MAX_N), or a
+      // flat polygon read with that many corners (such a cap as one face, whose patch would be a
+      // hole in the surface), is fanned about its area centroid, with its corners' one normal or,
+      // where they differ (a cap without a creased rim), its plane's
       const Outline& o = polygons[i];
-      if (o.faces.size() < 2) continue;
       Vec3 weighted = Vec3::Zero();
       double area = 0;
-      for (const int g : o.faces) {
-        const Vec3 &a = mesh.positions[mesh.faceVertex(g, 0)], &b = mesh.positions[mesh.faceVertex(g, 1)],
-                   &c3 = mesh.positions[mesh.faceVertex(g, 2)];
-        const double w = (b - a).cross(c3 - a).norm();
+      auto addTriangle = [&](const Vec3& a, const Vec3& b, const Vec3& c3, double w) {
         weighted += w * (a + b + c3) / 3;
         area += w;
+      };
+      if (o.faces.size() >= 2) {
+        for (const int g : o.faces) {
+          const Vec3 &a = mesh.positions[mesh.faceVertex(g, 0)], &b = mesh.positions[mesh.faceVertex(g, 1)],
+                     &c3 = mesh.positions[mesh.faceVertex(g, 2)];
+          addTriangle(a, b, c3, (b - a).cross(c3 - a).norm());
+        }
+      } else {  // the polygon's own fan about its first corner, signed along its plane's normal
+        const Vec3 unit = plane.normalized(), &a = pm.positions[pm.faceVertex(f, 0)];
+        for (int k = 1; k + 1 < n; ++k) {
+          const Vec3 &b = pm.positions[pm.faceVertex(f, k)], &c3 = pm.positions[pm.faceVertex(f, k + 1)];
+          addTriangle(a, b, c3, (b - a).cross(c3 - a).dot(unit));
+        }
       }
       whole.centre = weighted / area;
-      fan.normal = pn[first];
+      fan.normal = oneNormal ? pn[first] : Vec3(plane.normalized());
       ok = area > 0 && whole.centre.allFinite();
       // every triangle of the fan turns the polygon's way about its Newell normal
       for (int k = 0; k < n && ok; ++k) {
@@ -642,12 +658,6 @@ void splitStraightPatchCorners(PolygonMesh& mesh, std::vector<Eigen::Vector3d>& 
       }
       if (ok) fan.pieces.push_back(std::move(whole));
     } else {
-      bool oneNormal = true;
-      for (int k = 1; k < n; ++k) oneNormal = oneNormal && pn[first + k] == pn[first];
-      // a polygon of many corners on its plane's one normal (a gear's face, its teeth cut off by
-      // splitBadCorners): its patch is the polygon itself, which the fan's affine triangles keep,
-      // but the certificate's bounds of a patch of so many corners seldom decide it (minutes each)
-      const bool many = oneNormal && n > kFanManyCorners && angleBetween(pn[first], plane) <= kCapNormalTolerance;
       if (!many && !hasStraightPatchCorner(pc, f)) continue;
       Vec3 centreNormal;
       ok = patchCentre(pc, f, whole.centre, centreNormal);

@@ -756,6 +756,8 @@ TEST(StraightCornerSplit, FlatPolygonsOfManyCornersOnTheirPlanesNormalAreFannedA
       {"gear of 12 teeth", gearObj(12, 0.85, 0.25), 30, {0, 1}, {0, 1}, 2 * 24},
       {"16-sided prism", test::turnedObj(16, {{1, 0}, {1, 0.5}}, {0, 1}), 20, {}, {0, 1}, 2 * 16},
       {"10-sided prism", test::turnedObj(10, {{1, 0}, {1, 0.5}}, {0, 1}), 30, {}, {}, 0},
+      // more corners than a patch takes (GP_MAX_N): fanned about the area centroid
+      {"100-sided prism", test::turnedObj(100, {{1, 0}, {1, 0.5}}, {0, 1}), 30, {}, {0, 1}, 2 * 100},
   };
   int fanTriangles = 0, certified = 0, patches = 0, caps = 0, keptFaces = 0, samples = 0;
   for (const Case& cs : cases) {
@@ -807,12 +809,59 @@ TEST(StraightCornerSplit, FlatPolygonsOfManyCornersOnTheirPlanesNormalAreFannedA
     certified += expectCertifiedWithoutFault(after, what);
     patches += after.numFaces();
   }
-  EXPECT_EQ(caps, 10);
-  EXPECT_EQ(fanTriangles, 28 + 48 + 32);
+  EXPECT_EQ(caps, 12);
+  EXPECT_EQ(fanTriangles, 28 + 48 + 32 + 200);
   EXPECT_EQ(certified, patches);
   EXPECT_EQ(keptFaces, 12);  // the 10-sided prism: caps and sides
-  // pieces per part: gears 2 (teeth + centre or its fan), the 16-sided prism 2 x 16, the 10-sided 2 x 1
-  EXPECT_EQ(samples, 25 * (2 * (4 + 1) + 2 * (7 + 14) + 2 * (12 + 24) + 2 * 16 + 2 * 1));
+  // pieces per part: gears 2 (teeth + centre or its fan), the prisms 2 x 16, 2 x 1 and 2 x 100
+  EXPECT_EQ(samples, 25 * (2 * (4 + 1) + 2 * (7 + 14) + 2 * (12 + 24) + 2 * 16 + 2 * 1 + 2 * 100));
+}
+
+TEST(StraightCornerSplit, FlatPolygonsOfMoreCornersThanAPatchTakesAreFannedNotLeftAsHoles) {
+  // A cylinder whose caps are read as one polygon each of more corners than a patch takes
+  // (GP_MAX_N), without creases: the caps' corner normals are the smooth vertex normals, so the
+  // rule of one normal does not apply, and the caps had no patch (a hole in the surface, which was
+  // then not closed). Each is now fanned about its area centroid with its plane's normal there:
+  // every face has a patch, the surface is closed and has no fault, and every fan triangle's
+  // corners are the cap's rim vertices in order and its centre, inside the rim, on its plane.
+  hostile::TempDir dir("sf_straight_corner_many_smooth");
+  for (const int n : {GP_MAX_N + 1, 80}) {
+    SCOPED_TRACE(n);
+    const std::string path = (dir.path / "part.obj").string();
+    std::ofstream(path) << test::turnedObj(n, {{1, 0}, {1, 0.5}}, {});
+    const PatchOptions on;
+    const LoadedMesh repaired = loadMesh(path, on);
+    const PatchCache after = buildPatchCache(repaired, on, Backend::Tbb);
+    const PolygonSplitReport& r = repaired.split;
+    EXPECT_EQ(r.fannedFaces, (std::vector<int>{0, 1}));
+    EXPECT_EQ(r.fanTriangles, 2 * n);
+    ASSERT_EQ(r.addedVertices, 2);
+    ASSERT_EQ(after.numFaces(), n + 2 * n);
+    int built = 0;
+    for (int f = 0; f < after.numFaces(); ++f) built += !(after.faceStatus[f] & GP_ST_NOT_BUILT);
+    EXPECT_EQ(built, after.numFaces());
+    for (int g = 0; g < 2 * n; ++g) {  // the fans come first, in the caps' order
+      const int cap = g / n, k = g % n, first = after.faceOffsets[g];
+      ASSERT_EQ(after.faceSize(g), 3);
+      EXPECT_EQ(after.faceSource[g], cap);
+      const int centre = after.faceVertices[first + 2];
+      EXPECT_EQ(centre, 2 * n + cap);
+      const Eigen::Vector3d c(&after.positions[3 * size_t(centre)]);
+      EXPECT_LT(c.head<2>().norm(), 1e-12);
+      EXPECT_LT(std::fabs(c.z() - 0.5 * cap), 1e-12);
+      // the bottom cap runs clockwise seen from +z (outward), the top one counter-clockwise
+      const int a = after.faceVertices[first], b = after.faceVertices[first + 1];
+      EXPECT_EQ(a, cap == 0 ? n - 1 - k : n + k);
+      EXPECT_EQ(b, cap == 0 ? (2 * n - 2 - k) % n : n + (k + 1) % n);
+    }
+    const SurfaceFaults faults = measureSurfaceFaults(PatchSurface(after));
+    EXPECT_TRUE(faults.closed);
+    EXPECT_EQ(faults.faultArea(), 0.0);
+    std::printf(
+        "%d-sided cylinder without creases: caps fanned into %d triangles, %d of %d faces with a patch, "
+        "closed %d, fault area %g\n",
+        n, r.fanTriangles, built, after.numFaces(), int(faults.closed), faults.faultArea());
+  }
 }
 
 }  // namespace

@@ -210,8 +210,8 @@ void build(const std::string& mesh, std::string out, const PatchArgs& args, bool
   }
   if (opt.foldRepair != FoldRepairMode::Off && (!lm.split.fannedFaces.empty() || !lm.split.unfannedFaces.empty())) {
     std::printf(
-        "fold repair: %s: %zu %s as read (flat polygons with a straight corner between creases or more than 12 "
-        "corners on their plane's one normal; a flat cap's "
+        "fold repair: %s: %zu %s as read (flat polygons with a straight corner between creases, more than 12 "
+        "corners on their plane's one normal or more than 64 corners; a flat cap's "
         "triangles merged first, a flat annulus's into convex pieces) fanned into %d triangles about %d new centre "
         "%s and %d pieces cut off on diagonals (faces:%s)\n",
         toString(opt.foldRepair), lm.split.fannedFaces.size(), lm.split.fannedFaces.size() == 1 ? "face" : "faces",

@@ -46,7 +46,10 @@ namespace sf {
 /// (mesh.faceSource stays ascending, pieces after their face as read); its other triangles have no
 /// face left, and report.fannedFaces lists them all. A cap whose fan fails keeps its triangles.
 /// A cap of more corners than a patch takes (GP_MAX_N: a finely divided cylinder's) has no patch
-/// of its own: it is fanned about its area centroid, with its corners' one normal.
+/// of its own: it is fanned about its area centroid, with its corners' one normal; so is a flat
+/// polygon read with more than GP_MAX_N corners whose corner normals are all its plane's (such a
+/// cap as one face), where every fan triangle turns the polygon's way (else it is left as read,
+/// without a patch).
 /// A flat region of such triangles that is not a disc of its rim (the annulus of a stepped shaft
 /// between its two rims, triangulated from them: each triangle with an edge on the inner rim, a
 /// valley, then folds beside that edge) is cut into convex pieces of its triangles instead (a
