@@ -201,11 +201,12 @@ void run(const LoopArgs& a) {
   for (const rt::SceneObject& o : scene.objects()) {
     char buf[512];
     std::snprintf(buf, sizeof buf,
-                  "object %s: %s, %d faces, method %s, stiffness %g N/m, refine %s (angle tol %g rad, max %d "
-                  "iterations, %s start, %s index)%s\n",
+                  "object %s: %s, %d faces, method %s, stiffness %g N/m, refine %s (angle tol %g rad, position tol "
+                  "%g of the diagonal, max %d iterations, %s start, %s index)%s\n",
                   o.name.c_str(), o.source.c_str(), o.cache->numFaces(), toString(o.method), o.force.stiffness,
-                  toString(o.force.refine), o.force.angleTolerance, o.force.maxIterations,
-                  toString(o.force.initialGuess), toString(o.force.surfaceIndex), o.fromMesh ? " (patches built lazily near the contact point)" : "");
+                  toString(o.force.refine), o.force.angleTolerance, o.force.positionTolerance, o.force.maxIterations,
+                  toString(o.force.initialGuess), toString(o.force.surfaceIndex),
+                  o.fromMesh ? " (patches built lazily near the contact point)" : "");
     info += buf;
   }
 
