@@ -205,16 +205,25 @@ double pieceMargin(const std::vector<Bezier>& edges, const std::vector<char>& cu
   return worst;
 }
 
-/// The area centroid of the polygon of a piece's corners on `plane`.
-Vec3 pieceCentroid(const CurvedOutline& o, const std::vector<int>& piece) {
+/// The area centroid of a polygon of m corners, corner(i) for i < m, on `plane` (unit): its
+/// triangles about its first corner, their areas signed along the plane; NaN where the area is not
+/// positive.
+template <class Corner>
+Vec3 areaCentroid(int m, const Corner& corner, const Vec3& plane) {
   Vec3 weighted = Vec3::Zero();
   double area = 0;
-  for (size_t i = 1; i + 1 < piece.size(); ++i) {
-    const Vec3 &a = o.corners[piece[0]], &b = o.corners[piece[i]], &c = o.corners[piece[i + 1]];
-    const double w = (b - a).cross(c - a).dot(o.plane);
+  for (int i = 1; i + 1 < m; ++i) {
+    const Vec3 &a = corner(0), &b = corner(i), &c = corner(i + 1);
+    const double w = (b - a).cross(c - a).dot(plane);
     weighted += w * (a + b + c) / 3, area += w;
   }
   return area > 0 ? Vec3(weighted / area) : Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
+}
+
+/// The area centroid of the polygon of a piece's corners on `plane`.
+Vec3 pieceCentroid(const CurvedOutline& o, const std::vector<int>& piece) {
+  return areaCentroid(
+      static_cast<int>(piece.size()), [&](int i) -> const Vec3& { return o.corners[piece[i]]; }, o.plane);
 }
 
 /// A piece of a fanned polygon: its corners (indices into the polygon's, in order) and, where it
@@ -629,28 +638,25 @@ void splitStraightPatchCorners(PolygonMesh& mesh, std::vector<Eigen::Vector3d>& 
       // hole in the surface), is fanned about its area centroid, with its corners' one normal or,
       // where they differ (a cap without a creased rim), its plane's
       const Outline& o = polygons[i];
-      Vec3 weighted = Vec3::Zero();
-      double area = 0;
-      auto addTriangle = [&](const Vec3& a, const Vec3& b, const Vec3& c3, double w) {
-        weighted += w * (a + b + c3) / 3;
-        area += w;
-      };
+      bool positive = true;  // a merged cap's area (a face as read: areaCentroid's NaN says it)
       if (o.faces.size() >= 2) {
+        Vec3 weighted = Vec3::Zero();
+        double area = 0;
         for (const int g : o.faces) {
           const Vec3 &a = mesh.positions[mesh.faceVertex(g, 0)], &b = mesh.positions[mesh.faceVertex(g, 1)],
                      &c3 = mesh.positions[mesh.faceVertex(g, 2)];
-          addTriangle(a, b, c3, (b - a).cross(c3 - a).norm());
+          const double w = (b - a).cross(c3 - a).norm();
+          weighted += w * (a + b + c3) / 3;
+          area += w;
         }
-      } else {  // the polygon's own fan about its first corner, signed along its plane's normal
-        const Vec3 unit = plane.normalized(), &a = pm.positions[pm.faceVertex(f, 0)];
-        for (int k = 1; k + 1 < n; ++k) {
-          const Vec3 &b = pm.positions[pm.faceVertex(f, k)], &c3 = pm.positions[pm.faceVertex(f, k + 1)];
-          addTriangle(a, b, c3, (b - a).cross(c3 - a).dot(unit));
-        }
+        whole.centre = weighted / area;
+        positive = area > 0;
+      } else {
+        whole.centre = areaCentroid(
+            n, [&](int k) -> const Vec3& { return pm.positions[pm.faceVertex(f, k)]; }, Vec3(plane.normalized()));
       }
-      whole.centre = weighted / area;
       fan.normal = oneNormal ? pn[first] : Vec3(plane.normalized());
-      ok = area > 0 && whole.centre.allFinite();
+      ok = positive && whole.centre.allFinite();
       // every triangle of the fan turns the polygon's way about its Newell normal
       for (int k = 0; k < n && ok; ++k) {
         const Vec3 &a = pm.positions[pm.faceVertex(f, k)], &b = pm.positions[pm.faceVertex(f, k + 1)];
