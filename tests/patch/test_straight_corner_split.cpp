@@ -124,6 +124,24 @@ bool samePatch(const PatchCache& before, int f, const PatchCache& after, int g) 
   return a == b;
 }
 
+/// A part's OBJ written to `dir` and read twice under --crease-angle `creaseAngle` (0: off): as
+/// read (--fold-repair off) and repaired (the default), each with its patches built.
+struct OffAndOn {
+  LoadedMesh asRead, repaired;
+  PatchCache before, after;
+};
+OffAndOn offAndOn(const std::filesystem::path& dir, const std::string& obj, double creaseAngle = 0) {
+  const std::string path = (dir / "part.obj").string();
+  std::ofstream(path) << obj;
+  PatchOptions off, on;
+  off.foldRepair = FoldRepairMode::Off;
+  off.creases.angleDeg = on.creases.angleDeg = creaseAngle;
+  OffAndOn p{loadMesh(path, off), loadMesh(path, on), {}, {}};
+  p.before = buildPatchCache(p.asRead, off, Backend::Tbb);
+  p.after = buildPatchCache(p.repaired, on, Backend::Tbb);
+  return p;
+}
+
 /// The report of an n-sided cylinder whose two caps, triangulated from their rim (faces 0 ..
 /// 2 (n - 2) - 1 as read), were each merged and fanned about one new vertex.
 void expectBothCapsFanned(const PolygonSplitReport& r, int n) {
@@ -151,13 +169,7 @@ TEST(StraightCornerSplit, CreasedFlatCapsAreFannedKeepTheirSurfaceAndCertify) {
   int fannedCaps = 0, fanTriangles = 0, certified = 0, patches = 0, rimPoints = 0, keptFaces = 0;
   for (const Part& part : parts) {
     SCOPED_TRACE(part.name);
-    const std::string path = (dir.path / "part.obj").string();
-    std::ofstream(path) << part.obj;
-    PatchOptions off, on;
-    off.foldRepair = FoldRepairMode::Off;
-    const LoadedMesh asRead = loadMesh(path, off), fanned = loadMesh(path, on);
-    const PatchCache before = buildPatchCache(asRead, off, Backend::Tbb);
-    PatchCache after = buildPatchCache(fanned, on, Backend::Tbb);
+    auto [asRead, fanned, before, after] = offAndOn(dir.path, part.obj);
     EXPECT_EQ(straightCreaseCorners(before), part.straightCorners);
     EXPECT_EQ(straightCreaseCorners(after), 0);
 
@@ -251,14 +263,8 @@ TEST(StraightCornerSplit, TriangulatedFlatCapsAreMergedFannedAndCertify) {
   for (const auto& [n, tags, splitSides] :
        std::vector<Variant>{{5, true, false}, {8, false, false}, {12, false, true}}) {
     SCOPED_TRACE("n " + std::to_string(n) + (tags ? " tagged" : " by angle") + (splitSides ? ", sides split" : ""));
-    const std::string path = (dir.path / "ears.obj").string();
-    std::ofstream(path) << cylinderWithTriangulatedCapsObj(n, false, tags, splitSides);
-    PatchOptions off, on;
-    off.foldRepair = FoldRepairMode::Off;
-    if (!tags) off.creases.angleDeg = on.creases.angleDeg = 50;
-    const LoadedMesh asRead = loadMesh(path, off), repaired = loadMesh(path, on);
-    const PatchCache before = buildPatchCache(asRead, off, Backend::Tbb);
-    PatchCache after = buildPatchCache(repaired, on, Backend::Tbb);
+    auto [asRead, repaired, before, after] =
+        offAndOn(dir.path, cylinderWithTriangulatedCapsObj(n, false, tags, splitSides), tags ? 0 : 50);
     const int capTriangles = 2 * (n - 2);  // faces 0 .. capTriangles-1 as read
     EXPECT_EQ(straightCreaseCorners(before), 4);
     EXPECT_EQ(straightCreaseCorners(after), 0);
@@ -337,14 +343,8 @@ TEST(StraightCornerSplit, CapsOfMoreCornersThanAPatchAreFannedAboutTheirCentroid
   // patches takes about a minute on 2 cores: cache build --certify, docs/fold-levers.md.)
   hostile::TempDir dir("sf_straight_corner_big_caps");
   const int n = 66, capTriangles = 2 * (n - 2);
-  const std::string path = (dir.path / "cylinder.obj").string();
-  std::ofstream(path) << cylinderWithTriangulatedCapsObj(n, false, false);
-  PatchOptions off, on;
-  off.foldRepair = FoldRepairMode::Off;
-  off.creases.angleDeg = on.creases.angleDeg = 50;
-  const LoadedMesh asRead = loadMesh(path, off), repaired = loadMesh(path, on);
-  const PatchCache before = buildPatchCache(asRead, off, Backend::Tbb);
-  const PatchCache after = buildPatchCache(repaired, on, Backend::Tbb);
+  const auto [asRead, repaired, before, after] =
+      offAndOn(dir.path, cylinderWithTriangulatedCapsObj(n, false, false), 50);
   const SurfaceFaults faultsOff = measureSurfaceFaults(PatchSurface(before));
   EXPECT_GT(faultsOff.faultArea(), 0.01 * faultsOff.totalArea);  // the caps as read, inside out
   const PolygonSplitReport& r = repaired.split;
@@ -448,14 +448,7 @@ TEST(StraightCornerSplit, FlatAnnuliAreCutIntoConvexPiecesFannedAndCertify) {
   int certified = 0, patches = 0, keptFaces = 0, sideFaces = 0, pieceCentres = 0;
   for (const auto& [outer, inner] : std::vector<std::pair<int, int>>{{8, 4}, {12, 4}}) {
     SCOPED_TRACE(std::to_string(outer) + "/" + std::to_string(inner));
-    const std::string path = (dir.path / "shaft.obj").string();
-    std::ofstream(path) << steppedShaftObj(outer, inner);
-    PatchOptions off, on;
-    off.foldRepair = FoldRepairMode::Off;
-    off.creases.angleDeg = on.creases.angleDeg = 50;
-    const LoadedMesh asRead = loadMesh(path, off), repaired = loadMesh(path, on);
-    const PatchCache before = buildPatchCache(asRead, off, Backend::Tbb);
-    PatchCache after = buildPatchCache(repaired, on, Backend::Tbb);
+    auto [asRead, repaired, before, after] = offAndOn(dir.path, steppedShaftObj(outer, inner), 50);
     const int k = outer / inner, bottom = outer - 2, annulusFirst = bottom + 2 * outer, annulus = outer + inner;
     const int topFirst = annulusFirst + annulus + 2 * inner;
     ASSERT_EQ(before.numFaces(), topFirst + inner - 2);
@@ -505,17 +498,11 @@ TEST(StraightCornerSplit, CapsFannedAsReadAreLeftAsRead) {
   // caps already fanned about their centre have no straight corner: nothing is merged or fanned,
   // every patch is the one of the fold repair off
   hostile::TempDir dir("sf_straight_corner_centres");
-  const std::string path = (dir.path / "centres.obj").string();
-  std::ofstream(path) << cylinderWithTriangulatedCapsObj(8, true);
-  PatchOptions off, on;
-  off.foldRepair = FoldRepairMode::Off;
-  const LoadedMesh asRead = loadMesh(path, off), repaired = loadMesh(path, on);
+  const auto [asRead, repaired, before, after] = offAndOn(dir.path, cylinderWithTriangulatedCapsObj(8, true));
   EXPECT_TRUE(repaired.split.fannedFaces.empty());
   EXPECT_TRUE(repaired.split.unfannedFaces.empty());
   EXPECT_EQ(repaired.split.addedVertices, 0);
   EXPECT_EQ(repaired.mesh.positions, asRead.mesh.positions);
-  const PatchCache before = buildPatchCache(asRead, off, Backend::Tbb);
-  const PatchCache after = buildPatchCache(repaired, on, Backend::Tbb);
   ASSERT_EQ(after.numFaces(), 24);
   EXPECT_EQ(straightCreaseCorners(before), 0);
   EXPECT_EQ(after.edgeDataD, before.edgeDataD);
@@ -634,15 +621,7 @@ TEST(StraightCornerSplit, LongAndThinCapsAreCutIntoPiecesOrLeftWholeNeverWorseTh
   int pieces = 0, fanTriangles = 0, centres = 0, certified = 0, patches = 0, offFaulty = 0;
   for (const Case& cs : cases) {
     SCOPED_TRACE(cs.name);
-    const std::string path = (dir.path / "part.obj").string();
-    std::ofstream(path) << cs.obj;
-    PatchOptions off, on;
-    setCreaseAngle(off, 30);
-    setCreaseAngle(on, 30);
-    off.foldRepair = FoldRepairMode::Off;
-    const LoadedMesh asRead = loadMesh(path, off), repaired = loadMesh(path, on);
-    PatchCache before = buildPatchCache(asRead, off, Backend::Tbb);
-    PatchCache after = buildPatchCache(repaired, on, Backend::Tbb);
+    auto [asRead, repaired, before, after] = offAndOn(dir.path, cs.obj, 30);
     const PolygonSplitReport& r = repaired.split;
     EXPECT_EQ(r.fannedFaces, cs.fanned);
     EXPECT_EQ(r.unfannedFaces, cs.unfanned);
@@ -762,15 +741,7 @@ TEST(StraightCornerSplit, FlatPolygonsOfManyCornersOnTheirPlanesNormalAreFannedA
   int fanTriangles = 0, certified = 0, patches = 0, caps = 0, keptFaces = 0, samples = 0;
   for (const Case& cs : cases) {
     SCOPED_TRACE(cs.name);
-    const std::string path = (dir.path / "part.obj").string();
-    std::ofstream(path) << cs.obj;
-    PatchOptions off, on;
-    setCreaseAngle(off, cs.creaseAngle);
-    setCreaseAngle(on, cs.creaseAngle);
-    off.foldRepair = FoldRepairMode::Off;
-    const LoadedMesh asRead = loadMesh(path, off), repaired = loadMesh(path, on);
-    const PatchCache before = buildPatchCache(asRead, off, Backend::Tbb);
-    PatchCache after = buildPatchCache(repaired, on, Backend::Tbb);
+    auto [asRead, repaired, before, after] = offAndOn(dir.path, cs.obj, cs.creaseAngle);
     const PolygonSplitReport& r = repaired.split;
     EXPECT_EQ(r.splitFaces, cs.split);
     EXPECT_EQ(r.fannedFaces, cs.fanned);
