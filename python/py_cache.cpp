@@ -58,7 +58,8 @@ PyCache fromLoaded(const LoadedMesh& lm, const Options& o, std::string source) {
   c.backend = o.backend;
   c.threads = o.threads;
   c.fromMesh = true;
-  c.meshReport = lm.report.describe();
+  c.meshReport = lm.seams.describe();
+  for (std::string& line : lm.report.describe()) c.meshReport.push_back(std::move(line));
   c.normalReport = lm.normalReport.describe();
   c.flipped = lm.flipped;
   return c;

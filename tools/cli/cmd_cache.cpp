@@ -187,6 +187,7 @@ void build(const std::string& mesh, std::string out, const PatchArgs& args, bool
   const MeshReport& r = lm.report;
   std::printf("mesh: %s (%d vertices, %d faces: %s)\n", mesh.c_str(), r.numVertices, r.numFaces,
               faceSizeText(r.faceSizeHistogram).c_str());
+  for (const std::string& line : lm.seams.describe()) std::printf("  %s\n", line.c_str());
   for (const std::string& line : r.describe()) std::printf("  %s\n", line.c_str());
   if (lm.flipped)
     std::printf(

@@ -29,6 +29,7 @@
 #include <smoothforce/mesh/mesh_io.h>
 #include <smoothforce/mesh/normals.h>
 #include <smoothforce/mesh/polygon_split.h>
+#include <smoothforce/mesh/seams.h>
 #include <smoothforce/mesh/topology.h>
 
 #include <smoothforce/patch/cache_file.h>

@@ -8,6 +8,7 @@
 #include <smoothforce/mesh/mesh.h>
 #include <smoothforce/mesh/mesh_check.h>
 #include <smoothforce/mesh/normals.h>
+#include <smoothforce/mesh/seams.h>
 #include <smoothforce/patch/patch_cache.h>
 
 namespace sf {
@@ -15,7 +16,8 @@ namespace sf {
 /// A mesh read and checked, ready for construction.
 struct LoadedMesh {
   PolygonMesh mesh;
-  MeshReport report;                           ///< topology report (before any flip)
+  SeamReport seams;                            ///< seams written twice, joined before the check
+  MeshReport report;                           ///< topology report (after the seams, before any flip)
   bool flipped = false;                        ///< faces were reversed to point outward
   uint64_t fileHash = 0;                       ///< XXH64 of the file's bytes
   std::vector<Eigen::Vector3d> cornerNormals;  ///< #C unit normals per the chosen mode
@@ -32,7 +34,9 @@ struct LoadedMesh {
   PolygonSplitReport split;
 };
 
-/// Reads `path`, checks it, flips an inward-facing closed mesh unless options.keepOrientation,
+/// Reads `path`, joins its seams written twice (stitchSeams, seams.h: boundary edges that
+/// coincide end for end, as exporters write them where normals or texture coordinates split a
+/// vertex), checks it, flips an inward-facing closed mesh unless options.keepOrientation,
 /// and computes corner normals per options.normals (normals.h: NormalMode, NormalReport).
 /// With options.cage CatmullClark, then moves every referenced vertex to its Catmull-Clark
 /// limit position and uses its limit normal at every corner (catmullClarkLimit, cage_limit.h;
@@ -44,8 +48,8 @@ struct LoadedMesh {
 /// names).
 LoadedMesh loadMesh(const std::string& path, const PatchOptions& options);
 
-/// The same for a mesh already in memory (mesh_arrays.h builds one from arrays): checks it,
-/// orients it and computes its corner normals; fileHash = meshHash.
+/// The same for a mesh already in memory (mesh_arrays.h builds one from arrays): joins its
+/// seams, checks it, orients it and computes its corner normals; fileHash = meshHash.
 LoadedMesh loadMesh(PolygonMesh mesh, uint64_t meshHash, const PatchOptions& options);
 
 /// Builds the whole-mesh patch cache from a loaded mesh on the CPU backends

@@ -1,0 +1,272 @@
+// SPDX-License-Identifier: Apache-2.0
+// Seams written twice (stitchSeams, seams.h): every shared mesh written as a soup (each corner
+// its own vertex, as a triangle soup or an exporter that splits every vertex writes it) joins
+// back into the mesh as read, and builds its patches bit for bit; split per-vertex normals go to
+// the corners; ambiguous and unsafe seams stay open.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include <smoothforce/mesh/mesh_check.h>
+#include <smoothforce/mesh/mesh_io.h>
+#include <smoothforce/mesh/seams.h>
+#include <smoothforce/patch/mesh_pipeline.h>
+#include <smoothforce/patch/patch_build.h>
+#include "polygon_mesh_support.h"
+#include "shared_mesh_files.h"
+
+namespace sf {
+namespace {
+
+/// `m` with every corner its own vertex (in corner order), per-vertex file normals carried to
+/// the corners' vertices, corner normals kept; tags dropped (a soup has no shared vertex ids).
+PolygonMesh soupOf(const PolygonMesh& m) {
+  PolygonMesh s;
+  s.faceOffsets = m.faceOffsets;
+  s.fileCornerNormals = m.fileCornerNormals;
+  s.faceSmoothingGroups = m.faceSmoothingGroups;
+  const bool vertexNormals = m.fileNormals.size() == m.positions.size();
+  for (int c = 0; c < m.numCorners(); ++c) {
+    s.positions.push_back(m.positions[m.faceVertices[c]]);
+    if (vertexNormals) s.fileNormals.push_back(m.fileNormals[m.faceVertices[c]]);
+    s.faceVertices.push_back(c);
+  }
+  return s;
+}
+
+const MeshCheckOptions kTopology{false};
+
+TEST(SeamStitch, SoupsOfEverySharedMeshJoinBackIntoTheMeshAsRead) {
+  int meshes = 0, bijective = 0, withSeamsAsRead = 0;
+  long joined = 0, interior = 0;
+  for (const std::string& path : test::sharedMeshFiles()) {
+    SCOPED_TRACE(path);
+    PolygonMesh read = readMesh(path);
+    read.creaseTags.clear();
+    read.cornerTags.clear();
+    const MeshReport before = checkMesh(read, kTopology);
+    // the mesh as read may have seams of its own (written twice there): the soup joins those too
+    const SeamReport own = stitchSeams(read);
+    withSeamsAsRead += own.seamEdges > 0;
+    const MeshReport asRead = checkMesh(read, kTopology);
+    if (own.seamEdges > 0) std::printf("  %s: %d seam edges as read\n", path.c_str(), own.seamEdges);
+    EXPECT_LE(asRead.boundaryLoops.size(), before.boundaryLoops.size());
+
+    PolygonMesh soup = soupOf(read);
+    const SeamReport seams = stitchSeams(soup);
+    // as read, a few stanford bunnies repeat faces; their soups' joins there stay open
+    EXPECT_EQ(seams.leftOpen.empty(), asRead.duplicateFaces.empty()) << seams.leftOpen;
+    EXPECT_FALSE(seams.cornerNormals);  // one normal per vertex as read: the same across every seam
+    const MeshReport after = checkMesh(soup, kTopology);
+    if (seams.openEdges > 0)
+      std::printf("  %s: %d of %d pairs left open (%s); %d edges, %zu boundary loops (as read %d, %zu)\n", path.c_str(),
+                  seams.openEdges, seams.pairsFound, seams.leftOpen.c_str(), after.numEdges, after.boundaryLoops.size(),
+                  asRead.numEdges, asRead.boundaryLoops.size());
+    // never joins what the mesh does not: each vertex of the soup stands for one vertex read
+    std::map<int, int> soupToRead, readToSoup;
+    bool function = true, injective = true;
+    for (int c = 0; c < read.numCorners(); ++c) {
+      const auto [it, fresh] = soupToRead.emplace(soup.faceVertices[c], read.faceVertices[c]);
+      function &= fresh || it->second == read.faceVertices[c];
+      const auto [jt, fresh2] = readToSoup.emplace(read.faceVertices[c], soup.faceVertices[c]);
+      injective &= fresh2 || jt->second == soup.faceVertices[c];
+    }
+    EXPECT_TRUE(function) << "a soup vertex joins corners of different vertices as read";
+    // and joins all of it on every manifold, consistently oriented mesh: the same edges,
+    // components, boundary loops; elsewhere a non-manifold edge (three or more boundary edges at
+    // one place) or an inconsistent one (same direction) stays open in the soup
+    const bool manifold = asRead.nonManifoldEdges.empty() && asRead.nonManifoldVertices.empty() &&
+                          asRead.inconsistentEdges.empty() && asRead.duplicateFaces.empty();
+    if (manifold) {
+      EXPECT_TRUE(injective) << "the soup keeps apart corners of one vertex as read";
+      EXPECT_EQ(after.numEdges, asRead.numEdges);
+      EXPECT_EQ(after.numComponents, asRead.numComponents);
+      EXPECT_EQ(after.boundaryLoops.size(), asRead.boundaryLoops.size());
+      EXPECT_EQ(after.closed(), asRead.closed());
+      EXPECT_EQ(static_cast<int>(soupToRead.size()),
+                asRead.numVertices - static_cast<int>(asRead.unreferencedVertices.size()));
+      bijective += function && injective;
+    }
+    long boundaryEdges = 0;
+    for (const auto& loop : asRead.boundaryLoops) boundaryEdges += static_cast<long>(loop.size());
+    if (manifold) {
+      EXPECT_EQ(seams.seamEdges, asRead.numEdges - boundaryEdges);
+      interior += asRead.numEdges - boundaryEdges;
+    }
+    joined += seams.seamEdges;
+    ++meshes;
+  }
+  std::printf(
+      "%d meshes (%d with seams as read): %d manifold ones joined back vertex for vertex; %ld seam edges "
+      "joined in all, %ld interior edges of the manifold ones\n",
+      meshes, withSeamsAsRead, bijective, joined, interior);
+  EXPECT_EQ(meshes, 28);
+  EXPECT_GE(bijective, 24);
+  EXPECT_GE(joined, interior);
+}
+
+// The soup of every manifold shared mesh of up to 20,000 faces builds the patches of the mesh as
+// read, bit for bit (records and status of every face), by default and with creases at 30
+// degrees: the normals, creases and fold repair see one mesh.
+TEST(SeamStitch, ASoupBuildsThePatchesOfTheMeshAsRead) {
+  int builds = 0;
+  long faces = 0;
+  for (const std::string& path : test::sharedMeshFiles()) {
+    PolygonMesh read = readMesh(path);
+    if (read.numFaces() > 20000) continue;
+    read.creaseTags.clear();
+    read.cornerTags.clear();
+    stitchSeams(read);
+    const MeshReport r = checkMesh(read, kTopology);
+    if (!r.nonManifoldEdges.empty() || !r.nonManifoldVertices.empty() || !r.inconsistentEdges.empty() ||
+        !r.duplicateFaces.empty() || !r.unreferencedVertices.empty())
+      continue;
+    SCOPED_TRACE(path);
+    for (const double creaseAngle : {0.0, 30.0}) {
+      PatchOptions options;
+      options.creases.angleDeg = creaseAngle;
+      const LoadedMesh a = loadMesh(read, 1, options), b = loadMesh(soupOf(read), 1, options);
+      ASSERT_EQ(b.mesh.numFaces(), a.mesh.numFaces());
+      int boundaryEdges = 0;
+      for (const auto& loop : r.boundaryLoops) boundaryEdges += static_cast<int>(loop.size());
+      EXPECT_EQ(b.seams.seamEdges, r.numEdges - boundaryEdges);
+      EXPECT_EQ(b.report.numEdges, a.report.numEdges);
+      EXPECT_EQ(b.report.closed(), a.report.closed());
+      EXPECT_EQ(b.flipped, a.flipped);
+      const PatchCache ca = buildPatchCache(a, options, Backend::Tbb), cb = buildPatchCache(b, options, Backend::Tbb);
+      EXPECT_EQ(cb.faceStatus, ca.faceStatus);
+      EXPECT_TRUE(cb.edgeDataD == ca.edgeDataD) << "patch records differ";
+      EXPECT_EQ(cb.faceVertices.size(), ca.faceVertices.size());
+      ++builds;
+      faces += ca.numFaces();
+    }
+  }
+  std::printf("%d builds, %ld faces: the soup's patches are those of the mesh as read\n", builds, faces);
+  EXPECT_GE(builds, 2 * 18);
+}
+
+/// A stadium prism (two half-discs of 5 vertices joined by straight sides) written as an
+/// exporter with per-vertex normals writes a creased part: the caps' vertices apart from the
+/// side's, each with its own normal (the caps' +-z, the side's radial in the plane).
+PolygonMesh splitNormalStadium() {
+  std::vector<std::array<double, 3>> ring;  // x, y, angle of the side's normal
+  for (int k = 0; k < 5; ++k) {
+    const double a = -std::numbers::pi / 2 + std::numbers::pi * k / 4;
+    ring.push_back({1 + 0.5 * std::cos(a), 0.5 * std::sin(a), a});
+  }
+  for (int k = 0; k < 5; ++k) {
+    const double a = std::numbers::pi / 2 + std::numbers::pi * k / 4;
+    ring.push_back({-1 + 0.5 * std::cos(a), 0.5 * std::sin(a), a});
+  }
+  const int n = static_cast<int>(ring.size());
+  PolygonMesh m;
+  for (const double z : {0.0, 0.6})  // side: vertices 0..2n-1
+    for (const auto& [x, y, a] : ring) {
+      m.positions.emplace_back(x, y, z);
+      m.fileNormals.emplace_back(std::cos(a), std::sin(a), 0);
+    }
+  for (const double z : {0.0, 0.6})  // caps: 2n..4n-1
+    for (const auto& [x, y, a] : ring) {
+      m.positions.emplace_back(x, y, z);
+      m.fileNormals.emplace_back(0, 0, z > 0 ? 1 : -1);
+    }
+  std::vector<int32_t> bottom, top;
+  for (int i = n - 1; i >= 0; --i) bottom.push_back(2 * n + i);
+  for (int i = 0; i < n; ++i) top.push_back(3 * n + i);
+  m.addFace(bottom);
+  m.addFace(top);
+  for (int i = 0; i < n; ++i) m.addFace({i, (i + 1) % n, n + (i + 1) % n, n + i});
+  return m;
+}
+
+TEST(SeamStitch, SplitVertexNormalsGoToTheCornersAndMakeCreasesWhereAsked) {
+  PolygonMesh m = splitNormalStadium();
+  const MeshReport open = checkMesh(m, kTopology);
+  EXPECT_EQ(open.numComponents, 3);
+  EXPECT_EQ(open.boundaryLoops.size(), 4u);
+  PolygonMesh joined = m;
+  const SeamReport seams = stitchSeams(joined);
+  EXPECT_EQ(seams.seamEdges, 20);
+  EXPECT_EQ(seams.mergedVertices.size(), 20u);
+  for (const auto& [v, into] : seams.mergedVertices) {
+    EXPECT_GE(v, 20);  // the caps' vertices into the side's
+    EXPECT_EQ(into, v - 20);
+    EXPECT_EQ(joined.positions[v], joined.positions[into]);
+  }
+  EXPECT_TRUE(seams.cornerNormals);
+  EXPECT_TRUE(joined.fileNormals.empty());
+  ASSERT_EQ(joined.fileCornerNormals.size(), static_cast<size_t>(joined.numCorners()));
+  for (int c = 0; c < joined.numCorners(); ++c)
+    EXPECT_EQ(joined.fileCornerNormals[c], m.fileNormals[m.faceVertices[c]]);
+  const MeshReport closed = checkMesh(joined, kTopology);
+  EXPECT_TRUE(closed.closed());
+  EXPECT_EQ(closed.numComponents, 1);
+  EXPECT_EQ(closed.numEdges, 30);
+  EXPECT_FALSE(seams.describe().empty());
+
+  // auto averages split normals (as for OBJ), `--normals file` keeps them: each seam a crease
+  // whose two sides share one curve, so the surface is closed either way
+  for (const NormalMode mode : {NormalMode::Auto, NormalMode::File}) {
+    PatchOptions options;
+    options.normals = mode;
+    const LoadedMesh lm = loadMesh(m, 1, options);
+    EXPECT_EQ(lm.seams.seamEdges, 20);
+    EXPECT_TRUE(lm.report.closed());
+    EXPECT_EQ(lm.normalReport.creaseCorners, mode == NormalMode::File ? 40 : 0);
+    const PatchCache c = buildPatchCache(lm, options, Backend::Tbb);
+    EXPECT_EQ(std::count(c.slotTwin.begin(), c.slotTwin.end(), -1), 0);
+  }
+}
+
+TEST(SeamStitch, AmbiguousAndUnsafeSeamsStayOpen) {
+  // two cubes written apart that meet along an edge: four boundary-free halves, nothing to join
+  PolygonMesh pair = test::cubeMesh();
+  {
+    const PolygonMesh b = test::cubeMesh();
+    const int off = pair.numVertices();
+    for (const Eigen::Vector3d& p : b.positions) pair.positions.push_back(p + Eigen::Vector3d(2, 2, 0));
+    for (int f = 0; f < b.numFaces(); ++f) {
+      std::vector<int32_t> vs;
+      for (int k = 0; k < b.faceSize(f); ++k) vs.push_back(b.faceVertex(f, k) + off);
+      pair.addFace(vs);
+    }
+  }
+  PolygonMesh kept = pair;
+  EXPECT_EQ(stitchSeams(kept).pairsFound, 0);
+  EXPECT_EQ(kept.faceVertices, pair.faceVertices);
+
+  // the same two cubes as a soup: the edge they share is four boundary edges at one place, which
+  // no pair joins; every other edge does (11 per cube), and the shared edge's ends with them, so
+  // each cube closes on its own: the two cubes as written, not one non-manifold solid
+  PolygonMesh soup = soupOf(pair);
+  const SeamReport s = stitchSeams(soup);
+  EXPECT_TRUE(s.leftOpen.empty());
+  EXPECT_EQ(s.seamEdges, 22);
+  const MeshReport r = checkMesh(soup, kTopology);
+  EXPECT_EQ(r.numComponents, 2);
+  EXPECT_EQ(r.numEdges, 24);
+  EXPECT_TRUE(r.closed());
+  EXPECT_TRUE(r.nonManifoldEdges.empty() && r.nonManifoldVertices.empty());
+
+  // two triangles back to back: joining both would make each the other's duplicate
+  PolygonMesh pillow =
+      test::polygonMesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 0, 0}, {0, 0, 0}, {0, 1, 0}}, {{0, 1, 2}, {3, 4, 5}});
+  const PolygonMesh asRead = pillow;
+  const SeamReport p = stitchSeams(pillow);
+  EXPECT_EQ(p.pairsFound, 3);
+  EXPECT_EQ(p.seamEdges, 0);
+  EXPECT_EQ(p.openEdges, 3);
+  EXPECT_NE(p.leftOpen.find("faces on the vertices of others"), std::string::npos) << p.leftOpen;
+  EXPECT_EQ(pillow.faceVertices, asRead.faceVertices);
+  EXPECT_NE(p.describe().front().find("left open"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace sf
