@@ -60,6 +60,7 @@ PyCache fromLoaded(const LoadedMesh& lm, const Options& o, std::string source) {
   c.fromMesh = true;
   c.meshReport = lm.seams.describe();
   for (std::string& line : lm.report.describe()) c.meshReport.push_back(std::move(line));
+  for (std::string& line : lm.orientation.describe()) c.meshReport.push_back(std::move(line));
   c.normalReport = lm.normalReport.describe();
   c.flipped = lm.flipped;
   return c;

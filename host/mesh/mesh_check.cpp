@@ -315,14 +315,115 @@ MeshReport checkMesh(const PolygonMesh& m, const MeshCheckOptions& options) {
   return r;
 }
 
+namespace {
+
+/// Reverses face f's corners after its first (and their corner normals, where the mesh has them).
+void flipFace(PolygonMesh& m, int f) {
+  const int b = m.faceOffsets[f] + 1, e = m.faceOffsets[f + 1];
+  if (e <= b) return;
+  std::reverse(m.faceVertices.begin() + b, m.faceVertices.begin() + e);
+  if (m.fileCornerNormals.size() == m.faceVertices.size())
+    std::reverse(m.fileCornerNormals.begin() + b, m.fileCornerNormals.begin() + e);
+}
+
+}  // namespace
+
 void flipFaces(PolygonMesh& m) {
-  const bool cornerNormals = m.fileCornerNormals.size() == m.faceVertices.size();
-  for (int f = 0; f < m.numFaces(); ++f) {
-    const int b = m.faceOffsets[f] + 1, e = m.faceOffsets[f + 1];
-    if (e <= b) continue;
-    std::reverse(m.faceVertices.begin() + b, m.faceVertices.begin() + e);
-    if (cornerNormals) std::reverse(m.fileCornerNormals.begin() + b, m.fileCornerNormals.begin() + e);
+  for (int f = 0; f < m.numFaces(); ++f) flipFace(m, f);
+}
+
+std::vector<std::string> OrientationRepair::describe(int maxIds) const {
+  std::vector<std::string> out;
+  const auto ids = [maxIds](const std::vector<int>& v) {
+    std::string s;
+    for (size_t i = 0; i < v.size() && static_cast<int>(i) < maxIds; ++i) s += " " + std::to_string(v[i]);
+    if (static_cast<int>(v.size()) > maxIds) s += " ...";
+    return s;
+  };
+  if (!turnedFaces.empty())
+    out.push_back("orientation: " + std::to_string(turnedFaces.size()) +
+                  (turnedFaces.size() == 1
+                       ? " face ran against its neighbours: turned to agree with most of its"
+                       : " faces ran against their neighbours: turned to agree with most of their") +
+                  " component's faces (--orient keep to keep; faces:" + ids(turnedFaces) + ")");
+  if (!unorientableFaces.empty())
+    out.push_back("orientation: " + std::to_string(unorientableFaces.size()) +
+                  (unorientableFaces.size() == 1 ? " component" : " components") +
+                  " with no orientation that agrees across every edge (a Moebius strip), left as read (lowest "
+                  "faces:" +
+                  ids(unorientableFaces) + ")");
+  return out;
+}
+
+OrientationRepair orientCoherently(PolygonMesh& m) {
+  OrientationRepair out;
+  const int nf = m.numFaces(), nv = m.numVertices();
+  for (const int32_t v : m.faceVertices)
+    if (v < 0 || v >= nv) return out;  // checkMesh names the bad index
+  // each edge that exactly two faces use: the faces and whether they run along it the same way
+  std::vector<std::pair<uint64_t, int>> sides;  // (undirected key, corner)
+  std::vector<int> faceOf(m.numCorners()), nextOf(m.numCorners());
+  for (int f = 0; f < nf; ++f) {
+    const int b = m.faceOffsets[f], e = m.faceOffsets[f + 1];
+    for (int c = b; c < e; ++c) {
+      faceOf[c] = f;
+      nextOf[c] = c + 1 < e ? c + 1 : b;
+      const uint32_t u = static_cast<uint32_t>(m.faceVertices[c]), w = static_cast<uint32_t>(m.faceVertices[nextOf[c]]);
+      if (u != w) sides.emplace_back((static_cast<uint64_t>(std::min(u, w)) << 32) | std::max(u, w), c);
+    }
   }
+  std::sort(sides.begin(), sides.end());
+  std::vector<std::vector<std::pair<int, char>>> links(nf);  // (neighbour, 1 if it must turn relative to f)
+  for (size_t i = 0; i < sides.size();) {
+    size_t j = i;
+    while (j < sides.size() && sides[j].first == sides[i].first) ++j;
+    if (j - i == 2) {
+      const int a = sides[i].second, b = sides[i + 1].second, fa = faceOf[a], fb = faceOf[b];
+      const char same = m.faceVertices[a] == m.faceVertices[b];
+      if (fa != fb) {
+        links[fa].emplace_back(fb, same);
+        links[fb].emplace_back(fa, same);
+      }
+    }
+    i = j;
+  }
+  // breadth first from each component's lowest face: parity relative to it
+  std::vector<signed char> parity(nf, -1);
+  std::vector<int> component, queue;
+  std::vector<int> turned;
+  for (int seed = 0; seed < nf; ++seed) {
+    if (parity[seed] >= 0) continue;
+    component.clear();
+    queue.assign(1, seed);
+    parity[seed] = 0;
+    bool agrees = true;
+    for (size_t q = 0; q < queue.size(); ++q) {
+      const int f = queue[q];
+      component.push_back(f);
+      for (const auto& [g, flip] : links[f]) {
+        const signed char want = static_cast<signed char>(parity[f] ^ flip);
+        if (parity[g] < 0) {
+          parity[g] = want;
+          queue.push_back(g);
+        } else if (parity[g] != want) {
+          agrees = false;
+        }
+      }
+    }
+    if (!agrees) {
+      out.unorientableFaces.push_back(seed);
+      continue;
+    }
+    size_t odd = 0;
+    for (const int f : component) odd += parity[f];
+    const signed char turn = odd * 2 > component.size() ? 0 : 1;  // turn the minority (tie: the seed's side stays)
+    for (const int f : component)
+      if (parity[f] == turn) turned.push_back(f);
+  }
+  std::sort(turned.begin(), turned.end());
+  for (const int f : turned) flipFace(m, f);
+  out.turnedFaces = std::move(turned);
+  return out;
 }
 
 bool applyOrientation(PolygonMesh& m, const MeshReport& r, OrientPolicy policy) {

@@ -29,6 +29,7 @@ LoadedMesh loadMesh(PolygonMesh mesh, uint64_t meshHash, const PatchOptions& opt
   out.mesh = std::move(mesh);
   out.fileHash = meshHash;
   out.seams = stitchSeams(out.mesh);
+  if (!options.keepOrientation) out.orientation = orientCoherently(out.mesh);
   out.report = checkMesh(out.mesh);
   out.flipped =
       applyOrientation(out.mesh, out.report, options.keepOrientation ? OrientPolicy::Keep : OrientPolicy::Outward);

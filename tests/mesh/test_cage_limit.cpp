@@ -336,7 +336,11 @@ TEST(CageLimit, UnsupportedCagesAreRefusedNamingTheProblem) {
   EXPECT_NE(message(bowtie, o).find("non-manifold vertex 34"), std::string::npos) << message(bowtie, o);
   PolygonMesh twisted = cube();
   std::reverse(twisted.faceVertices.begin(), twisted.faceVertices.begin() + 4);  // face 0 turned over
-  EXPECT_NE(message(twisted, o).find("inconsistent face orientation"), std::string::npos) << message(twisted, o);
+  PatchOptions keep = o;  // --orient outward turns face 0 back first (orientCoherently); keep refuses it
+  keep.keepOrientation = true;
+  EXPECT_NE(message(twisted, keep).find("inconsistent face orientation"), std::string::npos) << message(twisted, keep);
+  EXPECT_EQ(message(twisted, o), "");
+  EXPECT_EQ(loadMesh(twisted, 0, o).orientation.turnedFaces, std::vector<int>{0});
   PolygonMesh repeat = cube();
   repeat.addFace({0, 1, 0, 3});
   EXPECT_NE(message(repeat, o).find("face 6 repeats vertex 0"), std::string::npos) << message(repeat, o);

@@ -3,13 +3,17 @@
 // and matches /work/shared/meshes/README.md), plus small hand-made topologies.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <map>
+#include <numbers>
 #include <random>
 #include <set>
 
 #include <smoothforce/mesh/mesh_check.h>
 #include <smoothforce/mesh/mesh_io.h>
+#include <smoothforce/mesh/seams.h>
 #include "polygon_mesh_support.h"
 #include "shared_mesh_files.h"
 
@@ -208,6 +212,93 @@ TEST(MeshOrientation, AnInwardMeshWithOneFaceOutOfLineIsFlipped) {
   EXPECT_EQ(flipped, 180);
 }
 
+// Every shared mesh with a tenth of its faces turned against their neighbours (seeded): after
+// orientCoherently no edge of two faces runs the same way twice, and on every mesh of one
+// component the faces turned back are exactly those turned, so the mesh is the one read.
+TEST(MeshOrientation, FacesTurnedAgainstTheirNeighboursAreTurnedBackOnEverySharedMesh) {
+  std::mt19937 rng(11);
+  int meshes = 0, restored = 0;
+  long turned = 0;
+  for (const std::string& path : sf::test::sharedMeshFiles()) {
+    SCOPED_TRACE(path);
+    const sf::PolygonMesh read = sf::readMesh(path);
+    const sf::MeshReport r = sf::checkMesh(read, {false});
+    ASSERT_TRUE(r.inconsistentEdges.empty());
+    sf::PolygonMesh m = read;
+    std::vector<int> flipped;
+    for (int f = 0; f < m.numFaces(); ++f) {
+      if (rng() % 10 != 0) continue;
+      flipped.push_back(f);
+      std::reverse(m.faceVertices.begin() + m.faceOffsets[f] + 1, m.faceVertices.begin() + m.faceOffsets[f + 1]);
+    }
+    const size_t inconsistent = sf::checkMesh(m, {false}).inconsistentEdges.size();
+    const sf::OrientationRepair o = sf::orientCoherently(m);
+    EXPECT_TRUE(o.unorientableFaces.empty());
+    EXPECT_TRUE(sf::checkMesh(m, {false}).inconsistentEdges.empty());
+    // each face is as read or reversed (its first corner kept)
+    for (int f = 0; f < m.numFaces(); ++f) {
+      const auto b = m.faceVertices.begin() + m.faceOffsets[f], e = m.faceVertices.begin() + m.faceOffsets[f + 1];
+      const auto rb = read.faceVertices.begin() + read.faceOffsets[f];
+      std::vector<int32_t> rev(rb, rb + (e - b));
+      if (rev.size() > 1) std::reverse(rev.begin() + 1, rev.end());
+      EXPECT_TRUE(std::equal(b, e, rb) || std::equal(b, e, rev.begin())) << f;
+    }
+    if (r.numComponents == 1 && r.nonManifoldEdges.empty() && read.numFaces() >= 4) {
+      EXPECT_EQ(o.turnedFaces, flipped);
+      EXPECT_EQ(m.faceVertices, read.faceVertices);
+      restored += m.faceVertices == read.faceVertices;
+    }
+    if (!flipped.empty()) EXPECT_GT(inconsistent, 0u);
+    turned += static_cast<long>(o.turnedFaces.size());
+    ++meshes;
+  }
+  std::printf("%d meshes, %ld faces turned back, %d of one component restored as read\n", meshes, turned, restored);
+  EXPECT_EQ(meshes, 28);
+  EXPECT_GE(restored, 20);
+}
+
+// A Moebius strip of 8 quads: no orientation agrees across its twisted edge, so it is left as
+// read and named; a cube with one face turned is turned back (the face, and only it).
+TEST(MeshOrientation, AMoebiusStripIsLeftAsReadAndACubesTurnedFaceIsTurnedBack) {
+  std::vector<Eigen::Vector3d> p;
+  const int n = 8;
+  for (int i = 0; i < n; ++i) {
+    const double t = 2 * std::numbers::pi * i / n, h = t / 2;
+    const Eigen::Vector3d c(std::cos(t), std::sin(t), 0),
+        d(std::cos(h) * std::cos(t), std::cos(h) * std::sin(t), std::sin(h));
+    p.push_back(c - 0.3 * d);
+    p.push_back(c + 0.3 * d);
+  }
+  std::vector<std::vector<int32_t>> faces;
+  for (int i = 0; i + 1 < n; ++i) faces.push_back({2 * i, 2 * i + 2, 2 * i + 3, 2 * i + 1});
+  faces.push_back({2 * (n - 1), 1, 0, 2 * (n - 1) + 1});  // the twist: the ends meet swapped
+  sf::PolygonMesh strip = polygonMesh(p, faces);
+  const sf::PolygonMesh asRead = strip;
+  const sf::OrientationRepair o = sf::orientCoherently(strip);
+  EXPECT_EQ(o.unorientableFaces, (std::vector<int>{0}));
+  EXPECT_TRUE(o.turnedFaces.empty());
+  EXPECT_EQ(strip.faceVertices, asRead.faceVertices);
+  ASSERT_EQ(o.describe().size(), 1u);
+  EXPECT_NE(o.describe()[0].find("left as read"), std::string::npos);
+
+  for (int f = 0; f < 6; ++f) {
+    sf::PolygonMesh cube = cubeMesh();
+    std::reverse(cube.faceVertices.begin() + cube.faceOffsets[f] + 1,
+                 cube.faceVertices.begin() + cube.faceOffsets[f + 1]);
+    for (int c = 0; c < cube.numCorners(); ++c) cube.fileCornerNormals.emplace_back(c, 0, 0);
+    const sf::PolygonMesh turnedCube = cube;
+    const sf::OrientationRepair back = sf::orientCoherently(cube);
+    EXPECT_EQ(back.turnedFaces, (std::vector<int>{f}));
+    EXPECT_EQ(cube.faceVertices, cubeMesh().faceVertices);
+    // the corner normals turn with their corners
+    for (int c = cube.faceOffsets[f]; c < cube.faceOffsets[f + 1]; ++c) {
+      const int k = c - cube.faceOffsets[f], n4 = cube.faceSize(f);
+      EXPECT_EQ(cube.fileCornerNormals[c], turnedCube.fileCornerNormals[cube.faceOffsets[f] + (n4 - k) % n4]);
+    }
+    EXPECT_TRUE(sf::checkMesh(cube).clean());
+  }
+}
+
 TEST(MeshCheck, NonManifoldEdgesAndVertices) {
   const std::vector<Eigen::Vector3d> p = {{0, 0, 0}, {1, 0, 0},  {0, 1, 0}, {0, -1, 0},
                                           {0, 0, 1}, {-1, 0, 0}, {0, 0, -1}};
@@ -264,6 +355,12 @@ TEST(MeshCheck, RandomSoupsTerminateAndCountEveryEdgeOnce) {
       m.addFace(face);
     }
     const sf::MeshReport r = sf::checkMesh(m);
+    {  // the load-time repairs terminate on any soup and keep the faces' sizes
+      sf::PolygonMesh repaired = m;
+      sf::stitchSeams(repaired);
+      sf::orientCoherently(repaired);
+      ASSERT_EQ(repaired.faceOffsets, m.faceOffsets);
+    }
     std::set<std::pair<int, int>> edges;
     for (int f = 0; f < m.numFaces(); ++f)
       for (int k = 0; k < m.faceSize(f); ++k) {

@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
-// Seams written twice (stitchSeams, seams.h): every shared mesh written as a soup (each corner
-// its own vertex, as a triangle soup or an exporter that splits every vertex writes it) joins
-// back into the mesh as read, and builds its patches bit for bit; split per-vertex normals go to
-// the corners; ambiguous and unsafe seams stay open.
+// The load-time repairs of loadMesh. Seams written twice (stitchSeams, seams.h): every shared
+// mesh written as a soup (each corner its own vertex, as a triangle soup or an exporter that
+// splits every vertex writes it) joins back into the mesh as read, and builds its patches bit
+// for bit; split per-vertex normals go to the corners; ambiguous and unsafe seams stay open.
+// Faces against their neighbours (orientCoherently, mesh_check.h): turned back, the patches
+// are those of the mesh as read; `--orient keep` keeps them.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -266,6 +268,43 @@ TEST(SeamStitch, AmbiguousAndUnsafeSeamsStayOpen) {
   EXPECT_NE(p.leftOpen.find("faces on the vertices of others"), std::string::npos) << p.leftOpen;
   EXPECT_EQ(pillow.faceVertices, asRead.faceVertices);
   EXPECT_NE(p.describe().front().find("left open"), std::string::npos);
+}
+
+// The spot cage and the chamfered cube with one face turned against its neighbours, every face
+// in turn: loadMesh turns it back (that face alone) and the patches are the mesh's as read, bit
+// for bit; under --orient keep the face stays turned and the check names its edges.
+TEST(CoherentOrientation, AFaceTurnedAgainstItsNeighboursBuildsThePatchesOfTheMeshAsRead) {
+  int builds = 0;
+  for (const char* rel : {"keenan_crane/spot_control_mesh.obj", "pmp/chamfer-cube.off"}) {
+    SCOPED_TRACE(rel);
+    const PolygonMesh read = readMesh(test::sharedMesh(rel));
+    for (const double creaseAngle : {0.0, 30.0}) {
+      PatchOptions options;
+      options.creases.angleDeg = creaseAngle;
+      const PatchCache home = buildPatchCache(loadMesh(read, 1, options), options, Backend::Tbb);
+      for (int f = 0; f < read.numFaces(); ++f) {
+        PolygonMesh m = read;
+        std::reverse(m.faceVertices.begin() + m.faceOffsets[f] + 1, m.faceVertices.begin() + m.faceOffsets[f + 1]);
+        const LoadedMesh lm = loadMesh(m, 1, options);
+        ASSERT_EQ(lm.orientation.turnedFaces, std::vector<int>{f});
+        ASSERT_TRUE(lm.report.inconsistentEdges.empty());
+        ASSERT_FALSE(lm.flipped);
+        const PatchCache c = buildPatchCache(lm, options, Backend::Tbb);
+        ASSERT_TRUE(c.edgeDataD == home.edgeDataD) << "face " << f;
+        ASSERT_EQ(c.faceStatus, home.faceStatus) << "face " << f;
+        ++builds;
+      }
+    }
+    PolygonMesh m = read;
+    std::reverse(m.faceVertices.begin() + 1, m.faceVertices.begin() + m.faceOffsets[1]);
+    PatchOptions keep;
+    keep.keepOrientation = true;
+    const LoadedMesh kept = loadMesh(m, 1, keep);
+    EXPECT_TRUE(kept.orientation.turnedFaces.empty());
+    EXPECT_EQ(kept.report.inconsistentEdges.size(), static_cast<size_t>(read.faceSize(0)));
+    EXPECT_EQ(kept.mesh.faceVertices, m.faceVertices);
+  }
+  EXPECT_EQ(builds, 2 * (180 + 26));
 }
 
 }  // namespace

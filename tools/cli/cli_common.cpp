@@ -152,7 +152,9 @@ void addSurfaceArgs(CLI::App& cmd, PatchArgs& a) {
                                      "corrected|paper|blend: cross-tangent construction (design page, Robustness)")
                           ->check(patchOptionCheck("cross_tangent"))
                           ->capture_default_str();
-  a.orientOpt = cmd.add_option("--orient", a.orient, "outward|keep: flip closed meshes whose faces point inward")
+  a.orientOpt = cmd.add_option("--orient", a.orient,
+                               "outward|keep: outward turns faces that run against their neighbours back into line, "
+                               "then flips a closed mesh whose faces point inward; keep leaves both as read")
                     ->check(patchOptionCheck("orient"))
                     ->capture_default_str();
   a.cageOpt = cmd.add_option("--cage", a.cage,

@@ -189,6 +189,7 @@ void build(const std::string& mesh, std::string out, const PatchArgs& args, bool
               faceSizeText(r.faceSizeHistogram).c_str());
   for (const std::string& line : lm.seams.describe()) std::printf("  %s\n", line.c_str());
   for (const std::string& line : r.describe()) std::printf("  %s\n", line.c_str());
+  for (const std::string& line : lm.orientation.describe()) std::printf("%s\n", line.c_str());
   if (lm.flipped)
     std::printf(
         "orientation: closed mesh faced inward (signed volume %.6g): flipped to outward "
@@ -440,7 +441,7 @@ void info(const std::string& path, bool json, bool faults, int faultsLevel, bool
               hexHash(hashPatchOptions(c.options)).c_str());
   std::printf("mesh: %d vertices, %d faces (%s), %d edge slots\n", c.numVertices(), c.numFaces(),
               faceSizeText(h).c_str(), c.numSlots());
-  std::printf("edges: %d boundary slots, %d non-manifold slots\n", boundary, nonManifold);
+  std::printf("edges: %d boundary slots, %d non-manifold or inconsistently oriented slots\n", boundary, nonManifold);
   std::printf(
       "options: precision %s, cross tangent %s, normals %s, orient %s, cage %s, creases %s, crease angle %g, fold "
       "repair %s\n",

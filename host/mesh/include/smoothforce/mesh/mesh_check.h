@@ -64,11 +64,31 @@ MeshReport checkMesh(const PolygonMesh& mesh, const MeshCheckOptions& options = 
 /// (relative to its perimeter): what checkMesh lists as degenerate.
 bool isDegenerateFace(const PolygonMesh& mesh, int f);
 
-/// Reverses every face's corner order (and corner normals) in place.
+/// Reverses every face's corner order (and corner normals) in place, keeping each face's first
+/// corner first.
 void flipFaces(PolygonMesh& mesh);
 
-/// Orientation policy: `Outward` flips a closed mesh whose signed volume is negative (faces
-/// pointing inward, e.g. polygon_laplacian/sphere2.off), when at most 10% of its edges are
+/// What orientCoherently turned.
+struct OrientationRepair {
+  std::vector<int> turnedFaces;        ///< faces whose corner order was reversed, ascending
+  std::vector<int> unorientableFaces;  ///< the lowest face of each component left as read (no orientation agrees)
+  /// Lines for `cache build` (empty when nothing was turned or left).
+  std::vector<std::string> describe(int maxIds = 10) const;
+};
+
+/// Turns the faces that run against their neighbours: in every connected component (faces
+/// joined across edges that exactly two faces use), the faces are given one orientation, so
+/// that each such edge is used once in each direction, and the orientation of most of the
+/// component's faces is kept (on a tie, that of its lowest face id); the faces that disagree
+/// have their corner order reversed (and their corner normals with it), keeping their first
+/// corner. A component on which no orientation agrees across every edge (a Moebius strip) is
+/// left as read and named. Face and vertex ids and positions do not change. Whether a closed
+/// mesh then faces inward is applyOrientation's decision, made on the whole mesh (a hollow
+/// part's inner shell faces in). #C log #C time.
+OrientationRepair orientCoherently(PolygonMesh& mesh);
+
+/// Orientation policy (after orientCoherently, under Outward): `Outward` flips a closed mesh whose signed volume is
+/// negative (faces pointing inward, e.g. polygon_laplacian/sphere2.off), when at most 10% of its edges are
 /// inconsistently oriented (then the majority's faces point outward after the flip; the
 /// report keeps the inconsistent edges); `Keep` leaves it. Returns true when the mesh was flipped.
 enum class OrientPolicy { Outward, Keep };

@@ -17,7 +17,8 @@ namespace sf {
 struct LoadedMesh {
   PolygonMesh mesh;
   SeamReport seams;                            ///< seams written twice, joined before the check
-  MeshReport report;                           ///< topology report (after the seams, before any flip)
+  OrientationRepair orientation;               ///< faces turned to agree with their neighbours (not under keep)
+  MeshReport report;                           ///< topology report (after the seams and turns, before any flip)
   bool flipped = false;                        ///< faces were reversed to point outward
   uint64_t fileHash = 0;                       ///< XXH64 of the file's bytes
   std::vector<Eigen::Vector3d> cornerNormals;  ///< #C unit normals per the chosen mode
@@ -36,7 +37,8 @@ struct LoadedMesh {
 
 /// Reads `path`, joins its seams written twice (stitchSeams, seams.h: boundary edges that
 /// coincide end for end, as exporters write them where normals or texture coordinates split a
-/// vertex), checks it, flips an inward-facing closed mesh unless options.keepOrientation,
+/// vertex), unless options.keepOrientation turns the faces that run against their neighbours
+/// (orientCoherently), checks it, flips an inward-facing closed mesh unless keepOrientation,
 /// and computes corner normals per options.normals (normals.h: NormalMode, NormalReport).
 /// With options.cage CatmullClark, then moves every referenced vertex to its Catmull-Clark
 /// limit position and uses its limit normal at every corner (catmullClarkLimit, cage_limit.h;
@@ -49,7 +51,7 @@ struct LoadedMesh {
 LoadedMesh loadMesh(const std::string& path, const PatchOptions& options);
 
 /// The same for a mesh already in memory (mesh_arrays.h builds one from arrays): joins its
-/// seams, checks it, orients it and computes its corner normals; fileHash = meshHash.
+/// seams, orients it, checks it and computes its corner normals; fileHash = meshHash.
 LoadedMesh loadMesh(PolygonMesh mesh, uint64_t meshHash, const PatchOptions& options);
 
 /// Builds the whole-mesh patch cache from a loaded mesh on the CPU backends

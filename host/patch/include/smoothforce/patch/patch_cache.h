@@ -20,7 +20,8 @@ struct PatchOptions {
   Precision precision = Precision::Double;
   CrossTangentMode crossTangent = CrossTangentMode::Corrected;
   NormalMode normals = NormalMode::Auto;
-  bool keepOrientation = false;  ///< `--orient keep`: do not flip inward-facing closed meshes
+  bool keepOrientation =
+      false;  ///< `--orient keep`: keep faces against their neighbours and inward-facing closed meshes
   /// `--cage catmull-clark`: the mesh is a Catmull-Clark control cage; its vertices move to their
   /// limit positions and take their limit normals before construction (cage_limit.h), and the
   /// cache holds the moved mesh. Needs normals Auto (loadMesh refuses another mode).

@@ -22,7 +22,8 @@ struct PatchOptionText {
   std::string precision = "double";      ///< float|double
   std::string normals = "auto";          ///< auto|file|angle|area (normals.h)
   std::string crossTangent = "corrected";  ///< corrected|paper|blend
-  std::string orient = "outward";        ///< outward|keep: flip closed meshes whose faces point inward
+  std::string orient =
+      "outward";  ///< outward|keep: turn faces against their neighbours, flip inward-facing closed meshes
   std::string cage = "none";             ///< none|catmull-clark (cage_limit.h)
   std::string creases = "tags,groups";   ///< a list of tags, groups, normals, or none (creases.h)
   double creaseAngle = 0;                ///< degrees in [0, 180); 0: off
