@@ -119,7 +119,7 @@ SeamReport stitchSeams(PolygonMesh& m) {
   std::vector<std::array<int, 2>> pairs;  // boundary half-edges (first corners) to join
   for (const auto& [key, c] : boundary) {
     const auto same = range(key);
-    if (same.second - same.first != 1) continue;  // three or more boundary edges at these positions
+    if (same.second - same.first != 1) continue;  // another boundary edge runs the same way here
     const uint64_t back = pairKey(static_cast<int>(key & 0xffffffffu), static_cast<int>(key >> 32));
     const auto partner = range(back);
     if (partner.second - partner.first != 1 || partner.first->second < c) continue;  // none, several, or counted
