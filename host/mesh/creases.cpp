@@ -8,11 +8,11 @@
 #include <cmath>
 #include <map>
 #include <numbers>
-#include <numeric>
 
 #include <smoothforce/base/error.h>
 #include <smoothforce/mesh/normals.h>
 #include <smoothforce/mesh/topology.h>
+#include "union_find.h"
 
 namespace sf {
 namespace {
@@ -22,12 +22,6 @@ Edge key(int32_t a, int32_t b) { return a < b ? Edge{a, b} : Edge{b, a}; }
 
 std::string where(const PolygonMesh& m, size_t line) {
   return (m.sourcePath.empty() ? std::string("mesh") : m.sourcePath) + (line ? ":" + std::to_string(line) : "");
-}
-
-/// Union-find root with path halving.
-int32_t root(std::vector<int32_t>& parent, int32_t a) {
-  while (parent[a] != a) a = parent[a] = parent[parent[a]];
-  return a;
 }
 
 }  // namespace
@@ -152,12 +146,7 @@ CreaseSet findCreases(const PolygonMesh& mesh, const CreaseOptions& options) {
 std::vector<int32_t> cornerSectors(const PolygonMesh& mesh, const std::vector<int32_t>& slotTwin,
                                    const std::function<bool(int32_t, int32_t, int32_t)>& join, int* count) {
   const int nc = mesh.numCorners();
-  std::vector<int32_t> parent(nc);
-  std::iota(parent.begin(), parent.end(), 0);
-  const auto unite = [&](int32_t a, int32_t b) {
-    a = root(parent, a), b = root(parent, b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  };
+  UnionFind sectors(nc);
   for (int f = 0; f < mesh.numFaces(); ++f) {
     const int first = mesh.faceOffsets[f], n = mesh.faceSize(f);
     for (int k = 0; k < n; ++k) {
@@ -166,15 +155,15 @@ std::vector<int32_t> cornerSectors(const PolygonMesh& mesh, const std::vector<in
       const int32_t sNext = first + (k + 1 == n ? 0 : k + 1);
       int32_t atStart, atEnd;  // the other face's corners at V_k (as s) and V_{k+1} (as sNext)
       acrossCorners(mesh.faceOffsets, slotTwin, f, k, atStart, atEnd);
-      if (join(s, atStart, s)) unite(s, atStart);
-      if (join(sNext, atEnd, s)) unite(sNext, atEnd);
+      if (join(s, atStart, s)) sectors.unite(s, atStart);
+      if (join(sNext, atEnd, s)) sectors.unite(sNext, atEnd);
     }
   }
   // sectors numbered in order of first corner
   std::vector<int32_t> id(nc, -1), out(nc);
   int next = 0;
   for (int32_t c = 0; c < nc; ++c) {
-    const int32_t r = root(parent, c);
+    const int32_t r = sectors.find(c);
     if (id[r] < 0) id[r] = next++;
     out[c] = id[r];
   }

@@ -8,11 +8,11 @@
 #include <algorithm>
 #include <cstdio>
 #include <map>
-#include <numeric>
 
 #include <smoothforce/base/coordinate_range.h>
 #include <smoothforce/mesh/normals.h>
 #include <smoothforce/mesh/topology.h>
+#include "union_find.h"
 
 namespace sf {
 namespace {
@@ -21,16 +21,6 @@ namespace {
 struct HalfEdge {
   uint64_t key;  // (min vertex << 32) | max vertex
   int face, from, to;
-};
-
-struct UnionFind {
-  std::vector<int> parent;
-  explicit UnionFind(int n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  int find(int a) {
-    while (parent[a] != a) a = parent[a] = parent[parent[a]];
-    return a;
-  }
-  void unite(int a, int b) { parent[find(a)] = find(b); }
 };
 
 /// Bad topology is reported, but indices outside the vertex array cannot be looked at.
@@ -334,12 +324,7 @@ void flipFaces(PolygonMesh& m) {
 
 std::vector<std::string> OrientationRepair::describe(int maxIds) const {
   std::vector<std::string> out;
-  const auto ids = [maxIds](const std::vector<int>& v) {
-    std::string s;
-    for (size_t i = 0; i < v.size() && static_cast<int>(i) < maxIds; ++i) s += " " + std::to_string(v[i]);
-    if (static_cast<int>(v.size()) > maxIds) s += " ...";
-    return s;
-  };
+  const auto ids = [maxIds](const std::vector<int>& v) { return " " + idList(v, maxIds); };
   if (!turnedFaces.empty())
     out.push_back("orientation: " + std::to_string(turnedFaces.size()) +
                   (turnedFaces.size() == 1
@@ -374,6 +359,7 @@ OrientationRepair orientCoherently(PolygonMesh& m) {
   }
   std::sort(sides.begin(), sides.end());
   std::vector<std::vector<std::pair<int, char>>> links(nf);  // (neighbour, 1 if it must turn relative to f)
+  bool against = false;
   for (size_t i = 0; i < sides.size();) {
     size_t j = i;
     while (j < sides.size() && sides[j].first == sides[i].first) ++j;
@@ -383,10 +369,12 @@ OrientationRepair orientCoherently(PolygonMesh& m) {
       if (fa != fb) {
         links[fa].emplace_back(fb, same);
         links[fb].emplace_back(fa, same);
+        against |= same != 0;
       }
     }
     i = j;
   }
+  if (!against) return out;  // every part already agrees: nothing to turn, nothing unorientable
   // breadth first from each component's lowest face: parity relative to it
   std::vector<signed char> parity(nf, -1);
   std::vector<int> component, queue;

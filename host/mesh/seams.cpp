@@ -3,11 +3,11 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <numeric>
 #include <utility>
 
 #include <smoothforce/mesh/mesh_check.h>
 #include <smoothforce/mesh/mesh_intersect.h>  // weldedVertexIds
+#include "union_find.h"
 
 namespace sf {
 namespace {
@@ -15,20 +15,6 @@ namespace {
 uint64_t pairKey(int a, int b) {
   return (static_cast<uint64_t>(static_cast<uint32_t>(a)) << 32) | static_cast<uint32_t>(b);
 }
-
-/// Union-find whose root is the smallest id of its class.
-struct MinUnion {
-  std::vector<int32_t> parent;
-  explicit MinUnion(int n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  int find(int v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-  }
-  void unite(int a, int b) {
-    a = find(a), b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
-};
 
 /// The defects a check finds on merged vertices (a class of more than one vertex as read), by
 /// root: what joining made, not what the mesh had. Fills `why` with their kinds.
@@ -97,18 +83,21 @@ SeamReport stitchSeams(PolygonMesh& m) {
     }
   }
   std::sort(undirected.begin(), undirected.end());
-  // boundary half-edges (their vertex pair used once), keyed by their ends' positions
-  const std::vector<int32_t> welded = weldedVertexIds(m);
-  std::vector<std::pair<uint64_t, int>> boundary;
+  // boundary half-edges (their vertex pair used once): none on a closed mesh, which needs no weld
+  std::vector<int> boundaryCorners;
   for (size_t i = 0; i < undirected.size();) {
     size_t j = i;
     while (j < undirected.size() && undirected[j].first == undirected[i].first) ++j;
-    if (j - i == 1) {
-      const int c = undirected[i].second;
-      const int wa = welded[m.faceVertices[c]], wb = welded[m.faceVertices[next[c]]];
-      if (wa != wb) boundary.emplace_back(pairKey(wa, wb), c);
-    }
+    if (j - i == 1) boundaryCorners.push_back(undirected[i].second);
     i = j;
+  }
+  if (boundaryCorners.size() < 2) return report;
+  // keyed by their ends' positions
+  const std::vector<int32_t> welded = weldedVertexIds(m);
+  std::vector<std::pair<uint64_t, int>> boundary;
+  for (const int c : boundaryCorners) {
+    const int wa = welded[m.faceVertices[c]], wb = welded[m.faceVertices[next[c]]];
+    if (wa != wb) boundary.emplace_back(pairKey(wa, wb), c);
   }
   std::sort(boundary.begin(), boundary.end());
   const auto range = [&](uint64_t key) {
@@ -132,10 +121,10 @@ SeamReport stitchSeams(PolygonMesh& m) {
   // and join again (a few rounds: each leaves open only pairs that touch a defect)
   const MeshCheckOptions topologyOnly{false};
   std::vector<char> open(pairs.size(), 0);
-  MinUnion classes(nv);
+  UnionFind classes(nv);
   PolygonMesh joined;
   for (int round = 0;; ++round) {
-    classes = MinUnion(nv);
+    classes = UnionFind(nv);
     for (size_t i = 0; i < pairs.size(); ++i) {
       if (open[i]) continue;
       const auto [c, d] = pairs[i];
@@ -166,7 +155,7 @@ SeamReport stitchSeams(PolygonMesh& m) {
     if (opened == 0 || round == 3) {  // defects the pairs left open do not explain: join nothing
       open.assign(pairs.size(), 1);
       joined = m;
-      classes = MinUnion(nv);
+      classes = UnionFind(nv);
       break;
     }
   }
