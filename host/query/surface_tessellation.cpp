@@ -6,8 +6,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
+#include <utility>
+#include <vector>
 
 #include <smoothforce/patch/detail/gp_traits.h>
 #include <smoothforce/patch/patch_eval.h>
@@ -19,6 +22,8 @@ namespace {
 
 /// Error samples of a triangle: its centroid and its three edge midpoints (weights on a, b, c).
 constexpr double kW[4][3] = {{1. / 3, 1. / 3, 1. / 3}, {0.5, 0.5, 0}, {0, 0.5, 0.5}, {0.5, 0, 0.5}};
+/// The corners of the edge whose midpoint is sample 1 + e (kW).
+constexpr int kEdge[3][2] = {{0, 1}, {1, 2}, {0, 2}};
 
 Eigen::Matrix<double, 3, 2> jacobian(const PatchPoint& p) {
   Eigen::Matrix<double, 3, 2> J;
@@ -153,24 +158,50 @@ UniformTessellation tessellateUniform(const PatchCache& cache, int L, bool error
   t.error.resize(t.tri.size());
   if (levelEstimate) levelEstimate->assign(errors ? t.tri.size() : 0, 0.0);
   // positions and error bounds a few faces at a time: the evaluations of a chunk (its vertices,
-  // then 4 samples per triangle) stay in cache instead of one array of every point; the values
-  // are the same (PatchEvaluator's results do not depend on how the points are grouped)
+  // then the error samples of its triangles) stay in cache instead of one array of every point;
+  // the values are the same (PatchEvaluator's results do not depend on how the points are grouped)
   tbb::parallel_for(tbb::blocked_range<size_t>(0, faces.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
     const size_t v0 = first[r.begin()], v1 = first[r.end()], t0 = tfirst[r.begin()], t1 = tfirst[r.end()];
     Batch b;
     for (size_t i = r.begin(); i < r.end(); ++i)
       for (size_t v = first[i]; v < first[i + 1]; ++v) b.add(faces[i], t.domain[v]);
-    if (errors)
+    // the error samples (triangleError): each triangle's centroid, then each edge's midpoint once,
+    // shared by the two triangles of the chunk along it (0.5 a + 0.5 b: the point either
+    // triangle's kW weights give); mid[3 i + e]: the midpoint of triangle t0 + i's edge e (kEdge)
+    std::vector<uint32_t> mid;
+    if (errors) {
       for (size_t i = t0; i < t1; ++i)
-        addSamples(b, t.triFace[i], {t.domain[t.tri[i][0]], t.domain[t.tri[i][1]], t.domain[t.tri[i][2]]});
+        b.add(t.triFace[i],
+              kW[0][0] * t.domain[t.tri[i][0]] + kW[0][1] * t.domain[t.tri[i][1]] + kW[0][2] * t.domain[t.tri[i][2]]);
+      std::vector<std::pair<uint64_t, uint32_t>> edges;  // (lower vertex, higher vertex), slot
+      edges.reserve(3 * (t1 - t0));
+      for (size_t i = t0; i < t1; ++i)
+        for (int e = 0; e < 3; ++e) {
+          const uint64_t a = uint64_t(t.tri[i][kEdge[e][0]] - v0), c = uint64_t(t.tri[i][kEdge[e][1]] - v0);
+          edges.push_back({std::min(a, c) << 32 | std::max(a, c), uint32_t(3 * (i - t0) + e)});
+        }
+      std::sort(edges.begin(), edges.end());
+      mid.resize(edges.size());
+      const size_t firstMid = b.f.size();
+      for (size_t k = 0; k < edges.size(); ++k) {
+        if (k == 0 || edges[k].first != edges[k - 1].first) {
+          const size_t lo = v0 + (edges[k].first >> 32), hi = v0 + (edges[k].first & 0xffffffffu);
+          b.add(t.triFace[t0 + edges[k].second / 3], 0.5 * t.domain[lo] + 0.5 * t.domain[hi]);
+        }
+        mid[edges[k].second] = static_cast<uint32_t>(b.f.size() - 1 - firstMid);
+      }
+    }
     const std::vector<PatchPoint> pts = b.run(cache, Backend::Serial);
     for (size_t v = v0; v < v1; ++v) t.vertex[v] = pts[v - v0].pos;
     if (!errors) return;
-    const PatchPoint* sp = pts.data() + (v1 - v0);
+    const PatchPoint* centroid = pts.data() + (v1 - v0);
+    const PatchPoint* mids = centroid + (t1 - t0);
     for (size_t i = t0; i < t1; ++i) {
       const auto& tr = t.tri[i];
       const PatchPoint c[3] = {pts[tr[0] - v0], pts[tr[1] - v0], pts[tr[2] - v0]};
-      t.error[i] = triangleError({t.domain[tr[0]], t.domain[tr[1]], t.domain[tr[2]]}, c, &sp[4 * (i - t0)],
+      const size_t j = i - t0;
+      const PatchPoint s[4] = {centroid[j], mids[mid[3 * j]], mids[mid[3 * j + 1]], mids[mid[3 * j + 2]]};
+      t.error[i] = triangleError({t.domain[tr[0]], t.domain[tr[1]], t.domain[tr[2]]}, c, s,
                                  levelEstimate ? &(*levelEstimate)[i] : nullptr);
     }
   });
@@ -270,9 +301,12 @@ AdaptiveTessellation tessellateAdaptive(const PatchCache& cache, const UniformTe
     todoRef.clear();
     // children at the edge midpoints: corners (a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca)
     std::vector<SurfaceTriangle> kids(4 * todo.size());
+    constexpr int kSamplesPerParent = 13;
     // a chunk of parents at a time: per parent its 3 corners and 3 edge midpoints (the children's
-    // corners, with the Jacobians the error bound needs), then 4 samples per child; the same points
-    // (and so the same values) as evaluating every child's corners on their own
+    // corners, with the Jacobians the error bound needs), then the error samples of the corner
+    // children (4 each) and the middle one's centroid: its edges are the corner children's inner
+    // edges, whose midpoints those hold (0.5 a + 0.5 b either way round); the same points (and
+    // so the same values) as evaluating every child's corners and samples on their own
     tbb::parallel_for(tbb::blocked_range<size_t>(0, todo.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
       const int idx[4][3] = {{0, 3, 5}, {3, 1, 4}, {5, 4, 2}, {3, 4, 5}};  // 0..2 corners, 3..5 mids
       Batch b, sb;
@@ -286,7 +320,11 @@ AdaptiveTessellation tessellateAdaptive(const PatchCache& cache, const UniformTe
           SurfaceTriangle& c = kids[4 * i + k];
           c.face = s.face;
           for (int a = 0; a < 3; ++a) c.X[a] = idx[k][a] < 3 ? s.X[idx[k][a]] : mX[idx[k][a] - 3];
-          addSamples(sb, c.face, c.X);
+          if (k < 3) {
+            addSamples(sb, c.face, c.X);
+          } else {
+            sb.add(c.face, kW[0][0] * c.X[0] + kW[0][1] * c.X[1] + kW[0][2] * c.X[2]);
+          }
         }
       }
       const std::vector<PatchPoint> pts = b.run(cache, Backend::Serial), sp = sb.run(cache, Backend::Serial);
@@ -301,7 +339,11 @@ AdaptiveTessellation tessellateAdaptive(const PatchCache& cache, const UniformTe
             c.P[a] = j < 3 ? s.P[j] : q[j].pos;
             corner[a] = q[j];
           }
-          c.error = triangleError(c.X, corner, &sp[4 * (4 * (i - r.begin()) + k)]);
+          // the middle child (ab, bc, ca): its centroid, then the midpoints of ab-bc (child 1's
+          // edge 2), bc-ca (child 2's edge 0) and ab-ca (child 0's edge 1)
+          const PatchPoint* own = &sp[kSamplesPerParent * (i - r.begin())];
+          const PatchPoint middle[4] = {own[12], own[4 + 3], own[8 + 1], own[0 + 2]};
+          c.error = triangleError(c.X, corner, k < 3 ? own + 4 * k : middle);
         }
       }
     });
