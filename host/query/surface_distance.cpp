@@ -109,13 +109,17 @@ std::vector<double> polygonDistances(const PolygonPieces& p, const double* point
   return d;
 }
 
-/// Distances (m) from points[0, 3 count) to the patch surface of `to` (prebuilt), by the global
-/// nearest-point query; NaN where it has no answer.
-std::vector<double> patchDistances(const PatchCache& to, const double* points, size_t count, int threads) {
+/// The global nearest-point query of the patch surface of `to` (prebuilt).
+std::unique_ptr<const SurfaceQuery> patchQuery(const PatchCache& to) {
   if (!hasPatchData(to))
     throw InputError("surface distance: a patch surface needs a prebuilt cache (this one is a skeleton)");
+  return std::make_unique<const SurfaceQuery>(std::shared_ptr<const PatchCache>(std::shared_ptr<void>(), &to));
+}
+
+/// Distances (m) from points[0, 3 count) to a patch surface, by its global nearest-point query;
+/// NaN where it has no answer.
+std::vector<double> patchDistances(const SurfaceQuery& query, const double* points, size_t count, int threads) {
   std::vector<double> d(count, 0);
-  const SurfaceQuery query(std::shared_ptr<const PatchCache>(std::shared_ptr<void>(), &to));
   constexpr size_t kChunk = size_t{1} << 16;  // bounds the answers held at once
   std::vector<SurfaceQueryResult> out(std::min(count, kChunk));
   for (size_t first = 0; first < count; first += kChunk) {
@@ -163,7 +167,7 @@ SurfaceSamples sampleSurface(const PatchCache& c, DistanceSurface as, int level)
 
 std::vector<double> distancesToSurface(const PatchCache& to, DistanceSurface as, const double* points, size_t count,
                                        int threads) {
-  return as == DistanceSurface::Patches ? patchDistances(to, points, count, threads)
+  return as == DistanceSurface::Patches ? patchDistances(*patchQuery(to), points, count, threads)
                                         : polygonDistances(polygonPieces(to), points, count, threads);
 }
 
@@ -195,8 +199,15 @@ SurfaceDistance measureSurfaceDistance(const PatchCache& a, DistanceSurface aAs,
   auto samples = [](const PatchCache& c, const std::optional<PolygonPieces>& p, int l) {
     return p ? polygonSamples(*p, l) : patchSamples(c, l);
   };
-  auto distances = [threads](const PatchCache& c, const std::optional<PolygonPieces>& p, const SurfaceSamples& s) {
-    return p ? polygonDistances(*p, s.xyz.data(), s.size(), threads) : patchDistances(c, s.xyz.data(), s.size(), threads);
+  // a patch surface's query is built where it is needed and dropped after, but one surface
+  // measured against itself builds it once for both directions
+  const bool same = &a == &b && aAs == DistanceSurface::Patches && bAs == DistanceSurface::Patches;
+  std::unique_ptr<const SurfaceQuery> shared;
+  auto distances = [&](const PatchCache& c, const std::optional<PolygonPieces>& p, const SurfaceSamples& s) {
+    if (p) return polygonDistances(*p, s.xyz.data(), s.size(), threads);
+    if (!same) return patchDistances(*patchQuery(c), s.xyz.data(), s.size(), threads);
+    if (!shared) shared = patchQuery(c);
+    return patchDistances(*shared, s.xyz.data(), s.size(), threads);
   };
   {  // one sample set held at a time
     const SurfaceSamples sa = samples(a, piecesA, r.levelA);
