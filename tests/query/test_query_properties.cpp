@@ -49,19 +49,54 @@ class QueryProperties : public ::testing::TestWithParam<std::string> {};
 /// patches are built lazily (LazyPatchSurface).
 enum class Query { Tessellation, Bounds, Lazy };
 
-/// The body of the contact-start tests, on every `stride`-th HIP.
-void checkContactStarts(const std::string& shape, Query query, int stride) {
+/// The HIPs of the contact-start tests on one shape and the dense oracle's answers there (its
+/// ray parity and refined nearest point), computed once for the three queries.
+struct ContactStarts {
+  static constexpr int kPerDepth = 3334;  // 10,002 HIPs
+  std::shared_ptr<const PatchCache> cache;
+  double diag = 0;
+  std::vector<SurfaceSample> samples;
+  double depths[3] = {0, 0, 0};
+  std::vector<char> truth, agree;                   ///< per HIP: inside by the oracle's rays; the rays agree
+  std::vector<test::DenseOracle::Nearest> nearest;  ///< per HIP
+  int level = 0;
+  size_t triangles = 0;
+
+  explicit ContactStarts(const std::string& shape) : cache(test::closedShapeCache(shape)) {
+    diag = boundingDiagonal(*cache);
+    const test::DenseOracle oracle(*cache);
+    level = oracle.level();
+    triangles = oracle.numTriangles();
+    const PatchSurfaceSampler sampler(*cache, cache->numFaces() > 4000 ? 2 : 6);
+    samples = sampler.sample(kPerDepth, 20261121);
+    const double d[3] = {0.001 * diag, 0.0025 * diag, 0.01 * diag};
+    std::copy(d, d + 3, depths);
+    truth.assign(3 * kPerDepth, 0);
+    agree.assign(3 * kPerDepth, 0);
+    nearest.resize(3 * kPerDepth);
+    tbb::enumerable_thread_specific<std::unique_ptr<PatchRefiner>> refiners(
+        [&] { return std::make_unique<PatchRefiner>(*cache); });
+    tbb::parallel_for(0, 3 * kPerDepth, [&](int g) {
+      const Eigen::Vector3d h = hip(g);
+      bool rays = true;
+      truth[g] = oracle.winding(h, &rays) >= 1;
+      agree[g] = rays;
+      nearest[g] = oracle.nearest(h, *refiners.local());
+    });
+  }
+  const SurfaceSample& sample(int g) const { return samples[g % kPerDepth]; }
+  double depth(int g) const { return depths[g / kPerDepth]; }
+  Eigen::Vector3d hip(int g) const { return sample(g).point - depth(g) * sample(g).normal; }
+};
+
+/// The body of the contact-start tests, on every `stride`-th HIP of c.
+void checkContactStarts(const std::string& shape, const ContactStarts& c, Query query, int stride) {
   const bool lazy = query == Query::Lazy;
   // both box queries decide inside by the nearest point's side (no winding number near the surface)
   const bool boxes = query != Query::Tessellation;
-  const auto cache = test::closedShapeCache(shape);
+  const std::shared_ptr<const PatchCache>& cache = c.cache;
   const auto skeleton = lazy ? std::make_shared<const PatchCache>(test::skeletonOf(*cache)) : nullptr;
-  const double diag = boundingDiagonal(*cache);
-  const test::DenseOracle oracle(*cache);
-  const PatchSurfaceSampler sampler(*cache, cache->numFaces() > 4000 ? 2 : 6);
-  constexpr int kPerDepth = 3334;  // 10,002 HIPs
-  const std::vector<SurfaceSample> samples = sampler.sample(kPerDepth, 20261121);
-  const double depths[3] = {0.001 * diag, 0.0025 * diag, 0.01 * diag};
+  const double diag = c.diag;
   auto surface = boxes ? nullptr : std::make_shared<const PatchSurface>(*cache);
   ForceOptions options;
   options.surfaceIndex = query == Query::Bounds ? SurfaceIndex::Bounds : SurfaceIndex::Auto;
@@ -76,19 +111,18 @@ void checkContactStarts(const std::string& shape, Query query, int stride) {
       notStationary{0}, foldEdges{0}, raysDisagree{0}, globalFarther{0};
   std::mutex printMutex;
   int printed = 0;
-  tbb::parallel_for(0, 3 * kPerDepth, [&](int g) {
+  tbb::parallel_for(0, 3 * ContactStarts::kPerDepth, [&](int g) {
     if (g % stride != 0) return;
-    const SurfaceSample& p = samples[g % kPerDepth];
-    const double depth = depths[g / kPerDepth];
-    const Eigen::Vector3d hip = p.point - depth * p.normal;
+    const SurfaceSample& p = c.sample(g);
+    const double depth = c.depth(g);
+    const Eigen::Vector3d hip = c.hip(g);
     ForceRenderer& R = *renderers.local();
     R.reset();
     R.step(p.point + 1e-3 * depth * p.normal);  // the approach, out of contact
     const ForceSample s = R.step(hip);
-    bool agree = true;
-    const bool truth = oracle.winding(hip, &agree) >= 1;
-    raysDisagree += !agree;
-    const test::DenseOracle::Nearest q = oracle.nearest(hip, *refiners.local());
+    const bool truth = c.truth[g];
+    raysDisagree += !c.agree[g];
+    const test::DenseOracle::Nearest& q = c.nearest[g];
     ++tested;
     // a surface fault here (excluded, counted): the true nearest point has the HIP on the side its
     // normal does not predict, or, at a folded patch, sheets within 1.5x of that distance see the
@@ -149,10 +183,17 @@ void checkContactStarts(const std::string& shape, Query query, int stride) {
   std::printf(
       "  %s%s: %d HIPs (dense level %d, %zu triangles): %d inside, %d in contact; surface faults %d; "
       "fold-edge SCPs %d; rays disagreeing %d; lazy faults %d; global queries (no seed) farther %d\n",
-      shape.c_str(), lazy ? " (lazy patches)" : boxes ? " (bounds index)" : "", n, oracle.level(), oracle.numTriangles(), inside.load(),
-      contacts.load(), faults.load(), foldEdges.load(), raysDisagree.load(), lazyFaults.load(), globalFarther.load());
-  ::testing::Test::RecordProperty("surface_faults", faults.load());
-  ASSERT_EQ(n, (3 * kPerDepth + stride - 1) / stride);
+      shape.c_str(),
+      lazy    ? " (lazy patches)"
+      : boxes ? " (bounds index)"
+              : "",
+      n, c.level, c.triangles, inside.load(), contacts.load(), faults.load(), foldEdges.load(), raysDisagree.load(),
+      lazyFaults.load(), globalFarther.load());
+  ::testing::Test::RecordProperty(lazy    ? "surface_faults_lazy"
+                                  : boxes ? "surface_faults_bounds"
+                                          : "surface_faults",
+                                  faults.load());
+  ASSERT_EQ(n, (3 * ContactStarts::kPerDepth + stride - 1) / stride);
   EXPECT_EQ(mismatches.load(), 0) << shape;
   EXPECT_EQ(notNearest.load(), 0) << shape;
   EXPECT_EQ(globalFarther.load(), 0) << shape;
@@ -162,19 +203,24 @@ void checkContactStarts(const std::string& shape, Query query, int stride) {
   EXPECT_GE(inside.load(), n * 9 / 10) << shape << ": the HIPs should mostly be inside";
 }
 
-TEST_P(QueryProperties, ContactStartsIffInsideAtTheNearestStationaryPoint) {
-  checkContactStarts(GetParam(), Query::Tessellation, 1);
-}
-
-// The same with the bounds index on the built cache (what the servo loop holds), and on a
-// skeleton of the mesh, patches built lazily where the query needs them (every third HIP: the
-// three depths of each sample in turn).
-TEST_P(QueryProperties, BoundsIndexStartsContactIffInsideAtTheNearestStationaryPoint) {
-  checkContactStarts(GetParam(), Query::Bounds, 3);
-}
-
-TEST_P(QueryProperties, LazyPatchesStartContactIffInsideAtTheNearestStationaryPoint) {
-  checkContactStarts(GetParam(), Query::Lazy, 3);
+// The three queries on the same 10,002 HIPs and oracle answers: the tessellation index at every
+// HIP; the bounds index on the built cache (what the servo loop holds) and a skeleton of the mesh,
+// patches built lazily where the query needs them, at every third HIP (the three depths of each
+// sample in turn).
+TEST_P(QueryProperties, ContactStartsIffInsideAtTheNearestStationaryPointOnEveryIndex) {
+  const ContactStarts c(GetParam());
+  {
+    SCOPED_TRACE("tessellation index");
+    checkContactStarts(GetParam(), c, Query::Tessellation, 1);
+  }
+  {
+    SCOPED_TRACE("bounds index");
+    checkContactStarts(GetParam(), c, Query::Bounds, 3);
+  }
+  {
+    SCOPED_TRACE("lazy patches");
+    checkContactStarts(GetParam(), c, Query::Lazy, 3);
+  }
 }
 
 /// Largest angle between the normals of neighbouring points of a path, rad.
