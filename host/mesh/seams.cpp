@@ -19,7 +19,7 @@ uint64_t pairKey(int a, int b) {
 /// The defects a check finds on merged vertices (a class of more than one vertex as read), by
 /// root: what joining made, not what the mesh had. Fills `why` with their kinds.
 std::vector<char> defectsOfJoins(const PolygonMesh& joined, const MeshReport& r, const std::vector<int>& classSize,
-                                 std::string& why) {
+                                 bool turnedFacesAllowed, std::string& why) {
   std::vector<char> bad(classSize.size(), 0);
   const auto mark = [&](int v, const char* kind) {
     if (v < 0 || v >= static_cast<int>(classSize.size()) || classSize[v] < 2) return false;
@@ -35,8 +35,9 @@ std::vector<char> defectsOfJoins(const PolygonMesh& joined, const MeshReport& r,
   for (const int v : r.nonManifoldVertices) mark(v, "vertices with more than one fan of faces");
   for (const int f : r.degenerateFaces) markFace(f, "faces with a repeated vertex");
   for (const int f : r.duplicateFaces) markFace(f, "faces on the vertices of others");
-  for (const auto& e : r.inconsistentEdges)
-    for (const int v : e) mark(v, "edges used twice in one direction");
+  if (!turnedFacesAllowed)  // else the orientation repair that follows turns their faces back in line
+    for (const auto& e : r.inconsistentEdges)
+      for (const int v : e) mark(v, "edges used twice in one direction");
   return bad;
 }
 
@@ -46,12 +47,15 @@ std::vector<std::string> SeamReport::describe(int maxIds) const {
   std::vector<std::string> out;
   const auto edges = [](int n) { return std::to_string(n) + (n == 1 ? " edge" : " edges"); };
   if (seamEdges > 0) {
-    std::string ids;
+    std::string ids, turned;
+    if (turnedSeams > 0)
+      turned = " (" + std::to_string(turnedSeams) + " of them between faces written turned against each other)";
     for (size_t i = 0; i < mergedVertices.size() && static_cast<int>(i) < maxIds; ++i)
       ids += " " + std::to_string(mergedVertices[i][0]) + "->" + std::to_string(mergedVertices[i][1]);
     if (static_cast<int>(mergedVertices.size()) > maxIds) ids += " ...";
-    out.push_back("seams: " + edges(seamEdges) + " written twice (boundary edges at the same positions) joined; " +
-                  std::to_string(mergedVertices.size()) + (mergedVertices.size() == 1 ? " vertex" : " vertices") +
+    out.push_back("seams: " + edges(seamEdges) + " written twice (boundary edges at the same positions) joined" +
+                  turned + "; " + std::to_string(mergedVertices.size()) +
+                  (mergedVertices.size() == 1 ? " vertex" : " vertices") +
                   " merged into the first at its position, kept unreferenced:" + ids);
   }
   if (cornerNormals)
@@ -63,7 +67,7 @@ std::vector<std::string> SeamReport::describe(int maxIds) const {
   return out;
 }
 
-SeamReport stitchSeams(PolygonMesh& m) {
+SeamReport stitchSeams(PolygonMesh& m, bool acrossTurnedFaces) {
   SeamReport report;
   const int nv = m.numVertices(), nc = m.numCorners();
   if (nv == 0 || nc == 0) return report;
@@ -106,13 +110,22 @@ SeamReport stitchSeams(PolygonMesh& m) {
   };
 
   std::vector<std::array<int, 2>> pairs;  // boundary half-edges (first corners) to join
+  std::vector<char> sameWay;              // per pair: its two edges run the same way (a turned face)
   for (const auto& [key, c] : boundary) {
     const auto same = range(key);
-    if (same.second - same.first != 1) continue;  // another boundary edge runs the same way here
     const uint64_t back = pairKey(static_cast<int>(key & 0xffffffffu), static_cast<int>(key >> 32));
     const auto partner = range(back);
-    if (partner.second - partner.first != 1 || partner.first->second < c) continue;  // none, several, or counted
-    pairs.push_back({c, partner.first->second});
+    const auto ways = same.second - same.first, backs = partner.second - partner.first;
+    if (ways == 1 && backs == 1 && partner.first->second > c) {  // once per pair
+      pairs.push_back({c, partner.first->second});
+      sameWay.push_back(0);
+    } else if (acrossTurnedFaces && ways == 2 && backs == 0) {
+      const int d = same.first->second == c ? (same.first + 1)->second : same.first->second;
+      if (d > c) {
+        pairs.push_back({c, d});
+        sameWay.push_back(1);
+      }
+    }
   }
   report.pairsFound = static_cast<int>(pairs.size());
   if (pairs.empty()) return report;
@@ -128,8 +141,10 @@ SeamReport stitchSeams(PolygonMesh& m) {
     for (size_t i = 0; i < pairs.size(); ++i) {
       if (open[i]) continue;
       const auto [c, d] = pairs[i];
-      classes.unite(m.faceVertices[c], m.faceVertices[next[d]]);
-      classes.unite(m.faceVertices[next[c]], m.faceVertices[d]);
+      // ends at the same positions: start to end for edges that run the other way, start to
+      // start where they run the same way
+      classes.unite(m.faceVertices[c], m.faceVertices[sameWay[i] ? d : next[d]]);
+      classes.unite(m.faceVertices[next[c]], m.faceVertices[sameWay[i] ? next[d] : d]);
     }
     joined = m;
     for (int32_t& v : joined.faceVertices) v = classes.find(v);
@@ -137,7 +152,7 @@ SeamReport stitchSeams(PolygonMesh& m) {
     std::vector<int> classSize(nv, 0);
     for (int v = 0; v < nv; ++v) ++classSize[classes.find(v)];
     std::string why;
-    const std::vector<char> bad = defectsOfJoins(joined, after, classSize, why);
+    const std::vector<char> bad = defectsOfJoins(joined, after, classSize, acrossTurnedFaces, why);
     int opened = 0;
     for (size_t i = 0; i < pairs.size(); ++i) {
       if (open[i]) continue;
@@ -163,6 +178,7 @@ SeamReport stitchSeams(PolygonMesh& m) {
   if (report.openEdges == static_cast<int>(pairs.size())) return report;
 
   report.seamEdges = report.pairsFound - report.openEdges;
+  for (size_t i = 0; i < pairs.size(); ++i) report.turnedSeams += sameWay[i] && !open[i];
   bool normalsDiffer = false;
   for (int v = 0; v < nv; ++v) {
     const int r = classes.find(v);

@@ -28,7 +28,9 @@ LoadedMesh loadMesh(PolygonMesh mesh, uint64_t meshHash, const PatchOptions& opt
   LoadedMesh out;
   out.mesh = std::move(mesh);
   out.fileHash = meshHash;
-  out.seams = stitchSeams(out.mesh);
+  // under outward orientation, faces written turned against their neighbours join them too:
+  // orientCoherently turns them back
+  out.seams = stitchSeams(out.mesh, !options.keepOrientation);
   if (!options.keepOrientation) out.orientation = orientCoherently(out.mesh);
   out.report = checkMesh(out.mesh);
   out.flipped =

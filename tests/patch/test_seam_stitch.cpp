@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <map>
 #include <numbers>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -152,6 +153,84 @@ TEST(SeamStitch, ASoupBuildsThePatchesOfTheMeshAsRead) {
   }
   std::printf("%d builds, %ld faces: the soup's patches are those of the mesh as read\n", builds, faces);
   EXPECT_GE(builds, 2 * 18);
+}
+
+/// `soup` with a seeded tenth of its faces turned (corners reversed after the first, their corner
+/// normals with them), the middle face where the draw turned none; the turned faces' ids in order.
+std::vector<int> turnSomeFaces(PolygonMesh& soup, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::vector<int> turned;
+  std::vector<char> turn(soup.numFaces(), 0);
+  for (int f = 0; f < soup.numFaces(); ++f) turn[f] = rng() % 10 == 0;
+  if (std::find(turn.begin(), turn.end(), 1) == turn.end() && !turn.empty()) turn[turn.size() / 2] = 1;
+  for (int f = 0; f < soup.numFaces(); ++f) {
+    if (!turn[f]) continue;
+    turned.push_back(f);
+    const int b = soup.faceOffsets[f] + 1, e = soup.faceOffsets[f + 1];
+    std::reverse(soup.faceVertices.begin() + b, soup.faceVertices.begin() + e);
+    if (!soup.fileCornerNormals.empty())
+      std::reverse(soup.fileCornerNormals.begin() + b, soup.fileCornerNormals.begin() + e);
+  }
+  return turned;
+}
+
+// A soup with faces turned against their neighbours (a tenth of every manifold shared mesh's
+// faces, up to 20,000 faces, seeded), as a triangle soup with flipped triangles comes: under
+// `--orient outward` every seam joins, the turned faces are turned back (exactly those, on the
+// meshes of one component) and the patches are those of the mesh as read, bit for bit; under
+// `keep` the edges between a turned face and its neighbours stay open, the rest join.
+TEST(SeamStitch, ASoupWithFacesTurnedJoinsBackAndBuildsThePatchesOfTheMeshAsRead) {
+  int builds = 0, oneComponent = 0;
+  long turnedSeams = 0, openUnderKeep = 0;
+  for (const std::string& path : test::sharedMeshFiles()) {
+    PolygonMesh read = readMesh(path);
+    if (read.numFaces() > 20000 || read.numFaces() < 4) continue;  // a face turned among at least 3 as written
+    read.creaseTags.clear();
+    read.cornerTags.clear();
+    stitchSeams(read);
+    const MeshReport r = checkMesh(read, kTopology);
+    if (!r.nonManifoldEdges.empty() || !r.nonManifoldVertices.empty() || !r.inconsistentEdges.empty() ||
+        !r.duplicateFaces.empty() || !r.unreferencedVertices.empty())
+      continue;
+    SCOPED_TRACE(path);
+    PolygonMesh soup = soupOf(read);
+    const std::vector<int> turned = turnSomeFaces(soup, 5);
+    ASSERT_FALSE(turned.empty());
+    int boundaryEdges = 0;
+    for (const auto& loop : r.boundaryLoops) boundaryEdges += static_cast<int>(loop.size());
+    const PatchOptions options;
+    const LoadedMesh a = loadMesh(read, 1, options), b = loadMesh(soup, 1, options);
+    EXPECT_EQ(b.seams.seamEdges, r.numEdges - boundaryEdges);
+    EXPECT_GT(b.seams.turnedSeams, 0);
+    EXPECT_TRUE(b.seams.leftOpen.empty()) << b.seams.leftOpen;
+    EXPECT_TRUE(b.orientation.unorientableFaces.empty());
+    EXPECT_TRUE(b.report.inconsistentEdges.empty());
+    if (r.numComponents == 1) {
+      EXPECT_EQ(b.orientation.turnedFaces, turned);
+      ++oneComponent;
+    }
+    EXPECT_EQ(b.report.numEdges, a.report.numEdges);
+    EXPECT_EQ(b.report.closed(), a.report.closed());
+    const PatchCache ca = buildPatchCache(a, options, Backend::Tbb), cb = buildPatchCache(b, options, Backend::Tbb);
+    EXPECT_EQ(cb.faceStatus, ca.faceStatus);
+    EXPECT_TRUE(cb.edgeDataD == ca.edgeDataD) << "patch records differ";
+    turnedSeams += b.seams.turnedSeams;
+    ++builds;
+    // keep: a seam between a turned face and a face as written is not one (the faces disagree)
+    PatchOptions keep;
+    keep.keepOrientation = true;
+    const LoadedMesh k = loadMesh(soup, 1, keep);
+    EXPECT_EQ(k.seams.turnedSeams, 0);
+    EXPECT_EQ(k.seams.seamEdges, b.seams.seamEdges - b.seams.turnedSeams);
+    EXPECT_TRUE(k.report.inconsistentEdges.empty());
+    openUnderKeep += b.seams.turnedSeams;
+  }
+  std::printf(
+      "%d meshes: %ld seams between turned faces and their neighbours joined, every face in line again "
+      "(%d of one component: exactly the turned ones); %ld left open under keep\n",
+      builds, turnedSeams, oneComponent, openUnderKeep);
+  EXPECT_GE(builds, 18);
+  EXPECT_GE(oneComponent, 12);
 }
 
 /// A stadium prism (two half-discs of 5 vertices joined by straight sides) written as an

@@ -15,6 +15,9 @@ namespace sf {
 /// What stitchSeams joined, or why it joined nothing.
 struct SeamReport {
   int seamEdges = 0;  ///< pairs of boundary edges joined into one interior edge each
+  /// of them, pairs whose two edges ran the same way (acrossTurnedFaces): one face of each is
+  /// turned against the other until the orientation repair turns it back
+  int turnedSeams = 0;
   /// (vertex, the vertex it was merged into), by vertex id: the merged vertex keeps its id and
   /// position but no face refers to it any more; its class's smallest id stands for it.
   std::vector<std::array<int, 2>> mergedVertices;
@@ -45,6 +48,13 @@ struct SeamReport {
 /// used twice in one direction), the pairs at those vertices stay open (openEdges, leftOpen says
 /// which defects) and the rest join; nothing joins if that does not clear them in four rounds.
 /// Meshes without such pairs are left as they are (pairsFound 0). #F + #C log #C time.
-SeamReport stitchSeams(PolygonMesh& mesh);
+///
+/// acrossTurnedFaces: also join a boundary edge a -> b whose end positions are those of exactly
+/// one other boundary edge running the same way (P[c] = P[a], P[d] = P[b]) and of none running
+/// the other way: a face written turned against its neighbour, as a soup with a flipped face
+/// writes it (c merged with a, d with b). The joined edge is used twice in one direction, which
+/// is then not a defect that keeps pairs open: the caller turns the faces back in line
+/// (orientCoherently, mesh_check.h), as loadMesh does under OrientPolicy::Outward.
+SeamReport stitchSeams(PolygonMesh& mesh, bool acrossTurnedFaces = false);
 
 }  // namespace sf

@@ -37,7 +37,8 @@ struct LoadedMesh {
 
 /// Reads `path`, joins its seams written twice (stitchSeams, seams.h: boundary edges that
 /// coincide end for end, as exporters write them where normals or texture coordinates split a
-/// vertex), unless options.keepOrientation turns the faces that run against their neighbours
+/// vertex; unless options.keepOrientation, also those between a face written turned and its
+/// neighbour), unless options.keepOrientation turns the faces that run against their neighbours
 /// (orientCoherently), checks it, flips an inward-facing closed mesh unless keepOrientation,
 /// and computes corner normals per options.normals (normals.h: NormalMode, NormalReport).
 /// With options.cage CatmullClark, then moves every referenced vertex to its Catmull-Clark
