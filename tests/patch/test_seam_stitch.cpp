@@ -115,6 +115,20 @@ TEST(SeamStitch, SoupsOfEverySharedMeshJoinBackIntoTheMeshAsRead) {
   EXPECT_GE(joined, interior);
 }
 
+/// The shared mesh at `path` as read, tags dropped and its own seams joined, into *read and its
+/// topology into *r, when it has minFaces..20,000 faces and is manifold, consistently oriented,
+/// without repeated faces or unreferenced vertices (the meshes whose soups rebuild it exactly).
+bool manifoldAsRead(const std::string& path, int minFaces, PolygonMesh* read, MeshReport* r) {
+  *read = readMesh(path);
+  if (read->numFaces() > 20000 || read->numFaces() < minFaces) return false;
+  read->creaseTags.clear();
+  read->cornerTags.clear();
+  stitchSeams(*read);
+  *r = checkMesh(*read, kTopology);
+  return r->nonManifoldEdges.empty() && r->nonManifoldVertices.empty() && r->inconsistentEdges.empty() &&
+         r->duplicateFaces.empty() && r->unreferencedVertices.empty();
+}
+
 // The soup of every manifold shared mesh of up to 20,000 faces builds the patches of the mesh as
 // read, bit for bit (records and status of every face), by default and with creases at 30
 // degrees: the normals, creases and fold repair see one mesh.
@@ -122,15 +136,9 @@ TEST(SeamStitch, ASoupBuildsThePatchesOfTheMeshAsRead) {
   int builds = 0;
   long faces = 0;
   for (const std::string& path : test::sharedMeshFiles()) {
-    PolygonMesh read = readMesh(path);
-    if (read.numFaces() > 20000) continue;
-    read.creaseTags.clear();
-    read.cornerTags.clear();
-    stitchSeams(read);
-    const MeshReport r = checkMesh(read, kTopology);
-    if (!r.nonManifoldEdges.empty() || !r.nonManifoldVertices.empty() || !r.inconsistentEdges.empty() ||
-        !r.duplicateFaces.empty() || !r.unreferencedVertices.empty())
-      continue;
+    PolygonMesh read;
+    MeshReport r;
+    if (!manifoldAsRead(path, 1, &read, &r)) continue;
     SCOPED_TRACE(path);
     for (const double creaseAngle : {0.0, 30.0}) {
       PatchOptions options;
@@ -183,15 +191,9 @@ TEST(SeamStitch, ASoupWithFacesTurnedJoinsBackAndBuildsThePatchesOfTheMeshAsRead
   int builds = 0, oneComponent = 0;
   long turnedSeams = 0, openUnderKeep = 0;
   for (const std::string& path : test::sharedMeshFiles()) {
-    PolygonMesh read = readMesh(path);
-    if (read.numFaces() > 20000 || read.numFaces() < 4) continue;  // a face turned among at least 3 as written
-    read.creaseTags.clear();
-    read.cornerTags.clear();
-    stitchSeams(read);
-    const MeshReport r = checkMesh(read, kTopology);
-    if (!r.nonManifoldEdges.empty() || !r.nonManifoldVertices.empty() || !r.inconsistentEdges.empty() ||
-        !r.duplicateFaces.empty() || !r.unreferencedVertices.empty())
-      continue;
+    PolygonMesh read;
+    MeshReport r;
+    if (!manifoldAsRead(path, 4, &read, &r)) continue;  // a face turned among at least 3 as written
     SCOPED_TRACE(path);
     PolygonMesh soup = soupOf(read);
     const std::vector<int> turned = turnSomeFaces(soup, 5);
